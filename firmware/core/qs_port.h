@@ -1,0 +1,16 @@
+/* What each target (AVR board, native emulator, test runner) provides to the
+ * portable core. The core calls nothing else outside itself. */
+#ifndef QS_PORT_H
+#define QS_PORT_H
+
+#include <stdint.h>
+
+/* Queue bytes for transmission to the host. Called from the main loop only;
+ * a target with a bounded transmit buffer waits for room, never drops. */
+void qs_port_send(const uint8_t *bytes, uint8_t len);
+
+/* Enter and leave a section that the step tick cannot interrupt. */
+uint8_t qs_port_lock(void);
+void qs_port_unlock(uint8_t saved);
+
+#endif
