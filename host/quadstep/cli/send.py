@@ -1,0 +1,103 @@
+"""`quadstep send FILE.json`: stream a file of raw segments (format in docs/HOST.md)."""
+
+from __future__ import annotations
+
+import argparse
+import json
+from pathlib import Path
+
+from pydantic import BaseModel, ConfigDict, Field, ValidationError
+
+from ..link import Link
+from ..protocol import IdentifyReply, Segment, SetPosition
+from ..protocol.messages import I32
+from .info import AXIS_NAMES
+from .options import CliError, add_connection_options, add_json_option, connect, format_validation_error
+
+
+class SegmentsFile(BaseModel):
+    """A raw job: optional start positions (steps, one per axis from X), then segments in order."""
+
+    model_config = ConfigDict(extra="forbid")
+
+    positions: list[I32] | None = Field(default=None, min_length=1, max_length=4)
+    segments: list[Segment] = Field(min_length=1)
+
+
+def register(subparsers: argparse._SubParsersAction) -> None:
+    parser = subparsers.add_parser("send", help="stream a JSON file of raw segments")
+    parser.add_argument("file", type=Path, metavar="FILE.json")
+    add_connection_options(parser)
+    add_json_option(parser)
+    parser.set_defaults(handler=run)
+
+
+def load(path: Path) -> SegmentsFile:
+    """Read and validate the whole file; every problem names its place, the limit and the value."""
+    try:
+        data = json.loads(path.read_text())
+    except OSError as exc:
+        raise CliError(f"cannot read {path}: {exc.strerror}") from None
+    except json.JSONDecodeError as exc:
+        raise CliError(f"{path}: line {exc.lineno} column {exc.colno}: {exc.msg}") from None
+    try:
+        job = SegmentsFile.model_validate(data)
+    except ValidationError as exc:
+        raise CliError(format_validation_error(exc, str(path))) from None
+    last = job.segments[-1]
+    moving = [a.axis for a in last.axes if a.vn > 0]
+    if moving:
+        raise CliError(
+            f"{path}: segments[{len(job.segments) - 1}]: the last segment must end at rest, "
+            f"but axis {moving[0]} ends at vn > 0 (the firmware would stop with an UNDERRUN alarm)"
+        )
+    return job
+
+
+def check_against(job: SegmentsFile, ident: IdentifyReply, path: Path) -> None:
+    """Refuse, before anything is sent, what this firmware cannot run."""
+    if job.positions is not None and len(job.positions) > ident.axis_count:
+        raise CliError(f"{path}: positions has {len(job.positions)} values, the firmware has {ident.axis_count} axes")
+    for i, seg in enumerate(job.segments):
+        if seg.n > ident.n_max:
+            raise CliError(f"{path}: segments[{i}].n: {seg.n} exceeds the firmware's n_max {ident.n_max}")
+        for j, move in enumerate(seg.axes):
+            if move.axis >= ident.axis_count:
+                raise CliError(
+                    f"{path}: segments[{i}].axes[{j}].axis: {move.axis}, the firmware has axes 0..{ident.axis_count - 1}"
+                )
+
+
+def stream(link: Link, job: SegmentsFile) -> None:
+    if job.positions is not None:
+        link.send(SetPosition(positions=dict(enumerate(job.positions))))
+    for seg in job.segments:
+        link.send(seg)
+
+
+def run(args: argparse.Namespace) -> int:
+    job = load(args.file)
+    with connect(args) as link:
+        assert link.identity is not None
+        check_against(job, link.identity, args.file)
+        start = link.status()
+        try:
+            stream(link, job)
+            final = link.wait_idle()
+        except KeyboardInterrupt:
+            stopped = link.stop()
+            print(f"stopped at positions {list(stopped.position)}")
+            raise
+    ticks = final.motion_ticks - start.motion_ticks
+    if args.json:
+        print(json.dumps({
+            "positions": list(final.position),
+            "segments": len(job.segments),
+            "motion_ticks": ticks,
+            "link": link.stats.as_dict(),
+        }))
+    else:
+        names = "  ".join(f"{AXIS_NAMES[i]} {p}" for i, p in enumerate(final.position))
+        print(f"sent {len(job.segments)} segments, {ticks} ticks of motion")
+        print(f"positions (steps): {names}")
+    return 0

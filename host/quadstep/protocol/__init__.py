@@ -1,0 +1,39 @@
+"""The wire protocol of PROTOCOL.md: constants, message models, framing and codec."""
+
+from .codec import DecodeError, Decoder, Frame, decode, decode_body, encode, payload
+from .constants import (
+    MAX_FRAME,
+    PROTOCOL_VERSION,
+    AckReason,
+    AlarmCode,
+    Board,
+    Capability,
+    ErrorCode,
+    FieldId,
+    MessageType,
+    State,
+)
+from .messages import (
+    Ack,
+    Alarm,
+    ErrorReport,
+    Identify,
+    IdentifyReply,
+    Message,
+    Report,
+    Request,
+    SetPosition,
+    Status,
+    StatusReport,
+    Stop,
+    message_type,
+)
+from .segment import D, MAX_AXES, N_MAX, R_MAX, AxisMove, Segment
+
+__all__ = [
+    "Ack", "AckReason", "Alarm", "AlarmCode", "AxisMove", "Board", "Capability", "D", "DecodeError", "Decoder",
+    "ErrorCode", "ErrorReport", "FieldId", "Frame", "Identify", "IdentifyReply", "MAX_AXES", "MAX_FRAME",
+    "Message", "MessageType", "N_MAX", "PROTOCOL_VERSION", "R_MAX", "Report", "Request", "Segment",
+    "SetPosition", "State", "Status", "StatusReport", "Stop", "decode", "decode_body", "encode", "message_type",
+    "payload",
+]

@@ -1,0 +1,391 @@
+#!/usr/bin/env python3
+"""Generate protocol/vectors.json, the normative test vectors of PROTOCOL.md §9.
+
+This is an independent reference: it packs every frame straight from the
+tables in PROTOCOL.md with its own COBS and CRC, and imports nothing from the
+host package, so checking the host codec (or the firmware) against its output
+is not circular.
+
+    python3 protocol/make_vectors.py            # rewrite protocol/vectors.json
+    python3 protocol/make_vectors.py --check    # exit 1 if the file is stale
+"""
+
+from __future__ import annotations
+
+import binascii
+import json
+import struct
+import sys
+from pathlib import Path
+
+OUTPUT = Path(__file__).with_name("vectors.json")
+PROTOCOL_VERSION = 1
+MAX_FRAME = 64
+
+TYPES = {
+    "IDENTIFY": 0x01, "STATUS": 0x02, "STOP": 0x03,
+    "SEGMENT": 0x10, "SET_POSITION": 0x11,
+    "ACK": 0x80, "IDENTIFY_REPLY": 0x81, "STATUS_REPORT": 0x82, "ERROR": 0x83, "ALARM": 0x84,
+}
+ACK_REASONS = {"ACCEPTED": 0, "GAP": 1, "DUPLICATE": 2, "QUEUE_FULL": 3, "REJECTED": 4, "SPACE": 5}
+ERROR_CODES = {
+    "FRAME_TOO_LONG": 1, "FRAME_TOO_SHORT": 2, "BAD_COBS": 3, "BAD_CRC": 4,
+    "UNKNOWN_TYPE": 5, "BAD_LENGTH": 6, "RX_OVERRUN": 7,
+    "BAD_FIELD": 16, "BUSY": 17, "ALARM_ACTIVE": 18,
+}
+FIELDS = {"N": 1, "AXES": 2, "DIRECTION": 3, "V0": 4, "VN": 5, "RESIDUAL": 6}
+ALARMS = {"UNDERRUN": 1, "REJECTED_SEGMENT": 2, "HARD_LIMIT": 3, "HOST_LOST": 4}
+STATES = {"IDLE": 0, "RUNNING": 1, "ALARM": 2, "HOLDING": 3}
+
+
+# --- framing (PROTOCOL.md §2) -------------------------------------------------
+
+def crc16(data: bytes) -> int:
+    """CRC-16/CCITT-FALSE."""
+    return binascii.crc_hqx(data, 0xFFFF)
+
+
+def cobs(block: bytes) -> bytes:
+    """Standard COBS: split at zeros into groups of at most 254 bytes."""
+    out = bytearray()
+    group = bytearray()
+    for byte in block:
+        if len(group) == 254:  # a full group has no zero after it
+            out += b"\xff" + group
+            group.clear()
+        if byte == 0:
+            out += bytes([len(group) + 1]) + group
+            group.clear()
+        else:
+            group.append(byte)
+    out += bytes([len(group) + 1]) + group
+    return bytes(out)
+
+
+def wire(body: bytes) -> bytes:
+    """A whole frame: COBS(body ‖ crc16 little-endian) ‖ 0x00."""
+    return cobs(body + struct.pack("<H", crc16(body))) + b"\x00"
+
+
+def wire_bad_crc(body: bytes) -> bytes:
+    return cobs(body + struct.pack("<H", crc16(body) ^ 0x0001)) + b"\x00"
+
+
+# --- payloads (PROTOCOL.md §5) -----------------------------------------------
+
+def segment_payload(n: int, axes: list[dict], extra_mask: int = 0) -> bytes:
+    mask = extra_mask
+    fields = b""
+    for a in axes:
+        mask |= 1 << a["axis"]
+        if a["direction"] < 0:
+            mask |= 1 << (4 + a["axis"])
+        fields += struct.pack("<HHh", a["v0"], a["vn"], a["r"])
+    return struct.pack("<HB", n, mask) + fields
+
+
+def set_position_payload(positions: dict[int, int], extra_mask: int = 0) -> bytes:
+    mask = extra_mask
+    for axis in positions:
+        mask |= 1 << axis
+    values = b"".join(struct.pack("<i", positions[axis]) for axis in sorted(positions))
+    return bytes([mask]) + values
+
+
+IDENTIFY_FIELDS = ["protocol_version", "fw_major", "fw_minor", "fw_patch", "board", "axis_count",
+                   "queue_capacity", "speed_shift", "n_max", "tick_hz", "capabilities", "next_seq"]
+STATUS_FIELDS = ["state", "alarm", "queue_fill", "next_seq", "segments_done", "motion_ticks",
+                 "rx_overrun", "bad_frame", "bad_crc", "seq_gap", "seq_dup", "rejected"]
+
+
+def payload(msg: dict) -> bytes:
+    t = msg["type"]
+    if t in ("IDENTIFY", "STATUS", "STOP"):
+        return b""
+    if t == "SEGMENT":
+        return segment_payload(msg["n"], msg["axes"])
+    if t == "SET_POSITION":
+        return set_position_payload({int(k): v for k, v in msg["positions"].items()})
+    if t == "ACK":
+        return struct.pack("<BBBH", msg["next_seq"], msg["free"], ACK_REASONS[msg["reason"]], msg["done"])
+    if t == "IDENTIFY_REPLY":
+        return struct.pack("<BBBBBBBBHIHB", *(msg[f] for f in IDENTIFY_FIELDS))
+    if t == "STATUS_REPORT":
+        values = [msg[f] for f in STATUS_FIELDS]
+        values[0] = STATES[values[0]]
+        values[1] = 0 if values[1] is None else ALARMS[values[1]]
+        pos = msg["position"]
+        return struct.pack(f"<BBBBIIHHHHHH{len(pos)}i", *values, *pos)
+    if t == "ERROR":
+        field = 0 if msg["field"] is None else FIELDS[msg["field"]]
+        axis = 0xFF if msg["axis"] is None else msg["axis"]
+        return struct.pack("<BBBBB", ERROR_CODES[msg["code"]], msg["frame_type"], msg["frame_seq"], field, axis)
+    if t == "ALARM":
+        pos = msg["position"]
+        return struct.pack(f"<BI{len(pos)}i", ALARMS[msg["code"]], msg["motion_ticks"], *pos)
+    raise ValueError(t)
+
+
+def body(msg: dict) -> bytes:
+    return bytes([TYPES[msg["type"]], msg["seq"]]) + payload(msg)
+
+
+# --- vector list ---------------------------------------------------------------
+
+VECTORS: list[dict] = []
+TO_FW, TO_HOST = "to_firmware", "to_host"
+
+
+def valid(name: str, direction: str, msg: dict, axis_count: int | None = None) -> None:
+    vector: dict[str, object] = {"name": name, "direction": direction, "frame": wire(body(msg)).hex(),
+                                 "message": msg, "error": None}
+    if axis_count is not None:
+        vector["axis_count"] = axis_count
+    VECTORS.append(vector)
+
+
+def bad(name: str, direction: str, frame: bytes, code: str, field: str | None = None,
+        axis: int | None = None, axis_count: int | None = None) -> None:
+    vector: dict[str, object] = {"name": name, "direction": direction, "frame": frame.hex(), "message": None,
+              "error": {"code": code, "field": field, "axis": axis}}
+    if axis_count is not None:
+        vector["axis_count"] = axis_count
+    VECTORS.append(vector)
+
+
+def ax(axis: int, direction: int, v0: int, vn: int, r: int) -> dict:
+    return {"axis": axis, "direction": direction, "v0": v0, "vn": vn, "r": r}
+
+
+def seg(seq: int, n: int, *axes: dict) -> dict:
+    return {"type": "SEGMENT", "seq": seq, "n": n, "axes": list(axes)}
+
+
+def bad_segment(name: str, n: int, axes: list[dict], field: str, axis: int | None,
+                extra_mask: int = 0, axis_count: int = 4, seq: int = 7) -> None:
+    frame = wire(bytes([TYPES["SEGMENT"], seq]) + segment_payload(n, axes, extra_mask))
+    bad(name, TO_FW, frame, "BAD_FIELD", field, axis, axis_count)
+
+
+def build() -> list[dict]:
+    VECTORS.clear()
+    D = 4096
+
+    # Immediate requests.
+    for seq in (0, 1, 0x7F, 0xFF):
+        valid(f"identify seq {seq}", TO_FW, {"type": "IDENTIFY", "seq": seq})
+    valid("status", TO_FW, {"type": "STATUS", "seq": 42})
+    valid("stop", TO_FW, {"type": "STOP", "seq": 200})
+
+    # SEGMENT: 0..4 axes, extreme values. A firmware with fewer axes rejects the
+    # ones using axis 3 (and 2), so these assume 4 axes (the emulator's default).
+    valid("segment, no axes (dwell of 1022 ticks)", TO_FW, seg(0, 1022), 4)
+    valid("segment, 1 axis at rest (all zeros but n)", TO_FW, seg(1, 1, ax(0, 1, 0, 0, 0)), 4)
+    valid("segment, 1 axis negative, full speed, r = -4096", TO_FW, seg(2, 1022, ax(0, -1, D, D, -D)), 4)
+    valid("segment, 1 axis r = +4096 allowed when not at full speed", TO_FW, seg(3, 500, ax(1, 1, D, D - 1, D)), 4)
+    valid("segment, 1 axis r = +4096 with v0 = vn = 0", TO_FW, seg(4, 2, ax(2, -1, 0, 0, D)), 4)
+    valid("segment, axis 3 only", TO_FW, seg(5, 77, ax(3, -1, 1, 4095, -1)), 4)
+    valid("segment, 2 axes", TO_FW, seg(6, 300, ax(0, 1, 100, 2000, 17), ax(2, -1, 4000, 0, -4000)), 4)
+    valid("segment, 3 axes", TO_FW,
+          seg(0xFE, 1022, ax(0, 1, 1234, 2345, -1000), ax(1, -1, 0, D, 0), ax(2, 1, D, 0, 4095)), 4)
+    valid("segment, 4 axes all negative, extreme values", TO_FW,
+          seg(0xFF, 1022, ax(0, -1, D, D, -D), ax(1, -1, 0, 0, D), ax(2, -1, D, 0, -D), ax(3, -1, 0, D, D)), 4)
+    valid("segment, 4 axes positive, mid values", TO_FW,
+          seg(0x80, 511, ax(0, 1, 2048, 2049, 1), ax(1, 1, 1, 2, -2), ax(2, 1, 3, 4, 5), ax(3, 1, 6, 7, -8)), 4)
+    # COBS: a long run of non-zero bytes (no zero anywhere in the body).
+    valid("segment, 4 axes, body without zero bytes", TO_FW,
+          seg(0x11, 0x0101, ax(0, -1, 0x0FFF, 0x0F0F, 0x0101), ax(1, -1, 0x0E0E, 0x0D0D, 0x0C0C),
+              ax(2, -1, 0x0B0B, 0x0A0A, -0x0101), ax(3, -1, 0x0909, 0x0808, 0x0707)), 4)
+    # COBS: zeros back to back, and a body ending in zero.
+    valid("segment, consecutive zero bytes", TO_FW, seg(0, 256, ax(0, 1, 0, 0, 0), ax(1, 1, 0, 0, 0)), 4)
+    valid("segment, body ends in zero byte", TO_FW, seg(9, 3, ax(0, 1, 5, 5, 1)), 4)
+
+    valid("set position, one axis", TO_FW, {"type": "SET_POSITION", "seq": 3, "positions": {"1": -1}})
+    valid("set position, no axes", TO_FW, {"type": "SET_POSITION", "seq": 4, "positions": {}})
+    valid("set position, four axes, extreme values", TO_FW,
+          {"type": "SET_POSITION", "seq": 0xFF,
+           "positions": {"0": 2**31 - 1, "1": -(2**31), "2": 0, "3": 123456789}}, 4)
+
+    # Reports.
+    for i, reason in enumerate(ACK_REASONS):
+        seq = 0xFF if reason == "SPACE" else 10 + i
+        valid(f"ack {reason.lower()}", TO_HOST,
+              {"type": "ACK", "seq": seq, "next_seq": (seq + 1) & 0xFF, "free": 31 - i, "reason": reason,
+               "done": [0, 1, 255, 256, 65535, 12345][i]})
+    valid("ack, zero bytes everywhere", TO_HOST,
+          {"type": "ACK", "seq": 0, "next_seq": 0, "free": 0, "reason": "ACCEPTED", "done": 0})
+    valid("identify reply, emulator", TO_HOST,
+          {"type": "IDENTIFY_REPLY", "seq": 1, "protocol_version": 1, "fw_major": 0, "fw_minor": 1, "fw_patch": 0,
+           "board": 0, "axis_count": 4, "queue_capacity": 32, "speed_shift": 12, "n_max": 1022,
+           "tick_hz": 50000, "capabilities": 3, "next_seq": 0})
+    valid("identify reply, uno", TO_HOST,
+          {"type": "IDENTIFY_REPLY", "seq": 0xFF, "protocol_version": 1, "fw_major": 1, "fw_minor": 2,
+           "fw_patch": 3, "board": 1, "axis_count": 3, "queue_capacity": 16, "speed_shift": 12, "n_max": 1022,
+           "tick_hz": 40000, "capabilities": 0x0003, "next_seq": 0xAB})
+    status_common = {"queue_fill": 5, "next_seq": 17, "segments_done": 2**32 - 1, "motion_ticks": 123456789,
+                     "rx_overrun": 0, "bad_frame": 1, "bad_crc": 2, "seq_gap": 3, "seq_dup": 4, "rejected": 65535}
+    valid("status report, 3 axes, running", TO_HOST,
+          {"type": "STATUS_REPORT", "seq": 2, "state": "RUNNING", "alarm": None, **status_common,
+           "position": [1, -1, 2**31 - 1]}, 3)
+    valid("status report, 4 axes, alarm", TO_HOST,
+          {"type": "STATUS_REPORT", "seq": 0, "state": "ALARM", "alarm": "UNDERRUN", **status_common,
+           "position": [0, -(2**31), 1000, -1000]}, 4)
+    valid("status report, 4 axes, idle, all zero", TO_HOST,
+          {"type": "STATUS_REPORT", "seq": 3, "state": "IDLE", "alarm": None, "queue_fill": 0, "next_seq": 0,
+           "segments_done": 0, "motion_ticks": 0, "rx_overrun": 0, "bad_frame": 0, "bad_crc": 0, "seq_gap": 0,
+           "seq_dup": 0, "rejected": 0, "position": [0, 0, 0, 0]}, 4)
+    for code in ("FRAME_TOO_LONG", "FRAME_TOO_SHORT", "BAD_COBS", "BAD_CRC", "RX_OVERRUN"):
+        valid(f"error {code.lower()}", TO_HOST,
+              {"type": "ERROR", "seq": 0xFF, "code": code, "frame_type": 0xFF, "frame_seq": 0xFF,
+               "field": None, "axis": None})
+    valid("error unknown_type", TO_HOST,
+          {"type": "ERROR", "seq": 9, "code": "UNKNOWN_TYPE", "frame_type": 0x12, "frame_seq": 9,
+           "field": None, "axis": None})
+    valid("error bad_length", TO_HOST,
+          {"type": "ERROR", "seq": 8, "code": "BAD_LENGTH", "frame_type": 0x10, "frame_seq": 8,
+           "field": None, "axis": None})
+    for i, field in enumerate(FIELDS):
+        axis = i - 3 if field in ("V0", "VN", "RESIDUAL") else None
+        valid(f"error bad_field {field.lower()}", TO_HOST,
+              {"type": "ERROR", "seq": 20 + i, "code": "BAD_FIELD", "frame_type": 0x10, "frame_seq": 20 + i,
+               "field": field, "axis": axis})
+    valid("error busy", TO_HOST,
+          {"type": "ERROR", "seq": 5, "code": "BUSY", "frame_type": 0x11, "frame_seq": 5, "field": None, "axis": None})
+    valid("error alarm_active", TO_HOST,
+          {"type": "ERROR", "seq": 6, "code": "ALARM_ACTIVE", "frame_type": 0x10, "frame_seq": 6,
+           "field": None, "axis": None})
+    valid("alarm underrun, 3 axes", TO_HOST,
+          {"type": "ALARM", "seq": 0xFF, "code": "UNDERRUN", "motion_ticks": 1022, "position": [10, -20, 0]}, 3)
+    valid("alarm rejected segment, 4 axes", TO_HOST,
+          {"type": "ALARM", "seq": 0xFF, "code": "REJECTED_SEGMENT", "motion_ticks": 2**32 - 1,
+           "position": [2**31 - 1, -(2**31), -1, 1]}, 4)
+
+    # Malformed frames: framing errors, in the order of PROTOCOL.md §2.
+    good = body(seg(1, 100, ax(0, 1, 10, 20, 0)))
+    for direction in (TO_FW, TO_HOST):
+        ack = body({"type": "ACK", "seq": 1, "next_seq": 2, "free": 3, "reason": "ACCEPTED", "done": 4})
+        frame_body = good if direction == TO_FW else ack
+        bad(f"{direction}: bad crc", direction, wire_bad_crc(frame_body), "BAD_CRC")
+        flipped = bytearray(frame_body)
+        flipped[-1] ^= 0x40
+        bad(f"{direction}: payload bit flipped", direction,
+            cobs(bytes(flipped) + struct.pack("<H", crc16(frame_body))) + b"\x00", "BAD_CRC")
+    bad("too short: one decoded byte", TO_FW, cobs(b"\x01") + b"\x00", "FRAME_TOO_SHORT")
+    bad("too short: three decoded bytes", TO_FW, cobs(b"\x01\x02\x03") + b"\x00", "FRAME_TOO_SHORT")
+    bad("too short: a lone code byte decodes to nothing", TO_FW, b"\x01\x00", "FRAME_TOO_SHORT")
+    bad("too short: crc only, body empty", TO_HOST, cobs(struct.pack("<H", crc16(b""))) + b"\x00",
+        "FRAME_TOO_SHORT")
+    bad("too long: 65 decoded bytes", TO_FW, wire(bytes([0x10, 1]) + bytes(range(1, 62))), "FRAME_TOO_LONG")
+    bad("too long: 100 bytes of garbage", TO_FW, bytes(range(1, 101)) + b"\x00", "FRAME_TOO_LONG")
+    bad("too long beats bad cobs", TO_HOST, b"\x50" + bytes(range(1, 70)) + b"\x00", "FRAME_TOO_LONG")
+    bad("bad cobs: code points past the delimiter", TO_FW, b"\x05\x11\x22\x33\x00", "BAD_COBS")
+    bad("bad cobs beats too short", TO_FW, b"\x05\x11\x00", "BAD_COBS")
+    bad("bad cobs: valid group then overlong code", TO_HOST, b"\x03\x80\x01\x09\x05\x06\x00", "BAD_COBS")
+    # 64 decoded bytes is the longest frame that passes framing: it fails on length.
+    longest = bytes([0x10, 2]) + struct.pack("<HB", 10, 0x01) + bytes([1] * 57)
+    bad("64 decoded bytes pass framing, then bad length", TO_FW, wire(longest), "BAD_LENGTH")
+
+    # Unknown types, immediate and sequenced ranges; reports sent the wrong way.
+    for t in (0x00, 0x04, 0x05, 0x0F, 0x12, 0x13, 0x3F, 0x40, 0x7F, 0x80, 0x82):
+        bad(f"unknown type 0x{t:02x} to firmware", TO_FW, wire(bytes([t, 3])), "UNKNOWN_TYPE")
+    for t in (0x01, 0x10, 0x85, 0xFF):
+        bad(f"unknown type 0x{t:02x} to host", TO_HOST, wire(bytes([t, 3, 0, 0, 0, 0, 0])), "UNKNOWN_TYPE")
+
+    # Wrong payload lengths.
+    bad("identify with a payload", TO_FW, wire(bytes([0x01, 0, 0])), "BAD_LENGTH")
+    bad("stop with a payload", TO_FW, wire(bytes([0x03, 0, 1, 2])), "BAD_LENGTH")
+    bad("segment without payload", TO_FW, wire(bytes([0x10, 0])), "BAD_LENGTH")
+    bad("segment with n only", TO_FW, wire(bytes([0x10, 0, 5, 0])), "BAD_LENGTH")
+    bad("segment, 2 axes in mask, 1 axis of fields", TO_FW,
+        wire(bytes([0x10, 0]) + struct.pack("<HBHHh", 5, 0x03, 1, 1, 0)), "BAD_LENGTH")
+    bad("segment, 1 axis in mask, 2 axes of fields", TO_FW,
+        wire(bytes([0x10, 0]) + struct.pack("<HBHHhHHh", 5, 0x01, 1, 1, 0, 1, 1, 0)), "BAD_LENGTH")
+    bad("segment, direction bits do not count as axes", TO_FW,
+        wire(bytes([0x10, 0]) + struct.pack("<HBHHh", 5, 0x10, 1, 1, 0)), "BAD_LENGTH")
+    bad("set position without mask", TO_FW, wire(bytes([0x11, 0])), "BAD_LENGTH")
+    bad("set position, mask of 2 axes, 1 value", TO_FW, wire(bytes([0x11, 0, 0x03]) + struct.pack("<i", 1)),
+        "BAD_LENGTH")
+    bad("ack 4 bytes", TO_HOST, wire(bytes([0x80, 0, 1, 2, 0, 0])), "BAD_LENGTH")
+    bad("ack 6 bytes", TO_HOST, wire(bytes([0x80, 0, 1, 2, 0, 0, 0, 0])), "BAD_LENGTH")
+    bad("identify reply 16 bytes", TO_HOST, wire(bytes([0x81, 0]) + bytes(range(1, 17))), "BAD_LENGTH")
+    bad("status report without positions", TO_HOST, wire(bytes([0x82, 0]) + bytes(24)), "BAD_LENGTH")
+    bad("status report, 5 axes", TO_HOST, wire(bytes([0x82, 0]) + bytes(44)), "BAD_LENGTH")
+    bad("status report, partial position", TO_HOST, wire(bytes([0x82, 0]) + bytes(30)), "BAD_LENGTH")
+    bad("error 4 bytes", TO_HOST, wire(bytes([0x83, 0, 16, 0x10, 0, 1])), "BAD_LENGTH")
+    bad("alarm without positions", TO_HOST, wire(bytes([0x84, 0xFF, 1, 0, 0, 0, 0])), "BAD_LENGTH")
+    bad("alarm, partial position", TO_HOST, wire(bytes([0x84, 0xFF, 1, 0, 0, 0, 0, 9, 9])), "BAD_LENGTH")
+
+    # SEGMENT content: every field id, in validation order. axis_count is the
+    # firmware's axis count the outcome assumes.
+    bad_segment("n = 0", 0, [ax(0, 1, 1, 1, 0)], "N", None)
+    bad_segment("n = 1023", 1023, [ax(0, 1, 1, 1, 0)], "N", None)
+    bad_segment("n = 65535", 0xFFFF, [], "N", None)
+    bad_segment("n checked before speeds", 0, [ax(0, 1, 5000, 5000, 5000)], "N", None)
+    bad_segment("axis 3 on a 3-axis firmware", 10, [ax(3, 1, 1, 1, 0)], "AXES", None, axis_count=3)
+    bad_segment("axes 1 and 2 on a 1-axis firmware", 10, [ax(1, 1, 1, 1, 0), ax(2, 1, 1, 1, 0)], "AXES", None,
+                axis_count=1)
+    bad_segment("axes checked before direction", 10, [ax(3, 1, 1, 1, 0)], "AXES", None, extra_mask=0x10,
+                axis_count=3)
+    bad_segment("direction bit on inactive axis 1", 10, [ax(0, 1, 1, 1, 0)], "DIRECTION", None, extra_mask=0x20)
+    bad_segment("direction bit with no active axis", 10, [], "DIRECTION", None, extra_mask=0x80)
+    bad_segment("direction checked before speeds", 10, [ax(0, 1, 4097, 1, 0)], "DIRECTION", None, extra_mask=0x40)
+    bad_segment("v0 = 4097", 10, [ax(0, 1, 4097, 0, 0)], "V0", 0)
+    bad_segment("v0 = 65535 on axis 2", 10, [ax(1, 1, 0, 0, 0), ax(2, -1, 0xFFFF, 0, 0)], "V0", 2)
+    bad_segment("v0 checked before vn", 10, [ax(1, 1, 4097, 4097, 0)], "V0", 1)
+    bad_segment("vn = 4097", 10, [ax(3, -1, 0, 4097, 0)], "VN", 3)
+    bad_segment("vn checked before residual", 10, [ax(0, 1, 0, 4097, 4097)], "VN", 0)
+    bad_segment("every v0 before any vn", 10, [ax(0, 1, 0, 4097, 0), ax(2, 1, 4097, 0, 0)], "V0", 2)
+    bad_segment("every vn before any residual", 10, [ax(1, 1, 0, 0, -4097), ax(3, 1, 0, 4097, 0)], "VN", 3)
+    bad_segment("r = 4097", 10, [ax(0, 1, 0, 0, 4097)], "RESIDUAL", 0)
+    bad_segment("r = -4097", 10, [ax(2, -1, 1, 1, -4097)], "RESIDUAL", 2)
+    bad_segment("r = -32768", 10, [ax(0, 1, 1, 1, 0), ax(1, 1, 1, 1, -32768)], "RESIDUAL", 1)
+    bad_segment("r = 4096 with v0 = vn = 4096", 1022, [ax(0, 1, D, D, D)], "RESIDUAL", 0)
+    bad_segment("r = 4096 with v0 = vn = 4096, negative, axis 3", 1, [ax(3, -1, D, D, D)], "RESIDUAL", 3)
+
+    # SET_POSITION content.
+    frame = wire(bytes([TYPES["SET_POSITION"], 5]) + set_position_payload({3: 1}))
+    bad("set position axis 3 on a 3-axis firmware", TO_FW, frame, "BAD_FIELD", "AXES", None, axis_count=3)
+    frame = wire(bytes([TYPES["SET_POSITION"], 5]) + set_position_payload({0: 1, 4: 2}))
+    bad("set position mask bit 4", TO_FW, frame, "BAD_FIELD", "AXES", None)
+    frame = wire(bytes([TYPES["SET_POSITION"], 5]) + set_position_payload({7: -5}))
+    bad("set position mask bit 7", TO_FW, frame, "BAD_FIELD", "AXES", None)
+    return list(VECTORS)
+
+
+def document() -> str:
+    doc = {
+        "protocol_version": PROTOCOL_VERSION,
+        "notes": [
+            "Generated by protocol/make_vectors.py; do not edit by hand.",
+            "axis_count, when present, is the firmware axis count the vector's outcome assumes; "
+            "a vector without it holds for every axis count 1..4.",
+            "ERROR reports name the frame they answer in frame_type and frame_seq; field null is 0 "
+            "and axis null is 0xFF on the wire; STATUS_REPORT alarm null is 0.",
+            "BAD_FIELD axis is the axis number (not its index among active axes) for V0, VN and "
+            "RESIDUAL, and null for N, AXES and DIRECTION (mask-wide checks).",
+            "SEGMENT fields are checked field by field in the order of the table, each field in "
+            "axis order: every axis's V0 before any VN, every VN before any RESIDUAL.",
+        ],
+        "names": {
+            "type": TYPES, "ack_reason": ACK_REASONS, "error_code": ERROR_CODES, "field": FIELDS,
+            "alarm": ALARMS, "state": STATES,
+        },
+        "vectors": build(),
+    }
+    return json.dumps(doc, indent=1) + "\n"
+
+
+def main(argv: list[str]) -> int:
+    text = document()
+    if "--check" in argv:
+        if OUTPUT.read_text() != text:
+            print(f"{OUTPUT} is stale: run python3 {Path(__file__).name}", file=sys.stderr)
+            return 1
+        return 0
+    OUTPUT.write_text(text)
+    print(f"wrote {len(json.loads(text)['vectors'])} vectors to {OUTPUT}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv[1:]))

@@ -1,0 +1,61 @@
+"""Fixtures shared by the Python tests: the emulator binary (built once) and running instances."""
+
+from __future__ import annotations
+
+import os
+import subprocess
+from collections.abc import Callable, Iterator
+from pathlib import Path
+
+import pytest
+
+from quadstep.emulator import EMULATOR_ENV, Emulator
+from quadstep.link import Link
+
+REPO = Path(__file__).resolve().parents[1]
+
+
+@pytest.fixture(scope="session")
+def repo_root() -> Path:
+    return REPO
+
+
+@pytest.fixture(scope="session")
+def emulator_binary() -> Path:
+    """The emulator, built with `make emulator` once per session (a no-op when up to date)."""
+    if os.environ.get(EMULATOR_ENV):
+        return Path(os.environ[EMULATOR_ENV])
+    result = subprocess.run(["make", "-C", str(REPO), "-s", "emulator"], capture_output=True, text=True)
+    if result.returncode != 0:
+        pytest.fail(f"`make emulator` failed:\n{result.stdout[-3000:]}\n{result.stderr[-3000:]}")
+    return REPO / "build" / "native" / "quadstep-emu"
+
+
+StartEmulator = Callable[..., Emulator]
+
+
+@pytest.fixture
+def start_emulator(emulator_binary: Path) -> Iterator[StartEmulator]:
+    """start_emulator(**Emulator options) -> a running Emulator, stopped after the test."""
+    started: list[Emulator] = []
+
+    def start(**options: object) -> Emulator:
+        emu = Emulator(binary=emulator_binary, **options).start()  # type: ignore[arg-type]
+        started.append(emu)
+        return emu
+
+    yield start
+    for emu in started:
+        emu.stop()
+
+
+@pytest.fixture
+def free_emulator(start_emulator: StartEmulator, tmp_path: Path) -> Emulator:
+    """A free-running 4-axis emulator writing its step trace to tmp_path/trace.csv."""
+    return start_emulator(free=True, trace=tmp_path / "trace.csv")
+
+
+@pytest.fixture
+def free_link(free_emulator: Emulator) -> Iterator[Link]:
+    with Link.open(free_emulator.url) as link:
+        yield link

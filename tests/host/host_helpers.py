@@ -1,0 +1,71 @@
+"""Helpers for the loopback tests: random segment streams and emulator traces."""
+
+from __future__ import annotations
+
+import random
+from pathlib import Path
+
+import numpy as np
+
+from quadstep.protocol import D, N_MAX, AxisMove, Segment
+
+
+def random_segments(rng: random.Random, count: int, axis_count: int = 4) -> list[Segment]:
+    """`count` valid segments on 1..axis_count axes; the last one ends at rest."""
+    segments = []
+    for i in range(count):
+        n = rng.choice([1, 2, N_MAX, rng.randint(1, N_MAX), rng.randint(1, 64), rng.randint(1, 300)])
+        axes = sorted(rng.sample(range(axis_count), rng.randint(1, axis_count)))
+        moves = []
+        for axis in axes:
+            v0 = rng.choice([0, D, rng.randint(0, D)])
+            vn = 0 if i == count - 1 else rng.choice([0, D, rng.randint(0, D)])
+            r = rng.choice([-D, D, 0, rng.randint(-D, D)])
+            if r == D and v0 == D and vn == D:
+                r = 0
+            moves.append(AxisMove(axis=axis, direction=rng.choice([1, -1]), v0=v0, vn=vn, r=r))
+        segments.append(Segment(n=n, axes=tuple(moves)))
+    return segments
+
+
+def read_trace(path: Path) -> np.ndarray:
+    """The emulator's step trace as rows of (tick, axis, direction)."""
+    with path.open() as f:
+        assert f.readline().strip() == "tick,axis,direction"
+        rows = np.loadtxt(f, delimiter=",", dtype=np.int64, ndmin=2)
+    return rows.reshape(-1, 3)
+
+
+class RawPort:
+    """The emulator's port without a Link: write any bytes, collect decoded reports."""
+
+    def __init__(self, url: str) -> None:
+        import serial
+
+        from quadstep.protocol import Decoder
+
+        self.port = serial.serial_for_url(url, timeout=0.05)
+        self.decoder = Decoder("to_host")
+
+    def write(self, data: bytes) -> None:
+        self.port.write(data)
+
+    def collect(self, count: int, timeout: float = 3.0) -> list:
+        """The next `count` decoded reports (Frame or DecodeError)."""
+        import time
+
+        items: list = []
+        deadline = time.monotonic() + timeout
+        while len(items) < count and time.monotonic() < deadline:
+            items += self.decoder.feed(self.port.read(self.port.in_waiting or 1))
+        assert len(items) >= count, f"only {len(items)} of {count} reports: {items}"
+        return items
+
+    def close(self) -> None:
+        self.port.close()
+
+    def __enter__(self) -> RawPort:
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.close()

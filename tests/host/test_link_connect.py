@@ -1,0 +1,73 @@
+"""Connecting: refusals the real firmware cannot provoke (silence, another protocol version).
+
+Both run on a real pseudo-terminal through pyserial. A silent line needs no
+other end; no firmware of another protocol version exists, so a few lines
+answer IDENTIFY the way one would.
+"""
+
+from __future__ import annotations
+
+import os
+import threading
+import tty
+from collections.abc import Iterator
+
+import pytest
+
+from quadstep.link import Link, LinkError, LinkTimeout, ProtocolVersionError
+from quadstep.protocol import Decoder, Frame, Identify, IdentifyReply, encode
+
+
+@pytest.fixture
+def pty() -> Iterator[tuple[int, str]]:
+    """(master fd, slave path); the slave stays open so the master never reads EIO."""
+    master, slave = os.openpty()
+    tty.setraw(slave)
+    yield master, os.ttyname(slave)
+    os.close(slave)
+    os.close(master)
+
+
+def test_silent_line_times_out_with_a_clear_message(pty: tuple[int, str]) -> None:
+    master, path = pty
+    with pytest.raises(LinkTimeout, match=r"no answer to IDENTIFY after 3 tries of 0.1 s"):
+        Link.open(path, retries=3, request_timeout=0.1)
+    sent = os.read(master, 4096)
+    frames = Decoder("to_firmware").feed(sent)
+    assert sent.startswith(b"\x00") and len(frames) == 3
+    assert all(isinstance(f, Frame) and f.message == Identify() for f in frames)
+    assert len({f.seq for f in frames if isinstance(f, Frame)}) == 1  # resends of one request
+
+
+def test_unknown_protocol_version_is_refused_naming_both(pty: tuple[int, str]) -> None:
+    master, path = pty
+    stop = threading.Event()
+
+    def firmware_of_version_2() -> None:
+        decoder = Decoder("to_firmware")
+        while not stop.is_set():
+            try:
+                data = os.read(master, 256)
+            except OSError:
+                return
+            for item in decoder.feed(data):
+                if isinstance(item, Frame) and isinstance(item.message, Identify):
+                    reply = IdentifyReply(
+                        protocol_version=2, fw_major=9, fw_minor=0, fw_patch=0, board=0, axis_count=4,
+                        queue_capacity=8, speed_shift=12, n_max=1022, tick_hz=50000, capabilities=3,
+                        next_seq=0,
+                    )
+                    os.write(master, encode(reply, item.seq))
+
+    responder = threading.Thread(target=firmware_of_version_2, daemon=True)
+    responder.start()
+    try:
+        with pytest.raises(ProtocolVersionError, match="protocol version 2; this host speaks version 1"):
+            Link.open(path, request_timeout=0.5)
+    finally:
+        stop.set()
+
+
+def test_missing_port_is_a_link_error() -> None:
+    with pytest.raises(LinkError, match="cannot open /dev/nonexistent-quadstep"):
+        Link.open("/dev/nonexistent-quadstep")

@@ -1,0 +1,276 @@
+"""The host link against the real firmware core, running in the emulator on a pseudo-terminal."""
+
+from __future__ import annotations
+
+import random
+import struct
+import threading
+import time
+from pathlib import Path
+
+import numpy as np
+import pytest
+from host_helpers import RawPort, random_segments, read_trace
+
+from quadstep.emulator import Emulator
+from quadstep.engine_model import predict
+from quadstep.link import AlarmError, FirmwareError, Link, Stopped
+from quadstep.protocol import (
+    D,
+    Ack,
+    AckReason,
+    Alarm,
+    AlarmCode,
+    AxisMove,
+    ErrorCode,
+    ErrorReport,
+    FieldId,
+    Frame,
+    Segment,
+    SetPosition,
+    State,
+    Status,
+    StatusReport,
+    Stop,
+    encode,
+)
+from quadstep.protocol.framing import cobs_encode, encode_frame
+
+
+def stream(link: Link, segments: list[Segment]) -> StatusReport:
+    for seg in segments:
+        link.send(seg)
+    return link.wait_idle(timeout=60)
+
+
+def assert_trace_is_prediction(trace: Path, segments: list[Segment], positions: list[int] | None = None) -> None:
+    expected = predict(segments, positions)
+    got = read_trace(trace)
+    assert got.shape == expected.steps.shape
+    assert np.array_equal(got, expected.steps)
+
+
+def test_identify_reports_the_emulator(free_link: Link) -> None:
+    ident = free_link.identify()
+    assert (ident.protocol_version, ident.board, ident.axis_count) == (1, 0, 4)
+    assert (ident.queue_capacity, ident.speed_shift, ident.n_max, ident.tick_hz) == (32, 12, 1022, 50000)
+    assert ident.capabilities & 0b11 == 0b11
+    status = free_link.status()
+    assert status.state == State.IDLE and status.position == (0, 0, 0, 0)
+
+
+def test_random_segments_execute_exactly_as_predicted(free_emulator: Emulator, free_link: Link) -> None:
+    segments = random_segments(random.Random(1), 300)
+    final = stream(free_link, segments)
+    expected = predict(segments)
+    assert list(final.position) == expected.positions
+    assert final.motion_ticks == expected.motion_ticks == sum(s.n for s in segments)
+    assert final.segments_done == free_link.segments_done == 300
+    assert (final.bad_crc, final.bad_frame, final.rejected, final.seq_gap, final.seq_dup) == (0, 0, 0, 0, 0)
+    assert free_link.stats.retransmits == 0
+    assert_trace_is_prediction(free_emulator.trace, segments)  # type: ignore[arg-type]
+    summary = free_emulator.stop()
+    assert summary["motion_ticks"] == expected.motion_ticks
+    assert summary["segments_done"] == 300
+    assert [summary[f"position_{axis}"] for axis in range(4)] == expected.positions
+
+
+def test_set_position_offsets_every_later_step(free_emulator: Emulator, free_link: Link) -> None:
+    start = [1000, -2000, 2**31 - 5000, -(2**31) + 5000]
+    free_link.send(SetPosition(positions=dict(enumerate(start))))
+    segments = random_segments(random.Random(2), 20)
+    final = stream(free_link, segments)
+    assert list(final.position) == predict(segments, start).positions
+
+
+def test_malformed_frames_are_counted_and_the_next_good_frame_works(free_emulator: Emulator) -> None:
+    good_segment = Segment(n=10, axes=(AxisMove(axis=0, direction=1, v0=D, vn=0, r=0),))
+    with RawPort(free_emulator.url) as raw:
+        raw.write(b"\x00")
+        raw.write(encode(Status(), 1))
+        (first,) = raw.collect(1)
+        next_seq = first.message.next_seq
+        garbage = bytes(range(1, 40)) + b"\x00"  # bad COBS
+        bad_crc = bytearray(encode(good_segment, next_seq))
+        bad_crc[-3] ^= 0x01
+        truncated = cobs_encode(encode(good_segment, next_seq)[1:3]) + b"\x00"  # 2 bytes: too short
+        too_long = encode_frame(bytes([0x10, next_seq]) + bytes(range(1, 70)))
+        unknown = encode_frame(bytes([0x12, next_seq]))
+        bad_length = encode_frame(bytes([0x10, next_seq, 5, 0]))
+        raw.write(garbage + bytes(bad_crc) + truncated + too_long + unknown + bad_length)
+        errors = raw.collect(6)
+        codes = [e.message.code for e in errors if isinstance(e, Frame) and isinstance(e.message, ErrorReport)]
+        assert codes == [
+            ErrorCode.BAD_COBS, ErrorCode.BAD_CRC, ErrorCode.FRAME_TOO_SHORT, ErrorCode.FRAME_TOO_LONG,
+            ErrorCode.UNKNOWN_TYPE, ErrorCode.BAD_LENGTH,
+        ]
+        assert [(e.message.frame_type, e.message.frame_seq) for e in errors[4:]] == [(0x12, next_seq), (0x10, next_seq)]
+        raw.write(encode(good_segment, next_seq))
+        ack = raw.collect(1)[0].message
+        assert isinstance(ack, Ack) and ack.reason == AckReason.ACCEPTED and ack.next_seq == (next_seq + 1) & 0xFF
+        time.sleep(0.1)
+        raw.decoder.feed(raw.port.read(raw.port.in_waiting))  # SPACE ack
+        raw.write(encode(Status(), 2))
+        status = [f.message for f in raw.collect(1) if isinstance(f.message, StatusReport)][0]
+    assert (status.bad_frame, status.bad_crc, status.rejected) == (3, 1, 2)
+    assert status.position[0] == 5 and status.segments_done == 1
+
+
+def dropping_emulator(start_emulator, tmp_path: Path, option: str, k: int) -> Emulator:
+    return start_emulator(free=True, trace=tmp_path / "trace.csv", extra_args=(option, str(k)))
+
+
+@pytest.mark.parametrize(
+    "option, k",
+    [
+        ("--drop-rx-frame", 5),  # third segment: the next frames earn GAPs
+        ("--corrupt-rx-frame", 5),  # BAD_CRC, then GAPs
+        ("--drop-rx-frame", 2 + 40),  # the last segment: only the retransmission timeout finds it
+        ("--drop-rx-frame", 2 + 1),  # the first segment
+    ],
+)
+def test_frame_lost_on_the_wire_is_resent_and_executed_once(start_emulator, tmp_path: Path, option: str, k: int) -> None:
+    emu = dropping_emulator(start_emulator, tmp_path, option, k)
+    segments = random_segments(random.Random(k), 40)
+    with Link.open(emu.url) as link:  # frames 1 and 2 are IDENTIFY and STATUS
+        final = stream(link, segments)
+        assert link.stats.retransmits >= 1
+        if k < 42:
+            assert link.stats.gaps >= 1 and final.seq_gap >= 1
+    assert list(final.position) == predict(segments).positions
+    assert final.segments_done == 40
+    assert_trace_is_prediction(emu.trace, segments)  # type: ignore[arg-type]
+
+
+def test_lost_ack_costs_a_duplicate_not_a_second_execution(start_emulator, tmp_path: Path) -> None:
+    # Paced at 2 kHz the segment runs 0.5 s, longer than the retransmission timeout,
+    # so no SPACE ack can stand in for the lost ACK (firmware frames: 1 IDENTIFY_REPLY,
+    # 2 STATUS_REPORT, 3 the ACK of the segment).
+    emu = start_emulator(tick_hz=2000, trace=tmp_path / "trace.csv", extra_args=("--drop-tx-frame", "3"))
+    segment = Segment(n=1000, axes=(AxisMove(axis=2, direction=-1, v0=1000, vn=0, r=0),))
+    with Link.open(emu.url, rto=0.2) as link:
+        final = stream(link, [segment])
+        assert link.stats.duplicates == 1 and link.stats.retransmits == 1
+    assert final.seq_dup == 1 and final.segments_done == 1
+    assert list(final.position) == predict([segment]).positions
+    assert_trace_is_prediction(emu.trace, [segment])  # type: ignore[arg-type]
+
+
+def test_invalid_segment_is_refused_with_its_field_and_raises_an_alarm(free_emulator: Emulator) -> None:
+    with RawPort(free_emulator.url) as raw:
+        raw.write(b"\x00" + encode(Status(), 1))
+        seq = raw.collect(1)[0].message.next_seq
+        body = bytes([0x10, seq]) + struct.pack("<HB", 100, 0b0110) + struct.pack("<HHhHHh", 10, 20, 0, 4097, 0, 0)
+        raw.write(encode_frame(body))
+        error, ack, alarm = (f.message for f in raw.collect(3))
+        assert error == ErrorReport(code=ErrorCode.BAD_FIELD, frame_type=0x10, frame_seq=seq, field=FieldId.V0, axis=2)
+        assert isinstance(ack, Ack) and ack.reason == AckReason.REJECTED and ack.next_seq == (seq + 1) & 0xFF
+        assert isinstance(alarm, Alarm) and alarm.code == AlarmCode.REJECTED_SEGMENT
+        assert alarm.position == (0, 0, 0, 0)
+        raw.write(encode(Status(), 2))
+        status = raw.collect(1)[0].message
+        assert status.state == State.ALARM and status.alarm == AlarmCode.REJECTED_SEGMENT and status.rejected == 1
+        good = Segment(n=5, axes=(AxisMove(axis=0, direction=1, v0=0, vn=0, r=0),))
+        raw.write(encode(good, (seq + 1) & 0xFF))
+        error, ack = (f.message for f in raw.collect(2))
+        assert error.code == ErrorCode.ALARM_ACTIVE and ack.reason == AckReason.REJECTED
+        raw.write(encode(Stop(), 77))
+        stopped = raw.collect(1)[0].message
+        assert stopped.state == State.IDLE and stopped.alarm is None and stopped.next_seq == 77
+
+
+def test_underrun_raises_an_alarm_with_exact_positions_and_stop_clears_it(start_emulator, tmp_path: Path) -> None:
+    emu = start_emulator(trace=tmp_path / "trace.csv")
+    ends_moving = Segment(
+        n=800, axes=(AxisMove(axis=0, direction=1, v0=2000, vn=3000, r=0), AxisMove(axis=3, direction=-1, v0=100, vn=90, r=-7))
+    )
+    expected = predict([ends_moving])
+    alarms: list = []
+    with Link.open(emu.url) as link:
+        link.on_report(lambda report: alarms.append(report) if isinstance(report, Alarm) else None)
+        link.send(ends_moving)
+        with pytest.raises(AlarmError, match="UNDERRUN") as caught:
+            link.wait_idle(timeout=10)
+        assert caught.value.alarm.code == AlarmCode.UNDERRUN
+        assert list(caught.value.alarm.position) == expected.positions
+        assert caught.value.alarm.motion_ticks == 800
+        assert alarms == [caught.value.alarm] and link.last_alarm == caught.value.alarm
+        with pytest.raises(AlarmError):
+            link.send(ends_moving)
+        stopped = link.stop()
+        assert stopped.state == State.IDLE and stopped.alarm is None
+        assert list(stopped.position) == expected.positions
+        at_rest = Segment(n=50, axes=(AxisMove(axis=1, direction=1, v0=4096, vn=0, r=0),))
+        final = stream(link, [at_rest])
+    assert list(final.position) == predict([ends_moving, at_rest]).positions
+    assert_trace_is_prediction(emu.trace, [ends_moving, at_rest])  # type: ignore[arg-type]
+
+
+def test_set_position_while_moving_is_refused_busy(start_emulator) -> None:
+    emu = start_emulator(tick_hz=5000)
+    with Link.open(emu.url) as link:
+        link.send(Segment(n=1000, axes=(AxisMove(axis=0, direction=1, v0=0, vn=0, r=0),)))
+        link.send(SetPosition(positions={0: 5}))
+        with pytest.raises(FirmwareError) as caught:
+            link.drain(timeout=5)
+        assert caught.value.code == "BUSY" and caught.value.report.frame_type == 0x11
+        status = link.stop()
+        assert status.state == State.IDLE and status.position == (0, 0, 0, 0)
+        link.send(SetPosition(positions={0: 5}))
+        assert link.wait_idle(timeout=5).position == (5, 0, 0, 0)
+
+
+def test_stop_during_motion_keeps_positions_exact(start_emulator, tmp_path: Path) -> None:
+    """A sender blocked on the window gets Stopped; positions stay exact; the session goes on."""
+    emu = start_emulator(tick_hz=10000, queue=4, trace=tmp_path / "trace.csv")
+    segment = Segment(n=1000, axes=(AxisMove(axis=1, direction=-1, v0=2048, vn=2048, r=0),))
+    outcome: list[BaseException] = []
+
+    def sender(link: Link) -> None:
+        try:
+            for _ in range(20):
+                link.send(segment)
+        except BaseException as exc:  # noqa: BLE001 - the test inspects it
+            outcome.append(exc)
+
+    with Link.open(emu.url) as link:
+        thread = threading.Thread(target=sender, args=(link,))
+        thread.start()
+        time.sleep(0.3)
+        status = link.stop()
+        thread.join(5)
+        assert len(outcome) == 1 and isinstance(outcome[0], Stopped)
+        assert status.state == State.IDLE and status.queue_fill == 0
+        moved = status.position[1]
+        assert -1000 * 20 // 2 < moved < 0
+        final = stream(link, [Segment(n=10, axes=(AxisMove(axis=1, direction=1, v0=4096, vn=0, r=0),))])
+        assert final.position[1] == moved + 5
+    emu.stop()
+    trace = read_trace(emu.trace)  # type: ignore[arg-type]
+    assert int(trace[:, 2].sum()) == moved + 5
+
+
+def test_small_queue_flow_control_never_overflows(start_emulator, tmp_path: Path) -> None:
+    emu = start_emulator(queue=3, free=True, trace=tmp_path / "trace.csv")
+    segments = random_segments(random.Random(5), 30)
+    with Link.open(emu.url) as link:
+        assert link.identity.queue_capacity == 3  # type: ignore[union-attr]
+        final = stream(link, segments)
+        assert link.stats.queue_full == 0 and link.stats.retransmits == 0
+    assert list(final.position) == predict(segments).positions
+    assert_trace_is_prediction(emu.trace, segments)  # type: ignore[arg-type]
+
+
+def test_segments_done_unwraps_past_65535_and_space_acks_report_progress(free_emulator: Emulator,
+                                                                          free_link: Link) -> None:
+    count = 65_536 + 300
+    spaces: list[Ack] = []
+    free_link.on_report(lambda report: spaces.append(report) if isinstance(report, Ack) else None)
+    tick = Segment(n=1)
+    for _ in range(count):
+        free_link.send(tick)
+    final = free_link.wait_idle(timeout=120)
+    assert final.segments_done == free_link.segments_done == count
+    assert final.motion_ticks == count
+    assert spaces and all(a.reason == AckReason.SPACE for a in spaces)
+    assert spaces[-1].done == count & 0xFFFF
