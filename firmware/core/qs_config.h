@@ -1,0 +1,47 @@
+/* Build-time configuration of the firmware core. Every value can be
+ * overridden with -D; the native emulator also narrows some at run time
+ * (qs_core_configure). */
+#ifndef QS_CONFIG_H
+#define QS_CONFIG_H
+
+/* Axes the engine can drive (storage and per-tick work), 1 to 4. */
+#ifndef QS_AXIS_COUNT
+#define QS_AXIS_COUNT 4
+#endif
+#if QS_AXIS_COUNT < 1 || QS_AXIS_COUNT > 4
+#error "QS_AXIS_COUNT must be 1 to 4"
+#endif
+
+/* Segment slots in the queue, 1 to 127 (u8 indices run over twice this). */
+#ifndef QS_QUEUE_CAPACITY
+#define QS_QUEUE_CAPACITY 16
+#endif
+#if QS_QUEUE_CAPACITY < 1 || QS_QUEUE_CAPACITY > 127
+#error "QS_QUEUE_CAPACITY must be 1 to 127"
+#endif
+
+/* Step ticks per second (reported to the host; the target sets its timer). */
+#ifndef QS_TICK_HZ
+#define QS_TICK_HZ 50000UL
+#endif
+
+/* Board code reported by IDENTIFY: 0 emulator, 1 ATmega328P, 2 ATmega2560. */
+#ifndef QS_BOARD
+#define QS_BOARD 0
+#endif
+
+#define QS_FW_MAJOR 0
+#define QS_FW_MINOR 1
+#define QS_FW_PATCH 0
+
+/* The tick path must compile into the timer interrupt without calls: a call
+ * makes avr-gcc save every call-clobbered register in the ISR prologue. */
+#if defined(__GNUC__)
+#define QS_ALWAYS_INLINE __attribute__((always_inline)) inline
+#define QS_COMPILER_BARRIER() __asm__ __volatile__("" ::: "memory")
+#else
+#define QS_ALWAYS_INLINE inline
+#define QS_COMPILER_BARRIER() ((void)0)
+#endif
+
+#endif

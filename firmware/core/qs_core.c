@@ -1,0 +1,317 @@
+#include "qs_core.h"
+#include "qs_port.h"
+#include "qs_protocol.h"
+
+/* ---- sending ---- */
+
+static void send_body(uint8_t *body, uint8_t len)
+{
+    uint8_t wire[QS_MAX_WIRE];
+    qs_port_send(wire, qs_frame_encode(body, len, wire));
+}
+
+static void send_ack(qs_core *c, uint8_t seq, uint8_t reason)
+{
+    uint8_t body[QS_MAX_FRAME];
+    qs_ack a;
+
+    qs_engine_retire(&c->engine);
+    a.done = (uint16_t)c->engine.segments_done;
+    a.next_seq = c->next_seq;
+    a.free = qs_queue_free(&c->engine.queue);
+    a.reason = reason;
+    send_body(body, qs_msg_encode_ack(body, seq, &a));
+}
+
+static void send_error(uint8_t seq, uint8_t type, const qs_fault *f)
+{
+    uint8_t body[QS_MAX_FRAME];
+    qs_error_report e;
+
+    e.code = f->code;
+    e.type = type;
+    e.seq = seq;
+    e.field = f->field;
+    e.axis = f->axis;
+    send_body(body, qs_msg_encode_error(body, seq, &e));
+}
+
+static void send_identify_reply(qs_core *c, uint8_t seq)
+{
+    uint8_t body[QS_MAX_FRAME];
+    qs_identity id;
+
+    id.protocol_version = QS_PROTOCOL_VERSION;
+    id.fw_major = QS_FW_MAJOR;
+    id.fw_minor = QS_FW_MINOR;
+    id.fw_patch = QS_FW_PATCH;
+    id.board = QS_BOARD;
+    id.axis_count = c->axis_count;
+    id.queue_capacity = c->engine.queue.capacity;
+    id.speed_shift = QS_SPEED_SHIFT;
+    id.n_max = QS_N_MAX;
+    id.tick_hz = c->tick_hz;
+    id.capabilities = QS_CAP_QUADRATIC | QS_CAP_SET_POSITION;
+    id.next_seq = c->next_seq;
+    send_body(body, qs_msg_encode_identify_reply(body, seq, &id));
+}
+
+static void send_status_report(qs_core *c, uint8_t seq)
+{
+    uint8_t body[QS_MAX_FRAME];
+    qs_status st;
+
+    qs_core_status(c, &st);
+    send_body(body, qs_msg_encode_status_report(body, seq, &st));
+}
+
+static void send_alarm(qs_core *c)
+{
+    uint8_t body[QS_MAX_FRAME];
+    qs_alarm_report a;
+    qs_engine_view v;
+    uint8_t axis;
+
+    qs_engine_read(&c->engine, &v);
+    a.code = v.alarm;
+    a.motion_ticks = v.motion_ticks;
+    a.axis_count = c->axis_count;
+    for (axis = 0; axis < c->axis_count; axis++)
+        a.position[axis] = v.position[axis];
+    c->alarm_announced = 1;
+    send_body(body, qs_msg_encode_alarm(body, QS_SEQ_UNSOLICITED, &a));
+}
+
+/* ---- bookkeeping ---- */
+
+static void count(uint16_t *counter)
+{
+    if (*counter != 0xFFFF)
+        (*counter)++;
+}
+
+static void count_error(qs_core *c, uint8_t code)
+{
+    switch (code) {
+    case QS_ERR_RX_OVERRUN:
+        count(&c->counters.rx_overrun);
+        break;
+    case QS_ERR_FRAME_TOO_LONG:
+    case QS_ERR_BAD_COBS:
+    case QS_ERR_FRAME_TOO_SHORT:
+        count(&c->counters.bad_frame);
+        break;
+    case QS_ERR_BAD_CRC:
+        count(&c->counters.bad_crc);
+        break;
+    default: /* UNKNOWN_TYPE, BAD_LENGTH and every content error */
+        count(&c->counters.rejected);
+        break;
+    }
+}
+
+static void fault(qs_fault *f, uint8_t code)
+{
+    f->code = code;
+    f->field = QS_FIELD_NONE;
+    f->axis = QS_AXIS_NONE;
+}
+
+/* Consume a sequenced frame that cannot be executed. */
+static void reject(qs_core *c, const qs_host_msg *m, const qs_fault *f)
+{
+    count_error(c, f->code);
+    send_error(m->seq, m->type, f);
+    c->next_seq++;
+    send_ack(c, m->seq, QS_ACK_REJECTED);
+}
+
+/* ---- messages ---- */
+
+static void on_segment(qs_core *c, const qs_host_msg *m)
+{
+    qs_engine *e = &c->engine;
+    qs_fault f;
+
+    if (e->state == QS_STATE_ALARM) {
+        fault(&f, QS_ERR_ALARM_ACTIVE);
+        reject(c, m, &f);
+        return;
+    }
+    if (qs_msg_check_segment(&m->as.segment, c->axis_count, &f) != QS_ERR_NONE) {
+        /* Later segments were planned from where this one would have left
+         * the axes: stop everything. */
+        qs_engine_halt(e, QS_STATE_ALARM, QS_ALARM_REJECTED_SEGMENT);
+        c->alarm_announced = 0;
+        reject(c, m, &f);
+        send_alarm(c);
+        return;
+    }
+    if (qs_queue_free(&e->queue) == 0) {
+        send_ack(c, m->seq, QS_ACK_QUEUE_FULL);
+        return;
+    }
+    qs_segment_prepare(qs_queue_back(&e->queue), &m->as.segment);
+    qs_queue_publish(&e->queue);
+    qs_engine_wake(e);
+    c->next_seq++;
+    send_ack(c, m->seq, QS_ACK_ACCEPTED);
+}
+
+static void on_set_position(qs_core *c, const qs_host_msg *m)
+{
+    const qs_set_position_msg *p = &m->as.set_position;
+    qs_fault f;
+
+    if (qs_msg_check_set_position(p, c->axis_count, &f) != QS_ERR_NONE) {
+        reject(c, m, &f);
+        return;
+    }
+    if (!qs_engine_set_positions(&c->engine, p->mask, p->position)) {
+        fault(&f, QS_ERR_BUSY);
+        reject(c, m, &f);
+        return;
+    }
+    c->next_seq++;
+    send_ack(c, m->seq, QS_ACK_ACCEPTED);
+}
+
+static void on_stop(qs_core *c, const qs_host_msg *m)
+{
+    qs_engine_halt(&c->engine, QS_STATE_IDLE, QS_ALARM_NONE);
+    c->alarm_announced = 0;
+    c->next_seq = m->seq;
+    send_status_report(c, m->seq);
+}
+
+static void on_sequenced(qs_core *c, const qs_host_msg *m)
+{
+    uint8_t delta = (uint8_t)(m->seq - c->next_seq);
+
+    if (delta != 0) {
+        /* A later frame means some were lost; an earlier one is a resend of
+         * a frame already consumed. Neither is executed. */
+        if (delta <= 127) {
+            count(&c->counters.seq_gap);
+            send_ack(c, m->seq, QS_ACK_GAP);
+        } else {
+            count(&c->counters.seq_dup);
+            send_ack(c, m->seq, QS_ACK_DUPLICATE);
+        }
+        return;
+    }
+    if (m->type == QS_TYPE_SEGMENT)
+        on_segment(c, m);
+    else
+        on_set_position(c, m);
+}
+
+static void on_frame(qs_core *c, const uint8_t *body, uint8_t len)
+{
+    qs_host_msg m;
+    qs_fault f;
+    uint8_t code = qs_msg_parse(body, len, &m);
+
+    if (code != QS_ERR_NONE) {
+        count_error(c, code);
+        fault(&f, code);
+        send_error(m.seq, m.type, &f);
+        return;
+    }
+    switch (m.type) {
+    case QS_TYPE_IDENTIFY:
+        send_identify_reply(c, m.seq);
+        break;
+    case QS_TYPE_STATUS:
+        send_status_report(c, m.seq);
+        break;
+    case QS_TYPE_STOP:
+        on_stop(c, &m);
+        break;
+    default:
+        on_sequenced(c, &m);
+        break;
+    }
+}
+
+/* ---- public ---- */
+
+void qs_core_init(qs_core *c)
+{
+    qs_engine_init(&c->engine, QS_QUEUE_CAPACITY);
+    qs_frame_rx_init(&c->rx);
+    c->counters.rx_overrun = 0;
+    c->counters.bad_frame = 0;
+    c->counters.bad_crc = 0;
+    c->counters.seq_gap = 0;
+    c->counters.seq_dup = 0;
+    c->counters.rejected = 0;
+    c->next_seq = 0;
+    c->axis_count = QS_AXIS_COUNT;
+    c->tick_hz = QS_TICK_HZ;
+    c->space_announced = 0;
+    c->alarm_announced = 0;
+}
+
+uint8_t qs_core_configure(qs_core *c, uint8_t axis_count, uint8_t queue_capacity, uint32_t tick_hz)
+{
+    if (axis_count < 1 || axis_count > QS_AXIS_COUNT || queue_capacity < 1
+        || queue_capacity > QS_QUEUE_CAPACITY || tick_hz == 0)
+        return 0;
+    c->axis_count = axis_count;
+    c->tick_hz = tick_hz;
+    qs_queue_init(&c->engine.queue, queue_capacity);
+    return 1;
+}
+
+void qs_core_rx(qs_core *c, uint8_t byte)
+{
+    uint8_t result = qs_frame_rx_byte(&c->rx, byte);
+    qs_fault f;
+
+    if (result == QS_FRAME_NOTHING)
+        return;
+    if (result == QS_FRAME_READY) {
+        on_frame(c, qs_frame_body(&c->rx), qs_frame_body_len(&c->rx));
+        return;
+    }
+    /* Nothing in a frame that failed these checks can be trusted. */
+    count_error(c, result);
+    fault(&f, result);
+    send_error(QS_SEQ_UNSOLICITED, QS_SEQ_UNSOLICITED, &f);
+}
+
+void qs_core_rx_overrun(qs_core *c)
+{
+    qs_frame_rx_overrun(&c->rx);
+}
+
+void qs_core_poll(qs_core *c)
+{
+    qs_engine_retire(&c->engine);
+    /* One SPACE ack covers every segment finished since the last one. */
+    if (c->engine.segments_done != c->space_announced) {
+        c->space_announced = c->engine.segments_done;
+        send_ack(c, QS_SEQ_UNSOLICITED, QS_ACK_SPACE);
+    }
+    if (c->engine.alarm != QS_ALARM_NONE && !c->alarm_announced)
+        send_alarm(c);
+}
+
+void qs_core_status(qs_core *c, qs_status *st)
+{
+    qs_engine_view v;
+    uint8_t axis;
+
+    qs_engine_read(&c->engine, &v);
+    st->state = v.state;
+    st->alarm = v.alarm;
+    st->queue_fill = v.queue_fill;
+    st->segments_done = v.segments_done;
+    st->motion_ticks = v.motion_ticks;
+    st->axis_count = c->axis_count;
+    for (axis = 0; axis < c->axis_count; axis++)
+        st->position[axis] = v.position[axis];
+    st->next_seq = c->next_seq;
+    st->counters = c->counters;
+}

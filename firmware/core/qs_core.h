@@ -1,0 +1,46 @@
+/* The firmware core: everything a target runs, in one struct. The target
+ * feeds received bytes to qs_core_rx, calls qs_core_poll from its main loop
+ * and qs_engine_tick(&core.engine) (qs_engine_tick.h) from its timer
+ * interrupt, and provides qs_port.h. */
+#ifndef QS_CORE_H
+#define QS_CORE_H
+
+#include <stdint.h>
+#include "qs_config.h"
+#include "qs_engine.h"
+#include "qs_frame.h"
+#include "qs_messages.h"
+
+typedef struct {
+    qs_engine engine;
+    qs_frame_rx rx;
+    qs_counters counters;
+    uint8_t next_seq;         /* the sequenced seq expected next */
+    uint8_t axis_count;       /* as reported; at most QS_AXIS_COUNT */
+    uint32_t tick_hz;         /* as reported */
+    uint32_t space_announced; /* segments_done of the last SPACE ack */
+    uint8_t alarm_announced;  /* the current alarm has been reported */
+} qs_core;
+
+void qs_core_init(qs_core *c);
+
+/* Narrow the build-time limits at run time (the emulator's options):
+ * 1 <= axis_count <= QS_AXIS_COUNT, 1 <= queue_capacity <=
+ * QS_QUEUE_CAPACITY. Call right after qs_core_init. Returns 0 if out of
+ * range (nothing changed). */
+uint8_t qs_core_configure(qs_core *c, uint8_t axis_count, uint8_t queue_capacity, uint32_t tick_hz);
+
+/* One received byte; acts when it ends a frame. */
+void qs_core_rx(qs_core *c, uint8_t byte);
+
+/* The target lost received bytes: the frame in progress is rejected. */
+void qs_core_rx_overrun(qs_core *c);
+
+/* Deferred work: SPACE acks for completed segments, ALARM reports raised
+ * by the tick. Call often from the main loop. */
+void qs_core_poll(qs_core *c);
+
+/* A consistent snapshot of what STATUS_REPORT carries. */
+void qs_core_status(qs_core *c, qs_status *st);
+
+#endif

@@ -1,0 +1,235 @@
+#include "qs_messages.h"
+
+static uint16_t get16(const uint8_t *p)
+{
+    return (uint16_t)(p[0] | ((uint16_t)p[1] << 8));
+}
+
+static uint32_t get32(const uint8_t *p)
+{
+    return (uint32_t)get16(p) | ((uint32_t)get16(p + 2) << 16);
+}
+
+static uint8_t put16(uint8_t *p, uint16_t v)
+{
+    p[0] = (uint8_t)v;
+    p[1] = (uint8_t)(v >> 8);
+    return 2;
+}
+
+static uint8_t put32(uint8_t *p, uint32_t v)
+{
+    put16(p, (uint16_t)v);
+    put16(p + 2, (uint16_t)(v >> 16));
+    return 4;
+}
+
+static uint8_t bit_count(uint8_t bits)
+{
+    uint8_t n = 0;
+    for (; bits; bits &= (uint8_t)(bits - 1))
+        n++;
+    return n;
+}
+
+static uint8_t parse_segment(const uint8_t *p, uint8_t len, qs_segment_msg *s)
+{
+    uint8_t axis;
+
+    if (len < QS_LEN_SEGMENT_HEAD)
+        return QS_ERR_BAD_LENGTH;
+    s->n = get16(p);
+    s->active = p[2] & 0x0F;
+    s->negative = (uint8_t)(p[2] >> 4);
+    if (len != QS_LEN_SEGMENT_HEAD + QS_LEN_SEGMENT_AXIS * bit_count(s->active))
+        return QS_ERR_BAD_LENGTH;
+    p += QS_LEN_SEGMENT_HEAD;
+    for (axis = 0; axis < QS_PROTOCOL_AXES; axis++) {
+        if (s->active & (1u << axis)) {
+            s->v0[axis] = get16(p);
+            s->vn[axis] = get16(p + 2);
+            s->r[axis] = (int16_t)get16(p + 4);
+            p += QS_LEN_SEGMENT_AXIS;
+        } else {
+            s->v0[axis] = 0;
+            s->vn[axis] = 0;
+            s->r[axis] = 0;
+        }
+    }
+    return QS_ERR_NONE;
+}
+
+static uint8_t parse_set_position(const uint8_t *p, uint8_t len, qs_set_position_msg *sp)
+{
+    uint8_t axis;
+
+    if (len < 1 || len != 1 + 4 * bit_count(p[0]))
+        return QS_ERR_BAD_LENGTH;
+    sp->mask = p[0];
+    p++;
+    for (axis = 0; axis < 8; axis++) {
+        if (!(sp->mask & (1u << axis)))
+            continue;
+        /* Bits above the wire's axes are refused by the content check. */
+        if (axis < QS_PROTOCOL_AXES)
+            sp->position[axis] = (int32_t)get32(p);
+        p += 4;
+    }
+    for (axis = 0; axis < QS_PROTOCOL_AXES; axis++)
+        if (!(sp->mask & (1u << axis)))
+            sp->position[axis] = 0;
+    return QS_ERR_NONE;
+}
+
+uint8_t qs_msg_parse(const uint8_t *body, uint8_t body_len, qs_host_msg *m)
+{
+    uint8_t len = (uint8_t)(body_len - 2);
+    const uint8_t *payload = body + 2;
+
+    m->type = body[0];
+    m->seq = body[1];
+    switch (m->type) {
+    case QS_TYPE_IDENTIFY:
+    case QS_TYPE_STATUS:
+    case QS_TYPE_STOP:
+        return len == 0 ? QS_ERR_NONE : QS_ERR_BAD_LENGTH;
+    case QS_TYPE_SEGMENT:
+        return parse_segment(payload, len, &m->as.segment);
+    case QS_TYPE_SET_POSITION:
+        return parse_set_position(payload, len, &m->as.set_position);
+    default:
+        return QS_ERR_UNKNOWN_TYPE;
+    }
+}
+
+static uint8_t bad_field(qs_fault *f, uint8_t field, uint8_t axis)
+{
+    f->code = QS_ERR_BAD_FIELD;
+    f->field = field;
+    f->axis = axis;
+    return QS_ERR_BAD_FIELD;
+}
+
+static uint8_t axes_beyond(uint8_t axis_count)
+{
+    return (uint8_t)(0xFFu << axis_count);
+}
+
+uint8_t qs_msg_check_segment(const qs_segment_msg *s, uint8_t axis_count, qs_fault *f)
+{
+    uint8_t axis;
+
+    if (s->n < 1 || s->n > QS_N_MAX)
+        return bad_field(f, QS_FIELD_N, QS_AXIS_NONE);
+    if (s->active & axes_beyond(axis_count))
+        return bad_field(f, QS_FIELD_AXES, QS_AXIS_NONE);
+    if (s->negative & (uint8_t)~s->active)
+        return bad_field(f, QS_FIELD_DIRECTION, QS_AXIS_NONE);
+    /* Field by field as in the table, each in axis order. */
+    for (axis = 0; axis < QS_PROTOCOL_AXES; axis++)
+        if ((s->active & (1u << axis)) && s->v0[axis] > QS_V_MAX)
+            return bad_field(f, QS_FIELD_V0, axis);
+    for (axis = 0; axis < QS_PROTOCOL_AXES; axis++)
+        if ((s->active & (1u << axis)) && s->vn[axis] > QS_V_MAX)
+            return bad_field(f, QS_FIELD_VN, axis);
+    for (axis = 0; axis < QS_PROTOCOL_AXES; axis++) {
+        int16_t r = s->r[axis];
+        if (!(s->active & (1u << axis)))
+            continue;
+        /* At r = 4096 with both speeds 4096 the stepper would need two
+         * steps in the first tick. */
+        if (r < -QS_R_MAX || r > QS_R_MAX
+            || (r == QS_R_MAX && s->v0[axis] == QS_V_MAX && s->vn[axis] == QS_V_MAX))
+            return bad_field(f, QS_FIELD_RESIDUAL, axis);
+    }
+    f->code = QS_ERR_NONE;
+    return QS_ERR_NONE;
+}
+
+uint8_t qs_msg_check_set_position(const qs_set_position_msg *p, uint8_t axis_count, qs_fault *f)
+{
+    if (p->mask & axes_beyond(axis_count))
+        return bad_field(f, QS_FIELD_AXES, QS_AXIS_NONE);
+    f->code = QS_ERR_NONE;
+    return QS_ERR_NONE;
+}
+
+static uint8_t head(uint8_t *body, uint8_t type, uint8_t seq)
+{
+    body[0] = type;
+    body[1] = seq;
+    return 2;
+}
+
+uint8_t qs_msg_encode_ack(uint8_t *body, uint8_t seq, const qs_ack *a)
+{
+    uint8_t n = head(body, QS_TYPE_ACK, seq);
+    body[n++] = a->next_seq;
+    body[n++] = a->free;
+    body[n++] = a->reason;
+    n += put16(body + n, a->done);
+    return n;
+}
+
+uint8_t qs_msg_encode_identify_reply(uint8_t *body, uint8_t seq, const qs_identity *id)
+{
+    uint8_t n = head(body, QS_TYPE_IDENTIFY_REPLY, seq);
+    body[n++] = id->protocol_version;
+    body[n++] = id->fw_major;
+    body[n++] = id->fw_minor;
+    body[n++] = id->fw_patch;
+    body[n++] = id->board;
+    body[n++] = id->axis_count;
+    body[n++] = id->queue_capacity;
+    body[n++] = id->speed_shift;
+    n += put16(body + n, id->n_max);
+    n += put32(body + n, id->tick_hz);
+    n += put16(body + n, id->capabilities);
+    body[n++] = id->next_seq;
+    return n;
+}
+
+uint8_t qs_msg_encode_status_report(uint8_t *body, uint8_t seq, const qs_status *st)
+{
+    uint8_t n = head(body, QS_TYPE_STATUS_REPORT, seq);
+    uint8_t axis;
+
+    body[n++] = st->state;
+    body[n++] = st->alarm;
+    body[n++] = st->queue_fill;
+    body[n++] = st->next_seq;
+    n += put32(body + n, st->segments_done);
+    n += put32(body + n, st->motion_ticks);
+    n += put16(body + n, st->counters.rx_overrun);
+    n += put16(body + n, st->counters.bad_frame);
+    n += put16(body + n, st->counters.bad_crc);
+    n += put16(body + n, st->counters.seq_gap);
+    n += put16(body + n, st->counters.seq_dup);
+    n += put16(body + n, st->counters.rejected);
+    for (axis = 0; axis < st->axis_count; axis++)
+        n += put32(body + n, (uint32_t)st->position[axis]);
+    return n;
+}
+
+uint8_t qs_msg_encode_error(uint8_t *body, uint8_t seq, const qs_error_report *e)
+{
+    uint8_t n = head(body, QS_TYPE_ERROR, seq);
+    body[n++] = e->code;
+    body[n++] = e->type;
+    body[n++] = e->seq;
+    body[n++] = e->field;
+    body[n++] = e->axis;
+    return n;
+}
+
+uint8_t qs_msg_encode_alarm(uint8_t *body, uint8_t seq, const qs_alarm_report *a)
+{
+    uint8_t n = head(body, QS_TYPE_ALARM, seq);
+    uint8_t axis;
+
+    body[n++] = a->code;
+    n += put32(body + n, a->motion_ticks);
+    for (axis = 0; axis < a->axis_count; axis++)
+        n += put32(body + n, (uint32_t)a->position[axis]);
+    return n;
+}

@@ -1,0 +1,116 @@
+/* Message payloads (PROTOCOL.md section 5): parsing and validating what the
+ * host sends, encoding the reports the firmware sends. Bodies are
+ * type, seq, payload; framing is qs_frame's job. */
+#ifndef QS_MESSAGES_H
+#define QS_MESSAGES_H
+
+#include <stdint.h>
+#include "qs_protocol.h"
+
+#define QS_PROTOCOL_AXES 4 /* axes the wire format can name */
+
+typedef struct {
+    uint16_t n;
+    uint8_t active;   /* bit i: axis i has fields in this segment */
+    uint8_t negative; /* bit i: axis i moves in the negative direction */
+    uint16_t v0[QS_PROTOCOL_AXES]; /* indexed by axis, valid where active */
+    uint16_t vn[QS_PROTOCOL_AXES];
+    int16_t r[QS_PROTOCOL_AXES];
+} qs_segment_msg;
+
+typedef struct {
+    uint8_t mask;
+    int32_t position[QS_PROTOCOL_AXES]; /* indexed by axis, valid where in mask */
+} qs_set_position_msg;
+
+typedef struct {
+    uint8_t type;
+    uint8_t seq;
+    union {
+        qs_segment_msg segment;
+        qs_set_position_msg set_position;
+    } as;
+} qs_host_msg;
+
+/* Why a message was refused: an ERROR code and, for BAD_FIELD, which. */
+typedef struct {
+    uint8_t code;
+    uint8_t field;
+    uint8_t axis;
+} qs_fault;
+
+/* Type and length checks (codes 6-7 of section 2). body_len >= 2.
+ * Returns QS_ERR_NONE, QS_ERR_UNKNOWN_TYPE or QS_ERR_BAD_LENGTH. */
+uint8_t qs_msg_parse(const uint8_t *body, uint8_t body_len, qs_host_msg *m);
+
+/* Content checks in the order of section 5.2. Return QS_ERR_NONE or
+ * QS_ERR_BAD_FIELD with f filled in. */
+uint8_t qs_msg_check_segment(const qs_segment_msg *s, uint8_t axis_count, qs_fault *f);
+uint8_t qs_msg_check_set_position(const qs_set_position_msg *p, uint8_t axis_count, qs_fault *f);
+
+typedef struct {
+    uint8_t next_seq;
+    uint8_t free;
+    uint8_t reason;
+    uint16_t done;
+} qs_ack;
+
+typedef struct {
+    uint8_t protocol_version;
+    uint8_t fw_major, fw_minor, fw_patch;
+    uint8_t board;
+    uint8_t axis_count;
+    uint8_t queue_capacity;
+    uint8_t speed_shift;
+    uint16_t n_max;
+    uint32_t tick_hz;
+    uint16_t capabilities;
+    uint8_t next_seq;
+} qs_identity;
+
+/* The STATUS_REPORT counters; each saturates at 65535. */
+typedef struct {
+    uint16_t rx_overrun;
+    uint16_t bad_frame;
+    uint16_t bad_crc;
+    uint16_t seq_gap;
+    uint16_t seq_dup;
+    uint16_t rejected;
+} qs_counters;
+
+typedef struct {
+    uint8_t state;
+    uint8_t alarm;
+    uint8_t queue_fill;
+    uint8_t next_seq;
+    uint32_t segments_done;
+    uint32_t motion_ticks;
+    qs_counters counters;
+    uint8_t axis_count;
+    int32_t position[QS_PROTOCOL_AXES];
+} qs_status;
+
+typedef struct {
+    uint8_t code;
+    uint8_t type;
+    uint8_t seq;
+    uint8_t field;
+    uint8_t axis;
+} qs_error_report;
+
+typedef struct {
+    uint8_t code;
+    uint32_t motion_ticks;
+    uint8_t axis_count;
+    int32_t position[QS_PROTOCOL_AXES];
+} qs_alarm_report;
+
+/* Report encoders: write type, seq and payload into body (QS_MAX_FRAME
+ * bytes) and return the body length. */
+uint8_t qs_msg_encode_ack(uint8_t *body, uint8_t seq, const qs_ack *a);
+uint8_t qs_msg_encode_identify_reply(uint8_t *body, uint8_t seq, const qs_identity *id);
+uint8_t qs_msg_encode_status_report(uint8_t *body, uint8_t seq, const qs_status *st);
+uint8_t qs_msg_encode_error(uint8_t *body, uint8_t seq, const qs_error_report *e);
+uint8_t qs_msg_encode_alarm(uint8_t *body, uint8_t seq, const qs_alarm_report *a);
+
+#endif

@@ -1,0 +1,93 @@
+/* Wire protocol constants (protocol/PROTOCOL.md, version 1). */
+#ifndef QS_PROTOCOL_H
+#define QS_PROTOCOL_H
+
+#define QS_PROTOCOL_VERSION 1
+
+/* Fixed-point step model (section 1, 5.2; docs/FIXED_POINT.md). */
+#define QS_SPEED_SHIFT 12
+#define QS_D 4096            /* speed denominator: v/4096 steps per tick */
+#define QS_N_MAX 1022        /* longest segment in ticks */
+#define QS_V_MAX 4096        /* one step per tick */
+#define QS_R_MAX 4096        /* residual limit, in 1/8192 step */
+
+/* Framing (section 2). */
+#define QS_MAX_FRAME 64      /* decoded body + crc16 */
+#define QS_MIN_FRAME 4       /* type, seq, crc16 */
+#define QS_MAX_BODY (QS_MAX_FRAME - 2)
+/* COBS(body || crc) || 0x00: at most one code byte per 254 data bytes. */
+#define QS_MAX_WIRE (QS_MAX_FRAME + 2)
+
+/* Message types (sections 3, 5). */
+#define QS_TYPE_IDENTIFY 0x01
+#define QS_TYPE_STATUS 0x02
+#define QS_TYPE_STOP 0x03
+#define QS_TYPE_SEGMENT 0x10
+#define QS_TYPE_SET_POSITION 0x11
+#define QS_TYPE_ACK 0x80
+#define QS_TYPE_IDENTIFY_REPLY 0x81
+#define QS_TYPE_STATUS_REPORT 0x82
+#define QS_TYPE_ERROR 0x83
+#define QS_TYPE_ALARM 0x84
+
+#define QS_TYPE_IS_IMMEDIATE(t) ((t) <= 0x0F)
+#define QS_SEQ_UNSOLICITED 0xFF
+
+/* Payload lengths. */
+#define QS_LEN_SEGMENT_HEAD 3
+#define QS_LEN_SEGMENT_AXIS 6
+#define QS_LEN_ACK 5
+#define QS_LEN_IDENTIFY_REPLY 17
+#define QS_LEN_STATUS_HEAD 24
+#define QS_LEN_ERROR 5
+#define QS_LEN_ALARM_HEAD 5
+
+/* ACK reasons. */
+#define QS_ACK_ACCEPTED 0
+#define QS_ACK_GAP 1
+#define QS_ACK_DUPLICATE 2
+#define QS_ACK_QUEUE_FULL 3
+#define QS_ACK_REJECTED 4
+#define QS_ACK_SPACE 5
+
+/* ERROR codes (section 6). */
+#define QS_ERR_NONE 0
+#define QS_ERR_FRAME_TOO_LONG 1
+#define QS_ERR_FRAME_TOO_SHORT 2
+#define QS_ERR_BAD_COBS 3
+#define QS_ERR_BAD_CRC 4
+#define QS_ERR_UNKNOWN_TYPE 5
+#define QS_ERR_BAD_LENGTH 6
+#define QS_ERR_RX_OVERRUN 7
+#define QS_ERR_BAD_FIELD 16
+#define QS_ERR_BUSY 17
+#define QS_ERR_ALARM_ACTIVE 18
+
+/* BAD_FIELD field ids. */
+#define QS_FIELD_NONE 0
+#define QS_FIELD_N 1
+#define QS_FIELD_AXES 2
+#define QS_FIELD_DIRECTION 3
+#define QS_FIELD_V0 4
+#define QS_FIELD_VN 5
+#define QS_FIELD_RESIDUAL 6
+#define QS_AXIS_NONE 0xFF
+
+/* ALARM codes. */
+#define QS_ALARM_NONE 0
+#define QS_ALARM_UNDERRUN 1
+#define QS_ALARM_REJECTED_SEGMENT 2
+#define QS_ALARM_HARD_LIMIT 3 /* reserved */
+#define QS_ALARM_HOST_LOST 4  /* reserved */
+
+/* Machine states. */
+#define QS_STATE_IDLE 0
+#define QS_STATE_RUNNING 1
+#define QS_STATE_ALARM 2
+#define QS_STATE_HOLDING 3 /* reserved */
+
+/* IDENTIFY capability bits. */
+#define QS_CAP_QUADRATIC 0x0001
+#define QS_CAP_SET_POSITION 0x0002
+
+#endif

@@ -1,0 +1,45 @@
+/* A segment ready to run: the step engine's integer state for each axis,
+ * computed once in the main loop so the tick does additions only.
+ *
+ * Per axis, with C1 = vn - v0, C2 = n*D, C3 = C1 + 2*n*v0 - n*D
+ * (the seed's constants with both time bases equal to D, divided by D):
+ *   h  = n*r + C3           the sign test of the next decision
+ *   b  = C3 + 2*C1 - C2     what h gains after a step
+ *   db = 2*C1               what b gains every tick
+ * and per segment two_c2 = 2*n*D, what h gains extra without a step.
+ * docs/FIXED_POINT.md derives these and bounds them by 2*n*D + 3*D. */
+#ifndef QS_SEGMENT_H
+#define QS_SEGMENT_H
+
+#include <stdint.h>
+#include "qs_config.h"
+#include "qs_int24.h"
+#include "qs_messages.h"
+
+typedef struct {
+    qs_i24 h[QS_AXIS_COUNT];
+    qs_i24 b[QS_AXIS_COUNT];
+    qs_i24 db[QS_AXIS_COUNT];
+    qs_i24 two_c2;
+    int16_t r[QS_AXIS_COUNT];      /* the segment's residuals, and */
+    uint16_t total[QS_AXIS_COUNT]; /* its steps, for the positions */
+    uint16_t n;
+    uint8_t active;        /* bit i: axis i runs the loop */
+    uint8_t negative;      /* bit i: axis i steps in the negative direction */
+    uint8_t ends_moving;   /* some active axis has vn > 0 */
+} qs_segment;
+
+/* Fill a slot from a segment that passed qs_msg_check_segment. */
+void qs_segment_prepare(qs_segment *slot, const qs_segment_msg *m);
+
+/* Steps an active axis has made after t ticks of the segment (0 <= t <=
+ * n), from the closed form of PROTOCOL.md section 8 and the running state,
+ * so the tick need not count them. */
+uint16_t qs_segment_steps(const qs_segment *s, uint8_t axis, uint16_t t);
+
+/* Speed numerator of an active axis, v(t) = v0 + (vn - v0)*t/n, after t
+ * ticks of the segment, recovered from the running state as 2*n*v(t)
+ * = b + 2*C2 - 3*C1 (what a controlled stop needs to plan from). */
+int32_t qs_segment_speed_2n(const qs_segment *s, uint8_t axis);
+
+#endif

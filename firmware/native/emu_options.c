@@ -1,0 +1,114 @@
+#include "emu_options.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "qs_config.h"
+
+static const char usage[] =
+    "usage: quadstep-emu [--pty | --tcp PORT] [--free] [--tick-hz N] [--axes N]\n"
+    "                    [--queue N] [--trace FILE] [--drop-rx-frame K]...\n"
+    "                    [--corrupt-rx-frame K]... [--drop-tx-frame K]...\n"
+    "See firmware/native/README.md.\n";
+
+/* A whole decimal number within [low, high]. */
+static int number(const char *option, const char *text, unsigned long low, unsigned long high,
+                  unsigned long *out)
+{
+    char *end;
+    unsigned long value;
+
+    if (!text) {
+        fprintf(stderr, "quadstep-emu: %s needs a value (%lu..%lu)\n", option, low, high);
+        return 0;
+    }
+    value = strtoul(text, &end, 10);
+    if (*text < '0' || *text > '9' || *end != '\0' || value < low || value > high) {
+        fprintf(stderr, "quadstep-emu: %s must be a whole number from %lu to %lu, got '%s'\n",
+                option, low, high, text);
+        return 0;
+    }
+    *out = value;
+    return 1;
+}
+
+static int add_fault(emu_fault_list *list, const char *option, const char *text)
+{
+    unsigned long k;
+
+    if (!number(option, text, 1, 0xFFFFFFFFul, &k))
+        return 0;
+    if (list->count == EMU_MAX_FAULTS) {
+        fprintf(stderr, "quadstep-emu: at most %d %s options\n", EMU_MAX_FAULTS, option);
+        return 0;
+    }
+    list->at[list->count++] = (uint32_t)k;
+    return 1;
+}
+
+int emu_options_parse(emu_options *o, int argc, char **argv)
+{
+    int i;
+
+    memset(o, 0, sizeof *o);
+    o->tick_hz = 50000;
+    o->axes = 4;
+    o->queue = 32;
+    for (i = 1; i < argc; i++) {
+        const char *opt = argv[i];
+        const char *arg = i + 1 < argc ? argv[i + 1] : NULL;
+        unsigned long v;
+
+        if (strcmp(opt, "--pty") == 0) {
+            o->tcp = 0;
+            continue;
+        }
+        if (strcmp(opt, "--free") == 0) {
+            o->free_running = 1;
+            continue;
+        }
+        if (strcmp(opt, "--help") == 0 || strcmp(opt, "-h") == 0) {
+            fputs(usage, stdout);
+            exit(0);
+        }
+        i++; /* every other option takes a value */
+        if (strcmp(opt, "--tcp") == 0) {
+            if (!number(opt, arg, 0, 65535, &v))
+                return 0;
+            o->tcp = 1;
+            o->tcp_port = (uint16_t)v;
+        } else if (strcmp(opt, "--tick-hz") == 0) {
+            if (!number(opt, arg, 1, 10000000, &v))
+                return 0;
+            o->tick_hz = (uint32_t)v;
+        } else if (strcmp(opt, "--axes") == 0) {
+            if (!number(opt, arg, 1, QS_AXIS_COUNT, &v))
+                return 0;
+            o->axes = (uint8_t)v;
+        } else if (strcmp(opt, "--queue") == 0) {
+            if (!number(opt, arg, 1, QS_QUEUE_CAPACITY, &v))
+                return 0;
+            o->queue = (uint8_t)v;
+        } else if (strcmp(opt, "--trace") == 0) {
+            if (!arg) {
+                fprintf(stderr, "quadstep-emu: --trace needs a file name\n");
+                return 0;
+            }
+            o->trace_path = arg;
+        } else if (strcmp(opt, "--drop-rx-frame") == 0) {
+            if (!add_fault(&o->drop_rx, opt, arg))
+                return 0;
+        } else if (strcmp(opt, "--corrupt-rx-frame") == 0) {
+            if (!add_fault(&o->corrupt_rx, opt, arg))
+                return 0;
+        } else if (strcmp(opt, "--drop-tx-frame") == 0) {
+            if (!add_fault(&o->drop_tx, opt, arg))
+                return 0;
+        } else {
+            fprintf(stderr, "quadstep-emu: unknown option '%s'\n%s", opt, usage);
+            return 0;
+        }
+    }
+    return 1;
+}

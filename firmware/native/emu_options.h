@@ -1,0 +1,31 @@
+/* Command line of the emulator. */
+#ifndef EMU_OPTIONS_H
+#define EMU_OPTIONS_H
+
+#include <stdint.h>
+
+#define EMU_MAX_FAULTS 64
+
+typedef struct {
+    uint32_t at[EMU_MAX_FAULTS]; /* 1-based frame numbers */
+    uint32_t count;
+} emu_fault_list;
+
+typedef struct {
+    int tcp;              /* serve TCP instead of a pseudo-terminal */
+    uint16_t tcp_port;    /* 0: pick a free one */
+    int free_running;     /* run ticks as fast as possible, not in real time */
+    uint32_t tick_hz;
+    uint8_t axes;
+    uint8_t queue;
+    const char *trace_path; /* NULL: no trace */
+    emu_fault_list drop_rx;
+    emu_fault_list corrupt_rx;
+    emu_fault_list drop_tx;
+} emu_options;
+
+/* Parse argv; on a bad option print why (naming it and its limits) and
+ * return 0. */
+int emu_options_parse(emu_options *o, int argc, char **argv);
+
+#endif

@@ -1,0 +1,288 @@
+/* quadstep-emu: the firmware core on the host, behind a pseudo-terminal or
+ * a TCP socket, so the host software runs against the real firmware code
+ * without a board. See README.md in this directory. */
+#ifndef PIO_UNIT_TESTING
+
+#include <errno.h>
+#include <signal.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include "emu_faults.h"
+#include "emu_link.h"
+#include "emu_options.h"
+#include "emu_port.h"
+#include "emu_trace.h"
+#include "qs_core.h"
+#include "qs_engine_tick.h"
+
+#define UNDERRUN_GRACE_NS 500000000ull /* free-running: wait this long for the host */
+#define FREE_BATCH 4096u               /* free-running: ticks between input checks */
+#define PACED_POLL_MS 1
+
+typedef struct {
+    emu_options opts;
+    emu_link link;
+    emu_faults faults;
+    emu_trace trace;
+    qs_core core;
+    uint32_t motion_tick;   /* ticks that made decisions: the trace's clock */
+    uint64_t steps[QS_AXIS_COUNT];
+    uint8_t last_state;
+    /* Paced time: ticks run since clock_ref. */
+    uint64_t clock_ref_ns;
+    uint64_t clock_ticks;
+    /* Free-running: when the engine began waiting at an underrun. */
+    uint64_t underrun_since_ns;
+} emulator;
+
+static emulator emu;
+static volatile sig_atomic_t stop_requested;
+
+static void on_signal(int sig)
+{
+    (void)sig;
+    stop_requested = 1;
+}
+
+static uint64_t now_ns(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (uint64_t)ts.tv_sec * 1000000000ull + (uint64_t)ts.tv_nsec;
+}
+
+static const char *state_name(uint8_t state)
+{
+    static const char *const names[] = {"IDLE", "RUNNING", "ALARM", "HOLDING"};
+    return state < 4 ? names[state] : "?";
+}
+
+static const char *alarm_name(uint8_t alarm)
+{
+    static const char *const names[] = {"NONE", "UNDERRUN", "REJECTED_SEGMENT", "HARD_LIMIT",
+                                        "HOST_LOST"};
+    return alarm < 5 ? names[alarm] : "?";
+}
+
+/* The engine left RUNNING (idle, alarm, or stopped): make the trace
+ * readable now, and check that the trace clock agrees with the core. */
+static void on_settled(emulator *m)
+{
+    qs_status st;
+
+    emu_trace_flush(&m->trace);
+    qs_core_status(&m->core, &st);
+    if (st.motion_ticks != m->motion_tick) {
+        fprintf(stderr, "quadstep-emu: internal error: trace tick %lu, core motion_ticks %lu\n",
+                (unsigned long)m->motion_tick, (unsigned long)st.motion_ticks);
+        exit(3);
+    }
+}
+
+static void watch_state(emulator *m)
+{
+    uint8_t state = m->core.engine.state;
+
+    if (state != QS_STATE_RUNNING && m->last_state == QS_STATE_RUNNING)
+        on_settled(m);
+    if (state == QS_STATE_RUNNING && m->last_state != QS_STATE_RUNNING) {
+        m->clock_ref_ns = now_ns();
+        m->clock_ticks = 0;
+    }
+    m->last_state = state;
+}
+
+static void run_tick(emulator *m)
+{
+    qs_engine *e = &m->core.engine;
+    uint16_t left_before = e->left;
+    uint8_t tail_before = e->queue.tail;
+    uint8_t bits = qs_engine_tick(e);
+    uint8_t axis;
+
+    /* A decision was made if a segment was running, began, or began and
+     * ended (n = 1) in this call. */
+    if (left_before != 0 || e->left != 0 || e->queue.tail != tail_before) {
+        m->motion_tick++;
+        if (bits) {
+            emu_trace_steps(&m->trace, m->motion_tick, bits, e->dir_bits);
+            for (axis = 0; axis < QS_AXIS_COUNT; axis++)
+                m->steps[axis] += (bits >> axis) & 1u;
+        }
+    }
+    qs_core_poll(&m->core);
+    watch_state(m);
+}
+
+/* Running, between segments, nothing queued, an axis still moving: the
+ * next tick would be an underrun. */
+static int at_underrun(const qs_engine *e)
+{
+    return e->state == QS_STATE_RUNNING && e->left == 0 && qs_queue_empty(&e->queue)
+           && e->ends_moving;
+}
+
+static void to_core(void *ctx, uint8_t byte)
+{
+    qs_core_rx((qs_core *)ctx, byte);
+}
+
+static void read_input(emulator *m)
+{
+    uint8_t buf[4096];
+    size_t got, i;
+
+    while ((got = emu_link_read(&m->link, buf, sizeof buf)) > 0)
+        for (i = 0; i < got; i++)
+            emu_faults_rx(&m->faults, buf[i], to_core, &m->core);
+    qs_core_poll(&m->core);
+    watch_state(m);
+}
+
+static void write_output(emulator *m)
+{
+    size_t len;
+    const uint8_t *data = emu_port_pending(&len);
+    size_t put;
+
+    while (len > 0 && (put = emu_link_write(&m->link, data, len)) > 0) {
+        emu_port_consume(put);
+        data = emu_port_pending(&len);
+    }
+}
+
+static void run_paced(emulator *m)
+{
+    uint64_t elapsed = now_ns() - m->clock_ref_ns;
+    uint64_t due = elapsed / 1000000ull * m->opts.tick_hz / 1000ull
+                   + elapsed % 1000000ull * m->opts.tick_hz / 1000000000ull;
+    uint64_t limit = m->opts.tick_hz / 10 + 1; /* then look at the line again */
+
+    while (m->clock_ticks < due && limit-- && m->core.engine.state == QS_STATE_RUNNING) {
+        run_tick(m);
+        m->clock_ticks++;
+    }
+    /* Keep the arithmetic small over long runs: move the reference on. */
+    while (m->clock_ticks >= m->opts.tick_hz) {
+        m->clock_ticks -= m->opts.tick_hz;
+        m->clock_ref_ns += 1000000000ull;
+    }
+}
+
+/* Returns 1 while waiting for the host at an underrun. */
+static int run_free(emulator *m)
+{
+    uint32_t n;
+
+    if (at_underrun(&m->core.engine)) {
+        uint64_t now = now_ns();
+        if (m->underrun_since_ns == 0)
+            m->underrun_since_ns = now;
+        if (now - m->underrun_since_ns < UNDERRUN_GRACE_NS)
+            return 1;
+    }
+    m->underrun_since_ns = 0;
+    for (n = 0; n < FREE_BATCH && m->core.engine.state == QS_STATE_RUNNING; n++) {
+        run_tick(m);
+        if (at_underrun(&m->core.engine))
+            break;
+    }
+    return 0;
+}
+
+static int poll_timeout_ms(emulator *m, int waiting_at_underrun)
+{
+    uint64_t left;
+
+    if (m->core.engine.state != QS_STATE_RUNNING)
+        return -1;
+    if (!m->opts.free_running)
+        return PACED_POLL_MS;
+    if (!waiting_at_underrun)
+        return 0;
+    left = UNDERRUN_GRACE_NS - (now_ns() - m->underrun_since_ns);
+    return (int)(left / 1000000ull) + 1;
+}
+
+static void summary(emulator *m)
+{
+    qs_status st;
+    uint8_t axis;
+
+    qs_core_status(&m->core, &st);
+    fprintf(stderr, "state=%s\nalarm=%s\nmotion_ticks=%lu\nsegments_done=%lu\n",
+            state_name(st.state), alarm_name(st.alarm), (unsigned long)st.motion_ticks,
+            (unsigned long)st.segments_done);
+    fprintf(stderr, "queue_fill=%u\nnext_seq=%u\n", st.queue_fill, st.next_seq);
+    for (axis = 0; axis < m->opts.axes; axis++)
+        fprintf(stderr, "position_%u=%ld\nsteps_%u=%llu\n", axis, (long)st.position[axis], axis,
+                (unsigned long long)m->steps[axis]);
+    fprintf(stderr,
+            "rx_overrun=%u\nbad_frame=%u\nbad_crc=%u\nseq_gap=%u\nseq_dup=%u\nrejected=%u\n",
+            st.counters.rx_overrun, st.counters.bad_frame, st.counters.bad_crc,
+            st.counters.seq_gap, st.counters.seq_dup, st.counters.rejected);
+    fprintf(stderr,
+            "frames_received=%lu\nframes_sent=%lu\nrx_frames_dropped=%lu\n"
+            "rx_frames_corrupted=%lu\ntx_frames_dropped=%lu\ntx_bytes_discarded=%lu\n",
+            (unsigned long)m->faults.rx_frames, (unsigned long)emu_port_frames_sent(),
+            (unsigned long)m->faults.rx_dropped, (unsigned long)m->faults.rx_corrupted,
+            (unsigned long)m->faults.tx_dropped, (unsigned long)emu_port_bytes_discarded());
+}
+
+int main(int argc, char **argv)
+{
+    emulator *m = &emu;
+    struct sigaction sa;
+
+    if (!emu_options_parse(&m->opts, argc, argv))
+        return 2;
+    memset(&sa, 0, sizeof sa);
+    sa.sa_handler = on_signal; /* no SA_RESTART: poll returns at once */
+    sigaction(SIGTERM, &sa, NULL);
+    sigaction(SIGINT, &sa, NULL);
+    signal(SIGPIPE, SIG_IGN);
+
+    qs_core_init(&m->core);
+    qs_core_configure(&m->core, m->opts.axes, m->opts.queue, m->opts.tick_hz);
+    emu_faults_init(&m->faults, &m->opts);
+    emu_port_init(&m->faults);
+    m->last_state = QS_STATE_IDLE;
+    if (!emu_trace_open(&m->trace, m->opts.trace_path) || !emu_link_open(&m->link, &m->opts))
+        return 1;
+
+    while (!stop_requested) {
+        struct pollfd fds[2];
+        size_t pending;
+        int waiting = m->opts.free_running && m->underrun_since_ns != 0;
+        int n;
+
+        emu_port_pending(&pending);
+        n = emu_link_poll_setup(&m->link, fds, pending > 0);
+        if (poll(fds, (nfds_t)n, poll_timeout_ms(m, waiting)) < 0 && errno != EINTR) {
+            perror("quadstep-emu: poll");
+            break;
+        }
+        if (emu_link_accept(&m->link, fds, n))
+            emu_port_discard(); /* the previous client's unread reports */
+        read_input(m);
+        if (m->core.engine.state == QS_STATE_RUNNING) {
+            if (m->opts.free_running)
+                run_free(m);
+            else
+                run_paced(m);
+        } else {
+            m->underrun_since_ns = 0;
+        }
+        write_output(m);
+    }
+    write_output(m);
+    emu_trace_close(&m->trace);
+    summary(m);
+    emu_link_close(&m->link);
+    return 0;
+}
+
+#endif

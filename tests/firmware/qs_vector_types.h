@@ -1,0 +1,41 @@
+/* One test vector of protocol/vectors.json, as the generated header
+ * (gen_vectors.py) lays it out. */
+#ifndef QS_VECTOR_TYPES_H
+#define QS_VECTOR_TYPES_H
+
+#include <stdint.h>
+#include "qs_messages.h"
+
+typedef struct {
+    const char *name;
+    uint8_t to_firmware;
+    const uint8_t *frame; /* wire bytes, delimiter included */
+    uint16_t frame_len;
+    uint8_t axis_count;   /* the firmware axis count the outcome assumes */
+    /* A valid vector: the message. */
+    uint8_t type;
+    uint8_t seq;
+    union {
+        qs_segment_msg segment;
+        qs_set_position_msg set_position;
+    } host;
+    qs_ack ack;
+    qs_identity identity;
+    qs_status status;
+    qs_error_report error;
+    qs_alarm_report alarm;
+    /* A malformed vector: why decoding fails. */
+    uint8_t has_error;
+    uint8_t error_code;
+    uint8_t error_field;
+    uint8_t error_axis;
+} qs_vector;
+
+/* A name of the JSON's name tables, the firmware's constant, the JSON's value. */
+typedef struct {
+    const char *name;
+    int firmware;
+    int json;
+} qs_vector_name;
+
+#endif

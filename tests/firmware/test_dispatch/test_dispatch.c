@@ -1,0 +1,389 @@
+/* The core as the host sees it: sequence numbers, acknowledgements, flow
+ * control, STOP, SET_POSITION, alarms and counters (PROTOCOL.md 3-6). */
+#include <string.h>
+
+#include "qs_core.h"
+#include "qs_test_support.h"
+#include "unity.h"
+
+static qs_core core;
+static tp_report reports[TP_MAX_REPORTS];
+
+static const tp_axis cruise = {4096, 4096, 0}; /* a step every tick, ends moving */
+static const tp_axis to_rest = {4096, 0, 0};   /* decelerates to rest */
+
+void setUp(void)
+{
+    qs_core_init(&core);
+    tp_clear_sent();
+}
+
+void tearDown(void)
+{
+    tp_check_unlocked();
+}
+
+/* Reports sent since the last call. */
+static uint16_t sent(void)
+{
+    uint16_t n = tp_reports(reports, TP_MAX_REPORTS);
+    tp_clear_sent();
+    return n;
+}
+
+static qs_ack only_ack(void)
+{
+    TEST_ASSERT_EQUAL_INT_MESSAGE(1, sent(), "expected exactly one report");
+    return tp_ack(&reports[0]);
+}
+
+static qs_status status(void)
+{
+    qs_status st;
+    qs_core_status(&core, &st);
+    return st;
+}
+
+static void test_identify_reports_what_the_firmware_is(void)
+{
+    const uint8_t *p;
+    qs_core_configure(&core, 3, 12, 40000);
+    core.next_seq = 9;
+    tp_send_simple(&core, QS_TYPE_IDENTIFY, 200);
+    TEST_ASSERT_EQUAL_INT(1, sent());
+    TEST_ASSERT_EQUAL_HEX8(QS_TYPE_IDENTIFY_REPLY, reports[0].type);
+    TEST_ASSERT_EQUAL_UINT8(200, reports[0].seq);
+    TEST_ASSERT_EQUAL_INT(QS_LEN_IDENTIFY_REPLY, reports[0].len);
+    p = reports[0].payload;
+    TEST_ASSERT_EQUAL_INT(1, p[0]);
+    TEST_ASSERT_EQUAL_INT(QS_FW_MAJOR, p[1]);
+    TEST_ASSERT_EQUAL_INT(QS_BOARD, p[4]);
+    TEST_ASSERT_EQUAL_INT(3, p[5]);
+    TEST_ASSERT_EQUAL_INT(12, p[6]);
+    TEST_ASSERT_EQUAL_INT(12, p[7]);
+    TEST_ASSERT_EQUAL_INT(1022, tp_u16(p + 8));
+    TEST_ASSERT_EQUAL_UINT32(40000, tp_u32(p + 10));
+    TEST_ASSERT_EQUAL_HEX16(0x0003, tp_u16(p + 14));
+    TEST_ASSERT_EQUAL_INT(9, p[16]);
+}
+
+static void test_in_order_segments_are_accepted_and_counted_free(void)
+{
+    qs_ack a;
+    qs_core_configure(&core, 4, 5, QS_TICK_HZ);
+    tp_send_segment(&core, 0, 10, 0x1, 0, &cruise);
+    a = only_ack();
+    TEST_ASSERT_EQUAL_INT(QS_ACK_ACCEPTED, a.reason);
+    TEST_ASSERT_EQUAL_INT(1, a.next_seq);
+    TEST_ASSERT_EQUAL_INT(4, a.free);
+    TEST_ASSERT_EQUAL_UINT8(0, reports[0].seq);
+    TEST_ASSERT_EQUAL_INT(QS_STATE_RUNNING, status().state);
+}
+
+static void test_a_gap_is_refused_and_a_duplicate_never_runs_twice(void)
+{
+    qs_ack a;
+    tp_send_segment(&core, 0, 10, 0x1, 0, &to_rest);
+    only_ack();
+    /* seq 2 while 1 is expected: frame 1 was lost. */
+    tp_send_segment(&core, 2, 10, 0x1, 0, &to_rest);
+    a = only_ack();
+    TEST_ASSERT_EQUAL_INT(QS_ACK_GAP, a.reason);
+    TEST_ASSERT_EQUAL_INT(1, a.next_seq);
+    TEST_ASSERT_EQUAL_UINT8(2, reports[0].seq);
+    /* seq 0 again: its ACK was lost and the host resent it. */
+    tp_send_segment(&core, 0, 10, 0x1, 0, &to_rest);
+    a = only_ack();
+    TEST_ASSERT_EQUAL_INT(QS_ACK_DUPLICATE, a.reason);
+    TEST_ASSERT_EQUAL_INT(1, a.next_seq);
+    TEST_ASSERT_EQUAL_INT(1, status().queue_fill);
+    /* The edges: 127 ahead is a gap, 128 ahead a duplicate. */
+    tp_send_segment(&core, 128, 10, 0x1, 0, &to_rest);
+    TEST_ASSERT_EQUAL_INT(QS_ACK_GAP, only_ack().reason);
+    tp_send_segment(&core, 129, 10, 0x1, 0, &to_rest);
+    TEST_ASSERT_EQUAL_INT(QS_ACK_DUPLICATE, only_ack().reason);
+    TEST_ASSERT_EQUAL_INT(2, status().counters.seq_gap);
+    TEST_ASSERT_EQUAL_INT(2, status().counters.seq_dup);
+    TEST_ASSERT_EQUAL_INT(1, status().queue_fill);
+    /* Sequenced SET_POSITION follows the same rule. */
+    {
+        uint8_t body[] = {QS_TYPE_SET_POSITION, 5, 0x00};
+        tp_send(&core, body, sizeof body);
+        TEST_ASSERT_EQUAL_INT(QS_ACK_GAP, only_ack().reason);
+    }
+}
+
+static void test_queue_full_keeps_the_seq_and_space_reports_free_slots(void)
+{
+    qs_ack a;
+    qs_core_configure(&core, 4, 2, QS_TICK_HZ);
+    tp_send_segment(&core, 0, 3, 0x1, 0, &cruise);
+    tp_send_segment(&core, 1, 3, 0x1, 0, &to_rest);
+    sent();
+    tp_send_segment(&core, 2, 3, 0x1, 0, &to_rest);
+    a = only_ack();
+    TEST_ASSERT_EQUAL_INT(QS_ACK_QUEUE_FULL, a.reason);
+    TEST_ASSERT_EQUAL_INT(2, a.next_seq);
+    TEST_ASSERT_EQUAL_INT(0, a.free);
+    /* The first segment ends: an unsolicited SPACE ack says so. */
+    TEST_ASSERT_EQUAL_UINT32(3, tp_ticks(&core, 3));
+    qs_core_poll(&core);
+    a = only_ack();
+    TEST_ASSERT_EQUAL_UINT8(QS_SEQ_UNSOLICITED, reports[0].seq);
+    TEST_ASSERT_EQUAL_INT(QS_ACK_SPACE, a.reason);
+    TEST_ASSERT_EQUAL_INT(1, a.free);
+    TEST_ASSERT_EQUAL_INT(1, a.done);
+    TEST_ASSERT_EQUAL_INT(2, a.next_seq);
+    qs_core_poll(&core);
+    TEST_ASSERT_EQUAL_INT(0, sent()); /* nothing new, nothing sent */
+    tp_send_segment(&core, 2, 3, 0x1, 0, &to_rest);
+    TEST_ASSERT_EQUAL_INT(QS_ACK_ACCEPTED, only_ack().reason);
+}
+
+static void test_one_space_ack_covers_segments_finished_together(void)
+{
+    tp_send_segment(&core, 0, 2, 0x1, 0, &cruise);
+    tp_send_segment(&core, 1, 2, 0x1, 0, &to_rest);
+    sent();
+    tp_ticks(&core, 4);
+    qs_core_poll(&core);
+    TEST_ASSERT_EQUAL_INT(2, only_ack().done);
+    TEST_ASSERT_EQUAL_INT(QS_STATE_IDLE, status().state);
+}
+
+static void test_stop_halts_flushes_and_sets_next_seq(void)
+{
+    qs_status st;
+    const uint8_t *p;
+    uint32_t steps;
+    tp_send_segment(&core, 0, 100, 0x1, 0x1, &cruise);
+    tp_send_segment(&core, 1, 100, 0x1, 0x1, &cruise);
+    sent();
+    steps = tp_ticks(&core, 30);
+    tp_send_simple(&core, QS_TYPE_STOP, 77);
+    TEST_ASSERT_EQUAL_INT(1, sent());
+    TEST_ASSERT_EQUAL_HEX8(QS_TYPE_STATUS_REPORT, reports[0].type);
+    TEST_ASSERT_EQUAL_UINT8(77, reports[0].seq);
+    TEST_ASSERT_EQUAL_INT(QS_LEN_STATUS_HEAD + 4 * 4, reports[0].len);
+    p = reports[0].payload;
+    TEST_ASSERT_EQUAL_INT(QS_STATE_IDLE, p[0]);
+    TEST_ASSERT_EQUAL_INT(0, p[2]);  /* queue_fill */
+    TEST_ASSERT_EQUAL_INT(77, p[3]); /* next_seq */
+    TEST_ASSERT_EQUAL_UINT32(30, tp_u32(p + 8)); /* motion_ticks: the ticks that ran */
+    TEST_ASSERT_EQUAL_INT32(-(int32_t)steps, (int32_t)tp_u32(p + 24)); /* steps made stay made */
+    TEST_ASSERT_EQUAL_UINT32(30, steps);
+    TEST_ASSERT_EQUAL_UINT32(0, tp_ticks(&core, 50));
+    st = status();
+    TEST_ASSERT_EQUAL_INT32(-30, st.position[0]);
+    tp_send_segment(&core, 77, 10, 0x1, 0, &to_rest);
+    TEST_ASSERT_EQUAL_INT(QS_ACK_ACCEPTED, only_ack().reason);
+}
+
+static void test_status_while_running_reads_the_steps_made_so_far(void)
+{
+    tp_axis slow = {1000, 3000, 0};
+    uint32_t steps;
+    tp_send_segment(&core, 0, 1000, 0x2, 0x2, &slow);
+    sent();
+    steps = tp_ticks(&core, 600);
+    TEST_ASSERT_TRUE(steps > 0);
+    TEST_ASSERT_EQUAL_INT32(-(int32_t)steps, status().position[1]);
+    TEST_ASSERT_EQUAL_UINT32(600, status().motion_ticks);
+    TEST_ASSERT_EQUAL_INT(QS_STATE_RUNNING, status().state);
+}
+
+static void test_underrun_raises_an_alarm_with_exact_positions(void)
+{
+    const uint8_t *p;
+    qs_ack a;
+    tp_send_segment(&core, 0, 10, 0x1, 0, &cruise);
+    sent();
+    TEST_ASSERT_EQUAL_UINT32(10, tp_ticks(&core, 10));
+    TEST_ASSERT_EQUAL_INT(QS_STATE_RUNNING, status().state); /* the host may still catch up */
+    TEST_ASSERT_EQUAL_UINT32(0, tp_ticks(&core, 1));
+    TEST_ASSERT_EQUAL_INT(QS_STATE_ALARM, status().state);
+    qs_core_poll(&core);
+    TEST_ASSERT_EQUAL_INT(2, sent());
+    TEST_ASSERT_EQUAL_INT(QS_ACK_SPACE, tp_ack(&reports[0]).reason);
+    TEST_ASSERT_EQUAL_HEX8(QS_TYPE_ALARM, reports[1].type);
+    TEST_ASSERT_EQUAL_UINT8(QS_SEQ_UNSOLICITED, reports[1].seq);
+    TEST_ASSERT_EQUAL_INT(QS_LEN_ALARM_HEAD + 4 * 4, reports[1].len);
+    p = reports[1].payload;
+    TEST_ASSERT_EQUAL_INT(QS_ALARM_UNDERRUN, p[0]);
+    TEST_ASSERT_EQUAL_UINT32(10, tp_u32(p + 1));
+    TEST_ASSERT_EQUAL_INT32(10, (int32_t)tp_u32(p + 5));
+    qs_core_poll(&core);
+    TEST_ASSERT_EQUAL_INT(0, sent()); /* reported once */
+    /* Segments are refused until STOP. */
+    tp_send_segment(&core, 1, 10, 0x1, 0, &to_rest);
+    TEST_ASSERT_EQUAL_INT(2, sent());
+    TEST_ASSERT_EQUAL_INT(QS_ERR_ALARM_ACTIVE, tp_error(&reports[0]).code);
+    a = tp_ack(&reports[1]);
+    TEST_ASSERT_EQUAL_INT(QS_ACK_REJECTED, a.reason);
+    TEST_ASSERT_EQUAL_INT(2, a.next_seq);
+    TEST_ASSERT_EQUAL_INT(0, status().queue_fill);
+    tp_send_simple(&core, QS_TYPE_STOP, 2);
+    sent();
+    TEST_ASSERT_EQUAL_INT(QS_STATE_IDLE, status().state);
+    TEST_ASSERT_EQUAL_INT(QS_ALARM_NONE, status().alarm);
+    TEST_ASSERT_EQUAL_INT32(10, status().position[0]);
+    tp_send_segment(&core, 2, 10, 0x1, 0, &to_rest);
+    TEST_ASSERT_EQUAL_INT(QS_ACK_ACCEPTED, only_ack().reason);
+}
+
+static void test_a_segment_ending_at_rest_returns_to_idle(void)
+{
+    tp_send_segment(&core, 0, 10, 0x1, 0, &to_rest);
+    tp_ticks(&core, 10);
+    TEST_ASSERT_EQUAL_INT(QS_STATE_IDLE, status().state);
+    TEST_ASSERT_EQUAL_INT(QS_ALARM_NONE, status().alarm);
+    TEST_ASSERT_EQUAL_INT32(5, status().position[0]); /* (0 + 10*(4096+0) + 4096) / 8192 */
+}
+
+static void test_a_rejected_segment_halts_everything_and_raises_an_alarm(void)
+{
+    tp_axis bad = {5000, 0, 0};
+    tp_axis two[2];
+    const uint8_t *p;
+    uint32_t made;
+    qs_error_report e;
+
+    tp_send_segment(&core, 0, 100, 0x1, 0, &cruise);
+    tp_send_segment(&core, 1, 100, 0x1, 0, &cruise);
+    sent();
+    made = tp_ticks(&core, 20);
+    two[0] = cruise;
+    two[1] = bad;
+    tp_send_segment(&core, 2, 100, 0x3, 0, two);
+    TEST_ASSERT_EQUAL_INT(3, sent());
+    e = tp_error(&reports[0]);
+    TEST_ASSERT_EQUAL_INT(QS_ERR_BAD_FIELD, e.code);
+    TEST_ASSERT_EQUAL_INT(QS_FIELD_V0, e.field);
+    TEST_ASSERT_EQUAL_INT(1, e.axis);
+    TEST_ASSERT_EQUAL_HEX8(QS_TYPE_SEGMENT, e.type);
+    TEST_ASSERT_EQUAL_UINT8(2, e.seq);
+    TEST_ASSERT_EQUAL_INT(QS_ACK_REJECTED, tp_ack(&reports[1]).reason);
+    TEST_ASSERT_EQUAL_INT(3, tp_ack(&reports[1]).next_seq);
+    TEST_ASSERT_EQUAL_HEX8(QS_TYPE_ALARM, reports[2].type);
+    p = reports[2].payload;
+    TEST_ASSERT_EQUAL_INT(QS_ALARM_REJECTED_SEGMENT, p[0]);
+    TEST_ASSERT_EQUAL_UINT32(20, tp_u32(p + 1));
+    TEST_ASSERT_EQUAL_INT32((int32_t)made, (int32_t)tp_u32(p + 5));
+    TEST_ASSERT_EQUAL_UINT32(0, tp_ticks(&core, 100));
+    TEST_ASSERT_EQUAL_INT(QS_STATE_ALARM, status().state);
+    TEST_ASSERT_EQUAL_INT(0, status().queue_fill);
+    TEST_ASSERT_EQUAL_INT(1, status().counters.rejected);
+    qs_core_poll(&core);
+    TEST_ASSERT_EQUAL_INT(0, sent()); /* the alarm was reported once */
+}
+
+static void test_set_position_only_when_idle(void)
+{
+    uint8_t body[QS_MAX_FRAME] = {QS_TYPE_SET_POSITION, 0, 0x05,
+                                  0x10, 0x00, 0x00, 0x00,  /* axis 0: 16 */
+                                  0xFE, 0xFF, 0xFF, 0xFF}; /* axis 2: -2 */
+    qs_error_report e;
+
+    tp_send_segment(&core, 0, 10, 0x1, 0, &to_rest);
+    sent();
+    body[1] = 1;
+    tp_send(&core, body, 11);
+    TEST_ASSERT_EQUAL_INT(2, sent());
+    e = tp_error(&reports[0]);
+    TEST_ASSERT_EQUAL_INT(QS_ERR_BUSY, e.code);
+    TEST_ASSERT_EQUAL_INT(QS_ACK_REJECTED, tp_ack(&reports[1]).reason);
+    TEST_ASSERT_EQUAL_INT(QS_STATE_RUNNING, status().state); /* no alarm */
+    tp_ticks(&core, 10);
+    body[1] = 2;
+    tp_send(&core, body, 11);
+    TEST_ASSERT_EQUAL_INT(QS_ACK_ACCEPTED, only_ack().reason);
+    TEST_ASSERT_EQUAL_INT32(16, status().position[0]);
+    TEST_ASSERT_EQUAL_INT32(0, status().position[1]);
+    TEST_ASSERT_EQUAL_INT32(-2, status().position[2]);
+    /* A mask bit beyond the axis count. */
+    qs_core_configure(&core, 2, QS_QUEUE_CAPACITY, QS_TICK_HZ);
+    body[1] = 3;
+    tp_send(&core, body, 11);
+    TEST_ASSERT_EQUAL_INT(2, sent());
+    e = tp_error(&reports[0]);
+    TEST_ASSERT_EQUAL_INT(QS_ERR_BAD_FIELD, e.code);
+    TEST_ASSERT_EQUAL_INT(QS_FIELD_AXES, e.field);
+    TEST_ASSERT_EQUAL_INT32(16, status().position[0]);
+}
+
+static void test_message_errors_name_the_frame_and_count(void)
+{
+    uint8_t body[] = {0x12, 44};
+    qs_error_report e;
+    tp_send(&core, body, sizeof body);
+    TEST_ASSERT_EQUAL_INT(1, sent());
+    e = tp_error(&reports[0]);
+    TEST_ASSERT_EQUAL_INT(QS_ERR_UNKNOWN_TYPE, e.code);
+    TEST_ASSERT_EQUAL_HEX8(0x12, e.type);
+    TEST_ASSERT_EQUAL_UINT8(44, e.seq);
+    TEST_ASSERT_EQUAL_UINT8(44, reports[0].seq);
+    TEST_ASSERT_EQUAL_INT(QS_FIELD_NONE, e.field);
+    TEST_ASSERT_EQUAL_HEX8(QS_AXIS_NONE, e.axis);
+    TEST_ASSERT_EQUAL_INT(1, status().counters.rejected);
+    TEST_ASSERT_EQUAL_INT(0, core.next_seq); /* not consumed */
+}
+
+static void test_counters_saturate(void)
+{
+    static const uint8_t bad_crc[] = {0x05, 0x02, 0x01, 0x12, 0x34, 0x00};
+    uint32_t i, j;
+    for (i = 0; i < 65540; i++) {
+        for (j = 0; j < sizeof bad_crc; j++)
+            qs_core_rx(&core, bad_crc[j]);
+        if (i % 1024 == 0)
+            tp_clear_sent();
+    }
+    for (i = 0; i < 70000; i++) {
+        qs_core_rx_overrun(&core);
+        qs_core_rx(&core, 0);
+        if (i % 1024 == 0)
+            tp_clear_sent();
+    }
+    tp_clear_sent();
+    TEST_ASSERT_EQUAL_INT(65535, status().counters.bad_crc);
+    TEST_ASSERT_EQUAL_INT(65535, status().counters.rx_overrun);
+    TEST_ASSERT_EQUAL_INT(0, status().counters.bad_frame);
+}
+
+static void test_an_overrun_discards_the_frame_in_progress(void)
+{
+    uint8_t body[QS_MAX_FRAME] = {QS_TYPE_STATUS, 3};
+    uint8_t wire[QS_MAX_WIRE];
+    uint8_t n = qs_frame_encode(body, 2, wire), i;
+    qs_error_report e;
+
+    for (i = 0; i < n; i++) {
+        if (i == 1)
+            qs_core_rx_overrun(&core);
+        qs_core_rx(&core, wire[i]);
+    }
+    TEST_ASSERT_EQUAL_INT(1, sent());
+    e = tp_error(&reports[0]);
+    TEST_ASSERT_EQUAL_INT(QS_ERR_RX_OVERRUN, e.code);
+    TEST_ASSERT_EQUAL_HEX8(0xFF, e.type);
+}
+
+int main(void)
+{
+    UNITY_BEGIN();
+    RUN_TEST(test_identify_reports_what_the_firmware_is);
+    RUN_TEST(test_in_order_segments_are_accepted_and_counted_free);
+    RUN_TEST(test_a_gap_is_refused_and_a_duplicate_never_runs_twice);
+    RUN_TEST(test_queue_full_keeps_the_seq_and_space_reports_free_slots);
+    RUN_TEST(test_one_space_ack_covers_segments_finished_together);
+    RUN_TEST(test_stop_halts_flushes_and_sets_next_seq);
+    RUN_TEST(test_status_while_running_reads_the_steps_made_so_far);
+    RUN_TEST(test_underrun_raises_an_alarm_with_exact_positions);
+    RUN_TEST(test_a_segment_ending_at_rest_returns_to_idle);
+    RUN_TEST(test_a_rejected_segment_halts_everything_and_raises_an_alarm);
+    RUN_TEST(test_set_position_only_when_idle);
+    RUN_TEST(test_message_errors_name_the_frame_and_count);
+    RUN_TEST(test_counters_saturate);
+    RUN_TEST(test_an_overrun_discards_the_frame_in_progress);
+    return UNITY_END();
+}

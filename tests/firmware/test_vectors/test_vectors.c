@@ -1,0 +1,296 @@
+/* Every vector of protocol/vectors.json (PROTOCOL.md section 9), through
+ * the firmware's own code: frames the host sends must decode to the listed
+ * message or fail with the listed error, both alone and through a whole
+ * core; reports must encode to exactly the listed bytes. The vectors come
+ * from a header generated at build time (gen_vectors.py). */
+#include <stdio.h>
+#include <string.h>
+
+#include "qs_core.h"
+#include "qs_frame.h"
+#include "qs_messages.h"
+#include "qs_test_support.h"
+#include "qs_vectors.h"
+#include "unity.h"
+
+static qs_core core;
+static char where[160];
+
+void setUp(void)
+{
+    tp_clear_sent();
+}
+
+void tearDown(void)
+{
+}
+
+static const char *at(const qs_vector *v, const char *what)
+{
+    snprintf(where, sizeof where, "vector '%s': %s", v->name, what);
+    return where;
+}
+
+static uint8_t is_framing(uint8_t code)
+{
+    return code == QS_ERR_FRAME_TOO_LONG || code == QS_ERR_FRAME_TOO_SHORT
+           || code == QS_ERR_BAD_COBS || code == QS_ERR_BAD_CRC || code == QS_ERR_RX_OVERRUN;
+}
+
+/* Feed the wire bytes; returns the last result and checks nothing happened
+ * before the final delimiter except what a delimiter may end. */
+static uint8_t feed(const qs_vector *v, qs_frame_rx *rx)
+{
+    uint8_t result = QS_FRAME_NOTHING;
+    uint16_t i;
+
+    qs_frame_rx_init(rx);
+    for (i = 0; i < v->frame_len; i++) {
+        result = qs_frame_rx_byte(rx, v->frame[i]);
+        if (i + 1 < v->frame_len)
+            TEST_ASSERT_EQUAL_INT_MESSAGE(QS_FRAME_NOTHING, result, at(v, "frame ended early"));
+    }
+    return result;
+}
+
+/* What decoding a host frame gives: 0 and the message, or an error. */
+static uint8_t decode(const qs_vector *v, qs_host_msg *m, qs_fault *f)
+{
+    qs_frame_rx rx;
+    uint8_t result = feed(v, &rx);
+
+    f->field = QS_FIELD_NONE;
+    f->axis = QS_AXIS_NONE;
+    if (result != QS_FRAME_READY)
+        return result;
+    result = qs_msg_parse(qs_frame_body(&rx), qs_frame_body_len(&rx), m);
+    if (result != QS_ERR_NONE)
+        return result;
+    if (m->type == QS_TYPE_SEGMENT)
+        return qs_msg_check_segment(&m->as.segment, v->axis_count, f);
+    if (m->type == QS_TYPE_SET_POSITION)
+        return qs_msg_check_set_position(&m->as.set_position, v->axis_count, f);
+    return QS_ERR_NONE;
+}
+
+static void check_host_message(const qs_vector *v, const qs_host_msg *m)
+{
+    uint8_t axis;
+
+    TEST_ASSERT_EQUAL_HEX8_MESSAGE(v->type, m->type, at(v, "type"));
+    TEST_ASSERT_EQUAL_UINT8_MESSAGE(v->seq, m->seq, at(v, "seq"));
+    if (m->type == QS_TYPE_SEGMENT) {
+        const qs_segment_msg *e = &v->host.segment, *a = &m->as.segment;
+        TEST_ASSERT_EQUAL_UINT16_MESSAGE(e->n, a->n, at(v, "n"));
+        TEST_ASSERT_EQUAL_HEX8_MESSAGE(e->active, a->active, at(v, "active axes"));
+        TEST_ASSERT_EQUAL_HEX8_MESSAGE(e->negative, a->negative, at(v, "directions"));
+        for (axis = 0; axis < QS_PROTOCOL_AXES; axis++) {
+            TEST_ASSERT_EQUAL_UINT16_MESSAGE(e->v0[axis], a->v0[axis], at(v, "v0"));
+            TEST_ASSERT_EQUAL_UINT16_MESSAGE(e->vn[axis], a->vn[axis], at(v, "vn"));
+            TEST_ASSERT_EQUAL_INT_MESSAGE(e->r[axis], a->r[axis], at(v, "r"));
+        }
+    } else if (m->type == QS_TYPE_SET_POSITION) {
+        const qs_set_position_msg *e = &v->host.set_position, *a = &m->as.set_position;
+        TEST_ASSERT_EQUAL_HEX8_MESSAGE(e->mask, a->mask, at(v, "mask"));
+        for (axis = 0; axis < QS_PROTOCOL_AXES; axis++)
+            TEST_ASSERT_EQUAL_INT_MESSAGE(e->position[axis], a->position[axis], at(v, "position"));
+    }
+}
+
+/* The firmware's answer to a valid host frame, through a fresh core that
+ * expects its seq. */
+static void check_core_accepts(const qs_vector *v)
+{
+    tp_report r[4];
+    uint16_t count;
+    uint8_t expect = v->type == QS_TYPE_IDENTIFY ? QS_TYPE_IDENTIFY_REPLY
+                     : QS_TYPE_IS_IMMEDIATE(v->type) ? QS_TYPE_STATUS_REPORT
+                                                     : QS_TYPE_ACK;
+    uint16_t i;
+
+    qs_core_init(&core);
+    qs_core_configure(&core, v->axis_count, QS_QUEUE_CAPACITY, QS_TICK_HZ);
+    core.next_seq = v->seq;
+    tp_clear_sent();
+    for (i = 0; i < v->frame_len; i++)
+        qs_core_rx(&core, v->frame[i]);
+    count = tp_reports(r, 4);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(1, count, at(v, "number of reports"));
+    TEST_ASSERT_EQUAL_HEX8_MESSAGE(expect, r[0].type, at(v, "report type"));
+    TEST_ASSERT_EQUAL_UINT8_MESSAGE(v->seq, r[0].seq, at(v, "report seq"));
+    if (expect == QS_TYPE_ACK)
+        TEST_ASSERT_EQUAL_INT_MESSAGE(QS_ACK_ACCEPTED, tp_ack(&r[0]).reason, at(v, "ack reason"));
+}
+
+/* The firmware's answer to a malformed host frame: an ERROR naming why. */
+static void check_core_refuses(const qs_vector *v)
+{
+    tp_report r[4];
+    qs_error_report e;
+    uint16_t count;
+    uint16_t i;
+    uint8_t seq = 0;
+
+    qs_core_init(&core);
+    qs_core_configure(&core, v->axis_count, QS_QUEUE_CAPACITY, QS_TICK_HZ);
+    /* Reach the content checks: expect the frame's own seq. */
+    {
+        qs_frame_rx rx;
+        if (feed(v, &rx) == QS_FRAME_READY)
+            seq = qs_frame_body(&rx)[1];
+    }
+    core.next_seq = seq;
+    tp_clear_sent();
+    for (i = 0; i < v->frame_len; i++)
+        qs_core_rx(&core, v->frame[i]);
+    count = tp_reports(r, 4);
+    TEST_ASSERT_TRUE_MESSAGE(count >= 1, at(v, "no report"));
+    e = tp_error(&r[0]);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(v->error_code, e.code, at(v, "error code reported"));
+    TEST_ASSERT_EQUAL_INT_MESSAGE(v->error_field, e.field, at(v, "field reported"));
+    TEST_ASSERT_EQUAL_INT_MESSAGE(v->error_axis, e.axis, at(v, "axis reported"));
+    if (is_framing(v->error_code)) {
+        TEST_ASSERT_EQUAL_HEX8_MESSAGE(0xFF, e.type, at(v, "type of a framing error"));
+        TEST_ASSERT_EQUAL_HEX8_MESSAGE(0xFF, e.seq, at(v, "seq of a framing error"));
+        TEST_ASSERT_EQUAL_INT_MESSAGE(1, count, at(v, "reports after a framing error"));
+    }
+    /* Nothing of a refused segment runs. */
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, qs_queue_count(&core.engine.queue), at(v, "queued"));
+}
+
+static void test_frames_to_the_firmware_decode_as_listed(void)
+{
+    int i, checked = 0;
+
+    for (i = 0; i < VECTOR_COUNT; i++) {
+        const qs_vector *v = &vectors[i];
+        qs_host_msg m;
+        qs_fault f;
+        uint8_t code;
+
+        if (!v->to_firmware)
+            continue;
+        code = decode(v, &m, &f);
+        if (v->has_error) {
+            TEST_ASSERT_EQUAL_INT_MESSAGE(v->error_code, code, at(v, "error code"));
+            if (code == QS_ERR_BAD_FIELD) {
+                TEST_ASSERT_EQUAL_INT_MESSAGE(v->error_field, f.field, at(v, "field"));
+                TEST_ASSERT_EQUAL_INT_MESSAGE(v->error_axis, f.axis, at(v, "axis"));
+            }
+            check_core_refuses(v);
+        } else {
+            TEST_ASSERT_EQUAL_INT_MESSAGE(QS_ERR_NONE, code, at(v, "decoding failed"));
+            check_host_message(v, &m);
+            check_core_accepts(v);
+        }
+        checked++;
+    }
+    TEST_ASSERT_TRUE_MESSAGE(checked > 0, "no to_firmware vectors");
+}
+
+/* Encoding the body of a valid frame gives the frame back: the COBS and CRC
+ * encoder against the vectors. */
+static void test_valid_frames_encode_back_to_their_bytes(void)
+{
+    int i;
+    for (i = 0; i < VECTOR_COUNT; i++) {
+        const qs_vector *v = &vectors[i];
+        qs_frame_rx rx;
+        uint8_t body[QS_MAX_FRAME];
+        uint8_t wire[QS_MAX_WIRE];
+        uint8_t len, n;
+
+        if (v->has_error)
+            continue;
+        TEST_ASSERT_EQUAL_HEX8_MESSAGE(QS_FRAME_READY, feed(v, &rx), at(v, "frame"));
+        len = qs_frame_body_len(&rx);
+        memcpy(body, qs_frame_body(&rx), len);
+        n = qs_frame_encode(body, len, wire);
+        TEST_ASSERT_EQUAL_INT_MESSAGE(v->frame_len, n, at(v, "encoded length"));
+        TEST_ASSERT_EQUAL_HEX8_ARRAY_MESSAGE(v->frame, wire, n, at(v, "encoded bytes"));
+    }
+}
+
+static void test_reports_encode_to_exactly_the_listed_bytes(void)
+{
+    int i, checked = 0;
+
+    for (i = 0; i < VECTOR_COUNT; i++) {
+        const qs_vector *v = &vectors[i];
+        uint8_t body[QS_MAX_FRAME];
+        uint8_t wire[QS_MAX_WIRE];
+        uint8_t len, n;
+
+        if (v->to_firmware || v->has_error)
+            continue;
+        switch (v->type) {
+        case QS_TYPE_ACK:
+            len = qs_msg_encode_ack(body, v->seq, &v->ack);
+            break;
+        case QS_TYPE_IDENTIFY_REPLY:
+            len = qs_msg_encode_identify_reply(body, v->seq, &v->identity);
+            break;
+        case QS_TYPE_STATUS_REPORT:
+            len = qs_msg_encode_status_report(body, v->seq, &v->status);
+            break;
+        case QS_TYPE_ERROR:
+            len = qs_msg_encode_error(body, v->seq, &v->error);
+            break;
+        case QS_TYPE_ALARM:
+            len = qs_msg_encode_alarm(body, v->seq, &v->alarm);
+            break;
+        default:
+            TEST_FAIL_MESSAGE(at(v, "a report type the firmware does not send"));
+            return;
+        }
+        n = qs_frame_encode(body, len, wire);
+        TEST_ASSERT_EQUAL_INT_MESSAGE(v->frame_len, n, at(v, "encoded length"));
+        TEST_ASSERT_EQUAL_HEX8_ARRAY_MESSAGE(v->frame, wire, n, at(v, "encoded bytes"));
+        checked++;
+    }
+    TEST_ASSERT_TRUE_MESSAGE(checked > 0, "no to_host vectors");
+}
+
+/* Malformed reports: the framing errors are the same in both directions and
+ * the firmware's receiver must find them; the others (a report's type or
+ * length) are for the host's decoder, and must at least pass framing. */
+static void test_malformed_reports_fail_framing_as_listed(void)
+{
+    int i;
+    for (i = 0; i < VECTOR_COUNT; i++) {
+        const qs_vector *v = &vectors[i];
+        qs_frame_rx rx;
+        uint8_t result;
+
+        if (v->to_firmware || !v->has_error)
+            continue;
+        result = feed(v, &rx);
+        if (is_framing(v->error_code))
+            TEST_ASSERT_EQUAL_INT_MESSAGE(v->error_code, result, at(v, "framing error"));
+        else
+            TEST_ASSERT_EQUAL_HEX8_MESSAGE(QS_FRAME_READY, result, at(v, "should pass framing"));
+    }
+}
+
+/* The JSON's name tables give the same numbers as the firmware's constants. */
+static void test_names_agree_with_the_firmware_constants(void)
+{
+    int i;
+    TEST_ASSERT_EQUAL_INT_MESSAGE(QS_PROTOCOL_VERSION, VECTORS_PROTOCOL_VERSION,
+                                  "the vectors are for another protocol version");
+    for (i = 0; i < VECTOR_NAME_COUNT; i++)
+        TEST_ASSERT_EQUAL_INT_MESSAGE(vector_names[i].json, vector_names[i].firmware,
+                                      vector_names[i].name);
+}
+
+int main(void)
+{
+    UNITY_BEGIN();
+    RUN_TEST(test_frames_to_the_firmware_decode_as_listed);
+    RUN_TEST(test_valid_frames_encode_back_to_their_bytes);
+    RUN_TEST(test_reports_encode_to_exactly_the_listed_bytes);
+    RUN_TEST(test_malformed_reports_fail_framing_as_listed);
+    RUN_TEST(test_names_agree_with_the_firmware_constants);
+    printf("%d vectors\n", VECTOR_COUNT);
+    return UNITY_END();
+}
