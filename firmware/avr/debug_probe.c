@@ -1,0 +1,16 @@
+/* Where the step engine's tick-visible state lives in data memory, for a
+ * debugger or a simulator watching the board run. tests/simavr's harness
+ * reads `left` and the queue's `tail` before and after each tick interrupt
+ * to number motion ticks exactly as the core counts them. Eight bytes of
+ * flash; the firmware never reads them, so avr.mk and platformio.ini keep
+ * them with -Wl,--undefined. */
+#include <avr/pgmspace.h>
+
+#include "firmware.h"
+
+const volatile void *const qs_debug_probe[] PROGMEM = {
+    (const volatile void *)2,  /* layout version */
+    &core.engine.left,         /* uint16_t: ticks left in the running segment */
+    &core.engine.queue.tail,   /* uint8_t: released with each finished segment */
+    &core.engine.state,        /* uint8_t: QS_STATE_* */
+};

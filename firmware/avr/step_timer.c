@@ -1,0 +1,90 @@
+/* Timer1 tick: one interrupt per motion tick that pulses the step pins and
+ * serves the USART.
+ *
+ * Each tick: raise the step pins decided by the previous tick (their
+ * direction pins are already set), serve the USART, run the engine for the
+ * next decisions, hold the pulse to its minimum width, lower the step pins,
+ * then set the direction pins the new decisions need. So a direction pin
+ * never changes during a pulse and always settles a whole tick before the
+ * step it governs. */
+#include "step_timer.h"
+
+#include <avr/interrupt.h>
+#include <avr/io.h>
+
+#include "board.h"
+#include "firmware.h"
+#include "qs_engine_tick.h"
+#include "uart.h"
+
+#ifndef QS_STEP_PULSE_US
+#define QS_STEP_PULSE_US 2
+#endif
+
+#define CYCLES_PER_US (F_CPU / 1000000UL)
+#define TICK_CYCLES (F_CPU / (QS_TICK_HZ))
+#define PULSE_CYCLES ((uint8_t)(CYCLES_PER_US * (QS_STEP_PULSE_US)))
+/* Direction changes wait this long after the step pins fall (driver hold time). */
+#define DIR_HOLD_CYCLES (CYCLES_PER_US)
+
+_Static_assert(F_CPU % (QS_TICK_HZ) == 0, "QS_TICK_HZ must divide F_CPU: the tick rate is exact");
+_Static_assert(TICK_CYCLES >= 128 && TICK_CYCLES <= 65536UL, "QS_TICK_HZ out of Timer1's range");
+_Static_assert(CYCLES_PER_US * (QS_STEP_PULSE_US) <= 64, "QS_STEP_PULSE_US at most 4 us at 16 MHz");
+
+/* The USART receiver holds two bytes while a third shifts in, so the gap
+ * between two looks must stay under two byte times. One look per tick, at
+ * its start, does that while at most one byte arrives per tick; up to two,
+ * a second look at the end of the tick splits the gap (uart.c refuses more). */
+#define UART_LOOKS_TWICE ((QS_BAUD) / 10UL > (QS_TICK_HZ))
+
+/* Motion port value for the next tick: the step pins it raises and the
+ * direction pins already set for them. Kept in a general-purpose I/O
+ * register, which `in`/`out` reach in one cycle. */
+#define next_pins GPIOR0
+/* Timer1's count when this tick's pulse went out, parked in another such
+ * register so it holds no CPU register across the engine's work. */
+#define pulse_start GPIOR1
+
+void step_timer_init(void)
+{
+    TCCR1A = 0;
+    TCCR1B = 0;
+    TCNT1 = 0;
+    OCR1A = (uint16_t)(TICK_CYCLES - 1UL);
+    TIFR1 = _BV(OCF1A);
+    TIMSK1 = _BV(OCIE1A);
+    TCCR1B = _BV(WGM12) | _BV(CS10); /* CTC on OCR1A, clock undivided */
+}
+
+ISR(TIMER1_COMPA_vect)
+{
+    QS_MOTION_PORT = next_pins; /* rising edges */
+    uart_service();
+#if QS_STEP_PULSE_US > 0
+    pulse_start = TCNT1L; /* a little after the edge: the pulse can only grow */
+#endif
+
+    const uint8_t steps = qs_engine_tick(&core.engine);
+    const uint8_t pulse = next_pins; /* what went out above */
+    const uint8_t dir_pins = (uint8_t)(core.engine.dir_bits << QS_DIR_SHIFT) & QS_DIR_PINS;
+    const uint8_t held_dir = pulse & QS_DIR_PINS;
+
+#if QS_STEP_PULSE_US > 0
+    /* Only a pulse whose tick had little to compute waits here. 8-bit
+     * arithmetic is exact: the pulse starts a few cycles after the compare
+     * match, far from the timer's wrap. */
+    if (pulse & QS_STEP_PINS) {
+        while ((uint8_t)(TCNT1L - pulse_start) < PULSE_CYCLES) {
+        }
+    }
+#endif
+    QS_MOTION_PORT = held_dir; /* falling edges */
+    if (dir_pins != held_dir) {
+        __builtin_avr_delay_cycles(DIR_HOLD_CYCLES);
+        QS_MOTION_PORT = dir_pins;
+    }
+    next_pins = (uint8_t)(dir_pins | ((uint8_t)(steps << QS_STEP_SHIFT) & QS_STEP_PINS));
+#if UART_LOOKS_TWICE
+    uart_service();
+#endif
+}

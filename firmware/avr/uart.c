@@ -1,0 +1,79 @@
+/* USART0 driver with bounded receive and transmit rings (see uart.h). */
+#include "uart.h"
+
+#include <avr/io.h>
+
+#ifndef QS_BAUD
+#define QS_BAUD 500000UL
+#endif
+
+/* Double-speed mode (U2X): 8 clocks per bit, so 16 MHz gives 1 Mbaud,
+ * 500 kbaud and 250 kbaud exactly and 115200 within 2.1 %. */
+#define UBRR_VALUE ((F_CPU + 4UL * (QS_BAUD)) / (8UL * (QS_BAUD)) - 1UL)
+#define BAUD_REAL (F_CPU / (8UL * (UBRR_VALUE + 1UL)))
+_Static_assert(UBRR_VALUE <= 4095UL, "QS_BAUD too low for UBRR");
+_Static_assert(BAUD_REAL * 1000UL <= (QS_BAUD) * 1025UL &&
+               BAUD_REAL * 1000UL >= (QS_BAUD) * 975UL,
+               "QS_BAUD is more than 2.5 % off what F_CPU can make");
+/* The tick looks at the receiver once per tick: no more than two bytes
+ * (its buffer) may arrive in that time. A frame is 10 bits. */
+_Static_assert((QS_BAUD) / 10UL <= 2UL * (QS_TICK_HZ),
+               "QS_BAUD too fast for QS_TICK_HZ: more than two bytes would arrive per tick");
+
+/* Indices are bytes: up to 256 slots, a power of two so they wrap by mask. */
+_Static_assert(QS_UART_RX_RING >= 8 && QS_UART_RX_RING <= 256 &&
+               (QS_UART_RX_RING & (QS_UART_RX_RING - 1)) == 0,
+               "QS_UART_RX_RING must be a power of two, 8..256");
+_Static_assert(QS_UART_TX_RING >= 8 && QS_UART_TX_RING <= 256 &&
+               (QS_UART_TX_RING & (QS_UART_TX_RING - 1)) == 0,
+               "QS_UART_TX_RING must be a power of two, 8..256");
+
+volatile uint8_t uart_rx_ring[QS_UART_RX_RING];
+/* The service marks slot head, the main loop clears slot tail: never the
+ * same slot at once. */
+volatile uint8_t uart_rx_lost_before[QS_UART_RX_RING];
+volatile uint8_t uart_rx_head; /* next slot the service fills */
+volatile uint8_t uart_rx_tail; /* next slot the main loop takes */
+
+volatile uint8_t uart_tx_ring[QS_UART_TX_RING];
+volatile uint8_t uart_tx_head; /* next slot the main loop fills */
+volatile uint8_t uart_tx_tail; /* next slot the service sends */
+
+void uart_init(void)
+{
+    /* U2X first: the baud rate generator (and simavr) use it when UBRR is written. */
+    UCSR0A = _BV(U2X0);
+    UBRR0 = (uint16_t)UBRR_VALUE;
+    UCSR0C = _BV(UCSZ01) | _BV(UCSZ00); /* 8N1 */
+    UCSR0B = _BV(RXEN0) | _BV(TXEN0);    /* no USART interrupts: the tick services it */
+}
+
+uint8_t uart_rx_ready(void)
+{
+    return uart_rx_head != uart_rx_tail;
+}
+
+uint8_t uart_rx_take(uint8_t *byte)
+{
+    const uint8_t tail = uart_rx_tail;
+    const uint8_t lost = uart_rx_lost_before[tail];
+    if (lost) {
+        uart_rx_lost_before[tail] = 0;
+    }
+    *byte = uart_rx_ring[tail];
+    uart_rx_tail = (uint8_t)((tail + 1u) & UART_RX_MASK);
+    return lost;
+}
+
+void uart_write(const uint8_t *bytes, uint8_t len)
+{
+    while (len--) {
+        const uint8_t head = uart_tx_head;
+        const uint8_t next = (uint8_t)((head + 1u) & UART_TX_MASK);
+        while (next == uart_tx_tail) {
+            /* full: the tick drains it, a byte per tick */
+        }
+        uart_tx_ring[head] = *bytes++;
+        uart_tx_head = next;
+    }
+}

@@ -1,0 +1,81 @@
+/* USART0 driver with bounded receive and transmit rings.
+ *
+ * The step tick interrupt services the USART (uart_service) once or twice
+ * per tick (step_timer.c), so the gaps between looks stay shorter than the
+ * time the receiver can hold bytes (two in its buffer while a third shifts
+ * in) and nothing is lost; a byte costs about 20 cycles there instead of
+ * about 80 in an interrupt of its own (docs/AVR.md has the figures).
+ * Received bytes lost to a hardware overrun (DOR) or a full ring are never
+ * dropped silently: the byte read after the loss carries a mark. */
+#ifndef QS_UART_H
+#define QS_UART_H
+
+#include <stdint.h>
+
+#include <avr/io.h>
+
+/* The receive ring holds a burst of frames while the main loop catches up:
+ * the host may send a whole window of them back to back. */
+#ifndef QS_UART_RX_RING
+#define QS_UART_RX_RING 256
+#endif
+#ifndef QS_UART_TX_RING
+#define QS_UART_TX_RING 64
+#endif
+
+void uart_init(void);
+
+/* Nonzero when a received byte is waiting. */
+uint8_t uart_rx_ready(void);
+
+/* Takes the oldest received byte (only after uart_rx_ready()). Returns
+ * nonzero if bytes were lost on the line just before this one. */
+uint8_t uart_rx_take(uint8_t *byte);
+
+/* Queues bytes for transmission, waiting for room; never drops. */
+void uart_write(const uint8_t *bytes, uint8_t len);
+
+/* Ring state shared with uart_service (defined in uart.c). The service
+ * side writes rx_head and tx_tail, the main loop rx_tail and tx_head. */
+#define UART_RX_MASK ((uint8_t)(QS_UART_RX_RING - 1))
+#define UART_TX_MASK ((uint8_t)(QS_UART_TX_RING - 1))
+extern volatile uint8_t uart_rx_ring[QS_UART_RX_RING];
+/* Nonzero: bytes were lost on the line just before the byte that goes into
+ * that slot. A byte per slot keeps the tick's part to one store. */
+extern volatile uint8_t uart_rx_lost_before[QS_UART_RX_RING];
+extern volatile uint8_t uart_rx_head, uart_rx_tail;
+extern volatile uint8_t uart_tx_ring[QS_UART_TX_RING];
+extern volatile uint8_t uart_tx_head, uart_tx_tail;
+
+/* Moves received bytes into the receive ring and, if the transmitter has
+ * room, one byte out of the transmit ring. Called from the step tick
+ * interrupt only; inline so it shares the interrupt's saved registers. */
+static inline __attribute__((always_inline)) void uart_service(void)
+{
+    uint8_t status;
+    while ((status = UCSR0A) & _BV(RXC0)) { /* the flags describe the byte in UDR0 */
+        const uint8_t byte = UDR0;
+        const uint8_t head = uart_rx_head;
+        const uint8_t next = (uint8_t)((head + 1u) & UART_RX_MASK);
+        const uint8_t full = next == uart_rx_tail;
+        if (full || (status & _BV(DOR0))) {
+            /* The line lost bytes (DOR), or the ring is full and this byte
+             * is lost: either way before whatever lands in slot head. */
+            uart_rx_lost_before[head] = 1;
+            if (full) {
+                continue;
+            }
+        }
+        uart_rx_ring[head] = byte;
+        uart_rx_head = next;
+    }
+    if (status & _BV(UDRE0)) {
+        const uint8_t tail = uart_tx_tail;
+        if (tail != uart_tx_head) {
+            UDR0 = uart_tx_ring[tail];
+            uart_tx_tail = (uint8_t)((tail + 1u) & UART_TX_MASK);
+        }
+    }
+}
+
+#endif

@@ -1,0 +1,252 @@
+#!/usr/bin/env python3
+"""The AVR firmware's figures, measured in simavr on the real binary:
+step-interrupt cycles by stepping axes, the highest tick rate at which three
+axes stepping every tick still leave the CPU to take 1,000 segments/s, the
+segments/s the board takes while stepping, flash, RAM and stack, beside
+GRBL's and Klipper's published figures for the same 16 MHz chip.
+
+    python3 tests/bench/bench_avr.py [--quick]
+
+Prints figures only; nothing here is a pass/fail test. Builds variants of
+the firmware under build/bench-avr/ (each tick rate is a compile-time setting).
+"""
+
+from __future__ import annotations
+
+import argparse
+import subprocess
+import sys
+from dataclasses import dataclass
+from pathlib import Path
+
+REPO = Path(__file__).resolve().parents[2]
+sys.path.insert(0, str(REPO / "tests" / "simavr"))
+
+import avr_scenarios  # noqa: E402
+import avr_sim  # noqa: E402
+from quadstep.protocol import Identify, Status, encode  # noqa: E402
+from quadstep.protocol.segment import D, N_MAX  # noqa: E402
+
+F_CPU = avr_sim.F_CPU
+WORK = avr_sim.BUILD / "bench-avr"
+# Tick rates that divide 16 MHz exactly (the firmware insists on an exact rate).
+TICK_RATES = [20_000, 25_000, 31_250, 32_000, 40_000, 50_000, 62_500]
+TARGET_SEGMENTS = 1_000
+PEERS = [
+    ("GRBL 1.1, ATmega328P @ 16 MHz", "about 30 kHz step rate (its stated tested limit), 115200 baud"),
+    ("Klipper, 16 MHz AVR (simulavr)", "157K steps/s one stepper, 99K steps/s total with three, 250000 baud"),
+]
+
+
+@dataclass(frozen=True)
+class Variant:
+    tick_hz: int
+    baud: int
+
+    @property
+    def build(self) -> Path:
+        return WORK / f"tick{self.tick_hz}-baud{self.baud}"
+
+    @property
+    def elf(self) -> Path:
+        return self.build / "avr" / "uno.elf"
+
+
+def fastest_baud(tick_hz: int) -> int:
+    """The fastest supported baud rate the tick can serve (at most two bytes per tick, uart.c)."""
+    return next(b for b in (1_000_000, 500_000, 250_000, 115_200) if b // 10 <= 2 * tick_hz)
+
+
+def make(*args: str) -> str:
+    result = subprocess.run(["make", "-C", str(REPO), "-s", *args], capture_output=True, text=True)
+    if result.returncode != 0:
+        sys.exit(f"make {' '.join(args)} failed:\n{result.stdout[-2000:]}{result.stderr[-2000:]}")
+    return result.stdout
+
+
+def build(v: Variant) -> Variant:
+    make("firmware", f"BUILD={v.build}", f"AVR_TICK_HZ={v.tick_hz}", f"AVR_BAUD={v.baud}")
+    return v
+
+
+def three_axes_every_tick(n: int, count: int) -> bytes:
+    """A dwell (so the queue fills first, as a host would start a job), then
+    count segments of n ticks, every axis at one step per tick, the last one stopping."""
+    b = avr_scenarios.ChainBuilder(3)
+    segments = [avr_scenarios.dwell()]
+    segments += [b.segment(n, {a: (-1 if a == 1 else 1, D, D) for a in range(3)}) for _ in range(count - 1)]
+    segments.append(b.segment(n, {a: (-1 if a == 1 else 1, D, 0) for a in range(3)}))
+    return b"".join(encode(s, i & 0xFF) for i, s in enumerate(segments))
+
+
+def feed(v: Variant, frames: bytes, name: str, seconds: float, profile: bool = False, board: str = "uno") -> dict:
+    out = avr_sim.Outputs(v.build / f"{name}-trace.csv", v.build / f"{name}-edges.csv", v.build / f"{name}.json")
+    elf = v.build / "avr" / f"{board}.elf"
+    args = [str(avr_sim.HARNESS), "--mcu", avr_sim.BOARDS[board], "--elf", str(elf), "--feed",
+            str(v.build / f"{name}.feed"), "--max-cycles", str(int(seconds * F_CPU)), "--stats", str(out.stats)]
+    if profile:
+        args += ["--profile", str(v.build / f"{name}-profile.csv")]
+    (v.build / f"{name}.feed").write_bytes(frames)
+    subprocess.run(args, capture_output=True, check=True)
+    return out.load_stats()
+
+
+def clean(stats: dict) -> bool:
+    """Every frame accepted in turn, nothing lost, no alarm."""
+    f = stats["feed"]
+    return (f["accepted"] == f["frames"] and f["alarms"] == 0 and f["errors"] == 0 and f["gap"] == 0
+            and stats["wire"]["lost"] == 0)
+
+
+def sustains(v: Variant, n: int, seconds: float) -> tuple[bool, dict]:
+    """Segments of n ticks, three axes stepping every tick, for about `seconds` of motion."""
+    count = max(40, int(seconds * v.tick_hz / n))
+    motion = (count * n + N_MAX) / v.tick_hz
+    stats = feed(v, three_axes_every_tick(n, count), f"n{n}", motion * 1.5 + 0.2)
+    return clean(stats), stats
+
+
+def max_segment_rate(v: Variant, seconds: float) -> tuple[float, dict]:
+    """The most segments/s the board takes while every axis steps every tick:
+    the shortest segment length it keeps up with (bisection on n)."""
+    lo, hi = 1, N_MAX  # hi: known good (checked below), lo: known bad
+    ok, stats = sustains(v, hi, seconds)
+    if not ok:
+        return 0.0, stats
+    best = stats
+    while hi - lo > 1:
+        mid = (lo + hi) // 2
+        ok, stats = sustains(v, mid, seconds)
+        if ok:
+            hi, best = mid, stats
+        else:
+            lo = mid
+    return v.tick_hz / hi, best
+
+
+def isr_table(v: Variant) -> dict:
+    """Stats of a stream that steps 0, 1, 2 and 3 axes in various ticks."""
+    b = avr_scenarios.ChainBuilder(3)
+    segments = [avr_scenarios.dwell(200)]
+    for speeds in [(D, 0, 0), (D, D, 0), (D, D, D), (D // 2, D // 3, D // 5), (1000, 3000, 2000)]:
+        segments.append(b.segment(1000, {a: (1, s, s) for a, s in enumerate(speeds) if s}))
+    segments.append(b.segment(500, {0: (1, 1000, 0), 1: (1, 3000, 0), 2: (1, 2000, 0)}))
+    frames = b"".join(encode(s, i) for i, s in enumerate(segments))
+    return feed(v, frames, "isr", 1.0, profile=True)
+
+
+def status_while_moving(v: Variant) -> dict:
+    """Three axes moving while the host asks for STATUS every few milliseconds
+    (no flow control needed: three segments)."""
+    b = avr_scenarios.ChainBuilder(3)
+    data = b"\x00" + encode(Identify(), 0)
+    for i in range(3):
+        data += encode(b.segment(N_MAX, {a: (1, D // 2, D // 2 if i < 2 else 0) for a in range(3)}), i)
+    data += b"".join(encode(Status(), 1) + b"\x00" * 40 for _ in range(20))
+    out = avr_sim.Outputs(v.build / "status-trace.csv", v.build / "status-edges.csv", v.build / "status.json")
+    path = v.build / "status.input"
+    path.write_bytes(data)
+    subprocess.run([str(avr_sim.HARNESS), "--mcu", "atmega328p", "--elf", str(v.elf), "--input", str(path),
+                    "--output", "/dev/null", "--exit-when-idle", "--max-cycles", str(F_CPU), *out.args()],
+                   capture_output=True, check=True)
+    return out.load_stats()
+
+
+def sizes() -> dict[str, tuple[int, int]]:
+    out = {}
+    for line in make("firmware").splitlines():
+        parts = line.split()
+        if len(parts) >= 8 and parts[2] == "flash":
+            out[parts[0]] = (int(parts[3]), int(parts[6]))
+    return out
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--quick", action="store_true", help="shorter runs, fewer tick rates")
+    args = parser.parse_args()
+    seconds = 0.2 if args.quick else 1.0
+    make("firmware", "harness")
+    default = Variant(25_000, 500_000)
+    build(default)
+
+    print("AVR firmware on the ATmega328P (Uno, 3 axes) at 16 MHz, measured in simavr")
+    for board, (flash, ram) in sizes().items():
+        chip = {"uno": "ATmega328P: 32256 flash / 2048 RAM", "mega": "ATmega2560: 253952 flash / 8192 RAM"}[board]
+        print(f"  {board:5} flash {flash:6} bytes, static RAM {ram:5} bytes   ({chip})")
+
+    stats = isr_table(default)
+    print(f"\nstep interrupt at {default.tick_hz} Hz ({stats['tick_cycles']} cycles per tick), "
+          "cycles from interrupt response to the end of RETI:")
+    print(f"  {'ticks':>16} {'count':>7} {'min':>5} {'mean':>7} {'max':>5}   share of a tick (mean)")
+    bins = [("idle", stats["tick_isr"]["idle"])] + [(f"{k} axes stepping", stats["tick_isr"][f"steps{k}"])
+                                                    for k in range(4)]
+    for name, b in bins:
+        if b["count"]:
+            print(f"  {name:>16} {b['count']:7} {b['min']:5} {b['mean']:7.1f} {b['max']:5}   "
+                  f"{100 * b['mean'] / stats['tick_cycles']:5.1f} %")
+    stack = stats["stack"]
+    print(f"  stack high-water mark {stack['max_bytes']} bytes; "
+          f"{stack['deepest'] - stack['static_end']} bytes free above static data")
+    m = stats["motion"]
+    print(f"  step edges: shortest pulse {m['min_pulse']} cycles; tick entered at most {m['tick_late_max']} cycles "
+          f"after its timer match, {m['ticks_missed']} ticks missed; interrupts held off by the main loop "
+          f"at most {stats['irq_off']['max']} cycles ({stats['irq_off']['from'] or '-'})")
+    out = avr_sim.Outputs.in_dir(default.build, "stress")
+    st = avr_sim.run_input(avr_scenarios.every_message_kind(3), out, default.build / "stress-replies.bin",
+                           elf=default.elf)
+    print(f"  stack high-water mark under every message kind while moving: {st['stack']['max_bytes']} bytes; "
+          f"{st['stack']['deepest'] - st['stack']['static_end']} bytes free above static data")
+    st = status_while_moving(default)
+    print(f"  with STATUS requests while moving: interrupts held off at most {st['irq_off']['max']} cycles "
+          f"({st['irq_off']['from'] or '-'}), a tick entered up to {st['motion']['tick_late_max']} cycles late")
+    profile = (default.build / "isr-profile.csv").read_text().splitlines()[1:8]
+    busy = stats["cycles"] - stats["sleep_cycles"]
+    print("  where the busy cycles went: " + ", ".join(
+        f"{name} {100 * int(c) / busy:.1f} %" for name, c in (row.split(",") for row in profile)))
+
+    b4 = avr_scenarios.ChainBuilder(4)
+    four = [avr_scenarios.dwell(200)] + [b4.segment(1000, {a: (1, D, D) for a in range(4)}) for _ in range(3)]
+    four.append(b4.segment(1000, {a: (1, D, 0) for a in range(4)}))
+    st = feed(default, b"".join(encode(s, i) for i, s in enumerate(four)), "mega4", 1.0, board="mega")
+    m4 = st["tick_isr"]["steps4"]
+    print(f"  Mega, 4 axes stepping: {m4['count']} ticks, min {m4['min']}, mean {m4['mean']:.1f}, max {m4['max']} cycles")
+
+    rates = [25_000, 50_000] if args.quick else TICK_RATES
+    print(f"\nsegments/s the board takes while three axes step every tick (flow-controlled, "
+          f"{seconds:g} s of motion after a dwell that fills the queue; fastest baud the tick serves):")
+    print(f"  {'tick rate':>10} {'baud':>8} {'steps/s total':>14} {'segments/s':>11}   step interrupt (3 axes)")
+    best = None
+    for tick in rates:
+        v = build(Variant(tick, fastest_baud(tick)))
+        rate, st = max_segment_rate(v, seconds)
+        isr = st["tick_isr"]["steps3"]
+        print(f"  {tick:>7} Hz {v.baud:>8} {3 * tick:>14,} {rate:>11,.0f}   "
+              f"{isr['mean']:.0f} of {st['tick_cycles']} cycles (max {isr['max']})")
+        if rate >= TARGET_SEGMENTS:
+            best = v
+    if best is None:
+        print(f"  no tick rate tried takes {TARGET_SEGMENTS} segments/s")
+    else:
+        print(f"  highest tick rate taking {TARGET_SEGMENTS} segments/s: {best.tick_hz} Hz "
+              f"= {3 * best.tick_hz:,} steps/s in total")
+
+    v = Variant(default.tick_hz, default.baud)
+    b = avr_scenarios.ChainBuilder(3)
+    # One window of one-tick, zero-speed 3-axis segments: the rate at which
+    # frames are taken when running them costs nothing (one window only: a
+    # line kept full at this rate outruns the receive ring, see docs/AVR.md).
+    quiet = [b.segment(1, {a: (1, 0, 0) for a in range(3)}) for _ in range(14)]
+    st = feed(v, b"".join(encode(s, i & 0xFF) for i, s in enumerate(quiet)), "idle", 1.0)
+    f = st["feed"]
+    span = (f["last_accept_cycle"] - f["first_accept_cycle"]) / F_CPU
+    print(f"segments/s at {v.tick_hz} Hz, {v.baud} baud, when running them costs nothing "
+          f"(a window of 3-axis frames): {(f['accepted'] - 1) / span:,.0f} ({f['errors']} errors)")
+
+    print("\npeers on the same chip (published figures, not measured here):")
+    for name, figure in PEERS:
+        print(f"  {name}: {figure}")
+
+
+if __name__ == "__main__":
+    main()

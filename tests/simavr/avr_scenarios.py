@@ -1,0 +1,128 @@
+"""Segment streams for the board tests, built the way the host builds them:
+each axis carries its residual from segment to segment (engine_model), so
+the streams are what a planner sends and the firmware must follow exactly.
+
+A stream is a list of runs; each run starts and ends at rest, so between runs
+the board goes IDLE and the next run starts a new one (motion ticks go on).
+"""
+
+from __future__ import annotations
+
+import random
+from dataclasses import dataclass, field
+
+from quadstep.engine_model import advance, residual
+from quadstep.protocol import AxisMove, Segment
+from quadstep.protocol.segment import D, N_MAX
+
+# Per axis: (direction, v0, vn); an axis left out does not move.
+Moves = dict[int, tuple[int, int, int]]
+
+
+@dataclass
+class ChainBuilder:
+    """Turns (n, moves) into Segments with exact residuals, axis by axis."""
+
+    axis_count: int
+    ideal2: list[int] = field(default_factory=list)
+    position: list[int] = field(default_factory=list)
+
+    def __post_init__(self) -> None:
+        self.ideal2 = [0] * self.axis_count
+        self.position = [0] * self.axis_count
+
+    def segment(self, n: int, moves: Moves) -> Segment:
+        axes = []
+        for axis in sorted(moves):
+            direction, v0, vn = moves[axis]
+            r = residual(self.ideal2[axis], self.position[axis], direction)
+            if r == D and v0 == D and vn == D:
+                vn = D - 1  # the one input PROTOCOL.md excludes
+            mv = AxisMove(axis=axis, direction=direction, v0=v0, vn=vn, r=r)
+            self.ideal2[axis], self.position[axis] = advance(self.ideal2[axis], self.position[axis], n, mv)
+            axes.append(mv)
+        return Segment(n=n, axes=tuple(axes))
+
+
+def dwell(n: int = N_MAX) -> Segment:
+    """A segment that moves nothing: gives the host a head start filling the queue."""
+    return Segment(n=n, axes=())
+
+
+def full_speed(axis_count: int, n: int = 1000, count: int = 4) -> list[list[Segment]]:
+    """Every axis stepping every tick (v = D), then a stop; axis 1 runs negative."""
+    b = ChainBuilder(axis_count)
+    dirs = {a: -1 if a == 1 else 1 for a in range(axis_count)}
+    run = [dwell()]
+    run += [b.segment(n, {a: (dirs[a], D, D) for a in range(axis_count)}) for _ in range(count)]
+    run.append(b.segment(n, {a: (dirs[a], D, 0) for a in range(axis_count)}))
+    return [run]
+
+
+def ramps_and_reversals(axis_count: int) -> list[list[Segment]]:
+    """Accelerate, cruise, decelerate; reverse directions between and within runs."""
+    b = ChainBuilder(axis_count)
+    runs = []
+    for sign in (1, -1):
+        run = [dwell(400)]
+        profile = [(300, 0, 1500), (500, 1500, 4000), (700, 4000, 4000), (500, 4000, 1200), (300, 1200, 0)]
+        for n, v0, vn in profile:
+            moves = {a: (sign * (-1 if a % 2 else 1), v0 // (a + 1), vn // (a + 1)) for a in range(axis_count)}
+            run.append(b.segment(n, moves))
+        # Axis 0 turns round inside the run (through rest), the others wait.
+        run.append(b.segment(250, {0: (-sign, 0, 3000)}))
+        run.append(b.segment(250, {0: (-sign, 3000, 0)}))
+        runs.append(run)
+    return runs
+
+
+def random_runs(axis_count: int, seed: int, runs: int = 3, per_run: int = 12) -> list[list[Segment]]:
+    """Random lengths (one-tick segments included), speeds, directions and idle axes."""
+    rng = random.Random(seed)
+    b = ChainBuilder(axis_count)
+    out = []
+    for _ in range(runs):
+        run = [dwell()]
+        speed = [0] * axis_count
+        direction = [1] * axis_count
+        for i in range(per_run):
+            n = rng.choice([1, 2, 3, rng.randint(150, 400), rng.randint(400, N_MAX), N_MAX])
+            last = i == per_run - 1
+            moves: Moves = {}
+            for a in range(axis_count):
+                if speed[a] == 0 and rng.random() < 0.3:
+                    direction[a] = -direction[a]  # turn round only from rest
+                v0 = speed[a]
+                vn = 0 if last else rng.choice([0, rng.randint(1, D), D])
+                if v0 == 0 and vn == 0 and rng.random() < 0.5:
+                    continue  # this axis sits the segment out
+                moves[a] = (direction[a], v0, vn)
+                speed[a] = vn
+            run.append(b.segment(n, moves))
+        out.append(run)
+    return out
+
+
+def every_message_kind(axis_count: int) -> bytes:
+    """Wire bytes (no flow control needed) that exercise every path of the
+    firmware while axes move: segments, SET_POSITION (accepted at rest,
+    refused while moving), STATUS, IDENTIFY, and damaged frames of each
+    framing error. For the stack's high-water mark."""
+    from quadstep.protocol import Identify, SetPosition, Status, Stop, encode
+    from quadstep.protocol.framing import encode_frame
+
+    b = ChainBuilder(axis_count)
+    out = [b"\x00", encode(Identify(), 1), encode(SetPosition(positions={a: 5 * a for a in range(axis_count)}), 0)]
+    b.position = [5 * a for a in range(axis_count)]
+    b.ideal2 = [2 * D * p for p in b.position]
+    seq = 1
+    for i in range(8):
+        last = i == 7
+        out.append(encode(b.segment(400, {a: (1, D // 2, 0 if last else D // 2) for a in range(axis_count)}), seq))
+        seq += 1
+        out += [encode(Status(), 9), encode(Identify(), 9), encode_frame(b"\x10\x05\x01"), b"\x07" * 70 + b"\x00",
+                b"\x05\x01\x02\x03\x04\x05\x06\x00"]
+        out.append(encode(SetPosition(positions={0: 1}), seq))  # refused: BUSY
+        seq += 1
+    out.append(encode(Stop(), 50))
+    return b"".join(out)

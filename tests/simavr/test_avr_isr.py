@@ -1,0 +1,64 @@
+"""The step interrupt's cost, in exact simulated cycles, and the stack the
+firmware needs: deterministic figures, so they can be held to."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import avr_scenarios
+from avr_sim import Outputs, run_feed, run_input
+from quadstep.engine_model import predict
+from quadstep.protocol import encode
+
+
+def full_speed_frames() -> tuple[bytes, object]:
+    segments = [s for run in avr_scenarios.full_speed(3) for s in run]
+    return b"".join(encode(s, i) for i, s in enumerate(segments)), predict(segments, axis_count=3)
+
+
+@pytest.fixture(scope="module")
+def two_runs(avr_build: None, tmp_path_factory: pytest.TempPathFactory) -> tuple[dict, dict, object]:
+    frames, expected = full_speed_frames()
+    first = run_feed(frames, Outputs.in_dir(tmp_path_factory.mktemp("isr1")))
+    second = run_feed(frames, Outputs.in_dir(tmp_path_factory.mktemp("isr2")))
+    return first, second, expected
+
+
+def test_cycle_counts_are_exactly_reproducible(two_runs: tuple) -> None:
+    first, second, _ = two_runs
+    assert first["tick_isr"] == second["tick_isr"]
+    assert first["isr"] == second["isr"]
+    assert first["cycles"] == second["cycles"]
+
+
+def test_ticks_are_binned_by_the_axes_they_step(two_runs: tuple) -> None:
+    stats, _, expected = two_runs
+    ticks, per_tick = np.unique(expected.steps[:, 0], return_counts=True)
+    assert stats["tick_isr"]["steps3"]["count"] == int(np.sum(per_tick == 3))
+    running = sum(stats["tick_isr"][f"steps{k}"]["count"] for k in range(4))
+    # Every motion tick but the last is binned (the last one's steps rise in the next interrupt, no tick follows).
+    assert running in (expected.motion_ticks - 1, expected.motion_ticks)
+    assert len(ticks) == stats["tick_isr"]["steps3"]["count"] + sum(
+        stats["tick_isr"][f"steps{k}"]["count"] for k in (1, 2))
+
+
+def test_stepping_every_axis_fits_the_tick_on_average(two_runs: tuple) -> None:
+    """Longer than a tick on average and ticks would be lost; the worst single
+    tick (loading a new segment) may run over, delaying the next by less than a tick."""
+    stats, _, _ = two_runs
+    period = stats["tick_cycles"]
+    assert stats["tick_isr"]["steps3"]["mean"] < period
+    assert stats["isr"]["timer"]["max"] < 2 * period
+
+
+def test_stack_stays_clear_of_static_data(avr_build: None, tmp_path: Path) -> None:
+    """The deepest stack seen while every kind of message and error goes
+    through the firmware as the axes move leaves a margin above .data/.bss."""
+    stats = run_input(avr_scenarios.every_message_kind(3), Outputs.in_dir(tmp_path), tmp_path / "replies.bin")
+    assert stats["motion"]["steps"] != [0, 0, 0], "the axes must move while the messages go through"
+    stack = stats["stack"]
+    assert 0 < stack["max_bytes"] < 512
+    assert stack["deepest"] - stack["static_end"] >= 128, stack
