@@ -23,9 +23,9 @@ PROTOCOL_VERSION = 1
 MAX_FRAME = 64
 
 TYPES = {
-    "IDENTIFY": 0x01, "STATUS": 0x02, "STOP": 0x03,
+    "IDENTIFY": 0x01, "STATUS": 0x02, "STOP": 0x03, "HOLD": 0x04,
     "SEGMENT": 0x10, "SET_POSITION": 0x11,
-    "ACK": 0x80, "IDENTIFY_REPLY": 0x81, "STATUS_REPORT": 0x82, "ERROR": 0x83, "ALARM": 0x84,
+    "ACK": 0x80, "IDENTIFY_REPLY": 0x81, "STATUS_REPORT": 0x82, "ERROR": 0x83, "ALARM": 0x84, "EVENT": 0x85,
 }
 ACK_REASONS = {"ACCEPTED": 0, "GAP": 1, "DUPLICATE": 2, "QUEUE_FULL": 3, "REJECTED": 4, "SPACE": 5}
 ERROR_CODES = {
@@ -33,9 +33,10 @@ ERROR_CODES = {
     "UNKNOWN_TYPE": 5, "BAD_LENGTH": 6, "RX_OVERRUN": 7,
     "BAD_FIELD": 16, "BUSY": 17, "ALARM_ACTIVE": 18,
 }
-FIELDS = {"N": 1, "AXES": 2, "DIRECTION": 3, "V0": 4, "VN": 5, "RESIDUAL": 6}
+FIELDS = {"N": 1, "AXES": 2, "DIRECTION": 3, "V0": 4, "VN": 5, "RESIDUAL": 6, "DECEL": 7}
 ALARMS = {"UNDERRUN": 1, "REJECTED_SEGMENT": 2, "HARD_LIMIT": 3, "HOST_LOST": 4}
 STATES = {"IDLE": 0, "RUNNING": 1, "ALARM": 2, "HOLDING": 3}
+EVENT_KINDS = {"HOLD_DONE": 1}
 
 
 # --- framing (PROTOCOL.md §2) -------------------------------------------------
@@ -123,6 +124,11 @@ def payload(msg: dict) -> bytes:
     if t == "ALARM":
         pos = msg["position"]
         return struct.pack(f"<BI{len(pos)}i", ALARMS[msg["code"]], msg["motion_ticks"], *pos)
+    if t == "HOLD":
+        return struct.pack("<4H", *msg["decel"])
+    if t == "EVENT":
+        pos = msg["position"]
+        return struct.pack(f"<BII{len(pos)}i", EVENT_KINDS[msg["kind"]], msg["hold_tick"], msg["motion_ticks"], *pos)
     raise ValueError(t)
 
 
@@ -167,6 +173,15 @@ def bad_segment(name: str, n: int, axes: list[dict], field: str, axis: int | Non
     bad(name, TO_FW, frame, "BAD_FIELD", field, axis, axis_count)
 
 
+def hold(seq: int, *decel: int) -> dict:
+    return {"type": "HOLD", "seq": seq, "decel": list(decel)}
+
+
+def bad_hold(name: str, decel: list[int], axis: int, axis_count: int = 4, seq: int = 9) -> None:
+    frame = wire(bytes([TYPES["HOLD"], seq]) + struct.pack("<4H", *decel))
+    bad(name, TO_FW, frame, "BAD_FIELD", "DECEL", axis, axis_count)
+
+
 def build() -> list[dict]:
     VECTORS.clear()
     D = 4096
@@ -176,6 +191,11 @@ def build() -> list[dict]:
         valid(f"identify seq {seq}", TO_FW, {"type": "IDENTIFY", "seq": seq})
     valid("status", TO_FW, {"type": "STATUS", "seq": 42})
     valid("stop", TO_FW, {"type": "STOP", "seq": 200})
+    # HOLD: a deceleration for every axis the firmware has, 0 for the others.
+    valid("hold, 4 axes, extreme decelerations", TO_FW, hold(201, 1, 8191, 4096, 149), 4)
+    valid("hold, 3 axes, axis 3 says 0", TO_FW, hold(0, 100, 200, 300, 0), 3)
+    valid("hold, 1 axis", TO_FW, hold(0xFF, 8191, 0, 0, 0), 1)
+    valid("hold, zero bytes in the body", TO_FW, hold(0, 256, 512, 0x0100, 0x1F00), 4)
 
     # SEGMENT: 0..4 axes, extreme values. A firmware with fewer axes rejects the
     # ones using axis 3 (and 2), so these assume 4 axes (the emulator's default).
@@ -217,7 +237,7 @@ def build() -> list[dict]:
     valid("identify reply, emulator", TO_HOST,
           {"type": "IDENTIFY_REPLY", "seq": 1, "protocol_version": 1, "fw_major": 0, "fw_minor": 1, "fw_patch": 0,
            "board": 0, "axis_count": 4, "queue_capacity": 32, "speed_shift": 12, "n_max": 1022,
-           "tick_hz": 50000, "capabilities": 3, "next_seq": 0})
+           "tick_hz": 50000, "capabilities": 7, "next_seq": 0})
     valid("identify reply, uno", TO_HOST,
           {"type": "IDENTIFY_REPLY", "seq": 0xFF, "protocol_version": 1, "fw_major": 1, "fw_minor": 2,
            "fw_patch": 3, "board": 1, "axis_count": 3, "queue_capacity": 16, "speed_shift": 12, "n_max": 1022,
@@ -234,6 +254,9 @@ def build() -> list[dict]:
           {"type": "STATUS_REPORT", "seq": 3, "state": "IDLE", "alarm": None, "queue_fill": 0, "next_seq": 0,
            "segments_done": 0, "motion_ticks": 0, "rx_overrun": 0, "bad_frame": 0, "bad_crc": 0, "seq_gap": 0,
            "seq_dup": 0, "rejected": 0, "position": [0, 0, 0, 0]}, 4)
+    valid("status report, 4 axes, holding", TO_HOST,
+          {"type": "STATUS_REPORT", "seq": 201, "state": "HOLDING", "alarm": None, **status_common,
+           "position": [7, -7, 70000, -70000]}, 4)
     for code in ("FRAME_TOO_LONG", "FRAME_TOO_SHORT", "BAD_COBS", "BAD_CRC", "RX_OVERRUN"):
         valid(f"error {code.lower()}", TO_HOST,
               {"type": "ERROR", "seq": 0xFF, "code": code, "frame_type": 0xFF, "frame_seq": 0xFF,
@@ -245,9 +268,10 @@ def build() -> list[dict]:
           {"type": "ERROR", "seq": 8, "code": "BAD_LENGTH", "frame_type": 0x10, "frame_seq": 8,
            "field": None, "axis": None})
     for i, field in enumerate(FIELDS):
-        axis = i - 3 if field in ("V0", "VN", "RESIDUAL") else None
+        axis = i - 3 if field in ("V0", "VN", "RESIDUAL", "DECEL") else None
+        frame_type = TYPES["HOLD"] if field == "DECEL" else TYPES["SEGMENT"]
         valid(f"error bad_field {field.lower()}", TO_HOST,
-              {"type": "ERROR", "seq": 20 + i, "code": "BAD_FIELD", "frame_type": 0x10, "frame_seq": 20 + i,
+              {"type": "ERROR", "seq": 20 + i, "code": "BAD_FIELD", "frame_type": frame_type, "frame_seq": 20 + i,
                "field": field, "axis": axis})
     valid("error busy", TO_HOST,
           {"type": "ERROR", "seq": 5, "code": "BUSY", "frame_type": 0x11, "frame_seq": 5, "field": None, "axis": None})
@@ -259,6 +283,15 @@ def build() -> list[dict]:
     valid("alarm rejected segment, 4 axes", TO_HOST,
           {"type": "ALARM", "seq": 0xFF, "code": "REJECTED_SEGMENT", "motion_ticks": 2**32 - 1,
            "position": [2**31 - 1, -(2**31), -1, 1]}, 4)
+    valid("event hold done, 4 axes", TO_HOST,
+          {"type": "EVENT", "seq": 0xFF, "kind": "HOLD_DONE", "hold_tick": 123456, "motion_ticks": 130000,
+           "position": [2**31 - 1, -(2**31), -1, 1]}, 4)
+    valid("event hold done, 3 axes, at rest at once", TO_HOST,
+          {"type": "EVENT", "seq": 0xFF, "kind": "HOLD_DONE", "hold_tick": 2**32 - 1, "motion_ticks": 2**32 - 1,
+           "position": [100, 0, -100]}, 3)
+    valid("event hold done, 1 axis", TO_HOST,
+          {"type": "EVENT", "seq": 0xFF, "kind": "HOLD_DONE", "hold_tick": 0, "motion_ticks": 1, "position": [0]},
+          1)
 
     # Malformed frames: framing errors, in the order of PROTOCOL.md §2.
     good = body(seg(1, 100, ax(0, 1, 10, 20, 0)))
@@ -286,9 +319,9 @@ def build() -> list[dict]:
     bad("64 decoded bytes pass framing, then bad length", TO_FW, wire(longest), "BAD_LENGTH")
 
     # Unknown types, immediate and sequenced ranges; reports sent the wrong way.
-    for t in (0x00, 0x04, 0x05, 0x0F, 0x12, 0x13, 0x3F, 0x40, 0x7F, 0x80, 0x82):
+    for t in (0x00, 0x05, 0x06, 0x0F, 0x12, 0x13, 0x3F, 0x40, 0x7F, 0x80, 0x82, 0x85):
         bad(f"unknown type 0x{t:02x} to firmware", TO_FW, wire(bytes([t, 3])), "UNKNOWN_TYPE")
-    for t in (0x01, 0x10, 0x85, 0xFF):
+    for t in (0x01, 0x04, 0x10, 0x86, 0xFF):
         bad(f"unknown type 0x{t:02x} to host", TO_HOST, wire(bytes([t, 3, 0, 0, 0, 0, 0])), "UNKNOWN_TYPE")
 
     # Wrong payload lengths.
@@ -314,6 +347,14 @@ def build() -> list[dict]:
     bad("error 4 bytes", TO_HOST, wire(bytes([0x83, 0, 16, 0x10, 0, 1])), "BAD_LENGTH")
     bad("alarm without positions", TO_HOST, wire(bytes([0x84, 0xFF, 1, 0, 0, 0, 0])), "BAD_LENGTH")
     bad("alarm, partial position", TO_HOST, wire(bytes([0x84, 0xFF, 1, 0, 0, 0, 0, 9, 9])), "BAD_LENGTH")
+    bad("hold without payload", TO_FW, wire(bytes([0x04, 0])), "BAD_LENGTH")
+    bad("hold with 3 axes of fields", TO_FW, wire(bytes([0x04, 0]) + struct.pack("<3H", 1, 1, 1)), "BAD_LENGTH")
+    bad("hold with 5 axes of fields", TO_FW, wire(bytes([0x04, 0]) + struct.pack("<5H", 1, 1, 1, 1, 1)),
+        "BAD_LENGTH")
+    bad("hold with an odd byte", TO_FW, wire(bytes([0x04, 0]) + struct.pack("<4HB", 1, 1, 1, 1, 1)), "BAD_LENGTH")
+    bad("event without positions", TO_HOST, wire(bytes([0x85, 0xFF, 1]) + bytes(8)), "BAD_LENGTH")
+    bad("event, 5 axes", TO_HOST, wire(bytes([0x85, 0xFF, 1]) + bytes(8 + 20)), "BAD_LENGTH")
+    bad("event, partial position", TO_HOST, wire(bytes([0x85, 0xFF, 1]) + bytes(8 + 6)), "BAD_LENGTH")
 
     # SEGMENT content: every field id, in validation order. axis_count is the
     # firmware's axis count the outcome assumes.
@@ -342,6 +383,15 @@ def build() -> list[dict]:
     bad_segment("r = 4096 with v0 = vn = 4096", 1022, [ax(0, 1, D, D, D)], "RESIDUAL", 0)
     bad_segment("r = 4096 with v0 = vn = 4096, negative, axis 3", 1, [ax(3, -1, D, D, D)], "RESIDUAL", 3)
 
+    # HOLD content: every axis the firmware has needs 1..8191, the others 0; axis by axis.
+    bad_hold("hold decel 0 on axis 0", [0, 1, 1, 1], 0)
+    bad_hold("hold decel 8192 on axis 2", [1, 1, 8192, 1], 2)
+    bad_hold("hold decel 65535 on axis 3", [1, 1, 1, 0xFFFF], 3)
+    bad_hold("hold axes checked in order", [1, 0, 9000, 0], 1)
+    bad_hold("hold decel for axis 3 on a 3-axis firmware", [1, 1, 1, 1], 3, axis_count=3)
+    bad_hold("hold decel for axis 1 on a 1-axis firmware", [8191, 8191, 0, 0], 1, axis_count=1)
+    bad_hold("hold decel 0 on axis 2 of a 3-axis firmware", [5, 5, 0, 0], 2, axis_count=3)
+
     # SET_POSITION content.
     frame = wire(bytes([TYPES["SET_POSITION"], 5]) + set_position_payload({3: 1}))
     bad("set position axis 3 on a 3-axis firmware", TO_FW, frame, "BAD_FIELD", "AXES", None, axis_count=3)
@@ -363,12 +413,14 @@ def document() -> str:
             "and axis null is 0xFF on the wire; STATUS_REPORT alarm null is 0.",
             "BAD_FIELD axis is the axis number (not its index among active axes) for V0, VN and "
             "RESIDUAL, and null for N, AXES and DIRECTION (mask-wide checks).",
+            "HOLD carries decel for all 4 axes the wire names: 1..8191 for each axis below the "
+            "firmware's axis count, 0 for the others; BAD_FIELD DECEL names the first axis that breaks it.",
             "SEGMENT fields are checked field by field in the order of the table, each field in "
             "axis order: every axis's V0 before any VN, every VN before any RESIDUAL.",
         ],
         "names": {
             "type": TYPES, "ack_reason": ACK_REASONS, "error_code": ERROR_CODES, "field": FIELDS,
-            "alarm": ALARMS, "state": STATES,
+            "alarm": ALARMS, "state": STATES, "event_kind": EVENT_KINDS,
         },
         "vectors": build(),
     }

@@ -39,9 +39,11 @@
 #if defined(__GNUC__)
 #define QS_ALWAYS_INLINE __attribute__((always_inline)) inline
 #define QS_COMPILER_BARRIER() __asm__ __volatile__("" ::: "memory")
+#define QS_UNLIKELY(x) __builtin_expect(!!(x), 0)
 #else
 #define QS_ALWAYS_INLINE inline
 #define QS_COMPILER_BARRIER() ((void)0)
+#define QS_UNLIKELY(x) (x)
 #endif
 
 #endif

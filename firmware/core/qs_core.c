@@ -51,17 +51,42 @@ static void send_identify_reply(qs_core *c, uint8_t seq)
     id.speed_shift = QS_SPEED_SHIFT;
     id.n_max = QS_N_MAX;
     id.tick_hz = c->tick_hz;
-    id.capabilities = QS_CAP_QUADRATIC | QS_CAP_SET_POSITION;
+    id.capabilities = QS_CAP_QUADRATIC | QS_CAP_SET_POSITION | QS_CAP_HOLD;
     id.next_seq = c->next_seq;
     send_body(body, qs_msg_encode_identify_reply(body, seq, &id));
 }
 
-static void send_status_report(qs_core *c, uint8_t seq)
+/* The EVENT HOLD_DONE of a finished hold, once. Sent before anything else
+ * is handled and before any status that shows the hold over, so a host
+ * learns where the axes rest before it sees them idle. */
+static void report_hold_done(qs_core *c, uint8_t *body)
+{
+    qs_engine *e = &c->engine;
+    uint32_t hold_tick;
+
+    if (qs_engine_take_hold_done(e, &hold_tick))
+        send_body(body, qs_msg_encode_hold_done(body, QS_SEQ_UNSOLICITED, hold_tick, e->completed_ticks,
+                                                c->axis_count, e->base));
+}
+
+/* The same, where no frame is being built. */
+static void report_pending_hold(qs_core *c)
+{
+    uint8_t body[QS_MAX_FRAME];
+
+    report_hold_done(c, body);
+}
+
+/* The answer to seq. With hold_first, a hold that ended while the status
+ * was read is reported first. */
+static void send_status_report(qs_core *c, uint8_t seq, uint8_t hold_first)
 {
     uint8_t body[QS_MAX_FRAME];
     qs_status st;
 
     qs_core_status(c, &st);
+    if (hold_first)
+        report_hold_done(c, body);
     send_body(body, qs_msg_encode_status_report(body, seq, &st));
 }
 
@@ -138,6 +163,13 @@ static void on_segment(qs_core *c, const qs_host_msg *m)
         reject(c, m, &f);
         return;
     }
+    if (e->state == QS_STATE_HOLDING) {
+        /* The host learns of the hold's end from HOLD_DONE: a segment sent
+         * before that was planned for motion the hold discarded. */
+        fault(&f, QS_ERR_BUSY);
+        reject(c, m, &f);
+        return;
+    }
     if (qs_msg_check_segment(&m->as.segment, c->axis_count, &f) != QS_ERR_NONE) {
         /* Later segments were planned from where this one would have left
          * the axes: stop everything. */
@@ -181,7 +213,35 @@ static void on_stop(qs_core *c, const qs_host_msg *m)
     qs_engine_halt(&c->engine, QS_STATE_IDLE, QS_ALARM_NONE);
     c->alarm_announced = 0;
     c->next_seq = m->seq;
-    send_status_report(c, m->seq);
+    send_status_report(c, m->seq, 1);
+}
+
+/* Refused: nothing changes. In ALARM nothing moves; STOP clears it. */
+static void refuse_immediate(qs_core *c, const qs_host_msg *m, const qs_fault *f)
+{
+    count_error(c, f->code);
+    send_error(m->seq, m->type, f);
+}
+
+static void on_hold(qs_core *c, const qs_host_msg *m)
+{
+    qs_fault f;
+
+    if (qs_msg_check_hold(&m->as.hold, c->axis_count, &f) != QS_ERR_NONE) {
+        refuse_immediate(c, m, &f);
+        return;
+    }
+    if (c->engine.state == QS_STATE_ALARM) {
+        fault(&f, QS_ERR_ALARM_ACTIVE);
+        refuse_immediate(c, m, &f);
+        return;
+    }
+    /* Unless an alarm was raised meanwhile, which the answer then shows. */
+    qs_engine_hold(&c->engine, m->as.hold.decel);
+    c->next_seq = m->seq;
+    /* The answer first, then a HOLD_DONE if the hold is already over. */
+    send_status_report(c, m->seq, 0);
+    report_pending_hold(c);
 }
 
 static void on_sequenced(qs_core *c, const qs_host_msg *m)
@@ -212,6 +272,7 @@ static void on_frame(qs_core *c, const uint8_t *body, uint8_t len)
     qs_fault f;
     uint8_t code = qs_msg_parse(body, len, &m);
 
+    report_pending_hold(c);
     if (code != QS_ERR_NONE) {
         count_error(c, code);
         fault(&f, code);
@@ -223,10 +284,13 @@ static void on_frame(qs_core *c, const uint8_t *body, uint8_t len)
         send_identify_reply(c, m.seq);
         break;
     case QS_TYPE_STATUS:
-        send_status_report(c, m.seq);
+        send_status_report(c, m.seq, 1);
         break;
     case QS_TYPE_STOP:
         on_stop(c, &m);
+        break;
+    case QS_TYPE_HOLD:
+        on_hold(c, &m);
         break;
     default:
         on_sequenced(c, &m);
@@ -296,6 +360,7 @@ void qs_core_poll(qs_core *c)
     }
     if (c->engine.alarm != QS_ALARM_NONE && !c->alarm_announced)
         send_alarm(c);
+    report_pending_hold(c);
 }
 
 void qs_core_status(qs_core *c, qs_status *st)

@@ -37,7 +37,8 @@ void qs_core_rx(qs_core *c, uint8_t byte);
 void qs_core_rx_overrun(qs_core *c);
 
 /* Deferred work: SPACE acks for completed segments, ALARM reports raised
- * by the tick. Call often from the main loop. */
+ * by the tick, the HOLD_DONE of a hold the tick finished. Call often from
+ * the main loop (at least whenever queue.tail has changed). */
 void qs_core_poll(qs_core *c);
 
 /* A consistent snapshot of what STATUS_REPORT carries. */

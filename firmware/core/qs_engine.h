@@ -2,13 +2,19 @@
  * qs_segment.h) and keeps exact step positions. The tick is in
  * qs_engine_tick.h so that it compiles into the timer interrupt; it does
  * 24-bit work only. The 32-bit bookkeeping (positions, tick and segment
- * totals) is done by the main loop when it retires finished slots. */
+ * totals) is done by the main loop when it retires finished slots.
+ *
+ * A hold (qs_engine_hold) freezes the running slot where it is and
+ * decelerates from there in e->hold (qs_hold.h); when every axis is at
+ * rest the tick releases the slot, and retiring it folds the segment's
+ * steps up to the hold and the hold's own steps into the positions. */
 #ifndef QS_ENGINE_H
 #define QS_ENGINE_H
 
 #include <stdint.h>
 #include "qs_config.h"
 #include "qs_protocol.h"
+#include "qs_hold.h"
 #include "qs_queue.h"
 
 typedef struct {
@@ -24,7 +30,21 @@ typedef struct {
     int32_t base[QS_AXIS_COUNT];
     uint32_t completed_ticks;
     uint32_t segments_done;
+    /* A hold: the tick runs hold instead of seg while hold.moving != 0. */
+    qs_hold hold;
+    const qs_segment *held;  /* main loop: the frozen slot, until folded */
+    uint16_t held_t0;        /* ticks of it run before the hold */
+    uint32_t hold_tick;      /* motion tick at which the deceleration began */
+    uint32_t hold_end_tick;  /* motion tick at which the last hold ended */
+    uint8_t hold_report;     /* a hold has ended and is not yet reported */
 } qs_engine;
+
+/* What qs_engine_hold did. */
+#define QS_HOLD_STARTED 0    /* decelerating: state HOLDING */
+#define QS_HOLD_AT_REST 1    /* nothing was moving: IDLE, a HOLD_DONE is pending */
+#define QS_HOLD_UNDER_WAY 2  /* a hold was already running or just finished */
+#define QS_HOLD_NO_SEGMENT 3 /* the queue ran dry while moving: the underrun stands */
+#define QS_HOLD_IN_ALARM 4   /* nothing changed */
 
 /* What a status report needs, taken at one instant. */
 typedef struct {
@@ -54,9 +74,20 @@ uint8_t qs_engine_set_positions(qs_engine *e, uint8_t mask, const int32_t *posit
 
 void qs_engine_read(qs_engine *e, qs_engine_view *v);
 
+/* Decelerate every moving axis to rest, decel[axis] in 2^-24 step per
+ * tick^2 (checked by qs_msg_check_hold), starting at the current tick
+ * boundary, and discard the queued segments. Returns QS_HOLD_*. */
+uint8_t qs_engine_hold(qs_engine *e, const uint16_t *decel);
+
+/* Whether a hold has ended and is not yet reported, once: returns 1 and its
+ * hold_tick, or 0. Until it is taken nothing moves (segments are refused
+ * while holding and the core takes it before it handles the next frame),
+ * so base and completed_ticks are where and when the hold came to rest. */
+uint8_t qs_engine_take_hold_done(qs_engine *e, uint32_t *hold_tick);
+
 /* Speed numerator of an axis of the running segment times 2n (see
- * qs_segment_speed_2n), 0 between segments: where a controlled
- * deceleration would start from. Call with the tick locked out. */
+ * qs_segment_speed_2n), 0 between segments and during a hold. Call with
+ * the tick locked out. */
 int32_t qs_engine_speed_2n_locked(const qs_engine *e, uint8_t axis);
 
 #endif

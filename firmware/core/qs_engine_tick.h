@@ -5,11 +5,13 @@
  * lazily at the start of the call that makes its first decision, so the
  * last step of the previous segment still goes out with its own direction.
  * A segment starting at motion tick S makes the step decided by its call
- * t-1 (counting from 0) at tick S+t. */
+ * t-1 (counting from 0) at tick S+t. While a hold is under way the tick
+ * runs qs_hold_tick.h instead, at the cost of one flag test here. */
 #ifndef QS_ENGINE_TICK_H
 #define QS_ENGINE_TICK_H
 
 #include "qs_engine.h"
+#include "qs_hold_tick.h"
 
 /* One axis, one decision: h >= 0 means the stepper would be half a step or
  * more behind the ideal position after the next tick. Without a step, 2*C2
@@ -74,6 +76,8 @@ static QS_ALWAYS_INLINE uint8_t qs_engine_tick(qs_engine *e)
     qs_segment *s;
     uint8_t steps;
 
+    if (QS_UNLIKELY(e->hold.moving))
+        return qs_engine_hold_tick(e);
     if (e->left == 0 && !qs_engine_begin(e))
         return 0;
     s = e->seg;

@@ -8,8 +8,10 @@
 
 #if defined(__AVR__)
 typedef __int24 qs_i24;
+typedef __uint24 qs_u24; /* counts below 2^24: steps and ticks of a hold */
 #else
 typedef int32_t qs_i24;
+typedef uint32_t qs_u24;
 #endif
 
 #define QS_I24_MAX 8388607L

@@ -81,6 +81,17 @@ static uint8_t parse_set_position(const uint8_t *p, uint8_t len, qs_set_position
     return QS_ERR_NONE;
 }
 
+static uint8_t parse_hold(const uint8_t *p, uint8_t len, qs_hold_msg *h)
+{
+    uint8_t axis;
+
+    if (len != QS_LEN_HOLD)
+        return QS_ERR_BAD_LENGTH;
+    for (axis = 0; axis < QS_PROTOCOL_AXES; axis++)
+        h->decel[axis] = get16(p + 2 * axis);
+    return QS_ERR_NONE;
+}
+
 uint8_t qs_msg_parse(const uint8_t *body, uint8_t body_len, qs_host_msg *m)
 {
     uint8_t len = (uint8_t)(body_len - 2);
@@ -97,6 +108,8 @@ uint8_t qs_msg_parse(const uint8_t *body, uint8_t body_len, qs_host_msg *m)
         return parse_segment(payload, len, &m->as.segment);
     case QS_TYPE_SET_POSITION:
         return parse_set_position(payload, len, &m->as.set_position);
+    case QS_TYPE_HOLD:
+        return parse_hold(payload, len, &m->as.hold);
     default:
         return QS_ERR_UNKNOWN_TYPE;
     }
@@ -150,6 +163,21 @@ uint8_t qs_msg_check_set_position(const qs_set_position_msg *p, uint8_t axis_cou
 {
     if (p->mask & axes_beyond(axis_count))
         return bad_field(f, QS_FIELD_AXES, QS_AXIS_NONE);
+    f->code = QS_ERR_NONE;
+    return QS_ERR_NONE;
+}
+
+/* Axes the firmware has need a deceleration it can apply; the others must
+ * say 0, so that a HOLD meant for another machine is not half obeyed. */
+uint8_t qs_msg_check_hold(const qs_hold_msg *h, uint8_t axis_count, qs_fault *f)
+{
+    uint8_t axis;
+
+    for (axis = 0; axis < QS_PROTOCOL_AXES; axis++) {
+        uint16_t d = h->decel[axis];
+        if (axis < axis_count ? (d < 1 || d > QS_DECEL_MAX) : d != 0)
+            return bad_field(f, QS_FIELD_DECEL, axis);
+    }
     f->code = QS_ERR_NONE;
     return QS_ERR_NONE;
 }
@@ -231,5 +259,19 @@ uint8_t qs_msg_encode_alarm(uint8_t *body, uint8_t seq, const qs_alarm_report *a
     n += put32(body + n, a->motion_ticks);
     for (axis = 0; axis < a->axis_count; axis++)
         n += put32(body + n, (uint32_t)a->position[axis]);
+    return n;
+}
+
+uint8_t qs_msg_encode_hold_done(uint8_t *body, uint8_t seq, uint32_t hold_tick, uint32_t motion_ticks,
+                                uint8_t axis_count, const int32_t *position)
+{
+    uint8_t n = head(body, QS_TYPE_EVENT, seq);
+    uint8_t axis;
+
+    body[n++] = QS_EVENT_HOLD_DONE;
+    n += put32(body + n, hold_tick);
+    n += put32(body + n, motion_ticks);
+    for (axis = 0; axis < axis_count; axis++)
+        n += put32(body + n, (uint32_t)position[axis]);
     return n;
 }

@@ -23,12 +23,19 @@ typedef struct {
     int32_t position[QS_PROTOCOL_AXES]; /* indexed by axis, valid where in mask */
 } qs_set_position_msg;
 
+/* HOLD: a deceleration for each axis the wire names, in 2^-24 step per
+ * tick^2 (0 for axes the firmware does not have). */
+typedef struct {
+    uint16_t decel[QS_PROTOCOL_AXES];
+} qs_hold_msg;
+
 typedef struct {
     uint8_t type;
     uint8_t seq;
     union {
         qs_segment_msg segment;
         qs_set_position_msg set_position;
+        qs_hold_msg hold;
     } as;
 } qs_host_msg;
 
@@ -47,6 +54,7 @@ uint8_t qs_msg_parse(const uint8_t *body, uint8_t body_len, qs_host_msg *m);
  * QS_ERR_BAD_FIELD with f filled in. */
 uint8_t qs_msg_check_segment(const qs_segment_msg *s, uint8_t axis_count, qs_fault *f);
 uint8_t qs_msg_check_set_position(const qs_set_position_msg *p, uint8_t axis_count, qs_fault *f);
+uint8_t qs_msg_check_hold(const qs_hold_msg *h, uint8_t axis_count, qs_fault *f);
 
 typedef struct {
     uint8_t next_seq;
@@ -112,5 +120,8 @@ uint8_t qs_msg_encode_identify_reply(uint8_t *body, uint8_t seq, const qs_identi
 uint8_t qs_msg_encode_status_report(uint8_t *body, uint8_t seq, const qs_status *st);
 uint8_t qs_msg_encode_error(uint8_t *body, uint8_t seq, const qs_error_report *e);
 uint8_t qs_msg_encode_alarm(uint8_t *body, uint8_t seq, const qs_alarm_report *a);
+/* EVENT HOLD_DONE: where a hold began, when and where everything rests. */
+uint8_t qs_msg_encode_hold_done(uint8_t *body, uint8_t seq, uint32_t hold_tick, uint32_t motion_ticks,
+                                uint8_t axis_count, const int32_t *position);
 
 #endif

@@ -11,6 +11,11 @@
 #define QS_V_MAX 4096        /* one step per tick */
 #define QS_R_MAX 4096        /* residual limit, in 1/8192 step */
 
+/* Controlled deceleration (section 5.1, HOLD; docs/FIXED_POINT.md section 8):
+ * decelerations in 2^-24 step per tick^2, 1 ... QS_DECEL_MAX. */
+#define QS_DECEL_SHIFT 24
+#define QS_DECEL_MAX 8191
+
 /* Framing (section 2). */
 #define QS_MAX_FRAME 64      /* decoded body + crc16 */
 #define QS_MIN_FRAME 4       /* type, seq, crc16 */
@@ -22,6 +27,7 @@
 #define QS_TYPE_IDENTIFY 0x01
 #define QS_TYPE_STATUS 0x02
 #define QS_TYPE_STOP 0x03
+#define QS_TYPE_HOLD 0x04
 #define QS_TYPE_SEGMENT 0x10
 #define QS_TYPE_SET_POSITION 0x11
 #define QS_TYPE_ACK 0x80
@@ -29,6 +35,7 @@
 #define QS_TYPE_STATUS_REPORT 0x82
 #define QS_TYPE_ERROR 0x83
 #define QS_TYPE_ALARM 0x84
+#define QS_TYPE_EVENT 0x85
 
 #define QS_TYPE_IS_IMMEDIATE(t) ((t) <= 0x0F)
 #define QS_SEQ_UNSOLICITED 0xFF
@@ -41,6 +48,8 @@
 #define QS_LEN_STATUS_HEAD 24
 #define QS_LEN_ERROR 5
 #define QS_LEN_ALARM_HEAD 5
+#define QS_LEN_HOLD 8        /* decel:u16 for each of the 4 axes the wire names */
+#define QS_LEN_EVENT_HEAD 9  /* kind, hold_tick, motion_ticks; then positions */
 
 /* ACK reasons. */
 #define QS_ACK_ACCEPTED 0
@@ -71,6 +80,7 @@
 #define QS_FIELD_V0 4
 #define QS_FIELD_VN 5
 #define QS_FIELD_RESIDUAL 6
+#define QS_FIELD_DECEL 7
 #define QS_AXIS_NONE 0xFF
 
 /* ALARM codes. */
@@ -84,10 +94,14 @@
 #define QS_STATE_IDLE 0
 #define QS_STATE_RUNNING 1
 #define QS_STATE_ALARM 2
-#define QS_STATE_HOLDING 3 /* reserved */
+#define QS_STATE_HOLDING 3 /* decelerating to rest after a HOLD */
+
+/* EVENT kinds. */
+#define QS_EVENT_HOLD_DONE 1
 
 /* IDENTIFY capability bits. */
 #define QS_CAP_QUADRATIC 0x0001
 #define QS_CAP_SET_POSITION 0x0002
+#define QS_CAP_HOLD 0x0004
 
 #endif

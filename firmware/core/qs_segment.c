@@ -35,6 +35,11 @@ void qs_segment_prepare(qs_segment *slot, const qs_segment_msg *m)
  * every term within 32: floor(x / 2nD) = floor(floor(x / 8192) / n). */
 uint16_t qs_segment_steps(const qs_segment *s, uint8_t axis, uint16_t t)
 {
+    return qs_segment_steps_from(s, axis, t, s->b[axis]);
+}
+
+uint16_t qs_segment_steps_from(const qs_segment *s, uint8_t axis, uint16_t t, qs_i24 b)
+{
     int32_t n = s->n;
     int32_t c1 = (int32_t)s->db[axis] / 2;
     uint32_t q;
@@ -44,7 +49,7 @@ uint16_t qs_segment_steps(const qs_segment *s, uint8_t axis, uint16_t t)
         return 0; /* even at r = 4096, where the formula would say 1 */
     if (t == s->n)
         return s->total[axis];
-    q = (uint32_t)((int32_t)s->b[axis] + (int32_t)s->two_c2 - c1 * ((int32_t)t + 3));
+    q = (uint32_t)((int32_t)b + (int32_t)s->two_c2 - c1 * ((int32_t)t + 3));
     low = (uint32_t)(n * s->r[axis] + n * QS_D) + t * (q & 0x1FFFu);
     return (uint16_t)(((uint32_t)t * (q >> 13) + (low >> 13)) / (uint32_t)n);
 }

@@ -37,6 +37,10 @@ void qs_segment_prepare(qs_segment *slot, const qs_segment_msg *m);
  * so the tick need not count them. */
 uint16_t qs_segment_steps(const qs_segment *s, uint8_t axis, uint16_t t);
 
+/* The same from b, the axis's b after t ticks, taken earlier (so that the
+ * division need not run with the tick locked out). */
+uint16_t qs_segment_steps_from(const qs_segment *s, uint8_t axis, uint16_t t, qs_i24 b);
+
 /* Speed numerator of an active axis, v(t) = v0 + (vn - v0)*t/n, after t
  * ticks of the segment, recovered from the running state as 2*n*v(t)
  * = b + 2*C2 - 3*C1 (what a controlled stop needs to plan from). */

@@ -5,10 +5,12 @@
 #include <string.h>
 
 #include "qs_config.h"
+#include "qs_protocol.h"
 
 static const char usage[] =
     "usage: quadstep-emu [--pty | --tcp PORT] [--free] [--tick-hz N] [--axes N]\n"
-    "                    [--queue N] [--trace FILE] [--drop-rx-frame K]...\n"
+    "                    [--queue N] [--trace FILE] [--events FILE]\n"
+    "                    [--hold-at TICK:DECEL[,DECEL...]] [--drop-rx-frame K]...\n"
     "                    [--corrupt-rx-frame K]... [--drop-tx-frame K]...\n"
     "See firmware/native/README.md.\n";
 
@@ -47,9 +49,62 @@ static int add_fault(emu_fault_list *list, const char *option, const char *text)
     return 1;
 }
 
+/* TICK:D or TICK:D0,D1,... (one deceleration for every axis, or one per
+ * axis of --axes, checked once every option is known). */
+static int hold_at(emu_options *o, const char *option, const char *text, int *count)
+{
+    char buf[128];
+    char *colon, *item, *save = NULL;
+    unsigned long v;
+
+    if (!text || strlen(text) >= sizeof buf || !(colon = strchr(strcpy(buf, text), ':'))) {
+        fprintf(stderr, "quadstep-emu: %s needs TICK:DECEL[,DECEL...], got '%s'\n", option,
+                text ? text : "");
+        return 0;
+    }
+    *colon = '\0';
+    if (!number(option, buf, 0, 0xFFFFFFFFul, &v))
+        return 0;
+    o->hold_at_tick = (uint32_t)v;
+    *count = 0;
+    for (item = strtok_r(colon + 1, ",", &save); item; item = strtok_r(NULL, ",", &save)) {
+        if (*count == 4) {
+            fprintf(stderr, "quadstep-emu: %s takes at most 4 decelerations\n", option);
+            return 0;
+        }
+        if (!number(option, item, 1, QS_DECEL_MAX, &v))
+            return 0;
+        o->hold_at_decel[(*count)++] = (uint16_t)v;
+    }
+    if (*count == 0) {
+        fprintf(stderr, "quadstep-emu: %s needs a deceleration after the ':' (1..%d)\n", option,
+                QS_DECEL_MAX);
+        return 0;
+    }
+    o->hold_at_set = 1;
+    return 1;
+}
+
+/* Spread one deceleration over every axis, or check there is one per axis. */
+static int finish_hold_at(emu_options *o, int count)
+{
+    int axis;
+
+    if (!o->hold_at_set)
+        return 1;
+    if (count != 1 && count != o->axes) {
+        fprintf(stderr, "quadstep-emu: --hold-at gives %d decelerations for %d axes (give 1 or %d)\n",
+                count, o->axes, o->axes);
+        return 0;
+    }
+    for (axis = 0; axis < 4; axis++)
+        o->hold_at_decel[axis] = axis >= o->axes ? 0 : o->hold_at_decel[count == 1 ? 0 : axis];
+    return 1;
+}
+
 int emu_options_parse(emu_options *o, int argc, char **argv)
 {
-    int i;
+    int i, hold_count = 0;
 
     memset(o, 0, sizeof *o);
     o->tick_hz = 50000;
@@ -96,6 +151,15 @@ int emu_options_parse(emu_options *o, int argc, char **argv)
                 return 0;
             }
             o->trace_path = arg;
+        } else if (strcmp(opt, "--events") == 0) {
+            if (!arg) {
+                fprintf(stderr, "quadstep-emu: --events needs a file name\n");
+                return 0;
+            }
+            o->events_path = arg;
+        } else if (strcmp(opt, "--hold-at") == 0) {
+            if (!hold_at(o, opt, arg, &hold_count))
+                return 0;
         } else if (strcmp(opt, "--drop-rx-frame") == 0) {
             if (!add_fault(&o->drop_rx, opt, arg))
                 return 0;
@@ -110,5 +174,5 @@ int emu_options_parse(emu_options *o, int argc, char **argv)
             return 0;
         }
     }
-    return 1;
+    return finish_hold_at(o, hold_count);
 }

@@ -19,6 +19,11 @@ typedef struct {
     uint8_t axes;
     uint8_t queue;
     const char *trace_path; /* NULL: no trace */
+    const char *events_path; /* NULL: no events log */
+    /* --hold-at: inject a HOLD when this motion tick is reached (tests). */
+    int hold_at_set;
+    uint32_t hold_at_tick;
+    uint16_t hold_at_decel[4]; /* per axis; 0 for axes beyond --axes */
     emu_fault_list drop_rx;
     emu_fault_list corrupt_rx;
     emu_fault_list drop_tx;

@@ -10,6 +10,7 @@
 #include <string.h>
 #include <time.h>
 
+#include "emu_events.h"
 #include "emu_faults.h"
 #include "emu_link.h"
 #include "emu_options.h"
@@ -17,6 +18,7 @@
 #include "emu_trace.h"
 #include "qs_core.h"
 #include "qs_engine_tick.h"
+#include "qs_frame.h"
 
 #define UNDERRUN_GRACE_NS 500000000ull /* free-running: wait this long for the host */
 #define FREE_BATCH 4096u               /* free-running: ticks between input checks */
@@ -27,6 +29,7 @@ typedef struct {
     emu_link link;
     emu_faults faults;
     emu_trace trace;
+    emu_events events;
     qs_core core;
     uint32_t motion_tick;   /* ticks that made decisions: the trace's clock */
     uint64_t steps[QS_AXIS_COUNT];
@@ -67,7 +70,13 @@ static const char *alarm_name(uint8_t alarm)
     return alarm < 5 ? names[alarm] : "?";
 }
 
-/* The engine left RUNNING (idle, alarm, or stopped): make the trace
+/* Ticks run while RUNNING or HOLDING. */
+static int in_motion(const qs_engine *e)
+{
+    return e->state == QS_STATE_RUNNING || e->state == QS_STATE_HOLDING;
+}
+
+/* The engine came to a stop (idle, alarm, or stopped): make the trace
  * readable now, and check that the trace clock agrees with the core. */
 static void on_settled(emulator *m)
 {
@@ -86,7 +95,8 @@ static void watch_state(emulator *m)
 {
     uint8_t state = m->core.engine.state;
 
-    if (state != QS_STATE_RUNNING && m->last_state == QS_STATE_RUNNING)
+    if (!in_motion(&m->core.engine)
+        && (m->last_state == QS_STATE_RUNNING || m->last_state == QS_STATE_HOLDING))
         on_settled(m);
     if (state == QS_STATE_RUNNING && m->last_state != QS_STATE_RUNNING) {
         m->clock_ref_ns = now_ns();
@@ -100,9 +110,12 @@ static void run_tick(emulator *m)
     qs_engine *e = &m->core.engine;
     uint16_t left_before = e->left;
     uint8_t tail_before = e->queue.tail;
+    int hold_begins = e->hold.moving && e->hold.ticks == 0;
     uint8_t bits = qs_engine_tick(e);
     uint8_t axis;
 
+    if (hold_begins)
+        emu_events_hold(&m->events, e->hold_tick, now_ns());
     /* A decision was made if a segment was running, began, or began and
      * ended (n = 1) in this call. */
     if (left_before != 0 || e->left != 0 || e->queue.tail != tail_before) {
@@ -123,6 +136,31 @@ static int at_underrun(const qs_engine *e)
 {
     return e->state == QS_STATE_RUNNING && e->left == 0 && qs_queue_empty(&e->queue)
            && e->ends_moving;
+}
+
+/* --hold-at: a HOLD as if the host had sent it, once the motion tick is
+ * reached with a segment to hold (seq = next_seq, so the host's sequence
+ * is undisturbed). */
+static void inject_hold(emulator *m)
+{
+    const qs_engine *e = &m->core.engine;
+    uint8_t body[2 + QS_LEN_HOLD + 2]; /* room for the CRC */
+    uint8_t wire[QS_MAX_WIRE];
+    uint8_t len, i;
+
+    if (!m->opts.hold_at_set || m->motion_tick < m->opts.hold_at_tick || e->state != QS_STATE_RUNNING
+        || (e->left == 0 && qs_queue_empty(&e->queue)))
+        return;
+    m->opts.hold_at_set = 0;
+    body[0] = QS_TYPE_HOLD;
+    body[1] = m->core.next_seq;
+    for (i = 0; i < 4; i++) {
+        body[2 + 2 * i] = (uint8_t)m->opts.hold_at_decel[i];
+        body[3 + 2 * i] = (uint8_t)(m->opts.hold_at_decel[i] >> 8);
+    }
+    len = qs_frame_encode(body, 2 + QS_LEN_HOLD, wire);
+    for (i = 0; i < len; i++)
+        qs_core_rx(&m->core, wire[i]);
 }
 
 static void to_core(void *ctx, uint8_t byte)
@@ -161,7 +199,8 @@ static void run_paced(emulator *m)
                    + elapsed % 1000000ull * m->opts.tick_hz / 1000000000ull;
     uint64_t limit = m->opts.tick_hz / 10 + 1; /* then look at the line again */
 
-    while (m->clock_ticks < due && limit-- && m->core.engine.state == QS_STATE_RUNNING) {
+    while (m->clock_ticks < due && limit-- && in_motion(&m->core.engine)) {
+        inject_hold(m);
         run_tick(m);
         m->clock_ticks++;
     }
@@ -185,7 +224,8 @@ static int run_free(emulator *m)
             return 1;
     }
     m->underrun_since_ns = 0;
-    for (n = 0; n < FREE_BATCH && m->core.engine.state == QS_STATE_RUNNING; n++) {
+    for (n = 0; n < FREE_BATCH && in_motion(&m->core.engine); n++) {
+        inject_hold(m);
         run_tick(m);
         if (at_underrun(&m->core.engine))
             break;
@@ -197,7 +237,7 @@ static int poll_timeout_ms(emulator *m, int waiting_at_underrun)
 {
     uint64_t left;
 
-    if (m->core.engine.state != QS_STATE_RUNNING)
+    if (!in_motion(&m->core.engine))
         return -1;
     if (!m->opts.free_running)
         return PACED_POLL_MS;
@@ -250,7 +290,8 @@ int main(int argc, char **argv)
     emu_faults_init(&m->faults, &m->opts);
     emu_port_init(&m->faults);
     m->last_state = QS_STATE_IDLE;
-    if (!emu_trace_open(&m->trace, m->opts.trace_path) || !emu_link_open(&m->link, &m->opts))
+    if (!emu_trace_open(&m->trace, m->opts.trace_path)
+        || !emu_events_open(&m->events, m->opts.events_path) || !emu_link_open(&m->link, &m->opts))
         return 1;
 
     while (!stop_requested) {
@@ -268,7 +309,7 @@ int main(int argc, char **argv)
         if (emu_link_accept(&m->link, fds, n))
             emu_port_discard(); /* the previous client's unread reports */
         read_input(m);
-        if (m->core.engine.state == QS_STATE_RUNNING) {
+        if (in_motion(&m->core.engine)) {
             if (m->opts.free_running)
                 run_free(m);
             else
@@ -280,6 +321,7 @@ int main(int argc, char **argv)
     }
     write_output(m);
     emu_trace_close(&m->trace);
+    emu_events_close(&m->events);
     summary(m);
     emu_link_close(&m->link);
     return 0;

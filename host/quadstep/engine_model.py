@@ -8,6 +8,10 @@ tick of every step the firmware will make, and where each axis ends.
 
 Positions of the ideal path are tracked as integers in 1/(2D) step ("ideal2"),
 so chains of segments accumulate no drift.
+
+A HOLD decelerates from wherever the engine is; predict_hold reproduces the
+firmware's state at the hold tick from the same closed form and follows the
+hold's own closed form (constant change of the increment) to rest.
 """
 
 from __future__ import annotations
@@ -17,7 +21,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .protocol.segment import D, MAX_AXES, AxisMove, Segment
+from .protocol.constants import DECEL_SHIFT
+from .protocol.segment import D, MAX_AXES, N_MAX, SPEED_SHIFT, AxisMove, Segment
 
 
 def steps_by_tick(n: int, mv: AxisMove, ticks: np.ndarray) -> np.ndarray:
@@ -90,3 +95,131 @@ def predict(
     steps = np.concatenate(chunks) if chunks else np.empty((0, 3), dtype=np.int64)
     steps = steps[np.lexsort((steps[:, 1], steps[:, 0]))]
     return Prediction(steps=steps, positions=pos, motion_ticks=tick - start_tick, segments=count, per_axis_steps=counts)
+
+
+# --- HOLD: deceleration to rest from any tick (docs/FIXED_POINT.md §8) -----------------------------
+
+HOLD_CHUNK = 1 << 20  # ticks evaluated at once, so that long holds stay small in memory
+
+
+def hold_shift(n: int) -> int:
+    """log2 k: the largest power of two with k·n ≤ N_MAX, by which the firmware rescales the held segment."""
+    shift = 0
+    while n << (shift + 1) <= N_MAX:
+        shift += 1
+    return shift
+
+
+def hold_step_change(kn: int, decel: int) -> int:
+    """The per-tick change of the increment, in the scale 2·kn·D, for decel/2^24 step per tick²: −max(1, ⌊kn·decel/2^11⌋)."""
+    return -max(1, (kn * decel) >> (DECEL_SHIFT - SPEED_SHIFT - 1))
+
+
+@dataclass(frozen=True)
+class AxisHold:
+    """One axis of a hold, exactly as the firmware runs it, in the rescaled segment's scale w = 2·kn·D.
+
+    The ideal position relative to the stepper at the hold tick is (e0 + j·i1 + d·j(j−1)/2)/w after
+    j ≤ stop hold ticks; the stepper has made ⌊(that·w + kn·D)/w⌋ steps (0 at j = 0).
+    """
+
+    kn: int
+    e0: int  # k·(2nD·x(t0) − 2nD·s(t0)): the scaled distance of the ideal ahead of the stepper
+    i1: int  # k·(X(t0+1) − X(t0)): the scaled increment over the first hold tick
+    d: int  # the increment's change per tick (< 0)
+    before: int  # steps the segment made before the hold, s(t0)
+
+    @property
+    def w(self) -> int:
+        return 2 * self.kn * D
+
+    @property
+    def stop(self) -> int:
+        """Hold ticks that make a decision: until the increment after one would be ≤ 0."""
+        return -(-self.i1 // -self.d) if self.i1 > 0 else 0
+
+    def steps(self, j: np.ndarray) -> np.ndarray:
+        """Steps made after j hold ticks (j ≤ stop), in the direction of motion."""
+        j = j.astype(np.int64)
+        ideal = self.e0 + j * self.i1 + self.d * (j * (j - 1) // 2)
+        return np.where(j == 0, 0, (ideal + self.kn * D) // self.w)
+
+
+def axis_hold(n: int, mv: AxisMove, t0: int, decel: int) -> AxisHold:
+    """The state a hold takes over after t0 < n ticks of a segment, from the closed form, rescaled."""
+    if not 0 <= t0 < n:
+        raise ValueError(f"t0 = {t0} outside the segment's ticks 0..{n - 1}")
+    k = 1 << hold_shift(n)
+    c1 = mv.vn - mv.v0
+    x = n * mv.r + c1 * t0 * t0 + 2 * n * mv.v0 * t0  # 2nD·x(t0)
+    before = int(steps_by_tick(n, mv, np.array([t0]))[0])
+    return AxisHold(
+        kn=k * n, e0=k * (x - 2 * n * D * before), i1=k * (2 * n * mv.v0 + c1 * (2 * t0 + 1)),
+        d=hold_step_change(k * n, decel), before=before,
+    )
+
+
+@dataclass
+class HoldPrediction:
+    """What a hold does: every step after hold_tick, where each axis rests and when the last stops."""
+
+    hold_tick: int
+    motion_ticks: int
+    positions: list[int]
+    steps: np.ndarray  # rows (tick, axis, direction) after hold_tick, in tick then axis order
+    held: int | None  # index of the segment the hold began in (None: nothing was running)
+
+
+def predict_hold(
+    segments: Sequence[Segment],
+    hold_tick: int,
+    decels: Sequence[int],
+    positions: Sequence[int] | None = None,
+    start_tick: int = 0,
+    axis_count: int = MAX_AXES,
+) -> HoldPrediction:
+    """Predict a HOLD (decels[axis] in 1/2^24 step per tick²) that began at motion tick `hold_tick`.
+
+    `segments` are those sent since motion tick `start_tick`; the hold discards every one after the
+    segment running at hold_tick (at a boundary: the one starting there). The firmware reports hold_tick
+    in HOLD_DONE, so a host predicts every step of the hold exactly.
+    """
+    pos = list(positions) if positions is not None else [0] * axis_count
+    tick = start_tick
+    if hold_tick < start_tick:
+        raise ValueError(f"hold tick {hold_tick} is before the first segment's start {start_tick}")
+    for index, seg in enumerate(segments):
+        if hold_tick < tick + seg.n:
+            return _hold_segment(seg, index, hold_tick - tick, hold_tick, decels, pos)
+        for mv in seg.axes:
+            pos[mv.axis] += mv.direction * segment_steps(seg.n, mv)
+        tick += seg.n
+    if hold_tick != tick:
+        raise ValueError(f"hold tick {hold_tick} is after the end of the segments ({tick})")
+    return HoldPrediction(hold_tick, hold_tick, pos, np.empty((0, 3), dtype=np.int64), None)
+
+
+def _hold_segment(
+    seg: Segment, index: int, t0: int, hold_tick: int, decels: Sequence[int], pos: list[int]
+) -> HoldPrediction:
+    chunks: list[np.ndarray] = []
+    last = 0
+    for mv in seg.axes:
+        hold = axis_hold(seg.n, mv, t0, decels[mv.axis])
+        made = hold.before
+        for first in range(1, hold.stop + 1, HOLD_CHUNK):
+            j = np.arange(first - 1, min(first + HOLD_CHUNK, hold.stop + 1))
+            s = hold.steps(j)
+            ticks = j[1:][np.diff(s) > 0]
+            if ticks.size:
+                rows = np.empty((ticks.size, 3), dtype=np.int64)
+                rows[:, 0] = ticks + hold_tick
+                rows[:, 1] = mv.axis
+                rows[:, 2] = mv.direction
+                chunks.append(rows)
+            made = hold.before + int(s[-1])
+        pos[mv.axis] += mv.direction * made
+        last = max(last, hold.stop)
+    steps = np.concatenate(chunks) if chunks else np.empty((0, 3), dtype=np.int64)
+    steps = steps[np.lexsort((steps[:, 1], steps[:, 0]))]
+    return HoldPrediction(hold_tick, hold_tick + last, pos, steps, index)

@@ -12,7 +12,8 @@ from __future__ import annotations
 import threading
 import time
 from collections import deque
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
+from concurrent.futures import Future
 from dataclasses import asdict, dataclass, field
 from typing import TYPE_CHECKING
 
@@ -24,8 +25,12 @@ from .protocol import (
     Alarm,
     DecodeError,
     Decoder,
+    ErrorCode,
     ErrorReport,
+    Event,
+    EventKind,
     Frame,
+    Hold,
     Identify,
     IdentifyReply,
     MessageType,
@@ -39,7 +44,7 @@ from .protocol import (
     encode,
     message_type,
 )
-from .protocol.constants import MAX_IN_FLIGHT, PROTOCOL_VERSION
+from .protocol.constants import DECEL_MAX, MAX_AXES, MAX_IN_FLIGHT, PROTOCOL_VERSION
 
 if TYPE_CHECKING:
     from .emulator import Emulator
@@ -61,7 +66,7 @@ class ProtocolVersionError(LinkError):
 
 
 class Stopped(LinkError):
-    """stop() was called while this call was waiting; what it was sending was dropped."""
+    """stop() or hold() was called while this call was waiting; what it was sending was dropped."""
 
 
 class FirmwareError(LinkError):
@@ -157,6 +162,8 @@ class _State:
     last_rx: float = 0.0
     last_poll: float = 0.0
     last_alarm: Alarm | None = None
+    hold_done: Event | None = None  # the latest HOLD_DONE
+    holds_done: int = 0  # HOLD_DONE events received
     closed: bool = False
 
 
@@ -280,8 +287,14 @@ class Link:
     def tick_hz(self) -> int:
         return self._identity().tick_hz
 
+    @property
+    def last_hold_done(self) -> Event | None:
+        """The latest EVENT HOLD_DONE received."""
+        with self._cond:
+            return self._s.hold_done
+
     def on_report(self, callback: ReportCallback) -> Callable[[], None]:
-        """Call `callback(report)` for every ALARM, ERROR and SPACE ack; returns an unregister function.
+        """Call `callback(report)` for every ALARM, ERROR, EVENT and SPACE ack; returns an unregister function.
 
         Callbacks run in the reader thread: they must return quickly and not call the Link.
         """
@@ -310,28 +323,127 @@ class Link:
     def stop(self) -> StatusReport:
         """Stop at once: drop every unacknowledged frame, flush the firmware's queue, clear any alarm."""
         with self._request_lock:
+            return self._restart_stream(Stop())
+
+    def _restart_stream(self, message: Stop | Hold) -> StatusReport:
+        """Drop every unsent and unacknowledged frame and send `message` (STOP or HOLD), which makes its
+        seq the firmware's next_seq; resynchronise from the answer. Call with _request_lock held."""
+        with self._cond:
+            s = self._s
+            s.generation += 1
+            seq = (s.base + len(s.frames)) & 0xFF
+            s.base = seq
+            s.frames.clear()
+            s.sent = 0
+            s.stopping = True
+            self._cond.notify_all()
+        try:
+            reply = self._request_locked(message, MessageType.STATUS_REPORT, seq)
+        except LinkError:
             with self._cond:
-                s = self._s
-                s.generation += 1
-                stop_seq = (s.base + len(s.frames)) & 0xFF
-                s.base = stop_seq  # STOP makes this the firmware's next_seq
-                s.frames.clear()
-                s.sent = 0
-                s.stopping = True
-                self._cond.notify_all()
-            try:
-                reply = self._request_locked(Stop(), MessageType.STATUS_REPORT, stop_seq)
-            except LinkError:
-                with self._cond:
-                    self._s.stopping = False
-                raise
-            assert isinstance(reply, StatusReport)
-            with self._cond:
-                self._resync(reply)
                 self._s.stopping = False
-                self._s.failure = None
-                self._cond.notify_all()
-            return reply
+            raise
+        assert isinstance(reply, StatusReport)
+        with self._cond:
+            self._resync(reply)
+            self._s.stopping = False
+            self._s.failure = None
+            self._cond.notify_all()
+        return reply
+
+    # --- hold ---------------------------------------------------------------------
+
+    def hold_message(self, decels: Sequence[int]) -> Hold:
+        """The HOLD for `decels` (one per firmware axis, or one for all), checked against the firmware's axes."""
+        count = self.axis_count
+        values = list(decels)
+        if len(values) == 1:
+            values *= count
+        if len(values) != count:
+            raise ValueError(f"hold needs 1 or {count} decelerations (one per axis), got {len(values)}")
+        for axis, d in enumerate(values):
+            if not isinstance(d, int) or not 1 <= d <= DECEL_MAX:
+                raise ValueError(f"hold deceleration of axis {axis} is {d!r}; limit 1..{DECEL_MAX} "
+                                 "(in 1/2^24 step per tick²)")
+        return Hold(decel=tuple(values + [0] * (MAX_AXES - count)))  # type: ignore[arg-type]
+
+    def hold(self, decels: Sequence[int], timeout: float | None = None) -> Event:
+        """Decelerate every moving axis to rest and discard the queue; returns the HOLD_DONE Event.
+
+        `decels`: per axis (or one for all) in 1/2^24 step per tick², 1..8191 (at 50 kHz one unit is
+        about 149 steps/s²). Like stop(), drops every unsent and unacknowledged frame (a thread
+        waiting in send() raises Stopped). The Event gives `hold_tick` (the motion tick at which the
+        deceleration began), `motion_ticks` (when the last axis stopped) and the rest positions;
+        engine_model.predict_hold reproduces every step in between. Raises AlarmError if the firmware
+        is or goes into ALARM instead (for a hold that found the queue run dry while moving),
+        LinkTimeout after `timeout` seconds.
+        """
+        message = self.hold_message(decels)
+        with self._cond:
+            seen = self._s.holds_done
+        with self._request_lock:
+            try:
+                self._restart_stream(message)
+            except FirmwareError as exc:
+                if exc.report.code == ErrorCode.ALARM_ACTIVE:
+                    raise self._alarm_error() from exc
+                raise
+            with self._cond:
+                generation = self._s.generation
+        done = self._wait_hold_done(message, seen, generation, timeout)
+        status = self.status()  # the queue is empty now: adopt its free slots and counts
+        with self._cond:
+            if self._s.generation == generation and not self._s.frames:
+                self._resync(status)
+        return done
+
+    def hold_async(self, decels: Sequence[int], timeout: float | None = None) -> Future[Event]:
+        """hold() in a thread of its own: returns at once with a Future of the HOLD_DONE Event."""
+        message = self.hold_message(decels)  # bad input is refused here, not in the thread
+        future: Future[Event] = Future()
+
+        def run() -> None:
+            try:
+                future.set_result(self.hold(message.decel[: self.axis_count], timeout))
+            except BaseException as exc:  # handed to whoever waits on the future
+                future.set_exception(exc)
+
+        threading.Thread(target=run, name="quadstep-hold", daemon=True).start()
+        return future
+
+    def _alarm_error(self) -> LinkError:
+        alarm = self.last_alarm
+        return AlarmError(alarm) if alarm is not None else LinkError("firmware is in ALARM; stop() clears it")
+
+    def _wait_hold_done(self, message: Hold, seen: int, generation: int, timeout: float | None) -> Event:
+        """Until a HOLD_DONE newer than `seen` arrives. A hold may take long, so the firmware is asked how it
+        is going every poll_interval; once it is no longer holding, a HOLD_DONE lost on the wire is asked
+        for again by repeating the HOLD (at rest the firmware repeats the report)."""
+        deadline = None if timeout is None else time.monotonic() + timeout
+        while True:
+            with self._cond:
+                wait = self.poll_interval if deadline is None else min(self.poll_interval, deadline - time.monotonic())
+                self._cond.wait_for(
+                    lambda: self._s.holds_done > seen or self._s.failure is not None
+                    or self._s.generation != generation or self._s.closed,
+                    timeout=max(0.0, wait),
+                )
+                if self._s.holds_done > seen:
+                    done = self._s.hold_done
+                    assert done is not None
+                    return done
+                self._raise_failure(generation)
+            if deadline is not None and time.monotonic() >= deadline:
+                raise LinkTimeout(f"no HOLD_DONE within {timeout:g} s (the firmware may still be decelerating)")
+            status = self.status()
+            if status.state == State.ALARM:
+                raise self._alarm_error()
+            if status.state != State.HOLDING:
+                with self._cond:
+                    if self._s.holds_done > seen or self._s.generation != generation:
+                        continue
+                with self._request_lock:
+                    self._request_locked(message, MessageType.STATUS_REPORT, status.next_seq)
 
     def _request(self, message: Request, reply_type: MessageType) -> Report:
         with self._request_lock:
@@ -464,7 +576,7 @@ class Link:
         if self._s.failure is not None:
             raise self._s.failure
         if generation != self._s.generation:
-            raise Stopped("stop() was called: unsent and unacknowledged frames were dropped")
+            raise Stopped("stop() or hold() was called: unsent and unacknowledged frames were dropped")
 
     def _resync(self, status: StatusReport) -> None:
         s = self._s
@@ -528,6 +640,11 @@ class Link:
             self._s.last_alarm = m
             if not self._s.stopping:
                 self._fail(AlarmError(m))
+            return True
+        if isinstance(m, Event):
+            if m.kind == EventKind.HOLD_DONE:
+                self._s.hold_done = m
+                self._s.holds_done += 1
             return True
         waiter = self._s.waiter
         if waiter is not None and frame.seq == waiter.seq and message_type(m) == waiter.reply_type:

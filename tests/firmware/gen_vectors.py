@@ -21,12 +21,14 @@ PREFIX = {
     "ack_reason": "QS_ACK_",
     "alarm": "QS_ALARM_",
     "state": "QS_STATE_",
+    "event_kind": "QS_EVENT_",
 }
 
 MESSAGE_KEYS = {
     "IDENTIFY": set(),
     "STATUS": set(),
     "STOP": set(),
+    "HOLD": {"decel"},
     "SEGMENT": {"n", "axes"},
     "SET_POSITION": {"positions"},
     "ACK": {"next_seq", "free", "reason", "done"},
@@ -38,6 +40,7 @@ MESSAGE_KEYS = {
                       "seq_dup", "rejected", "position"},
     "ERROR": {"code", "frame_type", "frame_seq", "field", "axis"},
     "ALARM": {"code", "motion_ticks", "position"},
+    "EVENT": {"kind", "hold_tick", "motion_ticks", "position"},
 }
 VECTOR_KEYS = {"name", "direction", "frame", "message", "error", "axis_count"}
 
@@ -99,6 +102,10 @@ def message_fields(msg: dict, axis_count: int) -> list[str]:
             pos[int(key)] = value
         out.append(".host = {.set_position = {.mask = 0x%02X, .position = %s}}"
                    % (mask, positions(pos)))
+    elif kind == "HOLD":
+        if len(msg["decel"]) != 4:
+            raise VectorError("HOLD needs 4 decel values")
+        out.append(".host = {.hold = {.decel = {%s}}}" % ", ".join(map(str, msg["decel"])))
     elif kind == "ACK":
         out.append(".ack = {.next_seq = %d, .free = %d, .reason = %s, .done = %d}"
                    % (msg["next_seq"], msg["free"], constant("ack_reason", msg["reason"]),
@@ -126,6 +133,11 @@ def message_fields(msg: dict, axis_count: int) -> list[str]:
         out.append(".alarm = {.code = %s, .motion_ticks = %dUL, .axis_count = %d, "
                    ".position = %s}"
                    % (constant("alarm", msg["code"]), msg["motion_ticks"],
+                      len(msg["position"]), positions(msg["position"])))
+    elif kind == "EVENT":
+        out.append(".event = {.kind = %s, .hold_tick = %dUL, .motion_ticks = %dUL, "
+                   ".axis_count = %d, .position = %s}"
+                   % (constant("event_kind", msg["kind"]), msg["hold_tick"], msg["motion_ticks"],
                       len(msg["position"]), positions(msg["position"])))
     return out
 

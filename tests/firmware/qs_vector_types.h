@@ -18,12 +18,20 @@ typedef struct {
     union {
         qs_segment_msg segment;
         qs_set_position_msg set_position;
+        qs_hold_msg hold;
     } host;
     qs_ack ack;
     qs_identity identity;
     qs_status status;
     qs_error_report error;
     qs_alarm_report alarm;
+    struct { /* EVENT HOLD_DONE */
+        uint8_t kind;
+        uint32_t hold_tick;
+        uint32_t motion_ticks;
+        uint8_t axis_count;
+        int32_t position[QS_PROTOCOL_AXES];
+    } event;
     /* A malformed vector: why decoding fails. */
     uint8_t has_error;
     uint8_t error_code;

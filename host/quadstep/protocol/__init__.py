@@ -2,6 +2,8 @@
 
 from .codec import DecodeError, Decoder, Frame, decode, decode_body, encode, payload
 from .constants import (
+    DECEL_MAX,
+    DECEL_SHIFT,
     MAX_FRAME,
     PROTOCOL_VERSION,
     AckReason,
@@ -9,6 +11,7 @@ from .constants import (
     Board,
     Capability,
     ErrorCode,
+    EventKind,
     FieldId,
     MessageType,
     State,
@@ -17,6 +20,8 @@ from .messages import (
     Ack,
     Alarm,
     ErrorReport,
+    Event,
+    Hold,
     Identify,
     IdentifyReply,
     Message,
@@ -31,8 +36,8 @@ from .messages import (
 from .segment import D, MAX_AXES, N_MAX, R_MAX, AxisMove, Segment
 
 __all__ = [
-    "Ack", "AckReason", "Alarm", "AlarmCode", "AxisMove", "Board", "Capability", "D", "DecodeError", "Decoder",
-    "ErrorCode", "ErrorReport", "FieldId", "Frame", "Identify", "IdentifyReply", "MAX_AXES", "MAX_FRAME",
+    "Ack", "AckReason", "Alarm", "AlarmCode", "AxisMove", "Board", "Capability", "D", "DECEL_MAX", "DECEL_SHIFT",
+    "DecodeError", "Decoder", "ErrorCode", "ErrorReport", "Event", "EventKind", "FieldId", "Hold", "Frame", "Identify", "IdentifyReply", "MAX_AXES", "MAX_FRAME",
     "Message", "MessageType", "N_MAX", "PROTOCOL_VERSION", "R_MAX", "Report", "Request", "Segment",
     "SetPosition", "State", "Status", "StatusReport", "Stop", "decode", "decode_body", "encode", "message_type",
     "payload",

@@ -17,6 +17,7 @@ from pydantic import BaseModel
 
 from .constants import (
     BROADCAST_SEQ,
+    DECEL_MAX,
     D,
     MAX_AXES,
     N_MAX,
@@ -24,6 +25,7 @@ from .constants import (
     AckReason,
     AlarmCode,
     ErrorCode,
+    EventKind,
     FieldId,
     MessageType,
     State,
@@ -33,6 +35,8 @@ from .messages import (
     Ack,
     Alarm,
     ErrorReport,
+    Event,
+    Hold,
     Identify,
     IdentifyReply,
     Message,
@@ -52,6 +56,8 @@ _ACK = struct.Struct("<BBBH")
 _ERROR = struct.Struct("<BBBBB")
 _SEGMENT_HEAD = struct.Struct("<HB")
 _SEGMENT_AXIS = struct.Struct("<HHh")
+_HOLD = struct.Struct("<4H")
+_EVENT_HEAD = struct.Struct("<BII")
 _NO_FIELD = 0
 _NO_AXIS = 0xFF
 
@@ -135,6 +141,10 @@ def _pack_alarm(m: Alarm) -> bytes:
     return struct.pack(f"<BI{len(m.position)}i", m.code, m.motion_ticks, *m.position)
 
 
+def _pack_event(m: Event) -> bytes:
+    return _EVENT_HEAD.pack(m.kind, m.hold_tick, m.motion_ticks) + struct.pack(f"<{len(m.position)}i", *m.position)
+
+
 def _pack_identify_reply(m: IdentifyReply) -> bytes:
     return _IDENTIFY.pack(
         m.protocol_version, m.fw_major, m.fw_minor, m.fw_patch, m.board, m.axis_count, m.queue_capacity,
@@ -150,6 +160,8 @@ def payload(message: Message) -> bytes:
         return _pack_segment(message)
     if isinstance(message, SetPosition):
         return _pack_set_position(message)
+    if isinstance(message, Hold):
+        return _HOLD.pack(*message.decel)
     if isinstance(message, Ack):
         return _ACK.pack(message.next_seq, message.free, message.reason, message.done)
     if isinstance(message, IdentifyReply):
@@ -160,6 +172,8 @@ def payload(message: Message) -> bytes:
         return _pack_error(message)
     if isinstance(message, Alarm):
         return _pack_alarm(message)
+    if isinstance(message, Event):
+        return _pack_event(message)
     raise TypeError(f"cannot encode {type(message).__name__}")
 
 
@@ -224,6 +238,17 @@ def _unpack_set_position(t: int, seq: int, p: bytes, axis_count: int) -> SetPosi
     return SetPosition(positions=dict(zip(axes, values)))
 
 
+def _unpack_hold(t: int, seq: int, p: bytes, axis_count: int) -> Hold:
+    decel = _HOLD.unpack(p)
+    # Axis by axis: 1..DECEL_MAX for every axis the firmware has, 0 for the others.
+    for axis, d in enumerate(decel):
+        if axis < axis_count and not 1 <= d <= DECEL_MAX:
+            raise _bad_field(t, seq, FieldId.DECEL, axis, f"decel = {d}, limit 1..{DECEL_MAX}")
+        if axis >= axis_count and d != 0:
+            raise _bad_field(t, seq, FieldId.DECEL, axis, f"decel = {d} for an axis the firmware lacks ({axis_count} axes)")
+    return Hold(decel=decel)
+
+
 EnumT = TypeVar("EnumT", bound=IntEnum)
 
 
@@ -261,6 +286,13 @@ def _unpack_alarm(t: int, seq: int, p: bytes) -> Alarm:
                  position=struct.unpack_from(f"<{axes}i", p, 5))
 
 
+def _unpack_event(t: int, seq: int, p: bytes) -> Event:
+    kind, hold_tick, motion_ticks = _EVENT_HEAD.unpack_from(p)
+    axes = (len(p) - _EVENT_HEAD.size) // 4
+    return Event(kind=_enum(t, seq, EventKind, kind), hold_tick=hold_tick, motion_ticks=motion_ticks,
+                 position=struct.unpack_from(f"<{axes}i", p, _EVENT_HEAD.size))
+
+
 def _unpack_ack(t: int, seq: int, p: bytes) -> Ack:
     next_seq, free, reason, done = _ACK.unpack(p)
     return Ack(next_seq=next_seq, free=free, reason=_enum(t, seq, AckReason, reason), done=done)
@@ -290,6 +322,7 @@ _TO_FIRMWARE: dict[int, tuple[Callable[[bytes], bool], _Unpacker]] = {
     MessageType.IDENTIFY: (_fixed(0), lambda t, s, p, k: Identify()),
     MessageType.STATUS: (_fixed(0), lambda t, s, p, k: Status()),
     MessageType.STOP: (_fixed(0), lambda t, s, p, k: Stop()),
+    MessageType.HOLD: (_fixed(_HOLD.size), _unpack_hold),
     MessageType.SEGMENT: (_length_from(_segment_length), _unpack_segment),
     MessageType.SET_POSITION: (_length_from(_set_position_length), _unpack_set_position),
 }
@@ -299,6 +332,7 @@ _TO_HOST: dict[int, tuple[Callable[[bytes], bool], _Unpacker]] = {
     MessageType.STATUS_REPORT: (_per_axis(_STATUS_HEAD.size), lambda t, s, p, k: _unpack_status(t, s, p)),
     MessageType.ERROR: (_fixed(_ERROR.size), lambda t, s, p, k: _unpack_error(t, s, p)),
     MessageType.ALARM: (_per_axis(5), lambda t, s, p, k: _unpack_alarm(t, s, p)),
+    MessageType.EVENT: (_per_axis(_EVENT_HEAD.size), lambda t, s, p, k: _unpack_event(t, s, p)),
 }
 
 

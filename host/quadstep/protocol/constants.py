@@ -12,11 +12,13 @@ MIN_FRAME = 4  # type, seq, crc16
 DELIMITER = 0x00
 BROADCAST_SEQ = 0xFF  # seq of unsolicited reports, and of errors about untrusted frames
 MAX_IN_FLIGHT = 127  # sequenced frames outstanding at once
+DECEL_SHIFT = 24  # a HOLD deceleration d means d / 2^24 step per tick²
+DECEL_MAX = 8191  # largest HOLD deceleration (keeps the hold's per-tick values inside 24 bits)
 
 __all__ = [
     "D", "MAX_AXES", "N_MAX", "R_MAX", "SPEED_SHIFT", "PROTOCOL_VERSION", "MAX_FRAME", "MIN_FRAME",
-    "DELIMITER", "BROADCAST_SEQ", "MAX_IN_FLIGHT", "MessageType", "AckReason", "ErrorCode", "FieldId",
-    "AlarmCode", "State", "Board", "Capability",
+    "DELIMITER", "BROADCAST_SEQ", "MAX_IN_FLIGHT", "DECEL_SHIFT", "DECEL_MAX", "MessageType", "AckReason",
+    "ErrorCode", "FieldId", "AlarmCode", "State", "EventKind", "Board", "Capability",
 ]
 
 
@@ -24,6 +26,7 @@ class MessageType(IntEnum):
     IDENTIFY = 0x01
     STATUS = 0x02
     STOP = 0x03
+    HOLD = 0x04
     SEGMENT = 0x10
     SET_POSITION = 0x11
     ACK = 0x80
@@ -31,6 +34,7 @@ class MessageType(IntEnum):
     STATUS_REPORT = 0x82
     ERROR = 0x83
     ALARM = 0x84
+    EVENT = 0x85
 
     @property
     def is_immediate(self) -> bool:
@@ -74,6 +78,7 @@ class FieldId(IntEnum):
     V0 = 4
     VN = 5
     RESIDUAL = 6
+    DECEL = 7
 
 
 class AlarmCode(IntEnum):
@@ -90,6 +95,10 @@ class State(IntEnum):
     HOLDING = 3
 
 
+class EventKind(IntEnum):
+    HOLD_DONE = 1
+
+
 class Board(IntEnum):
     EMULATOR = 0
     ATMEGA328P = 1
@@ -99,7 +108,7 @@ class Board(IntEnum):
 class Capability(IntFlag):
     QUADRATIC_SEGMENTS = 1 << 0
     SET_POSITION = 1 << 1
-    HOLD_RESUME = 1 << 2
+    HOLD = 1 << 2
     JOG = 1 << 3
     LIMIT_INPUTS = 1 << 4
     PROBE_INPUT = 1 << 5

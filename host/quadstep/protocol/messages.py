@@ -12,12 +12,14 @@ from typing import Annotated, ClassVar, Union
 from pydantic import BaseModel, BeforeValidator, ConfigDict, Field, PlainSerializer
 
 from .constants import (
+    DECEL_MAX,
     MAX_AXES,
     AckReason,
     AlarmCode,
     Board,
     Capability,
     ErrorCode,
+    EventKind,
     FieldId,
     MessageType,
     State,
@@ -44,12 +46,14 @@ NamedErrorCode = Annotated[ErrorCode, _by_name(ErrorCode), _AS_NAME]
 NamedFieldId = Annotated[FieldId, _by_name(FieldId), _AS_NAME]
 NamedAlarmCode = Annotated[AlarmCode, _by_name(AlarmCode), _AS_NAME]
 NamedState = Annotated[State, _by_name(State), _AS_NAME]
+NamedEventKind = Annotated[EventKind, _by_name(EventKind), _AS_NAME]
 
 U8 = Annotated[int, Field(ge=0, le=0xFF)]
 U16 = Annotated[int, Field(ge=0, le=0xFFFF)]
 U32 = Annotated[int, Field(ge=0, le=0xFFFF_FFFF)]
 I32 = Annotated[int, Field(ge=-(2**31), le=2**31 - 1)]
 AxisIndex = Annotated[int, Field(ge=0, lt=MAX_AXES)]
+Decel = Annotated[int, Field(ge=0, le=DECEL_MAX)]
 
 
 class _Message(BaseModel):
@@ -70,6 +74,17 @@ class Status(_Message):
 
 class Stop(_Message):
     TYPE = MessageType.STOP
+
+
+class Hold(_Message):
+    """Decelerate every moving axis to rest and drop the queue (PROTOCOL.md §5.1).
+
+    `decel[i]` is axis i's deceleration in 1/2^24 step per tick² (1 … 8191),
+    0 for axes the firmware does not have; Link.hold builds it from a list.
+    """
+
+    TYPE = MessageType.HOLD
+    decel: tuple[Decel, Decel, Decel, Decel]
 
 
 class SetPosition(_Message):
@@ -161,14 +176,26 @@ class Alarm(_Message):
     position: tuple[I32, ...] = Field(min_length=1, max_length=MAX_AXES)
 
 
-Request = Union[Identify, Status, Stop, Segment, SetPosition]
-Report = Union[Ack, IdentifyReply, StatusReport, ErrorReport, Alarm]
+class Event(_Message):
+    """EVENT; kind HOLD_DONE: a hold began at motion tick `hold_tick` and every axis rests
+    at `position` since `motion_ticks`."""
+
+    TYPE = MessageType.EVENT
+    kind: NamedEventKind
+    hold_tick: U32
+    motion_ticks: U32
+    position: tuple[I32, ...] = Field(min_length=1, max_length=MAX_AXES)
+
+
+Request = Union[Identify, Status, Stop, Hold, Segment, SetPosition]
+Report = Union[Ack, IdentifyReply, StatusReport, ErrorReport, Alarm, Event]
 Message = Union[Request, Report]
 
 MESSAGE_CLASSES: dict[MessageType, type[BaseModel]] = {
     MessageType.IDENTIFY: Identify,
     MessageType.STATUS: Status,
     MessageType.STOP: Stop,
+    MessageType.HOLD: Hold,
     MessageType.SEGMENT: Segment,
     MessageType.SET_POSITION: SetPosition,
     MessageType.ACK: Ack,
@@ -176,6 +203,7 @@ MESSAGE_CLASSES: dict[MessageType, type[BaseModel]] = {
     MessageType.STATUS_REPORT: StatusReport,
     MessageType.ERROR: ErrorReport,
     MessageType.ALARM: Alarm,
+    MessageType.EVENT: Event,
 }
 
 
@@ -189,6 +217,6 @@ def message_type(message: BaseModel) -> MessageType:
 
 
 __all__ = [
-    "Ack", "Alarm", "AxisMove", "ErrorReport", "Identify", "IdentifyReply", "MESSAGE_CLASSES", "Message",
-    "Report", "Request", "Segment", "SetPosition", "Status", "StatusReport", "Stop", "message_type",
+    "Ack", "Alarm", "AxisMove", "ErrorReport", "Event", "Hold", "Identify", "IdentifyReply", "MESSAGE_CLASSES",
+    "Message", "Report", "Request", "Segment", "SetPosition", "Status", "StatusReport", "Stop", "message_type",
 ]

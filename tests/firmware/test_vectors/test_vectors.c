@@ -70,6 +70,8 @@ static uint8_t decode(const qs_vector *v, qs_host_msg *m, qs_fault *f)
         return qs_msg_check_segment(&m->as.segment, v->axis_count, f);
     if (m->type == QS_TYPE_SET_POSITION)
         return qs_msg_check_set_position(&m->as.set_position, v->axis_count, f);
+    if (m->type == QS_TYPE_HOLD)
+        return qs_msg_check_hold(&m->as.hold, v->axis_count, f);
     return QS_ERR_NONE;
 }
 
@@ -94,11 +96,14 @@ static void check_host_message(const qs_vector *v, const qs_host_msg *m)
         TEST_ASSERT_EQUAL_HEX8_MESSAGE(e->mask, a->mask, at(v, "mask"));
         for (axis = 0; axis < QS_PROTOCOL_AXES; axis++)
             TEST_ASSERT_EQUAL_INT_MESSAGE(e->position[axis], a->position[axis], at(v, "position"));
+    } else if (m->type == QS_TYPE_HOLD) {
+        for (axis = 0; axis < QS_PROTOCOL_AXES; axis++)
+            TEST_ASSERT_EQUAL_UINT16_MESSAGE(v->host.hold.decel[axis], m->as.hold.decel[axis], at(v, "decel"));
     }
 }
 
 /* The firmware's answer to a valid host frame, through a fresh core that
- * expects its seq. */
+ * expects its seq. A HOLD finds it idle: the answer, then HOLD_DONE. */
 static void check_core_accepts(const qs_vector *v)
 {
     tp_report r[4];
@@ -115,11 +120,15 @@ static void check_core_accepts(const qs_vector *v)
     for (i = 0; i < v->frame_len; i++)
         qs_core_rx(&core, v->frame[i]);
     count = tp_reports(r, 4);
-    TEST_ASSERT_EQUAL_INT_MESSAGE(1, count, at(v, "number of reports"));
+    TEST_ASSERT_EQUAL_INT_MESSAGE(v->type == QS_TYPE_HOLD ? 2 : 1, count, at(v, "number of reports"));
     TEST_ASSERT_EQUAL_HEX8_MESSAGE(expect, r[0].type, at(v, "report type"));
     TEST_ASSERT_EQUAL_UINT8_MESSAGE(v->seq, r[0].seq, at(v, "report seq"));
     if (expect == QS_TYPE_ACK)
         TEST_ASSERT_EQUAL_INT_MESSAGE(QS_ACK_ACCEPTED, tp_ack(&r[0]).reason, at(v, "ack reason"));
+    if (v->type == QS_TYPE_HOLD) {
+        TEST_ASSERT_EQUAL_HEX8_MESSAGE(QS_TYPE_EVENT, r[1].type, at(v, "HOLD_DONE"));
+        TEST_ASSERT_EQUAL_INT_MESSAGE(QS_EVENT_HOLD_DONE, r[1].payload[0], at(v, "event kind"));
+    }
 }
 
 /* The firmware's answer to a malformed host frame: an ERROR naming why. */
@@ -238,6 +247,11 @@ static void test_reports_encode_to_exactly_the_listed_bytes(void)
             break;
         case QS_TYPE_ALARM:
             len = qs_msg_encode_alarm(body, v->seq, &v->alarm);
+            break;
+        case QS_TYPE_EVENT:
+            TEST_ASSERT_EQUAL_INT_MESSAGE(QS_EVENT_HOLD_DONE, v->event.kind, at(v, "event kind"));
+            len = qs_msg_encode_hold_done(body, v->seq, v->event.hold_tick, v->event.motion_ticks,
+                                          v->event.axis_count, v->event.position);
             break;
         default:
             TEST_FAIL_MESSAGE(at(v, "a report type the firmware does not send"));

@@ -1,0 +1,56 @@
+/* A controlled stop (HOLD): every moving axis of the running segment
+ * decelerates to rest at its own constant deceleration, as g/f motion in
+ * the segment's own loop; docs/FIXED_POINT.md section 8 derives it.
+ *
+ * In the loop of qs_segment.h, inc = b + 2C2 is what the ideal position
+ * (times 2nD) gains over the tick after the next decision, and it changes
+ * by db = 2*C1 per tick. A hold keeps the loop and changes only db: a
+ * constant deceleration a (steps per tick^2) is db = -2nD*a. First the
+ * state is rescaled by k = 2^shift, the largest power of two with
+ * k*n <= N_MAX, which refines the quantum of a to 1/(2knD) without a
+ * division; then an axis runs until the increment after its decision would
+ * be <= 0, and stops there: at rest, within half a step of the ideal. The
+ * hold keeps inc rather than b: its stop test is then a sign test. The tick
+ * side is qs_hold_tick.h. */
+#ifndef QS_HOLD_H
+#define QS_HOLD_H
+
+#include <stdint.h>
+#include "qs_config.h"
+#include "qs_int24.h"
+#include "qs_segment.h"
+
+typedef struct {
+    /* Tick side, valid while moving != 0; in the scale 2knD. */
+    qs_i24 h[QS_AXIS_COUNT];
+    qs_i24 inc[QS_AXIS_COUNT];   /* h gains it after the next decision */
+    qs_i24 db[QS_AXIS_COUNT];    /* -max(1, floor(2knD * decel)) */
+    qs_i24 two_c2;               /* 2knD: h loses it with a step */
+    qs_u24 steps[QS_AXIS_COUNT]; /* steps made since the hold began */
+    qs_u24 ticks;                /* decisions made since the hold began */
+    volatile uint8_t moving;     /* bit i: axis i still decelerates */
+    /* Main loop side: the segment length the plan is for (0: none). */
+    uint16_t planned_n;
+    uint8_t shift;
+} qs_hold;
+
+/* log2 k: the largest shift with (n << shift) <= QS_N_MAX, 1 <= n <= N_MAX. */
+uint8_t qs_hold_shift(uint16_t n);
+
+/* db for a deceleration of decel * 2^-24 step per tick^2 in the scale
+ * 2*kn*D: -floor(kn * decel / 2^11), but at least one quantum. */
+qs_i24 qs_hold_db(uint16_t kn, uint16_t decel);
+
+/* Everything that depends only on the segment length n and the
+ * decelerations (decel[axis] for every axis the engine has), and the
+ * counts set to 0: the least left for the lock. Main loop, before the hold
+ * tick, while moving == 0. */
+void qs_hold_plan(qs_hold *hd, uint16_t n, const uint16_t *decel);
+
+/* At the hold tick, with the tick locked out: take over the running state
+ * of s (planned for s->n) after t < n of its ticks, rescaled. Returns the
+ * axes that move (an axis whose next increment is 0 is at rest already);
+ * setting moving, which starts the tick on the hold, is the caller's. */
+uint8_t qs_hold_begin(qs_hold *hd, const qs_segment *s);
+
+#endif

@@ -1,0 +1,109 @@
+#!/usr/bin/env python3
+"""HOLD figures: how soon a HOLD acts (the jog-release latency) on the real-time emulator, and what a hold
+costs the AVR firmware in simavr (cycles with the tick locked out, cycles per hold tick).
+
+    python3 tests/bench/bench_hold.py [--holds N] [--no-avr]
+
+Prints figures only; nothing here is a pass/fail test.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+from quadstep.emulator import Emulator
+from quadstep.link import Link
+from quadstep.protocol import D, N_MAX, AxisMove, Hold, Segment, encode
+
+REPO = Path(__file__).resolve().parents[2]
+JOG = Segment(n=N_MAX, axes=(AxisMove(axis=0, direction=1, v0=D // 2, vn=D // 2, r=0),
+                             AxisMove(axis=1, direction=-1, v0=D // 4, vn=D // 4, r=0)))
+JOG_DECEL = [2000, 2000, 2000, 2000]  # ≈ 300,000 steps/s² at 50 kHz
+
+
+def first_hold_ns(events: Path, count: int, timeout: float = 5.0) -> int:
+    """The monotonic time of the count-th hold's first deceleration tick, from the emulator's events log."""
+    deadline = time.monotonic() + timeout
+    while time.monotonic() < deadline:
+        lines = [line for line in events.read_text().splitlines()[1:] if line.startswith("hold,")]
+        if len(lines) >= count:
+            return int(lines[count - 1].split(",")[2])
+        time.sleep(0.001)
+    raise RuntimeError("the emulator logged no hold")
+
+
+def bench_jog_latency(holds: int) -> None:
+    """Jog (two axes cruising, segments streamed as the window allows), then let go: HOLD from the caller's
+    thread via hold_async, as a key-release handler would. Latency is from just before the call to the
+    emulator's first deceleration tick, both on CLOCK_MONOTONIC."""
+    latencies, stops = [], []
+    with tempfile.TemporaryDirectory() as tmp:
+        events = Path(tmp) / "events.csv"
+        with Emulator(extra_args=["--events", str(events)]) as emu, Link.open(emu.url) as link:
+            for i in range(holds):
+                for _ in range(8):
+                    link.send(JOG)
+                time.sleep(0.05 + 0.01 * (i % 7))
+                sent = time.monotonic_ns()
+                future = link.hold_async(JOG_DECEL)
+                acted = first_hold_ns(events, i + 1)
+                done = future.result(10)
+                latencies.append((acted - sent) / 1e6)
+                stops.append((done.motion_ticks - done.hold_tick) / link.tick_hz * 1e3)
+    latencies.sort()
+    p95 = latencies[min(len(latencies) - 1, int(0.95 * len(latencies)))]
+    print(f"== HOLD latency, paced emulator, {holds} holds (2-core shared machine; wall-clock, varies with load)")
+    print(f"HOLD sent -> first deceleration tick   min {latencies[0]:.2f} ms  median {statistics.median(latencies):.2f} ms"
+          f"  p95 {p95:.2f} ms  max {latencies[-1]:.2f} ms")
+    print(f"deceleration to rest (decel 2000 = 298,000 steps/s² at 50 kHz, from 25,000 steps/s)"
+          f"  {statistics.median(stops):.1f} ms")
+    print("for comparison: GRBL 1.1 jog cancel, 0.4-0.9 s typical (its jogging guide)")
+
+
+def bench_avr() -> None:
+    sys.path.insert(0, str(REPO / "tests" / "simavr"))
+    import avr_sim
+
+    avr_sim.build()
+    print("== HOLD on the AVR firmware in simavr (16 MHz; exact cycle counts)")
+    for board, axes in (("uno", 3), ("mega", 4)):
+        cruise = Segment(n=N_MAX, axes=tuple(AxisMove(axis=a, direction=1, v0=D, vn=D, r=0) for a in range(axes)))
+        decels = tuple([500] * axes + [0] * (4 - axes))
+        with tempfile.TemporaryDirectory() as tmp:
+            out = avr_sim.Outputs.in_dir(Path(tmp), board)
+            data = b"\x00" + b"".join(encode(cruise, i) for i in range(12)) + encode(Hold(decel=decels), 12)  # type: ignore[arg-type]
+            (Path(tmp) / "in.bin").write_bytes(data)
+            subprocess.run([str(avr_sim.HARNESS), "--mcu", avr_sim.BOARDS[board], "--elf", str(avr_sim.elf_path(board)),
+                            "--input", str(Path(tmp) / "in.bin"), "--max-cycles", str(3 * 16_000_000), *out.args()],
+                           check=True, capture_output=True)
+            stats = json.loads(out.stats.read_text())
+        bins = {k: v for k, v in stats["tick_isr"].items() if v["count"] and k != "idle"}
+        tick = stats["tick_cycles"]
+        print(f"{board}: {axes} axes at full speed, then HOLD at decel 500; tick period {tick} cycles")
+        print(f"  longest stretch with the tick locked out: {stats['irq_off']['max']} cycles"
+              f" ({stats['irq_off']['from']}: beginning the hold)")
+        for name, b in bins.items():
+            print(f"  step interrupt, {name:7} {b['count']:6} ticks  mean {b['mean']:6.1f}  max {b['max']} cycles")
+        size = subprocess.run(["avr-size", str(avr_sim.elf_path(board))], capture_output=True, text=True).stdout
+        print("  " + size.strip().splitlines()[-1])
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--holds", type=int, default=20)
+    parser.add_argument("--no-avr", action="store_true")
+    args = parser.parse_args()
+    bench_jog_latency(args.holds)
+    if not args.no_avr:
+        bench_avr()
+
+
+if __name__ == "__main__":
+    main()

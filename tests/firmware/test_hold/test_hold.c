@@ -1,0 +1,532 @@
+/* The hold (qs_hold.h, docs/FIXED_POINT.md section 8) against exact 64-bit
+ * arithmetic: the rescale, the deceleration quantum, every tick of the
+ * deceleration against its closed form, where each axis stops, the 24-bit
+ * budget over the extremes, and how the engine takes a hold at any moment
+ * of a segment, between segments, at rest and at an underrun. */
+#include <stdint.h>
+#include <stdio.h>
+
+#include "qs_engine_tick.h"
+#include "qs_messages.h"
+#include "qs_test_support.h"
+#include "unity.h"
+
+#define D 4096
+#define BUDGET (1L << 23)
+
+static qs_engine engine;
+static uint64_t rng_state;
+
+void setUp(void)
+{
+    qs_engine_init(&engine, QS_QUEUE_CAPACITY);
+    rng_state = 0x2545F4914F6CDD1Dull;
+}
+
+void tearDown(void)
+{
+    tp_check_unlocked();
+}
+
+static uint32_t rnd(uint32_t limit)
+{
+    rng_state = rng_state * 6364136223846793005ull + 1442695040888963407ull;
+    return (uint32_t)((rng_state >> 33) % limit);
+}
+
+static int64_t floor_div(int64_t num, int64_t den)
+{
+    return num >= 0 ? num / den : -((-num + den - 1) / den);
+}
+
+/* ---- the reference: the hold in exact arithmetic ---- */
+
+typedef struct {
+    int64_t kn;   /* k*n */
+    int64_t w;    /* 2knD: the hold's scale */
+    int64_t e0;   /* k * e(t0): scaled error at the hold tick */
+    int64_t i1;   /* k * X'(t0+1): increment over the first hold tick */
+    int64_t d;    /* change of the increment per tick, < 0 */
+    int64_t j;    /* decisions until the axis stops */
+    int64_t s_t0; /* the segment's steps before the hold */
+} ref_hold;
+
+/* Steps of the segment by tick t (PROTOCOL.md section 8). */
+static int64_t seg_steps(const qs_segment_msg *m, uint8_t axis, int64_t t)
+{
+    int64_t n = m->n, c1 = (int64_t)m->vn[axis] - m->v0[axis];
+    if (t == 0)
+        return 0;
+    return floor_div(n * m->r[axis] + c1 * t * t + 2 * n * m->v0[axis] * t + n * D, 2 * n * D);
+}
+
+static ref_hold reference(const qs_segment_msg *m, uint8_t axis, uint16_t t0, uint16_t decel)
+{
+    ref_hold r;
+    int64_t n = m->n, k = 1, c1 = (int64_t)m->vn[axis] - m->v0[axis];
+    int64_t x_t0 = n * m->r[axis] + c1 * t0 * t0 + 2 * n * m->v0[axis] * t0;
+    int64_t quanta;
+
+    while (2 * k * n <= QS_N_MAX)
+        k *= 2;
+    r.kn = k * n;
+    r.w = 2 * r.kn * D;
+    r.s_t0 = seg_steps(m, axis, t0);
+    r.e0 = k * (x_t0 - 2 * n * D * r.s_t0);
+    r.i1 = k * (2 * n * m->v0[axis] + c1 * (2 * t0 + 1));
+    /* a = decel / 2^24 step per tick^2 is 2knD*a = kn*decel / 2^11 quanta. */
+    quanta = r.kn * decel / 2048;
+    r.d = quanta > 0 ? -quanta : -1;
+    r.j = r.i1 > 0 && (m->active & (1u << axis)) ? (r.i1 + (-r.d) - 1) / (-r.d) : 0;
+    return r;
+}
+
+/* Ideal position (times w) after j hold ticks, relative to the stepper at
+ * the hold tick. */
+static int64_t ref_ideal(const ref_hold *r, int64_t j)
+{
+    int64_t t = j < r->j ? j : r->j;
+    return r->e0 + t * r->i1 + r->d * t * (t - 1) / 2;
+}
+
+static int64_t ref_steps(const ref_hold *r, int64_t j)
+{
+    if (j == 0)
+        return 0;
+    return floor_div(ref_ideal(r, j) + r->kn * D, r->w);
+}
+
+/* ---- driving the engine ---- */
+
+static void enqueue(const qs_segment_msg *m)
+{
+    qs_fault f;
+    TEST_ASSERT_EQUAL_INT_MESSAGE(QS_ERR_NONE, qs_msg_check_segment(m, QS_AXIS_COUNT, &f),
+                                  "test generated an invalid segment");
+    TEST_ASSERT_TRUE(qs_queue_free(&engine.queue) > 0);
+    qs_segment_prepare(qs_queue_back(&engine.queue), m);
+    qs_queue_publish(&engine.queue);
+    qs_engine_wake(&engine);
+}
+
+static uint16_t rnd_speed(void)
+{
+    static const uint16_t extremes[] = {0, 1, 4095, 4096};
+    return rnd(3) ? (uint16_t)rnd(4097) : extremes[rnd(4)];
+}
+
+static uint16_t rnd_decel(void)
+{
+    static const uint16_t extremes[] = {1, 2, 3, 8190, 8191};
+    return rnd(3) ? (uint16_t)(1 + rnd(QS_DECEL_MAX)) : extremes[rnd(5)];
+}
+
+static void random_segment(qs_segment_msg *m, uint16_t n)
+{
+    uint8_t axis;
+    m->n = n;
+    m->active = (uint8_t)(1 + rnd((1u << QS_AXIS_COUNT) - 1));
+    m->negative = (uint8_t)(rnd(16) & m->active);
+    for (axis = 0; axis < QS_PROTOCOL_AXES; axis++) {
+        m->v0[axis] = m->vn[axis] = 0;
+        m->r[axis] = 0;
+        if (!(m->active & (1u << axis)))
+            continue;
+        m->v0[axis] = rnd_speed();
+        m->vn[axis] = rnd_speed();
+        m->r[axis] = (int16_t)((int32_t)rnd(8193) - 4096);
+        if (m->r[axis] == 4096 && m->v0[axis] == 4096 && m->vn[axis] == 4096)
+            m->r[axis] = 4095;
+    }
+}
+
+/* Run a hold begun after t0 ticks of m to its end, checking every tick of
+ * every axis against the reference; returns the ticks it took. Positions
+ * are relative to the start of m. */
+static int64_t run_hold_checked(const qs_segment_msg *m, uint16_t t0, const uint16_t *decel,
+                                int32_t *made)
+{
+    ref_hold ref[QS_AXIS_COUNT];
+    int64_t steps[QS_AXIS_COUNT] = {0};
+    int64_t longest = 0, j;
+    uint8_t axis;
+
+    for (axis = 0; axis < QS_AXIS_COUNT; axis++) {
+        ref[axis] = reference(m, axis, t0, decel[axis]);
+        if (ref[axis].j > longest)
+            longest = ref[axis].j;
+    }
+    for (j = 1; j <= longest; j++) {
+        uint8_t bits;
+        TEST_ASSERT_EQUAL_INT(QS_STATE_HOLDING, engine.state);
+        bits = qs_engine_tick(&engine);
+        for (axis = 0; axis < QS_AXIS_COUNT; axis++) {
+            const ref_hold *r = &ref[axis];
+            int64_t err;
+            if (bits & (1u << axis)) {
+                TEST_ASSERT_TRUE_MESSAGE(j <= r->j, "a step after the axis stopped");
+                TEST_ASSERT_EQUAL_INT_MESSAGE((m->negative >> axis) & 1, (engine.dir_bits >> axis) & 1,
+                                              "a hold step in the wrong direction");
+                steps[axis]++;
+            }
+            TEST_ASSERT_EQUAL_INT64_MESSAGE(ref_steps(r, j), steps[axis], "steps differ from the closed form");
+            /* Within half a step of the ideal deceleration. */
+            err = steps[axis] * r->w - ref_ideal(r, j);
+            TEST_ASSERT_LESS_OR_EQUAL_INT64(r->kn * D, err);
+            TEST_ASSERT_GREATER_OR_EQUAL_INT64(-r->kn * D, err);
+            /* Moving exactly until its increment would not be positive. */
+            TEST_ASSERT_EQUAL_INT_MESSAGE(j < r->j, (engine.hold.moving >> axis) & 1, "stopped at the wrong tick");
+        }
+    }
+    TEST_ASSERT_EQUAL_INT(0, engine.hold.moving);
+    for (axis = 0; axis < QS_AXIS_COUNT; axis++) {
+        int32_t total = (int32_t)(ref[axis].s_t0 + steps[axis]);
+        made[axis] = ((m->negative >> axis) & 1) ? -total : total;
+        if (!(m->active & (1u << axis)))
+            TEST_ASSERT_EQUAL_INT32(0, made[axis]);
+    }
+    return longest;
+}
+
+/* ---- tests ---- */
+
+static void test_the_rescale_is_the_largest_power_of_two_within_n_max(void)
+{
+    uint16_t n;
+    for (n = 1; n <= QS_N_MAX; n++) {
+        uint8_t shift = qs_hold_shift(n);
+        TEST_ASSERT_TRUE((uint32_t)n << shift <= QS_N_MAX);
+        TEST_ASSERT_TRUE((uint32_t)n << (shift + 1) > QS_N_MAX);
+        TEST_ASSERT_TRUE((uint32_t)n << shift >= 512); /* so the quantum is at most 2^-22 */
+    }
+}
+
+/* db = -floor(2knD * a) for a = decel / 2^24, at least one quantum; its
+ * magnitude stays below D, inside the segments' own range of db. */
+static void test_the_deceleration_quantum_is_the_floor_and_never_zero(void)
+{
+    uint16_t kn, decel;
+    for (kn = 512; kn <= QS_N_MAX; kn += 17) {
+        for (decel = 1; decel <= QS_DECEL_MAX; decel++) {
+            int64_t exact = ((int64_t)2 * kn * D * decel) >> 24;
+            int64_t db = qs_hold_db(kn, decel);
+            TEST_ASSERT_EQUAL_INT64(exact > 0 ? -exact : -1, db);
+            TEST_ASSERT_TRUE(db < 0 && db > -D);
+        }
+    }
+    TEST_ASSERT_EQUAL_INT64(-((int64_t)QS_N_MAX * QS_DECEL_MAX >> 11), qs_hold_db(QS_N_MAX, QS_DECEL_MAX));
+}
+
+/* Holds at random moments of random segments: every tick of every axis
+ * equals the closed form, stays within half a step of the ideal
+ * deceleration, stops exactly where the increment runs out; the queued
+ * segment behind never runs; positions and ticks are exact throughout. */
+static void test_random_holds_follow_their_closed_form(void)
+{
+    int i;
+    for (i = 0; i < 600; i++) {
+        qs_segment_msg m, behind;
+        uint16_t decel[QS_AXIS_COUNT];
+        uint16_t n = (uint16_t)(i % 5 == 0 ? 1 + rnd(8) : 1 + rnd(QS_N_MAX));
+        uint16_t t0 = (uint16_t)(i % 7 == 0 ? 0u : i % 7 == 1 ? n - 1u : rnd(n));
+        int32_t made[QS_AXIS_COUNT];
+        qs_engine_view v;
+        int64_t ticks;
+        uint8_t axis, outcome;
+
+        qs_engine_init(&engine, QS_QUEUE_CAPACITY);
+        random_segment(&m, n);
+        random_segment(&behind, (uint16_t)(1 + rnd(QS_N_MAX)));
+        /* Fast enough to take a few hundred ticks at most to stop. */
+        for (axis = 0; axis < QS_AXIS_COUNT; axis++)
+            decel[axis] = (uint16_t)(2000 + rnd(QS_DECEL_MAX - 1999));
+        if (i % 10 == 0)
+            decel[rnd(QS_AXIS_COUNT)] = rnd_decel();
+        enqueue(&m);
+        enqueue(&behind);
+        for (ticks = 0; ticks < t0; ticks++)
+            qs_engine_tick(&engine);
+        outcome = qs_engine_hold(&engine, decel);
+        qs_engine_read(&engine, &v);
+        TEST_ASSERT_EQUAL_UINT32(t0, v.motion_ticks);
+        TEST_ASSERT_EQUAL_INT_MESSAGE(outcome == QS_HOLD_STARTED ? 1 : 0, v.queue_fill,
+                                      "the queued segment was not discarded");
+        if (outcome == QS_HOLD_AT_REST) {
+            ticks = 0;
+            for (axis = 0; axis < QS_AXIS_COUNT; axis++) {
+                TEST_ASSERT_EQUAL_INT64(0, reference(&m, axis, t0, decel[axis]).j);
+                made[axis] = v.position[axis];
+            }
+            TEST_ASSERT_EQUAL_INT(QS_STATE_IDLE, engine.state);
+        } else {
+            TEST_ASSERT_EQUAL_INT(QS_HOLD_STARTED, outcome);
+            ticks = run_hold_checked(&m, t0, decel, made);
+        }
+        /* Nothing more: the segment behind never runs. */
+        for (axis = 0; axis < 5; axis++)
+            TEST_ASSERT_EQUAL_HEX8(0, qs_engine_tick(&engine));
+        qs_engine_read(&engine, &v);
+        TEST_ASSERT_EQUAL_INT(QS_STATE_IDLE, v.state);
+        TEST_ASSERT_EQUAL_INT(0, v.queue_fill);
+        TEST_ASSERT_EQUAL_UINT32(0, v.segments_done);
+        TEST_ASSERT_EQUAL_UINT32(t0 + ticks, v.motion_ticks);
+        for (axis = 0; axis < QS_AXIS_COUNT; axis++)
+            TEST_ASSERT_EQUAL_INT32(made[axis], v.position[axis]);
+        {
+            uint32_t hold_tick = 0;
+            TEST_ASSERT_EQUAL_INT(1, qs_engine_take_hold_done(&engine, &hold_tick));
+            TEST_ASSERT_EQUAL_UINT32(t0, hold_tick);
+            TEST_ASSERT_EQUAL_INT(0, qs_engine_take_hold_done(&engine, &hold_tick)); /* once */
+        }
+    }
+}
+
+/* A status read at any tick of a hold gives the steps made so far. */
+static void test_positions_are_exact_at_every_tick_of_a_hold(void)
+{
+    qs_segment_msg m = {0};
+    uint16_t decel[QS_AXIS_COUNT] = {300, 300, 300, 300};
+    int32_t counted = 0;
+    uint32_t ticks = 0;
+    qs_engine_view v;
+
+    m.n = 1000;
+    m.active = 0x1;
+    m.negative = 0x1;
+    m.v0[0] = 3000;
+    m.vn[0] = 3500;
+    enqueue(&m);
+    while (ticks < 400) {
+        counted -= qs_engine_tick(&engine) & 1;
+        ticks++;
+    }
+    TEST_ASSERT_EQUAL_INT(QS_HOLD_STARTED, qs_engine_hold(&engine, decel));
+    while (engine.state == QS_STATE_HOLDING) {
+        qs_engine_read(&engine, &v);
+        TEST_ASSERT_EQUAL_INT32(counted, v.position[0]);
+        TEST_ASSERT_EQUAL_UINT32(ticks, v.motion_ticks);
+        counted -= qs_engine_tick(&engine) & 1;
+        ticks++;
+        qs_engine_retire(&engine);
+    }
+    qs_engine_read(&engine, &v);
+    TEST_ASSERT_EQUAL_INT32(counted, v.position[0]);
+    TEST_ASSERT_EQUAL_UINT32(ticks, v.motion_ticks);
+    TEST_ASSERT_TRUE(ticks > 1000); /* it ran past where the segment would have ended */
+}
+
+static int64_t mag(int64_t x)
+{
+    return x < 0 ? -x : x;
+}
+
+/* Hold a one-axis segment after t0 of its ticks and run the hold to its
+ * end, checking every value it computes against 2knD + |db|, including
+ * h - 2knD after a step. Returns the largest magnitude seen. */
+static int64_t largest_hold_value(const qs_segment_msg *m, uint16_t t0, uint16_t decel)
+{
+    uint16_t decels[QS_AXIS_COUNT];
+    int64_t worst = 0, limit;
+    uint16_t t;
+    uint8_t a;
+
+    for (a = 0; a < QS_AXIS_COUNT; a++)
+        decels[a] = decel;
+    qs_engine_init(&engine, QS_QUEUE_CAPACITY);
+    enqueue(m);
+    for (t = 0; t < t0; t++)
+        qs_engine_tick(&engine);
+    if (qs_engine_hold(&engine, decels) != QS_HOLD_STARTED)
+        return 0;
+    limit = engine.hold.two_c2 - engine.hold.db[0];
+    for (;;) {
+        int64_t h = engine.hold.h[0];
+        int64_t big = mag(h) > mag(engine.hold.inc[0]) ? mag(h) : mag(engine.hold.inc[0]);
+        if (h >= 0 && mag(h - engine.hold.two_c2) > big)
+            big = mag(h - engine.hold.two_c2);
+        TEST_ASSERT_LESS_OR_EQUAL_INT64(limit, big);
+        if (big > worst)
+            worst = big;
+        if (!engine.hold.moving)
+            return worst;
+        qs_engine_tick(&engine);
+    }
+}
+
+/* Every segment length with extreme speeds and residuals, held at its
+ * first, middle and last tick at the largest deceleration, and the longest
+ * holds (the smallest decelerations) from a few: no value the hold
+ * computes leaves 2knD + |db| < 2^23, and the bound is nearly reached. */
+static void test_hold_values_stay_within_24_bits(void)
+{
+    static const uint16_t speeds[] = {0, 1, 4095, 4096};
+    static const int16_t residuals[] = {-4096, 0, 4096};
+    static const uint16_t long_n[] = {1, QS_N_MAX};
+    int64_t worst = 0, big;
+    uint16_t n;
+    unsigned i, j, k, p;
+
+    for (n = 1; n <= QS_N_MAX; n++)
+        for (i = 0; i < 4; i++)
+            for (j = 0; j < 4; j++)
+                for (k = 0; k < 3; k++)
+                    for (p = 0; p < 3; p++) {
+                        qs_segment_msg m = {0};
+                        m.n = n;
+                        m.active = 1;
+                        m.v0[0] = speeds[i];
+                        m.vn[0] = speeds[j];
+                        m.r[0] = residuals[k];
+                        if (m.r[0] == 4096 && m.v0[0] == 4096 && m.vn[0] == 4096)
+                            continue;
+                        big = largest_hold_value(&m, p == 0 ? 0 : p == 1 ? n / 2 : n - 1, QS_DECEL_MAX);
+                        if (big > worst)
+                            worst = big;
+                    }
+    for (n = 0; n < 2; n++)
+        for (i = 0; i < 3; i++)
+            for (p = 0; p < 2; p++)
+                for (k = 0; k < 2; k++) {
+                    qs_segment_msg m = {0};
+                    m.n = long_n[n];
+                    m.active = 1;
+                    m.v0[0] = i == 2 ? 0 : 4096;
+                    m.vn[0] = i == 1 ? 0 : 4096;
+                    big = largest_hold_value(&m, p == 0 ? 0 : m.n - 1, k == 0 ? 1 : 64);
+                    if (big > worst)
+                        worst = big;
+                }
+    TEST_ASSERT_TRUE(worst < BUDGET);
+    TEST_ASSERT_TRUE(worst >= 2L * QS_N_MAX * D - 8192);
+    printf("largest hold value: %lld of %ld\n", (long long)worst, (long)BUDGET);
+}
+
+/* An axis at rest at the hold tick does not move; one whose increment runs
+ * out after a single tick makes one decision. */
+static void test_stop_detection_at_the_edges(void)
+{
+    qs_segment_msg m = {0};
+    uint16_t decel[QS_AXIS_COUNT] = {8191, 8191, 8191, 8191};
+    qs_engine_view v;
+
+    m.n = 1022;
+    m.active = 0x3;
+    m.v0[0] = 0; /* axis 0 at rest for the whole segment */
+    m.vn[0] = 0;
+    m.v0[1] = 1; /* axis 1 barely moving: increment 2044 quanta < |db| */
+    m.vn[1] = 1;
+    enqueue(&m);
+    qs_engine_tick(&engine);
+    TEST_ASSERT_EQUAL_INT(QS_HOLD_STARTED, qs_engine_hold(&engine, decel));
+    TEST_ASSERT_EQUAL_HEX8(0x2, engine.hold.moving);
+    qs_engine_tick(&engine);
+    TEST_ASSERT_EQUAL_HEX8(0, engine.hold.moving);
+    qs_engine_read(&engine, &v);
+    TEST_ASSERT_EQUAL_INT(QS_STATE_IDLE, v.state);
+    TEST_ASSERT_EQUAL_UINT32(2, v.motion_ticks);
+    /* Every axis at rest: done at once, no tick. */
+    qs_engine_init(&engine, QS_QUEUE_CAPACITY);
+    m.active = 0x1;
+    enqueue(&m);
+    qs_engine_tick(&engine);
+    TEST_ASSERT_EQUAL_INT(QS_HOLD_AT_REST, qs_engine_hold(&engine, decel));
+    qs_engine_read(&engine, &v);
+    TEST_ASSERT_EQUAL_INT(QS_STATE_IDLE, v.state);
+    TEST_ASSERT_EQUAL_INT(0, v.queue_fill);
+    TEST_ASSERT_EQUAL_UINT32(1, v.motion_ticks);
+    TEST_ASSERT_EQUAL_UINT32(1, engine.hold_tick);
+    TEST_ASSERT_TRUE(engine.hold_report);
+}
+
+/* Between two segments the hold begins the next one at its tick 0, as the
+ * tick would have; with nothing queued while moving the underrun stands;
+ * idle, a hold is done at once; in ALARM nothing changes; a second hold
+ * while holding changes nothing. */
+static void test_hold_at_boundaries_and_in_every_state(void)
+{
+    qs_segment_msg a = {0}, b = {0};
+    uint16_t decel[QS_AXIS_COUNT] = {4000, 4000, 4000, 4000};
+    int32_t made[QS_AXIS_COUNT];
+    qs_engine_view v;
+    uint16_t t;
+
+    TEST_ASSERT_EQUAL_INT(QS_HOLD_AT_REST, qs_engine_hold(&engine, decel));
+    TEST_ASSERT_TRUE(engine.hold_report);
+    engine.hold_report = 0;
+
+    a.n = 10; a.active = 1; a.v0[0] = 4096; a.vn[0] = 4096;
+    b.n = 300; b.active = 1; b.negative = 1; b.v0[0] = 4096; b.vn[0] = 2000;
+    enqueue(&a);
+    enqueue(&b);
+    for (t = 0; t < 10; t++)
+        qs_engine_tick(&engine);
+    TEST_ASSERT_EQUAL_INT(0, engine.left); /* a is done, b not begun */
+    TEST_ASSERT_EQUAL_INT(QS_HOLD_STARTED, qs_engine_hold(&engine, decel));
+    TEST_ASSERT_EQUAL_INT(QS_HOLD_UNDER_WAY, qs_engine_hold(&engine, decel));
+    TEST_ASSERT_EQUAL_UINT32(10, engine.hold_tick);
+    run_hold_checked(&b, 0, decel, made);
+    qs_engine_read(&engine, &v);
+    TEST_ASSERT_EQUAL_INT32(10 + made[0], v.position[0]);
+    TEST_ASSERT_TRUE(made[0] < 0);
+    TEST_ASSERT_EQUAL_UINT32(1, v.segments_done);
+
+    qs_engine_init(&engine, QS_QUEUE_CAPACITY);
+    enqueue(&a);
+    for (t = 0; t < 10; t++)
+        qs_engine_tick(&engine);
+    TEST_ASSERT_EQUAL_INT(QS_HOLD_NO_SEGMENT, qs_engine_hold(&engine, decel));
+    qs_engine_tick(&engine);
+    TEST_ASSERT_EQUAL_INT(QS_STATE_ALARM, engine.state);
+    TEST_ASSERT_EQUAL_INT(QS_ALARM_UNDERRUN, engine.alarm);
+    TEST_ASSERT_EQUAL_INT(QS_HOLD_IN_ALARM, qs_engine_hold(&engine, decel));
+    TEST_ASSERT_EQUAL_INT(QS_STATE_ALARM, engine.state);
+}
+
+/* STOP during a hold stops at once; the steps made stay counted. */
+static void test_halt_during_a_hold_keeps_exact_positions(void)
+{
+    qs_segment_msg m = {0};
+    uint16_t decel[QS_AXIS_COUNT] = {1, 1, 1, 1};
+    int32_t counted = 0;
+    qs_engine_view v;
+    int i;
+
+    m.n = 500;
+    m.active = 0x4;
+    m.v0[2] = 4096;
+    m.vn[2] = 4096;
+    enqueue(&m);
+    for (i = 0; i < 100; i++)
+        counted += (qs_engine_tick(&engine) >> 2) & 1;
+    TEST_ASSERT_EQUAL_INT(QS_HOLD_STARTED, qs_engine_hold(&engine, decel));
+    for (i = 0; i < 5000; i++)
+        counted += (qs_engine_tick(&engine) >> 2) & 1;
+    TEST_ASSERT_EQUAL_INT(QS_STATE_HOLDING, engine.state);
+    qs_engine_halt(&engine, QS_STATE_IDLE, QS_ALARM_NONE);
+    TEST_ASSERT_EQUAL_HEX8(0, qs_engine_tick(&engine));
+    qs_engine_read(&engine, &v);
+    TEST_ASSERT_EQUAL_INT32(counted, v.position[2]);
+    /* Decelerating at one quantum per tick: barely slower after 5000 ticks. */
+    {
+        ref_hold r = reference(&m, 2, 100, 1);
+        TEST_ASSERT_EQUAL_INT32(100 + ref_steps(&r, 5000), counted);
+        TEST_ASSERT_TRUE(counted > 5090 && counted < 5100);
+    }
+    TEST_ASSERT_EQUAL_UINT32(5100, v.motion_ticks);
+    TEST_ASSERT_EQUAL_INT(QS_STATE_IDLE, v.state);
+    TEST_ASSERT_FALSE(engine.hold_report);
+}
+
+int main(void)
+{
+    UNITY_BEGIN();
+    RUN_TEST(test_the_rescale_is_the_largest_power_of_two_within_n_max);
+    RUN_TEST(test_the_deceleration_quantum_is_the_floor_and_never_zero);
+    RUN_TEST(test_random_holds_follow_their_closed_form);
+    RUN_TEST(test_positions_are_exact_at_every_tick_of_a_hold);
+    RUN_TEST(test_hold_values_stay_within_24_bits);
+    RUN_TEST(test_stop_detection_at_the_edges);
+    RUN_TEST(test_hold_at_boundaries_and_in_every_state);
+    RUN_TEST(test_halt_during_a_hold_keeps_exact_positions);
+    return UNITY_END();
+}

@@ -1,0 +1,63 @@
+"""HOLD on the real AVR firmware, running in simavr (tests/simavr's qs-simavr harness): the board's steps
+around the hold tick, where it comes to rest and when, are exactly engine_model.predict_hold's."""
+
+from __future__ import annotations
+
+import json
+import random
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+from hold_helpers import check_hold, planned_job, read_trace
+
+from quadstep.engine_model import predict_hold
+from quadstep.protocol import DECEL_MAX, Decoder, Event, Hold, State, StatusReport, encode
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "simavr"))
+import avr_sim  # noqa: E402  (the harness's own helpers, beside its tests)
+
+F_CPU = 16_000_000
+
+
+@pytest.fixture(scope="module")
+def avr_build() -> None:
+    try:
+        avr_sim.build()
+    except avr_sim.SimAvrError as exc:
+        pytest.fail(str(exc))
+
+
+@pytest.mark.parametrize("board, axes, queue", [("uno", 3, 16), ("mega", 4, 32)])
+def test_the_board_holds_exactly_as_predicted(avr_build: None, tmp_path: Path, board: str, axes: int,
+                                              queue: int) -> None:
+    rng = random.Random(board)
+    segments = planned_job(rng, 8000, axis_count=axes)
+    assert len(segments) <= queue  # all queued before the hold: the input has no flow control
+    decels = [rng.randint(800, DECEL_MAX) for _ in range(axes)]
+    # Empty frames (lone delimiters, ignored) keep the line busy ~20 µs each: the HOLD arrives mid-job.
+    pause = b"\x00" * rng.randint(2000, 4000)
+    job = b"".join(encode(seg, seq) for seq, seg in enumerate(segments))
+    hold = encode(Hold(decel=tuple(decels + [0] * (4 - axes))), len(segments))  # type: ignore[arg-type]
+    (tmp_path / "input.bin").write_bytes(b"\x00" + job + pause + hold)
+    outputs = avr_sim.Outputs.in_dir(tmp_path, board)
+    # Not --exit-when-idle: the harness would take HOLDING for rest; 1.5 s of board time is plenty.
+    subprocess.run([str(avr_sim.HARNESS), "--mcu", avr_sim.BOARDS[board], "--elf", str(avr_sim.elf_path(board)),
+                    "--input", str(tmp_path / "input.bin"), "--output", str(tmp_path / "replies.bin"),
+                    "--max-cycles", str(3 * F_CPU // 2), *outputs.args()], check=True, capture_output=True, timeout=120)
+    replies = [item.message for item in Decoder("to_host", axis_count=axes).feed((tmp_path / "replies.bin").read_bytes())
+               if hasattr(item, "message")]
+    answers = [r for r in replies if isinstance(r, StatusReport)]
+    events = [r for r in replies if isinstance(r, Event)]
+    assert len(answers) == 1 and answers[0].state == State.HOLDING and answers[0].queue_fill == 1
+    assert len(events) == 1, replies[-3:]
+    done = events[0]
+    pred = predict_hold(segments, done.hold_tick, decels + [1] * (4 - axes), axis_count=axes)
+    assert pred.held is not None and 0 < done.hold_tick
+    check_hold(outputs.trace, segments, done, decels + [1] * (4 - axes), axis_count=axes)
+    stats = json.loads(outputs.stats.read_text())
+    assert stats["motion"]["motion_ticks"] == done.motion_ticks
+    assert stats["motion"]["state"] == State.IDLE
+    rows = read_trace(outputs.trace)
+    assert stats["motion"]["steps"] == [int((rows[:, 1] == axis).sum()) for axis in range(axes)]
