@@ -1,0 +1,56 @@
+"""Options and loading shared by the job commands (run, check, plot)."""
+
+from __future__ import annotations
+
+import argparse
+from pathlib import Path
+
+from ..config import ConfigError, MachineConfig, load_config
+from ..job import Job, load_job
+from ..planner.program import JobError
+from .options import CliError
+
+DEFAULT_CONFIG = Path("quadstep.toml")
+
+
+def add_job_options(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("job", type=Path, metavar="JOB", help="G-code file, or a move file (.json, .yaml)")
+    parser.add_argument(
+        "--config", type=Path, metavar="FILE", help=f"machine configuration (TOML; default ./{DEFAULT_CONFIG})"
+    )
+    parser.add_argument(
+        "--skip-unsupported",
+        action="store_true",
+        help="skip spindle, coolant and tool words (M3 M4 M5 M6 M7 M8 M9, S, T) instead of refusing the job",
+    )
+
+
+def machine_config(args: argparse.Namespace) -> MachineConfig:
+    path: Path = args.config or DEFAULT_CONFIG
+    if args.config is None and not path.exists():
+        raise CliError(f"no machine configuration: give --config FILE (or put {DEFAULT_CONFIG} in this directory)")
+    try:
+        return load_config(path)
+    except ConfigError as exc:
+        raise CliError(str(exc)) from None
+
+
+def job_from_args(args: argparse.Namespace, config: MachineConfig, start: tuple[int, ...] | None = None) -> Job:
+    try:
+        return load_job(args.job, config, start, args.skip_unsupported)
+    except JobError as exc:
+        raise CliError(str(exc)) from None
+
+
+def format_duration(seconds: float) -> str:
+    minutes, rest = divmod(max(0.0, seconds), 60.0)
+    hours, minutes = divmod(int(minutes), 60)
+    return f"{hours}:{minutes:02d}:{rest:04.1f}" if hours else f"{minutes}:{rest:04.1f}"
+
+
+def skipped_text(job: Job) -> str | None:
+    skipped = job.program.skipped
+    if not skipped:
+        return None
+    words = ", ".join(f"line {line}: {word}" for line, word in skipped)
+    return f"skipped {len(skipped)} unsupported word{'s' if len(skipped) != 1 else ''}: {words}"

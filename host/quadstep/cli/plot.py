@@ -1,0 +1,77 @@
+"""`quadstep plot JOB -o FILE.png`: planned speed and acceleration per axis over time, and the path."""
+
+from __future__ import annotations
+
+import argparse
+from pathlib import Path
+
+import numpy as np
+
+from ..planner.timeline import Timeline, timeline
+from ._jobs import add_job_options, job_from_args, machine_config
+from .options import CliError
+
+
+def register(subparsers: argparse._SubParsersAction) -> None:
+    parser = subparsers.add_parser("plot", help="plot a job's planned speed, acceleration and path to a PNG")
+    add_job_options(parser)
+    parser.add_argument("-o", "--output", type=Path, required=True, metavar="FILE.png", help="image to write")
+    parser.set_defaults(handler=run)
+
+
+def _stairs(t: Timeline, i: int) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """Speed as straight pieces between boundaries, acceleration as steps."""
+    time = np.column_stack([t.start, t.end]).ravel()
+    speed = np.column_stack([t.speed0[:, i], t.speed1[:, i]]).ravel()
+    accel = np.repeat(t.accel[:, i], 2)
+    return time, speed, time, accel
+
+
+def draw(t: Timeline, names: list[str], title: str, output: Path) -> None:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig = plt.figure(figsize=(12, 8), layout="constrained")
+    grid = fig.add_gridspec(2, 2, width_ratios=(3, 2))
+    ax_speed = fig.add_subplot(grid[0, 0])
+    ax_accel = fig.add_subplot(grid[1, 0], sharex=ax_speed)
+    ax_path = fig.add_subplot(grid[:, 1])
+    for i, name in enumerate(names):
+        time, speed, _, accel = _stairs(t, i)
+        ax_speed.plot(time, speed, label=name, linewidth=1)
+        ax_accel.plot(time, accel, label=name, linewidth=1)
+    ax_speed.set_ylabel("speed (mm/s)")
+    ax_accel.set_ylabel("acceleration (mm/s²)")
+    ax_accel.set_xlabel("time (s)")
+    ax_speed.legend(loc="upper right")
+    ax_speed.grid(True, alpha=0.3)
+    ax_accel.grid(True, alpha=0.3)
+    if len(names) >= 2:
+        ax_path.plot(t.position[:, 0], t.position[:, 1], linewidth=0.8)
+        ax_path.set_xlabel(f"{names[0]} (mm)")
+        ax_path.set_ylabel(f"{names[1]} (mm)")
+        ax_path.set_aspect("equal", adjustable="datalim")
+    else:
+        ax_path.plot(np.concatenate([[0.0], t.end]), t.position[:, 0], linewidth=0.8)
+        ax_path.set_xlabel("time (s)")
+        ax_path.set_ylabel(f"{names[0]} (mm)")
+    ax_path.set_title("path")
+    ax_path.grid(True, alpha=0.3)
+    fig.suptitle(title)
+    fig.savefig(output, dpi=100)
+    plt.close(fig)
+
+
+def run(args: argparse.Namespace) -> int:
+    config = machine_config(args)
+    job = job_from_args(args, config)
+    if len(job.plan) == 0:
+        raise CliError(f"{args.job}: the job has no motion to plot")
+    try:
+        draw(timeline(job.plan), list(config.axis_names), f"{args.job.name}: planned motion", args.output)
+    except OSError as exc:
+        raise CliError(f"cannot write {args.output}: {exc.strerror}") from None
+    print(f"wrote {args.output}")
+    return 0

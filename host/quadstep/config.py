@@ -1,0 +1,157 @@
+"""Machine configuration: a TOML file validated by pydantic.
+
+Every bad value is reported as one line naming the key, the value given and
+the range allowed, e.g. `axes[0].max_speed = 900.0: must be at most 468.75
+mm/s (3/4 step per tick at tick_hz 50000 with 80 steps/mm)`.
+"""
+
+from __future__ import annotations
+
+import math
+import re
+import tomllib
+from pathlib import Path
+from typing import Any, Literal
+
+from pydantic import BaseModel, ConfigDict, Field, ValidationError, model_validator
+
+from .protocol.segment import MAX_AXES
+
+AxisName = Literal["X", "Y", "Z", "A"]
+
+# The planner lands every move exactly only while no axis moves more than
+# 3/4 step per tick (docs/PLANNER.md, "Landing"); the firmware's own limit is 1.
+MAX_STEPS_PER_TICK = 0.75
+
+
+class ConfigError(ValueError):
+    """A machine configuration that cannot be used; the message names every bad key."""
+
+
+class AxisConfig(BaseModel):
+    """One motor axis: its G-code letter, scale, limits and travel."""
+
+    model_config = ConfigDict(extra="forbid", frozen=True)
+
+    name: AxisName
+    steps_per_mm: float = Field(gt=0, le=100_000)
+    max_speed: float = Field(gt=0, description="mm/s")
+    max_accel: float = Field(gt=0, le=1_000_000, description="mm/s²")
+    travel_min: float = Field(ge=-100_000, le=100_000, description="mm")
+    travel_max: float = Field(ge=-100_000, le=100_000, description="mm")
+    invert: bool = False
+
+    @model_validator(mode="after")
+    def _travel_in_order(self) -> AxisConfig:
+        if self.travel_max <= self.travel_min:
+            raise ValueError(
+                f"travel_max = {self.travel_max}: must be greater than travel_min = {self.travel_min}"
+            )
+        return self
+
+    def to_steps(self, mm: float) -> int:
+        """Step position of a machine coordinate, rounded once (half up), sign per `invert`."""
+        steps = math.floor(mm * self.steps_per_mm + 0.5)
+        return -steps if self.invert else steps
+
+    def to_mm(self, steps: int) -> float:
+        return (-steps if self.invert else steps) / self.steps_per_mm
+
+
+class MachineConfig(BaseModel):
+    """The whole machine: tick rate, axes in firmware order, cornering and arc rules."""
+
+    model_config = ConfigDict(extra="forbid", frozen=True)
+
+    tick_hz: int = Field(ge=1000, le=1_000_000, description="must equal the firmware's tick rate")
+    junction_deviation: float = Field(default=0.01, gt=0, le=10, description="mm, GRBL-style cornering")
+    arc_tolerance: float = Field(default=0.002, gt=0, le=10, description="mm, largest chord-to-arc distance")
+    axes: tuple[AxisConfig, ...] = Field(min_length=1, max_length=MAX_AXES)
+
+    @model_validator(mode="after")
+    def _axes_consistent(self) -> MachineConfig:
+        names = [a.name for a in self.axes]
+        if len(set(names)) != len(names):
+            raise ValueError(f"axes: names must be unique, got {names}")
+        for i, axis in enumerate(self.axes):
+            limit = MAX_STEPS_PER_TICK * self.tick_hz / axis.steps_per_mm
+            if axis.max_speed > limit:
+                raise ValueError(
+                    f"axes[{i}].max_speed = {axis.max_speed}: must be at most {limit:g} mm/s "
+                    f"(3/4 step per tick at tick_hz {self.tick_hz} with {axis.steps_per_mm:g} steps/mm)"
+                )
+        return self
+
+    @property
+    def axis_names(self) -> tuple[str, ...]:
+        return tuple(a.name for a in self.axes)
+
+    def to_steps(self, position_mm: tuple[float, ...]) -> tuple[int, ...]:
+        return tuple(a.to_steps(x) for a, x in zip(self.axes, position_mm))
+
+    def to_mm(self, steps: tuple[int, ...] | list[int]) -> tuple[float, ...]:
+        return tuple(a.to_mm(s) for a, s in zip(self.axes, steps))
+
+
+_LIMIT_WORDS = {
+    "greater_than": "must be greater than {gt}",
+    "greater_than_equal": "must be at least {ge}",
+    "less_than": "must be less than {lt}",
+    "less_than_equal": "must be at most {le}",
+    "too_short": "needs at least {min_length} entries",
+    "too_long": "allows at most {max_length} entries",
+}
+
+
+_KEYED = re.compile(r"^\w+ = ")
+
+
+def _key(loc: tuple[int | str, ...]) -> str:
+    text = ""
+    for part in loc:
+        text += f"[{part}]" if isinstance(part, int) else (f".{part}" if text else str(part))
+    return text
+
+
+def describe_validation_error(error: ValidationError) -> list[str]:
+    """pydantic errors as `key = value: rule` lines."""
+    lines = []
+    for e in error.errors():
+        key = _key(tuple(part for part in e["loc"] if part != "[key]"))  # a bad dict key: name it once
+        kind = e["type"]
+        if kind in _LIMIT_WORDS:
+            ctx = {k: f"{v:g}" if isinstance(v, float) else v for k, v in e.get("ctx", {}).items()}
+            lines.append(f"{key} = {e['input']!r}: {_LIMIT_WORDS[kind].format(**ctx)}")
+        elif kind == "missing":
+            lines.append(f"{key}: missing")
+        elif kind == "extra_forbidden":
+            lines.append(f"{key}: unknown key")
+        elif kind == "literal_error":
+            lines.append(f"{key} = {e['input']!r}: must be one of {e['ctx']['expected']}")
+        elif kind == "value_error":
+            # a validator's message may start with the key it is about ("travel_max = 5: ...")
+            message = str(e["ctx"]["error"])
+            lines.append(message if not key else f"{key}.{message}" if _KEYED.match(message) else f"{key}: {message}")
+        else:
+            lines.append(f"{key} = {e['input']!r}: {e['msg'].lower()}")
+    return lines
+
+
+def parse_config(data: dict[str, Any], source: str = "config") -> MachineConfig:
+    try:
+        return MachineConfig.model_validate(data)
+    except ValidationError as exc:
+        raise ConfigError("\n".join(f"{source}: {line}" for line in describe_validation_error(exc))) from None
+
+
+def load_config(path: Path) -> MachineConfig:
+    """Read and validate a machine configuration file."""
+    try:
+        text = path.read_text(encoding="utf-8")
+    except OSError as exc:
+        raise ConfigError(f"{path}: cannot read: {exc.strerror}") from None
+    try:
+        data = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:
+        raise ConfigError(f"{path}: not valid TOML: {exc}") from None
+    return parse_config(data, str(path))

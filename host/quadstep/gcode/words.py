@@ -1,0 +1,63 @@
+"""Splitting one G-code line into words (letter + number), dropping comments.
+
+Exact and strict: every character is either part of a word, white space, or
+a comment; anything else is an error naming the line and column.
+"""
+
+from __future__ import annotations
+
+import re
+from dataclasses import dataclass
+
+from ..planner.program import JobError
+
+_NUMBER = re.compile(r"[+-]?(?:\d+(?:\.\d*)?|\.\d+)")
+
+
+class GcodeError(JobError):
+    """A G-code problem at a line and column."""
+
+    def __init__(self, line: int, column: int, message: str) -> None:
+        super().__init__(f"line {line}, column {column}: {message}")
+        self.line = line
+        self.column = column
+
+
+@dataclass(frozen=True, slots=True)
+class Word:
+    letter: str  # upper case
+    number: str  # as written
+    value: float
+    column: int  # 1-based column of the letter
+
+    @property
+    def text(self) -> str:
+        return f"{self.letter}{self.number}"
+
+
+def split_words(text: str, line: int) -> list[Word]:
+    """The words of one line; `(…)` and `;…` comments are dropped."""
+    words: list[Word] = []
+    i = 0
+    end = len(text)
+    while i < end:
+        c = text[i]
+        if c in " \t\r\n":
+            i += 1
+        elif c == ";":
+            break
+        elif c == "(":
+            close = text.find(")", i + 1)
+            if close < 0:
+                raise GcodeError(line, i + 1, "comment '(' is not closed on this line")
+            i = close + 1
+        elif c.isascii() and c.isalpha():
+            match = _NUMBER.match(text, i + 1)
+            if match is None:
+                raise GcodeError(line, i + 1, f"'{c}' has no number after it")
+            number = match.group()
+            words.append(Word(c.upper(), number, float(number), i + 1))
+            i = match.end()
+        else:
+            raise GcodeError(line, i + 1, f"unexpected character {c!r}")
+    return words

@@ -1,0 +1,148 @@
+"""A whole job: read (G-code or move file), checked against the travel, and planned.
+
+Nothing here talks to a machine: `load_job` either returns a complete plan or
+raises JobError, so a job with any problem never moves anything.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+from pydantic import BaseModel
+
+from .config import MachineConfig
+from .gcode import parse_gcode
+from .movefile import move_program, read_move_file
+from .planner.plan import Plan, plan_program
+from .planner.program import JobError, Program
+
+MOVE_FILE_SUFFIXES = (".json", ".yaml", ".yml")
+
+
+def is_move_file(path: Path) -> bool:
+    return path.suffix.lower() in MOVE_FILE_SUFFIXES
+
+
+def segment_frame_bytes(active_axes: int) -> int:
+    """Bytes on the wire for one SEGMENT frame: COBS(type, seq, 3 + 6k payload, crc16) + delimiter."""
+    body = 2 + 3 + 6 * active_axes + 2
+    return body + 1 + 1  # one COBS code byte (frames are under 254 bytes) and the 0x00 delimiter
+
+
+class AxisSummary(BaseModel):
+    name: str
+    peak_speed: float  # mm/s
+    start_mm: float
+    end_mm: float
+    end_steps: int
+
+
+class SkippedWord(BaseModel):
+    line: int
+    word: str
+
+
+class JobSummary(BaseModel):
+    """What `quadstep check` reports, also as JSON."""
+
+    file: str
+    lines: int
+    moves: int
+    segments: int
+    distance_mm: float
+    duration_s: float
+    wire_bytes: int
+    pauses: list[int]  # lines of M0 / pause entries
+    axes: list[AxisSummary]
+    skipped: list[SkippedWord]
+
+
+@dataclass
+class Job:
+    path: Path
+    program: Program
+    plan: Plan
+
+    @property
+    def label(self) -> str:
+        """What a source position is called in messages: G-code lines, move-file moves."""
+        return "move" if is_move_file(self.path) else "line"
+
+    @property
+    def source_size(self) -> str:
+        """`39 lines` of G-code, or `8 entries` of a move file."""
+        count = self.program.lines
+        if is_move_file(self.path):
+            noun = "entry" if count == 1 else "entries"
+        else:
+            noun = "line" if count == 1 else "lines"
+        return f"{count} {noun}"
+
+    def wire_bytes(self) -> int:
+        """Bytes the job's segments take on the serial line, framing included."""
+        axes = self.plan.segments.numpy()["axes"].astype(np.int64)
+        active = sum(int(np.sum((axes >> i) & 1)) for i in range(self.plan.segments.axis_count))
+        return segment_frame_bytes(0) * len(self.plan) + 6 * active
+
+    def summary(self) -> JobSummary:
+        config = self.plan.config
+        peaks = self.plan.peak_speeds()
+        return JobSummary(
+            file=str(self.path),
+            lines=self.program.lines,
+            moves=self.plan.moves,
+            segments=len(self.plan),
+            distance_mm=self.plan.distance_mm,
+            duration_s=self.plan.duration_s,
+            wire_bytes=self.wire_bytes(),
+            pauses=[line for _, line in self.plan.pauses],
+            axes=[
+                AxisSummary(
+                    name=axis.name,
+                    peak_speed=peaks[i],
+                    start_mm=axis.to_mm(self.plan.start[i]),
+                    end_mm=axis.to_mm(self.plan.end[i]),
+                    end_steps=self.plan.end[i],
+                )
+                for i, axis in enumerate(config.axes)
+            ],
+            skipped=[SkippedWord(line=line, word=word) for line, word in self.program.skipped],
+        )
+
+
+def read_program(
+    path: Path, config: MachineConfig, start_steps: tuple[int, ...], skip_unsupported: bool = False
+) -> Program:
+    """Parse the job file into moves in machine coordinates, starting from `start_steps`."""
+    start_mm = config.to_mm(start_steps)
+    if is_move_file(path):
+        return move_program(read_move_file(path), config.axis_names, start_mm)
+    try:
+        text = path.read_text(encoding="utf-8")
+    except OSError as exc:
+        raise JobError(f"{path}: cannot read: {exc.strerror}") from None
+    except UnicodeDecodeError as exc:
+        raise JobError(f"{path}: not a text file ({exc.reason} at byte {exc.start})") from None
+    try:
+        return parse_gcode(text, config.axis_names, start_mm, config.arc_tolerance, skip_unsupported)
+    except JobError as exc:
+        raise JobError(f"{path}: {exc}") from None
+
+
+def load_job(
+    path: Path,
+    config: MachineConfig,
+    start_steps: tuple[int, ...] | None = None,
+    skip_unsupported: bool = False,
+) -> Job:
+    """Read, check and plan a whole job; raises JobError naming the line (or move) at fault."""
+    start = tuple(start_steps) if start_steps is not None else (0,) * len(config.axes)
+    program = read_program(path, config, start, skip_unsupported)
+    label = "move" if is_move_file(path) else "line"
+    try:
+        plan = plan_program(program, config, start, label)
+    except JobError as exc:
+        raise JobError(f"{path}: {exc}") from None
+    return Job(path=path, program=program, plan=plan)

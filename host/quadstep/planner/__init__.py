@@ -1,0 +1,1 @@
+"""Motion planning: a Program of moves becomes exact, limit-respecting segments."""

@@ -1,0 +1,65 @@
+"""Look-ahead: the speed at every junction between moves.
+
+Corners follow GRBL's junction-deviation rule: the speed at which a circle of
+radius `junction_deviation`·sin(θ/2)/(1−sin(θ/2)) tangent to both moves could be
+followed at the junction's acceleration limit. A backward pass then lowers
+every junction so the machine can still stop by the end of the job (or the
+next stop), and a forward pass so each speed can be reached from the one
+before. Speeds in mm/tick.
+"""
+
+from __future__ import annotations
+
+import math
+
+from ..config import MachineConfig
+from .moves import MoveTable
+
+# Ramps are planned at this fraction of each move's acceleration limit; the
+# rest is room for rounding every phase to whole ticks (docs/PLANNER.md).
+PLAN_ACCEL_FRACTION = 0.98
+
+
+def _junction_speed(table: MoveTable, k: int, config: MachineConfig, amax: list[float]) -> float:
+    """Highest speed at the junction between move k−1 and move k (mm/tick)."""
+    e1 = table.unit[k - 1]
+    e2 = table.unit[k]
+    cos_theta = -sum(a * b for a, b in zip(e1, e2))
+    cap = min(table.max_speed[k - 1], table.max_speed[k])
+    if cos_theta > 0.999999:
+        return 0.0  # full reversal
+    if cos_theta < -0.999999:
+        return cap  # straight on
+    turn = [b - a for a, b in zip(e1, e2)]
+    norm = math.sqrt(sum(x * x for x in turn))
+    accel = min(table.accel_cap[k - 1], table.accel_cap[k])  # a move's own lower limit, if it has one
+    for i, x in enumerate(turn):
+        if abs(x) > 1e-12:
+            accel = min(accel, amax[i] * norm / abs(x))
+    sin_half = math.sqrt(0.5 * (1.0 - cos_theta))
+    deviation = config.junction_deviation
+    return min(cap, math.sqrt(accel * deviation * sin_half / (1.0 - sin_half)))
+
+
+def junction_speeds(table: MoveTable, config: MachineConfig) -> list[float]:
+    """Entry speed of every move, plus the exit speed of the last (always 0): len(table) + 1 values."""
+    count = len(table)
+    hz = float(config.tick_hz)
+    amax = [a.max_accel / (hz * hz) for a in config.axes]
+    stopped = {index for index, _ in table.stops}
+    limit = [0.0] * (count + 1)
+    for k in range(1, count):
+        if k not in stopped:
+            limit[k] = _junction_speed(table, k, config, amax)
+    accel = [a * PLAN_ACCEL_FRACTION for a in table.accel]
+    # backward: every entry speed must be able to slow to the next one within the move
+    for k in range(count - 1, -1, -1):
+        reachable = math.sqrt(limit[k + 1] * limit[k + 1] + 2.0 * accel[k] * table.length[k])
+        if reachable < limit[k]:
+            limit[k] = reachable
+    # forward: and be reachable from the one before
+    for k in range(count):
+        reachable = math.sqrt(limit[k] * limit[k] + 2.0 * accel[k] * table.length[k])
+        if reachable < limit[k + 1]:
+            limit[k + 1] = reachable
+    return limit

@@ -1,0 +1,115 @@
+"""Program → Plan: moves and limits, look-ahead, whole-tick profiles, exact segments."""
+
+from __future__ import annotations
+
+from array import array
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..config import MachineConfig
+from ..protocol.segment import D
+from .lookahead import PLAN_ACCEL_FRACTION, junction_speeds
+from .moves import MoveTable, build_moves
+from .profile import fit_profiles
+from .program import Dwell, JobError, Pause, Program
+from .quantize import Quantizer
+from .segments import SegmentArrays
+
+
+@dataclass
+class Plan:
+    """A whole job, planned: its segments, where it starts and ends, and where it pauses."""
+
+    config: MachineConfig
+    segments: SegmentArrays
+    start: tuple[int, ...]
+    end: tuple[int, ...]
+    pauses: list[tuple[int, int]] = field(default_factory=list)  # (segment index, line) before which to wait
+    moves: int = 0
+    distance_mm: float = 0.0
+    lines: int = 0
+    max_landing_error: int = 0  # largest |ideal − target| at a move end, in 1/8192 step
+    move_ends: array = field(default_factory=lambda: array("i"))  # segments planned after each move
+    retries: int = 0  # moves whose best profile would have missed a target by rounding
+
+    def __len__(self) -> int:
+        return len(self.segments)
+
+    @property
+    def duration_ticks(self) -> int:
+        return int(np.sum(self.segments.numpy()["n"], dtype=np.int64))
+
+    @property
+    def duration_s(self) -> float:
+        return self.duration_ticks / self.config.tick_hz
+
+    def peak_speeds(self) -> list[float]:
+        """Highest planned speed per axis, mm/s."""
+        arrays = self.segments.numpy()
+        if len(self) == 0:
+            return [0.0] * len(self.config.axes)
+        top = np.maximum(arrays["v0"].max(axis=0), arrays["vn"].max(axis=0))
+        return [
+            float(top[i]) / D * self.config.tick_hz / axis.steps_per_mm for i, axis in enumerate(self.config.axes)
+        ]
+
+
+def plan_program(
+    program: Program, config: MachineConfig, start: tuple[int, ...] | None = None, label: str = "line"
+) -> Plan:
+    """Plan every item of `program` from stepper positions `start` (default all 0)."""
+    begin = tuple(start) if start is not None else (0,) * len(config.axes)
+    table = build_moves(program, config, begin, label)
+    return plan_moves(table, config, program.lines, label)
+
+
+def plan_moves(table: MoveTable, config: MachineConfig, lines: int = 0, label: str = "line") -> Plan:
+    entry = junction_speeds(table, config)
+    out = SegmentArrays(len(config.axes))
+    quantizer = Quantizer(out, table.start)
+    pauses: list[tuple[int, int]] = []
+    move_ends = array("i")
+    retries = 0
+    stops = iter(table.stops)
+    next_stop = next(stops, None)
+
+    def flush_stops(before: int) -> None:
+        nonlocal next_stop
+        while next_stop is not None and next_stop[0] <= before:
+            item = next_stop[1]
+            if isinstance(item, Dwell):
+                quantizer.dwell(round(item.seconds * config.tick_hz), item.line)
+            elif isinstance(item, Pause):
+                pauses.append((len(out), item.line))
+            next_stop = next(stops, None)
+
+    for k in range(len(table)):
+        flush_stops(k)
+        accel = table.accel[k]
+        profiles = fit_profiles(
+            table.length[k], entry[k], entry[k + 1], table.max_speed[k], accel, accel * PLAN_ACCEL_FRACTION
+        )
+        for attempt, profile in enumerate(profiles):
+            retries += attempt > 0
+            if quantizer.move(table.target[k], table.length[k], profile, table.line[k]):
+                break
+            if quantizer.move(table.target[k], table.length[k], profile, table.line[k], continuous=False):
+                break
+        else:
+            raise JobError(f"{label} {table.line[k]}: no whole-tick profile lands this move exactly; lower max_speed")
+        move_ends.append(len(out))
+    flush_stops(len(table))
+    return Plan(
+        config=config,
+        segments=out,
+        start=table.start,
+        end=tuple(quantizer.position),
+        pauses=pauses,
+        moves=len(table),
+        distance_mm=float(sum(table.length)),
+        lines=lines,
+        max_landing_error=quantizer.max_landing_error,
+        move_ends=move_ends,
+        retries=retries,
+    )

@@ -1,0 +1,52 @@
+"""What a job asks for, in machine coordinates, before any planning.
+
+The G-code parser and the move-file loader both produce a Program; the
+planner turns it into segments. Positions are absolute machine coordinates in
+mm, one value per configured axis, in the configuration's axis order.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+
+class JobError(ValueError):
+    """A job that cannot run; the message names the line (or move) and what is wrong."""
+
+
+@dataclass(frozen=True, slots=True)
+class LinearMove:
+    """A straight move to `target`; feed None means rapid (each axis's own maximum speed)."""
+
+    line: int
+    target: tuple[float, ...]
+    feed: float | None  # mm/s along the path
+    accel: float | None = None  # mm/s² along the path, None: the machine's limits only
+
+
+@dataclass(frozen=True, slots=True)
+class Dwell:
+    """Stand still for `seconds` (the machine comes to rest first)."""
+
+    line: int
+    seconds: float
+
+
+@dataclass(frozen=True, slots=True)
+class Pause:
+    """Come to rest and wait for the operator (M0)."""
+
+    line: int
+
+
+Item = LinearMove | Dwell | Pause
+
+
+@dataclass
+class Program:
+    """A parsed job: items in order, plus what the parser skipped and where the job ended."""
+
+    items: list[Item] = field(default_factory=list)
+    skipped: list[tuple[int, str]] = field(default_factory=list)  # (line, word)
+    lines: int = 0  # source lines (or moves) read
+    end_line: int | None = None  # line of M2/M30, if any

@@ -1,0 +1,220 @@
+"""Jobs end to end: the CLI plans, checks and streams them to the real emulator over a pty.
+
+The emulator's step trace must equal the host's bit-exact prediction of the plan,
+step for step, and every axis must end exactly on the job's last target.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import signal
+import struct
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from quadstep.cli import main
+from quadstep.config import load_config
+from quadstep.engine_model import predict
+from quadstep.job import load_job
+from quadstep.link import Link
+from quadstep.protocol import SetPosition, State, StatusReport
+
+REPO = Path(__file__).resolve().parents[2]
+EXAMPLES = REPO / "examples"
+ROUTER = EXAMPLES / "router-uno.toml"
+CONFIG = load_config(ROUTER)
+Capture = pytest.CaptureFixture[str]
+
+
+def read_trace(path: Path) -> np.ndarray:
+    rows = np.loadtxt(path, delimiter=",", skiprows=1, dtype=np.int64, ndmin=2)
+    return rows.reshape(-1, 3)
+
+
+def run_cli(args: list[str], capsys: Capture) -> tuple[int, str, str]:
+    code = main(args)
+    out, err = capsys.readouterr()
+    return code, out, err
+
+
+@pytest.mark.parametrize("job", ["demo.gcode", "moves.yaml"])
+def test_examples_run_exactly_as_predicted(job: str, start_emulator, tmp_path: Path, capsys: Capture) -> None:
+    trace = tmp_path / "trace.csv"
+    emu = start_emulator(free=True, trace=trace, axes=3)
+    code, out, err = run_cli(["run", str(EXAMPLES / job), "--config", str(ROUTER), "--port", emu.url, "--json"], capsys)
+    assert code == 0, err
+    result = json.loads(out)
+    plan = load_job(EXAMPLES / job, CONFIG).plan
+    assert result["completed"] and result["exact"]
+    assert result["positions_steps"] == list(plan.end) == [0, 0, 0]
+    assert result["motion_ticks"] == plan.duration_ticks
+    summary = emu.stop()
+    expected = predict(plan.segments.segments(), list(plan.start), axis_count=3)
+    steps = read_trace(trace)
+    assert len(steps) == len(expected.steps) > 10000
+    assert np.array_equal(steps, expected.steps)
+    assert summary["segments_done"] == len(plan)
+
+
+def test_a_job_starts_where_the_machine_stands(start_emulator, tmp_path: Path, capsys: Capture) -> None:
+    """Relative and absolute moves from a non-zero position, with arcs, land exactly."""
+    job = tmp_path / "offset.gcode"
+    job.write_text("G91 G1 X5 Y-3 F1200\nG2 X4 Y4 I2 J2\nG90 G1 X100.0004 Y50.0001 Z-2\nG0 Z0\n")
+    trace = tmp_path / "trace.csv"
+    emu = start_emulator(free=True, trace=trace, axes=3)
+    start = (12345, 6789, -40)
+    with Link.open(emu.url) as link:
+        link.send(SetPosition(positions=dict(enumerate(start))))
+        link.drain()
+    code, out, err = run_cli(["run", str(job), "--config", str(ROUTER), "--port", emu.url, "--json"], capsys)
+    assert code == 0, err
+    plan = load_job(job, CONFIG, start).plan
+    assert json.loads(out)["positions_steps"] == [40000, 20000, 0] == list(plan.end)
+    emu.stop()
+    expected = predict(plan.segments.segments(), list(start), axis_count=3)
+    assert np.array_equal(read_trace(trace), expected.steps)
+
+
+def status_of(url: str) -> StatusReport:
+    with Link.open(url) as link:
+        return link.status()
+
+
+def test_a_job_leaving_the_travel_moves_nothing(start_emulator, tmp_path: Path, capsys: Capture) -> None:
+    job = tmp_path / "far.gcode"
+    job.write_text("G1 X10 Y10 F600\nG1 X20\nG1 Y250\nG1 X0 Y0\n")
+    emu = start_emulator(axes=3)
+    code, out, err = run_cli(["run", str(job), "--config", str(ROUTER), "--port", emu.url], capsys)
+    assert code == 1
+    assert err == f"quadstep run: error: {job}: line 3: Y 250.000 mm is outside the travel 0.000 … 200.000 mm\n"
+    status = status_of(emu.url)
+    assert (status.segments_done, status.motion_ticks, tuple(status.position[:3])) == (0, 0, (0, 0, 0))
+
+
+def test_a_syntax_error_moves_nothing(start_emulator, tmp_path: Path, capsys: Capture) -> None:
+    job = tmp_path / "typo.gcode"
+    job.write_text("G1 X10 F600\nG1 X20 Y5\nG1 X3O\n")
+    emu = start_emulator(axes=3)
+    code, _, err = run_cli(["run", str(job), "--config", str(ROUTER), "--port", emu.url], capsys)
+    assert code == 1
+    assert err == f"quadstep run: error: {job}: line 3, column 6: 'O' has no number after it\n"
+    assert status_of(emu.url).segments_done == 0
+
+
+def test_a_different_tick_rate_is_refused(start_emulator, tmp_path: Path, capsys: Capture) -> None:
+    config = tmp_path / "m.toml"
+    config.write_text(ROUTER.read_text().replace("tick_hz = 50000", "tick_hz = 40000"))
+    emu = start_emulator(axes=3, tick_hz=50000)
+    code, _, err = run_cli(["run", str(EXAMPLES / "demo.gcode"), "--config", str(config), "--port", emu.url], capsys)
+    assert code == 1
+    assert err == (
+        f"quadstep run: error: {config}: tick_hz = 40000, but the firmware ticks at 50000 Hz (identify); "
+        "set tick_hz = 50000 in the configuration\n"
+    )
+    assert status_of(emu.url).segments_done == 0
+
+
+def cli_process(*args: str, stdin: int | None = None) -> subprocess.Popen[str]:
+    """`python3 -m quadstep.cli ARGS` in the repository, using this checkout's package."""
+    env = dict(os.environ, PYTHONPATH=str(REPO / "host"))
+    return subprocess.Popen(
+        [sys.executable, "-m", "quadstep.cli", *args],
+        stdin=stdin, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, cwd=REPO, env=env,
+    )
+
+
+def test_ctrl_c_stops_the_machine_and_reports_where(start_emulator) -> None:
+    emu = start_emulator(axes=3)  # real time: the demo takes about 11 s
+    process = cli_process("run", "examples/demo.gcode", "--config", str(ROUTER), "--port", emu.url)
+    assert process.stdout is not None
+    first = process.stdout.readline()  # printed when streaming starts
+    time.sleep(1.5)
+    process.send_signal(signal.SIGINT)  # as Ctrl-C does
+    out, err = process.communicate(timeout=30)
+    assert process.returncode == 130, err
+    lines = [first.rstrip("\n"), *out.splitlines()]
+    assert lines[0].startswith("examples/demo.gcode: 39 lines, ")
+    assert lines[1].startswith("stopped at line ")
+    status = status_of(emu.url)
+    assert status.state == State.IDLE and status.queue_fill == 0
+    shown = "  ".join(f"{a.name} {a.to_mm(s):.3f} mm ({s} steps)" for a, s in zip(CONFIG.axes, status.position))
+    assert lines[2] == f"position: {shown}"
+    assert 0 < status.segments_done < len(load_job(EXAMPLES / "demo.gcode", CONFIG).plan)
+
+
+def test_m0_waits_at_rest_for_the_operator(start_emulator, tmp_path: Path) -> None:
+    job = tmp_path / "pause.gcode"
+    job.write_text("G1 X10 Y5 F1200\nM0\nG1 X0 Y0\n")
+    trace = tmp_path / "trace.csv"
+    emu = start_emulator(free=True, axes=3, trace=trace)
+    process = cli_process("run", str(job), "--config", str(ROUTER), "--port", emu.url, stdin=subprocess.PIPE)
+    assert process.stderr is not None and process.stdin is not None
+    assert process.stderr.readline() == "paused at line 2 (M0): press Enter to continue, Ctrl-C to stop\n"
+    # the emulator writes its trace out whenever it goes idle: at the pause it holds the first move only
+    steps = read_trace(trace)
+    moved = [int(np.sum(steps[steps[:, 1] == axis, 2])) for axis in range(3)]
+    assert tuple(moved) == CONFIG.to_steps((10.0, 5.0, 0.0))
+    out, err = process.communicate("\n", timeout=30)
+    assert process.returncode == 0, err
+    assert out.splitlines()[-1] == "every axis is exactly where the job put it"
+    emu.stop()
+    assert len(read_trace(trace)) == 2 * len(steps)
+
+
+def test_check_summarises_without_a_machine(capsys: Capture) -> None:
+    code, out, _ = run_cli(["check", str(EXAMPLES / "demo.gcode"), "--config", str(ROUTER), "--json"], capsys)
+    assert code == 0
+    summary = json.loads(out)
+    plan = load_job(EXAMPLES / "demo.gcode", CONFIG).plan
+    assert summary["segments"] == len(plan)
+    assert summary["moves"] == plan.moves > 100
+    assert summary["duration_s"] == pytest.approx(plan.duration_ticks / CONFIG.tick_hz)
+    assert summary["distance_mm"] == pytest.approx(plan.distance_mm)
+    for axis, config in zip(summary["axes"], CONFIG.axes):
+        assert 0 < axis["peak_speed"] <= config.max_speed + CONFIG.tick_hz / 4096 / config.steps_per_mm
+    code, out, _ = run_cli(["check", str(EXAMPLES / "demo.gcode"), "--config", str(ROUTER)], capsys)
+    assert out.splitlines()[0] == (
+        f"{EXAMPLES / 'demo.gcode'}: {summary['lines']} lines, {summary['moves']} moves, "
+        f"{summary['segments']} segments ({summary['wire_bytes'] / 1000:.1f} kB on the wire)"
+    )
+
+
+def test_unsupported_words_refused_or_listed(tmp_path: Path, capsys: Capture) -> None:
+    job = tmp_path / "spindle.gcode"
+    job.write_text("M3 S10000\nG1 X10 F600\nM5\n")
+    code, _, err = run_cli(["check", str(job), "--config", str(ROUTER)], capsys)
+    assert code == 1
+    assert err == (
+        f"quadstep check: error: {job}: line 1, column 1: 'M3' (spindle on) is not supported; "
+        "--skip-unsupported skips spindle, coolant and tool words\n"
+    )
+    code, out, _ = run_cli(["check", str(job), "--config", str(ROUTER), "--skip-unsupported"], capsys)
+    assert code == 0
+    assert out.splitlines()[-1] == "skipped 3 unsupported words: line 1: M3, line 1: S10000, line 3: M5"
+
+
+def test_plot_writes_a_png(tmp_path: Path, capsys: Capture) -> None:
+    image = tmp_path / "demo.png"
+    code, out, _ = run_cli(["plot", str(EXAMPLES / "demo.gcode"), "--config", str(ROUTER), "-o", str(image)], capsys)
+    assert code == 0 and out == f"wrote {image}\n"
+    data = image.read_bytes()
+    assert data[:8] == b"\x89PNG\r\n\x1a\n"
+    assert struct.unpack(">II", data[16:24]) == (1200, 800)
+
+
+def test_missing_config_is_a_clear_error(
+    tmp_path: Path, capsys: Capture, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    monkeypatch.chdir(tmp_path)
+    code, _, err = run_cli(["check", str(EXAMPLES / "demo.gcode")], capsys)
+    assert code == 1
+    assert err == (
+        "quadstep check: error: no machine configuration: give --config FILE "
+        "(or put quadstep.toml in this directory)\n"
+    )

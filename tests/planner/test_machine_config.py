@@ -1,0 +1,107 @@
+"""Machine configuration: the example loads, and every bad value is named with its range."""
+
+from __future__ import annotations
+
+import copy
+from pathlib import Path
+from typing import Any
+
+import pytest
+
+from quadstep.config import ConfigError, load_config, parse_config
+
+REPO = Path(__file__).resolve().parents[2]
+EXAMPLE = REPO / "examples" / "router-uno.toml"
+
+GOOD: dict[str, Any] = {
+    "tick_hz": 50000,
+    "axes": [
+        {"name": "X", "steps_per_mm": 80, "max_speed": 200, "max_accel": 1000, "travel_min": 0, "travel_max": 300},
+        {"name": "Y", "steps_per_mm": 80, "max_speed": 200, "max_accel": 1000, "travel_min": 0, "travel_max": 300},
+    ],
+}
+
+
+def bad(change: dict[str, Any], axis: int | None = None) -> str:
+    data = copy.deepcopy(GOOD)
+    (data["axes"][axis] if axis is not None else data).update(change)
+    with pytest.raises(ConfigError) as caught:
+        parse_config(data, "m.toml")
+    return str(caught.value)
+
+
+def test_the_example_router_config_loads() -> None:
+    config = load_config(EXAMPLE)
+    assert config.axis_names == ("X", "Y", "Z")
+    assert config.tick_hz == 50000
+    for axis in config.axes:
+        # under 3/4 step per tick at the firmware's tick rate
+        assert axis.max_speed * axis.steps_per_mm <= 0.75 * config.tick_hz
+
+
+def test_defaults_for_cornering_and_arcs() -> None:
+    config = parse_config(GOOD)
+    assert config.junction_deviation == 0.01
+    assert config.arc_tolerance == 0.002
+
+
+@pytest.mark.parametrize(
+    ("change", "axis", "message"),
+    [
+        ({"tick_hz": 0}, None, "m.toml: tick_hz = 0: must be at least 1000"),
+        ({"junction_deviation": -1}, None, "m.toml: junction_deviation = -1: must be greater than 0"),
+        ({"arc_tolerance": 0}, None, "m.toml: arc_tolerance = 0: must be greater than 0"),
+        ({"steps_per_mm": 0}, 0, "m.toml: axes[0].steps_per_mm = 0: must be greater than 0"),
+        ({"max_accel": -3}, 1, "m.toml: axes[1].max_accel = -3: must be greater than 0"),
+        ({"name": "Q"}, 1, "m.toml: axes[1].name = 'Q': must be one of 'X', 'Y', 'Z' or 'A'"),
+        ({"travel_max": -1}, 0, "m.toml: axes[0].travel_max = -1.0: must be greater than travel_min = 0.0"),
+        ({"max_speed": 500}, 1, "m.toml: axes[1].max_speed = 500.0: must be at most 468.75 mm/s "
+                                "(3/4 step per tick at tick_hz 50000 with 80 steps/mm)"),
+        ({"spindle": 1}, None, "m.toml: spindle: unknown key"),
+        ({"max_jerk": 1}, 0, "m.toml: axes[0].max_jerk: unknown key"),
+    ],
+)
+def test_bad_values_name_key_value_and_range(change: dict[str, Any], axis: int | None, message: str) -> None:
+    assert bad(change, axis) == message
+
+
+def test_missing_and_duplicate_axes() -> None:
+    data = copy.deepcopy(GOOD)
+    del data["axes"][0]["travel_min"]
+    with pytest.raises(ConfigError, match=r"^m\.toml: axes\[0\]\.travel_min: missing$"):
+        parse_config(data, "m.toml")
+    data = copy.deepcopy(GOOD)
+    data["axes"][1]["name"] = "X"
+    with pytest.raises(ConfigError, match=r"^m\.toml: axes: names must be unique, got \['X', 'X'\]$"):
+        parse_config(data, "m.toml")
+
+
+def test_every_problem_is_reported_at_once() -> None:
+    data = copy.deepcopy(GOOD)
+    data["tick_hz"] = 10
+    data["axes"][0]["steps_per_mm"] = -1
+    with pytest.raises(ConfigError) as caught:
+        parse_config(data, "m.toml")
+    assert str(caught.value).splitlines() == [
+        "m.toml: tick_hz = 10: must be at least 1000",
+        "m.toml: axes[0].steps_per_mm = -1: must be greater than 0",
+    ]
+
+
+def test_unreadable_and_malformed_files(tmp_path: Path) -> None:
+    with pytest.raises(ConfigError, match="cannot read"):
+        load_config(tmp_path / "absent.toml")
+    broken = tmp_path / "broken.toml"
+    broken.write_text("tick_hz = = 5\n")
+    with pytest.raises(ConfigError, match=r"broken\.toml: not valid TOML"):
+        load_config(broken)
+
+
+def test_steps_are_rounded_once_from_absolute_millimetres() -> None:
+    axis = parse_config(GOOD).axes[0]
+    assert axis.to_steps(0.00625) == 1  # 0.5 step rounds up
+    assert axis.to_steps(-0.00625) == 0
+    assert axis.to_steps(12.3456) == 988
+    inverted = axis.model_copy(update={"invert": True})
+    assert inverted.to_steps(12.3456) == -988
+    assert inverted.to_mm(-988) == pytest.approx(12.35)
