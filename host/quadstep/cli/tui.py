@@ -1,0 +1,54 @@
+"""`quadstep tui (--port PORT | --emulator) [--config FILE]`: jog, zero and run jobs in the terminal."""
+
+from __future__ import annotations
+
+import argparse
+from pathlib import Path
+
+from pydantic import ValidationError
+
+from ..config import ConfigError, load_config
+from ..jog import JogSettings
+from ._jobs import DEFAULT_CONFIG
+from .options import CliError, add_connection_options, format_validation_error
+
+
+def register(subparsers: argparse._SubParsersAction) -> None:
+    parser = subparsers.add_parser("tui", help="terminal user interface: positions, jogging, jobs")
+    add_connection_options(parser)
+    parser.add_argument("--config", type=Path, metavar="FILE",
+                        help=f"machine configuration (TOML; default ./{DEFAULT_CONFIG} if present, else a "
+                             "generic one: 80 steps/mm, travel ±1000 mm)")
+    parser.add_argument("--job", metavar="FILE", default="", help="job file offered when o is pressed")
+    defaults = JogSettings()
+    parser.add_argument("--first-repeat-timeout", type=float, metavar="S", default=defaults.first_repeat_timeout,
+                        help="continuous jog: stop if the first key repeat does not come within S seconds "
+                             f"(covers the terminal's initial repeat delay; default {defaults.first_repeat_timeout:g})")
+    parser.add_argument("--repeat-timeout", type=float, metavar="S", default=defaults.repeat_timeout,
+                        help="continuous jog: stop if the next key repeat does not come within S seconds "
+                             f"(default {defaults.repeat_timeout:g})")
+    parser.set_defaults(handler=run)
+
+
+def settings_from(args: argparse.Namespace) -> JogSettings:
+    try:
+        return JogSettings(first_repeat_timeout=args.first_repeat_timeout, repeat_timeout=args.repeat_timeout)
+    except ValidationError as exc:
+        raise CliError(format_validation_error(exc)) from None
+
+
+def run(args: argparse.Namespace) -> int:
+    from ..tui import QuadstepApp, Session, Target  # Textual loads only for this command
+
+    if not args.emulator and (args.free or args.trace):
+        raise CliError("--free and --trace apply only with --emulator")
+    path = args.config if args.config is not None else (DEFAULT_CONFIG if DEFAULT_CONFIG.exists() else None)
+    try:
+        config = load_config(path) if path is not None else None
+    except ConfigError as exc:
+        raise CliError(str(exc)) from None
+    options = {"free": args.free, "trace": args.trace} if args.emulator else {}
+    target = Target(port=args.port, emulator=args.emulator, baud=args.baud, emulator_options=options)
+    session = Session(target, config, settings_from(args))
+    QuadstepApp(session, job_path=args.job).run()
+    return 0

@@ -1,0 +1,238 @@
+"""One planned motion on its way to the board: streamed from a thread, halted by HOLD at any moment.
+
+Jogs and jobs both run as a Motion. Streaming can keep the motion queued on
+the board short (`lookahead_ticks`), so that a host that disappears leaves
+little behind. halt() may be called from any thread: it sends HOLD, which
+makes the board decelerate every moving axis to rest at the given
+deceleration and discard the queued tail, and it returns the exact rest
+position the board reports.
+"""
+
+from __future__ import annotations
+
+import threading
+import time
+from collections.abc import Sequence
+from dataclasses import dataclass
+from itertools import accumulate
+
+from ..link import AlarmError, Link, LinkError, Stopped
+from ..planner.segments import SegmentArrays
+from ..protocol import DECEL_MAX, AckReason, Capability, Report
+
+# Keep at least this many segments queued, whatever the lookahead, so the board
+# always has the next one when a segment ends.
+MIN_QUEUED_SEGMENTS = 2
+SPACE_WAIT = 0.005  # s between checks while the lookahead is full
+STALL_POLL = 0.25  # s without a completed segment before asking for STATUS
+
+
+@dataclass(frozen=True)
+class MotionEnd:
+    """How a motion ended and where the machine rests."""
+
+    ended_by: str  # "done", "error", "reset" (a STOP from elsewhere), or the reason given to halt()
+    position: tuple[int, ...]  # step positions at rest
+    segments_done: int  # segments of this motion the board completed (before any hold)
+    stop_event_ns: int | None = None  # time.monotonic_ns() when halt() was called
+    held: bool = False  # brought to rest by HOLD (controlled deceleration)
+    hold_tick: int | None = None  # motion tick at which the deceleration began
+    error: str | None = None
+
+
+@dataclass(frozen=True)
+class Rest:
+    """Where a HOLD (or, without HOLD, a STOP) left the machine."""
+
+    position: tuple[int, ...]
+    held: bool
+    hold_tick: int | None
+
+
+def supports_hold(link: Link) -> bool:
+    ident = link.identity
+    return ident is not None and bool(ident.capabilities & Capability.HOLD)
+
+
+def bring_to_rest(link: Link, decels: Sequence[int]) -> Rest:
+    """HOLD: decelerate every axis to rest and drop the queued tail; STOP where the firmware has no HOLD.
+
+    `decels` covers the planned axes; the firmware's others stand still and get the largest.
+    """
+    if supports_hold(link):
+        per_axis = list(decels[: link.axis_count]) + [DECEL_MAX] * (link.axis_count - len(decels))
+        done = link.hold(per_axis)
+        return Rest(tuple(done.position), True, done.hold_tick)
+    status = link.stop()
+    return Rest(tuple(status.position), False, None)
+
+
+class Motion:
+    """Streams segments [first, last) of `segments`; start() it, then wait() or halt()."""
+
+    def __init__(
+        self,
+        link: Link,
+        segments: SegmentArrays,
+        decels: Sequence[int],
+        *,
+        first: int = 0,
+        last: int | None = None,
+        lookahead_ticks: int | None = None,
+    ) -> None:
+        self.link = link
+        self.segments = segments
+        self.decels = tuple(decels)
+        self.first = first
+        self.last = len(segments) if last is None else last
+        self.lookahead_ticks = lookahead_ticks
+        self._lock = threading.Lock()
+        self._space = threading.Event()
+        self._ended = threading.Event()
+        self._end: MotionEnd | None = None
+        self._halting: str | None = None
+        self._sent = 0
+        self._base_done = 0
+        self._thread = threading.Thread(target=self._run, name="quadstep-motion", daemon=True)
+
+    # --- progress ------------------------------------------------------------------
+
+    @property
+    def sent(self) -> int:
+        return self._sent
+
+    @property
+    def done(self) -> int:
+        """Segments of this motion the board has completed."""
+        return min(self._sent, self.link.segments_done - self._base_done)
+
+    @property
+    def end(self) -> MotionEnd | None:
+        return self._end
+
+    # --- control -------------------------------------------------------------------
+
+    def start(self) -> Motion:
+        self._base_done = self.link.segments_done
+        self._thread.start()
+        return self
+
+    def wait(self, timeout: float | None = None) -> MotionEnd | None:
+        self._ended.wait(timeout)
+        return self._end
+
+    def halt(self, reason: str = "stop") -> MotionEnd:
+        """Bring the machine to rest now (HOLD) and end the motion; idempotent."""
+        stop_ns = time.monotonic_ns()  # the stop event, for latency figures
+        with self._lock:
+            first = self._end is None and self._halting is None
+            if first:
+                self._halting = reason
+        if not first:
+            self._ended.wait()
+            assert self._end is not None
+            return self._end
+        self._space.set()
+        done = self.done
+        try:
+            rest = bring_to_rest(self.link, self.decels)
+        except AlarmError as exc:  # the board had halted on an alarm already
+            end = self._after_alarm(exc)
+            end = MotionEnd(reason, end.position, done, stop_ns, error=end.error)
+        except LinkError as exc:
+            end = MotionEnd("error", (), done, stop_ns, error=f"could not stop the motion: {exc}")
+        else:
+            end = MotionEnd(reason, self._axes(rest.position), done, stop_ns, rest.held, rest.hold_tick)
+        self._finish(end, from_halt=True)
+        return end
+
+    # --- the streaming thread --------------------------------------------------------
+
+    def _run(self) -> None:
+        unregister = self.link.on_report(self._on_report)
+        try:
+            self._stream()
+            status = self.link.wait_idle()
+            self._finish(MotionEnd("done", self._axes(status.position), self.done))
+        except Stopped:
+            self._after_stop()  # halt(), or a STOP from elsewhere
+        except AlarmError as exc:
+            self._finish(self._after_alarm(exc))
+        except LinkError as exc:
+            self._finish(MotionEnd("error", (), self.done, error=str(exc)))
+        finally:
+            unregister()
+
+    def _stream(self) -> None:
+        ticks = list(accumulate((self.segments.n[i] for i in range(self.first, self.last)), initial=0))
+        identity = self.link.identity
+        assert identity is not None
+        for index in range(self.first, self.last):
+            k = index - self.first
+            self._wait_for_room(k, ticks, identity.queue_capacity)
+            segment = self.segments.segment(index)
+            # Checked and sent under the lock: once halt() has set _halting nothing more is
+            # sent, so no segment can follow its HOLD. The room waited for above makes this
+            # send return at once, so halt() never waits long for the lock.
+            with self._lock:
+                if self._halting:
+                    return
+                self.link.send(segment)
+                self._sent = k + 1
+
+    def _wait_for_room(self, k: int, ticks: list[int], capacity: int) -> None:
+        """Until segment k fits in the board's queue and within the lookahead (or a halt)."""
+        last_done, since = -1, time.monotonic()
+        while not self._halting:
+            done = self.done
+            queued = k - done
+            if queued < capacity and (
+                self.lookahead_ticks is None
+                or queued < MIN_QUEUED_SEGMENTS
+                or ticks[k] - ticks[done] < self.lookahead_ticks
+            ):
+                return
+            now = time.monotonic()
+            if done != last_done:
+                last_done, since = done, now
+            elif now - since > STALL_POLL:
+                self.link.status()  # a SPACE ack lost on the wire: the status carries the count
+                since = now
+            self._space.wait(SPACE_WAIT)
+            self._space.clear()
+
+    def _after_stop(self) -> None:
+        """A STOP from elsewhere (not halt()) dropped the rest of the motion: end where the board stands."""
+        with self._lock:
+            if self._halting is not None:
+                return
+        try:
+            position = self._axes(self.link.status().position)
+        except LinkError as exc:
+            self._finish(MotionEnd("error", (), self.done, error=str(exc)))
+            return
+        self._finish(MotionEnd("reset", position, self.done))
+
+    def _after_alarm(self, exc: AlarmError) -> MotionEnd:
+        """The board halted on an alarm (positions exact); clear it so the machine can go on."""
+        message = str(exc)
+        try:
+            status = self.link.stop()
+        except LinkError as stop_exc:
+            return MotionEnd("error", self._axes(exc.alarm.position), self.done, error=f"{message}; {stop_exc}")
+        return MotionEnd("error", self._axes(status.position), self.done, error=message)
+
+    def _axes(self, position: Sequence[int]) -> tuple[int, ...]:
+        """The board reports every axis it has; the motion concerns the plan's."""
+        return tuple(position[: self.segments.axis_count])
+
+    def _on_report(self, report: Report) -> None:
+        if getattr(report, "reason", None) == AckReason.SPACE:
+            self._space.set()
+
+    def _finish(self, end: MotionEnd, from_halt: bool = False) -> None:
+        with self._lock:
+            if self._end is not None or (self._halting is not None and not from_halt):
+                return
+            self._end = end
+        self._ended.set()

@@ -1,0 +1,36 @@
+"""`quadstep tui`: the Textual application around one Session and its machine screen."""
+
+from __future__ import annotations
+
+import asyncio
+
+from textual.app import App
+
+from .screen import MachineScreen
+from .session import Session
+from .style import CSS
+
+
+class QuadstepApp(App[None]):
+    CSS = CSS
+    ENABLE_COMMAND_PALETTE = False
+
+    def __init__(self, session: Session, job_path: str = "", poll_interval: float | None = None) -> None:
+        super().__init__()
+        self.session = session
+        if poll_interval is None:
+            self.machine = MachineScreen(session, job_path)
+        else:
+            self.machine = MachineScreen(session, job_path, poll_interval)
+
+    def on_mount(self) -> None:
+        self.push_screen(self.machine)
+
+    async def on_unmount(self) -> None:
+        await asyncio.to_thread(self._shut_down)
+
+    def _shut_down(self) -> None:
+        job = self.machine.job
+        if job is not None:
+            job.halt("quit")  # bring the machine to rest before the link closes
+        self.session.close()

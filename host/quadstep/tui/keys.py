@@ -1,0 +1,85 @@
+"""The key map: arrows jog X/Y, Page Up/Down jog Z (as in bCNC and most senders), number keys pick the step."""
+
+from __future__ import annotations
+
+from textual.binding import Binding, BindingType
+
+JOG = Binding.Group("jog", compact=True)
+STEP = Binding.Group("step", compact=True)
+SPEED = Binding.Group("speed", compact=True)
+STOP = Binding.Group("stop", compact=True)
+
+JOG_KEYS = (
+    ("left", 0, -1, "←", "X−"),
+    ("right", 0, 1, "→", "X+"),
+    ("up", 1, 1, "↑", "Y+"),
+    ("down", 1, -1, "↓", "Y−"),
+    ("pageup", 2, 1, "PgUp", "Z+"),
+    ("pagedown", 2, -1, "PgDn", "Z−"),
+)
+
+
+def bindings(step_presets: int) -> list[BindingType]:
+    """Every binding of the machine screen, in the order the footer and the help screen show them."""
+    keys: list[BindingType] = [
+        Binding(key, f"jog({axis}, {direction})", label, key_display=display, group=JOG)
+        for key, axis, direction, display, label in JOG_KEYS
+    ]
+    keys += [
+        Binding(str(i + 1), f"step_preset({i})", "step", group=STEP) for i in range(min(step_presets, 9))
+    ]
+    keys += [
+        Binding("minus", "speed(-1)", "slower", key_display="-", group=SPEED),
+        Binding("plus,equals_sign", "speed(1)", "faster", key_display="+", group=SPEED),
+        Binding("c", "toggle_mode", "cont/incr"),
+        Binding("space", "halt", "stop", key_display="Space", group=STOP),
+        Binding("escape", "halt", "stop", key_display="Esc", group=STOP),
+        Binding("x", "zero(0)", "zero X", show=False),
+        Binding("y", "zero(1)", "zero Y", show=False),
+        Binding("z", "zero(2)", "zero Z", show=False),
+        Binding("a", "zero(3)", "zero A", show=False),
+        Binding("0", "zero_all", "zero all"),
+        Binding("o", "open_job", "job"),
+        Binding("g", "resume", "go on", show=False),
+        Binding("ctrl+x", "reset", "STOP now", show=False),
+        Binding("ctrl+r", "reconnect", "reconnect", show=False),
+        Binding("question_mark,f1", "help", "help", key_display="?"),
+    ]
+    return keys
+
+
+HELP = """\
+[b]Jogging[/b]
+  ← →            X− / X+
+  ↑ ↓            Y+ / Y−
+  PgUp PgDn      Z+ / Z−
+  1 … {steps}          step size: {step_list} mm
+  - +            slower / faster: {speed_list} % of each axis's max
+  c              switch incremental ↔ continuous
+
+  Incremental: one press moves exactly the step size (presses queue up).
+  Continuous: the axis moves while the key is held and decelerates to rest
+  {first:g} s after the press if the key does not repeat, {repeat:g} s after
+  the last repeat, or at once on Space/Esc. It never passes a soft limit:
+  it comes to rest exactly on it.
+
+[b]Stopping[/b]
+  Space, Esc     controlled stop (HOLD): decelerate to rest, drop the rest
+  Ctrl+X         immediate STOP (no deceleration); also clears an alarm
+
+[b]Position[/b]
+  x y z a        make the current position of that axis 0 (SET_POSITION)
+  0              make the current position 0 on every axis
+  Soft limits are the configured travel, in these coordinates.
+
+[b]Jobs[/b]
+  o              open a G-code or move file and run it (planned first:
+                 nothing moves if any line is wrong)
+  g              go on after a pause (M0)
+  Space, Esc     stop the job (HOLD)
+
+[b]Connection[/b]
+  Ctrl+R         reconnect after the link was lost
+  ?, F1          this help;  Esc or q closes it
+  Ctrl+Q         quit (brings any motion to rest first)
+"""

@@ -1,0 +1,117 @@
+"""The panels of the machine screen: positions, machine state, jog settings, job progress."""
+
+from __future__ import annotations
+
+from rich.text import Text
+from textual.app import ComposeResult
+from textual.containers import Vertical
+from textual.widgets import ProgressBar, RichLog, Static
+
+from ..config import MachineConfig
+from ..jog import JogMode, Jogger
+from ..protocol import IdentifyReply, State
+from .job_run import JobProgress
+from .session import Snapshot
+
+STATE_STYLE = {State.IDLE: "green", State.RUNNING: "cyan", State.HOLDING: "yellow", State.ALARM: "bold red"}
+
+
+class Panel(Static):
+    """A Static redrawn often: plain Text (cheap to render), relaid out only when its height changes."""
+
+    _lines = -1
+
+    def show_text(self, text: Text) -> None:
+        lines = len(text.plain.splitlines())
+        self.update(text, layout=lines != self._lines)
+        self._lines = lines
+
+
+class PositionPanel(Panel):
+    """Per axis: position in mm and in steps, and the soft limits."""
+
+    def show(self, config: MachineConfig, snapshot: Snapshot | None) -> None:
+        text = Text(f"{'axis':<5}{'mm':>12}{'steps':>12}{'travel (mm)':>18}", style="dim")
+        for i, axis in enumerate(config.axes):
+            if snapshot is None:
+                mm, steps = "—", "—"
+            else:
+                mm, steps = f"{snapshot.position_mm[i]:.3f}", str(snapshot.status.position[i])
+            text.append(f"\n{axis.name:<5}", style="bold")
+            text.append(f"{mm:>12}", style="bold")
+            text.append(f"{steps:>12}")
+            text.append(f"{f'{axis.travel_min:g} … {axis.travel_max:g}':>18}", style="dim")
+        self.show_text(text)
+
+
+class MachinePanel(Panel):
+    """State, alarm, queue fill, feed and link health."""
+
+    def show(self, identity: IdentifyReply | None, snapshot: Snapshot | None, lost: str | None) -> None:
+        text = Text("state  ", style="dim")
+        if lost is not None:
+            text.append("DISCONNECTED", style="bold white on red")
+        elif snapshot is None or identity is None:
+            text.append("connecting…", style="yellow")
+        else:
+            st = snapshot.status
+            text.append(st.state.name, style=STATE_STYLE.get(st.state, ""))
+            if st.alarm:
+                text.append(f"  {st.alarm.name}", style="bold red")
+            health = snapshot.link
+            bad = health["retransmits"] or health["errors"] or health["decode_errors"] or health["timeouts"]
+            text.append("\nqueue  ", style="dim")
+            text.append(f"{st.queue_fill} / {identity.queue_capacity}")
+            text.append("\nfeed   ", style="dim")
+            text.append(f"{snapshot.feed:.0f} mm/min")
+            text.append("\nlink   ", style="dim")
+            text.append("degraded" if bad else "ok", style="yellow" if bad else "green")
+            text.append(f"\n       retransmits {health['retransmits']}  timeouts {health['timeouts']}")
+            text.append(f"\n       errors {health['errors']}  bad frames {health['decode_errors']}")
+        self.show_text(text)
+
+
+class JogPanel(Panel):
+    """The jog mode and the selected step and speed."""
+
+    def show(self, jogger: Jogger | None) -> None:
+        if jogger is None:
+            self.show_text(Text(""))
+            return
+        mode = "CONTINUOUS" if jogger.mode == JogMode.CONTINUOUS else "INCREMENTAL"
+        text = Text.assemble(("jog ", "dim"), (mode, "bold"), ("   step ", "dim"), f"{jogger.distance:g} mm",
+                             ("   speed ", "dim"), f"{jogger.speed_fraction * 100:g} %")
+        speeds = "  ".join(f"{axis.name} {jogger.speed(i) * 60:.0f}" for i, axis in enumerate(jogger.config.axes))
+        text.append(f"  ({speeds} mm/min)", style="dim")
+        self.show_text(text)
+
+
+class JobPanel(Vertical):
+    """The running job: file, line, progress, time left."""
+
+    def compose(self) -> ComposeResult:
+        yield Static("no job  (o opens one)", id="job-label")
+        bar = ProgressBar(total=1, show_eta=False, id="job-progress")
+        bar.display = False
+        yield bar
+
+    def show(self, name: str | None, progress: JobProgress | None, outcome: str = "") -> None:
+        label = self.query_one("#job-label", Static)
+        bar = self.query_one("#job-progress", ProgressBar)
+        bar.display = name is not None
+        if name is None:
+            label.update(outcome or "no job  (o opens one)")
+            return
+        if progress is None:
+            label.update(f"{name}: {outcome}")
+            return
+        text = f"{name}: line {progress.line}, segment {progress.done} / {progress.total}, "
+        text += f"{progress.seconds_left:.1f} s left"
+        if progress.paused_at is not None:
+            text += f"   PAUSED at line {progress.paused_at}: g goes on"
+        label.update(text)
+        bar.update(total=max(progress.total, 1), progress=progress.done)
+
+
+class MessageLog(RichLog, can_focus=False):
+    """What happened, newest last; not focusable, so every key reaches the jog bindings."""

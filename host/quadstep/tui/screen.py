@@ -1,0 +1,369 @@
+"""The machine screen: what the machine does, and the keys that jog it, zero it and run jobs.
+
+Nothing here waits on the serial line: connecting, polling, jogging and jobs
+run in worker threads and report back with messages (messages.py).
+"""
+
+from __future__ import annotations
+
+import threading
+from collections.abc import Callable
+from pathlib import Path
+
+from rich.text import Text
+from textual.app import ComposeResult
+from textual.containers import Horizontal
+from textual.screen import Screen
+from textual.widgets import Footer, Header, Static
+
+from ..jog import JogMode, Jogger, JogResult
+from ..jog.motion import MotionEnd
+from ..job import load_job
+from ..link import LinkError
+from ..planner.program import JobError
+from ..protocol import Board
+from .help import HelpScreen
+from .job_dialog import JobDialog
+from .job_run import JobRun
+from .keys import bindings
+from .messages import Connected, ConnectionLost, JobDone, JobStarted, JogDone, Note, StatusUpdate
+from .panels import JobPanel, JogPanel, MachinePanel, MessageLog, PositionPanel
+from .session import Session, Snapshot
+
+POLL_INTERVAL = 0.1  # s between STATUS requests
+
+
+def _board_name(board: int) -> str:
+    try:
+        return Board(board).name.lower()
+    except ValueError:
+        return f"board {board}"
+
+
+class MachineScreen(Screen[None]):
+    BINDINGS = bindings(9)  # step keys beyond the presets are hidden by check_action
+
+    def __init__(self, session: Session, job_path: str = "", poll_interval: float = POLL_INTERVAL) -> None:
+        super().__init__()
+        self.session = session
+        session.on_jog = self.jog_finished
+        self.job_path = job_path
+        self.poll_interval = poll_interval
+        self.snapshot: Snapshot | None = None
+        self.job: JobRun | None = None
+        self.job_name: str | None = None
+        self._poll_stop = threading.Event()
+        self._connecting = False
+        self.messages: list[str] = []  # every line of the message log, for scripts and tests
+
+    # --- layout ----------------------------------------------------------------------------
+
+    def compose(self) -> ComposeResult:
+        yield Header(icon="")
+        yield Static("", id="banner")
+        with Horizontal(id="top"):
+            yield PositionPanel(id="positions")
+            yield MachinePanel(id="machine")
+        yield JogPanel(id="jog")
+        yield JobPanel(id="job")
+        yield MessageLog(id="log", wrap=True)
+        yield Footer()
+
+    def on_mount(self) -> None:
+        self.app.title = "quadstep"
+        self.app.sub_title = self.session.target.label
+        self.query_one("#banner", Static).display = False
+        self.query_one(PositionPanel).border_title = "position"
+        self.query_one(MachinePanel).border_title = "machine"
+        self.query_one(MessageLog).border_title = "messages"
+        self.connect()
+
+    def on_unmount(self) -> None:
+        self._poll_stop.set()
+
+    def log_line(self, text: str, error: bool = False) -> None:
+        self.messages.append(text)
+        self.query_one(MessageLog).write(Text(text, style="red" if error else ""))
+
+    def refresh_panels(self) -> None:
+        session = self.session
+        if session.config is not None:
+            self.query_one(PositionPanel).show(session.config, self.snapshot if session.connected else None)
+        self.query_one(MachinePanel).show(session.identity, self.snapshot, session.lost)
+        self.query_one(JogPanel).show(session.jogger if session.connected else None)
+
+    # --- connection ------------------------------------------------------------------------
+
+    def connect(self) -> None:
+        if self._connecting:
+            return
+        self._connecting = True
+        self._stop_polling()
+        self.snapshot = None
+        self.refresh_panels()
+        self.log_line(f"connecting to {self.session.target.label}…")
+        self._thread(self._connect_worker, "quadstep-connect")
+
+    def _connect_worker(self) -> None:
+        try:
+            identity = self.session.connect()
+        except Exception as exc:  # every failure is shown; the user may retry
+            self.session.mark_lost(f"cannot connect: {exc}")
+            self.post_message(ConnectionLost(f"cannot connect: {exc}"))
+            return
+        self.post_message(Connected(identity))
+
+    def on_connected(self, message: Connected) -> None:
+        self._connecting = False
+        ident = message.identity
+        config = self.session.config
+        assert config is not None
+        self.query_one("#banner", Static).display = False
+        self.app.sub_title = (
+            f"{self.session.target.label} · firmware {ident.fw_major}.{ident.fw_minor}.{ident.fw_patch} · "
+            f"{len(config.axes)} axes · {ident.tick_hz / 1000:g} kHz"
+        )
+        given = "" if self.session.config_given is not None else " (no --config: default 80 steps/mm, ±1000 mm)"
+        self.log_line(f"connected: {_board_name(ident.board)}, {ident.axis_count} axes, "
+                      f"queue {ident.queue_capacity}{given}")
+        self._start_polling()
+        self.refresh_panels()
+
+    def on_connection_lost(self, message: ConnectionLost) -> None:
+        self._connecting = False
+        self._stop_polling()
+        banner = self.query_one("#banner", Static)
+        banner.update(f"DISCONNECTED: {message.reason}   (Ctrl+R reconnects)")
+        banner.display = True
+        self.log_line(f"connection lost: {message.reason}", error=True)
+        self.refresh_panels()
+
+    def _start_polling(self) -> None:
+        stop = self._poll_stop = threading.Event()
+        self._thread(lambda: self._poll_worker(stop), "quadstep-poll")
+
+    def _stop_polling(self) -> None:
+        self._poll_stop.set()
+
+    def _poll_worker(self, stop: threading.Event) -> None:
+        while not stop.is_set():
+            try:
+                snapshot = self.session.snapshot()
+            except LinkError as exc:
+                if not stop.is_set():
+                    self.post_message(ConnectionLost(str(exc)))
+                return
+            job = self.job
+            self.post_message(StatusUpdate(snapshot, job.progress if job is not None else None))
+            stop.wait(self.poll_interval)
+
+    def on_status_update(self, message: StatusUpdate) -> None:
+        if not self.session.connected:
+            return
+        if message.snapshot == self.snapshot and message.job is None:
+            return  # nothing changed: no redraw
+        self.snapshot = message.snapshot
+        if self.job is not None and message.job is not None:
+            self.query_one(JobPanel).show(self.job_name, message.job)
+        self.refresh_panels()
+
+    # --- jogging ---------------------------------------------------------------------------
+
+    def check_action(self, action: str, parameters: tuple[object, ...]) -> bool | None:
+        if action == "step_preset":
+            return int(parameters[0]) < len(self.session.settings.step_presets)  # type: ignore[call-overload]
+        if action in ("zero",):
+            config = self.session.config
+            return config is None or int(parameters[0]) < len(config.axes)  # type: ignore[call-overload]
+        return True
+
+    def _jogger_ready(self, what: str) -> Jogger | None:
+        jogger = self.session.jogger
+        if not self.session.connected or jogger is None:
+            self.log_line(f"{what}: not connected (Ctrl+R reconnects)", error=True)
+            return None
+        if self.job is not None:
+            self.log_line(f"{what}: a job is running (Space stops it)", error=True)
+            return None
+        return jogger
+
+    def action_jog(self, axis: int, direction: int) -> None:
+        jogger = self._jogger_ready("jog")
+        if jogger is None:
+            return
+        if axis >= len(jogger.config.axes):
+            self.log_line(f"jog: this machine has no axis {'XYZA'[axis]}", error=True)
+            return
+        self._command(lambda: jogger.jog(axis, direction), "jog")
+
+    def action_step_preset(self, index: int) -> None:
+        jogger = self.session.jogger
+        if jogger is not None:
+            jogger.select_step(index)
+            self.refresh_panels()
+
+    def action_speed(self, delta: int) -> None:
+        jogger = self.session.jogger
+        if jogger is not None:
+            jogger.change_speed(delta)
+            self.refresh_panels()
+
+    def action_toggle_mode(self) -> None:
+        jogger = self.session.jogger
+        if jogger is not None:
+            if jogger.busy:
+                self.log_line("mode: stop the jog first", error=True)
+                return
+            mode = jogger.toggle_mode()
+            self.log_line(f"jog mode: {mode.value}")
+            self.refresh_panels()
+
+    def on_jog_done(self, message: JogDone) -> None:
+        result = message.result
+        if result.message:
+            self.log_line(result.message, error=bool(result.end is not None and result.end.error))
+        if result.kind == JogMode.CONTINUOUS and result.end is not None and not result.end.error:
+            config = self.session.config
+            assert config is not None
+            axis = config.axes[result.axis]
+            self.log_line(f"{axis.name} at {axis.to_mm(result.position[result.axis]):.3f} mm "
+                          f"({result.position[result.axis]} steps)")
+
+    def action_halt(self) -> None:
+        """Space/Esc: cancel queued jog presses and bring whatever moves to rest with HOLD."""
+        self.session.cancel_pending()
+        job, jogger = self.job, self.session.jogger
+        if job is not None:
+            self._thread(job.halt, "quadstep-halt")
+        elif jogger is not None and jogger.busy:
+            self._thread(jogger.stop, "quadstep-halt")
+
+    def action_reset(self) -> None:
+        """Ctrl+X: immediate STOP, no deceleration; clears an alarm."""
+        self.session.cancel_pending()
+        link = self.session.link
+        if link is None or not self.session.connected:
+            self.log_line("STOP: not connected", error=True)
+            return
+
+        def stop() -> None:
+            status = link.stop()
+            self.post_message(Note(f"STOP: stopped at once at steps {list(status.position)}"))
+
+        self._thread(lambda: self._guard(stop, "STOP"), "quadstep-reset")
+
+    def action_zero(self, axis: int) -> None:
+        self._zero([axis])
+
+    def action_zero_all(self) -> None:
+        config = self.session.config
+        if config is not None:
+            self._zero(list(range(len(config.axes))))
+
+    def _zero(self, axes: list[int]) -> None:
+        jogger = self._jogger_ready("zero")
+        if jogger is None:
+            return
+        names = ", ".join(jogger.config.axes[a].name for a in axes)
+
+        def zero() -> None:
+            jogger.zero(axes)
+            self.post_message(Note(f"zeroed {names}"))
+
+        self._command(zero, "zero")
+
+    def _command(self, command: Callable[[], object], what: str) -> None:
+        self.session.submit(lambda: self._guard(command, what))
+
+    def _guard(self, command: Callable[[], object], what: str) -> None:
+        """Run a command in a worker thread; its failure becomes a red line, never a crash."""
+        try:
+            command()
+        except (LinkError, ValueError, JobError) as exc:
+            self.post_message(Note(f"{what}: {exc}", error=True))
+
+    # --- jobs ------------------------------------------------------------------------------
+
+    def action_open_job(self) -> None:
+        if self._jogger_ready("job") is None:
+            return
+        self.app.push_screen(JobDialog(self.job_path), self._job_chosen)
+
+    def _job_chosen(self, path: Path | None) -> None:
+        if path is None:
+            return
+        self.job_path = str(path)
+        jogger = self.session.jogger
+        link = self.session.link
+        if jogger is None or link is None or jogger.busy:
+            self.log_line("job: the machine is busy", error=True)
+            return
+        self.log_line(f"planning {path}…")
+        self._thread(lambda: self._job_worker(path), "quadstep-job")
+
+    def _job_worker(self, path: Path) -> None:
+        jogger, link = self.session.jogger, self.session.link
+        assert jogger is not None and link is not None
+        try:
+            jogger.sync()
+            plan = load_job(path, jogger.config, jogger.position).plan
+        except (JobError, LinkError) as exc:
+            self.post_message(Note(f"job not started: {exc}", error=True))
+            return
+        if len(plan) == 0:
+            self.post_message(Note(f"job not started: {path}: no move leaves the current position", error=True))
+            return
+        job = JobRun(link, plan, jogger.decels, path)
+        self.post_message(JobStarted(job))
+        end = job.run()
+        self.post_message(JobDone(path.name, end))
+
+    def on_job_started(self, message: JobStarted) -> None:
+        job = message.job
+        self.job = job
+        self.job_name = job.path.name
+        self.log_line(f"running {job.path.name}: {len(job.plan)} segments, {job.plan.duration_s:.1f} s planned")
+        self.query_one(JobPanel).show(self.job_name, job.progress)
+
+    def on_job_done(self, message: JobDone) -> None:
+        job = self.job
+        self.job = None
+        end: MotionEnd = message.end
+        if end.ended_by == "done":
+            outcome = "done"
+        elif end.error:
+            outcome = f"failed: {end.error}"
+        else:
+            line = job.progress.line if job is not None else "?"
+            outcome = f"stopped near line {line} ({'HOLD' if end.held else 'STOP'})"
+        self.log_line(f"{message.name}: {outcome}", error=bool(end.error))
+        self.query_one(JobPanel).show(None, None, f"{message.name}: {outcome}")
+        jogger = self.session.jogger
+        if jogger is not None and self.session.connected:
+            self._command(jogger.sync, "sync")
+
+    def action_resume(self) -> None:
+        if self.job is None or not self.job.resume():
+            self.log_line("go on: no job waits at a pause", error=True)
+
+    # --- the rest --------------------------------------------------------------------------
+
+    def on_note(self, message: Note) -> None:
+        self.log_line(message.text, message.error)
+
+    def action_reconnect(self) -> None:
+        if self.job is not None:
+            self.job = None
+        self.connect()
+
+    def action_help(self) -> None:
+        self.app.push_screen(HelpScreen(self.session.settings))
+
+    def jog_finished(self, result: JogResult) -> None:
+        """Session callback, in a worker thread."""
+        self.post_message(JogDone(result))
+
+    def _thread(self, target: Callable[[], object], name: str) -> threading.Thread:
+        thread = threading.Thread(target=target, name=name, daemon=True)
+        thread.start()
+        return thread

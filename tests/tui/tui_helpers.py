@@ -1,0 +1,72 @@
+"""Shared by the jog and TUI tests: the test machine and key timing."""
+
+from __future__ import annotations
+
+from typing import Any
+
+from quadstep.jog import JogSettings
+
+# Short travel and brisk limits keep continuous jogs to the soft limit well under a second.
+MACHINE: dict[str, Any] = {
+    "tick_hz": 50000,
+    "axes": [
+        {"name": "X", "steps_per_mm": 80, "max_speed": 50, "max_accel": 500, "travel_min": 0, "travel_max": 40},
+        {"name": "Y", "steps_per_mm": 80, "max_speed": 50, "max_accel": 500, "travel_min": 0, "travel_max": 40},
+        {"name": "Z", "steps_per_mm": 400, "max_speed": 10, "max_accel": 200, "travel_min": -20, "travel_max": 0},
+    ],
+}
+
+# Repeats every 40 ms after a 0.3 s initial delay (a fast terminal); the timeouts cover both.
+FAST_RELEASE = JogSettings(first_repeat_timeout=0.4, repeat_timeout=0.12)
+
+
+async def until(pilot, predicate, timeout: float = 10.0, what: str = "condition") -> None:  # noqa: ANN001
+    """Let the app run until predicate() holds; fail naming `what` after `timeout` seconds."""
+    import time
+
+    deadline = time.monotonic() + timeout
+    while not predicate():
+        if time.monotonic() > deadline:
+            raise AssertionError(f"timed out after {timeout} s waiting for {what}")
+        await pilot.pause(0.02)
+
+
+def log_text(app) -> str:  # noqa: ANN001
+    """Everything the message log shows, one message a line."""
+    return "\n".join(app.machine.messages)
+
+
+def read_holds(path) -> list[tuple[int, int]]:  # noqa: ANN001
+    """(hold_tick, monotonic_ns) of every hold in an emulator --events file."""
+    rows = []
+    for line in path.read_text().splitlines()[1:]:
+        kind, tick, ns = line.split(",")
+        if kind == "hold":
+            rows.append((int(tick), int(ns)))
+    return rows
+
+
+async def hold_key(app, key: str, seconds: float, first_delay: float = 0.3, interval: float = 0.04) -> None:  # noqa: ANN001
+    """A held key as a terminal sends it: one press, then repeats after an initial delay.
+
+    The events go straight to the app's queue, as the terminal driver puts them,
+    without waiting for the screen to settle after each (pilot.press does).
+    """
+    import asyncio
+    import time
+
+    from textual import events
+
+    end = time.monotonic() + seconds
+    app.post_message(events.Key(key, None))
+    await asyncio.sleep(first_delay)
+    while time.monotonic() < end:
+        app.post_message(events.Key(key, None))
+        await asyncio.sleep(interval)
+
+
+def send_key(app, key: str, char: str | None = None) -> None:  # noqa: ANN001
+    """One key event into the app's queue, as the terminal driver delivers it (no waiting)."""
+    from textual import events
+
+    app.post_message(events.Key(key, char))
