@@ -150,7 +150,7 @@ async def test_a_job_waits_at_m0_until_g(machine: MachineConfig, emulator_binary
 
 async def test_a_running_job_stops_with_space(machine: MachineConfig, emulator_binary: Path, tmp_path: Path) -> None:
     job = tmp_path / "long.gcode"
-    job.write_text("G1 X30 F600\nG1 X0\n")  # 10 mm/s: 3 s each way
+    job.write_text("G1 X30 F60\nG1 X0\n")  # 1 mm/s: the stop lands mid-move even on a loaded machine
     app = make_app(machine, emulator_binary, free=False, job_path=str(job))
     async with app.run_test(size=(100, 32)) as pilot:
         await connected(pilot, app)
@@ -221,7 +221,7 @@ async def test_quitting_during_a_job_brings_the_machine_to_rest(
     machine: MachineConfig, emulator_binary: Path, tmp_path: Path
 ) -> None:
     job = tmp_path / "long.gcode"
-    job.write_text("G1 X30 F600\n")
+    job.write_text("G1 X30 F60\n")  # 30 s: the quit lands mid-job even on a loaded machine
     app = make_app(machine, emulator_binary, free=False, job_path=str(job))
     async with app.run_test(size=(100, 32)) as pilot:
         await connected(pilot, app)
