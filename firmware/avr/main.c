@@ -10,20 +10,39 @@
 
 qs_core core;
 
-/* qs_core_poll's work comes from the tick, which then has released a
- * segment slot (a segment or a hold ended) or raised an alarm. Checking
- * that here costs a few cycles; calling poll with nothing to do costs over
- * a hundred, and the loop runs on every tick (docs/AVR.md, "Where the
- * cycles go"). Every 256th pass polls anyway, so work of any other origin
- * waits at most that long. */
-static uint8_t poll_due(uint8_t *seen_tail, uint8_t *passes)
+/* Hands every received byte to the core: a run of them at a time, read in
+ * place; byte by byte only while a loss mark is near. A frame's delimiter
+ * is handled after its slots are free again. */
+static void receive(void)
 {
-    const uint8_t tail = core.engine.queue.tail;
-    if (tail != *seen_tail || core.engine.alarm != QS_ALARM_NONE || ++*passes == 0) {
-        *seen_tail = tail;
-        return 1;
+    for (;;) {
+        const uint8_t *bytes;
+        uint8_t count = uart_rx_run(&bytes);
+
+        if (count == 0) {
+            uint8_t byte;
+            if (!uart_rx_ready()) {
+                return;
+            }
+            if (uart_rx_take(&byte)) {
+                qs_core_rx_overrun(&core);
+            }
+            qs_core_rx(&core, byte);
+            continue;
+        }
+        while (count) {
+            const uint8_t taken = qs_core_rx_copy(&core, bytes, count);
+            if (taken == count) {
+                uart_rx_release(taken);
+                break;
+            }
+            /* A delimiter follows what was taken. */
+            uart_rx_release((uint8_t)(taken + 1));
+            bytes += taken + 1;
+            count = (uint8_t)(count - taken - 1);
+            qs_core_rx_end(&core);
+        }
     }
-    return 0;
 }
 
 int main(void)
@@ -35,19 +54,9 @@ int main(void)
     set_sleep_mode(SLEEP_MODE_IDLE);
     sei();
 
-    uint8_t seen_tail = core.engine.queue.tail;
-    uint8_t passes = 0;
     for (;;) {
-        while (uart_rx_ready()) {
-            uint8_t byte;
-            if (uart_rx_take(&byte)) {
-                qs_core_rx_overrun(&core);
-            }
-            qs_core_rx(&core, byte);
-        }
-        if (poll_due(&seen_tail, &passes)) {
-            qs_core_poll(&core);
-        }
+        receive();
+        qs_core_poll(&core); /* a few compares unless the tick left work */
 
         /* Sleep until the next interrupt (a tick or a byte). Interrupts stay
          * off between the check and the sleep so a byte cannot slip in

@@ -14,8 +14,12 @@
 
 #include "board.h"
 #include "firmware.h"
-#include "qs_engine_tick.h"
 #include "uart.h"
+
+/* axis_tick.h first: it puts the AVR's own per-axis decisions in place of
+ * the core's (the QS_*_AXIS_TICK hooks of qs_engine_tick.h). */
+#include "axis_tick.h"
+#include "qs_engine_tick.h"
 
 #ifndef QS_STEP_PULSE_US
 #define QS_STEP_PULSE_US 2

@@ -32,6 +32,8 @@ volatile uint8_t uart_rx_ring[QS_UART_RX_RING];
 /* The service marks slot head, the main loop clears slot tail: never the
  * same slot at once. */
 volatile uint8_t uart_rx_lost_before[QS_UART_RX_RING];
+volatile uint8_t uart_rx_marks;
+static uint8_t rx_marks_taken; /* main loop: marks cleared by uart_rx_take */
 volatile uint8_t uart_rx_head; /* next slot the service fills */
 volatile uint8_t uart_rx_tail; /* next slot the main loop takes */
 
@@ -46,6 +48,7 @@ void uart_init(void)
     UBRR0 = (uint16_t)UBRR_VALUE;
     UCSR0C = _BV(UCSZ01) | _BV(UCSZ00); /* 8N1 */
     UCSR0B = _BV(RXEN0) | _BV(TXEN0);    /* no USART interrupts: the tick services it */
+    uart_tx_pending = 0;
 }
 
 uint8_t uart_rx_ready(void)
@@ -59,21 +62,57 @@ uint8_t uart_rx_take(uint8_t *byte)
     const uint8_t lost = uart_rx_lost_before[tail];
     if (lost) {
         uart_rx_lost_before[tail] = 0;
+        rx_marks_taken++;
     }
     *byte = uart_rx_ring[tail];
     uart_rx_tail = (uint8_t)((tail + 1u) & UART_RX_MASK);
     return lost;
 }
 
+uint8_t uart_rx_run(const uint8_t **bytes)
+{
+    /* head before marks: a mark set after head was read stands at head
+     * or later, outside the run. */
+    const uint8_t head = uart_rx_head;
+    const uint8_t marks = uart_rx_marks;
+    const uint8_t tail = uart_rx_tail;
+    uint8_t count;
+
+    count = (uint8_t)((uint8_t)(head - tail) & UART_RX_MASK);
+    if (count > QS_UART_RX_RING - tail) { /* it wraps: up to the ring's end */
+        count = (uint8_t)(QS_UART_RX_RING - tail);
+    }
+    if (marks != rx_marks_taken) {
+        /* A loss is marked somewhere ahead: the run ends before the first
+         * mark, which uart_rx_take then reports. */
+        uint8_t clean = 0;
+        while (clean < count && !uart_rx_lost_before[tail + clean]) {
+            clean++;
+        }
+        count = clean;
+    }
+    /* The service writes no slot from tail to head: no longer volatile. */
+    *bytes = (const uint8_t *)&uart_rx_ring[tail];
+    return count;
+}
+
 void uart_write(const uint8_t *bytes, uint8_t len)
 {
-    while (len--) {
-        const uint8_t head = uart_tx_head;
-        const uint8_t next = (uint8_t)((head + 1u) & UART_TX_MASK);
-        while (next == uart_tx_tail) {
-            /* full: the tick drains it, a byte per tick */
+    uint8_t head = uart_tx_head;
+
+    while (len) {
+        /* Free slots: all but one, so that a full ring differs from an empty one. */
+        uint8_t room = (uint8_t)((uint8_t)(uart_tx_tail - head - 1u) & UART_TX_MASK);
+        if (room > len) {
+            room = len;
         }
-        uart_tx_ring[head] = *bytes++;
-        uart_tx_head = next;
+        len = (uint8_t)(len - room);
+        while (room--) {
+            uart_tx_ring[head] = *bytes++;
+            head = (uint8_t)((head + 1u) & UART_TX_MASK);
+        }
+        uart_tx_head = head;
+        uart_tx_pending = 1; /* after head: the service may just have cleared it */
+        /* A full ring waits here for the tick to send, a byte per tick. */
     }
 }

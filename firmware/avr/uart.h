@@ -32,6 +32,12 @@ uint8_t uart_rx_ready(void);
  * nonzero if bytes were lost on the line just before this one. */
 uint8_t uart_rx_take(uint8_t *byte);
 
+/* The oldest received bytes that lie one after another in the ring with
+ * no loss marked before any of them: *bytes and how many (0 when none, or
+ * when the oldest carries a mark: take it with uart_rx_take). The main
+ * loop reads them in place and gives them back with uart_rx_release. */
+uint8_t uart_rx_run(const uint8_t **bytes);
+
 /* Queues bytes for transmission, waiting for room; never drops. */
 void uart_write(const uint8_t *bytes, uint8_t len);
 
@@ -43,13 +49,28 @@ extern volatile uint8_t uart_rx_ring[QS_UART_RX_RING];
 /* Nonzero: bytes were lost on the line just before the byte that goes into
  * that slot. A byte per slot keeps the tick's part to one store. */
 extern volatile uint8_t uart_rx_lost_before[QS_UART_RX_RING];
+/* Marks set so far (mod 256), so that the main loop can tell without
+ * looking at every slot that none awaits it. */
+extern volatile uint8_t uart_rx_marks;
 extern volatile uint8_t uart_rx_head, uart_rx_tail;
 extern volatile uint8_t uart_tx_ring[QS_UART_TX_RING];
 extern volatile uint8_t uart_tx_head, uart_tx_tail;
 
+/* Gives back the first count bytes of a run (uart_rx_run). */
+static inline void uart_rx_release(uint8_t count)
+{
+    uart_rx_tail = (uint8_t)((uint8_t)(uart_rx_tail + count) & UART_RX_MASK);
+}
+
+/* Set while the transmit ring holds bytes, in a general-purpose I/O register
+ * that the service tests in one instruction: the main loop sets it after
+ * the bytes it queues, the service clears it when the ring runs empty. */
+#define uart_tx_pending GPIOR2
+
 /* Moves received bytes into the receive ring and, if the transmitter has
- * room, one byte out of the transmit ring. Called from the step tick
- * interrupt only; inline so it shares the interrupt's saved registers. */
+ * room and the ring has bytes, one byte out of the transmit ring. Called
+ * from the step tick interrupt only; inline so it shares the interrupt's
+ * saved registers. With nothing to move it costs a load and two tests. */
 static inline __attribute__((always_inline)) void uart_service(void)
 {
     uint8_t status;
@@ -61,7 +82,10 @@ static inline __attribute__((always_inline)) void uart_service(void)
         if (full || (status & _BV(DOR0))) {
             /* The line lost bytes (DOR), or the ring is full and this byte
              * is lost: either way before whatever lands in slot head. */
-            uart_rx_lost_before[head] = 1;
+            if (!uart_rx_lost_before[head]) {
+                uart_rx_lost_before[head] = 1;
+                uart_rx_marks++;
+            }
             if (full) {
                 continue;
             }
@@ -69,11 +93,13 @@ static inline __attribute__((always_inline)) void uart_service(void)
         uart_rx_ring[head] = byte;
         uart_rx_head = next;
     }
-    if (status & _BV(UDRE0)) {
+    if (uart_tx_pending && (status & _BV(UDRE0))) {
         const uint8_t tail = uart_tx_tail;
-        if (tail != uart_tx_head) {
-            UDR0 = uart_tx_ring[tail];
-            uart_tx_tail = (uint8_t)((tail + 1u) & UART_TX_MASK);
+        const uint8_t next = (uint8_t)((tail + 1u) & UART_TX_MASK);
+        UDR0 = uart_tx_ring[tail];
+        uart_tx_tail = next;
+        if (next == uart_tx_head) {
+            uart_tx_pending = 0;
         }
     }
 }

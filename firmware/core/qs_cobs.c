@@ -1,83 +1,44 @@
 #include "qs_cobs.h"
+#include "qs_config.h"
 
-void qs_cobs_decoder_reset(qs_cobs_decoder *d)
+QS_NOINLINE uint8_t qs_cobs_decode(uint8_t *buf, uint8_t len)
 {
-    d->len = 0;
-    d->block_left = 0;
-    d->zero_pending = 0;
-    d->started = 0;
-    d->too_long = 0;
+    uint8_t at = buf[0]; /* where the next code byte stands */
+
+    if (at > len)
+        return QS_COBS_BAD;
+    while (at != len) {
+        const uint8_t code = buf[at];
+        buf[at] = 0;
+        if (code > (uint8_t)(len - at))
+            return QS_COBS_BAD; /* the block runs past the delimiter */
+        at = (uint8_t)(at + code);
+    }
+    return QS_COBS_DONE;
 }
 
-static void store(qs_cobs_decoder *d, uint8_t byte)
+/* Shorter than 254 bytes, no block fills up (254 data bytes), so a code
+ * byte stands only where a zero is or where the data begin: each holds the
+ * distance to the next zero, or to the end. */
+void qs_cobs_stuff(uint8_t *buf, uint8_t len)
 {
-    if (d->len == QS_MAX_FRAME)
-        d->too_long = 1;
-    else
-        d->buf[d->len++] = byte;
-}
+    uint8_t code_at = 0, i;
 
-uint8_t qs_cobs_feed(qs_cobs_decoder *d, uint8_t byte)
-{
-    uint8_t result;
-
-    if (byte == 0) {
-        if (d->too_long)
-            result = QS_COBS_TOO_LONG;
-        else if (!d->started)
-            result = QS_COBS_EMPTY;
-        else if (d->block_left != 0)
-            result = QS_COBS_BAD;
-        else
-            result = QS_COBS_DONE;
-        /* Keep buf and len for the caller; the next byte starts afresh. */
-        d->block_left = 0;
-        d->zero_pending = 0;
-        d->started = 0;
-        d->too_long = 0;
-        return result;
+    for (i = 1; i <= len; i++) {
+        if (buf[i] == 0) {
+            buf[code_at] = (uint8_t)(i - code_at);
+            code_at = i;
+        }
     }
-    if (!d->started) {
-        d->started = 1;
-        d->len = 0;
-    }
-    if (d->too_long)
-        return QS_COBS_MORE;
-    if (d->block_left == 0) {
-        /* A code byte: the previous block's implied zero is real only now
-         * that more data follows it. */
-        if (d->zero_pending)
-            store(d, 0);
-        d->block_left = (uint8_t)(byte - 1);
-        d->zero_pending = (byte != 0xFF);
-    } else {
-        store(d, byte);
-        d->block_left--;
-    }
-    return QS_COBS_MORE;
+    buf[code_at] = (uint8_t)(len + 1 - code_at);
 }
 
 uint8_t qs_cobs_encode(const uint8_t *in, uint8_t len, uint8_t *out)
 {
-    uint8_t code_at = 0; /* where the current block's code byte goes */
-    uint8_t o = 1;
-    uint8_t code = 1;
     uint8_t i;
 
-    for (i = 0; i < len; i++) {
-        if (in[i] == 0) {
-            out[code_at] = code;
-            code_at = o++;
-            code = 1;
-        } else {
-            out[o++] = in[i];
-            if (++code == 0xFF) {
-                out[code_at] = code;
-                code_at = o++;
-                code = 1;
-            }
-        }
-    }
-    out[code_at] = code;
-    return o;
+    for (i = 0; i < len; i++)
+        out[i + 1] = in[i];
+    qs_cobs_stuff(out, len);
+    return (uint8_t)(len + 1);
 }

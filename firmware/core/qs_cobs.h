@@ -1,35 +1,30 @@
-/* Consistent Overhead Byte Stuffing: an incremental decoder fed one byte at a
- * time into a bounded buffer, and a block encoder. */
+/* Consistent Overhead Byte Stuffing: block decoding in place and encoding. */
 #ifndef QS_COBS_H
 #define QS_COBS_H
 
 #include <stdint.h>
 #include "qs_protocol.h"
 
-/* What a byte completed. */
-#define QS_COBS_MORE 0      /* inside a frame, or discarding */
-#define QS_COBS_EMPTY 1     /* delimiter with nothing before it: ignore */
-#define QS_COBS_DONE 2      /* a well-formed block: buf[0..len) */
-#define QS_COBS_TOO_LONG 3  /* more than QS_MAX_FRAME decoded bytes */
-#define QS_COBS_BAD 4       /* a code byte pointed past the delimiter */
+/* What decoding found. */
+#define QS_COBS_DONE 2      /* a well-formed block */
+#define QS_COBS_BAD 4       /* a code byte pointed past the end */
 
-typedef struct {
-    uint8_t buf[QS_MAX_FRAME];
-    uint8_t len;          /* decoded bytes stored */
-    uint8_t block_left;   /* data bytes still due in this block; 0: next is a code byte */
-    uint8_t zero_pending; /* the block ends in an implied zero, if more follows */
-    uint8_t started;      /* a byte arrived since the last delimiter */
-    uint8_t too_long;     /* overflowed: discard until the delimiter */
-} qs_cobs_decoder;
+/* Decode the len encoded bytes in buf (no delimiter; len < 255) in place:
+ * the decoded bytes are buf[1 .. len), len - 1 of them (valid only on
+ * DONE). Shorter than 255 bytes, a well-formed block has no 0xFF code
+ * (that would announce 254 data bytes), so every code byte after the
+ * first stands where its block's implied zero goes: decoding only walks
+ * the chain of code bytes and writes those zeros, and moves no data. */
+uint8_t qs_cobs_decode(uint8_t *buf, uint8_t len);
 
-void qs_cobs_decoder_reset(qs_cobs_decoder *d);
+/* Encode in place the len bytes (len < 254) at buf[1 .. len]: buf[0] and
+ * every zero among them become code bytes. No delimiter is written; the
+ * encoded block is buf[0 .. len]. */
+void qs_cobs_stuff(uint8_t *buf, uint8_t len);
 
-/* Feed one wire byte; on DONE the block is in d->buf, d->len, valid until
- * the next call. */
-uint8_t qs_cobs_feed(qs_cobs_decoder *d, uint8_t byte);
-
-/* Encode len bytes (len <= 254) into out, which needs len + 1 bytes; no
- * delimiter is written. Returns the encoded length. */
+/* The same from in to out, which needs len + 1 bytes. Returns len + 1. */
 uint8_t qs_cobs_encode(const uint8_t *in, uint8_t len, uint8_t *out);
+
+_Static_assert(QS_MAX_FRAME < 254, "frames short enough for COBS blocks that never fill up");
 
 #endif

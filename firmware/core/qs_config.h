@@ -35,13 +35,17 @@
 #define QS_FW_PATCH 0
 
 /* The tick path must compile into the timer interrupt without calls: a call
- * makes avr-gcc save every call-clobbered register in the ISR prologue. */
+ * makes avr-gcc save every call-clobbered register in the ISR prologue.
+ * QS_NOINLINE keeps rare, large work out of a hot caller, whose registers
+ * (and the stack frame they spill to) it would otherwise inflate. */
 #if defined(__GNUC__)
 #define QS_ALWAYS_INLINE __attribute__((always_inline)) inline
+#define QS_NOINLINE __attribute__((noinline))
 #define QS_COMPILER_BARRIER() __asm__ __volatile__("" ::: "memory")
 #define QS_UNLIKELY(x) __builtin_expect(!!(x), 0)
 #else
 #define QS_ALWAYS_INLINE inline
+#define QS_NOINLINE
 #define QS_COMPILER_BARRIER() ((void)0)
 #define QS_UNLIKELY(x) (x)
 #endif

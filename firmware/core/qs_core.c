@@ -2,17 +2,24 @@
 #include "qs_port.h"
 #include "qs_protocol.h"
 
-/* ---- sending ---- */
+/* ---- sending ----
+ * Every report is built in c->tx, after the byte that stuffing needs in
+ * front (QS_FRAME_BODY), and sealed and stuffed there in place: no second
+ * buffer and no copy. One report at a time: each is sent before the next
+ * is built. */
 
-static void send_body(uint8_t *body, uint8_t len)
+static uint8_t *tx_body(qs_core *c)
 {
-    uint8_t wire[QS_MAX_WIRE];
-    qs_port_send(wire, qs_frame_encode(body, len, wire));
+    return QS_FRAME_BODY(c->tx);
+}
+
+static void send_body(qs_core *c, uint8_t len)
+{
+    qs_port_send(c->tx, qs_frame_seal(c->tx, len));
 }
 
 static void send_ack(qs_core *c, uint8_t seq, uint8_t reason)
 {
-    uint8_t body[QS_MAX_FRAME];
     qs_ack a;
 
     qs_engine_retire(&c->engine);
@@ -20,12 +27,11 @@ static void send_ack(qs_core *c, uint8_t seq, uint8_t reason)
     a.next_seq = c->next_seq;
     a.free = qs_queue_free(&c->engine.queue);
     a.reason = reason;
-    send_body(body, qs_msg_encode_ack(body, seq, &a));
+    send_body(c, qs_msg_encode_ack(tx_body(c), seq, &a));
 }
 
-static void send_error(uint8_t seq, uint8_t type, const qs_fault *f)
+static void send_error(qs_core *c, uint8_t seq, uint8_t type, const qs_fault *f)
 {
-    uint8_t body[QS_MAX_FRAME];
     qs_error_report e;
 
     e.code = f->code;
@@ -33,12 +39,11 @@ static void send_error(uint8_t seq, uint8_t type, const qs_fault *f)
     e.seq = seq;
     e.field = f->field;
     e.axis = f->axis;
-    send_body(body, qs_msg_encode_error(body, seq, &e));
+    send_body(c, qs_msg_encode_error(tx_body(c), seq, &e));
 }
 
 static void send_identify_reply(qs_core *c, uint8_t seq)
 {
-    uint8_t body[QS_MAX_FRAME];
     qs_identity id;
 
     id.protocol_version = QS_PROTOCOL_VERSION;
@@ -53,46 +58,36 @@ static void send_identify_reply(qs_core *c, uint8_t seq)
     id.tick_hz = c->tick_hz;
     id.capabilities = QS_CAP_QUADRATIC | QS_CAP_SET_POSITION | QS_CAP_HOLD;
     id.next_seq = c->next_seq;
-    send_body(body, qs_msg_encode_identify_reply(body, seq, &id));
+    send_body(c, qs_msg_encode_identify_reply(tx_body(c), seq, &id));
 }
 
 /* The EVENT HOLD_DONE of a finished hold, once. Sent before anything else
  * is handled and before any status that shows the hold over, so a host
  * learns where the axes rest before it sees them idle. */
-static void report_hold_done(qs_core *c, uint8_t *body)
+static void report_pending_hold(qs_core *c)
 {
     qs_engine *e = &c->engine;
     uint32_t hold_tick;
 
     if (qs_engine_take_hold_done(e, &hold_tick))
-        send_body(body, qs_msg_encode_hold_done(body, QS_SEQ_UNSOLICITED, hold_tick, e->completed_ticks,
-                                                c->axis_count, e->base));
-}
-
-/* The same, where no frame is being built. */
-static void report_pending_hold(qs_core *c)
-{
-    uint8_t body[QS_MAX_FRAME];
-
-    report_hold_done(c, body);
+        send_body(c, qs_msg_encode_hold_done(tx_body(c), QS_SEQ_UNSOLICITED, hold_tick, e->completed_ticks,
+                                             c->axis_count, e->base));
 }
 
 /* The answer to seq. With hold_first, a hold that ended while the status
  * was read is reported first. */
 static void send_status_report(qs_core *c, uint8_t seq, uint8_t hold_first)
 {
-    uint8_t body[QS_MAX_FRAME];
     qs_status st;
 
     qs_core_status(c, &st);
     if (hold_first)
-        report_hold_done(c, body);
-    send_body(body, qs_msg_encode_status_report(body, seq, &st));
+        report_pending_hold(c);
+    send_body(c, qs_msg_encode_status_report(tx_body(c), seq, &st));
 }
 
 static void send_alarm(qs_core *c)
 {
-    uint8_t body[QS_MAX_FRAME];
     qs_alarm_report a;
     qs_engine_view v;
     uint8_t axis;
@@ -104,7 +99,7 @@ static void send_alarm(qs_core *c)
     for (axis = 0; axis < c->axis_count; axis++)
         a.position[axis] = v.position[axis];
     c->alarm_announced = 1;
-    send_body(body, qs_msg_encode_alarm(body, QS_SEQ_UNSOLICITED, &a));
+    send_body(c, qs_msg_encode_alarm(tx_body(c), QS_SEQ_UNSOLICITED, &a));
 }
 
 /* ---- bookkeeping ---- */
@@ -146,7 +141,7 @@ static void fault(qs_fault *f, uint8_t code)
 static void reject(qs_core *c, const qs_host_msg *m, const qs_fault *f)
 {
     count_error(c, f->code);
-    send_error(m->seq, m->type, f);
+    send_error(c, m->seq, m->type, f);
     c->next_seq++;
     send_ack(c, m->seq, QS_ACK_REJECTED);
 }
@@ -220,7 +215,7 @@ static void on_stop(qs_core *c, const qs_host_msg *m)
 static void refuse_immediate(qs_core *c, const qs_host_msg *m, const qs_fault *f)
 {
     count_error(c, f->code);
-    send_error(m->seq, m->type, f);
+    send_error(c, m->seq, m->type, f);
 }
 
 static void on_hold(qs_core *c, const qs_host_msg *m)
@@ -276,7 +271,7 @@ static void on_frame(qs_core *c, const uint8_t *body, uint8_t len)
     if (code != QS_ERR_NONE) {
         count_error(c, code);
         fault(&f, code);
-        send_error(m.seq, m.type, &f);
+        send_error(c, m.seq, m.type, &f);
         return;
     }
     switch (m.type) {
@@ -328,9 +323,9 @@ uint8_t qs_core_configure(qs_core *c, uint8_t axis_count, uint8_t queue_capacity
     return 1;
 }
 
-void qs_core_rx(qs_core *c, uint8_t byte)
+QS_NOINLINE void qs_core_rx_frame(qs_core *c)
 {
-    uint8_t result = qs_frame_rx_byte(&c->rx, byte);
+    uint8_t result = qs_frame_rx_end(&c->rx);
     qs_fault f;
 
     if (result == QS_FRAME_NOTHING)
@@ -342,7 +337,7 @@ void qs_core_rx(qs_core *c, uint8_t byte)
     /* Nothing in a frame that failed these checks can be trusted. */
     count_error(c, result);
     fault(&f, result);
-    send_error(QS_SEQ_UNSOLICITED, QS_SEQ_UNSOLICITED, &f);
+    send_error(c, QS_SEQ_UNSOLICITED, QS_SEQ_UNSOLICITED, &f);
 }
 
 void qs_core_rx_overrun(qs_core *c)
@@ -350,7 +345,7 @@ void qs_core_rx_overrun(qs_core *c)
     qs_frame_rx_overrun(&c->rx);
 }
 
-void qs_core_poll(qs_core *c)
+QS_NOINLINE void qs_core_poll_work(qs_core *c)
 {
     qs_engine_retire(&c->engine);
     /* One SPACE ack covers every segment finished since the last one. */

@@ -20,6 +20,7 @@ typedef struct {
     uint32_t tick_hz;         /* as reported */
     uint32_t space_announced; /* segments_done of the last SPACE ack */
     uint8_t alarm_announced;  /* the current alarm has been reported */
+    uint8_t tx[QS_MAX_WIRE];  /* the report being sent, built and sealed in place */
 } qs_core;
 
 void qs_core_init(qs_core *c);
@@ -30,16 +31,53 @@ void qs_core_init(qs_core *c);
  * range (nothing changed). */
 uint8_t qs_core_configure(qs_core *c, uint8_t axis_count, uint8_t queue_capacity, uint32_t tick_hz);
 
-/* One received byte; acts when it ends a frame. */
-void qs_core_rx(qs_core *c, uint8_t byte);
+/* A frame's delimiter: check the frame and act on it. */
+void qs_core_rx_frame(qs_core *c);
+
+/* The delimiter that ends a frame. A lone one (an empty frame, which hosts
+ * send to resynchronise or to idle the line) costs only this test. */
+static QS_ALWAYS_INLINE void qs_core_rx_end(qs_core *c)
+{
+    if (c->rx.len != 0 || c->rx.too_long || c->rx.overrun)
+        qs_core_rx_frame(c);
+}
+
+/* One received byte; acts when it ends a frame. Every other byte is only
+ * stored, here, inline in the target's receive loop. */
+static QS_ALWAYS_INLINE void qs_core_rx(qs_core *c, uint8_t byte)
+{
+    if (byte == 0)
+        qs_core_rx_end(c);
+    else
+        qs_frame_rx_store(&c->rx, byte);
+}
+
+/* Received bytes that arrived together: stored up to the first delimiter
+ * among them that ends a frame, which is not taken; returns how many were
+ * taken. The caller then takes the delimiter itself with qs_core_rx_end.
+ * The same as qs_core_rx byte by byte, without a call per byte. */
+static inline uint8_t qs_core_rx_copy(qs_core *c, const uint8_t *bytes, uint8_t len)
+{
+    return qs_frame_rx_copy(&c->rx, bytes, len);
+}
 
 /* The target lost received bytes: the frame in progress is rejected. */
 void qs_core_rx_overrun(qs_core *c);
 
 /* Deferred work: SPACE acks for completed segments, ALARM reports raised
  * by the tick, the HOLD_DONE of a hold the tick finished. Call often from
- * the main loop (at least whenever queue.tail has changed). */
-void qs_core_poll(qs_core *c);
+ * the main loop (at least whenever queue.tail has changed): with nothing
+ * to do it costs a few compares. */
+void qs_core_poll_work(qs_core *c);
+
+static QS_ALWAYS_INLINE void qs_core_poll(qs_core *c)
+{
+    const qs_engine *e = &c->engine;
+
+    if (e->queue.retired != e->queue.tail || e->segments_done != c->space_announced
+        || (e->alarm != QS_ALARM_NONE && !c->alarm_announced) || e->hold_report)
+        qs_core_poll_work(c);
+}
 
 /* A consistent snapshot of what STATUS_REPORT carries. */
 void qs_core_status(qs_core *c, qs_status *st);

@@ -1,19 +1,15 @@
 #include "qs_crc16.h"
 
-/* Byte-wise and branch-free: the eight shift-and-xor rounds of the bit-wise
- * CRC collapse into three shifted copies of one nibble-folded byte, so no
- * 512-byte table is needed on the AVR. */
-uint16_t qs_crc16_update(uint16_t crc, uint8_t byte)
-{
-    uint8_t x = (uint8_t)((crc >> 8) ^ byte);
-    x ^= (uint8_t)(x >> 4);
-    return (uint16_t)((crc << 8) ^ ((uint16_t)x << 12) ^ ((uint16_t)x << 5) ^ x);
-}
-
+/* qs_crc16_update with the two bytes kept apart across the loop. */
 uint16_t qs_crc16(const uint8_t *bytes, uint8_t len)
 {
-    uint16_t crc = QS_CRC16_INIT;
-    while (len--)
-        crc = qs_crc16_update(crc, *bytes++);
-    return crc;
+    uint8_t hi = (uint8_t)(QS_CRC16_INIT >> 8), lo = (uint8_t)QS_CRC16_INIT;
+
+    while (len--) {
+        uint8_t x = (uint8_t)(hi ^ *bytes++);
+        x ^= (uint8_t)(x >> 4);
+        hi = (uint8_t)(lo ^ (uint8_t)(x << 4) ^ (uint8_t)(x >> 3));
+        lo = (uint8_t)(x ^ (uint8_t)(x << 5));
+    }
+    return (uint16_t)((uint16_t)(hi << 8) | lo);
 }

@@ -8,6 +8,7 @@ void qs_engine_init(qs_engine *e, uint8_t queue_capacity)
     qs_queue_init(&e->queue, queue_capacity);
     e->seg = 0;
     e->left = 0;
+    e->slow_path = 1;
     e->dir_bits = 0;
     e->state = QS_STATE_IDLE;
     e->alarm = QS_ALARM_NONE;
@@ -30,14 +31,6 @@ static int32_t signed_steps(const qs_segment *s, uint8_t axis, int32_t steps, in
     return ((s->negative >> axis) & 1u) ? position - steps : position + steps;
 }
 
-/* Add the steps an axis made in the first t ticks of s to position. */
-static int32_t moved(const qs_segment *s, uint8_t axis, uint16_t t, int32_t position)
-{
-    if (!(s->active & (1u << axis)))
-        return position;
-    return signed_steps(s, axis, qs_segment_steps(s, axis, t), position);
-}
-
 /* What the running or held slot has done, taken with the tick locked out:
  * a few bytes, so that the closed forms (a division each) run unlocked.
  * The slot itself stays put meanwhile: only the main loop refills slots,
@@ -53,22 +46,33 @@ typedef struct {
     } at;
 } progress;
 
+_Static_assert(sizeof(qs_i24) == sizeof(qs_u24), "b and steps are copied alike");
+
+/* Kept short: it runs with the tick locked out. */
 static void take_progress(const qs_engine *e, progress *p)
 {
-    uint8_t axis;
+    const uint8_t *from;
+    uint8_t *to = (uint8_t *)&p->at;
+    uint8_t i;
 
-    p->held = e->held != 0;
-    p->seg = p->held ? e->held : e->left ? e->seg : 0;
-    if (!p->seg)
+    if (e->held) {
+        p->held = 1;
+        p->seg = e->held;
+        p->t = e->held_t0;
+        p->ticks = e->hold.ticks;
+        from = (const uint8_t *)e->hold.steps;
+    } else if (e->left) {
+        p->held = 0;
+        p->seg = e->seg;
+        p->t = (uint16_t)(e->seg->n - e->left);
+        p->ticks = 0;
+        from = (const uint8_t *)e->seg->b;
+    } else {
+        p->seg = 0;
         return;
-    p->t = p->held ? e->held_t0 : (uint16_t)(p->seg->n - e->left);
-    p->ticks = p->held ? e->hold.ticks : 0;
-    for (axis = 0; axis < QS_AXIS_COUNT; axis++) {
-        if (p->held)
-            p->at.steps[axis] = e->hold.steps[axis];
-        else
-            p->at.b[axis] = p->seg->b[axis];
     }
+    for (i = 0; i < sizeof p->at; i++)
+        to[i] = from[i];
 }
 
 static void add_progress(const progress *p, int32_t *position, uint32_t *ticks)
@@ -93,7 +97,7 @@ static void add_progress(const progress *p, int32_t *position, uint32_t *ticks)
 
 /* The hold is over: fold it into the totals (the tick no longer touches
  * it, so no snapshot is needed). */
-static void fold_held(qs_engine *e)
+static QS_NOINLINE void fold_held(qs_engine *e)
 {
     const qs_segment *s = e->held;
     uint8_t axis;
@@ -113,7 +117,7 @@ static void note_hold_done(qs_engine *e)
     e->hold_end_tick = e->completed_ticks;
 }
 
-void qs_engine_retire(qs_engine *e)
+void qs_engine_retire_slots(qs_engine *e)
 {
     qs_queue *q = &e->queue;
     uint8_t tail = q->tail; /* slots before it are the tick's no more */
@@ -128,8 +132,17 @@ void qs_engine_retire(qs_engine *e)
             e->state = QS_STATE_IDLE;
             note_hold_done(e);
         } else {
-            for (axis = 0; axis < QS_AXIS_COUNT; axis++)
-                e->base[axis] = moved(s, axis, s->n, e->base[axis]);
+            /* A whole segment: its step totals, no closed form needed (a
+             * walking bit: the AVR shifts by a variable count in a loop). */
+            uint8_t bit = 1;
+            for (axis = 0; axis < QS_AXIS_COUNT; axis++, bit = (uint8_t)(bit << 1)) {
+                if (!(s->active & bit))
+                    continue;
+                if (s->negative & bit)
+                    e->base[axis] -= s->total[axis];
+                else
+                    e->base[axis] += s->total[axis];
+            }
             e->completed_ticks += s->n;
             e->segments_done++;
         }
@@ -164,6 +177,7 @@ void qs_engine_wake(qs_engine *e)
 static void flush(qs_engine *e)
 {
     e->left = 0;
+    e->slow_path = 1;
     e->queue.tail = e->queue.head;
     e->queue.retired = e->queue.head;
     e->ends_moving = 0;
@@ -201,14 +215,15 @@ uint8_t qs_engine_set_positions(qs_engine *e, uint8_t mask, const int32_t *posit
 void qs_engine_read(qs_engine *e, qs_engine_view *v)
 {
     uint8_t saved = lock_retired(e);
+    const uint8_t tail = e->queue.tail;
     uint8_t axis;
     progress p;
 
     v->state = e->state;
     v->alarm = e->alarm;
-    v->queue_fill = qs_queue_count(&e->queue);
     take_progress(e, &p);
     qs_port_unlock(saved);
+    v->queue_fill = qs_queue_distance(&e->queue, tail, e->queue.head);
     v->segments_done = e->segments_done;
     v->motion_ticks = e->completed_ticks;
     for (axis = 0; axis < QS_AXIS_COUNT; axis++)
@@ -233,78 +248,85 @@ static uint16_t likely_held_n(qs_engine *e)
     return n;
 }
 
-uint8_t qs_engine_hold(qs_engine *e, const uint16_t *decel)
+QS_NOINLINE uint8_t qs_engine_hold(qs_engine *e, const uint16_t *decel)
 {
     qs_queue *q = &e->queue;
     uint16_t guess = likely_held_n(e);
     qs_segment *s;
-    uint8_t saved, moving;
+    uint16_t left;
+    uint8_t saved, moving, tail;
 
     e->hold.planned_n = 0;
-    if (guess)
-        qs_hold_plan(&e->hold, guess, decel);
-    saved = lock_retired(e);
-    if (e->state != QS_STATE_RUNNING) {
-        /* A hold running, or just ended and not yet reported, answers for
-         * this one too. */
-        uint8_t outcome = e->state == QS_STATE_ALARM                     ? QS_HOLD_IN_ALARM
-                          : e->state == QS_STATE_HOLDING || e->hold_report ? QS_HOLD_UNDER_WAY
-                                                                            : QS_HOLD_AT_REST;
-        if (outcome == QS_HOLD_AT_REST) {
-            /* Nothing ran since the last hold ended: repeat its report, so
-             * that a host that lost HOLD_DONE can simply ask again. */
-            if (e->completed_ticks != e->hold_end_tick)
-                e->hold_tick = e->completed_ticks;
-            note_hold_done(e);
+    for (;;) {
+        if (guess && e->hold.planned_n != guess)
+            qs_hold_plan(&e->hold, guess, decel);
+        saved = lock_retired(e);
+        if (e->state != QS_STATE_RUNNING) {
+            /* A hold running, or just ended and not yet reported, answers
+             * for this one too. */
+            uint8_t outcome = e->state == QS_STATE_ALARM                     ? QS_HOLD_IN_ALARM
+                              : e->state == QS_STATE_HOLDING || e->hold_report ? QS_HOLD_UNDER_WAY
+                                                                                : QS_HOLD_AT_REST;
+            if (outcome == QS_HOLD_AT_REST) {
+                /* Nothing ran since the last hold ended: repeat its report,
+                 * so that a host that lost HOLD_DONE can simply ask again. */
+                if (e->completed_ticks != e->hold_end_tick)
+                    e->hold_tick = e->completed_ticks;
+                note_hold_done(e);
+            }
+            qs_port_unlock(saved);
+            return outcome;
         }
-        qs_port_unlock(saved);
-        return outcome;
-    }
-    if (e->left == 0) {
-        /* Between segments: hold from the start of the next, as the tick
-         * would have begun it. */
-        if (qs_queue_empty(q)) {
+        if (e->left != 0) {
+            s = e->seg;
+        } else if (!qs_queue_empty(q)) {
+            s = qs_queue_front(q); /* between segments: hold from the start of the next */
+        } else {
             qs_port_unlock(saved);
             return QS_HOLD_NO_SEGMENT;
         }
-        s = qs_queue_front(q);
+        if (e->hold.planned_n == s->n)
+            break;
+        /* The segment ended meanwhile: plan for the one now running, out of
+         * the lock, and look again. */
+        guess = s->n;
+        qs_port_unlock(saved);
+    }
+    if (e->left == 0) {
+        /* Begin it as the tick would have. */
         e->seg = s;
         e->left = s->n;
         e->dir_bits = (uint8_t)((e->dir_bits & (uint8_t)~s->active) | s->negative);
     }
-    s = e->seg;
-    if (e->hold.planned_n != s->n)
-        qs_hold_plan(&e->hold, s->n, decel); /* the segment ended meanwhile: rare */
     moving = qs_hold_begin(&e->hold, s);
-    q->head = qs_queue_next(q, q->tail); /* the queued tail never runs */
-    e->held = s;
-    e->held_t0 = (uint16_t)(s->n - e->left);
-    e->hold_tick = e->completed_ticks + e->held_t0;
     if (!moving) {
         progress p;
+        e->held = s;
+        e->held_t0 = (uint16_t)(s->n - e->left);
         take_progress(e, &p);
         e->held = 0;
         flush(e);
         e->state = QS_STATE_IDLE;
         qs_port_unlock(saved);
+        e->hold_tick = e->completed_ticks + p.t;
         add_progress(&p, e->base, &e->completed_ticks);
         note_hold_done(e);
         return QS_HOLD_AT_REST;
     }
+    left = e->left;
+    tail = q->tail; /* the held slot's: the tick releases it when the hold ends */
     e->state = QS_STATE_HOLDING;
     e->hold.moving = moving; /* the next tick decelerates */
+    e->slow_path = 1;
     qs_port_unlock(saved);
+    /* What only the main loop reads, after the lock: it delays a tick that
+     * falls due meanwhile, so it holds the least. The tick no longer
+     * begins segments (HOLDING), so the queued ones can go now. */
+    q->head = qs_queue_next(q, tail);
+    e->held = s;
+    e->held_t0 = (uint16_t)(s->n - left);
+    e->hold_tick = e->completed_ticks + e->held_t0;
     return QS_HOLD_STARTED;
-}
-
-uint8_t qs_engine_take_hold_done(qs_engine *e, uint32_t *hold_tick)
-{
-    qs_engine_retire(e);
-    if (!e->hold_report)
-        return 0;
-    e->hold_report = 0;
-    *hold_tick = e->hold_tick;
-    return 1;
 }
 
 int32_t qs_engine_speed_2n_locked(const qs_engine *e, uint8_t axis)

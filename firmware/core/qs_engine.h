@@ -22,6 +22,7 @@ typedef struct {
     /* Tick side. */
     qs_segment *seg;          /* the running slot, valid while left > 0 */
     uint16_t left;            /* ticks left in it; 0 between segments */
+    uint8_t slow_path;        /* left == 0 or a hold is under way */
     uint8_t dir_bits;         /* bit i: axis i's pending steps are negative */
     volatile uint8_t state;   /* QS_STATE_* */
     volatile uint8_t alarm;   /* QS_ALARM_*, nonzero only in ALARM */
@@ -58,8 +59,16 @@ typedef struct {
 
 void qs_engine_init(qs_engine *e, uint8_t queue_capacity);
 
-/* Fold the slots the tick has finished into the totals and free them. */
-void qs_engine_retire(qs_engine *e);
+/* Fold the slots the tick has finished into the totals and free them.
+ * The main loop asks often, and usually there are none: that answer costs
+ * a compare here. */
+void qs_engine_retire_slots(qs_engine *e);
+
+static QS_ALWAYS_INLINE void qs_engine_retire(qs_engine *e)
+{
+    if (e->queue.retired != e->queue.tail)
+        qs_engine_retire_slots(e);
+}
 
 /* A segment was published: leave IDLE so the next tick starts it. */
 void qs_engine_wake(qs_engine *e);
@@ -83,7 +92,15 @@ uint8_t qs_engine_hold(qs_engine *e, const uint16_t *decel);
  * hold_tick, or 0. Until it is taken nothing moves (segments are refused
  * while holding and the core takes it before it handles the next frame),
  * so base and completed_ticks are where and when the hold came to rest. */
-uint8_t qs_engine_take_hold_done(qs_engine *e, uint32_t *hold_tick);
+static QS_ALWAYS_INLINE uint8_t qs_engine_take_hold_done(qs_engine *e, uint32_t *hold_tick)
+{
+    qs_engine_retire(e); /* retiring the held slot ends the hold */
+    if (!e->hold_report)
+        return 0;
+    e->hold_report = 0;
+    *hold_tick = e->hold_tick;
+    return 1;
+}
 
 /* Speed numerator of an axis of the running segment times 2n (see
  * qs_segment_speed_2n), 0 between segments and during a hold. Call with

@@ -6,7 +6,9 @@
  * last step of the previous segment still goes out with its own direction.
  * A segment starting at motion tick S makes the step decided by its call
  * t-1 (counting from 0) at tick S+t. While a hold is under way the tick
- * runs qs_hold_tick.h instead, at the cost of one flag test here. */
+ * runs qs_hold_tick.h instead. Between segments and during a hold
+ * e->slow_path is set, so that the middle of a segment, nearly every tick,
+ * costs one flag test for both. */
 #ifndef QS_ENGINE_TICK_H
 #define QS_ENGINE_TICK_H
 
@@ -16,23 +18,34 @@
 /* One axis, one decision: h >= 0 means the stepper would be half a step or
  * more behind the ideal position after the next tick. Without a step, 2*C2
  * is added before b so that no intermediate leaves +-(2nD + 3D). Steps are
- * not counted here: the main loop recovers them from the closed form. */
-static QS_ALWAYS_INLINE uint8_t qs_engine_axis_tick(qs_segment *s, uint8_t axis)
+ * not counted here: the main loop recovers them from the closed form.
+ * axes is the segment's tick_axes: bit i runs the axis, bit i + 4 says
+ * its b stays as it is (db = 0). */
+static QS_ALWAYS_INLINE uint8_t qs_engine_axis_tick(qs_segment *s, uint8_t axis, uint8_t axes)
 {
-    qs_i24 h = s->h[axis];
-    qs_i24 b = s->b[axis];
+    const uint8_t bit = (uint8_t)(1u << axis);
+    qs_i24 h, b;
     uint8_t stepped = 0;
 
-    if (!(s->active & (1u << axis)))
+    if (!(axes & bit))
         return 0;
+    h = s->h[axis];
     if (h >= 0)
-        stepped = (uint8_t)(1u << axis);
+        stepped = bit;
     else
         h += s->two_c2;
+    b = s->b[axis];
     s->h[axis] = h + b;
-    s->b[axis] = b + s->db[axis];
+    if (!(axes & (bit << 4)))
+        s->b[axis] = b + s->db[axis];
     return stepped;
 }
+
+/* A target may replace the decision above by its own of the same effect
+ * (firmware/avr/axis_tick.h); it returns steps with the axis's bit added. */
+#ifndef QS_ENGINE_AXIS_TICK
+#define QS_ENGINE_AXIS_TICK(s, axis, axes, steps) ((uint8_t)((steps) | qs_engine_axis_tick(s, axis, axes)))
+#endif
 
 /* Between segments: take the next one, or settle. */
 static QS_ALWAYS_INLINE uint8_t qs_engine_begin(qs_engine *e)
@@ -54,6 +67,7 @@ static QS_ALWAYS_INLINE uint8_t qs_engine_begin(qs_engine *e)
     s = qs_queue_front(&e->queue);
     e->seg = s;
     e->left = s->n;
+    e->slow_path = 0;
     /* Inactive axes keep their direction pins as they were. */
     e->dir_bits = (uint8_t)((e->dir_bits & (uint8_t)~s->active) | s->negative);
     return 1;
@@ -63,6 +77,7 @@ static QS_ALWAYS_INLINE uint8_t qs_engine_begin(qs_engine *e)
 static QS_ALWAYS_INLINE void qs_engine_finish(qs_engine *e, qs_segment *s)
 {
     e->ends_moving = s->ends_moving;
+    e->slow_path = 1;
     qs_queue_release(&e->queue);
     /* At rest with nothing queued: idle at once, so SET_POSITION is allowed
      * as soon as the host learns the segment is done. An underrun waits for
@@ -74,24 +89,27 @@ static QS_ALWAYS_INLINE void qs_engine_finish(qs_engine *e, qs_segment *s)
 static QS_ALWAYS_INLINE uint8_t qs_engine_tick(qs_engine *e)
 {
     qs_segment *s;
-    uint8_t steps;
+    uint8_t axes, steps;
 
-    if (QS_UNLIKELY(e->hold.moving))
-        return qs_engine_hold_tick(e);
-    if (e->left == 0 && !qs_engine_begin(e))
-        return 0;
+    if (QS_UNLIKELY(e->slow_path)) {
+        if (e->hold.moving)
+            return qs_engine_hold_tick(e);
+        if (!qs_engine_begin(e))
+            return 0;
+    }
     s = e->seg;
-    steps = qs_engine_axis_tick(s, 0);
+    axes = s->tick_axes;
+    steps = QS_ENGINE_AXIS_TICK(s, 0, axes, 0);
 #if QS_AXIS_COUNT > 1
-    steps |= qs_engine_axis_tick(s, 1);
+    steps = QS_ENGINE_AXIS_TICK(s, 1, axes, steps);
 #endif
 #if QS_AXIS_COUNT > 2
-    steps |= qs_engine_axis_tick(s, 2);
+    steps = QS_ENGINE_AXIS_TICK(s, 2, axes, steps);
 #endif
 #if QS_AXIS_COUNT > 3
-    steps |= qs_engine_axis_tick(s, 3);
+    steps = QS_ENGINE_AXIS_TICK(s, 3, axes, steps);
 #endif
-    if (--e->left == 0)
+    if (QS_UNLIKELY(--e->left == 0))
         qs_engine_finish(e, s);
     return steps;
 }

@@ -4,8 +4,10 @@
 
 void qs_frame_rx_init(qs_frame_rx *rx)
 {
-    qs_cobs_decoder_reset(&rx->cobs);
+    rx->len = 0;
+    rx->too_long = 0;
     rx->overrun = 0;
+    rx->decoded = 0;
 }
 
 void qs_frame_rx_overrun(qs_frame_rx *rx)
@@ -13,46 +15,58 @@ void qs_frame_rx_overrun(qs_frame_rx *rx)
     rx->overrun = 1;
 }
 
-static uint8_t check_frame(const qs_cobs_decoder *d)
+static uint8_t check_frame(qs_frame_rx *rx, uint8_t len)
 {
+    const uint8_t *body = rx->buf + 1;
+    const uint8_t decoded = (uint8_t)(len - 1);
     uint16_t crc;
 
-    if (d->len < QS_MIN_FRAME)
+    if (qs_cobs_decode(rx->buf, len) != QS_COBS_DONE)
+        return QS_ERR_BAD_COBS;
+    if (decoded < QS_MIN_FRAME)
         return QS_ERR_FRAME_TOO_SHORT;
-    crc = qs_crc16(d->buf, (uint8_t)(d->len - 2));
-    if (d->buf[d->len - 2] != (uint8_t)crc || d->buf[d->len - 1] != (uint8_t)(crc >> 8))
+    crc = qs_crc16(body, (uint8_t)(decoded - 2));
+    if (body[decoded - 2] != (uint8_t)crc || body[decoded - 1] != (uint8_t)(crc >> 8))
         return QS_ERR_BAD_CRC;
+    rx->decoded = decoded;
     return QS_FRAME_READY;
 }
 
-uint8_t qs_frame_rx_byte(qs_frame_rx *rx, uint8_t byte)
+uint8_t qs_frame_rx_end(qs_frame_rx *rx)
 {
-    uint8_t cobs = qs_cobs_feed(&rx->cobs, byte);
-    uint8_t overrun;
+    const uint8_t len = rx->len, too_long = rx->too_long, overrun = rx->overrun;
 
-    if (cobs == QS_COBS_MORE)
-        return QS_FRAME_NOTHING;
-    overrun = rx->overrun;
+    /* The next byte starts afresh. */
+    rx->len = 0;
+    rx->too_long = 0;
     rx->overrun = 0;
-    if (cobs == QS_COBS_TOO_LONG)
+    if (too_long)
         return QS_ERR_FRAME_TOO_LONG;
     if (overrun)
         return QS_ERR_RX_OVERRUN; /* even for an empty frame: bytes were lost */
-    if (cobs == QS_COBS_EMPTY)
+    if (len == 0)
         return QS_FRAME_NOTHING;
-    if (cobs == QS_COBS_BAD)
-        return QS_ERR_BAD_COBS;
-    return check_frame(&rx->cobs);
+    return check_frame(rx, len);
+}
+
+uint8_t qs_frame_seal(uint8_t *frame, uint8_t body_len)
+{
+    uint8_t *body = QS_FRAME_BODY(frame);
+    const uint16_t crc = qs_crc16(body, body_len);
+    const uint8_t len = (uint8_t)(body_len + 2);
+
+    body[body_len] = (uint8_t)crc;
+    body[body_len + 1] = (uint8_t)(crc >> 8);
+    qs_cobs_stuff(frame, len);
+    frame[len + 1] = 0;
+    return (uint8_t)(len + 2);
 }
 
 uint8_t qs_frame_encode(uint8_t *buf, uint8_t body_len, uint8_t *wire)
 {
-    uint16_t crc = qs_crc16(buf, body_len);
-    uint8_t n;
+    uint8_t i;
 
-    buf[body_len] = (uint8_t)crc;
-    buf[body_len + 1] = (uint8_t)(crc >> 8);
-    n = qs_cobs_encode(buf, (uint8_t)(body_len + 2), wire);
-    wire[n] = 0;
-    return (uint8_t)(n + 1);
+    for (i = 0; i < body_len; i++)
+        QS_FRAME_BODY(wire)[i] = buf[i];
+    return qs_frame_seal(wire, body_len);
 }

@@ -28,6 +28,7 @@ void qs_hold_plan(qs_hold *hd, uint16_t n, const uint16_t *decel)
     uint8_t axis;
 
     hd->shift = shift;
+    hd->bits_k = (uint8_t)(1u << (shift & 7));
     hd->two_c2 = (qs_i24)2 * kn * QS_D;
     for (axis = 0; axis < QS_AXIS_COUNT; axis++) {
         hd->db[axis] = qs_hold_db(kn, decel[axis]);
@@ -37,46 +38,63 @@ void qs_hold_plan(qs_hold *hd, uint16_t n, const uint16_t *decel)
     hd->planned_n = n;
 }
 
-/* x * 2^shift, for a result known to fit: shifted as unsigned, since x may
- * be negative; a shift by 8 is a byte move, the rest a short loop. */
-static QS_ALWAYS_INLINE qs_i24 scaled(qs_i24 x, uint8_t shift)
+/* x * 2^shift, for a result known to fit, with x moved up a byte already
+ * when shift >= 8 (a byte move) and k = 2^(shift mod 8): three 8 x 8 -> 16
+ * bit products (one instruction each on the AVR), added byte by byte,
+ * where a shift loop would take up to 7 rounds under the lock that begins
+ * a hold, whose length delays a tick that falls due meanwhile. Worked on
+ * the 24-bit pattern, unsigned (x may be negative): the result fits. */
+static QS_ALWAYS_INLINE qs_i24 times_k(qs_u24 u, uint8_t k)
+{
+    const uint16_t lo = (uint16_t)((uint16_t)(uint8_t)u * k);
+    const uint16_t mid = (uint16_t)((uint16_t)(uint8_t)(u >> 8) * k);
+    const uint8_t hi = (uint8_t)((uint8_t)(u >> 16) * k); /* its low byte is all that counts */
+    const uint16_t byte1 = (uint16_t)((lo >> 8) + (uint8_t)mid);
+    const uint8_t byte2 = (uint8_t)((mid >> 8) + hi + (byte1 >> 8));
+
+    return qs_i24_from_bits((qs_u24)(uint8_t)lo | ((qs_u24)(uint8_t)byte1 << 8) | ((qs_u24)byte2 << 16));
+}
+
+/* x * 2^shift, for a result known to fit: a byte move when shift >= 8,
+ * then times k = 2^(shift mod 8). */
+static QS_ALWAYS_INLINE qs_i24 scaled(qs_i24 x, uint8_t bytes, uint8_t k)
 {
     qs_u24 u = (qs_u24)x;
 
-    if (shift & 8)
+    if (bytes)
         u <<= 8;
-    return (qs_i24)(u << (shift & 7));
+    /* n >= 512, or n = 2 or 3 (a byte move): no multiply */
+    return k == 1 ? (qs_i24)u : times_k(u, k);
 }
 
 /* One axis; constant axis numbers keep this short, under the lock. */
-static QS_ALWAYS_INLINE uint8_t begin_axis(qs_hold *hd, const qs_segment *s, uint8_t axis)
+static QS_ALWAYS_INLINE uint8_t begin_axis(qs_hold *hd, const qs_segment *s, uint8_t axis, uint8_t bytes,
+                                          uint8_t k)
 {
-    qs_i24 next;
-
-    if (!(s->active & (1u << axis)))
-        return 0;
     /* The increment over the tick of the next decision: b as it was before
      * the last decision, plus 2nD. */
-    next = s->b[axis] - s->db[axis] + s->two_c2;
-    if (next <= 0)
+    const qs_i24 next = s->b[axis] - s->db[axis] + s->two_c2;
+
+    if (!(s->active & (1u << axis)) || next <= 0)
         return 0;
-    hd->h[axis] = scaled(s->h[axis], hd->shift);
-    hd->inc[axis] = scaled(next, hd->shift) + hd->db[axis];
+    hd->h[axis] = scaled(s->h[axis], bytes, k);
+    hd->inc[axis] = scaled(next, bytes, k) + hd->db[axis];
     return (uint8_t)(1u << axis);
 }
 
 uint8_t qs_hold_begin(qs_hold *hd, const qs_segment *s)
 {
-    uint8_t moving = begin_axis(hd, s, 0);
+    const uint8_t bytes = hd->shift & 8, k = hd->bits_k;
+    uint8_t moving = begin_axis(hd, s, 0, bytes, k);
 
 #if QS_AXIS_COUNT > 1
-    moving |= begin_axis(hd, s, 1);
+    moving |= begin_axis(hd, s, 1, bytes, k);
 #endif
 #if QS_AXIS_COUNT > 2
-    moving |= begin_axis(hd, s, 2);
+    moving |= begin_axis(hd, s, 2, bytes, k);
 #endif
 #if QS_AXIS_COUNT > 3
-    moving |= begin_axis(hd, s, 3);
+    moving |= begin_axis(hd, s, 3, bytes, k);
 #endif
     return moving;
 }

@@ -32,6 +32,7 @@ typedef struct {
     /* Main loop side: the segment length the plan is for (0: none). */
     uint16_t planned_n;
     uint8_t shift;
+    uint8_t bits_k;              /* 2^(shift mod 8): the rescale's multiplier */
 } qs_hold;
 
 /* log2 k: the largest shift with (n << shift) <= QS_N_MAX, 1 <= n <= N_MAX. */

@@ -32,22 +32,29 @@ static QS_ALWAYS_INLINE uint8_t qs_hold_axis_tick(qs_hold *hd, uint8_t axis, uin
     return stepped;
 }
 
+/* A target may replace the decision above by its own of the same effect
+ * (firmware/avr/axis_tick.h): it returns steps with the axis's bit added
+ * and clears the axis's bit in moving when it stops. */
+#ifndef QS_HOLD_AXIS_TICK
+#define QS_HOLD_AXIS_TICK(hd, axis, moving, steps) ((uint8_t)((steps) | qs_hold_axis_tick(hd, axis, &(moving))))
+#endif
+
 /* Decelerate every moving axis; when none is left, give the held slot back
  * so that the main loop folds the hold into the positions. */
 static QS_ALWAYS_INLINE uint8_t qs_engine_hold_tick(qs_engine *e)
 {
     qs_hold *hd = &e->hold;
     uint8_t moving = hd->moving;
-    uint8_t steps = qs_hold_axis_tick(hd, 0, &moving);
+    uint8_t steps = QS_HOLD_AXIS_TICK(hd, 0, moving, 0);
 
 #if QS_AXIS_COUNT > 1
-    steps |= qs_hold_axis_tick(hd, 1, &moving);
+    steps = QS_HOLD_AXIS_TICK(hd, 1, moving, steps);
 #endif
 #if QS_AXIS_COUNT > 2
-    steps |= qs_hold_axis_tick(hd, 2, &moving);
+    steps = QS_HOLD_AXIS_TICK(hd, 2, moving, steps);
 #endif
 #if QS_AXIS_COUNT > 3
-    steps |= qs_hold_axis_tick(hd, 3, &moving);
+    steps = QS_HOLD_AXIS_TICK(hd, 3, moving, steps);
 #endif
     hd->ticks++;
     hd->moving = moving;

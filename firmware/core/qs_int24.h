@@ -17,4 +17,15 @@ typedef uint32_t qs_u24;
 #define QS_I24_MAX 8388607L
 #define QS_I24_MIN (-8388608L)
 
+/* A 24-bit pattern (bits above 23 ignored) as the signed value it holds:
+ * the AVR's type wraps by itself, a 32-bit one needs bit 23 copied up. */
+static inline qs_i24 qs_i24_from_bits(qs_u24 u)
+{
+#if defined(__AVR__)
+    return (qs_i24)u;
+#else
+    return (qs_i24)((u & 0xFFFFFFu) ^ 0x800000u) - (qs_i24)0x800000;
+#endif
+}
+
 #endif

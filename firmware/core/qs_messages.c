@@ -1,11 +1,12 @@
 #include "qs_messages.h"
+#include "qs_config.h"
 
-static uint16_t get16(const uint8_t *p)
+static inline uint16_t get16(const uint8_t *p)
 {
     return (uint16_t)(p[0] | ((uint16_t)p[1] << 8));
 }
 
-static uint32_t get32(const uint8_t *p)
+static inline uint32_t get32(const uint8_t *p)
 {
     return (uint32_t)get16(p) | ((uint32_t)get16(p + 2) << 16);
 }
@@ -34,7 +35,7 @@ static uint8_t bit_count(uint8_t bits)
 
 static uint8_t parse_segment(const uint8_t *p, uint8_t len, qs_segment_msg *s)
 {
-    uint8_t axis;
+    uint8_t axis, bit;
 
     if (len < QS_LEN_SEGMENT_HEAD)
         return QS_ERR_BAD_LENGTH;
@@ -44,8 +45,10 @@ static uint8_t parse_segment(const uint8_t *p, uint8_t len, qs_segment_msg *s)
     if (len != QS_LEN_SEGMENT_HEAD + QS_LEN_SEGMENT_AXIS * bit_count(s->active))
         return QS_ERR_BAD_LENGTH;
     p += QS_LEN_SEGMENT_HEAD;
-    for (axis = 0; axis < QS_PROTOCOL_AXES; axis++) {
-        if (s->active & (1u << axis)) {
+    /* A walking bit rather than 1 << axis: the AVR shifts by a variable
+     * count in a loop. */
+    for (axis = 0, bit = 1; axis < QS_PROTOCOL_AXES; axis++, bit = (uint8_t)(bit << 1)) {
+        if (s->active & bit) {
             s->v0[axis] = get16(p);
             s->vn[axis] = get16(p + 2);
             s->r[axis] = (int16_t)get16(p + 4);
@@ -92,7 +95,7 @@ static uint8_t parse_hold(const uint8_t *p, uint8_t len, qs_hold_msg *h)
     return QS_ERR_NONE;
 }
 
-uint8_t qs_msg_parse(const uint8_t *body, uint8_t body_len, qs_host_msg *m)
+QS_NOINLINE uint8_t qs_msg_parse(const uint8_t *body, uint8_t body_len, qs_host_msg *m)
 {
     uint8_t len = (uint8_t)(body_len - 2);
     const uint8_t *payload = body + 2;
@@ -128,9 +131,36 @@ static uint8_t axes_beyond(uint8_t axis_count)
     return (uint8_t)(0xFFu << axis_count);
 }
 
-uint8_t qs_msg_check_segment(const qs_segment_msg *s, uint8_t axis_count, qs_fault *f)
+/* Whether one active axis's fields are all within their ranges. At
+ * r = 4096 with both speeds 4096 the stepper would need two steps in the
+ * first tick. */
+static uint8_t axis_fields_valid(uint16_t v0, uint16_t vn, int16_t r)
+{
+    return v0 <= QS_V_MAX && vn <= QS_V_MAX && r >= -QS_R_MAX && r <= QS_R_MAX
+           && !(r == QS_R_MAX && v0 == QS_V_MAX && vn == QS_V_MAX);
+}
+
+/* Which field to name when some axis is out of range: field by field as
+ * in the table, each in axis order. */
+static uint8_t name_bad_field(const qs_segment_msg *s, qs_fault *f)
 {
     uint8_t axis;
+
+    for (axis = 0; axis < QS_PROTOCOL_AXES; axis++)
+        if ((s->active & (1u << axis)) && s->v0[axis] > QS_V_MAX)
+            return bad_field(f, QS_FIELD_V0, axis);
+    for (axis = 0; axis < QS_PROTOCOL_AXES; axis++)
+        if ((s->active & (1u << axis)) && s->vn[axis] > QS_V_MAX)
+            return bad_field(f, QS_FIELD_VN, axis);
+    for (axis = 0; axis < QS_PROTOCOL_AXES; axis++)
+        if ((s->active & (1u << axis)) && !axis_fields_valid(s->v0[axis], s->vn[axis], s->r[axis]))
+            return bad_field(f, QS_FIELD_RESIDUAL, axis);
+    return QS_ERR_NONE; /* not reached: some axis was invalid */
+}
+
+QS_NOINLINE uint8_t qs_msg_check_segment(const qs_segment_msg *s, uint8_t axis_count, qs_fault *f)
+{
+    uint8_t axis, bit;
 
     if (s->n < 1 || s->n > QS_N_MAX)
         return bad_field(f, QS_FIELD_N, QS_AXIS_NONE);
@@ -138,23 +168,11 @@ uint8_t qs_msg_check_segment(const qs_segment_msg *s, uint8_t axis_count, qs_fau
         return bad_field(f, QS_FIELD_AXES, QS_AXIS_NONE);
     if (s->negative & (uint8_t)~s->active)
         return bad_field(f, QS_FIELD_DIRECTION, QS_AXIS_NONE);
-    /* Field by field as in the table, each in axis order. */
-    for (axis = 0; axis < QS_PROTOCOL_AXES; axis++)
-        if ((s->active & (1u << axis)) && s->v0[axis] > QS_V_MAX)
-            return bad_field(f, QS_FIELD_V0, axis);
-    for (axis = 0; axis < QS_PROTOCOL_AXES; axis++)
-        if ((s->active & (1u << axis)) && s->vn[axis] > QS_V_MAX)
-            return bad_field(f, QS_FIELD_VN, axis);
-    for (axis = 0; axis < QS_PROTOCOL_AXES; axis++) {
-        int16_t r = s->r[axis];
-        if (!(s->active & (1u << axis)))
-            continue;
-        /* At r = 4096 with both speeds 4096 the stepper would need two
-         * steps in the first tick. */
-        if (r < -QS_R_MAX || r > QS_R_MAX
-            || (r == QS_R_MAX && s->v0[axis] == QS_V_MAX && s->vn[axis] == QS_V_MAX))
-            return bad_field(f, QS_FIELD_RESIDUAL, axis);
-    }
+    /* One pass for the usual case, a valid segment (a walking bit, as in
+     * parse_segment). */
+    for (axis = 0, bit = 1; axis < QS_PROTOCOL_AXES; axis++, bit = (uint8_t)(bit << 1))
+        if ((s->active & bit) && !axis_fields_valid(s->v0[axis], s->vn[axis], s->r[axis]))
+            return name_bad_field(s, f);
     f->code = QS_ERR_NONE;
     return QS_ERR_NONE;
 }

@@ -1,32 +1,68 @@
 #include "qs_segment.h"
 #include "qs_protocol.h"
 
-void qs_segment_prepare(qs_segment *slot, const qs_segment_msg *m)
+/* n * v for n <= N_MAX and 0 <= v <= 2 * V_MAX: below 2^23, so 24 bits
+ * hold it. */
+static qs_i24 product(uint16_t n, uint16_t v)
 {
-    int32_t n = m->n;
-    int32_t c2 = n * QS_D;
-    uint8_t axis;
+    return (qs_i24)((uint32_t)n * v);
+}
 
-    slot->n = m->n;
+/* One active axis. Every value here stays within +-(2nD + 3D) < 2^23
+ * (docs/FIXED_POINT.md), so the AVR computes in 24 bits. */
+static QS_ALWAYS_INLINE void prepare_axis(qs_segment *slot, uint8_t axis, uint16_t n, qs_i24 c2, uint16_t v0, uint16_t vn,
+                         int16_t r)
+{
+    const qs_i24 c1 = (int16_t)(vn - v0);
+    const qs_i24 nv0 = product(n, v0);
+    const qs_i24 c3 = c1 + nv0 + nv0 - c2;
+    /* n*r as n*|r| with r's sign: a product of two unsigned values. */
+    const qs_i24 nr = r < 0 ? -product(n, (uint16_t)-r) : product(n, (uint16_t)r);
+    /* s(n) = floor((r + n*(v0 + vn) + D) / 2D); the numerator is >= 0 and
+     * shifted by a whole byte first: a byte move, not a bit loop. */
+    const qs_i24 twice_travel = r + nv0 + product(n, vn) + QS_D;
+
+    slot->h[axis] = nr + c3;
+    slot->b[axis] = c3 + c1 + c1 - c2;
+    slot->db[axis] = c1 + c1;
+    slot->r[axis] = r;
+    slot->total[axis] = (uint16_t)((uint16_t)(twice_travel >> 8) >> (QS_SPEED_SHIFT + 1 - 8));
+    slot->ends_moving |= vn != 0;
+    if (vn == v0)
+        slot->tick_axes |= (uint8_t)(0x10u << axis);
+}
+
+/* The axes one by one with constant indices: fixed offsets into slot and
+ * m instead of pointers stepped through a loop. Axes not in active are
+ * left as they are: nothing reads them. */
+#define PREPARE_AXIS(axis)                                                                    \
+    do {                                                                                      \
+        if (m->active & (1u << (axis)))                                                       \
+            prepare_axis(slot, axis, n, c2, m->v0[axis], m->vn[axis], m->r[axis]);            \
+    } while (0)
+
+QS_NOINLINE void qs_segment_prepare(qs_segment *slot, const qs_segment_msg *m)
+{
+    const uint16_t n = m->n;
+    /* n * D, as a byte move after a short shift (n < 2^10) */
+    const qs_i24 c2 = (qs_i24)(uint16_t)(n << (QS_SPEED_SHIFT - 8)) << 8;
+
+    slot->n = n;
     slot->active = m->active;
+    slot->tick_axes = m->active;
     slot->negative = m->negative;
     slot->ends_moving = 0;
-    slot->two_c2 = (qs_i24)(2 * c2);
-    for (axis = 0; axis < QS_AXIS_COUNT; axis++) {
-        int32_t v0 = m->v0[axis];
-        int32_t vn = m->vn[axis];
-        int32_t c1 = vn - v0;
-        int32_t c3 = c1 + 2 * n * v0 - c2;
-
-        slot->h[axis] = (qs_i24)(n * m->r[axis] + c3);
-        slot->b[axis] = (qs_i24)(c3 + 2 * c1 - c2);
-        slot->db[axis] = (qs_i24)(2 * c1);
-        slot->r[axis] = m->r[axis];
-        /* s(n) = floor((r + n*(v0 + vn) + D) / 2D); the numerator is >= 0. */
-        slot->total[axis] = (uint16_t)((m->r[axis] + n * (v0 + vn) + QS_D) >> (QS_SPEED_SHIFT + 1));
-        if ((m->active & (1u << axis)) && vn > 0)
-            slot->ends_moving = 1;
-    }
+    slot->two_c2 = c2 + c2;
+    PREPARE_AXIS(0);
+#if QS_AXIS_COUNT > 1
+    PREPARE_AXIS(1);
+#endif
+#if QS_AXIS_COUNT > 2
+    PREPARE_AXIS(2);
+#endif
+#if QS_AXIS_COUNT > 3
+    PREPARE_AXIS(3);
+#endif
 }
 
 /* s(t) = floor((n*r + n*D + t*q) / 2nD) with q = 2n*v0 + C1*t >= 0, the

@@ -7,6 +7,7 @@
  *   b  = C3 + 2*C1 - C2     what h gains after a step
  *   db = 2*C1               what b gains every tick
  * and per segment two_c2 = 2*n*D, what h gains extra without a step.
+ * At a steady speed (vn = v0) db is 0 and the tick leaves b alone.
  * docs/FIXED_POINT.md derives these and bounds them by 2*n*D + 3*D. */
 #ifndef QS_SEGMENT_H
 #define QS_SEGMENT_H
@@ -25,6 +26,9 @@ typedef struct {
     uint16_t total[QS_AXIS_COUNT]; /* its steps, for the positions */
     uint16_t n;
     uint8_t active;        /* bit i: axis i runs the loop */
+    uint8_t tick_axes;     /* for the tick: active in bits 0-3, and in bits
+                            * 4-7 the active axes with db = 0 (steady
+                            * speed), whose b never changes */
     uint8_t negative;      /* bit i: axis i steps in the negative direction */
     uint8_t ends_moving;   /* some active axis has vn > 0 */
 } qs_segment;

@@ -1,9 +1,11 @@
 #!/usr/bin/env python3
 """The AVR firmware's figures, measured in simavr on the real binary:
 step-interrupt cycles by stepping axes, the highest tick rate at which three
-axes stepping every tick still leave the CPU to take 1,000 segments/s, the
-segments/s the board takes while stepping, flash, RAM and stack, beside
-GRBL's and Klipper's published figures for the same 16 MHz chip.
+axes stepping every tick still leave the CPU to take 1,000 segments/s (and
+the highest at which beginning a HOLD loses no tick either), the
+segments/s the board takes while stepping, the main loop's cycles per
+segment, flash, RAM and stack, beside GRBL's and Klipper's published
+figures for the same 16 MHz chip.
 
     python3 tests/bench/bench_avr.py [--quick]
 
@@ -24,14 +26,15 @@ sys.path.insert(0, str(REPO / "tests" / "simavr"))
 
 import avr_scenarios  # noqa: E402
 import avr_sim  # noqa: E402
-from quadstep.protocol import Identify, Status, encode  # noqa: E402
+from quadstep.protocol import AxisMove, Hold, Identify, Segment, Status, encode  # noqa: E402
 from quadstep.protocol.segment import D, N_MAX  # noqa: E402
 
 F_CPU = avr_sim.F_CPU
 WORK = avr_sim.BUILD / "bench-avr"
 # Tick rates that divide 16 MHz exactly (the firmware insists on an exact rate).
-TICK_RATES = [20_000, 25_000, 31_250, 32_000, 40_000, 50_000, 62_500]
+TICK_RATES = [20_000, 25_000, 31_250, 32_000, 40_000, 50_000]
 TARGET_SEGMENTS = 1_000
+DEFAULT_BAUD = 500_000
 PEERS = [
     ("GRBL 1.1, ATmega328P @ 16 MHz", "about 30 kHz step rate (its stated tested limit), 115200 baud"),
     ("Klipper, 16 MHz AVR (simulavr)", "157K steps/s one stepper, 99K steps/s total with three, 250000 baud"),
@@ -42,19 +45,21 @@ PEERS = [
 class Variant:
     tick_hz: int
     baud: int
+    defaults: bool = False  # each board at its own default rate (the Mega's differs)
 
     @property
     def build(self) -> Path:
-        return WORK / f"tick{self.tick_hz}-baud{self.baud}"
+        return WORK / ("defaults" if self.defaults else f"tick{self.tick_hz}-baud{self.baud}")
 
     @property
     def elf(self) -> Path:
         return self.build / "avr" / "uno.elf"
 
 
-def fastest_baud(tick_hz: int) -> int:
-    """The fastest supported baud rate the tick can serve (at most two bytes per tick, uart.c)."""
-    return next(b for b in (1_000_000, 500_000, 250_000, 115_200) if b // 10 <= 2 * tick_hz)
+def line_baud(tick_hz: int) -> int:
+    """The default baud rate where the tick can serve it (at most two bytes per tick, uart.c), else the
+    next slower: 500000 baud carries 1,850 segment frames a second, more than any rate here takes."""
+    return next(b for b in (DEFAULT_BAUD, 250_000, 115_200) if b // 10 <= 2 * tick_hz)
 
 
 def make(*args: str) -> str:
@@ -65,7 +70,8 @@ def make(*args: str) -> str:
 
 
 def build(v: Variant) -> Variant:
-    make("firmware", f"BUILD={v.build}", f"AVR_TICK_HZ={v.tick_hz}", f"AVR_BAUD={v.baud}")
+    rates = [] if v.defaults else [f"AVR_TICK_HZ={v.tick_hz}"]
+    make("firmware", f"BUILD={v.build}", *rates, f"AVR_BAUD={v.baud}")
     return v
 
 
@@ -92,10 +98,18 @@ def feed(v: Variant, frames: bytes, name: str, seconds: float, profile: bool = F
 
 
 def clean(stats: dict) -> bool:
-    """Every frame accepted in turn, nothing lost, no alarm."""
-    f = stats["feed"]
+    """Every frame accepted in turn, nothing lost, no alarm, no tick lost or more than a quarter tick late."""
+    f, m = stats["feed"], stats["motion"]
     return (f["accepted"] == f["frames"] and f["alarms"] == 0 and f["errors"] == 0 and f["gap"] == 0
-            and stats["wire"]["lost"] == 0)
+            and stats["wire"]["lost"] == 0 and m["ticks_missed"] == 0
+            and m["tick_late_max"] <= stats["tick_cycles"] // 4)
+
+
+def main_loop_cycles(stats: dict) -> float:
+    """Cycles the main loop was busy (neither asleep nor in the step interrupt), per frame."""
+    isr = stats["isr"]["timer"]
+    busy = stats["cycles"] - stats["sleep_cycles"] - isr["count"] * isr["mean"]
+    return busy / stats["feed"]["frames"]
 
 
 def sustains(v: Variant, n: int, seconds: float) -> tuple[bool, dict]:
@@ -152,6 +166,27 @@ def status_while_moving(v: Variant) -> dict:
     return out.load_stats()
 
 
+def hold_begin(v: Variant) -> tuple[int, int, int]:
+    """HOLDs begun at many moments of a 300-tick segment (whose rescale multiplies, the costliest case),
+    three axes near full speed: the longest the main loop held the tick off (beginning the hold), the
+    longest step interrupt (the first of the hold), and the ticks lost over all of them."""
+    seg = Segment(n=300, axes=tuple(AxisMove(axis=a, direction=1, v0=D - 1, vn=D - 1, r=0) for a in range(3)))
+    job = b"\x00" + b"".join(encode(seg, i) for i in range(15))
+    hold = encode(Hold(decel=(800, 800, 800, 0)), 15)
+    lock = isr = lost = 0
+    for pad in range(0, 200, 13):  # the HOLD arrives at a different phase of the tick each time
+        path = v.build / "hold.input"
+        path.write_bytes(job + b"\x00" * pad + hold)
+        out = avr_sim.Outputs(v.build / "hold-trace.csv", v.build / "hold-edges.csv", v.build / "hold.json")
+        subprocess.run([str(avr_sim.HARNESS), "--mcu", "atmega328p", "--elf", str(v.elf), "--input", str(path),
+                        "--max-cycles", str(F_CPU // 4), *out.args()], capture_output=True, check=True)
+        st = out.load_stats()
+        lock = max(lock, st["irq_off"]["max"])
+        isr = max(isr, st["isr"]["timer"]["max"])
+        lost += st["motion"]["ticks_missed"]
+    return lock, isr, lost
+
+
 def sizes() -> dict[str, tuple[int, int]]:
     out = {}
     for line in make("firmware").splitlines():
@@ -167,10 +202,12 @@ def main() -> None:
     args = parser.parse_args()
     seconds = 0.2 if args.quick else 1.0
     make("firmware", "harness")
-    default = Variant(25_000, 500_000)
+    default = Variant(avr_sim.avr_define("QS_TICK_HZ"), avr_sim.avr_define("QS_BAUD"), defaults=True)
     build(default)
 
     print("AVR firmware on the ATmega328P (Uno, 3 axes) at 16 MHz, measured in simavr")
+    print(f"  defaults: Uno {default.tick_hz} Hz, Mega {avr_sim.avr_define('QS_TICK_HZ', 'mega')} Hz, "
+          f"{default.baud} baud")
     for board, (flash, ram) in sizes().items():
         chip = {"uno": "ATmega328P: 32256 flash / 2048 RAM", "mega": "ATmega2560: 253952 flash / 8192 RAM"}[board]
         print(f"  {board:5} flash {flash:6} bytes, static RAM {ram:5} bytes   ({chip})")
@@ -210,28 +247,37 @@ def main() -> None:
     four.append(b4.segment(1000, {a: (1, D, 0) for a in range(4)}))
     st = feed(default, b"".join(encode(s, i) for i, s in enumerate(four)), "mega4", 1.0, board="mega")
     m4 = st["tick_isr"]["steps4"]
-    print(f"  Mega, 4 axes stepping: {m4['count']} ticks, min {m4['min']}, mean {m4['mean']:.1f}, max {m4['max']} cycles")
+    print(f"  Mega ({st['tick_cycles']} cycles a tick), 4 axes stepping: {m4['count']} ticks, min {m4['min']}, "
+          f"mean {m4['mean']:.1f}, max {m4['max']} cycles")
 
-    rates = [25_000, 50_000] if args.quick else TICK_RATES
+    rates = sorted({default.tick_hz, 40_000, 50_000}) if args.quick else TICK_RATES
     print(f"\nsegments/s the board takes while three axes step every tick (flow-controlled, "
-          f"{seconds:g} s of motion after a dwell that fills the queue; fastest baud the tick serves):")
-    print(f"  {'tick rate':>10} {'baud':>8} {'steps/s total':>14} {'segments/s':>11}   step interrupt (3 axes)")
-    best = None
+          f"{seconds:g} s of motion after a dwell that fills the queue; no tick lost or over a quarter tick late):")
+    print(f"  {'tick rate':>10} {'baud':>8} {'steps/s total':>14} {'segments/s':>11}   "
+          f"step interrupt (3 axes)        main loop per segment   beginning a HOLD: lock, tick, ticks lost")
+    best = best_with_holds = None
     for tick in rates:
-        v = build(Variant(tick, fastest_baud(tick)))
+        v = build(Variant(tick, line_baud(tick)))
         rate, st = max_segment_rate(v, seconds)
         isr = st["tick_isr"]["steps3"]
+        lock, first, lost = hold_begin(v)
         print(f"  {tick:>7} Hz {v.baud:>8} {3 * tick:>14,} {rate:>11,.0f}   "
-              f"{isr['mean']:.0f} of {st['tick_cycles']} cycles (max {isr['max']})")
+              f"{isr['mean']:.0f} of {st['tick_cycles']} cycles (max {isr['max']})   "
+              f"{main_loop_cycles(st):>9,.0f} cycles       {lock}, {first} cycles, {lost} lost")
         if rate >= TARGET_SEGMENTS:
             best = v
+            if lost == 0:
+                best_with_holds = v
     if best is None:
         print(f"  no tick rate tried takes {TARGET_SEGMENTS} segments/s")
     else:
         print(f"  highest tick rate taking {TARGET_SEGMENTS} segments/s: {best.tick_hz} Hz "
               f"= {3 * best.tick_hz:,} steps/s in total")
+    if best_with_holds is not None:
+        print(f"  ... and beginning a HOLD without losing a tick: {best_with_holds.tick_hz} Hz "
+              f"= {3 * best_with_holds.tick_hz:,} steps/s in total")
 
-    v = Variant(default.tick_hz, default.baud)
+    v = default
     b = avr_scenarios.ChainBuilder(3)
     # One window of one-tick, zero-speed 3-axis segments: the rate at which
     # frames are taken when running them costs nothing (one window only: a

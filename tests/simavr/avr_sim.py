@@ -12,6 +12,7 @@ from __future__ import annotations
 import csv
 import json
 import os
+import re
 import select
 import signal
 import subprocess
@@ -49,6 +50,18 @@ def build(*targets: str) -> None:
 
 def elf_path(board: str) -> Path:
     return BUILD / "avr" / f"{board}.elf"
+
+
+def avr_define(name: str, board: str = "uno") -> int:
+    """A -D value of a board's build as avr.mk sets it (shared, or the board's own)."""
+    out = subprocess.run(["make", "-C", str(REPO), "-s", "print-avr-vars"], capture_output=True, text=True,
+                         check=True).stdout
+    own = f"AVR_{board.upper()}_DEFINES="
+    lines = [line for line in out.splitlines() if line.startswith(("AVR_DEFINES=", own))]
+    match = re.search(rf"-D{name}=(\d+)", " ".join(lines))
+    if not match:
+        raise SimAvrError(f"{name} is not among the {board} build's defines:\n{out}")
+    return int(match.group(1))
 
 
 @dataclass

@@ -34,7 +34,7 @@ typedef struct {
     const char *mcu;
     const char *elf;
     int pty, stdio_link;
-    const char *input, *feed, *output, *trace, *edges, *stats, *profile;
+    const char *input, *feed, *output, *trace, *edges, *stats, *profile, *profile_pc;
     uint64_t max_cycles;
     int realtime; /* -1: default for the link */
     int exit_when_idle;
@@ -72,7 +72,7 @@ static void usage(void)
     fprintf(stderr,
             "usage: qs-simavr --mcu atmega328p|atmega2560 --elf FILE\n"
             "        [--pty | --stdio | --input FILE | --feed FILE] [--output FILE]\n"
-            "        [--trace FILE] [--edges FILE] [--stats FILE] [--profile FILE]\n"
+            "        [--trace FILE] [--edges FILE] [--stats FILE] [--profile FILE] [--profile-pc FILE]\n"
             "        [--max-cycles N] [--realtime | --free] [--exit-when-idle] [--freq HZ]\n");
 }
 
@@ -111,6 +111,8 @@ static int parse_options(int argc, char **argv, options *o)
             text = &o->stats;
         } else if (!strcmp(a, "--profile")) {
             text = &o->profile;
+        } else if (!strcmp(a, "--profile-pc")) {
+            text = &o->profile_pc;
         } else if (!strcmp(a, "--max-cycles") && v) {
             o->max_cycles = strtoull(v, NULL, 0);
             i++;
@@ -457,7 +459,7 @@ int main(int argc, char **argv)
     int stdin_ended = 0;
     int crashed = 0;
     h.profile = sim_profile_new(&fw, h.avr);
-    h.profiling = o.profile != NULL;
+    h.profiling = o.profile != NULL || o.profile_pc != NULL;
     int irq_on = 0;
     uint64_t irq_off_since = 0;
     uint32_t irq_off_pc = 0;
@@ -515,9 +517,14 @@ int main(int argc, char **argv)
     if (o.stats) {
         write_stats(&h, o.stats);
     }
-    if (h.profiling) {
+    if (o.profile) {
         FILE *f = open_out(o.profile);
         sim_profile_write(h.profile, f);
+        fclose(f);
+    }
+    if (o.profile_pc) {
+        FILE *f = open_out(o.profile_pc);
+        sim_profile_write_pc(h.profile, f);
         fclose(f);
     }
     print_summary(&h);

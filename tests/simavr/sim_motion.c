@@ -93,21 +93,22 @@ static void on_port(avr_irq_t *irq, uint32_t value, void *param)
     }
 }
 
-/* A timer match set the tick's interrupt flag (value 1). A match that
- * finds the previous one still unserved is a tick lost for good: the flag
- * holds one. */
+/* A timer match set the tick's interrupt flag (value 1); the first one not
+ * yet served is the one the next interrupt serves. */
 static void on_pending(avr_irq_t *irq, uint32_t value, void *param)
 {
     sim_motion *m = param;
     (void)irq;
-    if (!value) {
-        return;
-    }
-    if (m->matched) {
-        m->stats.ticks_missed++;
-    } else {
+    if (value && !m->matched) {
         m->matched = m->avr->cycle;
     }
+}
+
+/* Timer1's period in cycles (OCR1A + 1, CTC mode; the same address on
+ * both chips). */
+static uint32_t tick_period(const avr_t *avr)
+{
+    return (uint32_t)(avr->data[0x88] | (avr->data[0x89] << 8)) + 1u;
 }
 
 void sim_motion_tick_enter(void *motion)
@@ -118,6 +119,10 @@ void sim_motion_tick_enter(void *motion)
         if (late > m->stats.tick_late_max) {
             m->stats.tick_late_max = (uint32_t)late;
         }
+        /* Every match while this one waited found the flag set already:
+         * the flag holds one, so those ticks are lost for good. (simavr
+         * does not signal a match that finds the flag set.) */
+        m->stats.ticks_missed += (uint32_t)(late / tick_period(m->avr));
         m->matched = 0;
     }
     m->left_before = read_u16(m->avr->data, m->probe.left);

@@ -14,6 +14,7 @@ struct sim_profile {
     profile_entry *entry; /* sorted by start */
     uint32_t count;
     int32_t *by_word;     /* flash word -> entry index, -1 before the first symbol */
+    uint64_t *word_cycles; /* flash word -> cycles of the instruction there */
     uint32_t words;
 };
 
@@ -40,6 +41,7 @@ sim_profile *sim_profile_new(const elf_firmware_t *fw, const avr_t *avr)
     qsort(p->entry, p->count, sizeof *p->entry, by_start);
     p->words = (avr->flashend + 1) / 2;
     p->by_word = malloc(p->words * sizeof *p->by_word);
+    p->word_cycles = calloc(p->words, sizeof *p->word_cycles);
     int32_t current = -1;
     uint32_t next = 0;
     for (uint32_t w = 0; w < p->words; w++) {
@@ -54,8 +56,11 @@ sim_profile *sim_profile_new(const elf_firmware_t *fw, const avr_t *avr)
 void sim_profile_add(sim_profile *p, uint32_t pc, uint64_t cycles)
 {
     const uint32_t w = pc / 2;
-    if (w < p->words && p->by_word[w] >= 0) {
-        p->entry[p->by_word[w]].cycles += cycles;
+    if (w < p->words) {
+        p->word_cycles[w] += cycles;
+        if (p->by_word[w] >= 0) {
+            p->entry[p->by_word[w]].cycles += cycles;
+        }
     }
 }
 
@@ -81,4 +86,15 @@ void sim_profile_write(const sim_profile *p, FILE *out)
         fprintf(out, "%s,%llu\n", sorted[i].name, (unsigned long long)sorted[i].cycles);
     }
     free(sorted);
+}
+
+void sim_profile_write_pc(const sim_profile *p, FILE *out)
+{
+    fprintf(out, "address,function,cycles\n");
+    for (uint32_t w = 0; w < p->words; w++) {
+        if (p->word_cycles[w]) {
+            fprintf(out, "0x%x,%s,%llu\n", w * 2, sim_profile_name(p, w * 2),
+                    (unsigned long long)p->word_cycles[w]);
+        }
+    }
 }

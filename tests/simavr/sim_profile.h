@@ -22,4 +22,8 @@ const char *sim_profile_name(const sim_profile *p, uint32_t pc);
 /* CSV `function,cycles`, most cycles first. */
 void sim_profile_write(const sim_profile *p, FILE *out);
 
+/* CSV `address,function,cycles`: every instruction that ran, by flash byte
+ * address, to read beside the disassembly (`make avr-disasm`). */
+void sim_profile_write_pc(const sim_profile *p, FILE *out);
+
 #endif

@@ -1,6 +1,12 @@
 """A host that ignores flow control floods the board while it steps: bytes
 the firmware cannot hold are lost, but never silently. Every frame that lost bytes is refused with RX_OVERRUN, and the
-steps made are exactly those of the segments the firmware accepted."""
+steps made are exactly those of the segments the firmware accepted.
+
+The firmware takes segments faster than a 500000 baud line brings them, so
+the flood mixes in STATUS requests: each answer is longer than the request
+and the segment that came with it, the transmitter (one byte per tick) falls
+behind, and the main loop, waiting for room to send, leaves the receive ring
+to fill."""
 
 from __future__ import annotations
 
@@ -11,7 +17,7 @@ import numpy as np
 import avr_scenarios
 from avr_sim import Outputs, run_input
 from quadstep.engine_model import predict
-from quadstep.protocol import Ack, AckReason, Decoder, ErrorCode, ErrorReport, Identify, encode
+from quadstep.protocol import Ack, AckReason, Decoder, ErrorCode, ErrorReport, Identify, Status, encode
 from quadstep.protocol.segment import D
 
 
@@ -19,7 +25,8 @@ def test_flood_loses_bytes_loudly_and_runs_only_accepted_segments(avr_build: Non
     builder = avr_scenarios.ChainBuilder(3)
     segments = [builder.segment(300, {0: (1, D // 2, D // 2)}) for _ in range(59)]
     segments.append(builder.segment(300, {0: (1, D // 2, 0)}))
-    data = b"\x00" + encode(Identify(), 0) + b"".join(encode(s, i) for i, s in enumerate(segments))
+    status = encode(Status(), 0)
+    data = b"\x00" + encode(Identify(), 0) + b"".join(encode(s, i) + status for i, s in enumerate(segments))
 
     outputs = Outputs.in_dir(tmp_path)
     stats = run_input(data, outputs, tmp_path / "replies.bin", max_cycles=16_000_000)

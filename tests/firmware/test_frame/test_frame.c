@@ -65,28 +65,42 @@ static void test_crc_check_value_and_every_byte_from_every_state(void)
 static void test_cobs_round_trips_every_length_and_zero_pattern(void)
 {
     uint8_t in[QS_MAX_FRAME], out[QS_MAX_FRAME + 2];
-    qs_cobs_decoder d;
     uint8_t len, i, n;
     uint32_t pattern;
 
     for (len = 1; len <= QS_MAX_FRAME; len++) {
         for (pattern = 0; pattern < 64; pattern++) {
-            uint8_t result = QS_COBS_MORE;
             for (i = 0; i < len; i++) /* zeros where the pattern says, at varying places */
                 in[i] = ((pattern >> (i % 6)) & 1) && (i * 7 + pattern) % 5 == 0 ? 0 : (uint8_t)(i + 1 + pattern);
             n = qs_cobs_encode(in, len, out);
-            TEST_ASSERT_TRUE(n <= len + 1);
+            TEST_ASSERT_EQUAL_INT(len + 1, n);
             for (i = 0; i < n; i++)
                 TEST_ASSERT_TRUE_MESSAGE(out[i] != 0, "zero inside an encoded block");
-            qs_cobs_decoder_reset(&d);
-            for (i = 0; i < n; i++)
-                TEST_ASSERT_EQUAL_INT(QS_COBS_MORE, qs_cobs_feed(&d, out[i]));
-            result = qs_cobs_feed(&d, 0);
-            TEST_ASSERT_EQUAL_INT(QS_COBS_DONE, result);
-            TEST_ASSERT_EQUAL_INT(len, d.len);
-            TEST_ASSERT_EQUAL_HEX8_ARRAY(in, d.buf, len);
+            TEST_ASSERT_EQUAL_INT(QS_COBS_DONE, qs_cobs_decode(out, n));
+            TEST_ASSERT_EQUAL_HEX8_ARRAY(in, out + 1, len);
         }
     }
+}
+
+static void test_cobs_refuses_a_block_that_runs_past_the_end(void)
+{
+    uint8_t block[] = {0x03, 0x11, 0x02, 0x22};
+    uint8_t ff[] = {0xFF, 0x01, 0x02};
+
+    TEST_ASSERT_EQUAL_INT(QS_COBS_BAD, qs_cobs_decode(block, 2));
+    TEST_ASSERT_EQUAL_INT(QS_COBS_BAD, qs_cobs_decode(block, 1));
+    /* Ending right after a block it is well formed. */
+    TEST_ASSERT_EQUAL_INT(QS_COBS_DONE, qs_cobs_decode(block, 3));
+    TEST_ASSERT_EQUAL_HEX8(0x11, block[1]);
+    TEST_ASSERT_EQUAL_HEX8(0x02, block[2]);
+    /* A second block (code 0x22 at [3]) that runs past the end. */
+    TEST_ASSERT_EQUAL_INT(QS_COBS_BAD, qs_cobs_decode(block, 4));
+    /* Two blocks: the second code byte becomes the first block's zero. */
+    block[3] = 0x01;
+    TEST_ASSERT_EQUAL_INT(QS_COBS_DONE, qs_cobs_decode(block, 4));
+    TEST_ASSERT_EQUAL_HEX8(0x00, block[3]);
+    /* A 254-byte block cannot end a block this short. */
+    TEST_ASSERT_EQUAL_INT(QS_COBS_BAD, qs_cobs_decode(ff, sizeof ff));
 }
 
 static void test_a_good_frame_and_resynchronisation_after_garbage(void)
@@ -123,6 +137,15 @@ static void test_each_framing_error_and_their_order(void)
     long_frame[79] = 0;
     qs_frame_rx_overrun(&rx);
     TEST_ASSERT_EQUAL_HEX8(QS_ERR_FRAME_TOO_LONG, feed(long_frame, sizeof long_frame));
+    /* The bound is exact: 65 wire bytes are 64 decoded ones, 66 are more. */
+    memset(long_frame, 0x11, sizeof long_frame);
+    long_frame[0] = 0x41;
+    long_frame[QS_MAX_WIRE - 1] = 0;
+    TEST_ASSERT_EQUAL_HEX8(QS_ERR_BAD_CRC, feed(long_frame, QS_MAX_WIRE));
+    long_frame[0] = 0x42;
+    long_frame[QS_MAX_WIRE - 1] = 0x11;
+    long_frame[QS_MAX_WIRE] = 0;
+    TEST_ASSERT_EQUAL_HEX8(QS_ERR_FRAME_TOO_LONG, feed(long_frame, QS_MAX_WIRE + 1));
     /* Exactly 64 decoded bytes are fine as far as length goes. */
     memset(body, 0x22, sizeof body);
     n = qs_frame_encode(body, QS_MAX_BODY, wire);
@@ -157,6 +180,7 @@ int main(void)
     UNITY_BEGIN();
     RUN_TEST(test_crc_check_value_and_every_byte_from_every_state);
     RUN_TEST(test_cobs_round_trips_every_length_and_zero_pattern);
+    RUN_TEST(test_cobs_refuses_a_block_that_runs_past_the_end);
     RUN_TEST(test_a_good_frame_and_resynchronisation_after_garbage);
     RUN_TEST(test_each_framing_error_and_their_order);
     RUN_TEST(test_overrun_between_frames_is_reported_at_the_next_delimiter);

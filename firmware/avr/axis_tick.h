@@ -1,0 +1,161 @@
+/* The engine's per-axis decisions (qs_engine_axis_tick in
+ * qs_engine_tick.h, and qs_hold_axis_tick in qs_hold_tick.h for a hold)
+ * written out for the AVR, with the same effect.
+ *
+ * avr-gcc compiles the C version into much the same instructions, but
+ * spreads the 24-bit values of successive axes over different registers,
+ * and the step interrupt must save every register it touches: 4 cycles
+ * each, every tick. Here every axis uses the same six scratch registers
+ * (r18..r20 and r22..r24, call-clobbered), so the interrupt saves few. The tests in
+ * tests/simavr hold the board's steps to the emulator's, which runs the C
+ * version, step for step. */
+#ifndef QS_AXIS_TICK_H
+#define QS_AXIS_TICK_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "qs_hold.h"
+#include "qs_segment.h"
+
+/* steps | (1 << axis) if the axis steps at the next tick; s in Z, axes
+ * its tick_axes. */
+static inline __attribute__((always_inline)) uint8_t axis_tick(qs_segment *s, uint8_t axis, uint8_t axes,
+                                                               uint8_t steps)
+{
+    register qs_u24 x __asm__("r18");
+    register qs_u24 y __asm__("r22");
+
+    __asm__ __volatile__(
+        "sbrs %[axes], %[axis]\n\t"
+        "rjmp 3f\n\t"
+        /* x = h; a step if h >= 0, else h += 2*C2 */
+        "ldd %A[x], Z+%[h]\n\t"
+        "ldd %B[x], Z+%[h]+1\n\t"
+        "ldd %C[x], Z+%[h]+2\n\t"
+        "sbrs %C[x], 7\n\t"
+        "rjmp 1f\n\t"
+        "ldd %A[y], Z+%[c2]\n\t"
+        "ldd %B[y], Z+%[c2]+1\n\t"
+        "ldd %C[y], Z+%[c2]+2\n\t"
+        "add %A[x], %A[y]\n\t"
+        "adc %B[x], %B[y]\n\t"
+        "adc %C[x], %C[y]\n\t"
+        "rjmp 2f\n"
+        "1:\n\t"
+        "ori %[steps], %[bit]\n"
+        "2:\n\t"
+        /* h += b */
+        "ldd %A[y], Z+%[b]\n\t"
+        "ldd %B[y], Z+%[b]+1\n\t"
+        "ldd %C[y], Z+%[b]+2\n\t"
+        "add %A[x], %A[y]\n\t"
+        "adc %B[x], %B[y]\n\t"
+        "adc %C[x], %C[y]\n\t"
+        "std Z+%[h], %A[x]\n\t"
+        "std Z+%[h]+1, %B[x]\n\t"
+        "std Z+%[h]+2, %C[x]\n\t"
+        /* b += db, unless the speed is steady */
+        "sbrc %[axes], %[axis]+4\n\t"
+        "rjmp 3f\n\t"
+        "ldd %A[x], Z+%[db]\n\t"
+        "ldd %B[x], Z+%[db]+1\n\t"
+        "ldd %C[x], Z+%[db]+2\n\t"
+        "add %A[y], %A[x]\n\t"
+        "adc %B[y], %B[x]\n\t"
+        "adc %C[y], %C[x]\n\t"
+        "std Z+%[b], %A[y]\n\t"
+        "std Z+%[b]+1, %B[y]\n\t"
+        "std Z+%[b]+2, %C[y]\n"
+        "3:"
+        : [x] "=&r"(x), [y] "=&r"(y), [steps] "+d"(steps)
+        : [s] "z"(s), [axes] "r"(axes), [axis] "n"(axis), [bit] "n"(1u << axis),
+          [h] "n"(offsetof(qs_segment, h) + 3u * axis), [b] "n"(offsetof(qs_segment, b) + 3u * axis),
+          [db] "n"(offsetof(qs_segment, db) + 3u * axis), [c2] "n"(offsetof(qs_segment, two_c2))
+        : "memory");
+    return steps;
+}
+
+/* steps | (1 << axis) if the axis steps at the next tick of a hold, and
+ * the axis's bit cleared in moving when it stops; hd in Z. */
+static inline __attribute__((always_inline)) uint8_t hold_axis_tick(qs_hold *hd, uint8_t axis, uint8_t *moving,
+                                                                    uint8_t steps)
+{
+    register qs_u24 x __asm__("r18");
+    register qs_u24 y __asm__("r22");
+    uint8_t m = *moving;
+
+    __asm__ __volatile__(
+        "sbrs %[m], %[axis]\n\t"
+        "rjmp 9f\n\t"
+        /* x = h; a step if h >= 0: count it, h -= 2knD */
+        "ldd %A[x], Z+%[h]\n\t"
+        "ldd %B[x], Z+%[h]+1\n\t"
+        "ldd %C[x], Z+%[h]+2\n\t"
+        "sbrc %C[x], 7\n\t"
+        "rjmp 2f\n\t"
+        "ori %[steps], %[bit]\n\t"
+        "ldd %A[y], Z+%[n]\n\t"
+        "ldd %B[y], Z+%[n]+1\n\t"
+        "ldd %C[y], Z+%[n]+2\n\t"
+        "subi %A[y], 0xFF\n\t"
+        "sbci %B[y], 0xFF\n\t"
+        "sbci %C[y], 0xFF\n\t"
+        "std Z+%[n], %A[y]\n\t"
+        "std Z+%[n]+1, %B[y]\n\t"
+        "std Z+%[n]+2, %C[y]\n\t"
+        "ldd %A[y], Z+%[c2]\n\t"
+        "ldd %B[y], Z+%[c2]+1\n\t"
+        "ldd %C[y], Z+%[c2]+2\n\t"
+        "sub %A[x], %A[y]\n\t"
+        "sbc %B[x], %B[y]\n\t"
+        "sbc %C[x], %C[y]\n"
+        "2:\n\t"
+        /* h += inc */
+        "ldd %A[y], Z+%[inc]\n\t"
+        "ldd %B[y], Z+%[inc]+1\n\t"
+        "ldd %C[y], Z+%[inc]+2\n\t"
+        "add %A[x], %A[y]\n\t"
+        "adc %B[x], %B[y]\n\t"
+        "adc %C[x], %C[y]\n\t"
+        "std Z+%[h], %A[x]\n\t"
+        "std Z+%[h]+1, %B[x]\n\t"
+        "std Z+%[h]+2, %C[x]\n\t"
+        /* inc <= 0: stop; else inc += db */
+        "sbrc %C[y], 7\n\t"
+        "rjmp 3f\n\t"
+        "mov %A[x], %A[y]\n\t"
+        "or %A[x], %B[y]\n\t"
+        "or %A[x], %C[y]\n\t"
+        "breq 3f\n\t"
+        "ldd %A[x], Z+%[db]\n\t"
+        "ldd %B[x], Z+%[db]+1\n\t"
+        "ldd %C[x], Z+%[db]+2\n\t"
+        "add %A[y], %A[x]\n\t"
+        "adc %B[y], %B[x]\n\t"
+        "adc %C[y], %C[x]\n\t"
+        "std Z+%[inc], %A[y]\n\t"
+        "std Z+%[inc]+1, %B[y]\n\t"
+        "std Z+%[inc]+2, %C[y]\n\t"
+        "rjmp 9f\n"
+        "3:\n\t"
+        "andi %[m], %[clear]\n"
+        "9:"
+        : [x] "=&r"(x), [y] "=&r"(y), [steps] "+d"(steps), [m] "+d"(m)
+        : [hd] "z"(hd), [axis] "n"(axis), [bit] "n"(1u << axis), [clear] "n"((uint8_t)~(1u << axis)),
+          [h] "n"(offsetof(qs_hold, h) + 3u * axis), [inc] "n"(offsetof(qs_hold, inc) + 3u * axis),
+          [db] "n"(offsetof(qs_hold, db) + 3u * axis), [n] "n"(offsetof(qs_hold, steps) + 3u * axis),
+          [c2] "n"(offsetof(qs_hold, two_c2))
+        : "memory");
+    *moving = m;
+    return steps;
+}
+
+_Static_assert(offsetof(qs_segment, two_c2) + 2u <= 63u, "ldd reaches 63 bytes past Z");
+_Static_assert(offsetof(qs_hold, steps) + 3u * QS_AXIS_COUNT - 1u <= 63u, "ldd reaches 63 bytes past Z");
+_Static_assert(sizeof(qs_i24) == 3, "24-bit engine values");
+
+#define QS_ENGINE_AXIS_TICK(s, axis, axes, steps) axis_tick(s, axis, axes, steps)
+#define QS_HOLD_AXIS_TICK(hd, axis, moving, steps) hold_axis_tick(hd, axis, &(moving), steps)
+
+#endif
