@@ -46,7 +46,7 @@ def run_cli(args: list[str], capsys: Capture) -> tuple[int, str, str]:
 @pytest.mark.parametrize("job", ["demo.gcode", "moves.yaml"])
 def test_examples_run_exactly_as_predicted(job: str, start_emulator, tmp_path: Path, capsys: Capture) -> None:
     trace = tmp_path / "trace.csv"
-    emu = start_emulator(free=True, trace=trace, axes=3)
+    emu = start_emulator(free=True, trace=trace, axes=3, tick_hz=CONFIG.tick_hz)
     code, out, err = run_cli(["run", str(EXAMPLES / job), "--config", str(ROUTER), "--port", emu.url, "--json"], capsys)
     assert code == 0, err
     result = json.loads(out)
@@ -67,7 +67,7 @@ def test_a_job_starts_where_the_machine_stands(start_emulator, tmp_path: Path, c
     job = tmp_path / "offset.gcode"
     job.write_text("G91 G1 X5 Y-3 F1200\nG2 X4 Y4 I2 J2\nG90 G1 X100.0004 Y50.0001 Z-2\nG0 Z0\n")
     trace = tmp_path / "trace.csv"
-    emu = start_emulator(free=True, trace=trace, axes=3)
+    emu = start_emulator(free=True, trace=trace, axes=3, tick_hz=CONFIG.tick_hz)
     start = (12345, 6789, -40)
     with Link.open(emu.url) as link:
         link.send(SetPosition(positions=dict(enumerate(start))))
@@ -89,7 +89,7 @@ def status_of(url: str) -> StatusReport:
 def test_a_job_leaving_the_travel_moves_nothing(start_emulator, tmp_path: Path, capsys: Capture) -> None:
     job = tmp_path / "far.gcode"
     job.write_text("G1 X10 Y10 F600\nG1 X20\nG1 Y250\nG1 X0 Y0\n")
-    emu = start_emulator(axes=3)
+    emu = start_emulator(axes=3, tick_hz=CONFIG.tick_hz)
     code, out, err = run_cli(["run", str(job), "--config", str(ROUTER), "--port", emu.url], capsys)
     assert code == 1
     assert err == f"quadstep run: error: {job}: line 3: Y 250.000 mm is outside the travel 0.000 … 200.000 mm\n"
@@ -100,7 +100,7 @@ def test_a_job_leaving_the_travel_moves_nothing(start_emulator, tmp_path: Path, 
 def test_a_syntax_error_moves_nothing(start_emulator, tmp_path: Path, capsys: Capture) -> None:
     job = tmp_path / "typo.gcode"
     job.write_text("G1 X10 F600\nG1 X20 Y5\nG1 X3O\n")
-    emu = start_emulator(axes=3)
+    emu = start_emulator(axes=3, tick_hz=CONFIG.tick_hz)
     code, _, err = run_cli(["run", str(job), "--config", str(ROUTER), "--port", emu.url], capsys)
     assert code == 1
     assert err == f"quadstep run: error: {job}: line 3, column 6: 'O' has no number after it\n"
@@ -109,7 +109,7 @@ def test_a_syntax_error_moves_nothing(start_emulator, tmp_path: Path, capsys: Ca
 
 def test_a_different_tick_rate_is_refused(start_emulator, tmp_path: Path, capsys: Capture) -> None:
     config = tmp_path / "m.toml"
-    config.write_text(ROUTER.read_text().replace("tick_hz = 50000", "tick_hz = 40000"))
+    config.write_text(ROUTER.read_text().replace("tick_hz = 32000", "tick_hz = 40000"))
     emu = start_emulator(axes=3, tick_hz=50000)
     code, _, err = run_cli(["run", str(EXAMPLES / "demo.gcode"), "--config", str(config), "--port", emu.url], capsys)
     assert code == 1
@@ -130,7 +130,7 @@ def cli_process(*args: str, stdin: int | None = None) -> subprocess.Popen[str]:
 
 
 def test_ctrl_c_stops_the_machine_and_reports_where(start_emulator) -> None:
-    emu = start_emulator(axes=3)  # real time: the demo takes about 11 s
+    emu = start_emulator(axes=3, tick_hz=CONFIG.tick_hz)  # real time: the demo takes about 11 s
     process = cli_process("run", "examples/demo.gcode", "--config", str(ROUTER), "--port", emu.url)
     assert process.stdout is not None
     first = process.stdout.readline()  # printed when streaming starts
@@ -152,7 +152,7 @@ def test_m0_waits_at_rest_for_the_operator(start_emulator, tmp_path: Path) -> No
     job = tmp_path / "pause.gcode"
     job.write_text("G1 X10 Y5 F1200\nM0\nG1 X0 Y0\n")
     trace = tmp_path / "trace.csv"
-    emu = start_emulator(free=True, axes=3, trace=trace)
+    emu = start_emulator(free=True, axes=3, trace=trace, tick_hz=CONFIG.tick_hz)
     process = cli_process("run", str(job), "--config", str(ROUTER), "--port", emu.url, stdin=subprocess.PIPE)
     assert process.stderr is not None and process.stdin is not None
     assert process.stderr.readline() == "paused at line 2 (M0): press Enter to continue, Ctrl-C to stop\n"

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import copy
+import re
 from pathlib import Path
 from typing import Any
 
@@ -33,7 +34,9 @@ def bad(change: dict[str, Any], axis: int | None = None) -> str:
 def test_the_example_router_config_loads() -> None:
     config = load_config(EXAMPLE)
     assert config.axis_names == ("X", "Y", "Z")
-    assert config.tick_hz == 50000
+    # the rate the Uno firmware is built with, which it reports at identify
+    uno_tick = re.search(r"^AVR_UNO_TICK_HZ \?= (\d+)$", (REPO / "firmware/avr/avr.mk").read_text(), re.M)
+    assert uno_tick is not None and config.tick_hz == int(uno_tick.group(1))
     for axis in config.axes:
         # under 3/4 step per tick at the firmware's tick rate
         assert axis.max_speed * axis.steps_per_mm <= 0.75 * config.tick_hz
