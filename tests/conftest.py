@@ -16,11 +16,6 @@ REPO = Path(__file__).resolve().parents[1]
 
 
 @pytest.fixture(scope="session")
-def repo_root() -> Path:
-    return REPO
-
-
-@pytest.fixture(scope="session")
 def emulator_binary() -> Path:
     """The emulator, built with `make emulator` once per session (a no-op when up to date)."""
     if os.environ.get(EMULATOR_ENV):

@@ -1,21 +1,10 @@
 #include "emu_events.h"
 
-#include <errno.h>
-#include <string.h>
+#include "emu_csv.h"
 
 int emu_events_open(emu_events *ev, const char *path)
 {
-    ev->file = NULL;
-    if (!path)
-        return 1;
-    ev->file = fopen(path, "w");
-    if (!ev->file) {
-        fprintf(stderr, "quadstep-emu: cannot write events '%s': %s\n", path, strerror(errno));
-        return 0;
-    }
-    fputs("event,tick,monotonic_ns\n", ev->file);
-    fflush(ev->file);
-    return 1;
+    return emu_csv_open(&ev->file, path, "events", "event,tick,monotonic_ns", 0);
 }
 
 void emu_events_hold(emu_events *ev, uint32_t hold_tick, uint64_t monotonic_ns)
@@ -29,7 +18,5 @@ void emu_events_hold(emu_events *ev, uint32_t hold_tick, uint64_t monotonic_ns)
 
 void emu_events_close(emu_events *ev)
 {
-    if (ev->file)
-        fclose(ev->file);
-    ev->file = NULL;
+    emu_csv_close(&ev->file);
 }

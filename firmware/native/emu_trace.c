@@ -1,21 +1,10 @@
 #include "emu_trace.h"
 
-#include <errno.h>
-#include <string.h>
+#include "emu_csv.h"
 
 int emu_trace_open(emu_trace *t, const char *path)
 {
-    t->file = NULL;
-    if (!path)
-        return 1;
-    t->file = fopen(path, "w");
-    if (!t->file) {
-        fprintf(stderr, "quadstep-emu: cannot write trace '%s': %s\n", path, strerror(errno));
-        return 0;
-    }
-    setvbuf(t->file, NULL, _IOFBF, 1 << 16);
-    fputs("tick,axis,direction\n", t->file);
-    return 1;
+    return emu_csv_open(&t->file, path, "trace", "tick,axis,direction", (size_t)1 << 16);
 }
 
 void emu_trace_steps(emu_trace *t, uint32_t tick, uint8_t steps, uint8_t negative)
@@ -37,7 +26,5 @@ void emu_trace_flush(emu_trace *t)
 
 void emu_trace_close(emu_trace *t)
 {
-    if (t->file)
-        fclose(t->file);
-    t->file = NULL;
+    emu_csv_close(&t->file);
 }

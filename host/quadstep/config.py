@@ -11,13 +11,15 @@ import math
 import re
 import tomllib
 from pathlib import Path
-from typing import Any, Literal
+from typing import Any, Literal, TypeVar
 
 from pydantic import BaseModel, ConfigDict, Field, ValidationError, model_validator
 
 from .protocol.segment import MAX_AXES
+from .textfile import read_text
 
 AxisName = Literal["X", "Y", "Z", "A"]
+Model = TypeVar("Model", bound=BaseModel)
 
 # The planner lands every move exactly only while no axis moves more than
 # 3/4 step per tick (docs/PLANNER.md, "Landing"); the firmware's own limit is 1.
@@ -106,7 +108,8 @@ _LIMIT_WORDS = {
 _KEYED = re.compile(r"^\w+ = ")
 
 
-def _key(loc: tuple[int | str, ...]) -> str:
+def error_location(loc: tuple[int | str, ...]) -> str:
+    """A pydantic error's location as written in the file: `axes[0].max_speed`."""
     text = ""
     for part in loc:
         text += f"[{part}]" if isinstance(part, int) else (f".{part}" if text else str(part))
@@ -117,7 +120,7 @@ def describe_validation_error(error: ValidationError) -> list[str]:
     """pydantic errors as `key = value: rule` lines."""
     lines = []
     for e in error.errors():
-        key = _key(tuple(part for part in e["loc"] if part != "[key]"))  # a bad dict key: name it once
+        key = error_location(tuple(part for part in e["loc"] if part != "[key]"))  # a bad dict key: name it once
         kind = e["type"]
         if kind in _LIMIT_WORDS:
             ctx = {k: f"{v:g}" if isinstance(v, float) else v for k, v in e.get("ctx", {}).items()}
@@ -137,19 +140,21 @@ def describe_validation_error(error: ValidationError) -> list[str]:
     return lines
 
 
-def parse_config(data: dict[str, Any], source: str = "config") -> MachineConfig:
+def validate(model: type[Model], data: Any, source: str, error: type[Exception]) -> Model:
+    """`data` as a `model`; raises `error` with one `source: key = value: rule` line per problem."""
     try:
-        return MachineConfig.model_validate(data)
+        return model.model_validate(data)
     except ValidationError as exc:
-        raise ConfigError("\n".join(f"{source}: {line}" for line in describe_validation_error(exc))) from None
+        raise error("\n".join(f"{source}: {line}" for line in describe_validation_error(exc))) from None
+
+
+def parse_config(data: dict[str, Any], source: str = "config") -> MachineConfig:
+    return validate(MachineConfig, data, source, ConfigError)
 
 
 def load_config(path: Path) -> MachineConfig:
     """Read and validate a machine configuration file."""
-    try:
-        text = path.read_text(encoding="utf-8")
-    except OSError as exc:
-        raise ConfigError(f"{path}: cannot read: {exc.strerror}") from None
+    text = read_text(path, ConfigError)
     try:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:

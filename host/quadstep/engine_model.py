@@ -56,6 +56,19 @@ def advance(ideal2: int, position: int, n: int, mv: AxisMove) -> tuple[int, int]
     )
 
 
+def _step_rows(ticks: np.ndarray, axis: int, direction: int) -> np.ndarray:
+    """`tick, axis, direction` rows (the trace's columns) for one axis's steps at `ticks`."""
+    rows = np.empty((ticks.size, 3), dtype=np.int64)
+    rows[:, 0] = ticks
+    rows[:, 1] = axis
+    rows[:, 2] = direction
+    return rows
+
+
+def _stack(chunks: list[np.ndarray]) -> np.ndarray:
+    return np.concatenate(chunks) if chunks else np.empty((0, 3), dtype=np.int64)
+
+
 @dataclass
 class Prediction:
     """Every step of a run: rows of (tick, axis, direction), in tick then axis order."""
@@ -83,16 +96,12 @@ def predict(
         for mv in seg.axes:
             ticks = step_ticks(seg.n, mv)
             if ticks.size:
-                rows = np.empty((ticks.size, 3), dtype=np.int64)
-                rows[:, 0] = ticks + tick
-                rows[:, 1] = mv.axis
-                rows[:, 2] = mv.direction
-                chunks.append(rows)
+                chunks.append(_step_rows(ticks + tick, mv.axis, mv.direction))
             pos[mv.axis] += mv.direction * int(ticks.size)
             counts[mv.axis] += int(ticks.size)
         tick += seg.n
         count += 1
-    steps = np.concatenate(chunks) if chunks else np.empty((0, 3), dtype=np.int64)
+    steps = _stack(chunks)
     steps = steps[np.lexsort((steps[:, 1], steps[:, 0]))]
     return Prediction(steps=steps, positions=pos, motion_ticks=tick - start_tick, segments=count, per_axis_steps=counts)
 
@@ -196,7 +205,7 @@ def predict_hold(
         tick += seg.n
     if hold_tick != tick:
         raise ValueError(f"hold tick {hold_tick} is after the end of the segments ({tick})")
-    return HoldPrediction(hold_tick, hold_tick, pos, np.empty((0, 3), dtype=np.int64), None)
+    return HoldPrediction(hold_tick, hold_tick, pos, _stack([]), None)
 
 
 def _hold_segment(
@@ -212,14 +221,10 @@ def _hold_segment(
             s = hold.steps(j)
             ticks = j[1:][np.diff(s) > 0]
             if ticks.size:
-                rows = np.empty((ticks.size, 3), dtype=np.int64)
-                rows[:, 0] = ticks + hold_tick
-                rows[:, 1] = mv.axis
-                rows[:, 2] = mv.direction
-                chunks.append(rows)
+                chunks.append(_step_rows(ticks + hold_tick, mv.axis, mv.direction))
             made = hold.before + int(s[-1])
         pos[mv.axis] += mv.direction * made
         last = max(last, hold.stop)
-    steps = np.concatenate(chunks) if chunks else np.empty((0, 3), dtype=np.int64)
+    steps = _stack(chunks)
     steps = steps[np.lexsort((steps[:, 1], steps[:, 0]))]
     return HoldPrediction(hold_tick, hold_tick + last, pos, steps, index)

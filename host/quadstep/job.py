@@ -17,6 +17,7 @@ from .gcode import parse_gcode
 from .movefile import move_program, read_move_file
 from .planner.plan import Plan, plan_program
 from .planner.program import JobError, Program
+from .textfile import read_text
 
 MOVE_FILE_SUFFIXES = (".json", ".yaml", ".yml")
 
@@ -119,12 +120,7 @@ def read_program(
     start_mm = config.to_mm(start_steps)
     if is_move_file(path):
         return move_program(read_move_file(path), config.axis_names, start_mm)
-    try:
-        text = path.read_text(encoding="utf-8")
-    except OSError as exc:
-        raise JobError(f"{path}: cannot read: {exc.strerror}") from None
-    except UnicodeDecodeError as exc:
-        raise JobError(f"{path}: not a text file ({exc.reason} at byte {exc.start})") from None
+    text = read_text(path, JobError)
     try:
         return parse_gcode(text, config.axis_names, start_mm, config.arc_tolerance, skip_unsupported)
     except JobError as exc:

@@ -51,6 +51,8 @@ if TYPE_CHECKING:
 
 DEFAULT_BAUD = 500_000
 _SEQUENCED_TYPES = frozenset(t for t in MessageType if t.is_sequenced)
+# What pyserial raises once the port is gone (TypeError and AttributeError from a port closed under it).
+_PORT_FAILURES = (serial.SerialException, OSError, TypeError, AttributeError)
 
 
 class LinkError(Exception):
@@ -600,12 +602,8 @@ class Link:
                     return
             try:
                 data = self._port.read(self._port.in_waiting or 1)
-            except (serial.SerialException, OSError, TypeError, AttributeError) as exc:
-                with self._cond:
-                    if not self._s.closed:
-                        self._fail(LinkError(f"serial port failed: {exc}"))
-                        self._s.closed = True
-                    self._cond.notify_all()
+            except _PORT_FAILURES as exc:
+                self._port_failed(exc)
                 return
             if not data:
                 continue
@@ -626,6 +624,14 @@ class Link:
                 for callback in callbacks:
                     callback(report)
 
+    def _port_failed(self, exc: Exception) -> None:
+        """The port raised in the reader or the writer thread: the link is closed."""
+        with self._cond:
+            if not self._s.closed:
+                self._fail(LinkError(f"serial port failed: {exc}"))
+                self._s.closed = True
+            self._cond.notify_all()
+
     def _on_frame(self, frame: Frame) -> bool:
         """Apply one report to the shared state; True if on_report callbacks want it."""
         m = frame.message
@@ -633,7 +639,7 @@ class Link:
             self._on_ack(m)
             return m.reason == AckReason.SPACE
         if isinstance(m, ErrorReport):
-            self._on_error(frame.seq, m)
+            self._on_error(m)
             return True
         if isinstance(m, Alarm):
             self.stats.alarms += 1
@@ -685,7 +691,7 @@ class Link:
             s.gap_handled_for = ack.next_seq
             s.sent = 0  # go back N: resend from next_seq as the window allows
 
-    def _on_error(self, seq: int, error: ErrorReport) -> None:
+    def _on_error(self, error: ErrorReport) -> None:
         self.stats.errors += 1
         waiter = self._s.waiter
         if waiter is not None and error.frame_type == waiter.request_type and error.frame_seq == waiter.seq:
@@ -714,12 +720,8 @@ class Link:
                     return
             try:
                 self._port.write(chunk)
-            except (serial.SerialException, OSError, TypeError, AttributeError) as exc:
-                with self._cond:
-                    if not self._s.closed:
-                        self._fail(LinkError(f"serial port failed: {exc}"))
-                        self._s.closed = True
-                    self._cond.notify_all()
+            except _PORT_FAILURES as exc:
+                self._port_failed(exc)
                 return
 
     def _collect_output(self) -> bytes | None:

@@ -21,10 +21,11 @@ from pathlib import Path
 from typing import Annotated, Any, Literal
 
 import yaml
-from pydantic import BaseModel, ConfigDict, Field, ValidationError, model_validator
+from pydantic import BaseModel, ConfigDict, Field, model_validator
 
-from .config import describe_validation_error
+from .config import validate
 from .planner.program import Dwell, JobError, LinearMove, Pause, Program
+from .textfile import read_text
 
 Coordinates = dict[Literal["X", "Y", "Z", "A"], float]
 
@@ -67,19 +68,13 @@ class MoveFile(BaseModel):
 
 def read_move_file(path: Path) -> MoveFile:
     """Load and validate; errors name the move index and field."""
-    try:
-        text = path.read_text(encoding="utf-8")
-    except OSError as exc:
-        raise JobError(f"{path}: cannot read: {exc.strerror}") from None
+    text = read_text(path, JobError)
     try:
         data: Any = yaml.safe_load(text) if path.suffix.lower() in (".yaml", ".yml") else json.loads(text)
     except (yaml.YAMLError, json.JSONDecodeError) as exc:
         kind = "YAML" if path.suffix.lower() in (".yaml", ".yml") else "JSON"
         raise JobError(f"{path}: not valid {kind}: {exc}") from None
-    try:
-        return MoveFile.model_validate(data)
-    except ValidationError as exc:
-        raise JobError("\n".join(f"{path}: {line}" for line in describe_validation_error(exc))) from None
+    return validate(MoveFile, data, str(path), JobError)
 
 
 def move_program(moves: MoveFile, axis_names: Sequence[str], start: Sequence[float]) -> Program:

@@ -88,7 +88,7 @@ def three_axes_every_tick(n: int, count: int) -> bytes:
 def feed(v: Variant, frames: bytes, name: str, seconds: float, profile: bool = False, board: str = "uno") -> dict:
     out = avr_sim.Outputs(v.build / f"{name}-trace.csv", v.build / f"{name}-edges.csv", v.build / f"{name}.json")
     elf = v.build / "avr" / f"{board}.elf"
-    args = [str(avr_sim.HARNESS), "--mcu", avr_sim.BOARDS[board], "--elf", str(elf), "--feed",
+    args = [*avr_sim.harness(board, elf), "--feed",
             str(v.build / f"{name}.feed"), "--max-cycles", str(int(seconds * F_CPU)), "--stats", str(out.stats)]
     if profile:
         args += ["--profile", str(v.build / f"{name}-profile.csv")]
@@ -160,7 +160,7 @@ def status_while_moving(v: Variant) -> dict:
     out = avr_sim.Outputs(v.build / "status-trace.csv", v.build / "status-edges.csv", v.build / "status.json")
     path = v.build / "status.input"
     path.write_bytes(data)
-    subprocess.run([str(avr_sim.HARNESS), "--mcu", "atmega328p", "--elf", str(v.elf), "--input", str(path),
+    subprocess.run([*avr_sim.harness("uno", v.elf), "--input", str(path),
                     "--output", "/dev/null", "--exit-when-idle", "--max-cycles", str(F_CPU), *out.args()],
                    capture_output=True, check=True)
     return out.load_stats()
@@ -178,7 +178,7 @@ def hold_begin(v: Variant) -> tuple[int, int, int]:
         path = v.build / "hold.input"
         path.write_bytes(job + b"\x00" * pad + hold)
         out = avr_sim.Outputs(v.build / "hold-trace.csv", v.build / "hold-edges.csv", v.build / "hold.json")
-        subprocess.run([str(avr_sim.HARNESS), "--mcu", "atmega328p", "--elf", str(v.elf), "--input", str(path),
+        subprocess.run([*avr_sim.harness("uno", v.elf), "--input", str(path),
                         "--max-cycles", str(F_CPU // 4), *out.args()], capture_output=True, check=True)
         st = out.load_stats()
         lock = max(lock, st["irq_off"]["max"])

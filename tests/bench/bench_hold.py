@@ -80,8 +80,8 @@ def bench_avr() -> None:
             out = avr_sim.Outputs.in_dir(Path(tmp), board)
             data = b"\x00" + b"".join(encode(cruise, i) for i in range(12)) + encode(Hold(decel=decels), 12)  # type: ignore[arg-type]
             (Path(tmp) / "in.bin").write_bytes(data)
-            subprocess.run([str(avr_sim.HARNESS), "--mcu", avr_sim.BOARDS[board], "--elf", str(avr_sim.elf_path(board)),
-                            "--input", str(Path(tmp) / "in.bin"), "--max-cycles", str(3 * 16_000_000), *out.args()],
+            subprocess.run([*avr_sim.harness(board), "--input", str(Path(tmp) / "in.bin"),
+                            "--max-cycles", str(3 * avr_sim.F_CPU), *out.args()],
                            check=True, capture_output=True)
             stats = json.loads(out.stats.read_text())
         bins = {k: v for k, v in stats["tick_isr"].items() if v["count"] and k != "idle"}

@@ -10,6 +10,7 @@
 static uint8_t sent[1u << 16];
 static uint32_t sent_len;
 static int lock_depth;
+static uint64_t rng_state;
 
 void qs_port_send(const uint8_t *bytes, uint8_t len)
 {
@@ -41,11 +42,6 @@ void tp_clear_sent(void)
     sent_len = 0;
 }
 
-uint32_t tp_sent_len(void)
-{
-    return sent_len;
-}
-
 uint16_t tp_reports(tp_report *out, uint16_t max)
 {
     qs_frame_rx rx;
@@ -67,6 +63,13 @@ uint16_t tp_reports(tp_report *out, uint16_t max)
     }
     TEST_ASSERT_EQUAL_UINT8_MESSAGE(0, i ? sent[i - 1] : 0, "the core left a frame unfinished");
     return count;
+}
+
+uint16_t tp_take_reports(tp_report *out, uint16_t max)
+{
+    uint16_t n = tp_reports(out, max);
+    tp_clear_sent();
+    return n;
 }
 
 void tp_send(qs_core *c, const uint8_t *body, uint8_t len)
@@ -166,4 +169,34 @@ uint32_t tp_ticks(qs_core *c, uint32_t n)
             steps++;
     }
     return steps;
+}
+
+void tp_seed(uint64_t seed)
+{
+    rng_state = seed;
+}
+
+uint32_t tp_rand(uint32_t limit)
+{
+    rng_state = rng_state * 6364136223846793005ull + 1442695040888963407ull;
+    return (uint32_t)((rng_state >> 33) % limit);
+}
+
+int64_t tp_floor_div(int64_t num, int64_t den)
+{
+    return num >= 0 ? num / den : -((-num + den - 1) / den);
+}
+
+int64_t tp_ideal_2nd(const qs_segment_msg *m, uint8_t axis, int64_t t)
+{
+    int64_t n = m->n;
+    return n * m->r[axis] + ((int64_t)m->vn[axis] - m->v0[axis]) * t * t + 2 * n * m->v0[axis] * t;
+}
+
+int64_t tp_closed_form(const qs_segment_msg *m, uint8_t axis, int64_t t)
+{
+    int64_t n = m->n;
+    if (t == 0)
+        return 0;
+    return tp_floor_div(tp_ideal_2nd(m, axis, t) + n * QS_D, 2 * n * QS_D);
 }

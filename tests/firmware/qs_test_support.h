@@ -25,12 +25,12 @@ typedef struct {
 /* Forget what was sent so far. */
 void tp_clear_sent(void);
 
-/* Bytes sent since the last clear. */
-uint32_t tp_sent_len(void);
-
 /* Decode everything sent since the last clear into reports (the test fails
  * if anything is not a valid frame). Returns the number of reports. */
 uint16_t tp_reports(tp_report *out, uint16_t max);
+
+/* tp_reports, then tp_clear_sent: the reports sent since the last take. */
+uint16_t tp_take_reports(tp_report *out, uint16_t max);
 
 /* Fails the test unless locks and unlocks have been balanced. */
 void tp_check_unlocked(void);
@@ -54,5 +54,18 @@ uint16_t tp_u16(const uint8_t *p);
 /* Run the engine's tick n times; returns how many steps axis 0..3 made in
  * total (sum over axes). */
 uint32_t tp_ticks(qs_core *c, uint32_t n);
+
+/* A reproducible pseudo-random sequence for the randomised tests:
+ * tp_rand(limit) is in 0 .. limit-1. */
+void tp_seed(uint64_t seed);
+uint32_t tp_rand(uint32_t limit);
+
+/* The reference arithmetic, in 64 bits: floor(num / den) for den > 0, and
+ * a segment's exact ideal position times 2nD at tick t,
+ * X(t) = n*r + (vn - v0)*t^2 + 2*n*v0*t, and its steps by tick t, the
+ * closed form s(t) of PROTOCOL.md section 8. */
+int64_t tp_floor_div(int64_t num, int64_t den);
+int64_t tp_ideal_2nd(const qs_segment_msg *m, uint8_t axis, int64_t t);
+int64_t tp_closed_form(const qs_segment_msg *m, uint8_t axis, int64_t t);
 
 #endif

@@ -97,6 +97,13 @@ def test_send_refuses_bad_files_before_connecting(tmp_path: Path, capsys: pytest
     assert f"{path}" in err and message in err
 
 
+def test_send_refuses_a_file_that_is_not_text(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    path = tmp_path / "job.json"
+    path.write_bytes(b'{"segments": \xff}')
+    assert main(["send", str(path), "--port", "/dev/nonexistent-quadstep"]) == 1
+    assert capsys.readouterr().err == f"quadstep send: error: {path}: not a text file (invalid start byte at byte 13)\n"
+
+
 def test_send_refuses_axes_the_firmware_lacks(emulator_binary: Path, capsys: pytest.CaptureFixture[str],
                                               monkeypatch: pytest.MonkeyPatch, tmp_path: Path) -> None:
     monkeypatch.setenv("QUADSTEP_EMULATOR", str(emulator_binary))

@@ -18,7 +18,7 @@ from quadstep.protocol import DECEL_MAX, Decoder, Event, Hold, State, StatusRepo
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "simavr"))
 import avr_sim  # noqa: E402  (the harness's own helpers, beside its tests)
 
-F_CPU = 16_000_000
+F_CPU = avr_sim.F_CPU
 
 
 @pytest.fixture(scope="module")
@@ -43,9 +43,9 @@ def test_the_board_holds_exactly_as_predicted(avr_build: None, tmp_path: Path, b
     (tmp_path / "input.bin").write_bytes(b"\x00" + job + pause + hold)
     outputs = avr_sim.Outputs.in_dir(tmp_path, board)
     # Not --exit-when-idle: the harness would take HOLDING for rest; 1.5 s of board time is plenty.
-    subprocess.run([str(avr_sim.HARNESS), "--mcu", avr_sim.BOARDS[board], "--elf", str(avr_sim.elf_path(board)),
-                    "--input", str(tmp_path / "input.bin"), "--output", str(tmp_path / "replies.bin"),
-                    "--max-cycles", str(3 * F_CPU // 2), *outputs.args()], check=True, capture_output=True, timeout=120)
+    subprocess.run([*avr_sim.harness(board), "--input", str(tmp_path / "input.bin"),
+                    "--output", str(tmp_path / "replies.bin"), "--max-cycles", str(3 * F_CPU // 2), *outputs.args()],
+                   check=True, capture_output=True, timeout=120)
     replies = [item.message for item in Decoder("to_host", axis_count=axes).feed((tmp_path / "replies.bin").read_bytes())
                if hasattr(item, "message")]
     answers = [r for r in replies if isinstance(r, StatusReport)]

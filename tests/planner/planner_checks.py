@@ -146,12 +146,6 @@ def junction_limit(table: MoveTable, k: int, config: MachineConfig) -> float:
     return math.sqrt(accel * config.junction_deviation * sin_half / (1 - sin_half))
 
 
-def path_speed(config: MachineConfig, v: np.ndarray) -> float:
-    """Speed along the path, mm/s, of per-axis signed speeds v (quanta)."""
-    mm = [float(x) / D * config.tick_hz / a.steps_per_mm for x, a in zip(v, config.axes)]
-    return math.sqrt(sum(x * x for x in mm))
-
-
 def move_scale(table: MoveTable, k: int, ideal_at_start: np.ndarray) -> tuple[int, float]:
     """The fastest axis of move k and its quanta per mm/tick of path speed, as the planner scales it."""
     i = int(np.argmax(np.abs(table.delta[k])))

@@ -86,25 +86,27 @@ def status_of(url: str) -> StatusReport:
         return link.status()
 
 
+def refused_run(start_emulator, capsys: Capture, job: Path, text: str) -> tuple[str, StatusReport]:
+    """Run `text` as `job` on a fresh emulator, which must refuse it (exit 1): its stderr and the status after."""
+    job.write_text(text)
+    emu = start_emulator(axes=3, tick_hz=CONFIG.tick_hz)
+    code, _, err = run_cli(["run", str(job), "--config", str(ROUTER), "--port", emu.url], capsys)
+    assert code == 1
+    return err, status_of(emu.url)
+
+
 def test_a_job_leaving_the_travel_moves_nothing(start_emulator, tmp_path: Path, capsys: Capture) -> None:
     job = tmp_path / "far.gcode"
-    job.write_text("G1 X10 Y10 F600\nG1 X20\nG1 Y250\nG1 X0 Y0\n")
-    emu = start_emulator(axes=3, tick_hz=CONFIG.tick_hz)
-    code, out, err = run_cli(["run", str(job), "--config", str(ROUTER), "--port", emu.url], capsys)
-    assert code == 1
+    err, status = refused_run(start_emulator, capsys, job, "G1 X10 Y10 F600\nG1 X20\nG1 Y250\nG1 X0 Y0\n")
     assert err == f"quadstep run: error: {job}: line 3: Y 250.000 mm is outside the travel 0.000 … 200.000 mm\n"
-    status = status_of(emu.url)
     assert (status.segments_done, status.motion_ticks, tuple(status.position[:3])) == (0, 0, (0, 0, 0))
 
 
 def test_a_syntax_error_moves_nothing(start_emulator, tmp_path: Path, capsys: Capture) -> None:
     job = tmp_path / "typo.gcode"
-    job.write_text("G1 X10 F600\nG1 X20 Y5\nG1 X3O\n")
-    emu = start_emulator(axes=3, tick_hz=CONFIG.tick_hz)
-    code, _, err = run_cli(["run", str(job), "--config", str(ROUTER), "--port", emu.url], capsys)
-    assert code == 1
+    err, status = refused_run(start_emulator, capsys, job, "G1 X10 F600\nG1 X20 Y5\nG1 X3O\n")
     assert err == f"quadstep run: error: {job}: line 3, column 6: 'O' has no number after it\n"
-    assert status_of(emu.url).segments_done == 0
+    assert status.segments_done == 0
 
 
 def test_a_different_tick_rate_is_refused(start_emulator, tmp_path: Path, capsys: Capture) -> None:

@@ -98,6 +98,10 @@ def test_unreadable_and_malformed_files(tmp_path: Path) -> None:
     broken.write_text("tick_hz = = 5\n")
     with pytest.raises(ConfigError, match=r"broken\.toml: not valid TOML"):
         load_config(broken)
+    binary = tmp_path / "binary.toml"
+    binary.write_bytes(b"tick_hz = \xff\n")
+    with pytest.raises(ConfigError, match=r"^.*binary\.toml: not a text file \(invalid start byte at byte 10\)$"):
+        load_config(binary)
 
 
 def test_steps_are_rounded_once_from_absolute_millimetres() -> None:

@@ -91,3 +91,10 @@ def test_not_json(tmp_path: Path) -> None:
     path.write_text("{moves: [")
     with pytest.raises(JobError, match=r"job\.json: not valid JSON"):
         read_move_file(path)
+
+
+def test_not_text(tmp_path: Path) -> None:
+    path = tmp_path / "job.json"
+    path.write_bytes(b'{"moves": [\xff]}')
+    with pytest.raises(JobError, match=r"^.*job\.json: not a text file \(invalid start byte at byte 11\)$"):
+        read_move_file(path)

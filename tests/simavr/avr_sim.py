@@ -13,24 +13,19 @@ import csv
 import json
 import os
 import re
-import select
-import signal
 import subprocess
-import tempfile
-import time
 from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
+from quadstep.port_process import PortProcess
 
 REPO = Path(__file__).resolve().parents[2]
 BUILD = Path(os.environ.get("QUADSTEP_BUILD", REPO / "build"))
 HARNESS = BUILD / "simavr" / "qs-simavr"
 BOARDS = {"uno": "atmega328p", "mega": "atmega2560"}
 F_CPU = 16_000_000
-START_TIMEOUT = 10.0
-STOP_TIMEOUT = 10.0
 
 
 class SimAvrError(RuntimeError):
@@ -50,6 +45,11 @@ def build(*targets: str) -> None:
 
 def elf_path(board: str) -> Path:
     return BUILD / "avr" / f"{board}.elf"
+
+
+def harness(board: str, elf: Path | None = None) -> list[str]:
+    """The harness command running `elf` (by default the board's build) on the board's MCU."""
+    return [str(HARNESS), "--mcu", BOARDS[board], "--elf", str(elf or elf_path(board))]
 
 
 def avr_define(name: str, board: str = "uno") -> int:
@@ -96,87 +96,24 @@ def load_trace(path: Path) -> np.ndarray:
     return rows.reshape(-1, 3)
 
 
-def parse_summary(text: str) -> dict[str, int | str]:
-    summary: dict[str, int | str] = {}
-    for line in text.splitlines():
-        key, sep, value = line.strip().partition("=")
-        if sep and key and " " not in key:
-            summary[key] = int(value) if value.lstrip("-").isdigit() else value
-    return summary
-
-
-class SimAvr:
+class SimAvr(PortProcess):
     """qs-simavr serving the board's UART on a pseudo-terminal; use as a context manager."""
+
+    error = SimAvrError
+    stop_timeout = 10.0
 
     def __init__(self, outputs: Outputs, board: str = "uno", elf: Path | None = None,
                  extra_args: Sequence[str] = ()) -> None:
+        super().__init__([*harness(board, elf), "--pty", *outputs.args(), *extra_args])
         self.outputs = outputs
-        self.args = [str(HARNESS), "--mcu", BOARDS[board], "--elf", str(elf or elf_path(board)), "--pty",
-                     *outputs.args(), *extra_args]
-        self.url = ""
-        self.summary: dict[str, int | str] = {}
-        self.returncode: int | None = None
-        self._proc: subprocess.Popen[bytes] | None = None
-        self._stderr = tempfile.TemporaryFile()
-
-    def start(self) -> SimAvr:
-        self._proc = subprocess.Popen(self.args, stdout=subprocess.PIPE, stderr=self._stderr,
-                                      stdin=subprocess.DEVNULL)
-        assert self._proc.stdout is not None
-        line = _read_line(self._proc.stdout.fileno(), START_TIMEOUT)
-        if not line.startswith("PORT "):
-            self.stop()
-            raise SimAvrError(f"{' '.join(self.args)} printed {line!r}, not `PORT <device>`:\n{self.stderr_text()}")
-        self.url = line[5:].strip()
-        return self
-
-    def stderr_text(self) -> str:
-        self._stderr.seek(0)
-        return self._stderr.read().decode(errors="replace")
-
-    def stop(self) -> dict[str, int | str]:
-        """SIGTERM, wait, and return the exit summary; the output files are then complete."""
-        if self._proc is not None:
-            if self._proc.poll() is None:
-                self._proc.send_signal(signal.SIGTERM)
-                try:
-                    self._proc.wait(STOP_TIMEOUT)
-                except subprocess.TimeoutExpired:
-                    self._proc.kill()
-                    self._proc.wait()
-            self.returncode = self._proc.returncode
-            if self._proc.stdout is not None:
-                self._proc.stdout.close()
-            self._proc = None
-            self.summary = parse_summary(self.stderr_text())
-        return self.summary
-
-    def __enter__(self) -> SimAvr:
-        return self.start()
-
-    def __exit__(self, *exc: object) -> None:
-        self.stop()
 
 
-def _read_line(fd: int, timeout: float) -> str:
-    data = b""
-    deadline = time.monotonic() + timeout
-    while not data.endswith(b"\n"):
-        remaining = deadline - time.monotonic()
-        if remaining <= 0 or not select.select([fd], [], [], remaining)[0]:
-            break
-        chunk = os.read(fd, 256)
-        if not chunk:
-            break
-        data += chunk
-    return data.decode(errors="replace")
-
-
-def _run(args: list[str], timeout: float) -> str:
-    result = subprocess.run(args, capture_output=True, timeout=timeout)
+def _run(args: list[str], outputs: Outputs, timeout: float) -> dict:
+    """Run the harness free to its end; returns the stats it wrote."""
+    result = subprocess.run([*args, *outputs.args()], capture_output=True, timeout=timeout)
     if result.returncode != 0:
         raise SimAvrError(f"{' '.join(args)} exited {result.returncode}:\n{result.stderr.decode(errors='replace')}")
-    return result.stderr.decode(errors="replace")
+    return outputs.load_stats()
 
 
 def run_feed(frames: bytes, outputs: Outputs, board: str = "uno", elf: Path | None = None,
@@ -184,12 +121,10 @@ def run_feed(frames: bytes, outputs: Outputs, board: str = "uno", elf: Path | No
     """Send ready-made sequenced frames as fast as flow control allows, free-running; returns the stats."""
     feed = outputs.stats.with_suffix(".feed")
     feed.write_bytes(frames)
-    args = [str(HARNESS), "--mcu", BOARDS[board], "--elf", str(elf or elf_path(board)), "--feed", str(feed),
-            "--max-cycles", str(max_cycles), *outputs.args()]
+    args = [*harness(board, elf), "--feed", str(feed), "--max-cycles", str(max_cycles)]
     if reply_file is not None:
         args += ["--output", str(reply_file)]
-    _run(args, timeout)
-    return outputs.load_stats()
+    return _run(args, outputs, timeout)
 
 
 def run_input(data: bytes, outputs: Outputs, reply_file: Path, board: str = "uno", elf: Path | None = None,
@@ -197,7 +132,6 @@ def run_input(data: bytes, outputs: Outputs, reply_file: Path, board: str = "uno
     """Put raw bytes on the line at its rate (no flow control), free-running until idle; returns the stats."""
     path = outputs.stats.with_suffix(".input")
     path.write_bytes(data)
-    args = [str(HARNESS), "--mcu", BOARDS[board], "--elf", str(elf or elf_path(board)), "--input", str(path),
-            "--output", str(reply_file), "--exit-when-idle", "--max-cycles", str(max_cycles), *outputs.args()]
-    _run(args, timeout)
-    return outputs.load_stats()
+    args = [*harness(board, elf), "--input", str(path), "--output", str(reply_file), "--exit-when-idle",
+            "--max-cycles", str(max_cycles)]
+    return _run(args, outputs, timeout)

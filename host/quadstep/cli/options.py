@@ -9,6 +9,7 @@ from typing import Any
 
 from pydantic import ValidationError
 
+from ..config import error_location
 from ..emulator import open_connection
 from ..link import DEFAULT_BAUD, Link
 
@@ -42,10 +43,7 @@ def connect(args: argparse.Namespace, **emulator_options: Any) -> AbstractContex
 
 
 def _location(loc: tuple[int | str, ...]) -> str:
-    text = ""
-    for part in loc:
-        text += f"[{part}]" if isinstance(part, int) else (f".{part}" if text else str(part))
-    return text or "(top level)"
+    return error_location(loc) or "(top level)"
 
 
 def format_validation_error(error: ValidationError, source: str = "") -> str:

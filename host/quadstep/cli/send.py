@@ -11,6 +11,7 @@ from pydantic import BaseModel, ConfigDict, Field, ValidationError
 from ..link import Link
 from ..protocol import IdentifyReply, Segment, SetPosition
 from ..protocol.messages import I32
+from ..textfile import read_text
 from .info import AXIS_NAMES
 from .options import CliError, add_connection_options, add_json_option, connect, format_validation_error
 
@@ -34,10 +35,9 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 
 def load(path: Path) -> SegmentsFile:
     """Read and validate the whole file; every problem names its place, the limit and the value."""
+    text = read_text(path, CliError)
     try:
-        data = json.loads(path.read_text())
-    except OSError as exc:
-        raise CliError(f"cannot read {path}: {exc.strerror}") from None
+        data = json.loads(text)
     except json.JSONDecodeError as exc:
         raise CliError(f"{path}: line {exc.lineno} column {exc.colno}: {exc.msg}") from None
     try:

@@ -21,10 +21,6 @@ def hold_decels(config: MachineConfig) -> tuple[int, ...]:
     return tuple(hold_decel(axis, config.tick_hz) for axis in config.axes)
 
 
-def speed_steps_per_tick(axis: AxisConfig, mm_per_s: float, tick_hz: int) -> float:
-    return mm_per_s * axis.steps_per_mm / tick_hz
-
-
 def braking_steps(speed: float, decel: int) -> float:
     """Steps to come to rest from `speed` (steps per tick) at a HOLD deceleration `decel`."""
     a = decel / (1 << DECEL_SHIFT)

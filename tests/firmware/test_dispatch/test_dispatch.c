@@ -26,9 +26,7 @@ void tearDown(void)
 /* Reports sent since the last call. */
 static uint16_t sent(void)
 {
-    uint16_t n = tp_reports(reports, TP_MAX_REPORTS);
-    tp_clear_sent();
-    return n;
+    return tp_take_reports(reports, TP_MAX_REPORTS);
 }
 
 static qs_ack only_ack(void)

@@ -14,63 +14,37 @@
 #define BOUND (2L * QS_N_MAX * D + 3L * D) /* 8,384,512 */
 
 static qs_engine engine;
-static uint64_t rng_state;
 
 void setUp(void)
 {
     qs_engine_init(&engine, QS_QUEUE_CAPACITY);
-    rng_state = 0x9E3779B97F4A7C15ull;
+    tp_seed(0x9E3779B97F4A7C15ull);
 }
 
 void tearDown(void)
 {
 }
 
-static uint32_t rnd(uint32_t limit)
-{
-    rng_state = rng_state * 6364136223846793005ull + 1442695040888963407ull;
-    return (uint32_t)((rng_state >> 33) % limit);
-}
-
 /* A speed that is often an extreme. */
 static uint16_t rnd_speed(void)
 {
     static const uint16_t extremes[] = {0, 1, 4095, 4096};
-    return rnd(3) ? (uint16_t)rnd(4097) : extremes[rnd(4)];
+    return tp_rand(3) ? (uint16_t)tp_rand(4097) : extremes[tp_rand(4)];
 }
 
 static uint16_t rnd_n(void)
 {
     static const uint16_t extremes[] = {1, 2, 1021, 1022};
-    return rnd(4) ? (uint16_t)(1 + rnd(QS_N_MAX)) : extremes[rnd(4)];
+    return tp_rand(4) ? (uint16_t)(1 + tp_rand(QS_N_MAX)) : extremes[tp_rand(4)];
 }
 
 static int16_t rnd_residual(uint16_t v0, uint16_t vn)
 {
     static const int16_t extremes[] = {-4096, -4095, 0, 4095, 4096};
-    int16_t r = rnd(3) ? (int16_t)((int32_t)rnd(8193) - 4096) : extremes[rnd(5)];
+    int16_t r = tp_rand(3) ? (int16_t)((int32_t)tp_rand(8193) - 4096) : extremes[tp_rand(5)];
     if (r == 4096 && v0 == 4096 && vn == 4096)
         r = 4095; /* the one excluded input */
     return r;
-}
-
-/* Exact ideal position times 2nD: X(t) = n*r + (vn - v0)*t^2 + 2*n*v0*t. */
-static int64_t ideal_2nd(const qs_segment_msg *m, uint8_t axis, int64_t t)
-{
-    int64_t n = m->n;
-    return n * m->r[axis] + ((int64_t)m->vn[axis] - m->v0[axis]) * t * t
-           + 2 * n * m->v0[axis] * t;
-}
-
-/* s(t) of PROTOCOL.md section 8, evaluated in 64 bits. */
-static int64_t closed_form(const qs_segment_msg *m, uint8_t axis, int64_t t)
-{
-    int64_t n = m->n;
-    int64_t num = ideal_2nd(m, axis, t) + n * D;
-    int64_t den = 2 * n * D;
-    if (t == 0)
-        return 0;
-    return num >= 0 ? num / den : -((-num + den - 1) / den);
 }
 
 static void enqueue(const qs_segment_msg *m)
@@ -89,7 +63,7 @@ static void random_segment(qs_segment_msg *m, uint8_t active)
     uint8_t axis;
     m->n = rnd_n();
     m->active = active;
-    m->negative = (uint8_t)(rnd(16) & active);
+    m->negative = (uint8_t)(tp_rand(16) & active);
     for (axis = 0; axis < QS_PROTOCOL_AXES; axis++) {
         m->v0[axis] = m->vn[axis] = 0;
         m->r[axis] = 0;
@@ -129,10 +103,10 @@ static void run_checked(const qs_segment_msg *m, int check_reads, int32_t *posit
                 position[axis] += negative ? -1 : 1;
             }
             /* Within half a step of the ideal curve, and what the host predicts. */
-            err = made[axis] * n2d - ideal_2nd(m, axis, t);
+            err = made[axis] * n2d - tp_ideal_2nd(m, axis, t);
             TEST_ASSERT_LESS_OR_EQUAL_INT64(m->n * (int64_t)D, err);
             TEST_ASSERT_GREATER_OR_EQUAL_INT64(-m->n * (int64_t)D, err);
-            TEST_ASSERT_EQUAL_INT64(closed_form(m, axis, t), made[axis]);
+            TEST_ASSERT_EQUAL_INT64(tp_closed_form(m, axis, t), made[axis]);
         }
         if (check_reads) {
             qs_engine_view v;
@@ -142,7 +116,7 @@ static void run_checked(const qs_segment_msg *m, int check_reads, int32_t *posit
         }
     }
     for (axis = 0; axis < QS_AXIS_COUNT; axis++) {
-        int32_t expect = (int32_t)closed_form(m, axis, m->n);
+        int32_t expect = (int32_t)tp_closed_form(m, axis, m->n);
         if (!(m->active & (1u << axis)))
             expect = 0;
         if ((m->negative >> axis) & 1)
@@ -160,7 +134,7 @@ static void test_random_segments_follow_the_ideal_curve_and_the_closed_form(void
 
     for (i = 0; i < 4000; i++) {
         qs_segment_msg m;
-        random_segment(&m, (uint8_t)(1 + rnd((1u << QS_AXIS_COUNT) - 1)));
+        random_segment(&m, (uint8_t)(1 + tp_rand((1u << QS_AXIS_COUNT) - 1)));
         enqueue(&m);
         run_checked(&m, i % 8 == 0, position);
         TEST_ASSERT_EQUAL_INT(0, qs_queue_count(&engine.queue));

@@ -15,28 +15,16 @@
 #define BUDGET (1L << 23)
 
 static qs_engine engine;
-static uint64_t rng_state;
 
 void setUp(void)
 {
     qs_engine_init(&engine, QS_QUEUE_CAPACITY);
-    rng_state = 0x2545F4914F6CDD1Dull;
+    tp_seed(0x2545F4914F6CDD1Dull);
 }
 
 void tearDown(void)
 {
     tp_check_unlocked();
-}
-
-static uint32_t rnd(uint32_t limit)
-{
-    rng_state = rng_state * 6364136223846793005ull + 1442695040888963407ull;
-    return (uint32_t)((rng_state >> 33) % limit);
-}
-
-static int64_t floor_div(int64_t num, int64_t den)
-{
-    return num >= 0 ? num / den : -((-num + den - 1) / den);
 }
 
 /* ---- the reference: the hold in exact arithmetic ---- */
@@ -51,27 +39,18 @@ typedef struct {
     int64_t s_t0; /* the segment's steps before the hold */
 } ref_hold;
 
-/* Steps of the segment by tick t (PROTOCOL.md section 8). */
-static int64_t seg_steps(const qs_segment_msg *m, uint8_t axis, int64_t t)
-{
-    int64_t n = m->n, c1 = (int64_t)m->vn[axis] - m->v0[axis];
-    if (t == 0)
-        return 0;
-    return floor_div(n * m->r[axis] + c1 * t * t + 2 * n * m->v0[axis] * t + n * D, 2 * n * D);
-}
-
 static ref_hold reference(const qs_segment_msg *m, uint8_t axis, uint16_t t0, uint16_t decel)
 {
     ref_hold r;
     int64_t n = m->n, k = 1, c1 = (int64_t)m->vn[axis] - m->v0[axis];
-    int64_t x_t0 = n * m->r[axis] + c1 * t0 * t0 + 2 * n * m->v0[axis] * t0;
+    int64_t x_t0 = tp_ideal_2nd(m, axis, t0);
     int64_t quanta;
 
     while (2 * k * n <= QS_N_MAX)
         k *= 2;
     r.kn = k * n;
     r.w = 2 * r.kn * D;
-    r.s_t0 = seg_steps(m, axis, t0);
+    r.s_t0 = tp_closed_form(m, axis, t0);
     r.e0 = k * (x_t0 - 2 * n * D * r.s_t0);
     r.i1 = k * (2 * n * m->v0[axis] + c1 * (2 * t0 + 1));
     /* a = decel / 2^24 step per tick^2 is 2knD*a = kn*decel / 2^11 quanta. */
@@ -93,7 +72,7 @@ static int64_t ref_steps(const ref_hold *r, int64_t j)
 {
     if (j == 0)
         return 0;
-    return floor_div(ref_ideal(r, j) + r->kn * D, r->w);
+    return tp_floor_div(ref_ideal(r, j) + r->kn * D, r->w);
 }
 
 /* ---- driving the engine ---- */
@@ -112,21 +91,21 @@ static void enqueue(const qs_segment_msg *m)
 static uint16_t rnd_speed(void)
 {
     static const uint16_t extremes[] = {0, 1, 4095, 4096};
-    return rnd(3) ? (uint16_t)rnd(4097) : extremes[rnd(4)];
+    return tp_rand(3) ? (uint16_t)tp_rand(4097) : extremes[tp_rand(4)];
 }
 
 static uint16_t rnd_decel(void)
 {
     static const uint16_t extremes[] = {1, 2, 3, 8190, 8191};
-    return rnd(3) ? (uint16_t)(1 + rnd(QS_DECEL_MAX)) : extremes[rnd(5)];
+    return tp_rand(3) ? (uint16_t)(1 + tp_rand(QS_DECEL_MAX)) : extremes[tp_rand(5)];
 }
 
 static void random_segment(qs_segment_msg *m, uint16_t n)
 {
     uint8_t axis;
     m->n = n;
-    m->active = (uint8_t)(1 + rnd((1u << QS_AXIS_COUNT) - 1));
-    m->negative = (uint8_t)(rnd(16) & m->active);
+    m->active = (uint8_t)(1 + tp_rand((1u << QS_AXIS_COUNT) - 1));
+    m->negative = (uint8_t)(tp_rand(16) & m->active);
     for (axis = 0; axis < QS_PROTOCOL_AXES; axis++) {
         m->v0[axis] = m->vn[axis] = 0;
         m->r[axis] = 0;
@@ -134,7 +113,7 @@ static void random_segment(qs_segment_msg *m, uint16_t n)
             continue;
         m->v0[axis] = rnd_speed();
         m->vn[axis] = rnd_speed();
-        m->r[axis] = (int16_t)((int32_t)rnd(8193) - 4096);
+        m->r[axis] = (int16_t)((int32_t)tp_rand(8193) - 4096);
         if (m->r[axis] == 4096 && m->v0[axis] == 4096 && m->vn[axis] == 4096)
             m->r[axis] = 4095;
     }
@@ -227,8 +206,8 @@ static void test_random_holds_follow_their_closed_form(void)
     for (i = 0; i < 600; i++) {
         qs_segment_msg m, behind;
         uint16_t decel[QS_AXIS_COUNT];
-        uint16_t n = (uint16_t)(i % 5 == 0 ? 1 + rnd(8) : 1 + rnd(QS_N_MAX));
-        uint16_t t0 = (uint16_t)(i % 7 == 0 ? 0u : i % 7 == 1 ? n - 1u : rnd(n));
+        uint16_t n = (uint16_t)(i % 5 == 0 ? 1 + tp_rand(8) : 1 + tp_rand(QS_N_MAX));
+        uint16_t t0 = (uint16_t)(i % 7 == 0 ? 0u : i % 7 == 1 ? n - 1u : tp_rand(n));
         int32_t made[QS_AXIS_COUNT];
         qs_engine_view v;
         int64_t ticks;
@@ -236,12 +215,12 @@ static void test_random_holds_follow_their_closed_form(void)
 
         qs_engine_init(&engine, QS_QUEUE_CAPACITY);
         random_segment(&m, n);
-        random_segment(&behind, (uint16_t)(1 + rnd(QS_N_MAX)));
+        random_segment(&behind, (uint16_t)(1 + tp_rand(QS_N_MAX)));
         /* Fast enough to take a few hundred ticks at most to stop. */
         for (axis = 0; axis < QS_AXIS_COUNT; axis++)
-            decel[axis] = (uint16_t)(2000 + rnd(QS_DECEL_MAX - 1999));
+            decel[axis] = (uint16_t)(2000 + tp_rand(QS_DECEL_MAX - 1999));
         if (i % 10 == 0)
-            decel[rnd(QS_AXIS_COUNT)] = rnd_decel();
+            decel[tp_rand(QS_AXIS_COUNT)] = rnd_decel();
         enqueue(&m);
         enqueue(&behind);
         for (ticks = 0; ticks < t0; ticks++)

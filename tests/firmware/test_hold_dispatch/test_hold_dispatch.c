@@ -28,9 +28,7 @@ void tearDown(void)
 
 static uint16_t sent(void)
 {
-    uint16_t n = tp_reports(reports, TP_MAX_REPORTS);
-    tp_clear_sent();
-    return n;
+    return tp_take_reports(reports, TP_MAX_REPORTS);
 }
 
 static void send_hold(uint8_t seq, uint16_t d0, uint16_t d1, uint16_t d2, uint16_t d3)
