@@ -30,10 +30,15 @@ def test_unacknowledged_frame_gives_up_after_its_resends(start_emulator) -> None
                 link.status()
         finally:
             os.kill(emu.pid, signal.SIGCONT)
-        # The firmware now reads the four copies: one executes, three are duplicates.
-        status = link.stop()
-        assert status.state == State.IDLE
+        # The firmware now reads the four copies: one executes, three are duplicates. (A STOP sent now
+        # could arrive in the same read as the copies and flush the segment before its first tick.)
+        status = link.status()
+        for _ in range(100):
+            if status.segments_done == 1 and status.state == State.IDLE:
+                break
+            status = link.status()
         assert status.seq_dup == 3 and status.segments_done == 1 and status.position[0] == 50
+        assert link.stop().state == State.IDLE
         link.send(SEGMENT)
         assert link.wait_idle(timeout=10).position[0] == 100
 
