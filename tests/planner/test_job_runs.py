@@ -123,10 +123,13 @@ def test_a_different_tick_rate_is_refused(start_emulator, tmp_path: Path, capsys
 
 
 def cli_process(*args: str, stdin: int | None = None) -> subprocess.Popen[str]:
-    """`python3 -m quadstep.cli ARGS` in the repository, using this checkout's package."""
+    """`quadstep ARGS` in the repository, using this checkout's package. Ctrl-C is given its usual
+    meaning even when the tests run where SIGINT is ignored (a background job inherits that)."""
     env = dict(os.environ, PYTHONPATH=str(REPO / "host"))
+    launch = "import signal, sys; signal.signal(signal.SIGINT, signal.default_int_handler); " \
+             "from quadstep.cli import main; sys.exit(main())"
     return subprocess.Popen(
-        [sys.executable, "-m", "quadstep.cli", *args],
+        [sys.executable, "-c", launch, *args],
         stdin=stdin, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, cwd=REPO, env=env,
     )
 
