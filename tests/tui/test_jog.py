@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 import threading
 import time
 
@@ -155,8 +156,9 @@ def test_stop_key_ends_a_continuous_jog_with_hold(paced_link: Link, machine: Mac
 
 
 def test_continuous_jog_keeps_little_motion_queued(paced_link: Link, machine: MachineConfig) -> None:
-    """A host that vanishes mid-jog leaves at most the lookahead (0.1 s) queued, not a full queue."""
-    jogger = Jogger(paced_link, machine, JogSettings(first_repeat_timeout=5.0, repeat_timeout=5.0))
+    """A host that vanishes mid-jog leaves at most the lookahead queued, not a full queue."""
+    settings = JogSettings(first_repeat_timeout=5.0, repeat_timeout=5.0)
+    jogger = Jogger(paced_link, machine, settings)
     jogger.mode = JogMode.CONTINUOUS
     jogger.speed_index = 1  # 5 mm/s: 8 s to the limit, segments of 1022 ticks once cruising
     fills: list[int] = []
@@ -175,5 +177,7 @@ def test_continuous_jog_keeps_little_motion_queued(paced_link: Link, machine: Ma
     sampler.join()
     jogger.stop()
     assert len(fills) > 10
-    # 0.1 s = 5,000 ticks ahead: at most 5 whole segments plus the one running
-    assert 2 <= max(fills) <= 6
+    # the lookahead in ticks covers at most `whole` segments of 1022 ticks, plus the one running
+    whole = math.ceil(settings.lookahead * machine.tick_hz / 1022)
+    assert whole + 1 < paced_link.identify().queue_capacity
+    assert 2 <= max(fills) <= whole + 1

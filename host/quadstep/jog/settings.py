@@ -18,8 +18,9 @@ class JogSettings(BaseModel):
     first_repeat_timeout: float = Field(default=0.7, gt=0.0, le=5.0, description="s")
     repeat_timeout: float = Field(default=0.15, gt=0.0, le=5.0, description="s")
     # Motion queued on the board ahead of the machine during a continuous jog:
-    # a host that vanishes leaves at most this much (then the board stops).
-    lookahead: float = Field(default=0.1, ge=0.02, le=2.0, description="s")
+    # a host that vanishes leaves at most this much (then the board stops); a
+    # busy host must get the next segment out within it, or the board underruns.
+    lookahead: float = Field(default=0.25, ge=0.02, le=2.0, description="s")
 
     @model_validator(mode="after")
     def _presets_in_range(self) -> JogSettings:
