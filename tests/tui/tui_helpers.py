@@ -16,8 +16,9 @@ MACHINE: dict[str, Any] = {
     ],
 }
 
-# Repeats every 40 ms after a 0.3 s initial delay (a fast terminal); the timeouts cover both.
-FAST_RELEASE = JogSettings(first_repeat_timeout=0.4, repeat_timeout=0.12)
+# Repeats every 40 ms after a 0.3 s initial delay (a fast terminal); the timeouts cover both with
+# room for a busy test machine, where a late repeat would end the jog and the next start another.
+FAST_RELEASE = JogSettings(first_repeat_timeout=0.6, repeat_timeout=0.3)
 
 
 async def until(pilot, predicate, timeout: float = 10.0, what: str = "condition") -> None:  # noqa: ANN001
