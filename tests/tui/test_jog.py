@@ -14,7 +14,7 @@ from quadstep.link import Link
 from quadstep.planner.lookahead import PLAN_ACCEL_FRACTION
 from quadstep.protocol import SetPosition, State
 
-from tui_helpers import FAST_RELEASE
+from tui_helpers import FAST_RELEASE, HELD_UNTIL_STOPPED
 
 X, Y, Z = 0, 1, 2
 
@@ -101,7 +101,7 @@ def test_speed_presets_are_fractions_of_the_axis_max(
 def test_continuous_jog_left_alone_comes_to_rest_exactly_on_the_soft_limit(
     paced_link: Link, machine: MachineConfig
 ) -> None:
-    jogger = Jogger(paced_link, machine, JogSettings(first_repeat_timeout=5.0, repeat_timeout=5.0))
+    jogger = Jogger(paced_link, machine, HELD_UNTIL_STOPPED)
     place(jogger, X=2400)  # 30 mm; 10 mm to the limit at 50 mm/s
     jogger.mode = JogMode.CONTINUOUS
     jogger.speed_index = 4
@@ -142,7 +142,7 @@ def test_continuous_jog_released_decelerates_with_hold_and_re_anchors(
 
 
 def test_stop_key_ends_a_continuous_jog_with_hold(paced_link: Link, machine: MachineConfig) -> None:
-    jogger = Jogger(paced_link, machine, JogSettings(first_repeat_timeout=5.0, repeat_timeout=5.0))
+    jogger = Jogger(paced_link, machine, HELD_UNTIL_STOPPED)
     jogger.mode = JogMode.CONTINUOUS
     jogger.jog(X, 1)
     time.sleep(0.25)

@@ -10,7 +10,7 @@ from quadstep.jog import JogMode, JogSettings
 from quadstep.protocol import State
 from quadstep.tui import QuadstepApp, Session, Target
 from quadstep.tui.help import HelpScreen
-from tui_helpers import FAST_RELEASE, hold_key, log_text, read_holds, send_key, until
+from tui_helpers import FAST_RELEASE, HELD_UNTIL_STOPPED, hold_key, log_text, read_holds, send_key, until
 
 
 def make_app(
@@ -88,7 +88,7 @@ async def test_continuous_jog_stops_when_the_key_repeats_stop(
 
 
 async def test_space_stops_a_continuous_jog_with_hold(machine: MachineConfig, emulator_binary: Path) -> None:
-    app = make_app(machine, emulator_binary, free=False, settings=JogSettings(first_repeat_timeout=3.0))
+    app = make_app(machine, emulator_binary, free=False, settings=HELD_UNTIL_STOPPED)
     async with app.run_test(size=(100, 32)) as pilot:
         await connected(pilot, app)
         await pilot.press("c")

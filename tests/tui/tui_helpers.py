@@ -18,7 +18,11 @@ MACHINE: dict[str, Any] = {
 
 # Repeats every 40 ms after a 0.3 s initial delay (a fast terminal); the timeouts cover both with
 # room for a busy test machine, where a late repeat would end the jog and the next start another.
-FAST_RELEASE = JogSettings(first_repeat_timeout=0.6, repeat_timeout=0.3)
+FAST_RELEASE = JogSettings(first_repeat_timeout=0.6, repeat_timeout=0.3, lookahead=1.0)
+# Jogs that no inferred release ends (only a stop key or the soft limit). Tests not about the
+# lookahead queue a second ahead, so that a test machine too busy to feed the board in time
+# cannot end them in UNDERRUN (a stop never waits on the queue: HOLD drops the queued tail).
+HELD_UNTIL_STOPPED = JogSettings(first_repeat_timeout=5.0, repeat_timeout=5.0, lookahead=1.0)
 
 
 async def until(pilot, predicate, timeout: float = 10.0, what: str = "condition") -> None:  # noqa: ANN001
