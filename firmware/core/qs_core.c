@@ -56,7 +56,7 @@ static void send_identify_reply(qs_core *c, uint8_t seq)
     id.speed_shift = QS_SPEED_SHIFT;
     id.n_max = QS_N_MAX;
     id.tick_hz = c->tick_hz;
-    id.capabilities = QS_CAP_QUADRATIC | QS_CAP_SET_POSITION | QS_CAP_HOLD;
+    id.capabilities = QS_CAP_QUADRATIC_SEGMENTS | QS_CAP_SET_POSITION | QS_CAP_HOLD;
     id.next_seq = c->next_seq;
     send_body(c, qs_msg_encode_identify_reply(tx_body(c), seq, &id));
 }
@@ -239,57 +239,77 @@ static void on_hold(qs_core *c, const qs_host_msg *m)
     report_pending_hold(c);
 }
 
-static void on_sequenced(qs_core *c, const qs_host_msg *m)
+/* Whether a sequenced frame is the one expected next. A later frame means
+ * some were lost; an earlier one is a resend of a frame already consumed.
+ * Neither is executed: the answer says which. */
+static uint8_t in_sequence(qs_core *c, const qs_host_msg *m)
 {
     uint8_t delta = (uint8_t)(m->seq - c->next_seq);
 
-    if (delta != 0) {
-        /* A later frame means some were lost; an earlier one is a resend of
-         * a frame already consumed. Neither is executed. */
-        if (delta <= 127) {
-            count(&c->counters.seq_gap);
-            send_ack(c, m->seq, QS_ACK_GAP);
-        } else {
-            count(&c->counters.seq_dup);
-            send_ack(c, m->seq, QS_ACK_DUPLICATE);
-        }
-        return;
+    if (delta == 0)
+        return 1;
+    if (delta <= 127) {
+        count(&c->counters.seq_gap);
+        send_ack(c, m->seq, QS_ACK_GAP);
+    } else {
+        count(&c->counters.seq_dup);
+        send_ack(c, m->seq, QS_ACK_DUPLICATE);
     }
-    if (m->type == QS_TYPE_SEGMENT)
-        on_segment(c, m);
-    else
-        on_set_position(c, m);
+    return 0;
 }
 
+/* Every host message, by type (PROTOCOL.md section 5): its parser, then
+ * what it does. A new message is one case here. */
 static void on_frame(qs_core *c, const uint8_t *body, uint8_t len)
 {
+    const uint8_t *p = body + 2;
+    uint8_t plen = (uint8_t)(len - 2);
     qs_host_msg m;
     qs_fault f;
-    uint8_t code = qs_msg_parse(body, len, &m);
+    uint8_t code;
 
+    m.type = body[0];
+    m.seq = body[1];
     report_pending_hold(c);
+    switch (m.type) {
+    case QS_TYPE_IDENTIFY:
+        code = qs_msg_parse_empty(plen);
+        if (code == QS_ERR_NONE)
+            send_identify_reply(c, m.seq);
+        break;
+    case QS_TYPE_STATUS:
+        code = qs_msg_parse_empty(plen);
+        if (code == QS_ERR_NONE)
+            send_status_report(c, m.seq, 1);
+        break;
+    case QS_TYPE_STOP:
+        code = qs_msg_parse_empty(plen);
+        if (code == QS_ERR_NONE)
+            on_stop(c, &m);
+        break;
+    case QS_TYPE_HOLD:
+        code = qs_msg_parse_hold(p, plen, &m.as.hold);
+        if (code == QS_ERR_NONE)
+            on_hold(c, &m);
+        break;
+    case QS_TYPE_SEGMENT:
+        code = qs_msg_parse_segment(p, plen, &m.as.segment);
+        if (code == QS_ERR_NONE && in_sequence(c, &m))
+            on_segment(c, &m);
+        break;
+    case QS_TYPE_SET_POSITION:
+        code = qs_msg_parse_set_position(p, plen, &m.as.set_position);
+        if (code == QS_ERR_NONE && in_sequence(c, &m))
+            on_set_position(c, &m);
+        break;
+    default:
+        code = QS_ERR_UNKNOWN_TYPE;
+        break;
+    }
     if (code != QS_ERR_NONE) {
         count_error(c, code);
         fault(&f, code);
         send_error(c, m.seq, m.type, &f);
-        return;
-    }
-    switch (m.type) {
-    case QS_TYPE_IDENTIFY:
-        send_identify_reply(c, m.seq);
-        break;
-    case QS_TYPE_STATUS:
-        send_status_report(c, m.seq, 1);
-        break;
-    case QS_TYPE_STOP:
-        on_stop(c, &m);
-        break;
-    case QS_TYPE_HOLD:
-        on_hold(c, &m);
-        break;
-    default:
-        on_sequenced(c, &m);
-        break;
     }
 }
 

@@ -33,7 +33,12 @@ static uint8_t bit_count(uint8_t bits)
     return n;
 }
 
-static uint8_t parse_segment(const uint8_t *p, uint8_t len, qs_segment_msg *s)
+uint8_t qs_msg_parse_empty(uint8_t len)
+{
+    return len == 0 ? QS_ERR_NONE : QS_ERR_BAD_LENGTH;
+}
+
+uint8_t qs_msg_parse_segment(const uint8_t *p, uint8_t len, qs_segment_msg *s)
 {
     uint8_t axis, bit;
 
@@ -62,21 +67,22 @@ static uint8_t parse_segment(const uint8_t *p, uint8_t len, qs_segment_msg *s)
     return QS_ERR_NONE;
 }
 
-static uint8_t parse_set_position(const uint8_t *p, uint8_t len, qs_set_position_msg *sp)
+uint8_t qs_msg_parse_set_position(const uint8_t *p, uint8_t len, qs_set_position_msg *sp)
 {
     uint8_t axis;
 
-    if (len < 1 || len != 1 + 4 * bit_count(p[0]))
+    if (len < QS_LEN_SET_POSITION_HEAD
+        || len != QS_LEN_SET_POSITION_HEAD + QS_LEN_SET_POSITION_AXIS * bit_count(p[0]))
         return QS_ERR_BAD_LENGTH;
     sp->mask = p[0];
-    p++;
+    p += QS_LEN_SET_POSITION_HEAD;
     for (axis = 0; axis < 8; axis++) {
         if (!(sp->mask & (1u << axis)))
             continue;
         /* Bits above the wire's axes are refused by the content check. */
         if (axis < QS_PROTOCOL_AXES)
             sp->position[axis] = (int32_t)get32(p);
-        p += 4;
+        p += QS_LEN_SET_POSITION_AXIS;
     }
     for (axis = 0; axis < QS_PROTOCOL_AXES; axis++)
         if (!(sp->mask & (1u << axis)))
@@ -84,7 +90,7 @@ static uint8_t parse_set_position(const uint8_t *p, uint8_t len, qs_set_position
     return QS_ERR_NONE;
 }
 
-static uint8_t parse_hold(const uint8_t *p, uint8_t len, qs_hold_msg *h)
+uint8_t qs_msg_parse_hold(const uint8_t *p, uint8_t len, qs_hold_msg *h)
 {
     uint8_t axis;
 
@@ -93,29 +99,6 @@ static uint8_t parse_hold(const uint8_t *p, uint8_t len, qs_hold_msg *h)
     for (axis = 0; axis < QS_PROTOCOL_AXES; axis++)
         h->decel[axis] = get16(p + 2 * axis);
     return QS_ERR_NONE;
-}
-
-QS_NOINLINE uint8_t qs_msg_parse(const uint8_t *body, uint8_t body_len, qs_host_msg *m)
-{
-    uint8_t len = (uint8_t)(body_len - 2);
-    const uint8_t *payload = body + 2;
-
-    m->type = body[0];
-    m->seq = body[1];
-    switch (m->type) {
-    case QS_TYPE_IDENTIFY:
-    case QS_TYPE_STATUS:
-    case QS_TYPE_STOP:
-        return len == 0 ? QS_ERR_NONE : QS_ERR_BAD_LENGTH;
-    case QS_TYPE_SEGMENT:
-        return parse_segment(payload, len, &m->as.segment);
-    case QS_TYPE_SET_POSITION:
-        return parse_set_position(payload, len, &m->as.set_position);
-    case QS_TYPE_HOLD:
-        return parse_hold(payload, len, &m->as.hold);
-    default:
-        return QS_ERR_UNKNOWN_TYPE;
-    }
 }
 
 static uint8_t bad_field(qs_fault *f, uint8_t field, uint8_t axis)

@@ -46,9 +46,14 @@ typedef struct {
     uint8_t axis;
 } qs_fault;
 
-/* Type and length checks (codes 6-7 of section 2). body_len >= 2.
- * Returns QS_ERR_NONE, QS_ERR_UNKNOWN_TYPE or QS_ERR_BAD_LENGTH. */
-uint8_t qs_msg_parse(const uint8_t *body, uint8_t body_len, qs_host_msg *m);
+/* Parsing a host message's payload (after type and seq), one function per
+ * message: the length check (code 7 of section 2), then the fields as they
+ * are. Return QS_ERR_NONE or QS_ERR_BAD_LENGTH. Which function a type
+ * needs is the switch in qs_core.c (on_frame). */
+uint8_t qs_msg_parse_empty(uint8_t len);
+uint8_t qs_msg_parse_segment(const uint8_t *p, uint8_t len, qs_segment_msg *s);
+uint8_t qs_msg_parse_set_position(const uint8_t *p, uint8_t len, qs_set_position_msg *sp);
+uint8_t qs_msg_parse_hold(const uint8_t *p, uint8_t len, qs_hold_msg *h);
 
 /* Content checks in the order of section 5.2. Return QS_ERR_NONE or
  * QS_ERR_BAD_FIELD with f filled in. */

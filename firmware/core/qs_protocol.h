@@ -1,4 +1,7 @@
-/* Wire protocol constants (protocol/PROTOCOL.md, version 1). */
+/* Wire protocol constants (protocol/PROTOCOL.md, version 1).
+ * tests/host/test_protocol_c_header.py parses this file and holds every
+ * number here equal to the host's (host/quadstep/protocol/): names are
+ * QS_<TABLE>_<NAME>, payload lengths QS_LEN_<MESSAGE>[_HEAD|_AXIS]. */
 #ifndef QS_PROTOCOL_H
 #define QS_PROTOCOL_H
 
@@ -23,7 +26,9 @@
 /* COBS(body || crc) || 0x00: at most one code byte per 254 data bytes. */
 #define QS_MAX_WIRE (QS_MAX_FRAME + 2)
 
-/* Message types (sections 3, 5). */
+/* Message types (sections 3, 5). Each host message is one case of the
+ * switch in qs_core.c (on_frame), each report one encoder in
+ * qs_messages.c. */
 #define QS_TYPE_IDENTIFY 0x01
 #define QS_TYPE_STATUS 0x02
 #define QS_TYPE_STOP 0x03
@@ -40,16 +45,22 @@
 #define QS_TYPE_IS_IMMEDIATE(t) ((t) <= 0x0F)
 #define QS_SEQ_UNSOLICITED 0xFF
 
-/* Payload lengths. */
+/* Payload lengths: a fixed payload, or a fixed head and then a number of
+ * bytes per axis. */
+#define QS_LEN_HOLD 8 /* decel:u16 for each of the 4 axes the wire names */
 #define QS_LEN_SEGMENT_HEAD 3
 #define QS_LEN_SEGMENT_AXIS 6
+#define QS_LEN_SET_POSITION_HEAD 1
+#define QS_LEN_SET_POSITION_AXIS 4
 #define QS_LEN_ACK 5
 #define QS_LEN_IDENTIFY_REPLY 17
-#define QS_LEN_STATUS_HEAD 24
+#define QS_LEN_STATUS_REPORT_HEAD 24
+#define QS_LEN_STATUS_REPORT_AXIS 4
 #define QS_LEN_ERROR 5
 #define QS_LEN_ALARM_HEAD 5
-#define QS_LEN_HOLD 8        /* decel:u16 for each of the 4 axes the wire names */
-#define QS_LEN_EVENT_HEAD 9  /* kind, hold_tick, motion_ticks; then positions */
+#define QS_LEN_ALARM_AXIS 4
+#define QS_LEN_HOLD_DONE_HEAD 9 /* EVENT HOLD_DONE: kind, hold_tick, motion_ticks */
+#define QS_LEN_HOLD_DONE_AXIS 4
 
 /* ACK reasons. */
 #define QS_ACK_ACCEPTED 0
@@ -99,9 +110,19 @@
 /* EVENT kinds. */
 #define QS_EVENT_HOLD_DONE 1
 
+/* IDENTIFY board codes. */
+#define QS_BOARD_EMULATOR 0
+#define QS_BOARD_ATMEGA328P 1
+#define QS_BOARD_ATMEGA2560 2
+
 /* IDENTIFY capability bits. */
-#define QS_CAP_QUADRATIC 0x0001
+#define QS_CAP_QUADRATIC_SEGMENTS 0x0001
 #define QS_CAP_SET_POSITION 0x0002
 #define QS_CAP_HOLD 0x0004
+#define QS_CAP_JOG 0x0008
+#define QS_CAP_LIMIT_INPUTS 0x0010
+#define QS_CAP_PROBE_INPUT 0x0020
+#define QS_CAP_HOMING 0x0040
+#define QS_CAP_CUBIC_SEGMENTS 0x0080
 
 #endif

@@ -28,9 +28,9 @@ from .protocol import (
     ErrorCode,
     ErrorReport,
     Event,
-    EventKind,
     Frame,
     Hold,
+    HoldDone,
     Identify,
     IdentifyReply,
     MessageType,
@@ -164,7 +164,7 @@ class _State:
     last_rx: float = 0.0
     last_poll: float = 0.0
     last_alarm: Alarm | None = None
-    hold_done: Event | None = None  # the latest HOLD_DONE
+    hold_done: HoldDone | None = None  # the latest HOLD_DONE
     holds_done: int = 0  # HOLD_DONE events received
     closed: bool = False
 
@@ -290,7 +290,7 @@ class Link:
         return self._identity().tick_hz
 
     @property
-    def last_hold_done(self) -> Event | None:
+    def last_hold_done(self) -> HoldDone | None:
         """The latest EVENT HOLD_DONE received."""
         with self._cond:
             return self._s.hold_done
@@ -369,7 +369,7 @@ class Link:
                                  "(in 1/2^24 step per tick²)")
         return Hold(decel=tuple(values + [0] * (MAX_AXES - count)))  # type: ignore[arg-type]
 
-    def hold(self, decels: Sequence[int], timeout: float | None = None) -> Event:
+    def hold(self, decels: Sequence[int], timeout: float | None = None) -> HoldDone:
         """Decelerate every moving axis to rest and discard the queue; returns the HOLD_DONE Event.
 
         `decels`: per axis (or one for all) in 1/2^24 step per tick², 1..8191 (at 50 kHz one unit is
@@ -399,10 +399,10 @@ class Link:
                 self._resync(status)
         return done
 
-    def hold_async(self, decels: Sequence[int], timeout: float | None = None) -> Future[Event]:
+    def hold_async(self, decels: Sequence[int], timeout: float | None = None) -> Future[HoldDone]:
         """hold() in a thread of its own: returns at once with a Future of the HOLD_DONE Event."""
         message = self.hold_message(decels)  # bad input is refused here, not in the thread
-        future: Future[Event] = Future()
+        future: Future[HoldDone] = Future()
 
         def run() -> None:
             try:
@@ -417,7 +417,7 @@ class Link:
         alarm = self.last_alarm
         return AlarmError(alarm) if alarm is not None else LinkError("firmware is in ALARM; stop() clears it")
 
-    def _wait_hold_done(self, message: Hold, seen: int, generation: int, timeout: float | None) -> Event:
+    def _wait_hold_done(self, message: Hold, seen: int, generation: int, timeout: float | None) -> HoldDone:
         """Until a HOLD_DONE newer than `seen` arrives. A hold may take long, so the firmware is asked how it
         is going every poll_interval; once it is no longer holding, a HOLD_DONE lost on the wire is asked
         for again by repeating the HOLD (at rest the firmware repeats the report)."""
@@ -648,7 +648,7 @@ class Link:
                 self._fail(AlarmError(m))
             return True
         if isinstance(m, Event):
-            if m.kind == EventKind.HOLD_DONE:
+            if isinstance(m, HoldDone):
                 self._s.hold_done = m
                 self._s.holds_done += 1
             return True

@@ -11,9 +11,9 @@ import pytest
 from pydantic import BaseModel
 
 from quadstep.protocol import DecodeError, Decoder, Frame, decode, encode
-from quadstep.protocol.constants import ErrorCode, FieldId, MessageType
+from quadstep.protocol.constants import ErrorCode, FieldId
 from quadstep.protocol.framing import cobs_decode
-from quadstep.protocol.messages import MESSAGE_CLASSES
+from quadstep.protocol.messages import MessageType, message_from_json
 
 REPO = Path(__file__).resolve().parents[2]
 VECTORS_FILE = REPO / "protocol" / "vectors.json"
@@ -24,10 +24,7 @@ MALFORMED = [v for v in VECTORS if v["error"] is not None]
 
 
 def as_message(vector: dict) -> tuple[int, BaseModel]:
-    fields = dict(vector["message"])
-    mtype = MessageType[fields.pop("type")]
-    seq = fields.pop("seq")
-    return seq, MESSAGE_CLASSES[mtype].model_validate(fields)
+    return message_from_json(vector["message"])
 
 
 def test_committed_file_is_the_generators_output() -> None:

@@ -1,4 +1,4 @@
-"""The wire protocol of PROTOCOL.md: constants, message models, framing and codec."""
+"""The wire protocol of PROTOCOL.md: constants, message declarations, framing and codec."""
 
 from .codec import DecodeError, Decoder, Frame, decode, decode_body, encode, payload
 from .constants import (
@@ -11,9 +11,7 @@ from .constants import (
     Board,
     Capability,
     ErrorCode,
-    EventKind,
     FieldId,
-    MessageType,
     State,
 )
 from .messages import (
@@ -21,12 +19,13 @@ from .messages import (
     Alarm,
     ErrorReport,
     Event,
+    EventKind,
     Hold,
+    HoldDone,
     Identify,
     IdentifyReply,
     Message,
-    Report,
-    Request,
+    MessageType,
     SetPosition,
     Status,
     StatusReport,
@@ -34,11 +33,12 @@ from .messages import (
     message_type,
 )
 from .segment import D, MAX_AXES, N_MAX, R_MAX, AxisMove, Segment
+from .wire import Report, Request
 
 __all__ = [
     "Ack", "AckReason", "Alarm", "AlarmCode", "AxisMove", "Board", "Capability", "D", "DECEL_MAX", "DECEL_SHIFT",
-    "DecodeError", "Decoder", "ErrorCode", "ErrorReport", "Event", "EventKind", "FieldId", "Hold", "Frame", "Identify", "IdentifyReply", "MAX_AXES", "MAX_FRAME",
-    "Message", "MessageType", "N_MAX", "PROTOCOL_VERSION", "R_MAX", "Report", "Request", "Segment",
-    "SetPosition", "State", "Status", "StatusReport", "Stop", "decode", "decode_body", "encode", "message_type",
-    "payload",
+    "DecodeError", "Decoder", "ErrorCode", "ErrorReport", "Event", "EventKind", "FieldId", "Hold", "HoldDone",
+    "Frame", "Identify", "IdentifyReply", "MAX_AXES", "MAX_FRAME", "Message", "MessageType", "N_MAX",
+    "PROTOCOL_VERSION", "R_MAX", "Report", "Request", "Segment", "SetPosition", "State", "Status", "StatusReport",
+    "Stop", "decode", "decode_body", "encode", "message_type", "payload",
 ]

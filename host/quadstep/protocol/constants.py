@@ -1,40 +1,37 @@
-"""Every number of the wire protocol (PROTOCOL.md), in one place."""
+"""Every number of the wire protocol (PROTOCOL.md) but the message types and event kinds, which each
+message declares itself (wire.py, messages.py). tests/host/test_protocol_c_header.py holds these equal
+to firmware/core/qs_protocol.h."""
 
 from __future__ import annotations
 
 from enum import IntEnum, IntFlag
 
-from .segment import D, MAX_AXES, N_MAX, R_MAX, SPEED_SHIFT
-
 PROTOCOL_VERSION = 1
+SPEED_SHIFT = 12
+D = 1 << SPEED_SHIFT  # speed denominator: a speed v means v/D steps per tick
+V_MAX = D  # one step per tick
+N_MAX = 1022  # longest segment in ticks; keeps every per-tick value inside 24 bits
+R_MAX = D  # residual limit, in 1/(2D) step
+MAX_AXES = 4  # axes the wire format can name
 MAX_FRAME = 64  # decoded bytes (body ‖ crc16) per frame
 MIN_FRAME = 4  # type, seq, crc16
 DELIMITER = 0x00
 BROADCAST_SEQ = 0xFF  # seq of unsolicited reports, and of errors about untrusted frames
+NO_FIELD = 0  # ERROR field when no field is named
+NO_AXIS = 0xFF  # ERROR axis when no axis is named
 MAX_IN_FLIGHT = 127  # sequenced frames outstanding at once
 DECEL_SHIFT = 24  # a HOLD deceleration d means d / 2^24 step per tick²
 DECEL_MAX = 8191  # largest HOLD deceleration (keeps the hold's per-tick values inside 24 bits)
 
 __all__ = [
-    "D", "MAX_AXES", "N_MAX", "R_MAX", "SPEED_SHIFT", "PROTOCOL_VERSION", "MAX_FRAME", "MIN_FRAME",
-    "DELIMITER", "BROADCAST_SEQ", "MAX_IN_FLIGHT", "DECEL_SHIFT", "DECEL_MAX", "MessageType", "AckReason",
-    "ErrorCode", "FieldId", "AlarmCode", "State", "EventKind", "Board", "Capability",
+    "D", "MAX_AXES", "N_MAX", "R_MAX", "SPEED_SHIFT", "V_MAX", "PROTOCOL_VERSION", "MAX_FRAME", "MIN_FRAME",
+    "DELIMITER", "BROADCAST_SEQ", "NO_FIELD", "NO_AXIS", "MAX_IN_FLIGHT", "DECEL_SHIFT", "DECEL_MAX",
+    "AckReason", "ErrorCode", "FieldId", "AlarmCode", "State", "Board", "Capability", "TypeClass",
 ]
 
 
-class MessageType(IntEnum):
-    IDENTIFY = 0x01
-    STATUS = 0x02
-    STOP = 0x03
-    HOLD = 0x04
-    SEGMENT = 0x10
-    SET_POSITION = 0x11
-    ACK = 0x80
-    IDENTIFY_REPLY = 0x81
-    STATUS_REPORT = 0x82
-    ERROR = 0x83
-    ALARM = 0x84
-    EVENT = 0x85
+class TypeClass(IntEnum):
+    """What the type byte's range says (PROTOCOL.md §3); a message type enum derives from it."""
 
     @property
     def is_immediate(self) -> bool:
@@ -93,10 +90,6 @@ class State(IntEnum):
     RUNNING = 1
     ALARM = 2
     HOLDING = 3
-
-
-class EventKind(IntEnum):
-    HOLD_DONE = 1
 
 
 class Board(IntEnum):

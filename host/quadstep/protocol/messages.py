@@ -1,4 +1,10 @@
-"""pydantic models of every message (PROTOCOL.md §5), requests and reports.
+"""Every message of PROTOCOL.md §5, each declared once: type code, name, direction, fields and widths.
+
+A message is a class declared with `@message(code, NAME)` on `Request` (host
+→ firmware) or `Report` (firmware → host); its fields go on the wire in the
+order written here, each as its annotation says (U8, U16, I32, Positions,
+...). An EVENT kind is a subclass of `Event` declared with `@event_kind`.
+`MessageType` and `EventKind` are built from these declarations.
 
 Enumerated fields accept their name or their number and serialise to the name
 in JSON, which is also the form of protocol/vectors.json.
@@ -6,25 +12,52 @@ in JSON, which is also the form of protocol/vectors.json.
 
 from __future__ import annotations
 
+from dataclasses import dataclass
 from enum import IntEnum
-from typing import Annotated, ClassVar, Union
+from typing import Annotated, Any, ClassVar, TypeVar
 
-from pydantic import BaseModel, BeforeValidator, ConfigDict, Field, PlainSerializer
+from pydantic import (
+    BeforeValidator,
+    Field,
+    PlainSerializer,
+    SerializationInfo,
+    SerializerFunctionWrapHandler,
+    model_serializer,
+    model_validator,
+)
 
 from .constants import (
     DECEL_MAX,
     MAX_AXES,
+    NO_AXIS,
+    NO_FIELD,
     AckReason,
     AlarmCode,
     Board,
     Capability,
     ErrorCode,
-    EventKind,
     FieldId,
-    MessageType,
     State,
+    TypeClass,
 )
 from .segment import AxisMove, Segment
+from .wire import (
+    FieldFault,
+    Int,
+    Masked,
+    PerAxis,
+    Report,
+    Request,
+    WireMessage,
+    bits,
+    declared_event_kinds,
+    declared_messages,
+    event_kind,
+    message,
+)
+
+E = TypeVar("E", bound=IntEnum)
+
 
 def _by_name(enum: type[IntEnum]) -> BeforeValidator:
     """Accept an enumerated field by its name as well as by its number."""
@@ -40,73 +73,115 @@ def _by_name(enum: type[IntEnum]) -> BeforeValidator:
     return BeforeValidator(parse)
 
 
-_AS_NAME = PlainSerializer(lambda e: e.name, when_used="json")
-NamedAckReason = Annotated[AckReason, _by_name(AckReason), _AS_NAME]
-NamedErrorCode = Annotated[ErrorCode, _by_name(ErrorCode), _AS_NAME]
-NamedFieldId = Annotated[FieldId, _by_name(FieldId), _AS_NAME]
-NamedAlarmCode = Annotated[AlarmCode, _by_name(AlarmCode), _AS_NAME]
-NamedState = Annotated[State, _by_name(State), _AS_NAME]
-NamedEventKind = Annotated[EventKind, _by_name(EventKind), _AS_NAME]
+_AS_NAME = PlainSerializer(lambda e: None if e is None else e.name, when_used="json")
 
-U8 = Annotated[int, Field(ge=0, le=0xFF)]
-U16 = Annotated[int, Field(ge=0, le=0xFFFF)]
-U32 = Annotated[int, Field(ge=0, le=0xFFFF_FFFF)]
+
+def _named(enum: type[E]) -> Any:
+    """A u8 field holding one of `enum`'s codes."""
+    return Annotated[enum, _by_name(enum), _AS_NAME, Int("B", enum=enum)]
+
+
+def _named_or_none(enum: type[E], none: int) -> Any:
+    """A u8 field holding one of `enum`'s codes, or `none` on the wire for None."""
+    return Annotated[enum | None, _by_name(enum), _AS_NAME, Int("B", enum=enum, none=none)]
+
+
+NamedAckReason = _named(AckReason)
+NamedState = _named(State)
+NamedErrorCode = _named(ErrorCode)
+NamedAlarmCode = _named(AlarmCode)
+OptionalAlarmCode = _named_or_none(AlarmCode, 0)
+OptionalFieldId = _named_or_none(FieldId, NO_FIELD)
+
+U8 = Annotated[int, Field(ge=0, le=0xFF), Int("B")]
+U16 = Annotated[int, Field(ge=0, le=0xFFFF), Int("H")]
+U32 = Annotated[int, Field(ge=0, le=0xFFFF_FFFF), Int("I")]
 I32 = Annotated[int, Field(ge=-(2**31), le=2**31 - 1)]
 AxisIndex = Annotated[int, Field(ge=0, lt=MAX_AXES)]
 Decel = Annotated[int, Field(ge=0, le=DECEL_MAX)]
-
-
-class _Message(BaseModel):
-    model_config = ConfigDict(frozen=True, extra="forbid")
-    TYPE: ClassVar[MessageType]
+# The step position of every axis the firmware has, to the end of the payload.
+Positions = Annotated[tuple[I32, ...], Field(min_length=1, max_length=MAX_AXES), PerAxis("i")]
 
 
 # --- host → firmware ----------------------------------------------------------
 
 
-class Identify(_Message):
-    TYPE = MessageType.IDENTIFY
+@message(0x01, "IDENTIFY")
+class Identify(Request):
+    pass
 
 
-class Status(_Message):
-    TYPE = MessageType.STATUS
+@message(0x02, "STATUS")
+class Status(Request):
+    pass
 
 
-class Stop(_Message):
-    TYPE = MessageType.STOP
+@message(0x03, "STOP")
+class Stop(Request):
+    pass
 
 
-class Hold(_Message):
+@message(0x04, "HOLD")
+class Hold(Request):
     """Decelerate every moving axis to rest and drop the queue (PROTOCOL.md §5.1).
 
     `decel[i]` is axis i's deceleration in 1/2^24 step per tick² (1 … 8191),
     0 for axes the firmware does not have; Link.hold builds it from a list.
     """
 
-    TYPE = MessageType.HOLD
-    decel: tuple[Decel, Decel, Decel, Decel]
+    decel: Annotated[tuple[Decel, Decel, Decel, Decel], Int("H", count=MAX_AXES)]
+
+    @classmethod
+    def check_wire(cls, raw: dict[str, Any], axis_count: int) -> None:
+        """Axis by axis: 1..DECEL_MAX for every axis the firmware has, 0 for the others."""
+        for axis, d in enumerate(raw["decel"]):
+            if axis < axis_count and not 1 <= d <= DECEL_MAX:
+                raise FieldFault(FieldId.DECEL, axis, f"decel = {d}, limit 1..{DECEL_MAX}")
+            if axis >= axis_count and d != 0:
+                raise FieldFault(FieldId.DECEL, axis, f"decel = {d} for an axis the firmware lacks ({axis_count} axes)")
 
 
-class SetPosition(_Message):
+@dataclass(frozen=True)
+class _PositionsByAxis(Masked):
+    """A mask byte, then i32 for each axis in it, in axis order."""
+
+    unit_code: str = "i"
+
+    def pack(self, value: dict[int, int]) -> bytes:
+        axes = sorted(value)
+        return self.pack_raw(sum(1 << a for a in axes), [value[a] for a in axes])
+
+    def value(self, raw: Any) -> dict[int, int]:
+        mask, items = raw
+        return {axis: item[0] for axis, item in zip(bits(mask), items)}
+
+
+@message(0x11, "SET_POSITION")
+class SetPosition(Request):
     """Step positions for the axes listed; only while IDLE with an empty queue."""
 
-    TYPE = MessageType.SET_POSITION
-    positions: dict[AxisIndex, I32]
+    positions: Annotated[dict[AxisIndex, I32], _PositionsByAxis()]
+
+    @classmethod
+    def check_wire(cls, raw: dict[str, Any], axis_count: int) -> None:
+        axes = bits(raw["positions"][0])
+        if any(a >= axis_count for a in axes):
+            raise FieldFault(FieldId.AXES, None, f"axes {axes}, firmware has {axis_count}")
 
 
 # --- firmware → host ----------------------------------------------------------
 
 
-class Ack(_Message):
-    TYPE = MessageType.ACK
+@message(0x80, "ACK")
+class Ack(Report):
     next_seq: U8
     free: U8
     reason: NamedAckReason
     done: U16
 
 
-class IdentifyReply(_Message):
-    TYPE = MessageType.IDENTIFY_REPLY
+@message(0x81, "IDENTIFY_REPLY")
+class IdentifyReply(Report):
     protocol_version: U8
     fw_major: U8
     fw_minor: U8
@@ -133,10 +208,10 @@ class IdentifyReply(_Message):
         return [c.name or "" for c in Capability if self.capabilities & c]
 
 
-class StatusReport(_Message):
-    TYPE = MessageType.STATUS_REPORT
+@message(0x82, "STATUS_REPORT")
+class StatusReport(Report):
     state: NamedState
-    alarm: NamedAlarmCode | None
+    alarm: OptionalAlarmCode
     queue_fill: U8
     next_seq: U8
     segments_done: U32
@@ -147,18 +222,18 @@ class StatusReport(_Message):
     seq_gap: U16
     seq_dup: U16
     rejected: U16
-    position: tuple[I32, ...] = Field(min_length=1, max_length=MAX_AXES)
+    position: Positions
 
 
-class ErrorReport(_Message):
+@message(0x83, "ERROR")
+class ErrorReport(Report):
     """ERROR: why the frame (frame_type, frame_seq) was refused."""
 
-    TYPE = MessageType.ERROR
     code: NamedErrorCode
     frame_type: U8
     frame_seq: U8
-    field: NamedFieldId | None
-    axis: U8 | None
+    field: OptionalFieldId
+    axis: Annotated[U8 | None, Int("B", none=NO_AXIS)]
 
     def describe(self) -> str:
         text = f"{self.code.name} for frame type 0x{self.frame_type:02x} seq {self.frame_seq}"
@@ -169,54 +244,84 @@ class ErrorReport(_Message):
         return text
 
 
-class Alarm(_Message):
-    TYPE = MessageType.ALARM
+@message(0x84, "ALARM")
+class Alarm(Report):
     code: NamedAlarmCode
     motion_ticks: U32
-    position: tuple[I32, ...] = Field(min_length=1, max_length=MAX_AXES)
+    position: Positions
 
 
-class Event(_Message):
-    """EVENT; kind HOLD_DONE: a hold began at motion tick `hold_tick` and every axis rests
-    at `position` since `motion_ticks`."""
+@message(0x85, "EVENT")
+class Event(Report):
+    """EVENT: something no request asked about. One subclass per kind (@event_kind), whose kind byte
+    comes first on the wire; `kind` is read and written by name like an enumerated field."""
 
-    TYPE = MessageType.EVENT
-    kind: NamedEventKind
+    KIND: ClassVar[int]
+    KIND_NAME: ClassVar[str]
+
+    @property
+    def kind(self) -> IntEnum:
+        return EventKind(self.KIND)
+
+    @model_validator(mode="before")
+    @classmethod
+    def _kind_names_this_class(cls, data: Any) -> Any:
+        if isinstance(data, dict) and "kind" in data:
+            data = dict(data)
+            kind = data.pop("kind")
+            if kind not in (cls.KIND, cls.KIND_NAME):
+                raise ValueError(f"kind {kind!r} is not {cls.KIND_NAME}")
+        return data
+
+    @model_serializer(mode="wrap")
+    def _with_kind(self, handler: SerializerFunctionWrapHandler, info: SerializationInfo) -> dict[str, Any]:
+        return {"kind": self.KIND_NAME if info.mode == "json" else self.kind, **handler(self)}
+
+
+@event_kind(1, "HOLD_DONE")
+class HoldDone(Event):
+    """A hold began at motion tick `hold_tick`; every axis rests at `position` since `motion_ticks`."""
+
     hold_tick: U32
     motion_ticks: U32
-    position: tuple[I32, ...] = Field(min_length=1, max_length=MAX_AXES)
+    position: Positions
 
 
-Request = Union[Identify, Status, Stop, Hold, Segment, SetPosition]
-Report = Union[Ack, IdentifyReply, StatusReport, ErrorReport, Alarm, Event]
-Message = Union[Request, Report]
+# --- built from the declarations above ------------------------------------------
 
-MESSAGE_CLASSES: dict[MessageType, type[BaseModel]] = {
-    MessageType.IDENTIFY: Identify,
-    MessageType.STATUS: Status,
-    MessageType.STOP: Stop,
-    MessageType.HOLD: Hold,
-    MessageType.SEGMENT: Segment,
-    MessageType.SET_POSITION: SetPosition,
-    MessageType.ACK: Ack,
-    MessageType.IDENTIFY_REPLY: IdentifyReply,
-    MessageType.STATUS_REPORT: StatusReport,
-    MessageType.ERROR: ErrorReport,
-    MessageType.ALARM: Alarm,
-    MessageType.EVENT: Event,
-}
+MessageType = TypeClass("MessageType", [(d.name, d.code) for d in declared_messages()], module=__name__)  # type: ignore[call-overload]
+EventKind = IntEnum("EventKind", [(d.name, d.code) for d in declared_event_kinds()], module=__name__)  # type: ignore[misc]
+for _declared in declared_messages():
+    _declared.cls.TYPE = MessageType(_declared.code)  # type: ignore[attr-defined]
+
+Message = WireMessage
 
 
-def message_type(message: BaseModel) -> MessageType:
+def message_type(message: WireMessage) -> Any:
     """The wire type of a message instance."""
-    if isinstance(message, Segment):
-        return MessageType.SEGMENT
-    if isinstance(message, _Message):
-        return message.TYPE
+    if isinstance(message, WireMessage):
+        return MessageType(message.CODE)
     raise TypeError(f"not a protocol message: {type(message).__name__}")
 
 
+def message_from_json(fields: dict[str, Any]) -> tuple[int, WireMessage]:
+    """(seq, message) from the JSON form of vectors.json: {"type": NAME, "seq": n, ...fields}."""
+    data = dict(fields)
+    declared = next((d for d in declared_messages() if d.name == data.get("type")), None)
+    if declared is None:
+        raise ValueError(f"unknown message type {data.get('type')!r}")
+    del data["type"]
+    seq = data.pop("seq")
+    cls = declared.cls
+    if cls is Event:
+        cls = next((k.cls for k in declared_event_kinds() if k.name == data.get("kind")), None)
+        if cls is None:
+            raise ValueError(f"unknown EVENT kind {data.get('kind')!r}")
+    return seq, cls.model_validate(data)
+
+
 __all__ = [
-    "Ack", "Alarm", "AxisMove", "ErrorReport", "Event", "Hold", "Identify", "IdentifyReply", "MESSAGE_CLASSES",
-    "Message", "Report", "Request", "Segment", "SetPosition", "Status", "StatusReport", "Stop", "message_type",
+    "Ack", "Alarm", "AxisMove", "ErrorReport", "Event", "EventKind", "Hold", "HoldDone", "Identify",
+    "IdentifyReply", "Message", "MessageType", "Report", "Request", "Segment", "SetPosition", "Status",
+    "StatusReport", "Stop", "message_from_json", "message_type",
 ]

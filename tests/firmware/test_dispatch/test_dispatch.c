@@ -162,7 +162,7 @@ static void test_stop_halts_flushes_and_sets_next_seq(void)
     TEST_ASSERT_EQUAL_INT(1, sent());
     TEST_ASSERT_EQUAL_HEX8(QS_TYPE_STATUS_REPORT, reports[0].type);
     TEST_ASSERT_EQUAL_UINT8(77, reports[0].seq);
-    TEST_ASSERT_EQUAL_INT(QS_LEN_STATUS_HEAD + 4 * 4, reports[0].len);
+    TEST_ASSERT_EQUAL_INT(QS_LEN_STATUS_REPORT_HEAD + QS_LEN_STATUS_REPORT_AXIS * 4, reports[0].len);
     p = reports[0].payload;
     TEST_ASSERT_EQUAL_INT(QS_STATE_IDLE, p[0]);
     TEST_ASSERT_EQUAL_INT(0, p[2]);  /* queue_fill */
@@ -205,7 +205,7 @@ static void test_underrun_raises_an_alarm_with_exact_positions(void)
     TEST_ASSERT_EQUAL_INT(QS_ACK_SPACE, tp_ack(&reports[0]).reason);
     TEST_ASSERT_EQUAL_HEX8(QS_TYPE_ALARM, reports[1].type);
     TEST_ASSERT_EQUAL_UINT8(QS_SEQ_UNSOLICITED, reports[1].seq);
-    TEST_ASSERT_EQUAL_INT(QS_LEN_ALARM_HEAD + 4 * 4, reports[1].len);
+    TEST_ASSERT_EQUAL_INT(QS_LEN_ALARM_HEAD + QS_LEN_ALARM_AXIS * 4, reports[1].len);
     p = reports[1].payload;
     TEST_ASSERT_EQUAL_INT(QS_ALARM_UNDERRUN, p[0]);
     TEST_ASSERT_EQUAL_UINT32(10, tp_u32(p + 1));

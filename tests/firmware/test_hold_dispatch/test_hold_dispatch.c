@@ -59,7 +59,7 @@ static hold_done event(const tp_report *r, uint8_t axis_count)
     uint8_t axis;
     TEST_ASSERT_EQUAL_HEX8(QS_TYPE_EVENT, r->type);
     TEST_ASSERT_EQUAL_UINT8(QS_SEQ_UNSOLICITED, r->seq);
-    TEST_ASSERT_EQUAL_INT(QS_LEN_EVENT_HEAD + 4 * axis_count, r->len);
+    TEST_ASSERT_EQUAL_INT(QS_LEN_HOLD_DONE_HEAD + QS_LEN_HOLD_DONE_AXIS * axis_count, r->len);
     ev.kind = r->payload[0];
     ev.hold_tick = tp_u32(r->payload + 1);
     ev.motion_ticks = tp_u32(r->payload + 5);

@@ -53,6 +53,30 @@ static uint8_t feed(const qs_vector *v, qs_frame_rx *rx)
     return result;
 }
 
+/* The parser of each host message type, as the core's dispatch uses them. */
+static uint8_t parse(const uint8_t *body, uint8_t len, qs_host_msg *m)
+{
+    const uint8_t *p = body + 2;
+    uint8_t plen = (uint8_t)(len - 2);
+
+    m->type = body[0];
+    m->seq = body[1];
+    switch (m->type) {
+    case QS_TYPE_IDENTIFY:
+    case QS_TYPE_STATUS:
+    case QS_TYPE_STOP:
+        return qs_msg_parse_empty(plen);
+    case QS_TYPE_HOLD:
+        return qs_msg_parse_hold(p, plen, &m->as.hold);
+    case QS_TYPE_SEGMENT:
+        return qs_msg_parse_segment(p, plen, &m->as.segment);
+    case QS_TYPE_SET_POSITION:
+        return qs_msg_parse_set_position(p, plen, &m->as.set_position);
+    default:
+        return QS_ERR_UNKNOWN_TYPE;
+    }
+}
+
 /* What decoding a host frame gives: 0 and the message, or an error. */
 static uint8_t decode(const qs_vector *v, qs_host_msg *m, qs_fault *f)
 {
@@ -63,7 +87,7 @@ static uint8_t decode(const qs_vector *v, qs_host_msg *m, qs_fault *f)
     f->axis = QS_AXIS_NONE;
     if (result != QS_FRAME_READY)
         return result;
-    result = qs_msg_parse(qs_frame_body(&rx), qs_frame_body_len(&rx), m);
+    result = parse(qs_frame_body(&rx), qs_frame_body_len(&rx), m);
     if (result != QS_ERR_NONE)
         return result;
     if (m->type == QS_TYPE_SEGMENT)
