@@ -86,5 +86,4 @@ def open_connection(
         return
     with Emulator(**emulator_options) as emu:  # type: ignore[arg-type]
         with Link.open(emu.url, baudrate) as link:
-            link.emulator = emu
             yield link

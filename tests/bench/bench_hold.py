@@ -19,7 +19,7 @@ import time
 from pathlib import Path
 
 from quadstep.emulator import Emulator
-from quadstep.link import Link
+from quadstep.link import Link, hold_async
 from quadstep.protocol import D, N_MAX, AxisMove, Hold, Segment, encode
 
 REPO = Path(__file__).resolve().parents[2]
@@ -52,7 +52,7 @@ def bench_jog_latency(holds: int) -> None:
                     link.send(JOG)
                 time.sleep(0.05 + 0.01 * (i % 7))
                 sent = time.monotonic_ns()
-                future = link.hold_async(JOG_DECEL)
+                future = hold_async(link, JOG_DECEL)
                 acted = first_hold_ns(events, i + 1)
                 done = future.result(10)
                 latencies.append((acted - sent) / 1e6)

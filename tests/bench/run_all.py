@@ -17,6 +17,7 @@ BENCH = Path(__file__).resolve().parent
 COMMANDS: dict[str, list[str]] = {
     "engine": ["make", "-s", "-C", str(REPO), "bench-engine"],
     "host": [sys.executable, str(BENCH / "bench_host.py")],
+    "window": [sys.executable, str(BENCH / "bench_window.py")],
     "planner": [sys.executable, str(BENCH / "bench_planner.py")],
     "avr": [sys.executable, str(BENCH / "bench_avr.py")],
     "hold": [sys.executable, str(BENCH / "bench_hold.py")],

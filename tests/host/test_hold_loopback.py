@@ -14,7 +14,7 @@ from hold_helpers import assert_deceleration_within, check_hold, planned_job, re
 from host_helpers import RawPort
 
 from quadstep.engine_model import predict_hold
-from quadstep.link import AlarmError, FirmwareError, Link, Stopped
+from quadstep.link import AlarmError, FirmwareError, Link, Stopped, hold, hold_async
 from quadstep.protocol import (
     D,
     DECEL_MAX,
@@ -72,7 +72,7 @@ def test_a_hold_at_a_random_moment_stops_exactly_as_predicted(start_emulator, tm
         sender = stream_in_background(link, segments)
         time.sleep(rng.uniform(0.1, 0.6))
         sent_ns = time.monotonic_ns()
-        done = link.hold(decels, timeout=30)
+        done = hold(link, decels, timeout=30)
         sender.join(10)
         status = link.status()
     summary = emu.stop()
@@ -131,15 +131,15 @@ def test_a_hold_injected_at_a_chosen_tick_of_a_free_running_job(start_emulator, 
 def test_hold_while_idle_reports_where_it_rests_and_repeats_itself(free_link: Link) -> None:
     free_link.send(SetPosition(positions={0: 5, 1: -6, 2: 7, 3: -8}))
     free_link.drain(5)
-    done = free_link.hold([100])
+    done = hold(free_link, [100])
     assert (done.hold_tick, done.motion_ticks, done.position) == (0, 0, (5, -6, 7, -8))
     seg = Segment(n=300, axes=(AxisMove(axis=0, direction=1, v0=D, vn=0, r=0),))
     free_link.send(seg)
     free_link.wait_idle(10)
-    done = free_link.hold([100, 200, 300, 400])
+    done = hold(free_link, [100, 200, 300, 400])
     assert (done.hold_tick, done.motion_ticks, done.position[0]) == (300, 300, 5 + 150)
     # Nothing moved since: asking again gives the same report (how a lost HOLD_DONE is recovered).
-    assert free_link.hold([100]) == done
+    assert hold(free_link, [100]) == done
     free_link.send(SetPosition(positions={0: 0}))  # the link carries on after holds
     free_link.drain(5)
 
@@ -151,7 +151,7 @@ def test_a_lost_hold_done_is_asked_for_again(start_emulator) -> None:
     with Link.open(emu.url) as link:
         link.poll_interval = 0.2
         sent = link.stats.frames_sent
-        done = link.hold([50])
+        done = hold(link, [50])
         assert (done.hold_tick, done.motion_ticks, done.position) == (0, 0, (0, 0, 0, 0))
         assert link.stats.frames_sent >= sent + 3  # HOLD, STATUS, HOLD again
     assert emu.stop()["tx_frames_dropped"] == 1
@@ -160,11 +160,11 @@ def test_a_lost_hold_done_is_asked_for_again(start_emulator) -> None:
 def test_bad_decelerations_are_refused_before_anything_is_sent(free_link: Link) -> None:
     sent = free_link.stats.frames_sent
     with pytest.raises(ValueError, match=r"axis 2 is 0; limit 1\.\.8191"):
-        free_link.hold([10, 10, 0, 10])
+        hold(free_link, [10, 10, 0, 10])
     with pytest.raises(ValueError, match=r"axis 0 is 8192"):
-        free_link.hold([8192])
+        hold(free_link, [8192])
     with pytest.raises(ValueError, match=r"1 or 4 decelerations"):
-        free_link.hold([10, 10])
+        hold(free_link, [10, 10])
     assert free_link.stats.frames_sent == sent
 
 
@@ -191,7 +191,7 @@ def test_hold_in_alarm_raises_the_alarm(free_link: Link) -> None:
     with pytest.raises(AlarmError):
         free_link.wait_idle(10)  # the underrun
     with pytest.raises(AlarmError) as caught:
-        free_link.hold([100])
+        hold(free_link, [100])
     assert caught.value.alarm.motion_ticks == 100
     assert free_link.stop().state == State.IDLE
 
@@ -203,7 +203,7 @@ def test_stop_during_a_long_hold_stops_at_once(start_emulator, tmp_path: Path) -
         for _ in range(20):
             link.send(Segment(n=N_MAX, axes=(cruise,)))
         time.sleep(0.1)
-        future = link.hold_async([1])  # a step per tick, losing one quantum per tick: minutes to stop
+        future = hold_async(link, [1])  # a step per tick, losing one quantum per tick: minutes to stop
         deadline = time.monotonic() + 5
         while link.status().state != State.HOLDING:
             assert time.monotonic() < deadline

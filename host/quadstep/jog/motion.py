@@ -16,7 +16,7 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 from itertools import accumulate
 
-from ..link import AlarmError, Link, LinkError, Stopped
+from ..link import AlarmError, Link, LinkError, Stopped, hold
 from ..planner.segments import SegmentArrays
 from ..protocol import DECEL_MAX, AckReason, Capability, Report
 
@@ -61,7 +61,7 @@ def bring_to_rest(link: Link, decels: Sequence[int]) -> Rest:
     """
     if supports_hold(link):
         per_axis = list(decels[: link.axis_count]) + [DECEL_MAX] * (link.axis_count - len(decels))
-        done = link.hold(per_axis)
+        done = hold(link, per_axis)
         return Rest(tuple(done.position), True, done.hold_tick)
     status = link.stop()
     return Rest(tuple(status.position), False, None)

@@ -10,7 +10,7 @@ knows any particular message.
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Any, Literal
+from typing import Literal
 
 from .constants import BROADCAST_SEQ, MAX_AXES, ErrorCode, FieldId
 from .framing import FrameSplitter, FramingError, check_block, encode_frame

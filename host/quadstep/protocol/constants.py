@@ -27,23 +27,37 @@ __all__ = [
     "D", "MAX_AXES", "N_MAX", "R_MAX", "SPEED_SHIFT", "V_MAX", "PROTOCOL_VERSION", "MAX_FRAME", "MIN_FRAME",
     "DELIMITER", "BROADCAST_SEQ", "NO_FIELD", "NO_AXIS", "MAX_IN_FLIGHT", "DECEL_SHIFT", "DECEL_MAX",
     "AckReason", "ErrorCode", "FieldId", "AlarmCode", "State", "Board", "Capability", "TypeClass",
+    "is_immediate", "is_report", "is_sequenced",
 ]
 
 
+def is_immediate(code: int) -> bool:
+    """What the type byte's range says (PROTOCOL.md §3)."""
+    return code < 0x10
+
+
+def is_sequenced(code: int) -> bool:
+    return 0x10 <= code < 0x40
+
+
+def is_report(code: int) -> bool:
+    return code >= 0x80
+
+
 class TypeClass(IntEnum):
-    """What the type byte's range says (PROTOCOL.md §3); a message type enum derives from it."""
+    """A message type enum derives from this (messages.py builds it from the declarations)."""
 
     @property
     def is_immediate(self) -> bool:
-        return self < 0x10
+        return is_immediate(self)
 
     @property
     def is_sequenced(self) -> bool:
-        return 0x10 <= self < 0x40
+        return is_sequenced(self)
 
     @property
     def is_report(self) -> bool:
-        return self >= 0x80
+        return is_report(self)
 
 
 class AckReason(IntEnum):

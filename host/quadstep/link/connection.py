@@ -1,0 +1,400 @@
+"""The serial link to a quadstep board (PROTOCOL.md §3–4): requests, the sequenced stream, reports.
+
+A Link joins a Transport (the port, a reader and a writer thread), a
+SendWindow (which sequenced frames to write, and when), an Inbox (what the
+reader learns from each report) and an Outbox (what the writer writes next),
+all under one condition variable. Public methods block and are safe from any
+thread; from asyncio or Textual call them in worker threads
+(asyncio.to_thread). The HOLD procedure is hold.py's.
+"""
+
+from __future__ import annotations
+
+import threading
+import time
+from collections.abc import Callable
+from typing import TypeVar
+
+import serial
+
+from ..protocol import (
+    Alarm,
+    DecodeError,
+    Decoder,
+    Identify,
+    IdentifyReply,
+    MessageType,
+    Report,
+    Request,
+    State,
+    Status,
+    StatusReport,
+    Stop,
+    encode,
+)
+from ..protocol.constants import PROTOCOL_VERSION, is_sequenced
+from .errors import AlarmError, FirmwareError, LinkError, LinkTimeout, ProtocolVersionError, Stopped
+from .outbox import Outbox
+from .reports import Inbox, Waiter
+from .stats import LinkStats
+from .transport import Transport
+from .window import SendWindow
+
+DEFAULT_BAUD = 500_000
+R = TypeVar("R", bound=Report)
+ReportCallback = Callable[[Report], None]
+
+
+class Link:
+    """A connected session with the firmware. Build it with Link.open(url)."""
+
+    def __init__(
+        self,
+        port: serial.SerialBase,
+        *,
+        rto: float = 0.25,
+        retries: int = 8,
+        request_timeout: float = 0.5,
+        poll_interval: float = 1.0,
+        clock: Callable[[], float] = time.monotonic,
+    ) -> None:
+        self.retries = retries
+        self.request_timeout = request_timeout
+        self.poll_interval = poll_interval
+        self.stats = LinkStats()
+        self.identity: IdentifyReply | None = None
+        self._clock = clock
+        self._cond = threading.Condition()
+        self._request_lock = threading.Lock()  # one immediate request at a time
+        self._window = SendWindow(clock, rto, retries, self.stats)
+        self._decoder = Decoder("to_host")
+        self._callbacks: list[ReportCallback] = []
+        # Shared with the threads; guarded by _cond.
+        self._in = Inbox(self._window, self.stats)
+        self._out = Outbox(self._window, self._in, self.stats, poll_interval)
+        self._generation = 0  # restarts (STOP, HOLD) so far
+        self._transport = Transport(port, self._cond, self._on_data, self._next_output, self._port_failed)
+        self._transport.start()
+
+    # --- opening and closing ---------------------------------------------------------------------
+
+    @classmethod
+    def open(cls, url: str, baudrate: int = DEFAULT_BAUD, *, rto: float = 0.25, retries: int = 8,
+             request_timeout: float = 0.5, connect: bool = True) -> Link:
+        """Open `url` (a device such as /dev/ttyACM0 or /dev/pts/N, or socket://host:port) and connect."""
+        try:
+            port = serial.serial_for_url(url, baudrate=baudrate, timeout=0.05, write_timeout=10)
+        except (serial.SerialException, OSError, ValueError) as exc:
+            raise LinkError(f"cannot open {url}: {exc}") from exc
+        link = cls(port, rto=rto, retries=retries, request_timeout=request_timeout)
+        if connect:
+            try:
+                link.connect()
+            except BaseException:
+                link.close()
+                raise
+        return link
+
+    def connect(self) -> IdentifyReply:
+        """Identify the firmware, check its protocol version and adopt its sequence state."""
+        with self._cond:
+            self._out.urgent.append(b"\x00")  # ends any partial frame left on the line
+            self._cond.notify_all()
+        ident = self.request(Identify(), IdentifyReply)
+        if ident.protocol_version != PROTOCOL_VERSION:
+            raise ProtocolVersionError(
+                f"firmware speaks protocol version {ident.protocol_version}; "
+                f"this host speaks version {PROTOCOL_VERSION}"
+            )
+        self.identity = ident
+        status = self.status()
+        with self._cond:
+            self._in.queue_capacity = ident.queue_capacity
+            self._in.resync(status)
+        return ident
+
+    def close(self) -> None:
+        self._transport.close()
+
+    def __enter__(self) -> Link:
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.close()
+
+    # --- properties ------------------------------------------------------------------------------
+
+    @property
+    def segments_done(self) -> int:
+        """Segments the firmware has completed since reset (unwrapped from ACK `done`)."""
+        with self._cond:
+            return self._in.done_total
+
+    @property
+    def in_flight(self) -> int:
+        """Sequenced frames not yet acknowledged."""
+        with self._cond:
+            return self._window.in_flight
+
+    @property
+    def generation(self) -> int:
+        """How many times the stream was restarted (STOP, HOLD): a waiter that saw another gives up."""
+        with self._cond:
+            return self._generation
+
+    @property
+    def axis_count(self) -> int:
+        return self._identity().axis_count
+
+    @property
+    def tick_hz(self) -> int:
+        return self._identity().tick_hz
+
+    @property
+    def last_alarm(self) -> Alarm | None:
+        return self.last_report(Alarm)
+
+    def last_report(self, cls: type[R]) -> R | None:
+        """The latest unsolicited report (ALARM, or an EVENT kind such as HoldDone) of class `cls`."""
+        with self._cond:
+            return self._in.latest.get(cls)  # type: ignore[return-value]
+
+    def report_count(self, cls: type[Report]) -> int:
+        """How many unsolicited reports of class `cls` arrived so far."""
+        with self._cond:
+            return self._in.counts[cls]
+
+    def on_report(self, callback: ReportCallback) -> Callable[[], None]:
+        """Call `callback(report)` for every ALARM, ERROR, EVENT and SPACE ack; returns an unregister function.
+
+        Callbacks run in the reader thread: they must return quickly and not call the Link.
+        """
+        with self._cond:
+            self._callbacks.append(callback)
+
+        def unregister() -> None:
+            with self._cond:
+                if callback in self._callbacks:
+                    self._callbacks.remove(callback)
+
+        return unregister
+
+    # --- immediate requests ----------------------------------------------------------------------
+
+    def identify(self) -> IdentifyReply:
+        return self.request(Identify(), IdentifyReply)
+
+    def status(self) -> StatusReport:
+        return self.request(Status(), StatusReport)
+
+    def stop(self) -> StatusReport:
+        """Stop at once: drop every unacknowledged frame, flush the firmware's queue, clear any alarm."""
+        return self.restart(Stop())[0]
+
+    def restart(self, message: Request) -> tuple[StatusReport, int]:
+        """Drop every unsent and unacknowledged frame and send `message` (STOP or HOLD), which makes its
+        seq the firmware's next_seq; resynchronise from the answer. Returns it and the new generation."""
+        with self._request_lock:
+            with self._cond:
+                self._generation += 1
+                generation = self._generation
+                seq = self._window.restart()
+                self._in.stopping = True
+                self._cond.notify_all()
+            try:
+                reply = self._request_locked(message, StatusReport, seq)
+            except BaseException:
+                with self._cond:
+                    self._in.stopping = False
+                raise
+            with self._cond:
+                self._in.resync(reply)
+                self._in.stopping = False
+                self._in.failure = None
+                self._cond.notify_all()
+            return reply, generation
+
+    def request(self, message: Request, reply_type: type[R], seq: int | None = None) -> R:
+        """Send an immediate request and wait for its answer, resending it on timeout (it is idempotent)."""
+        with self._request_lock:
+            if seq is None:
+                with self._cond:
+                    seq = self._out.next_request_seq()
+            return self._request_locked(message, reply_type, seq)
+
+    def _request_locked(self, message: Request, reply_type: type[R], seq: int) -> R:
+        data = encode(message, seq)
+        waiter = Waiter(seq, message.CODE, reply_type.CODE)
+        with self._cond:
+            self._in.waiter = waiter
+            try:
+                for _ in range(self.retries):
+                    self._raise_if_closed()
+                    self._out.urgent.append(data)
+                    self._cond.notify_all()
+                    self._cond.wait_for(lambda: waiter.reply is not None or waiter.error is not None
+                                        or self._transport.closed, timeout=self.request_timeout)
+                    if waiter.error is not None:
+                        raise FirmwareError(waiter.error)
+                    if waiter.reply is not None:
+                        return waiter.reply  # type: ignore[return-value]
+                    self.stats.timeouts += 1
+                self._raise_if_closed()
+                raise LinkTimeout(
+                    f"no answer to {message.NAME} after {self.retries} tries of {self.request_timeout:g} s "
+                    f"(is the board connected, running quadstep firmware, at this baud rate?)"
+                )
+            finally:
+                self._in.waiter = None
+
+    # --- sequenced messages ------------------------------------------------------------------------
+
+    def send(self, message: Request, timeout: float | None = None) -> int:
+        """Queue a sequenced message (Segment, SetPosition); blocks while the window is full.
+
+        Returns the seq it was given. Raises the first failure seen since the last
+        stop(): FirmwareError, AlarmError, LinkTimeout; Stopped if stop() is called meanwhile.
+        """
+        if not is_sequenced(message.CODE):
+            raise ValueError(f"{message.NAME} is not a sequenced message; use its own method")
+        deadline = None if timeout is None else self._clock() + timeout
+        with self._cond:
+            generation = self._generation
+            while not self._window.room:
+                self._raise_failure(generation)
+                if not self._wait(deadline):
+                    raise LinkTimeout(f"flow-control window still full after {timeout:g} s")
+            self._raise_failure(generation)
+            seq = self._window.push(encode(message, self._window.next_seq), message.CODE == MessageType.SEGMENT)
+            self._cond.notify_all()
+            return seq
+
+    def drain(self, timeout: float | None = None) -> None:
+        """Wait until the firmware has acknowledged every frame sent."""
+        deadline = None if timeout is None else self._clock() + timeout
+        with self._cond:
+            generation = self._generation
+            while True:
+                self._raise_failure(generation)
+                if not self._window.in_flight:
+                    return
+                if not self._wait(deadline):
+                    raise LinkTimeout(f"{self._window.in_flight} frames still unacknowledged after {timeout:g} s")
+
+    def wait_idle(self, timeout: float | None = None) -> StatusReport:
+        """Wait until every frame is acknowledged and the firmware is IDLE; returns its final status."""
+        deadline = None if timeout is None else self._clock() + timeout
+        with self._cond:
+            generation = self._generation
+        self.drain(timeout)
+        while True:
+            with self._cond:
+                remaining = self.poll_interval if deadline is None else max(0.0, deadline - self._clock())
+                self._cond.wait_for(
+                    lambda: self._in.done_total >= self._in.expected_done or self._in.failure is not None
+                    or self._generation != generation,
+                    timeout=min(self.poll_interval, remaining),
+                )
+                self._raise_failure(generation)
+            status = self.status()
+            with self._cond:
+                self._raise_failure(generation)
+            if status.state == State.ALARM:
+                alarm = self.last_alarm
+                if alarm is None:
+                    raise LinkError(f"firmware is in ALARM {status.alarm.name if status.alarm else ''}")
+                raise AlarmError(alarm)
+            if status.state == State.IDLE and status.queue_fill == 0:
+                return status
+            time.sleep(0.005)  # the last segment is still running
+            if deadline is not None and self._clock() >= deadline:
+                raise LinkTimeout(
+                    f"firmware still {status.state.name} with {status.queue_fill} segments queued after {timeout:g} s"
+                )
+
+    def wait_report(self, cls: type[R], after: int, generation: int, timeout: float | None) -> R | None:
+        """Until report number `after` + 1 of class `cls` (report_count) arrives: returns the latest one,
+        or None after `timeout`. Raises the link's failure, or Stopped once the stream is restarted."""
+        with self._cond:
+            self._cond.wait_for(
+                lambda: self._in.counts[cls] > after or self._in.failure is not None
+                or self._generation != generation or self._transport.closed,
+                timeout=timeout,
+            )
+            if self._in.counts[cls] > after:
+                return self._in.latest[cls]  # type: ignore[return-value]
+            self._raise_failure(generation)
+            return None
+
+    def resync(self, status: StatusReport, generation: int) -> None:
+        """Adopt a status taken at rest, unless the stream was restarted or fed since."""
+        with self._cond:
+            if self._generation == generation and not self._window.in_flight:
+                self._in.resync(status)
+
+    # --- shared-state helpers (call with _cond held) ----------------------------------------------
+
+    def _identity(self) -> IdentifyReply:
+        if self.identity is None:
+            raise LinkError("not connected: call connect() first")
+        return self.identity
+
+    def _wait(self, deadline: float | None) -> bool:
+        if deadline is None:
+            self._cond.wait()
+            return True
+        remaining = deadline - self._clock()
+        return remaining > 0 and (self._cond.wait(remaining) or self._clock() < deadline)
+
+    def _raise_if_closed(self) -> None:
+        if self._transport.closed:
+            raise self._in.failure or LinkError("link closed")
+
+    def _raise_failure(self, generation: int) -> None:
+        self._raise_if_closed()
+        if self._in.failure is not None:
+            raise self._in.failure
+        if generation != self._generation:
+            raise Stopped("stop() or a hold was called: unsent and unacknowledged frames were dropped")
+
+    # --- reader --------------------------------------------------------------------------------------
+
+    def _on_data(self, data: bytes) -> None:
+        notify: list[Report] = []
+        with self._cond:
+            self.stats.bytes_received += len(data)
+            self._out.last_rx = self._clock()
+            for item in self._decoder.feed(data):
+                if isinstance(item, DecodeError):
+                    self.stats.decode_errors += 1
+                else:
+                    self.stats.frames_received += 1
+                    if self._in.apply(item):
+                        notify.append(item.message)  # type: ignore[arg-type]
+            self._cond.notify_all()
+            callbacks = list(self._callbacks) if notify else []
+        for report in notify:
+            for callback in callbacks:
+                callback(report)
+
+    def _port_failed(self, exc: Exception) -> None:
+        """The port raised in the reader or the writer thread: the link is closed."""
+        with self._cond:
+            if not self._transport.closed:
+                self._in.fail(LinkError(f"serial port failed: {exc}"))
+                self._transport.closed = True
+            self._cond.notify_all()
+
+    # --- writer --------------------------------------------------------------------------------------
+
+    def _next_output(self) -> bytes | None:
+        """Wait for something to write and return it; None once closed. Called with _cond held."""
+        while not self._transport.closed:
+            now = self._clock()
+            out = self._out.take(now)
+            if self._in.failure is not None:
+                self._cond.notify_all()  # a frame resent too often: wake whoever waits
+            if out:
+                return out
+            self._cond.wait(self._out.wait_time(now))
+        return None

@@ -1,0 +1,94 @@
+"""The HOLD procedure (PROTOCOL.md §5.1): a controlled stop to rest, with the exact rest position.
+
+HOLD restarts the stream like STOP (every unsent and unacknowledged frame is
+dropped, a thread waiting in Link.send raises Stopped), then the firmware
+decelerates every moving axis and reports EVENT HOLD_DONE. A hold may take
+long, so the firmware is asked how it is going every `poll_interval`; once
+it is no longer holding, a HOLD_DONE lost on the wire is asked for again by
+repeating the HOLD (at rest the firmware repeats its report).
+"""
+
+from __future__ import annotations
+
+import threading
+import time
+from collections.abc import Sequence
+from concurrent.futures import Future
+
+from ..protocol import DECEL_MAX, MAX_AXES, ErrorCode, Hold, HoldDone, State, StatusReport
+from .connection import Link
+from .errors import AlarmError, FirmwareError, LinkError, LinkTimeout
+
+
+def hold_message(decels: Sequence[int], axis_count: int) -> Hold:
+    """The HOLD for `decels` (one per firmware axis, or one for all); a bad value is a ValueError naming
+    the axis and the limit, before anything is sent."""
+    values = list(decels)
+    if len(values) == 1:
+        values *= axis_count
+    if len(values) != axis_count:
+        raise ValueError(f"hold needs 1 or {axis_count} decelerations (one per axis), got {len(values)}")
+    for axis, d in enumerate(values):
+        if not isinstance(d, int) or not 1 <= d <= DECEL_MAX:
+            raise ValueError(f"hold deceleration of axis {axis} is {d!r}; limit 1..{DECEL_MAX} "
+                             "(in 1/2^24 step per tick²)")
+    return Hold(decel=tuple(values + [0] * (MAX_AXES - axis_count)))  # type: ignore[arg-type]
+
+
+def hold(link: Link, decels: Sequence[int], timeout: float | None = None) -> HoldDone:
+    """Decelerate every moving axis to rest and discard the queue; returns the HOLD_DONE event.
+
+    `decels`: per axis (or one for all) in 1/2^24 step per tick², 1..8191 (at 50 kHz one unit is
+    about 149 steps/s²). The event gives `hold_tick` (the motion tick at which the deceleration
+    began), `motion_ticks` (when the last axis stopped) and the rest positions;
+    engine_model.predict_hold reproduces every step in between. Raises AlarmError if the firmware
+    is or goes into ALARM instead (for a hold that found the queue run dry while moving),
+    LinkTimeout after `timeout` seconds.
+    """
+    message = hold_message(decels, link.axis_count)
+    seen = link.report_count(HoldDone)
+    try:
+        _, generation = link.restart(message)
+    except FirmwareError as exc:
+        if exc.report.code == ErrorCode.ALARM_ACTIVE:
+            raise _alarm_error(link) from exc
+        raise
+    done = _wait_hold_done(link, message, seen, generation, timeout)
+    link.resync(link.status(), generation)  # the queue is empty now: adopt its free slots and counts
+    return done
+
+
+def hold_async(link: Link, decels: Sequence[int], timeout: float | None = None) -> Future[HoldDone]:
+    """hold() in a thread of its own: returns at once with a Future of the HOLD_DONE event."""
+    message = hold_message(decels, link.axis_count)  # bad input is refused here, not in the thread
+    future: Future[HoldDone] = Future()
+
+    def run() -> None:
+        try:
+            future.set_result(hold(link, message.decel[: link.axis_count], timeout))
+        except BaseException as exc:  # handed to whoever waits on the future
+            future.set_exception(exc)
+
+    threading.Thread(target=run, name="quadstep-hold", daemon=True).start()
+    return future
+
+
+def _alarm_error(link: Link) -> LinkError:
+    alarm = link.last_alarm
+    return AlarmError(alarm) if alarm is not None else LinkError("firmware is in ALARM; stop() clears it")
+
+
+def _wait_hold_done(link: Link, message: Hold, seen: int, generation: int, timeout: float | None) -> HoldDone:
+    deadline = None if timeout is None else time.monotonic() + timeout
+    while True:
+        wait = link.poll_interval if deadline is None else max(0.0, min(link.poll_interval, deadline - time.monotonic()))
+        done = link.wait_report(HoldDone, seen, generation, wait)
+        if done is not None:
+            return done
+        if deadline is not None and time.monotonic() >= deadline:
+            raise LinkTimeout(f"no HOLD_DONE within {timeout:g} s (the firmware may still be decelerating)")
+        status: StatusReport = link.status()
+        if status.state == State.ALARM:
+            raise _alarm_error(link)
+        if status.state != State.HOLDING and link.report_count(HoldDone) == seen and link.generation == generation:
+            link.request(message, StatusReport, status.next_seq)  # HOLD again: at rest it repeats HOLD_DONE

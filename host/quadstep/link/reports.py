@@ -1,0 +1,104 @@
+"""What the reader thread learns from each report: the window's ACKs, how many segments are done, the
+latest unsolicited report of each kind, the answer a waiting request wants, and the first failure.
+
+An Inbox is shared state: every method and field is used with the link's condition held.
+"""
+
+from __future__ import annotations
+
+from collections import defaultdict
+from dataclasses import dataclass
+
+from ..protocol import Ack, AckReason, Alarm, ErrorReport, Event, Frame, Report, StatusReport
+from ..protocol.constants import is_sequenced
+from .errors import AlarmError, FirmwareError, LinkError
+from .stats import LinkStats
+from .window import SendWindow
+
+
+@dataclass
+class Waiter:
+    """An immediate request waiting for the report that answers it."""
+
+    seq: int
+    request_type: int
+    reply_type: int
+    reply: Report | None = None
+    error: ErrorReport | None = None
+
+
+class Inbox:
+    def __init__(self, window: SendWindow, stats: LinkStats) -> None:
+        self.window = window
+        self.stats = stats
+        self.queue_capacity: int | None = None  # known once connected
+        self.waiter: Waiter | None = None
+        self.failure: LinkError | None = None  # raised by every call until the next restart
+        self.stopping = False  # a STOP or HOLD is on its way: ACKs and alarms are about dropped frames
+        self.done16 = 0
+        self.done_total = 0  # segments completed since reset (ACK `done` unwrapped)
+        self.expected_done = 0  # segments completed once everything accepted has run
+        self.latest: dict[type, Report] = {}  # the latest unsolicited report of each class
+        self.counts: defaultdict[type, int] = defaultdict(int)
+
+    def fail(self, failure: LinkError) -> None:
+        if self.failure is None:
+            self.failure = failure
+
+    def resync(self, status: StatusReport) -> None:
+        """Adopt a status taken with nothing in flight (connection, restart, rest after a hold)."""
+        assert self.queue_capacity is not None
+        self.window.reset(status.next_seq, self.queue_capacity - status.queue_fill)
+        self.done_total = status.segments_done
+        self.done16 = status.segments_done & 0xFFFF
+        self.expected_done = status.segments_done + status.queue_fill
+
+    def apply(self, frame: Frame) -> bool:
+        """Apply one report; True if on_report callbacks want it."""
+        m = frame.message
+        if isinstance(m, Ack):
+            self._on_ack(m)
+            return m.reason == AckReason.SPACE
+        if isinstance(m, ErrorReport):
+            self._on_error(m)
+            return True
+        if isinstance(m, (Alarm, Event)):
+            self.latest[type(m)] = m
+            self.counts[type(m)] += 1
+            if isinstance(m, Alarm):
+                self.stats.alarms += 1
+                if not self.stopping:
+                    self.fail(AlarmError(m))
+            return True
+        waiter = self.waiter
+        if waiter is not None and frame.seq == waiter.seq and m.CODE == waiter.reply_type:
+            waiter.reply = m  # type: ignore[assignment]
+        if isinstance(m, StatusReport):
+            self.done_total = m.segments_done
+            self.done16 = m.segments_done & 0xFFFF
+            if not self.stopping and self.queue_capacity is not None:  # repairs a lost SPACE ack
+                self.expected_done += self.window.on_status(m.next_seq, self.queue_capacity - m.queue_fill)
+        return False
+
+    def _on_ack(self, ack: Ack) -> None:
+        self.done_total += (ack.done - self.done16) & 0xFFFF
+        self.done16 = ack.done
+        if ack.reason == AckReason.GAP:
+            self.stats.gaps += 1
+        elif ack.reason == AckReason.DUPLICATE:
+            self.stats.duplicates += 1
+        elif ack.reason == AckReason.QUEUE_FULL:
+            self.stats.queue_full += 1
+        if not self.stopping:
+            self.expected_done += self.window.on_ack(ack.next_seq, ack.free, ack.reason)
+
+    def _on_error(self, error: ErrorReport) -> None:
+        self.stats.errors += 1
+        waiter = self.waiter
+        if waiter is not None and error.frame_type == waiter.request_type and error.frame_seq == waiter.seq:
+            waiter.error = error
+            return
+        if self.window.holds(error.frame_seq) and is_sequenced(error.frame_type) and not self.stopping:
+            self.fail(FirmwareError(error))
+        # Framing errors (a frame damaged on the wire) are repaired by go-back-N; errors about
+        # frames this link did not send (another writer on the line) are only counted.

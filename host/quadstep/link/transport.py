@@ -1,0 +1,75 @@
+"""The port and its two threads: a reader that hands every chunk received to the link, and a writer
+that writes whatever the link has to send. Nothing here knows the protocol."""
+
+from __future__ import annotations
+
+import threading
+from collections.abc import Callable
+
+import serial
+
+# What pyserial raises once the port is gone (TypeError and AttributeError from a port closed under it).
+PORT_FAILURES = (serial.SerialException, OSError, TypeError, AttributeError)
+
+
+class Transport:
+    """Runs the reader and the writer on `port` until close().
+
+    `on_data(bytes)` is called in the reader for every chunk read; `next_output()` is called in the
+    writer with `cond` held, waits on it for something to write and returns the bytes, or None once
+    `closed`; `on_failure(exc)` gets the first exception of the port, in either thread.
+    """
+
+    def __init__(
+        self,
+        port: serial.SerialBase,
+        cond: threading.Condition,
+        on_data: Callable[[bytes], None],
+        next_output: Callable[[], bytes | None],
+        on_failure: Callable[[Exception], None],
+    ) -> None:
+        self.port = port
+        self.cond = cond
+        self.closed = False  # guarded by cond
+        self._on_data = on_data
+        self._next_output = next_output
+        self._on_failure = on_failure
+        self._threads = [
+            threading.Thread(target=self._read_loop, name="quadstep-link-reader", daemon=True),
+            threading.Thread(target=self._write_loop, name="quadstep-link-writer", daemon=True),
+        ]
+
+    def start(self) -> None:
+        for thread in self._threads:
+            thread.start()
+
+    def close(self) -> None:
+        with self.cond:
+            self.closed = True
+            self.cond.notify_all()
+        for thread in self._threads:
+            if thread.is_alive() and thread is not threading.current_thread():
+                thread.join(timeout=2)
+        self.port.close()
+
+    def _read_loop(self) -> None:
+        while not self.closed:
+            try:
+                data = self.port.read(self.port.in_waiting or 1)
+            except PORT_FAILURES as exc:
+                self._on_failure(exc)
+                return
+            if data:
+                self._on_data(data)
+
+    def _write_loop(self) -> None:
+        while True:
+            with self.cond:
+                chunk = self._next_output()
+            if chunk is None:
+                return
+            try:
+                self.port.write(chunk)
+            except PORT_FAILURES as exc:
+                self._on_failure(exc)
+                return

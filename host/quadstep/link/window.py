@@ -1,0 +1,212 @@
+"""The send window of sequenced frames (PROTOCOL.md §3–4): a plain object, no I/O, no threads.
+
+It numbers the frames, keeps each one until an ACK's `next_seq` passes it,
+decides what to write and when, and counts what it did. Time comes from an
+injected clock, so the window is tested on its own, without any port
+(tests/host/link/test_window.py); Link calls it under its one lock.
+
+Each frame is `pending` until it is written. Retransmission is go-back-N: an
+ACK GAP or QUEUE_FULL (once per `next_seq`), or the retransmission timeout,
+marks every unacknowledged frame pending again, and `due()` writes pending
+frames in sequence order: a frame written before needs no room to be written
+again (the firmware answers a copy it has with DUPLICATE, and a frame it has
+no room for with QUEUE_FULL), a new one needs a free slot. `resend(seq)`
+marks one frame alone, which is what a selective repeat (a NAK naming one
+damaged frame) needs; `last_tx` tells an idle line, for a keep-alive.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+
+from ..protocol import AckReason
+from ..protocol.constants import MAX_IN_FLIGHT
+from .errors import LinkTimeout
+from .stats import LinkStats
+
+Clock = Callable[[], float]
+
+
+class _Frame:
+    __slots__ = ("seq", "data", "is_segment", "transmissions", "pending")
+
+    def __init__(self, seq: int, data: bytes, is_segment: bool) -> None:
+        self.seq = seq
+        self.data = data
+        self.is_segment = is_segment  # takes a queue slot; counted as accepted when acknowledged
+        self.transmissions = 0
+        self.pending = True
+
+
+class SendWindow:
+    """Sequenced frames from `base` (the firmware's next_seq) on; `free` slots as last reported."""
+
+    def __init__(
+        self, clock: Clock, rto: float = 0.25, retries: int = 8, stats: LinkStats | None = None,
+        max_in_flight: int = MAX_IN_FLIGHT,
+    ) -> None:
+        self.clock = clock
+        self.rto = rto
+        self.retries = retries
+        self.stats = stats if stats is not None else LinkStats()
+        self.max_in_flight = max_in_flight
+        self.base = 0
+        self.free = 0
+        self.last_tx = -math.inf  # clock time of the last write
+        self._frames: list[_Frame] = []
+        self._first_pending = 0  # every frame before this index has been written
+        self._written = 0  # frames written and not yet acknowledged
+        self._last_progress = 0.0  # last ACK that advanced, or first write of the frame at base
+        self._gap_handled_for: int | None = None
+
+    # --- the firmware's state -----------------------------------------------------------------
+
+    def reset(self, next_seq: int, free: int) -> None:
+        """Adopt the firmware's next_seq and free slots (a connection, or the answer to STOP/HOLD)."""
+        self._drop()
+        self.base = next_seq
+        self.free = free
+
+    def restart(self) -> int:
+        """Drop every frame, unsent or unacknowledged; returns the seq that a STOP or HOLD must carry."""
+        seq = self.next_seq
+        self._drop()
+        self.base = seq
+        return seq
+
+    def on_status(self, next_seq: int, free: int) -> int:
+        """A STATUS report's next_seq and free slots (capacity − queue fill): like a SPACE ack, it
+        repairs a lost one. Returns the segment frames it acknowledges as accepted."""
+        return self.on_ack(next_seq, free, AckReason.SPACE)
+
+    @property
+    def stalled(self) -> bool:
+        """Nothing written awaits an ACK and the firmware reported no free slot: only a SPACE ack (or a
+        STATUS, if that ack was lost) can open the window again."""
+        return not self._written and self.free == 0
+
+    # --- frames -------------------------------------------------------------------------------
+
+    @property
+    def next_seq(self) -> int:
+        """The seq the next pushed frame gets."""
+        return (self.base + len(self._frames)) & 0xFF
+
+    @property
+    def in_flight(self) -> int:
+        """Frames pushed and not yet acknowledged."""
+        return len(self._frames)
+
+    @property
+    def room(self) -> bool:
+        """Whether one more frame fits the flow-control window."""
+        return len(self._frames) < min(self.free, self.max_in_flight)
+
+    def holds(self, seq: int) -> bool:
+        """Whether frame `seq` is in the window (pushed, not yet acknowledged)."""
+        return (seq - self.base) & 0xFF < len(self._frames)
+
+    def push(self, data: bytes, is_segment: bool) -> int:
+        """Queue the frame `data`, encoded with seq `next_seq`; returns that seq."""
+        seq = self.next_seq
+        self._frames.append(_Frame(seq, data, is_segment))
+        return seq
+
+    def resend(self, seq: int) -> None:
+        """Write the unacknowledged frame `seq` again at the next due() (one frame, not go-back-N)."""
+        index = (seq - self.base) & 0xFF
+        if index < len(self._frames):
+            self._mark_pending(index)
+
+    # --- acknowledgements -------------------------------------------------------------------------
+
+    def on_ack(self, next_seq: int, free: int, reason: AckReason) -> int:
+        """Apply an ACK; returns the segment frames it acknowledges as accepted."""
+        frames = self._frames
+        advance = (next_seq - self.base) & 0xFF
+        if advance > len(frames):
+            return 0  # about frames from before a restart
+        accepted = 0
+        last = advance - 1
+        for i in range(advance):
+            frame = frames[i]
+            if not frame.pending:
+                self._written -= 1
+            # Every frame an ACK passes was accepted but the one it answers with REJECTED (which
+            # comes with an ERROR and stops the stream): a frame passed only by a later ACK, its
+            # own lost, was accepted too.
+            if frame.is_segment and (i < last or reason != AckReason.REJECTED):
+                accepted += 1
+        del frames[:advance]
+        self._first_pending = max(0, self._first_pending - advance)
+        self.base = next_seq
+        self.free = free
+        if advance:
+            self._last_progress = self.clock()
+            self._gap_handled_for = None
+        if reason in (AckReason.GAP, AckReason.QUEUE_FULL) and self._gap_handled_for != next_seq:
+            self._gap_handled_for = next_seq
+            self._go_back()
+        return accepted
+
+    # --- writing ---------------------------------------------------------------------------------
+
+    def due(self) -> list[bytes]:
+        """The frames to write now, in order; raises LinkTimeout for a frame resent `retries` times."""
+        now = self.clock()
+        if self._written and now >= self._last_progress + self.rto:
+            self.stats.timeouts += 1
+            self._gap_handled_for = None
+            self._go_back()
+        frames = self._frames
+        stop = min(len(frames), self.max_in_flight)
+        if self._first_pending >= stop:
+            return []  # the usual case: everything written is still in flight
+        room = min(self.free, self.max_in_flight)  # a frame never written needs a free slot
+        out: list[bytes] = []
+        for i in range(self._first_pending, stop):
+            frame = frames[i]
+            if not frame.pending:
+                continue
+            if i >= room and not frame.transmissions:
+                stop = i
+                break
+            if frame.transmissions > self.retries:
+                raise LinkTimeout(f"frame seq {frame.seq} unacknowledged after {self.retries} resends")
+            if frame.transmissions:
+                self.stats.retransmits += 1
+            frame.transmissions += 1
+            frame.pending = False
+            self._written += 1
+            if i == 0:
+                self._last_progress = now
+            out.append(frame.data)
+        self._first_pending = max(self._first_pending, stop)
+        if out:
+            self.last_tx = now
+        return out
+
+    def deadline(self) -> float | None:
+        """The clock time at which due() will resend for the retransmission timeout, if frames wait."""
+        return self._last_progress + self.rto if self._written else None
+
+    # --- internals --------------------------------------------------------------------------------
+
+    def _go_back(self) -> None:
+        """Go-back-N: every unacknowledged frame is written again."""
+        for i in range(len(self._frames)):
+            self._mark_pending(i)
+
+    def _mark_pending(self, index: int) -> None:
+        frame = self._frames[index]
+        if not frame.pending:
+            frame.pending = True
+            self._written -= 1
+        self._first_pending = min(self._first_pending, index)
+
+    def _drop(self) -> None:
+        self._frames.clear()
+        self._first_pending = 0
+        self._written = 0
+        self._gap_handled_for = None
