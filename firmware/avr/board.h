@@ -25,14 +25,25 @@
 #define QS_ENABLE_PORT PORTB
 #define QS_ENABLE_DDR DDRB
 #define QS_ENABLE_BIT PB0
-/* Limit inputs X/Y/Z: D9/D10/D12 = PB1/PB2/PB4 (pull-ups; reserved). */
+/* Inputs, all with pull-ups (a switch to ground closes them), on two
+ * ports that the tick samples (inputs_tick.h). Limits X/Y/Z: D9/D10/D12 =
+ * PB1/PB2/PB4, one pin per axis as on the shield (an axis's min and max
+ * switches share it). Control: abort A0 = PC0, feed hold A1 = PC1, cycle
+ * start A2 = PC2, probe A5 = PC5. */
 #define QS_LIMIT_PORT PORTB
 #define QS_LIMIT_DDR DDRB
+#define QS_LIMIT_PIN_READ "in %[x], %[limit_pin]"
+#define QS_LIMIT_PIN_ADDR "I"(_SFR_IO_ADDR(PINB))
+#define QS_LIMIT_PIN PINB
 #define QS_LIMIT_MASK (_BV(PB1) | _BV(PB2) | _BV(PB4))
-/* Probe input: A5 = PC5 (pull-up; reserved). */
-#define QS_PROBE_PORT PORTC
-#define QS_PROBE_DDR DDRC
-#define QS_PROBE_BIT PC5
+/* Limit pins to input numbers (qs_inputs.h): PB1, PB2, PB4 -> 0, 1, 2. */
+#define QS_LIMIT_INPUTS(b) ((uint16_t)((((b) >> 1) & 3u) | (((b) >> 2) & 4u)))
+#define QS_CONTROL_PORT PORTC
+#define QS_CONTROL_DDR DDRC
+#define QS_CONTROL_PIN_READ "in %[x], %[control_pin]"
+#define QS_CONTROL_PIN_ADDR "I"(_SFR_IO_ADDR(PINC))
+#define QS_CONTROL_PIN PINC
+#define QS_INPUTS_PRESENT 0x0F07u /* limits 0-2, probe, abort, feed hold, cycle start */
 
 #elif QS_BOARD == 2
 /* Arduino Mega 2560: all motion pins on PORTA (the double header's D22..D29):
@@ -49,18 +60,33 @@
 #define QS_ENABLE_PORT PORTC
 #define QS_ENABLE_DDR DDRC
 #define QS_ENABLE_BIT PC7
-/* Limit inputs X/Y/Z/A: D31/D32/D33/D34 = PC6/PC5/PC4/PC3 (pull-ups; reserved). */
-#define QS_LIMIT_PORT PORTC
-#define QS_LIMIT_DDR DDRC
-#define QS_LIMIT_MASK (_BV(PC6) | _BV(PC5) | _BV(PC4) | _BV(PC3))
-/* Probe input: D35 = PC2 (pull-up; reserved). */
-#define QS_PROBE_PORT PORTC
-#define QS_PROBE_DDR DDRC
-#define QS_PROBE_BIT PC2
+/* Inputs, all with pull-ups (a switch to ground closes them). Limits on
+ * PORTL, a min and a max switch per axis: min X/Y/Z/A = D49/D48/D47/D46
+ * (PL0..PL3), max X/Y/Z/A = D45/D44/D43/D42 (PL4..PL7). Control on PORTK,
+ * as the Uno's on PORTC: abort A8 = PK0, feed hold A9 = PK1, cycle start
+ * A10 = PK2, probe A13 = PK5. */
+#define QS_LIMIT_PORT PORTL
+#define QS_LIMIT_DDR DDRL
+#define QS_LIMIT_PIN_READ "lds %[x], %[limit_pin]"
+#define QS_LIMIT_PIN_ADDR "i"(_SFR_MEM_ADDR(PINL))
+#define QS_LIMIT_PIN PINL
+#define QS_LIMIT_MASK 0xFF
+#define QS_LIMIT_INPUTS(b) ((uint16_t)(b))
+#define QS_CONTROL_PORT PORTK
+#define QS_CONTROL_DDR DDRK
+#define QS_CONTROL_PIN_READ "lds %[x], %[control_pin]"
+#define QS_CONTROL_PIN_ADDR "i"(_SFR_MEM_ADDR(PINK))
+#define QS_CONTROL_PIN PINK
+#define QS_INPUTS_PRESENT 0x0FFFu
 
 #else
 #error "QS_BOARD must be 1 (ATmega328P) or 2 (ATmega2560) for the AVR build"
 #endif
+
+/* Control pins on both boards: abort, feed hold, cycle start on bits 0-2,
+ * the probe on bit 5; to input numbers 9, 10, 11 and 8. */
+#define QS_CONTROL_MASK 0x27u
+#define QS_CONTROL_INPUTS(c) ((uint16_t)((((uint16_t)(c) & 7u) << 9) | ((((uint16_t)(c) >> 5) & 1u) << 8)))
 
 #if QS_AXIS_COUNT > QS_MAX_AXES
 #error "QS_AXIS_COUNT exceeds the step/dir pins this board maps"

@@ -3,6 +3,7 @@
 #include <avr/interrupt.h>
 #include <avr/sleep.h>
 
+#include "board.h"
 #include "firmware.h"
 #include "pins.h"
 #include "step_timer.h"
@@ -49,6 +50,7 @@ int main(void)
 {
     pins_init();
     qs_core_init(&core);
+    qs_inputs_init(&core.inputs, QS_INPUTS_PRESENT);
     uart_init();
     step_timer_init();
     set_sleep_mode(SLEEP_MODE_IDLE);

@@ -1,4 +1,4 @@
-/* Board pin setup: motion outputs, driver enable, reserved inputs. */
+/* Board pin setup: motion outputs, driver enable, inputs. */
 #include "pins.h"
 
 #include "board.h"
@@ -14,10 +14,9 @@ void pins_init(void)
     QS_ENABLE_PORT &= (uint8_t)~_BV(QS_ENABLE_BIT);
     QS_ENABLE_DDR |= _BV(QS_ENABLE_BIT);
 
-    /* Limit and probe switches close to ground: inputs with pull-ups. They
-     * are wired and readable but not acted on by this firmware version. */
+    /* Switches and buttons close to ground: inputs with pull-ups. */
     QS_LIMIT_DDR &= (uint8_t)~QS_LIMIT_MASK;
     QS_LIMIT_PORT |= QS_LIMIT_MASK;
-    QS_PROBE_DDR &= (uint8_t)~_BV(QS_PROBE_BIT);
-    QS_PROBE_PORT |= _BV(QS_PROBE_BIT);
+    QS_CONTROL_DDR &= (uint8_t)~QS_CONTROL_MASK;
+    QS_CONTROL_PORT |= QS_CONTROL_MASK;
 }

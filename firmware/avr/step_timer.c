@@ -2,7 +2,8 @@
  * serves the USART.
  *
  * Each tick: raise the step pins decided by the previous tick (their
- * direction pins are already set), serve the USART, run the engine for the
+ * direction pins are already set), serve the USART, sample the inputs
+ * (inputs_tick.h), run the engine for the
  * next decisions, hold the pulse to its minimum width, lower the step pins,
  * then set the direction pins the new decisions need. So a direction pin
  * never changes during a pulse and always settles a whole tick before the
@@ -19,6 +20,7 @@
 /* axis_tick.h first: it puts the AVR's own per-axis decisions in place of
  * the core's (the QS_*_AXIS_TICK hooks of qs_engine_tick.h). */
 #include "axis_tick.h"
+#include "inputs_tick.h"
 #include "qs_engine_tick.h"
 
 #ifndef QS_STEP_PULSE_US
@@ -67,6 +69,7 @@ ISR(TIMER1_COMPA_vect)
 #if QS_STEP_PULSE_US > 0
     pulse_start = TCNT1L; /* a little after the edge: the pulse can only grow */
 #endif
+    inputs_tick(); /* sees the steps just raised; may freeze or hold before the decisions */
 
     const uint8_t steps = qs_engine_tick(&core.engine);
     const uint8_t pulse = next_pins; /* what went out above */

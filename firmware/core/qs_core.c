@@ -318,6 +318,7 @@ static void on_frame(qs_core *c, const uint8_t *body, uint8_t len)
 void qs_core_init(qs_core *c)
 {
     qs_engine_init(&c->engine, QS_QUEUE_CAPACITY);
+    qs_inputs_init(&c->inputs, QS_INPUTS_ALL);
     qs_frame_rx_init(&c->rx);
     c->counters.rx_overrun = 0;
     c->counters.bad_frame = 0;

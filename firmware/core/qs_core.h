@@ -9,10 +9,12 @@
 #include "qs_config.h"
 #include "qs_engine.h"
 #include "qs_frame.h"
+#include "qs_inputs.h"
 #include "qs_messages.h"
 
 typedef struct {
     qs_engine engine;
+    qs_inputs inputs;         /* the target sets the inputs it has (qs_inputs_init) */
     qs_frame_rx rx;
     qs_counters counters;
     uint8_t next_seq;         /* the sequenced seq expected next */

@@ -24,6 +24,14 @@ void qs_engine_init(qs_engine *e, uint8_t queue_capacity)
     e->hold_tick = 0;
     e->hold_end_tick = 0;
     e->hold_report = 0;
+    for (axis = 0; axis < QS_LATCH_RING; axis++)
+        e->latches.entry[axis].state = QS_LATCH_FREE;
+    e->latches.next = 0;
+    e->latches.oldest = 0;
+    e->latches.lost = 0;
+    e->frozen = 0;
+    e->trigger = 0;
+    e->held_by_tick = 0;
 }
 
 static int32_t signed_steps(const qs_segment *s, uint8_t axis, int32_t steps, int32_t position)
@@ -31,51 +39,44 @@ static int32_t signed_steps(const qs_segment *s, uint8_t axis, int32_t steps, in
     return ((s->negative >> axis) & 1u) ? position - steps : position + steps;
 }
 
-/* What the running or held slot has done, taken with the tick locked out:
- * a few bytes, so that the closed forms (a division each) run unlocked.
- * The slot itself stays put meanwhile: only the main loop refills slots,
- * and a held slot's own state is frozen. */
-typedef struct {
-    const qs_segment *seg; /* 0: nothing running */
-    uint16_t t;            /* ticks of it run (before the hold, if held) */
-    qs_u24 ticks;          /* a hold's ticks since */
-    uint8_t held;
-    union {
-        qs_i24 b[QS_AXIS_COUNT];     /* running: its b after t ticks */
-        qs_u24 steps[QS_AXIS_COUNT]; /* held: the hold's steps */
-    } at;
-} progress;
-
+/* What the running or held slot has done (qs_progress), taken with the
+ * tick locked out or in the tick: a few bytes, so that the closed forms (a
+ * division each) run unlocked. The slot itself stays put meanwhile: only
+ * the main loop refills slots, after retiring them, and a held slot's own
+ * state is frozen. */
 _Static_assert(sizeof(qs_i24) == sizeof(qs_u24), "b and steps are copied alike");
 
 /* Kept short: it runs with the tick locked out. */
-static void take_progress(const qs_engine *e, progress *p)
+static void take_progress(const qs_engine *e, qs_progress *p)
 {
     const uint8_t *from;
     uint8_t *to = (uint8_t *)&p->at;
     uint8_t i;
 
+    if (!e->left) {
+        /* Between segments, at rest, or a hold that has just ended (its
+         * slot released, to be folded): nothing is part-way. */
+        p->seg = 0;
+        return;
+    }
     if (e->held) {
         p->held = 1;
         p->seg = e->held;
         p->t = e->held_t0;
         p->ticks = e->hold.ticks;
         from = (const uint8_t *)e->hold.steps;
-    } else if (e->left) {
+    } else {
         p->held = 0;
         p->seg = e->seg;
         p->t = (uint16_t)(e->seg->n - e->left);
         p->ticks = 0;
         from = (const uint8_t *)e->seg->b;
-    } else {
-        p->seg = 0;
-        return;
     }
     for (i = 0; i < sizeof p->at; i++)
         to[i] = from[i];
 }
 
-static void add_progress(const progress *p, int32_t *position, uint32_t *ticks)
+static void add_progress(const qs_progress *p, int32_t *position, uint32_t *ticks)
 {
     const qs_segment *s = p->seg;
     uint8_t axis;
@@ -117,6 +118,30 @@ static void note_hold_done(qs_engine *e)
     e->hold_end_tick = e->completed_ticks;
 }
 
+/* Latches whose snapshot is of the slot at queue index slot become
+ * positions, with base and completed_ticks as they are at that slot's
+ * start (it is not folded yet). */
+static void resolve_latches(qs_engine *e, uint8_t slot)
+{
+    uint8_t i, axis;
+
+    for (i = 0; i < QS_LATCH_RING; i++) {
+        qs_latch *l = &e->latches.entry[i];
+        int32_t position[QS_AXIS_COUNT];
+        uint32_t tick = e->completed_ticks;
+
+        if (l->state == QS_LATCH_FREE || l->resolved || l->slot != slot)
+            continue;
+        for (axis = 0; axis < QS_AXIS_COUNT; axis++)
+            position[axis] = e->base[axis];
+        add_progress(&l->u.progress, position, &tick);
+        l->u.at.tick = tick;
+        for (axis = 0; axis < QS_AXIS_COUNT; axis++)
+            l->u.at.position[axis] = position[axis];
+        l->resolved = 1;
+    }
+}
+
 void qs_engine_retire_slots(qs_engine *e)
 {
     qs_queue *q = &e->queue;
@@ -126,8 +151,15 @@ void qs_engine_retire_slots(qs_engine *e)
     while (q->retired != tail) {
         const qs_segment *s = qs_queue_at(q, q->retired);
         uint8_t axis;
+        resolve_latches(e, q->retired);
         if (s == e->held) {
-            /* A hold ended: its slot is released only then. */
+            /* A hold ended: its slot is released only then. One the tick
+             * began (at a trigger) leaves the queue behind it to drop. */
+            if (e->held_by_tick) {
+                e->hold_tick = e->completed_ticks + e->held_t0;
+                q->head = qs_queue_next(q, q->retired);
+                e->held_by_tick = 0;
+            }
             fold_held(e);
             e->state = QS_STATE_IDLE;
             note_hold_done(e);
@@ -186,16 +218,23 @@ static void flush(qs_engine *e)
 void qs_engine_halt(qs_engine *e, uint8_t state, uint8_t alarm)
 {
     uint8_t saved = lock_retired(e);
-    progress p;
+    const uint8_t halted = e->queue.tail;
+    qs_progress p;
 
     /* Steps already made stay made: counted once the tick is let go. */
     take_progress(e, &p);
     e->hold.moving = 0;
     e->held = 0;
+    e->held_by_tick = 0;
+    e->trigger = 0;
     flush(e);
     e->alarm = alarm;
     e->state = state;
+    e->frozen = 0;
     qs_port_unlock(saved);
+    /* Latches taken in the halted slot, before its steps join the totals
+     * (its contents stay until a new segment is queued). */
+    resolve_latches(e, halted);
     add_progress(&p, e->base, &e->completed_ticks);
 }
 
@@ -217,7 +256,7 @@ void qs_engine_read(qs_engine *e, qs_engine_view *v)
     uint8_t saved = lock_retired(e);
     const uint8_t tail = e->queue.tail;
     uint8_t axis;
-    progress p;
+    qs_progress p;
 
     v->state = e->state;
     v->alarm = e->alarm;
@@ -256,6 +295,9 @@ QS_NOINLINE uint8_t qs_engine_hold(qs_engine *e, const uint16_t *decel)
     uint16_t left;
     uint8_t saved, moving, tail;
 
+    /* First, so that no trigger begins a hold from the tick while this
+     * one is planned (both plan into e->hold). */
+    e->trigger = 0;
     e->hold.planned_n = 0;
     for (;;) {
         if (guess && e->hold.planned_n != guess)
@@ -300,7 +342,8 @@ QS_NOINLINE uint8_t qs_engine_hold(qs_engine *e, const uint16_t *decel)
     }
     moving = qs_hold_begin(&e->hold, s);
     if (!moving) {
-        progress p;
+        const uint8_t halted = q->tail;
+        qs_progress p;
         e->held = s;
         e->held_t0 = (uint16_t)(s->n - e->left);
         take_progress(e, &p);
@@ -309,6 +352,7 @@ QS_NOINLINE uint8_t qs_engine_hold(qs_engine *e, const uint16_t *decel)
         e->state = QS_STATE_IDLE;
         qs_port_unlock(saved);
         e->hold_tick = e->completed_ticks + p.t;
+        resolve_latches(e, halted);
         add_progress(&p, e->base, &e->completed_ticks);
         note_hold_done(e);
         return QS_HOLD_AT_REST;
@@ -318,13 +362,13 @@ QS_NOINLINE uint8_t qs_engine_hold(qs_engine *e, const uint16_t *decel)
     e->state = QS_STATE_HOLDING;
     e->hold.moving = moving; /* the next tick decelerates */
     e->slow_path = 1;
+    e->held = s; /* an input's latch in the tick reads the hold's progress */
+    e->held_t0 = (uint16_t)(s->n - left);
     qs_port_unlock(saved);
     /* What only the main loop reads, after the lock: it delays a tick that
      * falls due meanwhile, so it holds the least. The tick no longer
      * begins segments (HOLDING), so the queued ones can go now. */
     q->head = qs_queue_next(q, tail);
-    e->held = s;
-    e->held_t0 = (uint16_t)(s->n - left);
     e->hold_tick = e->completed_ticks + e->held_t0;
     return QS_HOLD_STARTED;
 }
@@ -334,4 +378,125 @@ int32_t qs_engine_speed_2n_locked(const qs_engine *e, uint8_t axis)
     if (e->left == 0 || e->held || !(e->seg->active & (1u << axis)))
         return 0;
     return qs_segment_speed_2n(e->seg, axis);
+}
+
+/* ---- inputs, from the tick ---- */
+
+static uint8_t next_latch(uint8_t i)
+{
+    return (uint8_t)(i + 1 == QS_LATCH_RING ? 0 : i + 1);
+}
+
+qs_latch *qs_engine_latch_in_tick(qs_engine *e)
+{
+    qs_latch_ring *r = &e->latches;
+    qs_latch *l = &r->entry[r->next];
+
+    if (l->state != QS_LATCH_FREE) {
+        if (r->lost != 0xFFFF)
+            r->lost++;
+        return 0;
+    }
+    take_progress(e, &l->u.progress);
+    l->slot = e->queue.tail;
+    l->resolved = 0;
+    r->next = next_latch(r->next);
+    return l;
+}
+
+void qs_engine_freeze_in_tick(qs_engine *e, uint8_t alarm)
+{
+    /* The tick's slow path then begins nothing (not RUNNING) and holds
+     * nothing (no axis moving); the running or held slot keeps its state,
+     * from which the main loop counts the steps made. */
+    e->hold.moving = 0;
+    e->slow_path = 1;
+    e->trigger = 0;
+    e->alarm = alarm;
+    e->state = QS_STATE_ALARM;
+    e->frozen = 1;
+}
+
+uint8_t qs_engine_trigger_in_tick(qs_engine *e)
+{
+    qs_queue *q = &e->queue;
+    qs_segment *s;
+    uint8_t moving;
+
+    e->trigger = 0;
+    if (e->state != QS_STATE_RUNNING)
+        return 0;
+    if (e->left != 0) {
+        s = e->seg;
+    } else if (!qs_queue_empty(q)) {
+        /* Between segments: hold from the start of the next, begun as the
+         * tick would have. */
+        s = qs_queue_front(q);
+        e->seg = s;
+        e->left = s->n;
+        e->dir_bits = (uint8_t)((e->dir_bits & (uint8_t)~s->active) | s->negative);
+    } else {
+        return 0; /* the queue ran dry while moving: the underrun stands */
+    }
+    qs_hold_plan(&e->hold, s->n, e->trigger_decel);
+    moving = qs_hold_begin(&e->hold, s);
+    e->held = s;
+    e->held_t0 = (uint16_t)(s->n - e->left);
+    e->held_by_tick = 1;
+    e->state = QS_STATE_HOLDING;
+    e->slow_path = 1;
+    e->hold.moving = moving;
+    if (!moving) {
+        /* Every axis at rest already: the hold ends here, as its last tick
+         * would end it. */
+        e->left = 0;
+        qs_queue_release(q);
+    }
+    return 1;
+}
+
+/* ---- inputs, main loop ---- */
+
+void qs_engine_arm_trigger(qs_engine *e, uint8_t input, uint8_t level, const uint16_t *decel)
+{
+    uint8_t saved = qs_port_lock();
+    uint8_t axis;
+
+    for (axis = 0; axis < QS_AXIS_COUNT; axis++)
+        e->trigger_decel[axis] = decel[axis];
+    e->trigger_input = input;
+    e->trigger_level = level;
+    e->trigger_since = e->segments_done;
+    e->trigger = 1;
+    qs_port_unlock(saved);
+}
+
+void qs_engine_disarm_trigger(qs_engine *e)
+{
+    e->trigger = 0;
+}
+
+uint8_t qs_engine_take_latch(qs_engine *e, qs_latch *out)
+{
+    qs_latch_ring *r = &e->latches;
+
+    qs_engine_retire(e);
+    /* Every latch of a retired slot is resolved; those of the slot at the
+     * retirement point resolve against its start. */
+    resolve_latches(e, e->queue.retired);
+    for (;;) {
+        qs_latch *l = &r->entry[r->oldest];
+        const uint8_t state = l->state;
+        if (state == QS_LATCH_DISCARDED) {
+            l->state = QS_LATCH_FREE;
+            r->oldest = next_latch(r->oldest);
+            continue;
+        }
+        if (state != QS_LATCH_CONFIRMED || !l->resolved)
+            return 0;
+        *out = *l;
+        l->state = QS_LATCH_FREE;
+        r->oldest = next_latch(r->oldest);
+        return 1;
+    }
 }

@@ -15,6 +15,7 @@
 #include "qs_config.h"
 #include "qs_protocol.h"
 #include "qs_hold.h"
+#include "qs_latch.h"
 #include "qs_queue.h"
 
 typedef struct {
@@ -38,6 +39,15 @@ typedef struct {
     uint32_t hold_tick;      /* motion tick at which the deceleration began */
     uint32_t hold_end_tick;  /* motion tick at which the last hold ended */
     uint8_t hold_report;     /* a hold has ended and is not yet reported */
+    /* Inputs (qs_inputs.h) act on the engine from the tick: */
+    qs_latch_ring latches;   /* exact positions at input edges */
+    volatile uint8_t frozen; /* the tick stopped everything: the main loop completes the halt */
+    uint8_t trigger;         /* armed (PROBE): an edge of trigger_input to trigger_level holds */
+    uint8_t trigger_input;   /* QS_INPUT_* index (qs_inputs.h) */
+    uint8_t trigger_level;   /* 1: until it becomes active, 0: until it becomes inactive */
+    uint8_t held_by_tick;    /* the hold was begun by the tick: drop the queue when it ends */
+    uint16_t trigger_decel[QS_AXIS_COUNT];
+    uint32_t trigger_since;  /* segments_done when armed: the armed motion has run once it moves on */
 } qs_engine;
 
 /* What qs_engine_hold did. */
@@ -100,6 +110,47 @@ static QS_ALWAYS_INLINE uint8_t qs_engine_take_hold_done(qs_engine *e, uint32_t 
     e->hold_report = 0;
     *hold_tick = e->hold_tick;
     return 1;
+}
+
+/* ---- what inputs do, from the tick (interrupts off) ---- */
+
+/* A latch entry with a snapshot of the running or held slot taken now, or
+ * 0 when the ring is full (counted in latches.lost). The caller fills in
+ * active, changed and cause, then sets its state. */
+qs_latch *qs_engine_latch_in_tick(qs_engine *e);
+
+/* Stop every axis at this tick: no further step, ALARM with alarm. The
+ * running slot stays as it is, so positions stay exact; the main loop
+ * completes the halt (qs_engine_finish_freeze). */
+void qs_engine_freeze_in_tick(qs_engine *e, uint8_t alarm);
+
+/* The armed trigger fired: disarm, and if a segment runs or is queued
+ * begin a hold at this tick boundary with the armed decelerations (as
+ * HOLD would) and return 1; the queued segments are dropped when it ends.
+ * Else (nothing to hold) 0. */
+uint8_t qs_engine_trigger_in_tick(qs_engine *e);
+
+/* ---- main loop ---- */
+
+/* Arm (decel per axis, as qs_msg_check_hold accepts) or disarm the
+ * trigger. HOLD and STOP disarm it too. */
+void qs_engine_arm_trigger(qs_engine *e, uint8_t input, uint8_t level, const uint16_t *decel);
+void qs_engine_disarm_trigger(qs_engine *e);
+
+/* The tick froze the engine: flush the queue (the alarm stays). */
+static QS_ALWAYS_INLINE void qs_engine_finish_freeze(qs_engine *e)
+{
+    if (e->frozen)
+        qs_engine_halt(e, QS_STATE_ALARM, e->alarm);
+}
+
+/* The oldest latch, confirmed and resolved to positions (u.at), into out,
+ * once; 0 when there is none yet. */
+uint8_t qs_engine_take_latch(qs_engine *e, qs_latch *out);
+
+static QS_ALWAYS_INLINE uint8_t qs_engine_latch_waiting(const qs_engine *e)
+{
+    return e->latches.entry[e->latches.oldest].state != QS_LATCH_FREE;
 }
 
 /* Speed numerator of an axis of the running segment times 2n (see

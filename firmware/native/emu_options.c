@@ -10,6 +10,7 @@
 static const char usage[] =
     "usage: quadstep-emu [--pty | --tcp PORT] [--free] [--tick-hz N] [--axes N]\n"
     "                    [--queue N] [--trace FILE] [--events FILE]\n"
+    "                    [--machine FILE.toml] [--limit-pins 1|2]\n"
     "                    [--hold-at TICK:DECEL[,DECEL...]] [--drop-rx-frame K]...\n"
     "                    [--corrupt-rx-frame K]... [--drop-tx-frame K]...\n"
     "See firmware/native/README.md.\n";
@@ -110,6 +111,7 @@ int emu_options_parse(emu_options *o, int argc, char **argv)
     o->tick_hz = 50000;
     o->axes = 4;
     o->queue = 32;
+    o->limit_pins = 2;
     for (i = 1; i < argc; i++) {
         const char *opt = argv[i];
         const char *arg = i + 1 < argc ? argv[i + 1] : NULL;
@@ -157,6 +159,16 @@ int emu_options_parse(emu_options *o, int argc, char **argv)
                 return 0;
             }
             o->events_path = arg;
+        } else if (strcmp(opt, "--machine") == 0) {
+            if (!arg) {
+                fprintf(stderr, "quadstep-emu: --machine needs a file name\n");
+                return 0;
+            }
+            o->machine_path = arg;
+        } else if (strcmp(opt, "--limit-pins") == 0) {
+            if (!number(opt, arg, 1, 2, &v))
+                return 0;
+            o->limit_pins = (uint8_t)v;
         } else if (strcmp(opt, "--hold-at") == 0) {
             if (!hold_at(o, opt, arg, &hold_count))
                 return 0;

@@ -16,13 +16,16 @@
 #include "emu_options.h"
 #include "emu_port.h"
 #include "emu_trace.h"
+#include "machine.h"
 #include "qs_core.h"
 #include "qs_engine_tick.h"
 #include "qs_frame.h"
+#include "qs_inputs_tick.h"
 
 #define UNDERRUN_GRACE_NS 500000000ull /* free-running: wait this long for the host */
 #define FREE_BATCH 4096u               /* free-running: ticks between input checks */
 #define PACED_POLL_MS 1
+#define SETTLE_MAX 1000000u            /* idle: at most this many input-only ticks at once */
 
 typedef struct {
     emu_options opts;
@@ -31,6 +34,8 @@ typedef struct {
     emu_trace trace;
     emu_events events;
     qs_core core;
+    machine *machine;       /* --machine, or NULL */
+    uint16_t inputs_idle;   /* pin levels without a machine: all high, nothing active */
     uint32_t motion_tick;   /* ticks that made decisions: the trace's clock */
     uint64_t steps[QS_AXIS_COUNT];
     uint8_t last_state;
@@ -105,15 +110,30 @@ static void watch_state(emulator *m)
     m->last_state = state;
 }
 
+/* The inputs, sampled as the board samples its pins at the start of each
+ * tick: the machine's levels after the previous tick's steps. */
+static void sample_inputs(emulator *m)
+{
+    uint16_t raw = m->inputs_idle;
+
+    if (m->machine) {
+        machine_tick(m->machine, m->motion_tick);
+        raw = machine_levels(m->machine) & m->core.inputs.present;
+    }
+    qs_inputs_tick(&m->core.inputs, &m->core.engine, raw);
+}
+
 static void run_tick(emulator *m)
 {
     qs_engine *e = &m->core.engine;
     uint16_t left_before = e->left;
     uint8_t tail_before = e->queue.tail;
-    int hold_begins = e->hold.moving && e->hold.ticks == 0;
-    uint8_t bits = qs_engine_tick(e);
-    uint8_t axis;
+    int hold_begins;
+    uint8_t bits, axis;
 
+    sample_inputs(m);
+    hold_begins = e->hold.moving && e->hold.ticks == 0;
+    bits = qs_engine_tick(e);
     if (hold_begins)
         emu_events_hold(&m->events, e->hold_tick, now_ns());
     /* A decision was made if a segment was running, began, or began and
@@ -121,13 +141,34 @@ static void run_tick(emulator *m)
     if (left_before != 0 || e->left != 0 || e->queue.tail != tail_before) {
         m->motion_tick++;
         if (bits) {
-            emu_trace_steps(&m->trace, m->motion_tick, bits, e->dir_bits);
-            for (axis = 0; axis < QS_AXIS_COUNT; axis++)
-                m->steps[axis] += (bits >> axis) & 1u;
+            for (axis = 0; axis < QS_AXIS_COUNT; axis++) {
+                if (!((bits >> axis) & 1u))
+                    continue;
+                m->steps[axis]++;
+                if (m->machine)
+                    machine_step(m->machine, axis, ((e->dir_bits >> axis) & 1u) ? -1 : 1);
+            }
+            emu_trace_steps(&m->trace, m->motion_tick, bits, e->dir_bits, m->machine);
         }
     }
     qs_core_poll(&m->core);
     watch_state(m);
+}
+
+/* At rest, the board still samples its inputs every tick: while the
+ * machine has a bounce or a press under way, or the firmware a debounce
+ * window open, do the same (at once, not in real time). */
+static void settle_inputs(emulator *m)
+{
+    uint32_t n;
+
+    for (n = 0; n < SETTLE_MAX && !in_motion(&m->core.engine); n++) {
+        if (!qs_inputs_settling(&m->core.inputs) && !(m->machine && machine_busy(m->machine)))
+            break;
+        sample_inputs(m);
+        qs_core_poll(&m->core);
+        watch_state(m);
+    }
 }
 
 /* Running, between segments, nothing queued, an axis still moving: the
@@ -247,29 +288,39 @@ static int poll_timeout_ms(emulator *m, int waiting_at_underrun)
     return (int)(left / 1000000ull) + 1;
 }
 
+/* The exit summary: one JSON object on one line of stderr (README.md). */
 static void summary(emulator *m)
 {
     qs_status st;
     uint8_t axis;
+    FILE *f = stderr;
 
     qs_core_status(&m->core, &st);
-    fprintf(stderr, "state=%s\nalarm=%s\nmotion_ticks=%lu\nsegments_done=%lu\n",
+    fprintf(f, "{\"state\": \"%s\", \"alarm\": \"%s\", \"motion_ticks\": %lu, \"segments_done\": %lu, ",
             state_name(st.state), alarm_name(st.alarm), (unsigned long)st.motion_ticks,
             (unsigned long)st.segments_done);
-    fprintf(stderr, "queue_fill=%u\nnext_seq=%u\n", st.queue_fill, st.next_seq);
+    fprintf(f, "\"queue_fill\": %u, \"next_seq\": %u, ", st.queue_fill, st.next_seq);
     for (axis = 0; axis < m->opts.axes; axis++)
-        fprintf(stderr, "position_%u=%ld\nsteps_%u=%llu\n", axis, (long)st.position[axis], axis,
+        fprintf(f, "\"position_%u\": %ld, \"steps_%u\": %llu, ", axis, (long)st.position[axis], axis,
                 (unsigned long long)m->steps[axis]);
-    fprintf(stderr,
-            "rx_overrun=%u\nbad_frame=%u\nbad_crc=%u\nseq_gap=%u\nseq_dup=%u\nrejected=%u\n",
-            st.counters.rx_overrun, st.counters.bad_frame, st.counters.bad_crc,
-            st.counters.seq_gap, st.counters.seq_dup, st.counters.rejected);
-    fprintf(stderr,
-            "frames_received=%lu\nframes_sent=%lu\nrx_frames_dropped=%lu\n"
-            "rx_frames_corrupted=%lu\ntx_frames_dropped=%lu\ntx_bytes_discarded=%lu\n",
+    fprintf(f,
+            "\"rx_overrun\": %u, \"bad_frame\": %u, \"bad_crc\": %u, \"seq_gap\": %u, \"seq_dup\": %u, "
+            "\"rejected\": %u, ",
+            st.counters.rx_overrun, st.counters.bad_frame, st.counters.bad_crc, st.counters.seq_gap,
+            st.counters.seq_dup, st.counters.rejected);
+    fprintf(f,
+            "\"frames_received\": %lu, \"frames_sent\": %lu, \"rx_frames_dropped\": %lu, "
+            "\"rx_frames_corrupted\": %lu, \"tx_frames_dropped\": %lu, \"tx_bytes_discarded\": %lu, ",
             (unsigned long)m->faults.rx_frames, (unsigned long)emu_port_frames_sent(),
             (unsigned long)m->faults.rx_dropped, (unsigned long)m->faults.rx_corrupted,
             (unsigned long)m->faults.tx_dropped, (unsigned long)emu_port_bytes_discarded());
+    fprintf(f, "\"inputs_active\": %u, \"latches_lost\": %u, \"machine\": ", m->core.inputs.active,
+            m->core.engine.latches.lost);
+    if (m->machine)
+        machine_write_json(m->machine, f);
+    else
+        fputs("null", f);
+    fputs("}\n", f);
 }
 
 int main(int argc, char **argv)
@@ -287,13 +338,31 @@ int main(int argc, char **argv)
 
     qs_core_init(&m->core);
     qs_core_configure(&m->core, m->opts.axes, m->opts.queue, m->opts.tick_hz);
+    {
+        /* The inputs of a board with these axes: a min and a max limit per
+         * axis, or one shared (--limit-pins 1), the probe and the buttons. */
+        const uint16_t limits = (uint16_t)((1u << m->opts.axes) - 1u);
+        const uint16_t present = (uint16_t)(0x0F00u | limits | (m->opts.limit_pins == 2 ? limits << 4 : 0));
+        qs_inputs_init(&m->core.inputs, present);
+        m->inputs_idle = present;
+    }
+    if (m->opts.machine_path) {
+        static machine sim;
+        char why[512];
+        if (!machine_load(&sim, m->opts.machine_path, m->opts.axes, m->opts.limit_pins == 1, why, sizeof why)) {
+            fprintf(stderr, "quadstep-emu: --machine %s\n", why);
+            return 2;
+        }
+        m->machine = &sim;
+    }
     emu_faults_init(&m->faults, &m->opts);
     emu_port_init(&m->faults);
     m->last_state = QS_STATE_IDLE;
-    if (!emu_trace_open(&m->trace, m->opts.trace_path)
+    if (!emu_trace_open(&m->trace, m->opts.trace_path, m->machine != NULL)
         || !emu_events_open(&m->events, m->opts.events_path) || !emu_link_open(&m->link, &m->opts))
         return 1;
 
+    sample_inputs(m); /* the power-up sample: switches already closed are a state */
     while (!stop_requested) {
         struct pollfd fds[2];
         size_t pending;
@@ -316,6 +385,7 @@ int main(int argc, char **argv)
                 run_paced(m);
         } else {
             m->underrun_since_ns = 0;
+            settle_inputs(m);
         }
         write_output(m);
     }

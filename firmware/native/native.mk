@@ -27,7 +27,7 @@ NATIVE_CORE_OBJS := $(patsubst firmware/core/%.c,$(NATIVE_OUT)/core/%.o,$(NATIVE
 NATIVE_EMU_OBJS := $(patsubst firmware/native/%.c,$(NATIVE_OUT)/emu/%.o,$(NATIVE_EMU_SOURCES))
 
 $(NATIVE_OUT)/quadstep-emu: $(NATIVE_CORE_OBJS) $(NATIVE_EMU_OBJS)
-	$(CC) $^ -o $@
+	$(CC) $^ -o $@ -lm
 
 # Engine speed, free-running on this machine: prints axis-ticks per second.
 bench-engine: $(NATIVE_OUT)/bench_engine

@@ -1,11 +1,13 @@
 """A child process that serves a board on a pseudo-terminal, as the emulator and the simavr harness do.
 
 Both print `PORT <url>` on stdout once the port is open, run until SIGTERM,
-and then print a summary of `key=value` lines on stderr.
+and then print a summary on stderr: the emulator one JSON object on one line,
+the simavr harness `key=value` lines.
 """
 
 from __future__ import annotations
 
+import json
 import os
 import select
 import signal
@@ -13,7 +15,7 @@ import subprocess
 import tempfile
 import time
 from collections.abc import Sequence
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 if TYPE_CHECKING:
     from typing import Self  # Python 3.11; annotations are not evaluated at run time
@@ -21,10 +23,16 @@ if TYPE_CHECKING:
 START_TIMEOUT = 10.0
 
 
-def parse_summary(text: str) -> dict[str, int | str]:
-    """The exit summary: `key=value` lines, integers where they parse."""
-    summary: dict[str, int | str] = {}
+def parse_summary(text: str) -> dict[str, Any]:
+    """The exit summary: a JSON object on a line of its own, or `key=value` lines (integers where they parse)."""
+    summary: dict[str, Any] = {}
     for line in text.splitlines():
+        if line.startswith("{"):
+            try:
+                summary.update(json.loads(line))
+            except json.JSONDecodeError:
+                pass
+            continue
         key, sep, value = line.strip().partition("=")
         if not sep or not key or " " in key:
             continue
@@ -59,7 +67,7 @@ class PortProcess:
     def __init__(self, args: Sequence[str]) -> None:
         self.args = list(args)
         self.url = ""
-        self.summary: dict[str, int | str] | None = None
+        self.summary: dict[str, Any] | None = None
         self.returncode: int | None = None
         self._proc: subprocess.Popen[bytes] | None = None
         self._stderr = tempfile.TemporaryFile()
@@ -91,7 +99,7 @@ class PortProcess:
     def running(self) -> bool:
         return self._proc is not None and self._proc.poll() is None
 
-    def stop(self) -> dict[str, int | str]:
+    def stop(self) -> dict[str, Any]:
         """SIGTERM, wait, and return the exit summary (also kept in .summary); output files are then complete."""
         if self._proc is None:
             return self.summary or {}
