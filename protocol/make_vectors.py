@@ -23,20 +23,26 @@ PROTOCOL_VERSION = 1
 MAX_FRAME = 64
 
 TYPES = {
-    "IDENTIFY": 0x01, "STATUS": 0x02, "STOP": 0x03, "HOLD": 0x04,
-    "SEGMENT": 0x10, "SET_POSITION": 0x11,
+    "IDENTIFY": 0x01, "STATUS": 0x02, "STOP": 0x03, "HOLD": 0x04, "INPUTS": 0x06,
+    "SEGMENT": 0x10, "SET_POSITION": 0x11, "PROBE": 0x15, "CONFIG": 0x16,
     "ACK": 0x80, "IDENTIFY_REPLY": 0x81, "STATUS_REPORT": 0x82, "ERROR": 0x83, "ALARM": 0x84, "EVENT": 0x85,
+    "INPUT_STATUS": 0x86,
 }
 ACK_REASONS = {"ACCEPTED": 0, "GAP": 1, "DUPLICATE": 2, "QUEUE_FULL": 3, "REJECTED": 4, "SPACE": 5}
 ERROR_CODES = {
     "FRAME_TOO_LONG": 1, "FRAME_TOO_SHORT": 2, "BAD_COBS": 3, "BAD_CRC": 4,
     "UNKNOWN_TYPE": 5, "BAD_LENGTH": 6, "RX_OVERRUN": 7,
-    "BAD_FIELD": 16, "BUSY": 17, "ALARM_ACTIVE": 18,
+    "BAD_FIELD": 16, "BUSY": 17, "ALARM_ACTIVE": 18, "INPUT_AT_LEVEL": 19,
 }
-FIELDS = {"N": 1, "AXES": 2, "DIRECTION": 3, "V0": 4, "VN": 5, "RESIDUAL": 6, "DECEL": 7}
-ALARMS = {"UNDERRUN": 1, "REJECTED_SEGMENT": 2, "HARD_LIMIT": 3, "HOST_LOST": 4}
+FIELDS = {"N": 1, "AXES": 2, "DIRECTION": 3, "V0": 4, "VN": 5, "RESIDUAL": 6, "DECEL": 7, "INPUT": 8, "LEVEL": 9,
+          "INPUTS": 10, "HARD_LIMITS": 11}
+ALARMS = {"UNDERRUN": 1, "REJECTED_SEGMENT": 2, "HARD_LIMIT": 3, "HOST_LOST": 4, "E_STOP": 5}
 STATES = {"IDLE": 0, "RUNNING": 1, "ALARM": 2, "HOLDING": 3}
-EVENT_KINDS = {"HOLD_DONE": 1}
+EVENT_KINDS = {"HOLD_DONE": 1, "INPUT": 2, "PROBE_MISSED": 3}
+INPUTS = {"LIMIT_0": 0, "LIMIT_1": 1, "LIMIT_2": 2, "LIMIT_3": 3, "LIMIT_MAX_0": 4, "LIMIT_MAX_1": 5,
+          "LIMIT_MAX_2": 6, "LIMIT_MAX_3": 7, "PROBE": 8, "ABORT": 9, "FEED_HOLD": 10, "CYCLE_START": 11}
+CAUSES = {"REPORT": 0, "HARD_LIMIT": 1, "TRIGGER": 2, "E_STOP": 3, "FEED_HOLD": 4, "CYCLE_START": 5}
+CONFIG_FIELDS = ["invert", "enabled", "hard_limits"]
 
 
 # --- framing (PROTOCOL.md §2) -------------------------------------------------
@@ -101,8 +107,17 @@ STATUS_FIELDS = ["state", "alarm", "queue_fill", "next_seq", "segments_done", "m
 
 def payload(msg: dict) -> bytes:
     t = msg["type"]
-    if t in ("IDENTIFY", "STATUS", "STOP"):
+    if t in ("IDENTIFY", "STATUS", "STOP", "INPUTS"):
         return b""
+    if t == "PROBE":
+        return struct.pack("<BB4H", INPUTS[msg["input"]], msg["level"], *msg["decel"])
+    if t == "CONFIG":
+        return struct.pack("<HHB12B4H", msg["invert"], msg["enabled"], msg["hard_limits"], *msg["debounce"],
+                           *msg["hold_decel"])
+    if t == "INPUT_STATUS":
+        armed = 0xFF if msg["armed"] is None else INPUTS[msg["armed"]]
+        return struct.pack("<HHHHHBBBH", msg["present"], msg["active"], msg["raw"], msg["invert"], msg["enabled"],
+                           msg["hard_limits"], armed, msg["level"], msg["latches_lost"])
     if t == "SEGMENT":
         return segment_payload(msg["n"], msg["axes"])
     if t == "SET_POSITION":
@@ -126,9 +141,16 @@ def payload(msg: dict) -> bytes:
         return struct.pack(f"<BI{len(pos)}i", ALARMS[msg["code"]], msg["motion_ticks"], *pos)
     if t == "HOLD":
         return struct.pack("<4H", *msg["decel"])
-    if t == "EVENT":
+    if t == "EVENT" and msg["kind"] == "HOLD_DONE":
         pos = msg["position"]
         return struct.pack(f"<BII{len(pos)}i", EVENT_KINDS[msg["kind"]], msg["hold_tick"], msg["motion_ticks"], *pos)
+    if t == "EVENT" and msg["kind"] == "INPUT":
+        pos = msg["position"]
+        return struct.pack(f"<BIHHB{len(pos)}i", EVENT_KINDS["INPUT"], msg["motion_ticks"], msg["active"],
+                           msg["changed"], CAUSES[msg["cause"]], *pos)
+    if t == "EVENT" and msg["kind"] == "PROBE_MISSED":
+        pos = msg["position"]
+        return struct.pack(f"<BI{len(pos)}i", EVENT_KINDS["PROBE_MISSED"], msg["motion_ticks"], *pos)
     raise ValueError(t)
 
 
@@ -182,6 +204,28 @@ def bad_hold(name: str, decel: list[int], axis: int, axis_count: int = 4, seq: i
     bad(name, TO_FW, frame, "BAD_FIELD", "DECEL", axis, axis_count)
 
 
+def probe(seq: int, input_name: str, level: int, *decel: int) -> dict:
+    return {"type": "PROBE", "seq": seq, "input": input_name, "level": level, "decel": list(decel)}
+
+
+def config(seq: int, invert: int, enabled: int, hard_limits: int, debounce: list[int], hold_decel: list[int]) -> dict:
+    return {"type": "CONFIG", "seq": seq, "invert": invert, "enabled": enabled, "hard_limits": hard_limits,
+            "debounce": debounce, "hold_decel": hold_decel}
+
+
+def bad_probe(name: str, input_number: int, level: int, decel: list[int], field: str, axis: int | None,
+              axis_count: int = 4) -> None:
+    frame = wire(bytes([TYPES["PROBE"], 3]) + struct.pack("<BB4H", input_number, level, *decel))
+    bad(name, TO_FW, frame, "BAD_FIELD", field, axis, axis_count)
+
+
+def bad_config(name: str, invert: int, enabled: int, hard_limits: int, hold_decel: list[int], field: str,
+               axis: int | None, axis_count: int = 4) -> None:
+    frame = wire(bytes([TYPES["CONFIG"], 4]) + struct.pack("<HHB12B4H", invert, enabled, hard_limits, *([0] * 12),
+                                                           *hold_decel))
+    bad(name, TO_FW, frame, "BAD_FIELD", field, axis, axis_count)
+
+
 def build() -> list[dict]:
     VECTORS.clear()
     D = 4096
@@ -196,6 +240,15 @@ def build() -> list[dict]:
     valid("hold, 3 axes, axis 3 says 0", TO_FW, hold(0, 100, 200, 300, 0), 3)
     valid("hold, 1 axis", TO_FW, hold(0xFF, 8191, 0, 0, 0), 1)
     valid("hold, zero bytes in the body", TO_FW, hold(0, 256, 512, 0x0100, 0x1F00), 4)
+
+    # Inputs: INPUTS (immediate), PROBE and CONFIG (sequenced).
+    valid("inputs", TO_FW, {"type": "INPUTS", "seq": 77})
+    valid("probe until the probe touches, 4 axes", TO_FW, probe(5, "PROBE", 1, 8191, 1, 200, 4096), 4)
+    valid("probe until limit 0 releases, 3 axes", TO_FW, probe(0, "LIMIT_0", 0, 300, 300, 300, 0), 3)
+    valid("probe until max limit 3 closes", TO_FW, probe(0xFF, "LIMIT_MAX_3", 1, 1, 1, 1, 1), 4)
+    valid("config, every input inverted and enabled", TO_FW,
+          config(9, 0x0FFF, 0x0FFF, 1, [0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 255], [1, 8191, 256, 4096]), 4)
+    valid("config, hard limits off, 3 axes", TO_FW, config(0, 0x0100, 0x0F07, 0, [5] * 12, [64, 64, 64, 0]), 3)
 
     # SEGMENT: 0..4 axes, extreme values. A firmware with fewer axes rejects the
     # ones using axis 3 (and 2), so these assume 4 axes (the emulator's default).
@@ -293,6 +346,31 @@ def build() -> list[dict]:
           {"type": "EVENT", "seq": 0xFF, "kind": "HOLD_DONE", "hold_tick": 0, "motion_ticks": 1, "position": [0]},
           1)
 
+    valid("input status, idle, nothing armed", TO_HOST,
+          {"type": "INPUT_STATUS", "seq": 77, "present": 0x0F07, "active": 0x0001, "raw": 0x0F06, "invert": 0,
+           "enabled": 0x0F07, "hard_limits": 1, "armed": None, "level": 0, "latches_lost": 0})
+    valid("input status, probe armed", TO_HOST,
+          {"type": "INPUT_STATUS", "seq": 1, "present": 0x0FFF, "active": 0, "raw": 0x0FFF, "invert": 0x0100,
+           "enabled": 0x0EFF, "hard_limits": 0, "armed": "PROBE", "level": 1, "latches_lost": 65535})
+    valid("event input, probe trigger, 3 axes", TO_HOST,
+          {"type": "EVENT", "seq": 0xFF, "kind": "INPUT", "motion_ticks": 98765, "active": 0x0100,
+           "changed": 0x0100, "cause": "TRIGGER", "position": [1200, -30, -2048]}, 3)
+    valid("event input, hard limit, 4 axes", TO_HOST,
+          {"type": "EVENT", "seq": 0xFF, "kind": "INPUT", "motion_ticks": 2**32 - 1, "active": 0x0011,
+           "changed": 0x0010, "cause": "HARD_LIMIT", "position": [2**31 - 1, -(2**31), 0, 7]}, 4)
+    valid("event input, release reported, 1 axis", TO_HOST,
+          {"type": "EVENT", "seq": 0xFF, "kind": "INPUT", "motion_ticks": 0, "active": 0, "changed": 0x0800,
+           "cause": "REPORT", "position": [5]}, 1)
+    valid("event probe missed, 3 axes", TO_HOST,
+          {"type": "EVENT", "seq": 0xFF, "kind": "PROBE_MISSED", "motion_ticks": 4000, "position": [0, 0, -8000]}, 3)
+    valid("alarm e-stop, 3 axes", TO_HOST,
+          {"type": "ALARM", "seq": 0xFF, "code": "E_STOP", "motion_ticks": 77, "position": [1, 2, 3]}, 3)
+    valid("alarm hard limit, 2 axes", TO_HOST,
+          {"type": "ALARM", "seq": 0xFF, "code": "HARD_LIMIT", "motion_ticks": 5, "position": [-1, 1]}, 2)
+    valid("error input at level", TO_HOST,
+          {"type": "ERROR", "seq": 3, "code": "INPUT_AT_LEVEL", "frame_type": 0x15, "frame_seq": 3,
+           "field": None, "axis": None})
+
     # Malformed frames: framing errors, in the order of PROTOCOL.md §2.
     good = body(seg(1, 100, ax(0, 1, 10, 20, 0)))
     for direction in (TO_FW, TO_HOST):
@@ -319,9 +397,9 @@ def build() -> list[dict]:
     bad("64 decoded bytes pass framing, then bad length", TO_FW, wire(longest), "BAD_LENGTH")
 
     # Unknown types, immediate and sequenced ranges; reports sent the wrong way.
-    for t in (0x00, 0x05, 0x06, 0x0F, 0x12, 0x13, 0x3F, 0x40, 0x7F, 0x80, 0x82, 0x85):
+    for t in (0x00, 0x05, 0x07, 0x0F, 0x12, 0x13, 0x14, 0x17, 0x3F, 0x40, 0x7F, 0x80, 0x82, 0x85, 0x86):
         bad(f"unknown type 0x{t:02x} to firmware", TO_FW, wire(bytes([t, 3])), "UNKNOWN_TYPE")
-    for t in (0x01, 0x04, 0x10, 0x86, 0xFF):
+    for t in (0x01, 0x04, 0x06, 0x10, 0x15, 0x87, 0xFF):
         bad(f"unknown type 0x{t:02x} to host", TO_HOST, wire(bytes([t, 3, 0, 0, 0, 0, 0])), "UNKNOWN_TYPE")
 
     # Wrong payload lengths.
@@ -355,6 +433,31 @@ def build() -> list[dict]:
     bad("event without positions", TO_HOST, wire(bytes([0x85, 0xFF, 1]) + bytes(8)), "BAD_LENGTH")
     bad("event, 5 axes", TO_HOST, wire(bytes([0x85, 0xFF, 1]) + bytes(8 + 20)), "BAD_LENGTH")
     bad("event, partial position", TO_HOST, wire(bytes([0x85, 0xFF, 1]) + bytes(8 + 6)), "BAD_LENGTH")
+
+    bad("inputs with a payload", TO_FW, wire(bytes([0x06, 0, 1])), "BAD_LENGTH")
+    bad("probe 9 bytes", TO_FW, wire(bytes([0x15, 0]) + bytes(9)), "BAD_LENGTH")
+    bad("probe 11 bytes", TO_FW, wire(bytes([0x15, 0]) + bytes(11)), "BAD_LENGTH")
+    bad("config 24 bytes", TO_FW, wire(bytes([0x16, 0]) + bytes(24)), "BAD_LENGTH")
+    bad("config 26 bytes", TO_FW, wire(bytes([0x16, 0]) + bytes(26)), "BAD_LENGTH")
+    bad("input status 14 bytes", TO_HOST, wire(bytes([0x86, 0]) + bytes(14)), "BAD_LENGTH")
+    bad("event input without positions", TO_HOST, wire(bytes([0x85, 0xFF, 2]) + bytes(9)), "BAD_LENGTH")
+    bad("event probe missed, partial position", TO_HOST, wire(bytes([0x85, 0xFF, 3]) + bytes(4 + 6)), "BAD_LENGTH")
+
+    # PROBE content: an input that can end a motion (a limit or the probe),
+    # level 0 or 1, then HOLD's rule for the decelerations.
+    bad_probe("probe on the abort input", 9, 1, [1, 1, 1, 1], "INPUT", None)
+    bad_probe("probe on input 12", 12, 1, [1, 1, 1, 1], "INPUT", None)
+    bad_probe("probe input checked before level", 255, 2, [0, 0, 0, 0], "INPUT", None)
+    bad_probe("probe level 2", 8, 2, [1, 1, 1, 1], "LEVEL", None)
+    bad_probe("probe decel 0 on axis 1", 0, 1, [5, 0, 5, 5], "DECEL", 1)
+    bad_probe("probe decel for axis 3 on a 3-axis firmware", 8, 0, [5, 5, 5, 5], "DECEL", 3, axis_count=3)
+    # CONFIG content: input bits the wire names, hard_limits 0 or 1, the feed hold's decelerations.
+    bad_config("config invert bit 12", 0x1000, 0, 1, [1, 1, 1, 1], "INPUTS", None)
+    bad_config("config enabled bit 15", 0, 0x8000, 1, [1, 1, 1, 1], "INPUTS", None)
+    bad_config("config hard_limits 2", 0, 0, 2, [1, 1, 1, 1], "HARD_LIMITS", None)
+    bad_config("config hold decel 8192 on axis 0", 0, 0, 0, [8192, 1, 1, 1], "DECEL", 0)
+    bad_config("config hold decel for axis 2 on a 2-axis firmware", 0, 0, 1, [1, 1, 1, 0], "DECEL", 2,
+               axis_count=2)
 
     # SEGMENT content: every field id, in validation order. axis_count is the
     # firmware's axis count the outcome assumes.
@@ -417,10 +520,12 @@ def document() -> str:
             "firmware's axis count, 0 for the others; BAD_FIELD DECEL names the first axis that breaks it.",
             "SEGMENT fields are checked field by field in the order of the table, each field in "
             "axis order: every axis's V0 before any VN, every VN before any RESIDUAL.",
+            "PROBE and CONFIG vectors assume a firmware with every input (present 0x0FFF); INPUT_STATUS "
+            "armed null is 0xFF on the wire.",
         ],
         "names": {
             "type": TYPES, "ack_reason": ACK_REASONS, "error_code": ERROR_CODES, "field": FIELDS,
-            "alarm": ALARMS, "state": STATES, "event_kind": EVENT_KINDS,
+            "alarm": ALARMS, "state": STATES, "event_kind": EVENT_KINDS, "input": INPUTS, "cause": CAUSES,
         },
         "vectors": build(),
     }

@@ -56,7 +56,8 @@ static void send_identify_reply(qs_core *c, uint8_t seq)
     id.speed_shift = QS_SPEED_SHIFT;
     id.n_max = QS_N_MAX;
     id.tick_hz = c->tick_hz;
-    id.capabilities = QS_CAP_QUADRATIC_SEGMENTS | QS_CAP_SET_POSITION | QS_CAP_HOLD;
+    id.capabilities = QS_CAP_QUADRATIC_SEGMENTS | QS_CAP_SET_POSITION | QS_CAP_HOLD | QS_CAP_LIMIT_INPUTS
+                      | QS_CAP_PROBE_INPUT | QS_CAP_HOMING | QS_CAP_CONTROL_INPUTS;
     id.next_seq = c->next_seq;
     send_body(c, qs_msg_encode_identify_reply(tx_body(c), seq, &id));
 }
@@ -64,11 +65,34 @@ static void send_identify_reply(qs_core *c, uint8_t seq)
 /* The EVENT HOLD_DONE of a finished hold, once. Sent before anything else
  * is handled and before any status that shows the hold over, so a host
  * learns where the axes rest before it sees them idle. */
+static void report_pending_hold(qs_core *c);
+
+/* EVENT INPUT for every latched input change, oldest first, before
+ * anything else is reported (a trigger's latch precedes its HOLD_DONE). */
+static void report_pending_inputs(qs_core *c)
+{
+    qs_latch l;
+    qs_input_event ev;
+    uint8_t axis;
+
+    while (qs_engine_latch_waiting(&c->engine) && qs_engine_take_latch(&c->engine, &l)) {
+        ev.motion_ticks = l.u.at.tick;
+        ev.active = l.active;
+        ev.changed = l.changed;
+        ev.cause = l.cause;
+        ev.axis_count = c->axis_count;
+        for (axis = 0; axis < c->axis_count; axis++)
+            ev.position[axis] = l.u.at.position[axis];
+        send_body(c, qs_msg_encode_input_event(tx_body(c), QS_SEQ_UNSOLICITED, &ev));
+    }
+}
+
 static void report_pending_hold(qs_core *c)
 {
     qs_engine *e = &c->engine;
     uint32_t hold_tick;
 
+    report_pending_inputs(c);
     if (qs_engine_take_hold_done(e, &hold_tick))
         send_body(c, qs_msg_encode_hold_done(tx_body(c), QS_SEQ_UNSOLICITED, hold_tick, e->completed_ticks,
                                              c->axis_count, e->base));
@@ -205,7 +229,13 @@ static void on_set_position(qs_core *c, const qs_host_msg *m)
 
 static void on_stop(qs_core *c, const qs_host_msg *m)
 {
-    qs_engine_halt(&c->engine, QS_STATE_IDLE, QS_ALARM_NONE);
+    /* An abort input still active keeps the alarm: nothing moves until it
+     * is released. */
+    if (qs_inputs_is_active(&c->inputs, QS_INPUT_ABORT))
+        qs_engine_halt(&c->engine, QS_STATE_ALARM, QS_ALARM_E_STOP);
+    else
+        qs_engine_halt(&c->engine, QS_STATE_IDLE, QS_ALARM_NONE);
+    c->inputs.hold_request = 0;
     c->alarm_announced = 0;
     c->next_seq = m->seq;
     send_status_report(c, m->seq, 1);
@@ -237,6 +267,72 @@ static void on_hold(qs_core *c, const qs_host_msg *m)
     /* The answer first, then a HOLD_DONE if the hold is already over. */
     send_status_report(c, m->seq, 0);
     report_pending_hold(c);
+}
+
+static void send_input_status(qs_core *c, uint8_t seq)
+{
+    const qs_inputs *in = &c->inputs;
+    const qs_engine *e = &c->engine;
+    qs_input_status st;
+
+    st.present = in->present;
+    st.active = in->active;
+    st.raw = in->raw;
+    st.invert = in->invert;
+    st.enabled = in->enabled;
+    st.hard_limits = in->hard_limits;
+    st.armed = e->trigger ? e->trigger_input : QS_AXIS_NONE;
+    st.level = e->trigger ? e->trigger_level : 0;
+    st.latches_lost = e->latches.lost;
+    send_body(c, qs_msg_encode_input_status(tx_body(c), seq, &st));
+}
+
+/* PROBE: only at rest with nothing queued, for an input not already where
+ * the motion is to end. */
+static void on_probe(qs_core *c, const qs_host_msg *m)
+{
+    const qs_probe_msg *pr = &m->as.probe;
+    qs_engine *e = &c->engine;
+    qs_fault f;
+
+    if (qs_msg_check_probe(pr, c->axis_count, c->inputs.present, &f) != QS_ERR_NONE) {
+        reject(c, m, &f);
+        return;
+    }
+    qs_engine_retire(e);
+    if (e->state != QS_STATE_IDLE || !qs_queue_empty(&e->queue)) {
+        fault(&f, e->state == QS_STATE_ALARM ? QS_ERR_ALARM_ACTIVE : QS_ERR_BUSY);
+        reject(c, m, &f);
+        return;
+    }
+    if (qs_inputs_is_active(&c->inputs, pr->input) == pr->level) {
+        fault(&f, QS_ERR_INPUT_AT_LEVEL);
+        reject(c, m, &f);
+        return;
+    }
+    qs_engine_arm_trigger(e, pr->input, pr->level, pr->hold.decel);
+    c->next_seq++;
+    send_ack(c, m->seq, QS_ACK_ACCEPTED);
+}
+
+/* CONFIG: not while moving. */
+static void on_config(qs_core *c, const qs_host_msg *m)
+{
+    const qs_config_msg *cf = &m->as.config;
+    qs_fault f;
+
+    if (qs_msg_check_config(cf, c->axis_count, &f) != QS_ERR_NONE) {
+        reject(c, m, &f);
+        return;
+    }
+    if (c->engine.state == QS_STATE_RUNNING || c->engine.state == QS_STATE_HOLDING) {
+        fault(&f, QS_ERR_BUSY);
+        reject(c, m, &f);
+        return;
+    }
+    qs_inputs_configure(&c->inputs, cf->invert, cf->enabled, cf->hard_limits, cf->debounce, cf->hold.decel);
+    c->next_seq++;
+    send_ack(c, m->seq, QS_ACK_ACCEPTED);
 }
 
 /* Whether a sequenced frame is the one expected next. A later frame means
@@ -291,6 +387,21 @@ static void on_frame(qs_core *c, const uint8_t *body, uint8_t len)
         code = qs_msg_parse_hold(p, plen, &m.as.hold);
         if (code == QS_ERR_NONE)
             on_hold(c, &m);
+        break;
+    case QS_TYPE_INPUTS:
+        code = qs_msg_parse_empty(plen);
+        if (code == QS_ERR_NONE)
+            send_input_status(c, m.seq);
+        break;
+    case QS_TYPE_PROBE:
+        code = qs_msg_parse_probe(p, plen, &m.as.probe);
+        if (code == QS_ERR_NONE && in_sequence(c, &m))
+            on_probe(c, &m);
+        break;
+    case QS_TYPE_CONFIG:
+        code = qs_msg_parse_config(p, plen, &m.as.config);
+        if (code == QS_ERR_NONE && in_sequence(c, &m))
+            on_config(c, &m);
         break;
     case QS_TYPE_SEGMENT:
         code = qs_msg_parse_segment(p, plen, &m.as.segment);
@@ -366,9 +477,32 @@ void qs_core_rx_overrun(qs_core *c)
     qs_frame_rx_overrun(&c->rx);
 }
 
+/* What the inputs left for the main loop: a hold to begin, an armed
+ * motion that ended without its edge. */
+static void serve_inputs(qs_core *c)
+{
+    qs_engine *e = &c->engine;
+    const uint8_t request = c->inputs.hold_request;
+
+    if (request) {
+        c->inputs.hold_request = 0;
+        qs_engine_hold(e, request == QS_INPUTS_HOLD_FEED ? c->inputs.hold_decel : e->trigger_decel);
+    }
+    if (e->trigger && e->state == QS_STATE_IDLE && qs_queue_empty(&e->queue) && e->segments_done != e->trigger_since
+        && !qs_inputs_settling(&c->inputs)) {
+        qs_engine_view v;
+        qs_engine_disarm_trigger(e);
+        qs_engine_read(e, &v);
+        send_body(c, qs_msg_encode_probe_missed(tx_body(c), QS_SEQ_UNSOLICITED, v.motion_ticks, c->axis_count,
+                                                v.position));
+    }
+}
+
 QS_NOINLINE void qs_core_poll_work(qs_core *c)
 {
+    qs_engine_finish_freeze(&c->engine);
     qs_engine_retire(&c->engine);
+    report_pending_inputs(c);
     /* One SPACE ack covers every segment finished since the last one. */
     if (c->engine.segments_done != c->space_announced) {
         c->space_announced = c->engine.segments_done;
@@ -376,6 +510,7 @@ QS_NOINLINE void qs_core_poll_work(qs_core *c)
     }
     if (c->engine.alarm != QS_ALARM_NONE && !c->alarm_announced)
         send_alarm(c);
+    serve_inputs(c);
     report_pending_hold(c);
 }
 

@@ -67,7 +67,8 @@ static inline uint8_t qs_core_rx_copy(qs_core *c, const uint8_t *bytes, uint8_t 
 void qs_core_rx_overrun(qs_core *c);
 
 /* Deferred work: SPACE acks for completed segments, ALARM reports raised
- * by the tick, the HOLD_DONE of a hold the tick finished. Call often from
+ * by the tick, the HOLD_DONE of a hold the tick finished, the inputs'
+ * latches (EVENT INPUT), holds and ends of armed motion. Call often from
  * the main loop (at least whenever queue.tail has changed): with nothing
  * to do it costs a few compares. */
 void qs_core_poll_work(qs_core *c);
@@ -77,7 +78,8 @@ static QS_ALWAYS_INLINE void qs_core_poll(qs_core *c)
     const qs_engine *e = &c->engine;
 
     if (e->queue.retired != e->queue.tail || e->segments_done != c->space_announced
-        || (e->alarm != QS_ALARM_NONE && !c->alarm_announced) || e->hold_report)
+        || (e->alarm != QS_ALARM_NONE && !c->alarm_announced) || e->hold_report || e->frozen
+        || qs_engine_latch_waiting(e) || c->inputs.hold_request || (e->trigger && e->state == QS_STATE_IDLE))
         qs_core_poll_work(c);
 }
 

@@ -24,36 +24,20 @@
 #include <stdint.h>
 #include "qs_config.h"
 #include "qs_engine.h"
+#include "qs_protocol.h"
 
-/* Input numbers: bit i of every input mask. */
-#define QS_INPUT_LIMIT 0      /* + axis: the axis's limit (its min switch, or both on one pin) */
-#define QS_INPUT_LIMIT_MAX 4  /* + axis: the axis's max switch, where it has a pin of its own */
-#define QS_INPUT_PROBE 8
-#define QS_INPUT_ABORT 9
-#define QS_INPUT_FEED_HOLD 10
-#define QS_INPUT_CYCLE_START 11
+/* Input numbers (QS_INPUT_* in qs_protocol.h): bit i of every input mask. */
+#define QS_INPUT_LIMIT QS_INPUT_LIMIT_0         /* + axis: the axis's limit (its min switch, or both on one pin) */
+#define QS_INPUT_LIMIT_MAX QS_INPUT_LIMIT_MAX_0 /* + axis: its max switch, where it has a pin of its own */
 #define QS_INPUT_COUNT 12
 #define QS_INPUT_NONE 0xFF
 
 #define QS_INPUTS_LIMITS 0x00FFu
 #define QS_INPUTS_ALL 0x0FFFu
 
-/* What an accepted change did (EVENT INPUT's cause). */
-#define QS_CAUSE_REPORT 0
-#define QS_CAUSE_HARD_LIMIT 1
-#define QS_CAUSE_TRIGGER 2
-#define QS_CAUSE_E_STOP 3
-#define QS_CAUSE_FEED_HOLD 4
-#define QS_CAUSE_CYCLE_START 5
-
 /* What the main loop is asked to do (hold_request). */
 #define QS_INPUTS_HOLD_FEED 1    /* feed hold: HOLD at hold_decel */
 #define QS_INPUTS_HOLD_TRIGGER 2 /* the trigger fired with nothing moving: report it at rest */
-
-/* Until the protocol names it (PROTOCOL.md, alarms). */
-#ifndef QS_ALARM_E_STOP
-#define QS_ALARM_E_STOP 5
-#endif
 
 #define QS_INPUTS_RESAMPLE 0xFFFFu /* `seen` that no sample equals: the next tick looks again */
 

@@ -101,6 +101,29 @@ uint8_t qs_msg_parse_hold(const uint8_t *p, uint8_t len, qs_hold_msg *h)
     return QS_ERR_NONE;
 }
 
+uint8_t qs_msg_parse_probe(const uint8_t *p, uint8_t len, qs_probe_msg *pr)
+{
+    if (len != QS_LEN_PROBE)
+        return QS_ERR_BAD_LENGTH;
+    pr->input = p[0];
+    pr->level = p[1];
+    return qs_msg_parse_hold(p + 2, QS_LEN_HOLD, &pr->hold);
+}
+
+uint8_t qs_msg_parse_config(const uint8_t *p, uint8_t len, qs_config_msg *cf)
+{
+    uint8_t i;
+
+    if (len != QS_LEN_CONFIG)
+        return QS_ERR_BAD_LENGTH;
+    cf->invert = get16(p);
+    cf->enabled = get16(p + 2);
+    cf->hard_limits = p[4];
+    for (i = 0; i < QS_WIRE_INPUTS; i++)
+        cf->debounce[i] = p[5 + i];
+    return qs_msg_parse_hold(p + 5 + QS_WIRE_INPUTS, QS_LEN_HOLD, &cf->hold);
+}
+
 static uint8_t bad_field(qs_fault *f, uint8_t field, uint8_t axis)
 {
     f->code = QS_ERR_BAD_FIELD;
@@ -181,6 +204,30 @@ uint8_t qs_msg_check_hold(const qs_hold_msg *h, uint8_t axis_count, qs_fault *f)
     }
     f->code = QS_ERR_NONE;
     return QS_ERR_NONE;
+}
+
+/* Only an input that can end a motion (a limit or the probe) the firmware
+ * has; then the level and the hold's decelerations. */
+uint8_t qs_msg_check_probe(const qs_probe_msg *pr, uint8_t axis_count, uint16_t present, qs_fault *f)
+{
+    if (pr->input > QS_INPUT_PROBE || !((present >> pr->input) & 1u))
+        return bad_field(f, QS_FIELD_INPUT, QS_AXIS_NONE);
+    if (pr->level > 1)
+        return bad_field(f, QS_FIELD_LEVEL, QS_AXIS_NONE);
+    return qs_msg_check_hold(&pr->hold, axis_count, f);
+}
+
+/* Bits for inputs the wire names (absent ones are ignored), hard limits
+ * on or off, and the feed hold's decelerations as HOLD's. */
+uint8_t qs_msg_check_config(const qs_config_msg *cf, uint8_t axis_count, qs_fault *f)
+{
+    const uint16_t beyond = (uint16_t)~((1u << QS_WIRE_INPUTS) - 1u);
+
+    if ((cf->invert | cf->enabled) & beyond)
+        return bad_field(f, QS_FIELD_INPUTS, QS_AXIS_NONE);
+    if (cf->hard_limits > 1)
+        return bad_field(f, QS_FIELD_HARD_LIMITS, QS_AXIS_NONE);
+    return qs_msg_check_hold(&cf->hold, axis_count, f);
 }
 
 static uint8_t head(uint8_t *body, uint8_t type, uint8_t seq)
@@ -271,6 +318,50 @@ uint8_t qs_msg_encode_hold_done(uint8_t *body, uint8_t seq, uint32_t hold_tick, 
 
     body[n++] = QS_EVENT_HOLD_DONE;
     n += put32(body + n, hold_tick);
+    n += put32(body + n, motion_ticks);
+    for (axis = 0; axis < axis_count; axis++)
+        n += put32(body + n, (uint32_t)position[axis]);
+    return n;
+}
+
+uint8_t qs_msg_encode_input_status(uint8_t *body, uint8_t seq, const qs_input_status *st)
+{
+    uint8_t n = head(body, QS_TYPE_INPUT_STATUS, seq);
+
+    n += put16(body + n, st->present);
+    n += put16(body + n, st->active);
+    n += put16(body + n, st->raw);
+    n += put16(body + n, st->invert);
+    n += put16(body + n, st->enabled);
+    body[n++] = st->hard_limits;
+    body[n++] = st->armed;
+    body[n++] = st->level;
+    n += put16(body + n, st->latches_lost);
+    return n;
+}
+
+uint8_t qs_msg_encode_input_event(uint8_t *body, uint8_t seq, const qs_input_event *ev)
+{
+    uint8_t n = head(body, QS_TYPE_EVENT, seq);
+    uint8_t axis;
+
+    body[n++] = QS_EVENT_INPUT;
+    n += put32(body + n, ev->motion_ticks);
+    n += put16(body + n, ev->active);
+    n += put16(body + n, ev->changed);
+    body[n++] = ev->cause;
+    for (axis = 0; axis < ev->axis_count; axis++)
+        n += put32(body + n, (uint32_t)ev->position[axis]);
+    return n;
+}
+
+uint8_t qs_msg_encode_probe_missed(uint8_t *body, uint8_t seq, uint32_t motion_ticks, uint8_t axis_count,
+                                   const int32_t *position)
+{
+    uint8_t n = head(body, QS_TYPE_EVENT, seq);
+    uint8_t axis;
+
+    body[n++] = QS_EVENT_PROBE_MISSED;
     n += put32(body + n, motion_ticks);
     for (axis = 0; axis < axis_count; axis++)
         n += put32(body + n, (uint32_t)position[axis]);

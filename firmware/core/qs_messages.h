@@ -29,6 +29,25 @@ typedef struct {
     uint16_t decel[QS_PROTOCOL_AXES];
 } qs_hold_msg;
 
+/* PROBE: the motion that follows ends where input reaches level (1
+ * active, 0 inactive), with a hold at these decelerations (HOLD's). */
+typedef struct {
+    uint8_t input;
+    uint8_t level;
+    qs_hold_msg hold;
+} qs_probe_msg;
+
+#define QS_WIRE_INPUTS 12 /* inputs the wire names (QS_INPUT_*) */
+
+/* CONFIG: the inputs' settings. */
+typedef struct {
+    uint16_t invert;
+    uint16_t enabled;
+    uint8_t hard_limits;
+    uint8_t debounce[QS_WIRE_INPUTS];
+    qs_hold_msg hold; /* the feed hold input's decelerations (hold_decel) */
+} qs_config_msg;
+
 typedef struct {
     uint8_t type;
     uint8_t seq;
@@ -36,6 +55,8 @@ typedef struct {
         qs_segment_msg segment;
         qs_set_position_msg set_position;
         qs_hold_msg hold;
+        qs_probe_msg probe;
+        qs_config_msg config;
     } as;
 } qs_host_msg;
 
@@ -54,12 +75,17 @@ uint8_t qs_msg_parse_empty(uint8_t len);
 uint8_t qs_msg_parse_segment(const uint8_t *p, uint8_t len, qs_segment_msg *s);
 uint8_t qs_msg_parse_set_position(const uint8_t *p, uint8_t len, qs_set_position_msg *sp);
 uint8_t qs_msg_parse_hold(const uint8_t *p, uint8_t len, qs_hold_msg *h);
+uint8_t qs_msg_parse_probe(const uint8_t *p, uint8_t len, qs_probe_msg *pr);
+uint8_t qs_msg_parse_config(const uint8_t *p, uint8_t len, qs_config_msg *cf);
 
 /* Content checks in the order of section 5.2. Return QS_ERR_NONE or
  * QS_ERR_BAD_FIELD with f filled in. */
 uint8_t qs_msg_check_segment(const qs_segment_msg *s, uint8_t axis_count, qs_fault *f);
 uint8_t qs_msg_check_set_position(const qs_set_position_msg *p, uint8_t axis_count, qs_fault *f);
 uint8_t qs_msg_check_hold(const qs_hold_msg *h, uint8_t axis_count, qs_fault *f);
+/* present: the inputs the firmware has. */
+uint8_t qs_msg_check_probe(const qs_probe_msg *pr, uint8_t axis_count, uint16_t present, qs_fault *f);
+uint8_t qs_msg_check_config(const qs_config_msg *cf, uint8_t axis_count, qs_fault *f);
 
 typedef struct {
     uint8_t next_seq;
@@ -118,6 +144,28 @@ typedef struct {
     int32_t position[QS_PROTOCOL_AXES];
 } qs_alarm_report;
 
+typedef struct {
+    uint16_t present;
+    uint16_t active;
+    uint16_t raw;
+    uint16_t invert;
+    uint16_t enabled;
+    uint8_t hard_limits;
+    uint8_t armed; /* the armed PROBE's input, QS_AXIS_NONE (0xFF) when none */
+    uint8_t level;
+    uint16_t latches_lost;
+} qs_input_status;
+
+/* EVENT INPUT: an input's accepted change, latched. */
+typedef struct {
+    uint32_t motion_ticks;
+    uint16_t active;
+    uint16_t changed;
+    uint8_t cause;
+    uint8_t axis_count;
+    int32_t position[QS_PROTOCOL_AXES];
+} qs_input_event;
+
 /* Report encoders: write type, seq and payload into body (QS_MAX_FRAME
  * bytes) and return the body length. */
 uint8_t qs_msg_encode_ack(uint8_t *body, uint8_t seq, const qs_ack *a);
@@ -128,5 +176,11 @@ uint8_t qs_msg_encode_alarm(uint8_t *body, uint8_t seq, const qs_alarm_report *a
 /* EVENT HOLD_DONE: where a hold began, when and where everything rests. */
 uint8_t qs_msg_encode_hold_done(uint8_t *body, uint8_t seq, uint32_t hold_tick, uint32_t motion_ticks,
                                 uint8_t axis_count, const int32_t *position);
+
+uint8_t qs_msg_encode_input_status(uint8_t *body, uint8_t seq, const qs_input_status *st);
+uint8_t qs_msg_encode_input_event(uint8_t *body, uint8_t seq, const qs_input_event *ev);
+/* EVENT PROBE_MISSED: the armed motion came to rest without its edge. */
+uint8_t qs_msg_encode_probe_missed(uint8_t *body, uint8_t seq, uint32_t motion_ticks, uint8_t axis_count,
+                                   const int32_t *position);
 
 #endif

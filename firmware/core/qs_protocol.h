@@ -33,14 +33,18 @@
 #define QS_TYPE_STATUS 0x02
 #define QS_TYPE_STOP 0x03
 #define QS_TYPE_HOLD 0x04
+#define QS_TYPE_INPUTS 0x06
 #define QS_TYPE_SEGMENT 0x10
 #define QS_TYPE_SET_POSITION 0x11
+#define QS_TYPE_PROBE 0x15
+#define QS_TYPE_CONFIG 0x16
 #define QS_TYPE_ACK 0x80
 #define QS_TYPE_IDENTIFY_REPLY 0x81
 #define QS_TYPE_STATUS_REPORT 0x82
 #define QS_TYPE_ERROR 0x83
 #define QS_TYPE_ALARM 0x84
 #define QS_TYPE_EVENT 0x85
+#define QS_TYPE_INPUT_STATUS 0x86
 
 #define QS_TYPE_IS_IMMEDIATE(t) ((t) <= 0x0F)
 #define QS_SEQ_UNSOLICITED 0xFF
@@ -61,6 +65,13 @@
 #define QS_LEN_ALARM_AXIS 4
 #define QS_LEN_HOLD_DONE_HEAD 9 /* EVENT HOLD_DONE: kind, hold_tick, motion_ticks */
 #define QS_LEN_HOLD_DONE_AXIS 4
+#define QS_LEN_PROBE 10 /* input, level, decel:u16 x 4 */
+#define QS_LEN_CONFIG 25 /* invert, enabled, hard_limits, debounce:u8 x 12, hold_decel:u16 x 4 */
+#define QS_LEN_INPUT_STATUS 15
+#define QS_LEN_INPUT_HEAD 10 /* EVENT INPUT: kind, motion_ticks, active, changed, cause */
+#define QS_LEN_INPUT_AXIS 4
+#define QS_LEN_PROBE_MISSED_HEAD 5 /* EVENT PROBE_MISSED: kind, motion_ticks */
+#define QS_LEN_PROBE_MISSED_AXIS 4
 
 /* ACK reasons. */
 #define QS_ACK_ACCEPTED 0
@@ -82,6 +93,7 @@
 #define QS_ERR_BAD_FIELD 16
 #define QS_ERR_BUSY 17
 #define QS_ERR_ALARM_ACTIVE 18
+#define QS_ERR_INPUT_AT_LEVEL 19 /* PROBE: the input is already where the motion is to end */
 
 /* BAD_FIELD field ids. */
 #define QS_FIELD_NONE 0
@@ -92,14 +104,19 @@
 #define QS_FIELD_VN 5
 #define QS_FIELD_RESIDUAL 6
 #define QS_FIELD_DECEL 7
+#define QS_FIELD_INPUT 8
+#define QS_FIELD_LEVEL 9
+#define QS_FIELD_INPUTS 10
+#define QS_FIELD_HARD_LIMITS 11
 #define QS_AXIS_NONE 0xFF
 
 /* ALARM codes. */
 #define QS_ALARM_NONE 0
 #define QS_ALARM_UNDERRUN 1
 #define QS_ALARM_REJECTED_SEGMENT 2
-#define QS_ALARM_HARD_LIMIT 3 /* reserved */
+#define QS_ALARM_HARD_LIMIT 3
 #define QS_ALARM_HOST_LOST 4  /* reserved */
+#define QS_ALARM_E_STOP 5
 
 /* Machine states. */
 #define QS_STATE_IDLE 0
@@ -109,6 +126,30 @@
 
 /* EVENT kinds. */
 #define QS_EVENT_HOLD_DONE 1
+#define QS_EVENT_INPUT 2
+#define QS_EVENT_PROBE_MISSED 3
+
+/* Inputs (section 5.4): bit i of every input mask. */
+#define QS_INPUT_LIMIT_0 0
+#define QS_INPUT_LIMIT_1 1
+#define QS_INPUT_LIMIT_2 2
+#define QS_INPUT_LIMIT_3 3
+#define QS_INPUT_LIMIT_MAX_0 4
+#define QS_INPUT_LIMIT_MAX_1 5
+#define QS_INPUT_LIMIT_MAX_2 6
+#define QS_INPUT_LIMIT_MAX_3 7
+#define QS_INPUT_PROBE 8
+#define QS_INPUT_ABORT 9
+#define QS_INPUT_FEED_HOLD 10
+#define QS_INPUT_CYCLE_START 11
+
+/* What an input's accepted change did (EVENT INPUT). */
+#define QS_CAUSE_REPORT 0
+#define QS_CAUSE_HARD_LIMIT 1
+#define QS_CAUSE_TRIGGER 2
+#define QS_CAUSE_E_STOP 3
+#define QS_CAUSE_FEED_HOLD 4
+#define QS_CAUSE_CYCLE_START 5
 
 /* IDENTIFY board codes. */
 #define QS_BOARD_EMULATOR 0
@@ -124,5 +165,6 @@
 #define QS_CAP_PROBE_INPUT 0x0020
 #define QS_CAP_HOMING 0x0040
 #define QS_CAP_CUBIC_SEGMENTS 0x0080
+#define QS_CAP_CONTROL_INPUTS 0x0100
 
 #endif

@@ -114,13 +114,25 @@ static void watch_state(emulator *m)
  * tick: the machine's levels after the previous tick's steps. */
 static void sample_inputs(emulator *m)
 {
-    uint16_t raw = m->inputs_idle;
+    const uint16_t raw = m->machine ? (uint16_t)(machine_levels(m->machine) & m->core.inputs.present)
+                                    : m->inputs_idle;
 
-    if (m->machine) {
-        machine_tick(m->machine, m->motion_tick);
-        raw = machine_levels(m->machine) & m->core.inputs.present;
-    }
     qs_inputs_tick(&m->core.inputs, &m->core.engine, raw);
+}
+
+/* The machine's clock moves on a tick, then the steps just decided move
+ * it: the order the board's pins give in the simavr harness (the next
+ * tick begins, its first instructions raise these steps, then it samples). */
+static void move_machine(emulator *m, uint8_t bits, uint8_t negative)
+{
+    uint8_t axis;
+
+    if (!m->machine)
+        return;
+    machine_tick(m->machine, m->motion_tick);
+    for (axis = 0; axis < QS_AXIS_COUNT; axis++)
+        if ((bits >> axis) & 1u)
+            machine_step(m->machine, axis, ((negative >> axis) & 1u) ? -1 : 1);
 }
 
 static void run_tick(emulator *m)
@@ -140,17 +152,12 @@ static void run_tick(emulator *m)
      * ended (n = 1) in this call. */
     if (left_before != 0 || e->left != 0 || e->queue.tail != tail_before) {
         m->motion_tick++;
-        if (bits) {
-            for (axis = 0; axis < QS_AXIS_COUNT; axis++) {
-                if (!((bits >> axis) & 1u))
-                    continue;
-                m->steps[axis]++;
-                if (m->machine)
-                    machine_step(m->machine, axis, ((e->dir_bits >> axis) & 1u) ? -1 : 1);
-            }
-            emu_trace_steps(&m->trace, m->motion_tick, bits, e->dir_bits, m->machine);
-        }
+        for (axis = 0; axis < QS_AXIS_COUNT; axis++)
+            m->steps[axis] += (bits >> axis) & 1u;
     }
+    move_machine(m, bits, e->dir_bits);
+    if (bits)
+        emu_trace_steps(&m->trace, m->motion_tick, bits, e->dir_bits, m->machine);
     qs_core_poll(&m->core);
     watch_state(m);
 }
@@ -165,6 +172,7 @@ static void settle_inputs(emulator *m)
     for (n = 0; n < SETTLE_MAX && !in_motion(&m->core.engine); n++) {
         if (!qs_inputs_settling(&m->core.inputs) && !(m->machine && machine_busy(m->machine)))
             break;
+        move_machine(m, 0, 0);
         sample_inputs(m);
         qs_core_poll(&m->core);
         watch_state(m);

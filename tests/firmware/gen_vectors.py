@@ -22,6 +22,8 @@ PREFIX = {
     "alarm": "QS_ALARM_",
     "state": "QS_STATE_",
     "event_kind": "QS_EVENT_",
+    "input": "QS_INPUT_",
+    "cause": "QS_CAUSE_",
 }
 
 MESSAGE_KEYS = {
@@ -29,6 +31,11 @@ MESSAGE_KEYS = {
     "STATUS": set(),
     "STOP": set(),
     "HOLD": {"decel"},
+    "INPUTS": set(),
+    "PROBE": {"input", "level", "decel"},
+    "CONFIG": {"invert", "enabled", "hard_limits", "debounce", "hold_decel"},
+    "INPUT_STATUS": {"present", "active", "raw", "invert", "enabled", "hard_limits", "armed", "level",
+                     "latches_lost"},
     "SEGMENT": {"n", "axes"},
     "SET_POSITION": {"positions"},
     "ACK": {"next_seq", "free", "reason", "done"},
@@ -40,7 +47,12 @@ MESSAGE_KEYS = {
                       "seq_dup", "rejected", "position"},
     "ERROR": {"code", "frame_type", "frame_seq", "field", "axis"},
     "ALARM": {"code", "motion_ticks", "position"},
-    "EVENT": {"kind", "hold_tick", "motion_ticks", "position"},
+    "EVENT": {"kind", "hold_tick", "motion_ticks", "position", "active", "changed", "cause"},
+}
+EVENT_KEYS = {
+    "HOLD_DONE": {"hold_tick", "motion_ticks", "position"},
+    "INPUT": {"motion_ticks", "active", "changed", "cause", "position"},
+    "PROBE_MISSED": {"motion_ticks", "position"},
 }
 VECTOR_KEYS = {"name", "direction", "frame", "message", "error", "axis_count"}
 
@@ -106,6 +118,22 @@ def message_fields(msg: dict, axis_count: int) -> list[str]:
         if len(msg["decel"]) != 4:
             raise VectorError("HOLD needs 4 decel values")
         out.append(".host = {.hold = {.decel = {%s}}}" % ", ".join(map(str, msg["decel"])))
+    elif kind == "PROBE":
+        out.append(".host = {.probe = {.input = %s, .level = %d, .hold = {.decel = {%s}}}}"
+                   % (constant("input", msg["input"]), msg["level"], ", ".join(map(str, msg["decel"]))))
+    elif kind == "CONFIG":
+        if len(msg["debounce"]) != 12 or len(msg["hold_decel"]) != 4:
+            raise VectorError("CONFIG needs 12 debounce and 4 hold_decel values")
+        out.append(".host = {.config = {.invert = 0x%04X, .enabled = 0x%04X, .hard_limits = %d, "
+                   ".debounce = {%s}, .hold = {.decel = {%s}}}}"
+                   % (msg["invert"], msg["enabled"], msg["hard_limits"], ", ".join(map(str, msg["debounce"])),
+                      ", ".join(map(str, msg["hold_decel"]))))
+    elif kind == "INPUT_STATUS":
+        armed = "0xFF" if msg["armed"] is None else constant("input", msg["armed"])
+        out.append(".input_status = {.present = 0x%04X, .active = 0x%04X, .raw = 0x%04X, .invert = 0x%04X, "
+                   ".enabled = 0x%04X, .hard_limits = %d, .armed = %s, .level = %d, .latches_lost = %d}"
+                   % (msg["present"], msg["active"], msg["raw"], msg["invert"], msg["enabled"],
+                      msg["hard_limits"], armed, msg["level"], msg["latches_lost"]))
     elif kind == "ACK":
         out.append(".ack = {.next_seq = %d, .free = %d, .reason = %s, .done = %d}"
                    % (msg["next_seq"], msg["free"], constant("ack_reason", msg["reason"]),
@@ -135,9 +163,15 @@ def message_fields(msg: dict, axis_count: int) -> list[str]:
                    % (constant("alarm", msg["code"]), msg["motion_ticks"],
                       len(msg["position"]), positions(msg["position"])))
     elif kind == "EVENT":
+        if msg["kind"] not in EVENT_KEYS:
+            raise VectorError(f"unknown EVENT kind {msg['kind']!r}")
+        wrong = set(msg) - EVENT_KEYS[msg["kind"]] - {"type", "seq", "kind"}
+        if wrong:
+            raise VectorError(f"keys {sorted(wrong)} are not EVENT {msg['kind']}'s")
         out.append(".event = {.kind = %s, .hold_tick = %dUL, .motion_ticks = %dUL, "
-                   ".axis_count = %d, .position = %s}"
-                   % (constant("event_kind", msg["kind"]), msg["hold_tick"], msg["motion_ticks"],
+                   ".active = 0x%04X, .changed = 0x%04X, .cause = %s, .axis_count = %d, .position = %s}"
+                   % (constant("event_kind", msg["kind"]), msg.get("hold_tick", 0), msg["motion_ticks"],
+                      msg.get("active", 0), msg.get("changed", 0), constant("cause", msg.get("cause")),
                       len(msg["position"]), positions(msg["position"])))
     return out
 

@@ -19,16 +19,22 @@ typedef struct {
         qs_segment_msg segment;
         qs_set_position_msg set_position;
         qs_hold_msg hold;
+        qs_probe_msg probe;
+        qs_config_msg config;
     } host;
+    qs_input_status input_status;
     qs_ack ack;
     qs_identity identity;
     qs_status status;
     qs_error_report error;
     qs_alarm_report alarm;
-    struct { /* EVENT HOLD_DONE */
+    struct { /* EVENT: HOLD_DONE, INPUT or PROBE_MISSED, by kind */
         uint8_t kind;
         uint32_t hold_tick;
         uint32_t motion_ticks;
+        uint16_t active;
+        uint16_t changed;
+        uint8_t cause;
         uint8_t axis_count;
         int32_t position[QS_PROTOCOL_AXES];
     } event;

@@ -80,6 +80,8 @@ def py_table(enum: type[IntEnum]) -> dict[str, int]:
         ("EVENT", EventKind, ()),
         ("BOARD", py.Board, ()),
         ("CAP", py.Capability, ()),
+        ("INPUT", py.Input, ()),
+        ("CAUSE", py.InputCause, ()),
     ],
 )
 def test_every_code_table_is_the_same_on_both_sides(prefix: str, enum: type[IntEnum], without: tuple[str, ...]) -> None:
@@ -154,11 +156,15 @@ def wire_codes(cls: type[WireMessage]) -> dict[str, str]:
         ("qs_alarm_report", "ALARM", 3),
         ("qs_hold_msg", "HOLD", 1),
         ("qs_segment_msg", "SEGMENT", 1),
+        ("qs_probe_msg", "PROBE", 2),
+        ("qs_config_msg", "CONFIG", 4),
+        ("qs_input_status", "INPUT_STATUS", 9),
+        ("qs_input_event", "INPUT", 5),
     ],
 )
 def test_c_struct_fields_have_the_wire_widths(struct: str, message: str, shared: int) -> None:
     """Where a C struct member has a message field's name, it has that field's width and sign."""
-    cls = next(d.cls for d in declared_messages() if d.name == message)
+    cls = next(d.cls for d in [*declared_messages(), *declared_event_kinds()] if d.name == message)
     members = c_struct_members()[struct]
     codes = wire_codes(cls)
     common = sorted(set(members) & set(codes))

@@ -37,7 +37,7 @@ def test_vectors_cover_every_message_error_and_field() -> None:
     valid_types = {v["message"]["type"] for v in VALID}
     assert valid_types == {t.name for t in MessageType}
     error_codes = {v["error"]["code"] for v in MALFORMED}
-    assert error_codes == {c.name for c in ErrorCode} - {"RX_OVERRUN", "BUSY", "ALARM_ACTIVE"}
+    assert error_codes == {c.name for c in ErrorCode} - {"RX_OVERRUN", "BUSY", "ALARM_ACTIVE", "INPUT_AT_LEVEL"}
     assert {v["error"]["field"] for v in MALFORMED if v["error"]["field"]} == {f.name for f in FieldId}
     reported = {v["message"]["code"] for v in VALID if v["message"]["type"] == "ERROR"}
     assert reported == {c.name for c in ErrorCode}

@@ -26,7 +26,8 @@
 #include "sim_wire.h"
 
 #define PROBE_SYMBOL "qs_debug_probe"
-#define PROBE_VERSION 2
+#define PROBE_VERSION 3
+#define PROBE_WORDS 5
 #define SERVICE_HZ 2000   /* host I/O and pacing checks per simulated second */
 #define IDLE_QUIET_MS 5   /* --exit-when-idle: line quiet this long first */
 
@@ -34,7 +35,8 @@ typedef struct {
     const char *mcu;
     const char *elf;
     int pty, stdio_link;
-    const char *input, *feed, *output, *trace, *edges, *stats, *profile, *profile_pc;
+    const char *input, *feed, *output, *trace, *edges, *stats, *profile, *profile_pc, *machine;
+    uint32_t input_delay;
     uint64_t max_cycles;
     int realtime; /* -1: default for the link */
     int exit_when_idle;
@@ -49,6 +51,8 @@ typedef struct {
     sim_feed *feed;
     FILE *output;
     sim_motion *motion;
+    machine *mach;
+    sim_inputs *inputs;
     sim_isr *isr_timer, *isr_rx, *isr_udre;
     FILE *trace, *edges;
     sim_profile *profile;    /* symbols always; cycles only with --profile */
@@ -73,7 +77,8 @@ static void usage(void)
             "usage: qs-simavr --mcu atmega328p|atmega2560 --elf FILE\n"
             "        [--pty | --stdio | --input FILE | --feed FILE] [--output FILE]\n"
             "        [--trace FILE] [--edges FILE] [--stats FILE] [--profile FILE] [--profile-pc FILE]\n"
-            "        [--max-cycles N] [--realtime | --free] [--exit-when-idle] [--freq HZ]\n");
+            "        [--max-cycles N] [--realtime | --free] [--exit-when-idle] [--freq HZ]\n"
+            "        [--machine FILE.toml] [--input-delay CYCLES]\n");
 }
 
 static int parse_options(int argc, char **argv, options *o)
@@ -113,6 +118,11 @@ static int parse_options(int argc, char **argv, options *o)
             text = &o->profile;
         } else if (!strcmp(a, "--profile-pc")) {
             text = &o->profile_pc;
+        } else if (!strcmp(a, "--machine")) {
+            text = &o->machine;
+        } else if (!strcmp(a, "--input-delay") && v) {
+            o->input_delay = (uint32_t)strtoul(v, NULL, 0);
+            i++;
         } else if (!strcmp(a, "--max-cycles") && v) {
             o->max_cycles = strtoull(v, NULL, 0);
             i++;
@@ -162,19 +172,19 @@ static int read_probe(const avr_t *avr, const elf_firmware_t *fw, sim_probe *p)
 {
     int found;
     const uint32_t at = find_symbol(fw, PROBE_SYMBOL, &found);
-    if (!found || at + 8 > avr->flashend) {
+    if (!found || at + 2 * PROBE_WORDS > avr->flashend) {
         fprintf(stderr, "qs-simavr: %s not in the ELF (the firmware publishes it)\n", PROBE_SYMBOL);
         return -1;
     }
-    uint16_t word[4];
-    for (int i = 0; i < 4; i++) {
+    uint16_t word[PROBE_WORDS];
+    for (int i = 0; i < PROBE_WORDS; i++) {
         word[i] = (uint16_t)(avr->flash[at + 2 * i] | (avr->flash[at + 2 * i + 1] << 8));
     }
     if (word[0] != PROBE_VERSION) {
         fprintf(stderr, "qs-simavr: %s layout %u, expected %u\n", PROBE_SYMBOL, word[0], PROBE_VERSION);
         return -1;
     }
-    *p = (sim_probe){word[1], word[2], word[3]};
+    *p = (sim_probe){word[1], word[2], word[3], word[4]};
     return 0;
 }
 
@@ -290,8 +300,9 @@ static void write_stats(const harness *h, const char *path)
             (unsigned long long)w.delivered, (unsigned long long)w.lost, (unsigned long long)w.board_bytes);
     fprintf(f, "\"irq_off\": {\"max\": %llu, \"from\": \"%s\"},\n", (unsigned long long)h->irq_off_max,
             h->irq_off_max ? sim_profile_name(h->profile, h->irq_off_max_pc) : "");
-    fprintf(f, "\"stack\": {\"static_end\": %u, \"ram_end\": %u, \"deepest\": %u, \"max_bytes\": %u}",
+    fprintf(f, "\"stack\": {\"static_end\": %u, \"ram_end\": %u, \"deepest\": %u, \"max_bytes\": %u},\n",
             s.static_end, s.ram_end, s.deepest, s.max_bytes);
+    sim_inputs_write_json(h->inputs, f);
     if (h->feed) {
         const sim_feed_stats fs = sim_feed_get_stats(h->feed);
         fprintf(f, ",\n\"feed\": {\"frames\": %llu, \"sent\": %llu, \"accepted\": %llu, \"rejected\": %llu, "
@@ -420,12 +431,22 @@ int main(int argc, char **argv)
     h.edges = open_out(o.edges);
     h.output = open_out(o.output);
     h.wire = sim_wire_attach(h.avr, on_board_byte, &h);
-    h.motion = sim_motion_attach(h.avr, h.board, &probe, h.trace, h.edges);
+    if (o.machine) {
+        static machine mach;
+        char why[512];
+        if (!machine_load(&mach, o.machine, h.board->axes, h.board->shared_limits, why, sizeof why)) {
+            fprintf(stderr, "qs-simavr: --machine %s\n", why);
+            return 2;
+        }
+        h.mach = &mach;
+    }
+    h.inputs = sim_inputs_attach(h.avr, h.board, h.mach, o.input_delay);
+    h.motion = sim_motion_attach(h.avr, h.board, &probe, h.trace, h.edges, h.inputs, h.mach);
     h.isr_timer = sim_isr_watch(h.avr, h.board->timer_vector, sim_motion_tick_enter,
                                 sim_motion_tick_done, h.motion);
     h.isr_rx = sim_isr_watch(h.avr, h.board->rx_vector, NULL, NULL, NULL);
     h.isr_udre = sim_isr_watch(h.avr, h.board->udre_vector, NULL, NULL, NULL);
-    if (!h.wire || !h.motion || !h.isr_timer || !h.isr_rx || !h.isr_udre) {
+    if (!h.wire || !h.inputs || !h.motion || !h.isr_timer || !h.isr_rx || !h.isr_udre) {
         fprintf(stderr, "qs-simavr: cannot attach to the simulated %s\n", o.mcu);
         return 2;
     }

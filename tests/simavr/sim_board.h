@@ -15,6 +15,12 @@ typedef struct {
     uint8_t rx_vector;    /* USART0 RX complete */
     uint8_t udre_vector;  /* USART0 data register empty */
     uint16_t ram_start;
+    /* Inputs (firmware/avr/board.h, PROTOCOL.md 5.4): inputs 0-7 on the
+     * limit port, 8-11 on the control port; bit of each, -1 if absent. */
+    char limit_port;
+    char control_port;
+    int8_t input_bit[12];
+    uint8_t shared_limits; /* one limit pin per axis for min and max */
 } sim_board;
 
 /* NULL for an MCU the harness does not know. */

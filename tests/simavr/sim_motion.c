@@ -14,6 +14,8 @@ struct sim_motion {
     sim_probe probe;
     FILE *trace;
     FILE *edges;
+    sim_inputs *inputs;
+    const machine *mach;
     uint8_t port;             /* last value written to the motion port */
     uint64_t matched;         /* the unserved timer match of the tick, 0 if none */
     uint16_t left_before;     /* engine state at the current interrupt's entry */
@@ -72,6 +74,8 @@ static void on_port(avr_irq_t *irq, uint32_t value, void *param)
                 fprintf(m->edges, "%llu,step,%u,%d\n", (unsigned long long)now, axis, level);
             }
             if (level) {
+                const int direction = (now_bits & dir_bit) ? -1 : 1;
+                sim_inputs_step(m->inputs, axis, direction);
                 m->rise[axis] = now;
                 m->raised |= (uint8_t)(1u << axis);
                 m->stats.steps[axis]++;
@@ -79,9 +83,11 @@ static void on_port(avr_irq_t *irq, uint32_t value, void *param)
                     min_update(&m->stats.min_dir_setup, now - m->dir_change[axis]);
                     m->dir_change[axis] = NONE;
                 }
-                if (m->trace) {
-                    fprintf(m->trace, "%u,%u,%d\n", m->ticks, axis,
-                            (now_bits & dir_bit) ? -1 : 1);
+                if (m->trace && m->mach) {
+                    fprintf(m->trace, "%u,%u,%d,%ld,%.17g\n", m->ticks, axis, direction,
+                            m->mach->axis[axis].motor, m->mach->axis[axis].carriage);
+                } else if (m->trace) {
+                    fprintf(m->trace, "%u,%u,%d\n", m->ticks, axis, direction);
                 }
             } else {
                 m->fall[axis] = now;
@@ -127,6 +133,7 @@ void sim_motion_tick_enter(void *motion)
     }
     m->left_before = read_u16(m->avr->data, m->probe.left);
     m->tail_before = m->avr->data[m->probe.tail];
+    sim_inputs_tick_enter(m->inputs, m->ticks);
 }
 
 void sim_motion_tick_done(void *motion, uint32_t cycles)
@@ -154,10 +161,11 @@ void sim_motion_tick_done(void *motion, uint32_t cycles)
     m->prev_cost = cycles;
     m->raised = 0;
     m->ticks += (uint32_t)ran;
+    sim_inputs_tick_done(m->inputs, m->avr->data[m->probe.latch_next]);
 }
 
 sim_motion *sim_motion_attach(avr_t *avr, const sim_board *board, const sim_probe *probe,
-                              FILE *trace, FILE *edges)
+                              FILE *trace, FILE *edges, sim_inputs *inputs, const machine *mach)
 {
     sim_motion *m = calloc(1, sizeof *m);
     if (!m) {
@@ -168,11 +176,13 @@ sim_motion *sim_motion_attach(avr_t *avr, const sim_board *board, const sim_prob
     m->probe = *probe;
     m->trace = trace;
     m->edges = edges;
+    m->inputs = inputs;
+    m->mach = mach;
     for (int axis = 0; axis < SIM_MAX_AXES; axis++) {
         m->rise[axis] = m->fall[axis] = m->dir_change[axis] = NONE;
     }
     if (trace) {
-        fprintf(trace, "tick,axis,direction\n");
+        fprintf(trace, mach ? "tick,axis,direction,motor,carriage\n" : "tick,axis,direction\n");
     }
     if (edges) {
         fprintf(edges, "cycle,pin,axis,level\n");

@@ -23,6 +23,7 @@
 
 #include "sim_avr.h"
 #include "sim_board.h"
+#include "sim_inputs.h"
 #include "sim_isr.h"
 
 #define SIM_MAX_AXES 4
@@ -32,6 +33,7 @@ typedef struct {
     uint16_t left;  /* uint16_t */
     uint16_t tail;  /* uint8_t */
     uint16_t state; /* uint8_t */
+    uint16_t latch_next; /* uint8_t: the latch ring's write index */
 } sim_probe;
 
 typedef struct {
@@ -50,9 +52,10 @@ typedef struct {
 
 typedef struct sim_motion sim_motion;
 
-/* trace and edges may be NULL. */
+/* trace and edges may be NULL; inputs is moved by the steps (its machine,
+ * if any, adds motor and carriage columns to the trace). */
 sim_motion *sim_motion_attach(avr_t *avr, const sim_board *board, const sim_probe *probe,
-                              FILE *trace, FILE *edges);
+                              FILE *trace, FILE *edges, sim_inputs *inputs, const machine *mach);
 
 /* The step interrupt starts, and returns after `cycles` (wire to sim_isr_watch). */
 void sim_motion_tick_enter(void *motion);

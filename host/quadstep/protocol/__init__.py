@@ -12,11 +12,14 @@ from .constants import (
     Capability,
     ErrorCode,
     FieldId,
+    Input,
+    InputCause,
     State,
 )
 from .messages import (
     Ack,
     Alarm,
+    Config,
     ErrorReport,
     Event,
     EventKind,
@@ -24,8 +27,13 @@ from .messages import (
     HoldDone,
     Identify,
     IdentifyReply,
+    InputChange,
+    Inputs,
+    InputStatus,
     Message,
     MessageType,
+    Probe,
+    ProbeMissed,
     SetPosition,
     Status,
     StatusReport,
@@ -36,7 +44,8 @@ from .segment import D, MAX_AXES, N_MAX, R_MAX, AxisMove, Segment
 from .wire import Report, Request
 
 __all__ = [
-    "Ack", "AckReason", "Alarm", "AlarmCode", "AxisMove", "Board", "Capability", "D", "DECEL_MAX", "DECEL_SHIFT",
+    "Ack", "AckReason", "Alarm", "AlarmCode", "AxisMove", "Board", "Capability", "Config", "D", "DECEL_MAX",
+    "DECEL_SHIFT", "Input", "InputCause", "InputChange", "InputStatus", "Inputs", "Probe", "ProbeMissed",
     "DecodeError", "Decoder", "ErrorCode", "ErrorReport", "Event", "EventKind", "FieldId", "Hold", "HoldDone",
     "Frame", "Identify", "IdentifyReply", "MAX_AXES", "MAX_FRAME", "Message", "MessageType", "N_MAX",
     "PROTOCOL_VERSION", "R_MAX", "Report", "Request", "Segment", "SetPosition", "State", "Status", "StatusReport",

@@ -27,7 +27,7 @@ __all__ = [
     "D", "MAX_AXES", "N_MAX", "R_MAX", "SPEED_SHIFT", "V_MAX", "PROTOCOL_VERSION", "MAX_FRAME", "MIN_FRAME",
     "DELIMITER", "BROADCAST_SEQ", "NO_FIELD", "NO_AXIS", "MAX_IN_FLIGHT", "DECEL_SHIFT", "DECEL_MAX",
     "AckReason", "ErrorCode", "FieldId", "AlarmCode", "State", "Board", "Capability", "TypeClass",
-    "is_immediate", "is_report", "is_sequenced",
+    "is_immediate", "is_report", "is_sequenced", "Input", "InputCause", "INPUT_COUNT",
 ]
 
 
@@ -80,6 +80,7 @@ class ErrorCode(IntEnum):
     BAD_FIELD = 16
     BUSY = 17
     ALARM_ACTIVE = 18
+    INPUT_AT_LEVEL = 19
 
 
 class FieldId(IntEnum):
@@ -90,6 +91,10 @@ class FieldId(IntEnum):
     VN = 5
     RESIDUAL = 6
     DECEL = 7
+    INPUT = 8
+    LEVEL = 9
+    INPUTS = 10
+    HARD_LIMITS = 11
 
 
 class AlarmCode(IntEnum):
@@ -97,6 +102,7 @@ class AlarmCode(IntEnum):
     REJECTED_SEGMENT = 2
     HARD_LIMIT = 3
     HOST_LOST = 4
+    E_STOP = 5
 
 
 class State(IntEnum):
@@ -121,3 +127,40 @@ class Capability(IntFlag):
     PROBE_INPUT = 1 << 5
     HOMING = 1 << 6
     CUBIC_SEGMENTS = 1 << 7
+    CONTROL_INPUTS = 1 << 8
+
+
+INPUT_COUNT = 12  # inputs the wire names: bit i of every input mask is Input(i)
+
+
+class Input(IntEnum):
+    """The board's inputs (PROTOCOL.md §5.4): an axis's limit (its min switch, or min and max on one pin), its
+    max switch where it has a pin of its own, the probe and the control buttons."""
+
+    LIMIT_0 = 0
+    LIMIT_1 = 1
+    LIMIT_2 = 2
+    LIMIT_3 = 3
+    LIMIT_MAX_0 = 4
+    LIMIT_MAX_1 = 5
+    LIMIT_MAX_2 = 6
+    LIMIT_MAX_3 = 7
+    PROBE = 8
+    ABORT = 9
+    FEED_HOLD = 10
+    CYCLE_START = 11
+
+    @classmethod
+    def limit(cls, axis: int, max_end: bool = False) -> Input:
+        return cls(axis + (4 if max_end else 0))
+
+
+class InputCause(IntEnum):
+    """What the firmware did when an input's change was accepted (EVENT INPUT)."""
+
+    REPORT = 0
+    HARD_LIMIT = 1
+    TRIGGER = 2
+    E_STOP = 3
+    FEED_HOLD = 4
+    CYCLE_START = 5

@@ -36,7 +36,10 @@ from .constants import (
     Board,
     Capability,
     ErrorCode,
+    INPUT_COUNT,
     FieldId,
+    Input,
+    InputCause,
     State,
     TypeClass,
 )
@@ -90,6 +93,9 @@ NamedAckReason = _named(AckReason)
 NamedState = _named(State)
 NamedErrorCode = _named(ErrorCode)
 NamedAlarmCode = _named(AlarmCode)
+NamedInput = _named(Input)
+NamedCause = _named(InputCause)
+OptionalInput = _named_or_none(Input, NO_AXIS)
 OptionalAlarmCode = _named_or_none(AlarmCode, 0)
 OptionalFieldId = _named_or_none(FieldId, NO_FIELD)
 
@@ -134,11 +140,25 @@ class Hold(Request):
     @classmethod
     def check_wire(cls, raw: dict[str, Any], axis_count: int) -> None:
         """Axis by axis: 1..DECEL_MAX for every axis the firmware has, 0 for the others."""
-        for axis, d in enumerate(raw["decel"]):
-            if axis < axis_count and not 1 <= d <= DECEL_MAX:
-                raise FieldFault(FieldId.DECEL, axis, f"decel = {d}, limit 1..{DECEL_MAX}")
-            if axis >= axis_count and d != 0:
-                raise FieldFault(FieldId.DECEL, axis, f"decel = {d} for an axis the firmware lacks ({axis_count} axes)")
+        _check_decel(raw["decel"], axis_count)
+
+
+def _check_decel(values: Any, axis_count: int) -> None:
+    """HOLD's rule: 1..DECEL_MAX for every axis the firmware has, 0 for the others, axis by axis."""
+    for axis, d in enumerate(values):
+        if axis < axis_count and not 1 <= d <= DECEL_MAX:
+            raise FieldFault(FieldId.DECEL, axis, f"decel = {d}, limit 1..{DECEL_MAX}")
+        if axis >= axis_count and d != 0:
+            raise FieldFault(FieldId.DECEL, axis, f"decel = {d} for an axis the firmware lacks ({axis_count} axes)")
+
+
+Decels = Annotated[tuple[Decel, Decel, Decel, Decel], Int("H", count=MAX_AXES)]
+InputMask = Annotated[int, Field(ge=0, lt=1 << INPUT_COUNT), Int("H")]
+
+
+@message(0x06, "INPUTS")
+class Inputs(Request):
+    """The inputs' state and settings now (answered by INPUT_STATUS)."""
 
 
 @dataclass(frozen=True)
@@ -167,6 +187,46 @@ class SetPosition(Request):
         axes = bits(raw["positions"][0])
         if any(a >= axis_count for a in axes):
             raise FieldFault(FieldId.AXES, None, f"axes {axes}, firmware has {axis_count}")
+
+
+@message(0x15, "PROBE")
+class Probe(Request):
+    """The motion that follows ends where `input` reaches `level` (1 active, 0 inactive): at that tick the firmware
+    latches every position (EVENT INPUT, cause TRIGGER) and holds at `decel` (HOLD's units; HOLD_DONE follows). If
+    the motion comes to rest first: EVENT PROBE_MISSED. Only while IDLE with nothing queued."""
+
+    input: NamedInput
+    level: U8
+    decel: Decels
+
+    @classmethod
+    def check_wire(cls, raw: dict[str, Any], axis_count: int) -> None:
+        if raw["input"] > Input.PROBE:
+            raise FieldFault(FieldId.INPUT, None, f"input {raw['input']}: only a limit or the probe can end a motion")
+        if raw["level"] > 1:
+            raise FieldFault(FieldId.LEVEL, None, f"level = {raw['level']}, limit 0..1")
+        _check_decel(raw["decel"], axis_count)
+
+
+@message(0x16, "CONFIG")
+class Config(Request):
+    """The inputs' settings: polarity (bit set: active high), which are acted on, hard limits on or off, each
+    input's debounce in ticks, and the feed hold input's decelerations (HOLD's units). Not while moving."""
+
+    invert: U16
+    enabled: U16
+    hard_limits: U8
+    debounce: Annotated[tuple[U8, ...], Field(min_length=INPUT_COUNT, max_length=INPUT_COUNT),
+                        Int("B", count=INPUT_COUNT)]
+    hold_decel: Decels
+
+    @classmethod
+    def check_wire(cls, raw: dict[str, Any], axis_count: int) -> None:
+        if (raw["invert"] | raw["enabled"]) >> INPUT_COUNT:
+            raise FieldFault(FieldId.INPUTS, None, f"input bits above {INPUT_COUNT - 1}")
+        if raw["hard_limits"] > 1:
+            raise FieldFault(FieldId.HARD_LIMITS, None, f"hard_limits = {raw['hard_limits']}, limit 0..1")
+        _check_decel(raw["hold_decel"], axis_count)
 
 
 # --- firmware → host ----------------------------------------------------------
@@ -287,6 +347,49 @@ class HoldDone(Event):
     position: Positions
 
 
+@message(0x86, "INPUT_STATUS")
+class InputStatus(Report):
+    """The inputs now: which the firmware has, which are active, the raw pin levels (bit set: high), the settings,
+    the armed PROBE's input and level (None: nothing armed) and latches lost to a full ring."""
+
+    present: U16
+    active: U16
+    raw: U16
+    invert: U16
+    enabled: U16
+    hard_limits: U8
+    armed: OptionalInput
+    level: U8
+    latches_lost: U16
+
+    def is_active(self, which: Input) -> bool:
+        return bool(self.active >> which & 1)
+
+
+@event_kind(2, "INPUT")
+class InputChange(Event):
+    """An input's accepted change: at motion tick `motion_ticks` every axis was at `position` (exact: the latch of the
+    tick of its first edge); `active` the inputs active after it, `changed` those that changed, `cause` what the
+    firmware did."""
+
+    motion_ticks: U32
+    active: U16
+    changed: U16
+    cause: NamedCause
+    position: Positions
+
+    def became_active(self, which: Input) -> bool:
+        return bool(self.changed >> which & 1 and self.active >> which & 1)
+
+
+@event_kind(3, "PROBE_MISSED")
+class ProbeMissed(Event):
+    """The motion after a PROBE came to rest at `position` (motion tick `motion_ticks`) without the edge."""
+
+    motion_ticks: U32
+    position: Positions
+
+
 # --- built from the declarations above ------------------------------------------
 
 MessageType = TypeClass("MessageType", [(d.name, d.code) for d in declared_messages()], module=__name__)  # type: ignore[call-overload]
@@ -321,7 +424,8 @@ def message_from_json(fields: dict[str, Any]) -> tuple[int, WireMessage]:
 
 
 __all__ = [
-    "Ack", "Alarm", "AxisMove", "ErrorReport", "Event", "EventKind", "Hold", "HoldDone", "Identify",
-    "IdentifyReply", "Message", "MessageType", "Report", "Request", "Segment", "SetPosition", "Status",
-    "StatusReport", "Stop", "message_from_json", "message_type",
+    "Ack", "Alarm", "AxisMove", "Config", "ErrorReport", "Event", "EventKind", "Hold", "HoldDone", "Identify",
+    "IdentifyReply", "InputChange", "InputStatus", "Inputs", "Message", "MessageType", "Probe", "ProbeMissed",
+    "Report", "Request", "Segment", "SetPosition", "Status", "StatusReport", "Stop", "message_from_json",
+    "message_type",
 ]

@@ -65,9 +65,14 @@ static uint8_t parse(const uint8_t *body, uint8_t len, qs_host_msg *m)
     case QS_TYPE_IDENTIFY:
     case QS_TYPE_STATUS:
     case QS_TYPE_STOP:
+    case QS_TYPE_INPUTS:
         return qs_msg_parse_empty(plen);
     case QS_TYPE_HOLD:
         return qs_msg_parse_hold(p, plen, &m->as.hold);
+    case QS_TYPE_PROBE:
+        return qs_msg_parse_probe(p, plen, &m->as.probe);
+    case QS_TYPE_CONFIG:
+        return qs_msg_parse_config(p, plen, &m->as.config);
     case QS_TYPE_SEGMENT:
         return qs_msg_parse_segment(p, plen, &m->as.segment);
     case QS_TYPE_SET_POSITION:
@@ -96,6 +101,10 @@ static uint8_t decode(const qs_vector *v, qs_host_msg *m, qs_fault *f)
         return qs_msg_check_set_position(&m->as.set_position, v->axis_count, f);
     if (m->type == QS_TYPE_HOLD)
         return qs_msg_check_hold(&m->as.hold, v->axis_count, f);
+    if (m->type == QS_TYPE_PROBE)
+        return qs_msg_check_probe(&m->as.probe, v->axis_count, QS_INPUTS_ALL, f);
+    if (m->type == QS_TYPE_CONFIG)
+        return qs_msg_check_config(&m->as.config, v->axis_count, f);
     return QS_ERR_NONE;
 }
 
@@ -123,6 +132,20 @@ static void check_host_message(const qs_vector *v, const qs_host_msg *m)
     } else if (m->type == QS_TYPE_HOLD) {
         for (axis = 0; axis < QS_PROTOCOL_AXES; axis++)
             TEST_ASSERT_EQUAL_UINT16_MESSAGE(v->host.hold.decel[axis], m->as.hold.decel[axis], at(v, "decel"));
+    } else if (m->type == QS_TYPE_PROBE) {
+        TEST_ASSERT_EQUAL_UINT8_MESSAGE(v->host.probe.input, m->as.probe.input, at(v, "input"));
+        TEST_ASSERT_EQUAL_UINT8_MESSAGE(v->host.probe.level, m->as.probe.level, at(v, "level"));
+        for (axis = 0; axis < QS_PROTOCOL_AXES; axis++)
+            TEST_ASSERT_EQUAL_UINT16_MESSAGE(v->host.probe.hold.decel[axis], m->as.probe.hold.decel[axis],
+                                             at(v, "decel"));
+    } else if (m->type == QS_TYPE_CONFIG) {
+        const qs_config_msg *e = &v->host.config, *a = &m->as.config;
+        TEST_ASSERT_EQUAL_UINT16_MESSAGE(e->invert, a->invert, at(v, "invert"));
+        TEST_ASSERT_EQUAL_UINT16_MESSAGE(e->enabled, a->enabled, at(v, "enabled"));
+        TEST_ASSERT_EQUAL_UINT8_MESSAGE(e->hard_limits, a->hard_limits, at(v, "hard_limits"));
+        TEST_ASSERT_EQUAL_HEX8_ARRAY_MESSAGE(e->debounce, a->debounce, QS_WIRE_INPUTS, at(v, "debounce"));
+        for (axis = 0; axis < QS_PROTOCOL_AXES; axis++)
+            TEST_ASSERT_EQUAL_UINT16_MESSAGE(e->hold.decel[axis], a->hold.decel[axis], at(v, "hold_decel"));
     }
 }
 
@@ -133,6 +156,7 @@ static void check_core_accepts(const qs_vector *v)
     tp_report r[4];
     uint16_t count;
     uint8_t expect = v->type == QS_TYPE_IDENTIFY ? QS_TYPE_IDENTIFY_REPLY
+                     : v->type == QS_TYPE_INPUTS     ? QS_TYPE_INPUT_STATUS
                      : QS_TYPE_IS_IMMEDIATE(v->type) ? QS_TYPE_STATUS_REPORT
                                                      : QS_TYPE_ACK;
     uint16_t i;
@@ -140,6 +164,9 @@ static void check_core_accepts(const qs_vector *v)
     qs_core_init(&core);
     qs_core_configure(&core, v->axis_count, QS_QUEUE_CAPACITY, QS_TICK_HZ);
     core.next_seq = v->seq;
+    /* A PROBE until an input is released finds it active. */
+    if (v->type == QS_TYPE_PROBE && v->host.probe.level == 0)
+        core.inputs.active = (uint16_t)(1u << v->host.probe.input);
     tp_clear_sent();
     for (i = 0; i < v->frame_len; i++)
         qs_core_rx(&core, v->frame[i]);
@@ -272,10 +299,29 @@ static void test_reports_encode_to_exactly_the_listed_bytes(void)
         case QS_TYPE_ALARM:
             len = qs_msg_encode_alarm(body, v->seq, &v->alarm);
             break;
+        case QS_TYPE_INPUT_STATUS:
+            len = qs_msg_encode_input_status(body, v->seq, &v->input_status);
+            break;
         case QS_TYPE_EVENT:
-            TEST_ASSERT_EQUAL_INT_MESSAGE(QS_EVENT_HOLD_DONE, v->event.kind, at(v, "event kind"));
-            len = qs_msg_encode_hold_done(body, v->seq, v->event.hold_tick, v->event.motion_ticks,
-                                          v->event.axis_count, v->event.position);
+            if (v->event.kind == QS_EVENT_INPUT) {
+                qs_input_event ev;
+                uint8_t axis;
+                ev.motion_ticks = v->event.motion_ticks;
+                ev.active = v->event.active;
+                ev.changed = v->event.changed;
+                ev.cause = v->event.cause;
+                ev.axis_count = v->event.axis_count;
+                for (axis = 0; axis < ev.axis_count; axis++)
+                    ev.position[axis] = v->event.position[axis];
+                len = qs_msg_encode_input_event(body, v->seq, &ev);
+            } else if (v->event.kind == QS_EVENT_PROBE_MISSED) {
+                len = qs_msg_encode_probe_missed(body, v->seq, v->event.motion_ticks, v->event.axis_count,
+                                                 v->event.position);
+            } else {
+                TEST_ASSERT_EQUAL_INT_MESSAGE(QS_EVENT_HOLD_DONE, v->event.kind, at(v, "event kind"));
+                len = qs_msg_encode_hold_done(body, v->seq, v->event.hold_tick, v->event.motion_ticks,
+                                              v->event.axis_count, v->event.position);
+            }
             break;
         default:
             TEST_FAIL_MESSAGE(at(v, "a report type the firmware does not send"));
