@@ -4,6 +4,7 @@
 
 #include "firmware.h"
 
+volatile uint8_t inputs_seen_limits;
 volatile uint8_t inputs_seen_control = 0xFF; /* no sample yet: the first tick looks */
 
 /* Called from the step interrupt's asm, which saved the registers. */

@@ -1,5 +1,5 @@
 /* The tick's input sample, written out for the AVR (qs_inputs.h): both
- * input ports read, masked and compared with the last sample, in 12
+ * input ports read, masked and compared with the last sample, in 13
  * cycles on the Uno when nothing changed. Only a change (or an open
  * debounce window, which makes the last control sample 0xFF, a value no
  * masked sample takes) calls the rare path, inputs.c, as C: the call is
@@ -14,9 +14,9 @@
 
 #include "board.h"
 
-/* The last sample of the limit port, in an I/O register (`in`, 1 cycle),
- * and of the control port, in RAM. */
-#define inputs_seen_limits GPIOR2
+/* The last samples of the two ports (the general-purpose I/O registers,
+ * one cycle faster, are taken: step_timer.c, uart.h). */
+extern volatile uint8_t inputs_seen_limits;
 extern volatile uint8_t inputs_seen_control;
 
 /* The rare path (inputs.c); called only from the asm below. */
@@ -29,7 +29,7 @@ static inline __attribute__((always_inline)) void inputs_tick(void)
     __asm__ __volatile__(
         QS_LIMIT_PIN_READ "\n\t"
         "andi %[x], %[limit_mask]\n\t"
-        "in __tmp_reg__, %[seen_limits]\n\t"
+        "lds __tmp_reg__, %[seen_limits]\n\t"
         "cp %[x], __tmp_reg__\n\t"
         "brne 1f\n\t"
         QS_CONTROL_PIN_READ "\n\t"
@@ -47,7 +47,7 @@ static inline __attribute__((always_inline)) void inputs_tick(void)
         : [x] "=&d"(x)
         : [limit_pin] QS_LIMIT_PIN_ADDR, [control_pin] QS_CONTROL_PIN_ADDR,
           [limit_mask] "M"(QS_LIMIT_MASK), [control_mask] "M"(QS_CONTROL_MASK),
-          [seen_limits] "I"(_SFR_IO_ADDR(GPIOR2)), [seen_control] "i"(&inputs_seen_control)
+          [seen_limits] "i"(&inputs_seen_limits), [seen_control] "i"(&inputs_seen_control)
         : "memory");
 }
 

@@ -71,19 +71,12 @@ static void report_pending_hold(qs_core *c);
  * anything else is reported (a trigger's latch precedes its HOLD_DONE). */
 static void report_pending_inputs(qs_core *c)
 {
-    qs_latch l;
-    qs_input_event ev;
-    uint8_t axis;
+    const qs_latch *l;
 
-    while (qs_engine_latch_waiting(&c->engine) && qs_engine_take_latch(&c->engine, &l)) {
-        ev.motion_ticks = l.u.at.tick;
-        ev.active = l.active;
-        ev.changed = l.changed;
-        ev.cause = l.cause;
-        ev.axis_count = c->axis_count;
-        for (axis = 0; axis < c->axis_count; axis++)
-            ev.position[axis] = l.u.at.position[axis];
-        send_body(c, qs_msg_encode_input_event(tx_body(c), QS_SEQ_UNSOLICITED, &ev));
+    while (qs_engine_latch_waiting(&c->engine) && (l = qs_engine_oldest_latch(&c->engine)) != 0) {
+        send_body(c, qs_msg_encode_input_event(tx_body(c), QS_SEQ_UNSOLICITED, l->u.at.tick, l->active, l->changed,
+                                               l->cause, c->axis_count, l->u.at.position));
+        qs_engine_free_latch(&c->engine);
     }
 }
 
@@ -330,7 +323,7 @@ static void on_config(qs_core *c, const qs_host_msg *m)
         reject(c, m, &f);
         return;
     }
-    qs_inputs_configure(&c->inputs, cf->invert, cf->enabled, cf->hard_limits, cf->debounce, cf->hold.decel);
+    qs_inputs_configure(&c->inputs, &c->engine, cf->invert, cf->enabled, cf->hard_limits, cf->debounce, cf->hold.decel);
     c->next_seq++;
     send_ack(c, m->seq, QS_ACK_ACCEPTED);
 }
@@ -477,6 +470,18 @@ void qs_core_rx_overrun(qs_core *c)
     qs_frame_rx_overrun(&c->rx);
 }
 
+/* The armed motion came to rest without its edge. Out of line: its
+ * snapshot stays off the main loop's deepest paths. */
+static QS_NOINLINE void report_probe_missed(qs_core *c)
+{
+    qs_engine_view v;
+
+    qs_engine_disarm_trigger(&c->engine);
+    qs_engine_read(&c->engine, &v);
+    send_body(c, qs_msg_encode_probe_missed(tx_body(c), QS_SEQ_UNSOLICITED, v.motion_ticks, c->axis_count,
+                                            v.position));
+}
+
 /* What the inputs left for the main loop: a hold to begin, an armed
  * motion that ended without its edge. */
 static void serve_inputs(qs_core *c)
@@ -488,14 +493,9 @@ static void serve_inputs(qs_core *c)
         c->inputs.hold_request = 0;
         qs_engine_hold(e, request == QS_INPUTS_HOLD_FEED ? c->inputs.hold_decel : e->trigger_decel);
     }
-    if (e->trigger && e->state == QS_STATE_IDLE && qs_queue_empty(&e->queue) && e->segments_done != e->trigger_since
-        && !qs_inputs_settling(&c->inputs)) {
-        qs_engine_view v;
-        qs_engine_disarm_trigger(e);
-        qs_engine_read(e, &v);
-        send_body(c, qs_msg_encode_probe_missed(tx_body(c), QS_SEQ_UNSOLICITED, v.motion_ticks, c->axis_count,
-                                                v.position));
-    }
+    if (e->trigger && e->state == QS_STATE_IDLE && qs_queue_empty(&e->queue)
+        && (uint16_t)e->segments_done != e->trigger_since && !qs_inputs_settling(&c->inputs))
+        report_probe_missed(c);
 }
 
 QS_NOINLINE void qs_core_poll_work(qs_core *c)

@@ -120,8 +120,9 @@ static void note_hold_done(qs_engine *e)
 
 /* Latches whose snapshot is of the slot at queue index slot become
  * positions, with base and completed_ticks as they are at that slot's
- * start (it is not folded yet). */
-static void resolve_latches(qs_engine *e, uint8_t slot)
+ * start (it is not folded yet). Out of line, and called only when some
+ * latch is kept: its frame stays off the main loop's deepest paths. */
+static QS_NOINLINE void resolve_latches_now(qs_engine *e, uint8_t slot)
 {
     uint8_t i, axis;
 
@@ -140,6 +141,17 @@ static void resolve_latches(qs_engine *e, uint8_t slot)
             l->u.at.position[axis] = position[axis];
         l->resolved = 1;
     }
+}
+
+static QS_ALWAYS_INLINE void resolve_latches(qs_engine *e, uint8_t slot)
+{
+    uint8_t i;
+
+    for (i = 0; i < QS_LATCH_RING; i++)
+        if (e->latches.entry[i].state != QS_LATCH_FREE) {
+            resolve_latches_now(e, slot);
+            return;
+        }
 }
 
 void qs_engine_retire_slots(qs_engine *e)
@@ -466,7 +478,7 @@ void qs_engine_arm_trigger(qs_engine *e, uint8_t input, uint8_t level, const uin
         e->trigger_decel[axis] = decel[axis];
     e->trigger_input = input;
     e->trigger_level = level;
-    e->trigger_since = e->segments_done;
+    e->trigger_since = (uint16_t)e->segments_done;
     e->trigger = 1;
     qs_port_unlock(saved);
 }
@@ -476,7 +488,7 @@ void qs_engine_disarm_trigger(qs_engine *e)
     e->trigger = 0;
 }
 
-uint8_t qs_engine_take_latch(qs_engine *e, qs_latch *out)
+const qs_latch *qs_engine_oldest_latch(qs_engine *e)
 {
     qs_latch_ring *r = &e->latches;
 
@@ -492,11 +504,14 @@ uint8_t qs_engine_take_latch(qs_engine *e, qs_latch *out)
             r->oldest = next_latch(r->oldest);
             continue;
         }
-        if (state != QS_LATCH_CONFIRMED || !l->resolved)
-            return 0;
-        *out = *l;
-        l->state = QS_LATCH_FREE;
-        r->oldest = next_latch(r->oldest);
-        return 1;
+        return state == QS_LATCH_CONFIRMED && l->resolved ? l : 0;
     }
+}
+
+void qs_engine_free_latch(qs_engine *e)
+{
+    qs_latch_ring *r = &e->latches;
+
+    r->entry[r->oldest].state = QS_LATCH_FREE;
+    r->oldest = next_latch(r->oldest);
 }

@@ -47,7 +47,7 @@ typedef struct {
     uint8_t trigger_level;   /* 1: until it becomes active, 0: until it becomes inactive */
     uint8_t held_by_tick;    /* the hold was begun by the tick: drop the queue when it ends */
     uint16_t trigger_decel[QS_AXIS_COUNT];
-    uint32_t trigger_since;  /* segments_done when armed: the armed motion has run once it moves on */
+    uint16_t trigger_since;  /* segments_done when armed (low bits): the armed motion has run once it moves on */
 } qs_engine;
 
 /* What qs_engine_hold did. */
@@ -144,9 +144,10 @@ static QS_ALWAYS_INLINE void qs_engine_finish_freeze(qs_engine *e)
         qs_engine_halt(e, QS_STATE_ALARM, e->alarm);
 }
 
-/* The oldest latch, confirmed and resolved to positions (u.at), into out,
- * once; 0 when there is none yet. */
-uint8_t qs_engine_take_latch(qs_engine *e, qs_latch *out);
+/* The oldest latch, confirmed and resolved to positions (u.at), or 0 when
+ * there is none yet; qs_engine_free_latch lets it go once reported. */
+const qs_latch *qs_engine_oldest_latch(qs_engine *e);
+void qs_engine_free_latch(qs_engine *e);
 
 static QS_ALWAYS_INLINE uint8_t qs_engine_latch_waiting(const qs_engine *e)
 {

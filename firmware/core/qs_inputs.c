@@ -18,16 +18,13 @@ void qs_inputs_init(qs_inputs *in, uint16_t present)
     in->hard_limits = 1;
     for (i = 0; i < QS_INPUT_COUNT; i++)
         in->debounce[i] = 0;
-    in->at_once = QS_INPUTS_ALL;
     for (i = 0; i < QS_AXIS_COUNT; i++)
         in->hold_decel[i] = QS_INPUTS_DEFAULT_HOLD_DECEL;
-    in->seen = QS_INPUTS_RESAMPLE;
-    in->raw = 0;
+    in->raw = QS_INPUTS_RESAMPLE;
     in->active = 0;
     in->window = 0;
     in->countdown = 0;
-    in->started = 0;
-    in->tentative = 0;
+    in->tentative = QS_INPUT_NONE;
     in->hold_request = 0;
 }
 
@@ -35,6 +32,18 @@ static uint16_t active_levels(const qs_inputs *in, uint16_t raw)
 {
     /* Active low unless inverted: a switch to ground closes the input. */
     return (uint16_t)(~(raw ^ in->invert) & in->enabled);
+}
+
+/* The inputs in mask with no debounce. */
+static uint16_t without_debounce(const qs_inputs *in, uint16_t mask)
+{
+    uint16_t bit = 1, none = 0;
+    uint8_t i;
+
+    for (i = 0; i < QS_INPUT_COUNT; i++, bit = (uint16_t)(bit << 1))
+        if ((mask & bit) && in->debounce[i] == 0)
+            none |= bit;
+    return none;
 }
 
 /* The longest debounce among the inputs in mask. */
@@ -102,22 +111,22 @@ static void accept(qs_inputs *in, qs_engine *e, qs_latch *l, uint16_t changed)
 QS_NOINLINE uint8_t qs_inputs_update(qs_inputs *in, qs_engine *e, uint16_t raw)
 {
     const uint16_t now = active_levels(in, raw);
+    const uint8_t first = in->raw == QS_INPUTS_RESAMPLE;
     uint16_t changed, at_once, later;
 
     in->raw = raw;
-    if (!in->started) {
+    if (first) {
         /* Power-up: inputs already closed are a state, not an edge. */
         in->active = now;
-        in->started = 1;
         return 0;
     }
     if (in->window && --in->countdown == 0) {
         /* The window closes: accept what is still changed, with the latch
          * of its first edge; an edge that went back was a glitch. */
         const uint16_t confirmed = in->window & (now ^ in->active);
-        qs_latch *l = in->tentative;
+        qs_latch *l = in->tentative == QS_INPUT_NONE ? 0 : &e->latches.entry[in->tentative];
         in->window = 0;
-        in->tentative = 0;
+        in->tentative = QS_INPUT_NONE;
         if (confirmed)
             accept(in, e, l, confirmed);
         else if (l)
@@ -126,17 +135,20 @@ QS_NOINLINE uint8_t qs_inputs_update(qs_inputs *in, qs_engine *e, uint16_t raw)
     changed = (now ^ in->active) & (uint16_t)~in->window;
     if (!changed)
         return in->window != 0;
-    at_once = changed & in->at_once;
-    later = changed & (uint16_t)~in->at_once;
+    at_once = without_debounce(in, changed);
+    later = changed & (uint16_t)~at_once;
     if (at_once)
         accept(in, e, qs_engine_latch_in_tick(e), at_once);
     if (later) {
         const uint8_t wait = longest_debounce(in, later);
         if (!in->window) {
             /* Latched now, reported if the window confirms it. */
-            in->tentative = qs_engine_latch_in_tick(e);
-            if (in->tentative)
-                in->tentative->state = QS_LATCH_TENTATIVE;
+            qs_latch *l = qs_engine_latch_in_tick(e);
+            in->tentative = QS_INPUT_NONE;
+            if (l) {
+                l->state = QS_LATCH_TENTATIVE;
+                in->tentative = (uint8_t)(l - e->latches.entry);
+            }
             in->countdown = wait;
         } else if (wait > in->countdown) {
             in->countdown = wait; /* joins the open window, latched at its first edge */
@@ -146,30 +158,24 @@ QS_NOINLINE uint8_t qs_inputs_update(qs_inputs *in, qs_engine *e, uint16_t raw)
     return in->window != 0;
 }
 
-void qs_inputs_configure(qs_inputs *in, uint16_t invert, uint16_t enabled, uint8_t hard_limits,
+void qs_inputs_configure(qs_inputs *in, qs_engine *e, uint16_t invert, uint16_t enabled, uint8_t hard_limits,
                          const uint8_t *debounce, const uint16_t *hold_decel)
 {
     uint8_t saved = qs_port_lock();
-    uint16_t at_once = 0;
     uint8_t i;
 
     in->invert = invert & in->present;
     in->enabled = enabled & in->present;
     in->hard_limits = hard_limits;
-    for (i = 0; i < QS_INPUT_COUNT; i++) {
+    for (i = 0; i < QS_INPUT_COUNT; i++)
         in->debounce[i] = debounce[i];
-        if (debounce[i] == 0)
-            at_once |= BIT(i);
-    }
-    in->at_once = at_once;
     for (i = 0; i < QS_AXIS_COUNT; i++)
         in->hold_decel[i] = hold_decel[i];
-    if (in->tentative)
-        in->tentative->state = QS_LATCH_DISCARDED;
-    in->tentative = 0;
+    if (in->tentative != QS_INPUT_NONE)
+        e->latches.entry[in->tentative].state = QS_LATCH_DISCARDED;
+    in->tentative = QS_INPUT_NONE;
     in->window = 0;
     in->countdown = 0;
     in->active = active_levels(in, in->raw);
-    in->seen = QS_INPUTS_RESAMPLE;
     qs_port_unlock(saved);
 }

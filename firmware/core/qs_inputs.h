@@ -48,16 +48,13 @@ typedef struct {
     uint16_t enabled;      /* inputs acted on and reported; the others are ignored */
     uint8_t hard_limits;   /* a limit becoming active outside an armed PROBE alarms */
     uint8_t debounce[QS_INPUT_COUNT]; /* ticks an edge must last */
-    uint16_t at_once;      /* inputs with debounce 0 */
     uint16_t hold_decel[QS_AXIS_COUNT]; /* the feed hold's decelerations, as HOLD's */
     /* The tick's side. */
-    uint16_t seen;         /* the last raw sample (QS_INPUTS_RESAMPLE: look again) */
-    uint16_t raw;          /* raw levels, bit set: pin high */
+    uint16_t raw;          /* raw levels, bit set: pin high; QS_INPUTS_RESAMPLE before the first sample */
     uint16_t active;       /* accepted states, bit set: active */
     uint16_t window;       /* inputs whose edge is being debounced */
     uint8_t countdown;     /* ticks left in the window */
-    uint8_t started;       /* the first sample has set `active` */
-    qs_latch *tentative;   /* the window's latch (0 if the ring was full) */
+    uint8_t tentative;     /* the window's latch entry, QS_INPUT_NONE if the ring was full */
     volatile uint8_t hold_request; /* QS_INPUTS_HOLD_*, for the main loop */
 } qs_inputs;
 
@@ -70,7 +67,7 @@ uint8_t qs_inputs_update(qs_inputs *in, qs_engine *e, uint16_t raw);
 
 /* Main loop: new settings (checked by the caller), applied at once; the
  * accepted states follow the new polarity without events. */
-void qs_inputs_configure(qs_inputs *in, uint16_t invert, uint16_t enabled, uint8_t hard_limits,
+void qs_inputs_configure(qs_inputs *in, qs_engine *e, uint16_t invert, uint16_t enabled, uint8_t hard_limits,
                          const uint8_t *debounce, const uint16_t *hold_decel);
 
 /* Main loop: the state of one input now (1 active). */

@@ -7,14 +7,15 @@
 
 #include "qs_inputs.h"
 
-/* raw: bit i is input i's pin level (1 high), bits of absent inputs 0.
- * Call before qs_engine_tick, so that a change seen now acts on the tick's
- * decisions: the latched positions are those after the previous tick's
- * steps, and a freeze leaves no step after them. */
-static QS_ALWAYS_INLINE void qs_inputs_tick(qs_inputs *in, qs_engine *e, uint16_t raw)
+/* raw: bit i is input i's pin level (1 high), bits of absent inputs 0;
+ * *seen: the caller's last sample, QS_INPUTS_RESAMPLE at first (and after
+ * qs_inputs_configure). Call before qs_engine_tick, so that a change seen
+ * now acts on the tick's decisions: the latched positions are those after
+ * the previous tick's steps, and a freeze leaves no step after them. */
+static QS_ALWAYS_INLINE void qs_inputs_tick(qs_inputs *in, qs_engine *e, uint16_t *seen, uint16_t raw)
 {
-    if (QS_UNLIKELY(raw != in->seen))
-        in->seen = qs_inputs_update(in, e, raw) ? QS_INPUTS_RESAMPLE : raw;
+    if (QS_UNLIKELY(raw != *seen))
+        *seen = qs_inputs_update(in, e, raw) ? QS_INPUTS_RESAMPLE : raw;
 }
 
 #endif

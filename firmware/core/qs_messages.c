@@ -340,18 +340,19 @@ uint8_t qs_msg_encode_input_status(uint8_t *body, uint8_t seq, const qs_input_st
     return n;
 }
 
-uint8_t qs_msg_encode_input_event(uint8_t *body, uint8_t seq, const qs_input_event *ev)
+uint8_t qs_msg_encode_input_event(uint8_t *body, uint8_t seq, uint32_t motion_ticks, uint16_t active,
+                                  uint16_t changed, uint8_t cause, uint8_t axis_count, const int32_t *position)
 {
     uint8_t n = head(body, QS_TYPE_EVENT, seq);
     uint8_t axis;
 
     body[n++] = QS_EVENT_INPUT;
-    n += put32(body + n, ev->motion_ticks);
-    n += put16(body + n, ev->active);
-    n += put16(body + n, ev->changed);
-    body[n++] = ev->cause;
-    for (axis = 0; axis < ev->axis_count; axis++)
-        n += put32(body + n, (uint32_t)ev->position[axis]);
+    n += put32(body + n, motion_ticks);
+    n += put16(body + n, active);
+    n += put16(body + n, changed);
+    body[n++] = cause;
+    for (axis = 0; axis < axis_count; axis++)
+        n += put32(body + n, (uint32_t)position[axis]);
     return n;
 }
 

@@ -156,16 +156,6 @@ typedef struct {
     uint16_t latches_lost;
 } qs_input_status;
 
-/* EVENT INPUT: an input's accepted change, latched. */
-typedef struct {
-    uint32_t motion_ticks;
-    uint16_t active;
-    uint16_t changed;
-    uint8_t cause;
-    uint8_t axis_count;
-    int32_t position[QS_PROTOCOL_AXES];
-} qs_input_event;
-
 /* Report encoders: write type, seq and payload into body (QS_MAX_FRAME
  * bytes) and return the body length. */
 uint8_t qs_msg_encode_ack(uint8_t *body, uint8_t seq, const qs_ack *a);
@@ -178,7 +168,9 @@ uint8_t qs_msg_encode_hold_done(uint8_t *body, uint8_t seq, uint32_t hold_tick, 
                                 uint8_t axis_count, const int32_t *position);
 
 uint8_t qs_msg_encode_input_status(uint8_t *body, uint8_t seq, const qs_input_status *st);
-uint8_t qs_msg_encode_input_event(uint8_t *body, uint8_t seq, const qs_input_event *ev);
+/* EVENT INPUT: an input's accepted change, latched at motion_ticks. */
+uint8_t qs_msg_encode_input_event(uint8_t *body, uint8_t seq, uint32_t motion_ticks, uint16_t active,
+                                  uint16_t changed, uint8_t cause, uint8_t axis_count, const int32_t *position);
 /* EVENT PROBE_MISSED: the armed motion came to rest without its edge. */
 uint8_t qs_msg_encode_probe_missed(uint8_t *body, uint8_t seq, uint32_t motion_ticks, uint8_t axis_count,
                                    const int32_t *position);

@@ -36,6 +36,7 @@ typedef struct {
     qs_core core;
     machine *machine;       /* --machine, or NULL */
     uint16_t inputs_idle;   /* pin levels without a machine: all high, nothing active */
+    uint16_t inputs_seen;   /* the last sample (qs_inputs_tick.h) */
     uint32_t motion_tick;   /* ticks that made decisions: the trace's clock */
     uint64_t steps[QS_AXIS_COUNT];
     uint8_t last_state;
@@ -117,7 +118,7 @@ static void sample_inputs(emulator *m)
     const uint16_t raw = m->machine ? (uint16_t)(machine_levels(m->machine) & m->core.inputs.present)
                                     : m->inputs_idle;
 
-    qs_inputs_tick(&m->core.inputs, &m->core.engine, raw);
+    qs_inputs_tick(&m->core.inputs, &m->core.engine, &m->inputs_seen, raw);
 }
 
 /* The machine's clock moves on a tick, then the steps just decided move
@@ -353,6 +354,7 @@ int main(int argc, char **argv)
         const uint16_t present = (uint16_t)(0x0F00u | limits | (m->opts.limit_pins == 2 ? limits << 4 : 0));
         qs_inputs_init(&m->core.inputs, present);
         m->inputs_idle = present;
+        m->inputs_seen = QS_INPUTS_RESAMPLE;
     }
     if (m->opts.machine_path) {
         static machine sim;

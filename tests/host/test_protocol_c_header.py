@@ -159,7 +159,6 @@ def wire_codes(cls: type[WireMessage]) -> dict[str, str]:
         ("qs_probe_msg", "PROBE", 2),
         ("qs_config_msg", "CONFIG", 4),
         ("qs_input_status", "INPUT_STATUS", 9),
-        ("qs_input_event", "INPUT", 5),
     ],
 )
 def test_c_struct_fields_have_the_wire_widths(struct: str, message: str, shared: int) -> None:

@@ -304,16 +304,9 @@ static void test_reports_encode_to_exactly_the_listed_bytes(void)
             break;
         case QS_TYPE_EVENT:
             if (v->event.kind == QS_EVENT_INPUT) {
-                qs_input_event ev;
-                uint8_t axis;
-                ev.motion_ticks = v->event.motion_ticks;
-                ev.active = v->event.active;
-                ev.changed = v->event.changed;
-                ev.cause = v->event.cause;
-                ev.axis_count = v->event.axis_count;
-                for (axis = 0; axis < ev.axis_count; axis++)
-                    ev.position[axis] = v->event.position[axis];
-                len = qs_msg_encode_input_event(body, v->seq, &ev);
+                len = qs_msg_encode_input_event(body, v->seq, v->event.motion_ticks, v->event.active,
+                                                v->event.changed, v->event.cause, v->event.axis_count,
+                                                v->event.position);
             } else if (v->event.kind == QS_EVENT_PROBE_MISSED) {
                 len = qs_msg_encode_probe_missed(body, v->seq, v->event.motion_ticks, v->event.axis_count,
                                                  v->event.position);
