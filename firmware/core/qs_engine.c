@@ -426,12 +426,25 @@ void qs_engine_freeze_in_tick(qs_engine *e, uint8_t alarm)
     e->trigger = 0;
     e->alarm = alarm;
     e->state = QS_STATE_ALARM;
-    e->frozen = 1;
+    e->frozen = QS_FROZEN_ALARM;
+}
+
+void qs_engine_finish_freeze_slow(qs_engine *e)
+{
+    if (e->frozen == QS_FROZEN_ALARM) {
+        qs_engine_halt(e, QS_STATE_ALARM, e->alarm);
+        return;
+    }
+    /* A trigger found every axis at rest: a hold at rest, at that tick. */
+    qs_engine_halt(e, QS_STATE_IDLE, QS_ALARM_NONE);
+    e->hold_tick = e->completed_ticks;
+    note_hold_done(e);
 }
 
 uint8_t qs_engine_trigger_in_tick(qs_engine *e)
 {
     qs_queue *q = &e->queue;
+    const uint16_t left = e->left;
     qs_segment *s;
     uint8_t moving;
 
@@ -452,18 +465,19 @@ uint8_t qs_engine_trigger_in_tick(qs_engine *e)
     }
     qs_hold_plan(&e->hold, s->n, e->trigger_decel);
     moving = qs_hold_begin(&e->hold, s);
+    e->state = QS_STATE_HOLDING;
+    e->slow_path = 1;
+    if (!moving) {
+        /* Every axis at rest already (a dwell): nothing more moves, and the
+         * main loop ends it there as a hold found at rest. */
+        e->left = left; /* a segment not begun stays so */
+        e->frozen = QS_FROZEN_AT_REST;
+        return 1;
+    }
     e->held = s;
     e->held_t0 = (uint16_t)(s->n - e->left);
     e->held_by_tick = 1;
-    e->state = QS_STATE_HOLDING;
-    e->slow_path = 1;
     e->hold.moving = moving;
-    if (!moving) {
-        /* Every axis at rest already: the hold ends here, as its last tick
-         * would end it. */
-        e->left = 0;
-        qs_queue_release(q);
-    }
     return 1;
 }
 

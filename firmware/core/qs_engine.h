@@ -41,7 +41,7 @@ typedef struct {
     uint8_t hold_report;     /* a hold has ended and is not yet reported */
     /* Inputs (qs_inputs.h) act on the engine from the tick: */
     qs_latch_ring latches;   /* exact positions at input edges */
-    volatile uint8_t frozen; /* the tick stopped everything: the main loop completes the halt */
+    volatile uint8_t frozen; /* QS_FROZEN_*: the tick stopped everything, the main loop completes it */
     uint8_t trigger;         /* armed (PROBE): an edge of trigger_input to trigger_level holds */
     uint8_t trigger_input;   /* QS_INPUT_* index (qs_inputs.h) */
     uint8_t trigger_level;   /* 1: until it becomes active, 0: until it becomes inactive */
@@ -137,11 +137,16 @@ uint8_t qs_engine_trigger_in_tick(qs_engine *e);
 void qs_engine_arm_trigger(qs_engine *e, uint8_t input, uint8_t level, const uint16_t *decel);
 void qs_engine_disarm_trigger(qs_engine *e);
 
-/* The tick froze the engine: flush the queue (the alarm stays). */
+#define QS_FROZEN_ALARM 1   /* an alarm: flush, the alarm stays */
+#define QS_FROZEN_AT_REST 2 /* a trigger with nothing moving: flush, IDLE, HOLD_DONE */
+
+void qs_engine_finish_freeze_slow(qs_engine *e);
+
+/* The tick froze the engine: flush the queue and settle. */
 static QS_ALWAYS_INLINE void qs_engine_finish_freeze(qs_engine *e)
 {
     if (e->frozen)
-        qs_engine_halt(e, QS_STATE_ALARM, e->alarm);
+        qs_engine_finish_freeze_slow(e);
 }
 
 /* The oldest latch, confirmed and resolved to positions (u.at), or 0 when

@@ -20,6 +20,7 @@ struct sim_motion {
     uint64_t matched;         /* the unserved timer match of the tick, 0 if none */
     uint16_t left_before;     /* engine state at the current interrupt's entry */
     uint8_t tail_before;
+    uint8_t hold_ticks_before;
     uint32_t ticks;           /* motion ticks so far */
     int prev_ran;             /* the previous interrupt ran a segment */
     uint32_t prev_cost;       /* and cost this much */
@@ -133,16 +134,18 @@ void sim_motion_tick_enter(void *motion)
     }
     m->left_before = read_u16(m->avr->data, m->probe.left);
     m->tail_before = m->avr->data[m->probe.tail];
+    m->hold_ticks_before = m->avr->data[m->probe.hold_ticks];
     sim_inputs_tick_enter(m->inputs, m->ticks);
 }
 
 void sim_motion_tick_done(void *motion, uint32_t cycles)
 {
     sim_motion *m = motion;
-    /* A decision was made if a segment was running, began, or began and
-     * ended (n = 1) in this call: the rule the emulator counts by. */
-    const int ran = m->left_before != 0 || read_u16(m->avr->data, m->probe.left) != 0 ||
-                    m->avr->data[m->probe.tail] != m->tail_before;
+    /* A decision was made if a segment ran a tick, began and ended (n = 1)
+     * or a hold ran one in this call: the rule the emulator counts by. */
+    const int ran = m->left_before != read_u16(m->avr->data, m->probe.left) ||
+                    m->avr->data[m->probe.tail] != m->tail_before ||
+                    m->avr->data[m->probe.hold_ticks] != m->hold_ticks_before;
 
     /* The previous interrupt's decisions are the steps this one raised. */
     if (m->have_prev) {

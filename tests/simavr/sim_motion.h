@@ -3,9 +3,9 @@
  * Step and direction edges are recorded with their cycle. Steps are
  * numbered in motion ticks exactly as the emulator's trace numbers them
  * (PROTOCOL.md section 8). Motion ticks are the tick calls that made
- * decisions: a segment was running (`left` nonzero before the call), began
- * (`left` nonzero after it), or began and ended in it (n = 1: the queue's
- * `tail` moved). The harness reads both before and after every tick
+ * decisions: a segment ran a tick (`left` moved on), or began and ended
+ * in it (n = 1: the queue's `tail` moved), or a hold ran one (its tick
+ * count moved on); a tick the inputs froze makes none. The harness reads both before and after every tick
  * interrupt (their addresses are published in flash by the firmware as
  * qs_debug_probe) and counts by the emulator's own rule: the count
  * STATUS_REPORT gives as motion_ticks. The steps a tick interrupt raises were decided by the
@@ -34,6 +34,7 @@ typedef struct {
     uint16_t tail;  /* uint8_t */
     uint16_t state; /* uint8_t */
     uint16_t latch_next; /* uint8_t: the latch ring's write index */
+    uint16_t hold_ticks; /* low byte of the hold's tick count */
 } sim_probe;
 
 typedef struct {
