@@ -11,8 +11,8 @@ from pathlib import Path
 import pytest
 
 from machine_helpers import along, events, read_trace_with_carriage, write_machine
-from quadstep.link import AlarmError, FirmwareError, Link, Stopped
-from quadstep.protocol import AlarmCode, Config, ErrorCode, Input, InputCause, InputChange, Probe, ProbeMissed
+from quadstep.link import AlarmError, FirmwareError, Link, Stopped, input_status, until_input, wait_rest
+from quadstep.protocol import AlarmCode, Config, ErrorCode, HoldDone, Input, InputCause, InputChange, Probe, ProbeMissed
 
 DECEL = (2000, 2000, 2000, 0)
 NO_DEBOUNCE = (0,) * 12
@@ -27,7 +27,7 @@ def emulator(start_emulator, tmp_path: Path, machine: str, **options: object):
 def seek(link: Link, axis: int, mm: float, which: Input, level: int = 1, feed: float = 10.0):
     """A move along `axis` armed to end where `which` reaches `level`."""
     start = tuple(link.status().position[:3])
-    return link.until_input(Probe(input=which, level=level, decel=DECEL), along(axis, start, mm, feed), timeout=60)
+    return until_input(link, Probe(input=which, level=level, decel=DECEL), along(axis, start, mm, feed), timeout=60)
 
 
 @pytest.mark.parametrize("seed", [1, 2, 3])
@@ -78,7 +78,7 @@ start = 0
             link.wait_idle(timeout=30)
         alarm = raised.value.alarm
         assert alarm.code == AlarmCode.HARD_LIMIT
-        change = next(e for e in link.input_events if e.cause == InputCause.HARD_LIMIT)
+        change = next(e for e in link.input_changes if e.cause == InputCause.HARD_LIMIT)
         link.stop()
     summary = emu.stop()
     trace = read_trace_with_carriage(tmp_path / "trace.csv")
@@ -120,7 +120,7 @@ at = 0
 hysteresis = 6.5
 """)
     with Link.open(emu.url) as link:
-        assert link.inputs().is_active(Input.LIMIT_0)
+        assert input_status(link).is_active(Input.LIMIT_0)
         with pytest.raises(FirmwareError) as refused:
             seek(link, 0, -5, Input.LIMIT_0)
         assert refused.value.report.code == ErrorCode.INPUT_AT_LEVEL
@@ -128,7 +128,7 @@ hysteresis = 6.5
         off = seek(link, 0, 5, Input.LIMIT_0, level=0, feed=2)
         assert isinstance(off, InputChange) and not off.became_active(Input.LIMIT_0)
         assert off.position[0] == 27  # opens at its point plus the hysteresis: carriage -20 + 27 = 7 >= 6.5
-        assert not link.inputs().is_active(Input.LIMIT_0)
+        assert not input_status(link).is_active(Input.LIMIT_0)
 
 
 def test_polarity_and_debounce_of_a_bouncing_normally_closed_switch(start_emulator, tmp_path: Path) -> None:
@@ -146,11 +146,11 @@ bounce_ticks = 60
     debounce[Input.LIMIT_0] = 80
     with Link.open(emu.url) as link:
         # Active low by default: the closed contact of a switch at rest reads active.
-        assert link.inputs().is_active(Input.LIMIT_0)
+        assert input_status(link).is_active(Input.LIMIT_0)
         link.send(Config(invert=1 << Input.LIMIT_0, enabled=0x0FFF, hard_limits=1, debounce=tuple(debounce),
                          hold_decel=DECEL))
         link.drain(timeout=5)
-        assert not link.inputs().is_active(Input.LIMIT_0)
+        assert not input_status(link).is_active(Input.LIMIT_0)
         hit = seek(link, 0, -30, Input.LIMIT_0, feed=5)
         assert isinstance(hit, InputChange) and hit.cause == InputCause.TRIGGER
     summary = emu.stop()
@@ -180,9 +180,9 @@ ticks = 400
             for segment in along(0, (0, 0, 0), 10, 20):
                 link.send(segment, timeout=10)
             link.wait_idle(timeout=30)
-        held = link.wait_rest(timeout=30)
-        done = link.last_hold_done
-        changes = link.input_events
+        held = wait_rest(link, timeout=30)
+        done = link.last_report(HoldDone)
+        changes = link.input_changes
         with pytest.raises(AlarmError) as raised:
             for segment in along(0, tuple(held.position[:3]), 10, 20):
                 link.send(segment, timeout=10)

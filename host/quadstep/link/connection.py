@@ -19,6 +19,8 @@ import serial
 
 from ..protocol import (
     Alarm,
+    InputCause,
+    InputChange,
     DecodeError,
     Decoder,
     Identify,
@@ -158,6 +160,18 @@ class Link:
         """The latest unsolicited report (ALARM, or an EVENT kind such as HoldDone) of class `cls`."""
         with self._cond:
             return self._in.latest.get(cls)  # type: ignore[return-value]
+
+    @property
+    def input_changes(self) -> list[InputChange]:
+        """The latest EVENT INPUT reports (up to 256), oldest first."""
+        with self._cond:
+            return list(self._in.input_changes)
+
+    @property
+    def holds_by_input(self) -> int:
+        """Holds the firmware began itself at an input so far (each restarted the stream)."""
+        with self._cond:
+            return self._in.held_by_input
 
     def report_count(self, cls: type[Report]) -> int:
         """How many unsolicited reports of class `cls` arrived so far."""
@@ -371,11 +385,22 @@ class Link:
                     self.stats.frames_received += 1
                     if self._in.apply(item):
                         notify.append(item.message)  # type: ignore[arg-type]
+                    if isinstance(item.message, InputChange) and item.message.cause in (InputCause.TRIGGER,
+                                                                                        InputCause.FEED_HOLD):
+                        self._held_by_input()
             self._cond.notify_all()
             callbacks = list(self._callbacks) if notify else []
         for report in notify:
             for callback in callbacks:
                 callback(report)
+
+    def _held_by_input(self) -> None:
+        """The firmware began a hold itself, at an input (a PROBE's edge, the feed hold button): what is queued
+        or in flight will not run (segments arriving while it holds are refused, BUSY), so the stream restarts
+        as at a STOP or HOLD; a waiter resyncs once it is at rest (inputs.wait_rest). With _cond held."""
+        self._generation += 1
+        self._window.restart()
+        self._in.held_by_input += 1
 
     def _port_failed(self, exc: Exception) -> None:
         """The port raised in the reader or the writer thread: the link is closed."""

@@ -6,10 +6,10 @@ An Inbox is shared state: every method and field is used with the link's conditi
 
 from __future__ import annotations
 
-from collections import defaultdict
+from collections import defaultdict, deque
 from dataclasses import dataclass
 
-from ..protocol import Ack, AckReason, Alarm, ErrorReport, Event, Frame, Report, StatusReport
+from ..protocol import Ack, AckReason, Alarm, ErrorReport, Event, Frame, InputChange, Report, StatusReport
 from ..protocol.constants import is_sequenced
 from .errors import AlarmError, FirmwareError, LinkError
 from .stats import LinkStats
@@ -40,6 +40,8 @@ class Inbox:
         self.expected_done = 0  # segments completed once everything accepted has run
         self.latest: dict[type, Report] = {}  # the latest unsolicited report of each class
         self.counts: defaultdict[type, int] = defaultdict(int)
+        self.input_changes: deque[InputChange] = deque(maxlen=256)  # the latest EVENT INPUT reports
+        self.held_by_input = 0  # holds the firmware began itself (a PROBE's edge, the feed hold button)
 
     def fail(self, failure: LinkError) -> None:
         if self.failure is None:
@@ -65,6 +67,8 @@ class Inbox:
         if isinstance(m, (Alarm, Event)):
             self.latest[type(m)] = m
             self.counts[type(m)] += 1
+            if isinstance(m, InputChange):
+                self.input_changes.append(m)
             if isinstance(m, Alarm):
                 self.stats.alarms += 1
                 if not self.stopping:
