@@ -15,10 +15,10 @@ from typing import Any, Literal, TypeVar
 
 from pydantic import BaseModel, ConfigDict, Field, ValidationError, model_validator
 
-from .protocol.segment import MAX_AXES
+from .protocol.constants import AXIS_NAMES, MAX_AXES
 from .textfile import read_text
 
-AxisName = Literal["X", "Y", "Z", "A"]
+AxisName = Literal["X", "Y", "Z", "A"]  # AXIS_NAMES, as pydantic needs them
 Model = TypeVar("Model", bound=BaseModel)
 
 # The planner lands every move exactly only while no axis moves more than
@@ -150,6 +150,22 @@ def validate(model: type[Model], data: Any, source: str, error: type[Exception])
 
 def parse_config(data: dict[str, Any], source: str = "config") -> MachineConfig:
     return validate(MachineConfig, data, source, ConfigError)
+
+
+def default_config(tick_hz: int, axis_count: int) -> MachineConfig:
+    """A configuration for a board nothing is known about: 80 steps/mm, ±1000 mm, gentle limits."""
+    speed = min(100.0, math.floor(MAX_STEPS_PER_TICK * tick_hz / 80))
+    return parse_config({
+        "tick_hz": tick_hz,
+        "axes": [
+            {"name": AXIS_NAMES[i], "steps_per_mm": 80, "max_speed": speed, "max_accel": 500,
+             "travel_min": -1000, "travel_max": 1000}
+            for i in range(axis_count)
+        ],
+    }, DEFAULT_CONFIG_NAME)
+
+
+DEFAULT_CONFIG_NAME = "default configuration"
 
 
 def load_config(path: Path) -> MachineConfig:

@@ -31,7 +31,8 @@ import numpy as np
 from quadstep.config import MachineConfig, parse_config
 from quadstep.emulator import Emulator
 from quadstep.jog import JogMode, Jogger, JogSettings
-from quadstep.jog.units import DECEL_SHIFT, braking_steps, hold_decels
+from quadstep.machine import Machine
+from quadstep.machine.units import DECEL_SHIFT, braking_steps, hold_decels
 from quadstep.link import Link
 from quadstep.protocol import D, SetPosition
 
@@ -71,7 +72,7 @@ def run_jogs(count: int, seed: int, config: MachineConfig, events: Path, trace: 
             start = config.to_steps(START_MM)
             link.send(SetPosition(positions=dict(enumerate(start))))
             link.drain()
-            jogger = Jogger(link, config, SETTINGS)
+            jogger = Jogger(Machine(link, config), SETTINGS)
             jogger.mode = JogMode.CONTINUOUS
             for i in range(count):
                 axis = i % 3
@@ -119,11 +120,8 @@ async def tui_stop_keys(count: int, seed: int, config: MachineConfig, events: Pa
             await pilot.pause(0.05)
         jogger = session.jogger
         assert jogger is not None
-        link = session.link
-        assert link is not None
         start = config.to_steps(START_MM)
-        link.send(SetPosition(positions=dict(enumerate(start))))
-        link.drain()
+        jogger.machine.set_position(dict(enumerate(start)))
         jogger.sync()
         jogger.mode = JogMode.CONTINUOUS
         for i in range(count):

@@ -104,16 +104,12 @@ def test_send_refuses_a_file_that_is_not_text(tmp_path: Path, capsys: pytest.Cap
     assert capsys.readouterr().err == f"quadstep send: error: {path}: not a text file (invalid start byte at byte 13)\n"
 
 
-def test_send_refuses_axes_the_firmware_lacks(emulator_binary: Path, capsys: pytest.CaptureFixture[str],
-                                              monkeypatch: pytest.MonkeyPatch, tmp_path: Path) -> None:
-    monkeypatch.setenv("QUADSTEP_EMULATOR", str(emulator_binary))
+def test_send_refuses_axes_the_firmware_lacks(start_emulator, capsys: pytest.CaptureFixture[str],
+                                              tmp_path: Path) -> None:
+    emu = start_emulator(free=True, axes=3)
     path = tmp_path / "job.json"
     path.write_text('{"segments": [{"n": 5, "axes": [{"axis": 3, "direction": 1, "v0": 10, "vn": 0, "r": 0}]}]}')
-    from quadstep.cli import options
-
-    real_connect = options.connect
-    monkeypatch.setattr("quadstep.cli.send.connect", lambda args: real_connect(args, axes=3))
-    assert main(["send", str(path), "--emulator", "--free"]) == 1
+    assert main(["send", str(path), "--port", emu.url]) == 1
     assert "segments[0].axes[0].axis: 3, the firmware has axes 0..2" in capsys.readouterr().err
 
 

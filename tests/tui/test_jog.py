@@ -11,19 +11,23 @@ import pytest
 from quadstep.config import MachineConfig
 from quadstep.jog import JogMode, Jogger, JogResult, JogSettings
 from quadstep.link import Link
+from quadstep.machine import Machine
 from quadstep.planner.lookahead import PLAN_ACCEL_FRACTION
-from quadstep.protocol import SetPosition, State
+from quadstep.protocol import State
 
 from tui_helpers import FAST_RELEASE, HELD_UNTIL_STOPPED
 
 X, Y, Z = 0, 1, 2
 
 
+def jogger_on(link: Link, config: MachineConfig, settings: JogSettings | None = None, **options: object) -> Jogger:
+    return Jogger(Machine(link, config), settings, **options)  # type: ignore[arg-type]
+
+
 def place(jogger: Jogger, **steps: int) -> None:
     """Put axes at step positions with SET_POSITION (the machine has no homing)."""
     index = {"X": X, "Y": Y, "Z": Z}
-    jogger.link.send(SetPosition(positions={index[name]: value for name, value in steps.items()}))
-    jogger.link.drain()
+    jogger.machine.set_position({index[name]: value for name, value in steps.items()})
     jogger.sync()
 
 
@@ -38,7 +42,7 @@ def hold_repeats(jogger: Jogger, axis: int, direction: int, seconds: float, firs
 
 
 def test_incremental_presets_move_exactly_the_preset_distances(fast_link: Link, machine: MachineConfig) -> None:
-    jogger = Jogger(fast_link, machine)
+    jogger = jogger_on(fast_link, machine)
     assert jogger.settings.step_presets == (0.01, 0.1, 1.0, 10.0)
     expected_mm = 0.0
     for index, presses in ((2, 2), (3, 1), (1, 3), (0, 5)):
@@ -58,7 +62,7 @@ def test_incremental_presets_move_exactly_the_preset_distances(fast_link: Link, 
 
 
 def test_incremental_jog_stops_at_the_soft_limit_ahead(fast_link: Link, machine: MachineConfig) -> None:
-    jogger = Jogger(fast_link, machine)
+    jogger = jogger_on(fast_link, machine)
     result = jogger.step(X, -1)  # at travel_min already
     assert result.end is None and result.position[X] == 0
     assert result.message == "X-: stops at the soft limit travel_min = 0.000 mm"
@@ -73,7 +77,7 @@ def test_incremental_jog_stops_at_the_soft_limit_ahead(fast_link: Link, machine:
 
 
 def test_outside_the_travel_only_the_way_back_is_open(fast_link: Link, machine: MachineConfig) -> None:
-    jogger = Jogger(fast_link, machine)
+    jogger = jogger_on(fast_link, machine)
     place(jogger, X=4000, Z=400)  # 50 mm (travel 0 … 40) and +1 mm (travel −20 … 0)
     assert jogger.step(X, 1).end is None
     assert jogger.step(Z, 1).end is None
@@ -86,7 +90,7 @@ def test_outside_the_travel_only_the_way_back_is_open(fast_link: Link, machine: 
 def test_speed_presets_are_fractions_of_the_axis_max(
     fast_link: Link, machine: MachineConfig, index: int, mm_per_s: float
 ) -> None:
-    jogger = Jogger(fast_link, machine)
+    jogger = jogger_on(fast_link, machine)
     jogger.select_step(3)
     jogger.speed_index = index
     assert jogger.speed(X) == mm_per_s
@@ -101,7 +105,7 @@ def test_speed_presets_are_fractions_of_the_axis_max(
 def test_continuous_jog_left_alone_comes_to_rest_exactly_on_the_soft_limit(
     paced_link: Link, machine: MachineConfig
 ) -> None:
-    jogger = Jogger(paced_link, machine, HELD_UNTIL_STOPPED)
+    jogger = jogger_on(paced_link, machine, HELD_UNTIL_STOPPED)
     place(jogger, X=2400)  # 30 mm; 10 mm to the limit at 50 mm/s
     jogger.mode = JogMode.CONTINUOUS
     jogger.speed_index = 4
@@ -120,7 +124,7 @@ def test_continuous_jog_released_decelerates_with_hold_and_re_anchors(
     paced_link: Link, machine: MachineConfig
 ) -> None:
     results: list[JogResult] = []
-    jogger = Jogger(paced_link, machine, FAST_RELEASE, on_finish=results.append)
+    jogger = jogger_on(paced_link, machine, FAST_RELEASE, on_finish=results.append)
     jogger.mode = JogMode.CONTINUOUS
     hold_repeats(jogger, Y, 1, 0.5)
     assert jogger.wait_idle(5)
@@ -142,7 +146,7 @@ def test_continuous_jog_released_decelerates_with_hold_and_re_anchors(
 
 
 def test_stop_key_ends_a_continuous_jog_with_hold(paced_link: Link, machine: MachineConfig) -> None:
-    jogger = Jogger(paced_link, machine, HELD_UNTIL_STOPPED)
+    jogger = jogger_on(paced_link, machine, HELD_UNTIL_STOPPED)
     jogger.mode = JogMode.CONTINUOUS
     jogger.jog(X, 1)
     time.sleep(0.25)
@@ -158,7 +162,7 @@ def test_stop_key_ends_a_continuous_jog_with_hold(paced_link: Link, machine: Mac
 def test_continuous_jog_keeps_little_motion_queued(paced_link: Link, machine: MachineConfig) -> None:
     """A host that vanishes mid-jog leaves at most the lookahead queued, not a full queue."""
     settings = JogSettings(first_repeat_timeout=5.0, repeat_timeout=5.0)
-    jogger = Jogger(paced_link, machine, settings)
+    jogger = jogger_on(paced_link, machine, settings)
     jogger.mode = JogMode.CONTINUOUS
     jogger.speed_index = 1  # 5 mm/s: 8 s to the limit, segments of 1022 ticks once cruising
     fills: list[int] = []

@@ -25,9 +25,9 @@ def make_app(
 
 
 def positions(app: QuadstepApp) -> tuple[int, ...]:
-    link = app.session.link
-    assert link is not None
-    return tuple(link.status().position[:3])
+    machine = app.session.machine
+    assert machine is not None
+    return tuple(machine.status().position[:3])
 
 
 async def connected(pilot, app: QuadstepApp) -> None:  # noqa: ANN001
@@ -78,7 +78,7 @@ async def test_continuous_jog_stops_when_the_key_repeats_stop(
         result = jogger.last_result
         assert result is not None and result.end is not None
         assert result.end.ended_by == "release" and result.end.held
-        status = app.session.link.status()  # type: ignore[union-attr]
+        status = app.session.machine.status()  # type: ignore[union-attr]
         assert status.state == State.IDLE and status.queue_fill == 0
         assert 0 < status.position[0] < 3200
         assert status.position[0] == result.position[0]
@@ -161,7 +161,7 @@ async def test_a_running_job_stops_with_space(machine: MachineConfig, emulator_b
         send_key(app, "space", " ")
         await until(pilot, lambda: "long.gcode: stopped near line 1 (HOLD)" in log_text(app), what="the stop")
         assert "jog: a job is running (Space stops it)" in log_text(app)
-        status = app.session.link.status()  # type: ignore[union-attr]
+        status = app.session.machine.status()  # type: ignore[union-attr]
         assert status.state == State.IDLE and status.queue_fill == 0
         assert 0 < status.position[0] < 2400
         assert app.machine.job is None
@@ -179,7 +179,7 @@ async def test_a_bad_job_is_refused_and_nothing_moves(
         await until(pilot, lambda: "job not started" in log_text(app), what="the refusal")
         assert "line 2: X 50.000 mm is outside the travel 0.000 … 40.000 mm" in log_text(app)
         assert positions(app) == (0, 0, 0)
-        assert app.session.link.status().motion_ticks == 0  # type: ignore[union-attr]
+        assert app.session.machine.status().motion_ticks == 0  # type: ignore[union-attr]
 
 
 async def test_a_lost_connection_shows_and_reconnects(machine: MachineConfig, emulator_binary: Path) -> None:

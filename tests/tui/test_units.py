@@ -7,7 +7,7 @@ from pydantic import ValidationError
 
 from quadstep.config import MachineConfig, parse_config
 from quadstep.jog import JogSettings, ReleaseDetector
-from quadstep.jog.units import DECEL_MAX, braking_steps, hold_decel, hold_decels, step_direction, step_limits
+from quadstep.machine.units import DECEL_MAX, braking_steps, hold_decel, hold_decels, step_direction, step_limits
 
 
 def axis_config(**changes: object) -> MachineConfig:

@@ -18,6 +18,7 @@ from pydantic import ValidationError
 
 from ..emulator import EmulatorError
 from ..link import LinkError
+from ..machine import MachineError
 from .options import CliError, format_validation_error
 
 
@@ -45,7 +46,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     except ValidationError as exc:
         print(f"quadstep {args.command}: error: {format_validation_error(exc)}", file=sys.stderr)
         return 1
-    except (LinkError, EmulatorError) as exc:
+    except (LinkError, MachineError, EmulatorError) as exc:
         print(f"quadstep {args.command}: error: {exc}", file=sys.stderr)
         return 1
     except KeyboardInterrupt:

@@ -5,10 +5,9 @@ from __future__ import annotations
 import argparse
 import json
 
-from ..protocol import IdentifyReply, StatusReport
+from ..protocol import AXIS_NAMES, IdentifyReply, StatusReport
 from .options import add_connection_options, add_json_option, connect
 
-AXIS_NAMES = "XYZA"
 COUNTERS = ("rx_overrun", "bad_frame", "bad_crc", "seq_gap", "seq_dup", "rejected")
 
 
@@ -20,9 +19,9 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    with connect(args) as link:
-        ident = link.identify()
-        status = link.status()
+    with connect(args) as machine:
+        ident = machine.identity
+        status = machine.status()
     if args.json:
         print(json.dumps({"identify": ident.model_dump(mode="json"), "status": status.model_dump(mode="json")}))
     else:

@@ -3,15 +3,13 @@
 from __future__ import annotations
 
 import argparse
-from contextlib import AbstractContextManager
 from pathlib import Path
-from typing import Any
 
 from pydantic import ValidationError
 
-from ..config import error_location
-from ..emulator import open_connection
-from ..link import DEFAULT_BAUD, Link
+from ..config import MachineConfig, error_location
+from ..link import DEFAULT_BAUD
+from ..machine import Machine, Target, open_machine
 
 
 class CliError(Exception):
@@ -32,14 +30,18 @@ def add_json_option(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--json", action="store_true", help="print one JSON object instead of text")
 
 
-def connect(args: argparse.Namespace, **emulator_options: Any) -> AbstractContextManager[Link]:
-    """The connected Link the arguments ask for; `emulator_options` go to Emulator (e.g. tick_hz)."""
+def target(args: argparse.Namespace) -> Target:
+    """The machine the arguments name: --port PORT, or --emulator (with --free, --trace)."""
     if not args.emulator and (args.free or args.trace):
         raise CliError("--free and --trace apply only with --emulator")
-    if args.emulator:
-        emulator_options.setdefault("free", args.free)
-        emulator_options.setdefault("trace", args.trace)
-    return open_connection(args.port, args.emulator, baudrate=args.baud, **(emulator_options if args.emulator else {}))
+    options = {"free": args.free, "trace": args.trace} if args.emulator else {}
+    return Target(port=args.port, emulator=args.emulator, baud=args.baud, emulator_options=options)
+
+
+def connect(args: argparse.Namespace, config: MachineConfig | None = None, source: str = "") -> Machine:
+    """The connected Machine the arguments ask for (a context manager); an emulator started for it ticks
+    and has the axes that `config` says."""
+    return open_machine(target(args), config, source=source or "the configuration")
 
 
 def _location(loc: tuple[int | str, ...]) -> str:

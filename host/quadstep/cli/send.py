@@ -8,11 +8,9 @@ from pathlib import Path
 
 from pydantic import BaseModel, ConfigDict, Field, ValidationError
 
-from ..link import Link
-from ..protocol import IdentifyReply, Segment, SetPosition
+from ..protocol import AXIS_NAMES, IdentifyReply, Segment
 from ..protocol.messages import I32
 from ..textfile import read_text
-from .info import AXIS_NAMES
 from .options import CliError, add_connection_options, add_json_option, connect, format_validation_error
 
 
@@ -68,33 +66,33 @@ def check_against(job: SegmentsFile, ident: IdentifyReply, path: Path) -> None:
                 )
 
 
-def stream(link: Link, job: SegmentsFile) -> None:
-    if job.positions is not None:
-        link.send(SetPosition(positions=dict(enumerate(job.positions))))
-    for seg in job.segments:
-        link.send(seg)
-
-
 def run(args: argparse.Namespace) -> int:
     job = load(args.file)
-    with connect(args) as link:
-        assert link.identity is not None
-        check_against(job, link.identity, args.file)
-        start = link.status()
+    with connect(args) as machine:
+        check_against(job, machine.identity, args.file)
+        if job.positions is not None:
+            machine.set_position(dict(enumerate(job.positions)))
+        start = machine.status()
+        motion = machine.send_segments(job.segments)
         try:
-            stream(link, job)
-            final = link.wait_idle()
+            while motion.wait(0.1) is None:
+                pass
         except KeyboardInterrupt:
-            stopped = link.stop()
-            print(f"stopped at positions {list(stopped.position)}")
-            raise
+            end = machine.hold("interrupt")
+            print(f"stopped (HOLD) at positions {list(end.position) if end is not None else '?'}")
+            return 130
+        end = motion.wait()
+        assert end is not None
+        if end.error:
+            raise CliError(end.error)
+        final = machine.status()
     ticks = final.motion_ticks - start.motion_ticks
     if args.json:
         print(json.dumps({
             "positions": list(final.position),
             "segments": len(job.segments),
             "motion_ticks": ticks,
-            "link": link.stats.as_dict(),
+            "link": machine.stats.as_dict(),
         }))
     else:
         names = "  ".join(f"{AXIS_NAMES[i]} {p}" for i, p in enumerate(final.position))

@@ -10,7 +10,7 @@ from pydantic import ValidationError
 from ..config import ConfigError, load_config
 from ..jog import JogSettings
 from ._jobs import DEFAULT_CONFIG
-from .options import CliError, add_connection_options, format_validation_error
+from .options import CliError, add_connection_options, format_validation_error, target
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
@@ -38,17 +38,14 @@ def settings_from(args: argparse.Namespace) -> JogSettings:
 
 
 def run(args: argparse.Namespace) -> int:
-    from ..tui import QuadstepApp, Session, Target  # Textual loads only for this command
+    from ..tui import QuadstepApp, Session  # Textual loads only for this command
 
-    if not args.emulator and (args.free or args.trace):
-        raise CliError("--free and --trace apply only with --emulator")
+    where = target(args)
     path = args.config if args.config is not None else (DEFAULT_CONFIG if DEFAULT_CONFIG.exists() else None)
     try:
         config = load_config(path) if path is not None else None
     except ConfigError as exc:
         raise CliError(str(exc)) from None
-    options = {"free": args.free, "trace": args.trace} if args.emulator else {}
-    target = Target(port=args.port, emulator=args.emulator, baud=args.baud, emulator_options=options)
-    session = Session(target, config, settings_from(args))
+    session = Session(where, config, settings_from(args), config_source=str(path))
     QuadstepApp(session, job_path=args.job).run()
     return 0

@@ -1,8 +1,8 @@
-"""Jogging, independent of any user interface: presets, soft limits, continuous jogs stopped by HOLD."""
+"""Jogging on a Machine, independent of any user interface: presets, soft limits, continuous jogs
+stopped by HOLD."""
 
 from .jogger import JogMode, JogResult, Jogger
-from .motion import Motion, MotionEnd
 from .release import ReleaseDetector
 from .settings import JogSettings
 
-__all__ = ["JogMode", "JogResult", "JogSettings", "Jogger", "Motion", "MotionEnd", "ReleaseDetector"]
+__all__ = ["JogMode", "JogResult", "JogSettings", "Jogger", "ReleaseDetector"]

@@ -9,7 +9,8 @@ re-anchored where the board reports it rests. Left alone, the move ends at
 rest exactly on the soft limit, so the limit holds by construction.
 
 Positions are step positions, as the board counts them; distances are mm.
-Every blocking call talks to the board: call them from worker threads.
+The machine (quadstep.machine) runs every jog and knows where it stands;
+every blocking call talks to the board: call them from worker threads.
 """
 
 from __future__ import annotations
@@ -21,14 +22,13 @@ from dataclasses import dataclass
 from enum import Enum
 
 from ..config import MachineConfig
-from ..link import Link, LinkError
+from ..link import LinkError
+from ..machine import Machine, Motion, MotionEnd
+from ..machine.units import step_direction, step_limits
 from ..planner.plan import Plan, plan_program
 from ..planner.program import JobError, LinearMove, Program
-from ..protocol import SetPosition
-from .motion import Motion, MotionEnd
 from .release import ReleaseDetector
 from .settings import JogSettings
-from .units import hold_decels, step_direction, step_limits
 
 WATCH_INTERVAL = 0.05  # s: how often a continuous jog's watcher looks at the motion besides its deadline
 
@@ -88,24 +88,18 @@ class _Continuous:
 
 
 class Jogger:
-    """Jogs one machine: create it on a connected Link, then step(), press(), stop(), zero()."""
+    """Jogs one machine: step(), press(), stop(). Making one talks to nobody."""
 
     def __init__(
         self,
-        link: Link,
-        config: MachineConfig,
+        machine: Machine,
         settings: JogSettings | None = None,
         on_finish: Callable[[JogResult], None] | None = None,
     ) -> None:
-        if len(config.axes) > link.axis_count:
-            raise ValueError(
-                f"the configuration has {len(config.axes)} axes, the firmware only {link.axis_count}"
-            )
-        self.link = link
-        self.config = config
+        self.machine = machine
+        self.config: MachineConfig = machine.config
         self.settings = settings or JogSettings()
         self.on_finish = on_finish
-        self.decels = hold_decels(config)
         self.mode = JogMode.INCREMENTAL
         steps = self.settings.step_presets
         self.step_index = steps.index(1.0) if 1.0 in steps else 0
@@ -117,9 +111,7 @@ class Jogger:
         self._continuous: _Continuous | None = None
         self._idle = threading.Event()
         self._idle.set()
-        self._position: tuple[int, ...] = ()
-        self._commanded_mm: list[float] = []
-        self.sync()
+        self._commanded_mm: list[float] = [axis.to_mm(p) for axis, p in zip(self.config.axes, machine.position)]
 
     # --- presets and state -------------------------------------------------------------
 
@@ -153,8 +145,7 @@ class Jogger:
     @property
     def position(self) -> tuple[int, ...]:
         """Step positions where the machine last came to rest."""
-        with self._lock:
-            return self._position
+        return self.machine.position
 
     @property
     def busy(self) -> bool:
@@ -166,8 +157,7 @@ class Jogger:
 
     def sync(self) -> None:
         """Read the board's position (machine at rest) and re-anchor on it."""
-        status = self.link.status()
-        self._anchor(tuple(status.position[: len(self.config.axes)]))
+        self._anchor(self.machine.sync())
 
     # --- jogging ---------------------------------------------------------------------------
 
@@ -221,16 +211,6 @@ class Jogger:
         self.wait_idle()
         return self.last_result
 
-    def zero(self, axes: list[int]) -> tuple[int, ...]:
-        """Make the current position of `axes` step 0 (SET_POSITION); only at rest."""
-        for axis in axes:
-            self._check_axis(axis, 1)
-        with self._run_lock:
-            self.link.send(SetPosition(positions={axis: 0 for axis in axes}))
-            self.link.drain()
-            self.sync()
-        return self.position
-
     # --- internals -------------------------------------------------------------------------
 
     def _check_axis(self, axis: int, direction: int) -> None:
@@ -256,10 +236,9 @@ class Jogger:
                     self._commanded_mm[axis] = wanted_mm  # less than a step: remember it for the next
             return self._report(JogResult(JogMode.INCREMENTAL, axis, direction, start, start, None, message))
         plan = self._plan(start, target, self.speed(axis))
-        motion = Motion(self.link, plan.segments, self.decels)
+        motion = self.machine.move(plan.segments)
         with self._lock:
             self._motion = motion
-        motion.start()
         end = motion.wait()
         assert end is not None
         with self._lock:
@@ -283,13 +262,12 @@ class Jogger:
         target = _replace(start, axis, limit)
         plan = self._plan(start, target, self.speed(axis))
         lookahead = round(self.settings.lookahead * self.config.tick_hz)
-        motion = Motion(self.link, plan.segments, self.decels, lookahead_ticks=lookahead)
+        motion = self.machine.move(plan.segments, lookahead_ticks=lookahead)
         template = JogResult(JogMode.CONTINUOUS, axis, direction, start, target, None)
         jog = _Continuous(self, axis, direction, motion, template)
         with self._lock:
             self._motion = motion
             self._continuous = jog
-        motion.start()
         jog.thread.start()
         return True
 
@@ -309,7 +287,7 @@ class Jogger:
 
     def _settle(self, end: MotionEnd) -> None:
         if end.position:
-            self._anchor(tuple(end.position[: len(self.config.axes)]))
+            self._anchor(self.machine.position)  # the machine took the rest position from the end
         else:
             try:
                 self.sync()
@@ -317,10 +295,9 @@ class Jogger:
                 pass  # the link is gone; the next connection re-reads the position
 
     def _anchor(self, position: tuple[int, ...]) -> None:
-        """Adopt the board's rest position; commanded coordinates follow wherever they disagree with it."""
+        """Re-anchor on the machine's rest position: commanded coordinates follow wherever they disagree."""
         with self._lock:
             old = self._commanded_mm
-            self._position = position
             self._commanded_mm = [
                 old[i] if i < len(old) and axis.to_steps(old[i]) == p else axis.to_mm(p)
                 for i, (axis, p) in enumerate(zip(self.config.axes, position))

@@ -7,7 +7,7 @@ A few hundred thousand segments take about 21 bytes each for three axes
 from __future__ import annotations
 
 from array import array
-from collections.abc import Iterator
+from collections.abc import Iterable, Iterator
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -29,6 +29,18 @@ class SegmentArrays:
 
     def __len__(self) -> int:
         return len(self.n)
+
+    @classmethod
+    def of(cls, segments: Iterable[Segment], axis_count: int) -> SegmentArrays:
+        """Protocol segments as arrays (raw segment files)."""
+        out = cls(axis_count)
+        for seg in segments:
+            bits, v0, vn, r = 0, [0] * axis_count, [0] * axis_count, [0] * axis_count
+            for move in seg.axes:
+                bits |= 1 << move.axis | (16 << move.axis if move.direction < 0 else 0)
+                v0[move.axis], vn[move.axis], r[move.axis] = move.v0, move.vn, move.r
+            out.append(seg.n, bits, v0, vn, r, 0)
+        return out
 
     def append(self, n: int, axes: int, v0: list[int], vn: list[int], r: list[int], line: int) -> None:
         self.n.append(n)

@@ -2,6 +2,7 @@
 
 from .codec import DecodeError, Decoder, Frame, decode, decode_body, encode, payload
 from .constants import (
+    AXIS_NAMES,
     DECEL_MAX,
     DECEL_SHIFT,
     MAX_FRAME,
@@ -44,8 +45,8 @@ from .segment import D, MAX_AXES, N_MAX, R_MAX, AxisMove, Segment
 from .wire import Report, Request
 
 __all__ = [
-    "Ack", "AckReason", "Alarm", "AlarmCode", "AxisMove", "Board", "Capability", "Config", "D", "DECEL_MAX",
-    "DECEL_SHIFT", "Input", "InputCause", "InputChange", "InputStatus", "Inputs", "Probe", "ProbeMissed",
+    "AXIS_NAMES", "Ack", "AckReason", "Alarm", "AlarmCode", "AxisMove", "Board", "Capability", "Config", "D",
+    "DECEL_MAX", "DECEL_SHIFT", "Input", "InputCause", "InputChange", "InputStatus", "Inputs", "Probe", "ProbeMissed",
     "DecodeError", "Decoder", "ErrorCode", "ErrorReport", "Event", "EventKind", "FieldId", "Hold", "HoldDone",
     "Frame", "Identify", "IdentifyReply", "MAX_AXES", "MAX_FRAME", "Message", "MessageType", "N_MAX",
     "PROTOCOL_VERSION", "R_MAX", "Report", "Request", "Segment", "SetPosition", "State", "Status", "StatusReport",

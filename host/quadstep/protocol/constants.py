@@ -13,6 +13,7 @@ V_MAX = D  # one step per tick
 N_MAX = 1022  # longest segment in ticks; keeps every per-tick value inside 24 bits
 R_MAX = D  # residual limit, in 1/(2D) step
 MAX_AXES = 4  # axes the wire format can name
+AXIS_NAMES = ("X", "Y", "Z", "A")  # axis i of every axis mask (PROTOCOL.md §1)
 MAX_FRAME = 64  # decoded bytes (body ‖ crc16) per frame
 MIN_FRAME = 4  # type, seq, crc16
 DELIMITER = 0x00
@@ -24,7 +25,7 @@ DECEL_SHIFT = 24  # a HOLD deceleration d means d / 2^24 step per tick²
 DECEL_MAX = 8191  # largest HOLD deceleration (keeps the hold's per-tick values inside 24 bits)
 
 __all__ = [
-    "D", "MAX_AXES", "N_MAX", "R_MAX", "SPEED_SHIFT", "V_MAX", "PROTOCOL_VERSION", "MAX_FRAME", "MIN_FRAME",
+    "AXIS_NAMES", "D", "MAX_AXES", "N_MAX", "R_MAX", "SPEED_SHIFT", "V_MAX", "PROTOCOL_VERSION", "MAX_FRAME", "MIN_FRAME",
     "DELIMITER", "BROADCAST_SEQ", "NO_FIELD", "NO_AXIS", "MAX_IN_FLIGHT", "DECEL_SHIFT", "DECEL_MAX",
     "AckReason", "ErrorCode", "FieldId", "AlarmCode", "State", "Board", "Capability", "TypeClass",
     "is_immediate", "is_report", "is_sequenced", "Input", "InputCause", "INPUT_COUNT",

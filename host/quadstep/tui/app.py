@@ -30,7 +30,4 @@ class QuadstepApp(App[None]):
         await asyncio.to_thread(self._shut_down)
 
     def _shut_down(self) -> None:
-        job = self.machine.job
-        if job is not None:
-            job.halt("quit")  # bring the machine to rest before the link closes
-        self.session.close()
+        self.session.close()  # brings a running jog or job to rest (HOLD) before the link closes

@@ -5,9 +5,8 @@ from __future__ import annotations
 from textual.message import Message
 
 from ..jog import JogResult
-from ..jog.motion import MotionEnd
+from ..machine import JobProgress, JobRun, MotionEnd
 from ..protocol import IdentifyReply
-from .job_run import JobProgress, JobRun
 from .session import Snapshot
 
 
@@ -39,9 +38,10 @@ class JogDone(Message):
 
 
 class JobStarted(Message):
-    def __init__(self, job: JobRun) -> None:
+    def __init__(self, job: JobRun, name: str) -> None:
         super().__init__()
         self.job = job
+        self.name = name
 
 
 class JobDone(Message):

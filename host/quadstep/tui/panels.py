@@ -9,8 +9,8 @@ from textual.widgets import ProgressBar, RichLog, Static
 
 from ..config import MachineConfig
 from ..jog import JogMode, Jogger
+from ..machine import JobProgress
 from ..protocol import IdentifyReply, State
-from .job_run import JobProgress
 from .session import Snapshot
 
 STATE_STYLE = {State.IDLE: "green", State.RUNNING: "cyan", State.HOLDING: "yellow", State.ALARM: "bold red"}

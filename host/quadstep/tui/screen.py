@@ -17,14 +17,13 @@ from textual.screen import Screen
 from textual.widgets import Footer, Header, Static
 
 from ..jog import JogMode, Jogger, JogResult
-from ..jog.motion import MotionEnd
 from ..job import load_job
 from ..link import LinkError
+from ..machine import JobRun, Machine, MachineError, MotionEnd
 from ..planner.program import JobError
 from ..protocol import Board
 from .help import HelpScreen
 from .job_dialog import JobDialog
-from .job_run import JobRun
 from .keys import bindings
 from .messages import Connected, ConnectionLost, JobDone, JobStarted, JogDone, Note, StatusUpdate
 from .panels import JobPanel, JogPanel, MachinePanel, MessageLog, PositionPanel
@@ -232,22 +231,20 @@ class MachineScreen(Screen[None]):
     def action_halt(self) -> None:
         """Space/Esc: cancel queued jog presses and bring whatever moves to rest with HOLD."""
         self.session.cancel_pending()
-        job, jogger = self.job, self.session.jogger
-        if job is not None:
-            self._thread(job.halt, "quadstep-halt")
-        elif jogger is not None and jogger.busy:
-            self._thread(jogger.stop, "quadstep-halt")
+        machine = self.session.machine
+        if machine is not None and machine.busy:
+            self._thread(lambda: self._guard(lambda: machine.hold("stop"), "stop"), "quadstep-halt")
 
     def action_reset(self) -> None:
-        """Ctrl+X: immediate STOP, no deceleration; clears an alarm."""
+        """Ctrl+X: the emergency key, an immediate STOP, no deceleration; clears an alarm."""
         self.session.cancel_pending()
-        link = self.session.link
-        if link is None or not self.session.connected:
+        machine = self.session.machine
+        if machine is None or not self.session.connected:
             self.log_line("STOP: not connected", error=True)
             return
 
         def stop() -> None:
-            status = link.stop()
+            status = machine.emergency_stop()
             self.post_message(Note(f"STOP: stopped at once at steps {list(status.position)}"))
 
         self._thread(lambda: self._guard(stop, "STOP"), "quadstep-reset")
@@ -267,7 +264,8 @@ class MachineScreen(Screen[None]):
         names = ", ".join(jogger.config.axes[a].name for a in axes)
 
         def zero() -> None:
-            jogger.zero(axes)
+            jogger.machine.set_position({axis: 0 for axis in axes})
+            jogger.sync()
             self.post_message(Note(f"zeroed {names}"))
 
         self._command(zero, "zero")
@@ -279,7 +277,7 @@ class MachineScreen(Screen[None]):
         """Run a command in a worker thread; its failure becomes a red line, never a crash."""
         try:
             command()
-        except (LinkError, ValueError, JobError) as exc:
+        except (LinkError, MachineError, ValueError, JobError) as exc:
             self.post_message(Note(f"{what}: {exc}", error=True))
 
     # --- jobs ------------------------------------------------------------------------------
@@ -293,36 +291,32 @@ class MachineScreen(Screen[None]):
         if path is None:
             return
         self.job_path = str(path)
-        jogger = self.session.jogger
-        link = self.session.link
-        if jogger is None or link is None or jogger.busy:
+        machine = self.session.machine
+        if machine is None or machine.busy:
             self.log_line("job: the machine is busy", error=True)
             return
         self.log_line(f"planning {path}…")
-        self._thread(lambda: self._job_worker(path), "quadstep-job")
+        self._thread(lambda: self._job_worker(machine, path), "quadstep-job")
 
-    def _job_worker(self, path: Path) -> None:
-        jogger, link = self.session.jogger, self.session.link
-        assert jogger is not None and link is not None
+    def _job_worker(self, machine: Machine, path: Path) -> None:
         try:
-            jogger.sync()
-            plan = load_job(path, jogger.config, jogger.position).plan
-        except (JobError, LinkError) as exc:
+            plan = load_job(path, machine.config, machine.sync()).plan
+            if len(plan) == 0:
+                raise JobError(f"{path}: no move leaves the current position")
+            job = machine.run_job(plan)
+        except (JobError, LinkError, MachineError) as exc:
             self.post_message(Note(f"job not started: {exc}", error=True))
             return
-        if len(plan) == 0:
-            self.post_message(Note(f"job not started: {path}: no move leaves the current position", error=True))
-            return
-        job = JobRun(link, plan, jogger.decels, path)
-        self.post_message(JobStarted(job))
-        end = job.run()
+        self.post_message(JobStarted(job, path.name))
+        end = job.wait()
+        assert end is not None
         self.post_message(JobDone(path.name, end))
 
     def on_job_started(self, message: JobStarted) -> None:
         job = message.job
         self.job = job
-        self.job_name = job.path.name
-        self.log_line(f"running {job.path.name}: {len(job.plan)} segments, {job.plan.duration_s:.1f} s planned")
+        self.job_name = message.name
+        self.log_line(f"running {message.name}: {len(job.plan)} segments, {job.plan.duration_s:.1f} s planned")
         self.query_one(JobPanel).show(self.job_name, job.progress)
 
     def on_job_done(self, message: JobDone) -> None:

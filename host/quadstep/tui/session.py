@@ -11,37 +11,19 @@ import math
 import threading
 from collections.abc import Callable
 from concurrent.futures import Future, ThreadPoolExecutor
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from typing import Any, TypeVar
 
-from ..config import MachineConfig, parse_config
+from ..config import MachineConfig
 from ..emulator import Emulator
 from ..jog import Jogger, JogResult, JogSettings
-from ..link import DEFAULT_BAUD, Link, LinkError
+from ..link import LinkError
+from ..machine import Machine, Target, open_machine, start_emulator
 from ..protocol import IdentifyReply, StatusReport
 
 T = TypeVar("T")
 
-AXIS_NAMES = ("X", "Y", "Z", "A")
 LINK_HEALTH = ("retransmits", "timeouts", "errors", "decode_errors", "alarms")
-
-
-@dataclass(frozen=True)
-class Target:
-    """Where the machine is: a serial port, or an emulator this session starts (and restarts if it dies)."""
-
-    port: str | None = None
-    emulator: bool = False
-    baud: int = DEFAULT_BAUD
-    emulator_options: dict[str, Any] = field(default_factory=dict)
-
-    def __post_init__(self) -> None:
-        if self.emulator == (self.port is not None):
-            raise ValueError("give either a serial port or the emulator")
-
-    @property
-    def label(self) -> str:
-        return "emulator" if self.emulator else str(self.port)
 
 
 @dataclass(frozen=True)
@@ -54,19 +36,6 @@ class Snapshot:
     position_mm: tuple[float, ...]
 
 
-def default_config(tick_hz: int, axis_count: int) -> MachineConfig:
-    """A configuration for a board nothing is known about: 80 steps/mm, ±1000 mm, gentle limits."""
-    speed = min(100.0, math.floor(0.75 * tick_hz / 80))
-    return parse_config({
-        "tick_hz": tick_hz,
-        "axes": [
-            {"name": AXIS_NAMES[i], "steps_per_mm": 80, "max_speed": speed, "max_accel": 500,
-             "travel_min": -1000, "travel_max": 1000}
-            for i in range(axis_count)
-        ],
-    }, "default configuration")
-
-
 class Session:
     """One machine; connect() again after the link is lost."""
 
@@ -76,15 +45,17 @@ class Session:
         config: MachineConfig | None,
         settings: JogSettings | None = None,
         on_jog: Callable[[JogResult], None] | None = None,
+        config_source: str = "the configuration",
     ) -> None:
         self.target = target
         self.config_given = config
+        self.config_source = config_source
         self.config: MachineConfig | None = config
         self.settings = settings or JogSettings()
         self.on_jog = on_jog
-        self.link: Link | None = None
+        self.machine: Machine | None = None
         self.jogger: Jogger | None = None
-        self.emulator: Emulator | None = None
+        self.emulator: Emulator | None = None  # kept across reconnections, started anew when gone
         self.identity: IdentifyReply | None = None
         self.lost: str | None = None
         self._commands = ThreadPoolExecutor(max_workers=1, thread_name_prefix="quadstep-command")
@@ -96,56 +67,37 @@ class Session:
 
     @property
     def connected(self) -> bool:
-        return self.link is not None and self.lost is None
+        return self.machine is not None and self.lost is None
 
     def connect(self) -> IdentifyReply:
-        """Open the link (starting the emulator when it is not running) and set up jogging."""
+        """Open the machine (starting the emulator when it is not running) and set up jogging."""
         self.disconnect()
         if self.target.emulator and (self.emulator is None or not self.emulator.running):
-            options = dict(self.target.emulator_options)
-            if self.config_given is not None:
-                options.setdefault("tick_hz", self.config_given.tick_hz)
-                options.setdefault("axes", len(self.config_given.axes))
-            self.emulator = Emulator(**options).start()
-        url = self.emulator.url if self.emulator is not None else str(self.target.port)
-        link = Link.open(url, self.target.baud)
-        try:
-            ident = link.identity
-            assert ident is not None
-            config = self.config_given or default_config(ident.tick_hz, ident.axis_count)
-            if config.tick_hz != ident.tick_hz:
-                raise LinkError(
-                    f"the configuration's tick_hz = {config.tick_hz} differs from the firmware's {ident.tick_hz}"
-                )
-            if len(config.axes) > ident.axis_count:
-                raise LinkError(
-                    f"the configuration has {len(config.axes)} axes, the firmware {ident.axis_count}"
-                )
-            old = self.jogger
-            jogger = Jogger(link, config, self.settings, on_finish=self.on_jog)
-            if old is not None:
-                jogger.mode, jogger.step_index, jogger.speed_index = old.mode, old.step_index, old.speed_index
-        except BaseException:
-            link.close()
-            raise
+            self.emulator = start_emulator(self.target, self.config_given)
+        machine = open_machine(self.target, self.config_given, source=self.config_source, emulator=self.emulator)
+        old = self.jogger
+        jogger = Jogger(machine, self.settings, on_finish=self.on_jog)
+        if old is not None:
+            jogger.mode, jogger.step_index, jogger.speed_index = old.mode, old.step_index, old.speed_index
         with self._lock:
-            self.link, self.jogger, self.config, self.identity = link, jogger, config, ident
+            self.machine, self.jogger, self.config, self.identity = machine, jogger, machine.config, machine.identity
             self.lost = None
             self._last_feed_sample = None
-        return ident
+        return machine.identity
 
     def disconnect(self) -> None:
         with self._lock:
-            link, self.link = self.link, None
-        if link is not None:
-            link.close()
+            machine, self.machine = self.machine, None
+        if machine is not None:
+            machine.close(bring_to_rest=False)  # the link may be gone; close() brings motion to rest first
 
     def close(self) -> None:
         """Bring any motion to rest, close the link and stop an emulator this session started."""
         self.cancel_pending()
-        if self.connected and self.jogger is not None:
+        machine = self.machine
+        if self.connected and machine is not None:
             try:
-                self.jogger.stop()
+                machine.hold("quit")
             except LinkError:
                 pass
         self._commands.shutdown(wait=False, cancel_futures=True)
@@ -163,16 +115,17 @@ class Session:
 
     def snapshot(self) -> Snapshot:
         """Status, link counters and the feed since the last snapshot; raises LinkError when lost."""
-        link, config = self.link, self.config
-        if link is None or config is None or self.lost is not None:
+        machine = self.machine
+        if machine is None or self.lost is not None:
             raise LinkError(self.lost or "not connected")
         try:
-            status = link.status()
+            status = machine.status()
         except LinkError as exc:
             self.mark_lost(str(exc))
             raise
+        config = machine.config
         position = tuple(status.position[: len(config.axes)])
-        stats = link.stats.as_dict()
+        stats = machine.stats.as_dict()
         return Snapshot(
             status=status,
             link={key: stats[key] for key in LINK_HEALTH},
@@ -205,4 +158,3 @@ class Session:
             pending, self._pending = self._pending, []
         for future in pending:
             future.cancel()
-

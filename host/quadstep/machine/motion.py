@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import threading
 import time
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from itertools import accumulate
 
@@ -79,8 +79,10 @@ class Motion:
         first: int = 0,
         last: int | None = None,
         lookahead_ticks: int | None = None,
+        on_end: Callable[[MotionEnd], None] | None = None,
     ) -> None:
         self.link = link
+        self.on_end = on_end  # called once, in the thread that ends the motion, before wait() returns
         self.segments = segments
         self.decels = tuple(decels)
         self.first = first
@@ -93,6 +95,7 @@ class Motion:
         self._halting: str | None = None
         self._sent = 0
         self._base_done = 0
+        self._generation = 0  # the link's, when streaming began: a STOP from elsewhere changes it
         self._thread = threading.Thread(target=self._run, name="quadstep-motion", daemon=True)
 
     # --- progress ------------------------------------------------------------------
@@ -114,6 +117,7 @@ class Motion:
 
     def start(self) -> Motion:
         self._base_done = self.link.segments_done
+        self._generation = self.link.generation
         self._thread.start()
         return self
 
@@ -184,6 +188,8 @@ class Motion:
         """Until segment k fits in the board's queue and within the lookahead (or a halt)."""
         last_done, since = -1, time.monotonic()
         while not self._halting:
+            if self.link.generation != self._generation:
+                raise Stopped("the stream was restarted (STOP) while this motion waited for room")
             done = self.done
             queued = k - done
             if queued < capacity and (
@@ -235,4 +241,6 @@ class Motion:
             if self._end is not None or (self._halting is not None and not from_halt):
                 return
             self._end = end
+        if self.on_end is not None:
+            self.on_end(end)
         self._ended.set()

@@ -1,0 +1,19 @@
+"""The machine layer: one object per connected machine, between the user interfaces and the link.
+
+A Machine owns the link, the configuration, the one firmware/configuration
+agreement check, the exact step position and the HOLD decelerations; it runs
+programs (jobs, jogs, raw segments: Motion and JobRun) one at a time and
+stops them — `hold()` is the user's stop, `emergency_stop()` the immediate
+one. The CLI, the TUI and jogging use it and nothing below it.
+"""
+
+from .errors import MachineError
+from .job import JobProgress, JobRun
+from .machine import Machine, Program
+from .motion import Motion, MotionEnd
+from .target import Target, open_machine, start_emulator
+
+__all__ = [
+    "JobProgress", "JobRun", "Machine", "MachineError", "Motion", "MotionEnd", "Program", "Target",
+    "open_machine", "start_emulator",
+]

@@ -1,0 +1,151 @@
+"""A planned job on its way to the board: streamed from a thread of its own, paused, halted.
+
+The plan is streamed section by section: an M0 (or a move file's pause) ends
+a section at rest, and the job waits there until resume(). halt() brings the
+machine to rest with HOLD. Machine.run_job starts one; the CLI and the TUI
+both run jobs this way.
+"""
+
+from __future__ import annotations
+
+import threading
+from collections.abc import Callable
+from dataclasses import dataclass
+from itertools import accumulate
+
+from ..link import Link, LinkError
+from ..planner.plan import Plan
+from .motion import Motion, MotionEnd
+
+
+@dataclass(frozen=True)
+class JobProgress:
+    done: int  # segments completed
+    total: int
+    line: int  # source line (or move) being executed
+    seconds_left: float
+    paused_at: int | None  # line of the pause the job waits at
+
+
+class JobRun:
+    """One planned job on one link: start() it, then wait(), resume() after a pause, or halt()."""
+
+    def __init__(
+        self, link: Link, plan: Plan, decels: tuple[int, ...], on_end: Callable[[MotionEnd], None] | None = None
+    ) -> None:
+        self.link = link
+        self.plan = plan
+        self.decels = decels
+        self.on_end = on_end  # called once, in the job's thread, before wait() returns
+        self._ticks = list(accumulate(plan.segments.n, initial=0))
+        self._lock = threading.Lock()
+        self._resume = threading.Event()
+        self._ended = threading.Event()
+        self._end: MotionEnd | None = None
+        self._halted: str | None = None
+        self._motion: Motion | None = None
+        self._offset = 0  # segments of the sections before the current one
+        self._paused_at: int | None = None
+        self._thread = threading.Thread(target=self._run, name="quadstep-job", daemon=True)
+
+    # --- progress ----------------------------------------------------------------------------
+
+    @property
+    def progress(self) -> JobProgress:
+        with self._lock:
+            motion, offset, paused = self._motion, self._offset, self._paused_at
+        done = offset + (motion.done if motion is not None else 0)
+        total = len(self.plan)
+        line = int(self.plan.segments.line[min(done, total - 1)]) if total else 0
+        left = (self._ticks[-1] - self._ticks[done]) / self.plan.config.tick_hz
+        return JobProgress(done, total, line, left, paused)
+
+    @property
+    def paused_at(self) -> int | None:
+        """The line of the pause the job waits at, if it does."""
+        with self._lock:
+            return self._paused_at
+
+    @property
+    def end(self) -> MotionEnd | None:
+        return self._end
+
+    # --- control ------------------------------------------------------------------------------
+
+    def start(self) -> JobRun:
+        self._thread.start()
+        return self
+
+    def wait(self, timeout: float | None = None) -> MotionEnd | None:
+        """How the job ended (`done`, the reason given to halt(), `reset`, or `error`); None on timeout."""
+        self._ended.wait(timeout)
+        return self._end
+
+    def resume(self) -> bool:
+        """Go on after a pause; False when the job is not paused."""
+        with self._lock:
+            if self._paused_at is None:
+                return False
+            self._paused_at = None
+        self._resume.set()
+        return True
+
+    def halt(self, reason: str = "stop") -> MotionEnd:
+        """Bring the machine to rest (HOLD) and end the job; returns how it ended."""
+        with self._lock:
+            self._halted = self._halted or reason
+            motion = self._motion
+        self._resume.set()
+        if motion is not None:
+            motion.halt(reason)
+        end = self.wait()
+        assert end is not None
+        return end
+
+    # --- the job's thread ----------------------------------------------------------------------
+
+    def _run(self) -> None:
+        try:
+            end = self._sections()
+        except LinkError as exc:
+            end = MotionEnd("error", (), self._offset, error=str(exc))
+        self._end = end
+        if self.on_end is not None:
+            self.on_end(end)
+        self._ended.set()
+
+    def _sections(self) -> MotionEnd:
+        """Each stretch of segments between pauses, and a wait at each pause (at the start or the end too)."""
+        total = len(self.plan)
+        end: MotionEnd | None = None
+        first = 0
+        for index, line in [*self.plan.pauses, (total, None)]:
+            if index > first:
+                with self._lock:
+                    if self._halted:
+                        break
+                    motion = Motion(self.link, self.plan.segments, self.decels, first=first, last=index)
+                    self._motion, self._offset = motion, first
+                end = motion.start().wait()
+                assert end is not None
+                with self._lock:
+                    self._motion = None
+                    self._offset = index if end.ended_by == "done" else first + end.segments_done
+                if end.ended_by != "done":
+                    return end
+                first = index
+            if line is None:
+                break
+            with self._lock:
+                if self._halted:
+                    break
+                self._paused_at = line
+            self._resume.wait()
+            self._resume.clear()
+            with self._lock:
+                self._paused_at = None
+        if end is not None and not self._halted:
+            return end
+        status = self.link.status()  # at rest: halted at a pause, or nothing to stream
+        position = tuple(status.position[: self.plan.segments.axis_count])
+        return MotionEnd(self._halted or "done", position, self._offset)

@@ -1,0 +1,207 @@
+"""One connected machine: its link, its configuration, where it stands, and the one program it runs.
+
+A Machine is made on a connected Link (or by open_machine, which opens the
+port or starts the emulator too). Making it checks, once, that the firmware
+can run what the configuration plans, and reads the exact step position. It
+then runs one program at a time — a job, a jog, raw segments — and stops it.
+
+The stop rule: `hold()` is the user's stop, a controlled deceleration to
+rest (HOLD) after which the exact position is known; `emergency_stop()` is
+the immediate STOP, for the emergency key only. Positions are the board's
+step counts, exact; mm are derived from them through the configuration.
+"""
+
+from __future__ import annotations
+
+import threading
+from collections.abc import Callable, Sequence
+
+from ..config import DEFAULT_CONFIG_NAME, MachineConfig, default_config
+from ..link import Link, LinkError, LinkStats
+from ..planner.plan import Plan
+from ..planner.segments import SegmentArrays
+from ..port_process import PortProcess
+from ..protocol import IdentifyReply, Report, Segment, SetPosition, State, StatusReport
+from .agreement import check_agreement
+from .errors import MachineError
+from .job import JobRun
+from .motion import Motion, MotionEnd
+from .units import hold_decels
+
+Program = Motion | JobRun
+
+
+class Machine:
+    """The machine behind `link`, described by `config` (None: a generic one, see config.default_config)."""
+
+    def __init__(
+        self,
+        link: Link,
+        config: MachineConfig | None = None,
+        *,
+        source: str = "the configuration",
+        emulator: PortProcess | None = None,
+    ) -> None:
+        identity = link.identity
+        if identity is None:
+            raise MachineError("the link is not connected")
+        self.link = link
+        self.config_given = config is not None
+        self.config = config if config is not None else default_config(identity.tick_hz, identity.axis_count)
+        check_agreement(identity, self.config, source if config is not None else DEFAULT_CONFIG_NAME)
+        self.emulator = emulator  # an emulator this machine started, stopped by close()
+        self.decels = hold_decels(self.config)  # HOLD decelerations: each axis's max_accel
+        self._lock = threading.Lock()
+        self._running: Program | None = None
+        self._position: tuple[int, ...] = ()
+        self.sync()
+
+    # --- what the machine is and where it stands ----------------------------------------------
+
+    @property
+    def identity(self) -> IdentifyReply:
+        assert self.link.identity is not None
+        return self.link.identity
+
+    @property
+    def axis_count(self) -> int:
+        """Configured axes (the firmware may drive more)."""
+        return len(self.config.axes)
+
+    @property
+    def position(self) -> tuple[int, ...]:
+        """Step position of every configured axis where the machine last stood still, exact."""
+        with self._lock:
+            return self._position
+
+    @property
+    def position_mm(self) -> tuple[float, ...]:
+        return self.config.to_mm(self.position)
+
+    @property
+    def stats(self) -> LinkStats:
+        """What the link did: frames, retransmissions, errors."""
+        return self.link.stats
+
+    @property
+    def busy(self) -> bool:
+        """A program runs (and the position changes)."""
+        with self._lock:
+            return self._running is not None
+
+    @property
+    def program(self) -> Program | None:
+        """The program running, if one is."""
+        with self._lock:
+            return self._running
+
+    def status(self) -> StatusReport:
+        """The firmware's status; at rest, the position is taken from it."""
+        status = self.link.status()
+        if status.state == State.IDLE and status.queue_fill == 0:
+            with self._lock:
+                if self._running is None:
+                    self._position = tuple(status.position[: self.axis_count])
+        return status
+
+    def sync(self) -> tuple[int, ...]:
+        """Read where the machine stands (at rest) and return it."""
+        self.status()
+        return self.position
+
+    def set_position(self, steps: dict[int, int]) -> tuple[int, ...]:
+        """Redefine the step count of some axes (SET_POSITION): only at rest. Machine coordinates move with
+        it, so this is for homing and tools; work coordinates are the user's zero."""
+        self._refuse_if_busy("set the position")
+        self.link.send(SetPosition(positions=steps))
+        self.link.drain()
+        return self.sync()
+
+    # --- programs ---------------------------------------------------------------------------------
+
+    def move(self, segments: SegmentArrays, *, first: int = 0, last: int | None = None,
+             lookahead_ticks: int | None = None) -> Motion:
+        """Start streaming planned segments [first, last) now; wait() on the Motion for its end."""
+        motion = Motion(self.link, segments, self.decels, first=first, last=last, lookahead_ticks=lookahead_ticks)
+        return self._begin(motion).start()  # type: ignore[return-value]
+
+    def run_job(self, plan: Plan) -> JobRun:
+        """Start a planned job now (pauses wait for JobRun.resume())."""
+        job = JobRun(self.link, plan, self.decels)
+        return self._begin(job).start()  # type: ignore[return-value]
+
+    def send_segments(self, segments: Sequence[Segment]) -> Motion:
+        """Start streaming raw segments (every firmware axis) now."""
+        arrays = SegmentArrays.of(segments, self.identity.axis_count)
+        motion = Motion(self.link, arrays, self.decels)
+        return self._begin(motion).start()  # type: ignore[return-value]
+
+    def hold(self, reason: str = "stop") -> MotionEnd | None:
+        """The user's stop: bring the running program to rest with HOLD; returns how it ended, with the
+        exact rest position (None when nothing ran)."""
+        program = self.program
+        return program.halt(reason) if program is not None else None
+
+    def emergency_stop(self) -> StatusReport:
+        """Immediate STOP, no deceleration (positions stay exact); also clears an alarm."""
+        status = self.link.stop()
+        with self._lock:
+            self._position = tuple(status.position[: self.axis_count])
+        return status
+
+    # --- reports from the firmware ------------------------------------------------------------------
+
+    def on_report(self, callback: Callable[[Report], None]) -> Callable[[], None]:
+        """Call `callback` (in the reader thread; keep it short) for every ALARM, ERROR, EVENT and SPACE ack;
+        returns the function that unregisters it."""
+        return self.link.on_report(callback)
+
+    def report_count(self, cls: type[Report]) -> int:
+        return self.link.report_count(cls)
+
+    def wait_report(self, cls: type[Report], after: int, timeout: float | None = None) -> Report | None:
+        """Until report number `after` + 1 of class `cls` arrives (see report_count); None on timeout."""
+        return self.link.wait_report(cls, after, self.link.generation, timeout)
+
+    # --- closing ------------------------------------------------------------------------------------
+
+    def close(self, bring_to_rest: bool = True) -> None:
+        """Bring a running program to rest (unless told not to: a link known to be lost), close the link,
+        stop an emulator this machine started."""
+        try:
+            if bring_to_rest:
+                self.hold("quit")
+        except LinkError:
+            pass  # the link is gone already
+        finally:
+            self.link.close()
+            if self.emulator is not None:
+                self.emulator.stop()
+
+    def __enter__(self) -> Machine:
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.close()
+
+    # --- internals ----------------------------------------------------------------------------------
+
+    def _refuse_if_busy(self, what: str) -> None:
+        if self.busy:
+            raise MachineError(f"cannot {what}: a program is running (stop it first)")
+
+    def _begin(self, program: Program) -> Program:
+        with self._lock:
+            if self._running is not None:
+                raise MachineError("a program is running already: one at a time (stop it first)")
+            self._running = program
+        program.on_end = lambda end: self._ended(program, end)
+        return program
+
+    def _ended(self, program: Program, end: MotionEnd) -> None:
+        """In the program's thread, before its waiters wake: adopt the exact rest position."""
+        with self._lock:
+            if end.position:
+                self._position = tuple(end.position[: self.axis_count])
+            if self._running is program:
+                self._running = None

@@ -1,0 +1,61 @@
+"""Where a machine is — a serial port, or the loopback emulator started for it — and opening it."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Any
+
+from ..config import MachineConfig
+from ..emulator import Emulator
+from ..link import DEFAULT_BAUD, Link
+from .machine import Machine
+
+
+@dataclass(frozen=True)
+class Target:
+    """A serial port (a device, or socket://host:port), or an emulator with these options."""
+
+    port: str | None = None
+    emulator: bool = False
+    baud: int = DEFAULT_BAUD
+    emulator_options: dict[str, Any] = field(default_factory=dict)
+
+    def __post_init__(self) -> None:
+        if self.emulator == (self.port is not None):
+            raise ValueError("give either a serial port or the emulator")
+
+    @property
+    def label(self) -> str:
+        return "emulator" if self.emulator else str(self.port)
+
+
+def start_emulator(target: Target, config: MachineConfig | None) -> Emulator:
+    """The emulator of `target`, ticking and with the axes `config` asks for (unless its options say)."""
+    options = dict(target.emulator_options)
+    if config is not None:
+        options.setdefault("tick_hz", config.tick_hz)
+        options.setdefault("axes", len(config.axes))
+    return Emulator(**options).start()
+
+
+def open_machine(
+    target: Target, config: MachineConfig | None = None, *, source: str = "the configuration",
+    emulator: Emulator | None = None,
+) -> Machine:
+    """Connect to `target`. For an emulator target, `emulator` is a running one to use (its owner stops
+    it); without it one is started, and the machine stops it when closed."""
+    started = None
+    if target.emulator and emulator is None:
+        emulator = started = start_emulator(target, config)
+    url = emulator.url if target.emulator and emulator is not None else str(target.port)
+    try:
+        link = Link.open(url, target.baud)
+        try:
+            return Machine(link, config, source=source, emulator=started)
+        except BaseException:
+            link.close()
+            raise
+    except BaseException:
+        if started is not None:
+            started.stop()
+        raise
