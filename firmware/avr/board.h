@@ -26,23 +26,23 @@
 #define QS_ENABLE_DDR DDRB
 #define QS_ENABLE_BIT PB0
 /* Inputs, all with pull-ups (a switch to ground closes them), on two
- * ports that the tick samples (inputs_tick.h). Limits X/Y/Z: D9/D10/D12 =
- * PB1/PB2/PB4, one pin per axis as on the shield (an axis's min and max
- * switches share it). Control: abort A0 = PC0, feed hold A1 = PC1, cycle
- * start A2 = PC2, probe A5 = PC5. */
+ * ports whose pin-change flags the tick looks at (inputs_tick.h). Limits
+ * X/Y/Z: D9/D10/D12 = PB1/PB2/PB4, one pin per axis as on the shield (an
+ * axis's min and max switches share it). Control: abort A0 = PC0, feed
+ * hold A1 = PC1, cycle start A2 = PC2, probe A5 = PC5. */
 #define QS_LIMIT_PORT PORTB
 #define QS_LIMIT_DDR DDRB
-#define QS_LIMIT_PIN_READ "in %[x], %[limit_pin]"
-#define QS_LIMIT_PIN_ADDR "I"(_SFR_IO_ADDR(PINB))
 #define QS_LIMIT_PIN PINB
 #define QS_LIMIT_MASK (_BV(PB1) | _BV(PB2) | _BV(PB4))
+#define QS_LIMIT_PCMSK PCMSK0
+#define QS_LIMIT_PCIF PCIF0
 /* Limit pins to input numbers (qs_inputs.h): PB1, PB2, PB4 -> 0, 1, 2. */
 #define QS_LIMIT_INPUTS(b) ((uint16_t)((((b) >> 1) & 3u) | (((b) >> 2) & 4u)))
 #define QS_CONTROL_PORT PORTC
 #define QS_CONTROL_DDR DDRC
-#define QS_CONTROL_PIN_READ "in %[x], %[control_pin]"
-#define QS_CONTROL_PIN_ADDR "I"(_SFR_IO_ADDR(PINC))
 #define QS_CONTROL_PIN PINC
+#define QS_CONTROL_PCMSK PCMSK1
+#define QS_CONTROL_PCIF PCIF1
 #define QS_INPUTS_PRESENT 0x0F07u /* limits 0-2, probe, abort, feed hold, cycle start */
 
 #elif QS_BOARD == 2
@@ -60,23 +60,24 @@
 #define QS_ENABLE_PORT PORTC
 #define QS_ENABLE_DDR DDRC
 #define QS_ENABLE_BIT PC7
-/* Inputs, all with pull-ups (a switch to ground closes them). Limits on
- * PORTL, a min and a max switch per axis: min X/Y/Z/A = D49/D48/D47/D46
- * (PL0..PL3), max X/Y/Z/A = D45/D44/D43/D42 (PL4..PL7). Control on PORTK,
- * as the Uno's on PORTC: abort A8 = PK0, feed hold A9 = PK1, cycle start
- * A10 = PK2, probe A13 = PK5. */
-#define QS_LIMIT_PORT PORTL
-#define QS_LIMIT_DDR DDRL
-#define QS_LIMIT_PIN_READ "lds %[x], %[limit_pin]"
-#define QS_LIMIT_PIN_ADDR "i"(_SFR_MEM_ADDR(PINL))
-#define QS_LIMIT_PIN PINL
+/* Inputs, all with pull-ups (a switch to ground closes them), on two
+ * ports with pin-change flags. Limits on PORTK, a min and a max switch per
+ * axis: min X/Y/Z/A = A8/A9/A10/A11 (PK0..PK3), max X/Y/Z/A =
+ * A12/A13/A14/A15 (PK4..PK7). Control on PORTB, in the Uno's PORTC bits:
+ * abort D53 = PB0, feed hold D52 = PB1, cycle start D51 = PB2, probe
+ * D11 = PB5 (SPI is unused). */
+#define QS_LIMIT_PORT PORTK
+#define QS_LIMIT_DDR DDRK
+#define QS_LIMIT_PIN PINK
 #define QS_LIMIT_MASK 0xFF
+#define QS_LIMIT_PCMSK PCMSK2
+#define QS_LIMIT_PCIF PCIF2
 #define QS_LIMIT_INPUTS(b) ((uint16_t)(b))
-#define QS_CONTROL_PORT PORTK
-#define QS_CONTROL_DDR DDRK
-#define QS_CONTROL_PIN_READ "lds %[x], %[control_pin]"
-#define QS_CONTROL_PIN_ADDR "i"(_SFR_MEM_ADDR(PINK))
-#define QS_CONTROL_PIN PINK
+#define QS_CONTROL_PORT PORTB
+#define QS_CONTROL_DDR DDRB
+#define QS_CONTROL_PIN PINB
+#define QS_CONTROL_PCMSK PCMSK0
+#define QS_CONTROL_PCIF PCIF0
 #define QS_INPUTS_PRESENT 0x0FFFu
 
 #else
@@ -87,6 +88,9 @@
  * the probe on bit 5; to input numbers 9, 10, 11 and 8. */
 #define QS_CONTROL_MASK 0x27u
 #define QS_CONTROL_INPUTS(c) ((uint16_t)((((uint16_t)(c) & 7u) << 9) | ((((uint16_t)(c) >> 5) & 1u) << 8)))
+/* The pin-change flags of both ports (set by any change of a masked pin;
+ * the pin-change interrupts themselves stay off). */
+#define QS_INPUT_FLAGS ((uint8_t)(_BV(QS_LIMIT_PCIF) | _BV(QS_CONTROL_PCIF)))
 
 #if QS_AXIS_COUNT > QS_MAX_AXES
 #error "QS_AXIS_COUNT exceeds the step/dir pins this board maps"

@@ -14,6 +14,6 @@ const volatile void *const qs_debug_probe[] PROGMEM = {
     &core.engine.left,         /* uint16_t: ticks left in the running segment */
     &core.engine.queue.tail,   /* uint8_t: released with each finished segment */
     &core.engine.state,        /* uint8_t: QS_STATE_* */
-    &core.engine.latches.next, /* uint8_t: moves on with each latch the tick takes */
+    &core.engine.latches.taken, /* uint8_t: moves on with each latch the tick takes */
     &core.engine.hold.ticks,   /* low byte: moves on with each tick of a hold */
 };

@@ -5,6 +5,7 @@
 
 #include "board.h"
 #include "firmware.h"
+#include "inputs_tick.h"
 #include "pins.h"
 #include "step_timer.h"
 #include "uart.h"
@@ -51,6 +52,7 @@ int main(void)
     pins_init();
     qs_core_init(&core);
     qs_inputs_init(&core.inputs, QS_INPUTS_PRESENT);
+    inputs_changed(); /* the power-up state: switches already closed are a state, not an edge */
     uart_init();
     step_timer_init();
     set_sleep_mode(SLEEP_MODE_IDLE);

@@ -19,4 +19,8 @@ void pins_init(void)
     QS_LIMIT_PORT |= QS_LIMIT_MASK;
     QS_CONTROL_DDR &= (uint8_t)~QS_CONTROL_MASK;
     QS_CONTROL_PORT |= QS_CONTROL_MASK;
+    /* Their changes raise the pin-change flags the tick looks at; no
+     * interrupt (PCICR stays 0). */
+    QS_LIMIT_PCMSK = QS_LIMIT_MASK;
+    QS_CONTROL_PCMSK = QS_CONTROL_MASK;
 }

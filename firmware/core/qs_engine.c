@@ -27,6 +27,7 @@ void qs_engine_init(qs_engine *e, uint8_t queue_capacity)
     for (axis = 0; axis < QS_LATCH_RING; axis++)
         e->latches.entry[axis].state = QS_LATCH_FREE;
     e->latches.next = 0;
+    e->latches.taken = 0;
     e->latches.oldest = 0;
     e->latches.lost = 0;
     e->frozen = 0;
@@ -413,6 +414,7 @@ qs_latch *qs_engine_latch_in_tick(qs_engine *e)
     l->slot = e->queue.tail;
     l->resolved = 0;
     r->next = next_latch(r->next);
+    r->taken++;
     return l;
 }
 

@@ -59,6 +59,7 @@ typedef struct {
 typedef struct {
     qs_latch entry[QS_LATCH_RING];
     volatile uint8_t next; /* tick: the entry the next edge takes */
+    volatile uint8_t taken; /* tick: latches taken (mod 256), for a debugger to time them */
     uint8_t oldest;        /* main loop: the oldest entry not yet freed */
     uint16_t lost;         /* edges with no free entry (saturates) */
 } qs_latch_ring;

@@ -5,6 +5,9 @@
 
 #include "avr_ioport.h"
 #include "sim_cycle_timers.h"
+#include "sim_io.h"
+
+#define PCIFR_ADDR 0x3B /* I/O 0x1B on both chips */
 
 #define MAX_EDGES 4096
 #define MAX_PENDING 64
@@ -15,6 +18,7 @@ typedef struct {
     uint32_t tick;        /* motion ticks decided by then */
     uint8_t input, level;
     uint64_t latch_cycle; /* entry of the tick interrupt that latched it (0: none) */
+    uint64_t latch_done;  /* ... and the end of it */
     uint32_t latch_tick;  /* the motion tick it latched */
     uint64_t last_step;   /* the last rising step edge after it, before the next edge (0: none) */
 } edge;
@@ -36,7 +40,7 @@ struct sim_inputs {
     int queued;
     uint32_t motion_tick;
     uint64_t entry_cycle;
-    uint8_t latch_next;
+    uint8_t latches_taken;
     int awaiting_latch;   /* index of the oldest edge not latched yet, -1 none */
     edge edges[MAX_EDGES];
     uint32_t count, dropped;
@@ -54,7 +58,7 @@ static void set_pin(sim_inputs *in, int input, uint8_t level)
         in->dropped++;
         return;
     }
-    in->edges[in->count] = (edge){in->avr->cycle, in->motion_tick, (uint8_t)input, level, 0, 0, 0};
+    in->edges[in->count] = (edge){in->avr->cycle, in->motion_tick, (uint8_t)input, level, 0, 0, 0, 0};
     if (in->awaiting_latch < 0)
         in->awaiting_latch = (int)in->count;
     in->count++;
@@ -96,6 +100,15 @@ static void drive(sim_inputs *in)
     }
 }
 
+/* The chip clears a pin-change flag written with a one (the datasheet's
+ * PCIFR); simavr 1.6 stores the one instead, so the harness does what the
+ * chip does. */
+static void pcifr_write(avr_t *avr, avr_io_addr_t addr, uint8_t v, void *param)
+{
+    (void)param;
+    avr->data[addr] &= (uint8_t)~v;
+}
+
 sim_inputs *sim_inputs_attach(avr_t *avr, const sim_board *board, machine *m, uint32_t delay)
 {
     sim_inputs *in = calloc(1, sizeof *in);
@@ -108,6 +121,7 @@ sim_inputs *sim_inputs_attach(avr_t *avr, const sim_board *board, machine *m, ui
     in->m = m;
     in->delay = delay;
     in->awaiting_latch = -1;
+    avr_register_io_write(avr, PCIFR_ADDR, pcifr_write, in);
     for (input = 0; input < INPUTS; input++) {
         const char port = input < 8 ? board->limit_port : board->control_port;
         if (board->input_bit[input] >= 0)
@@ -134,15 +148,16 @@ void sim_inputs_tick_enter(sim_inputs *in, uint32_t motion_tick)
     }
 }
 
-void sim_inputs_tick_done(sim_inputs *in, uint8_t latch_next)
+void sim_inputs_tick_done(sim_inputs *in, uint8_t latches_taken)
 {
-    if (latch_next == in->latch_next)
+    if (latches_taken == in->latches_taken)
         return;
-    in->latch_next = latch_next;
+    in->latches_taken = latches_taken;
     /* The oldest edge not latched yet is the one this latch is of. */
     if (in->awaiting_latch >= 0) {
         edge *e = &in->edges[in->awaiting_latch];
         e->latch_cycle = in->entry_cycle;
+        e->latch_done = in->avr->cycle;
         e->latch_tick = in->motion_tick;
         in->awaiting_latch = in->awaiting_latch + 1 < (int)in->count ? in->awaiting_latch + 1 : -1;
     }
@@ -172,9 +187,10 @@ void sim_inputs_write_json(const sim_inputs *in, FILE *f)
         const edge *e = &in->edges[i];
         fprintf(f,
                 "%s{\"cycle\": %llu, \"tick\": %u, \"input\": %u, \"level\": %u, \"latch_cycle\": %llu, "
-                "\"latch_tick\": %u, \"last_step_cycle\": %llu}",
+                "\"latch_done_cycle\": %llu, \"latch_tick\": %u, \"last_step_cycle\": %llu}",
                 i ? ", " : "", (unsigned long long)e->cycle, e->tick, e->input, e->level,
-                (unsigned long long)e->latch_cycle, e->latch_tick, (unsigned long long)e->last_step);
+                (unsigned long long)e->latch_cycle, (unsigned long long)e->latch_done, e->latch_tick,
+                (unsigned long long)e->last_step);
     }
     fprintf(f, "]");
 }

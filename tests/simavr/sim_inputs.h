@@ -24,8 +24,8 @@ sim_inputs *sim_inputs_attach(avr_t *avr, const sim_board *board, machine *m, ui
 
 /* A tick interrupt begins; motion_tick: ticks decided so far. */
 void sim_inputs_tick_enter(sim_inputs *in, uint32_t motion_tick);
-/* It ended; latch_next: the firmware's latch ring index now. */
-void sim_inputs_tick_done(sim_inputs *in, uint8_t latch_next);
+/* It ended; latches_taken: the firmware's count of latches taken (mod 256). */
+void sim_inputs_tick_done(sim_inputs *in, uint8_t latches_taken);
 /* A rising step edge. */
 void sim_inputs_step(sim_inputs *in, int axis, int direction);
 

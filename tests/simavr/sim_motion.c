@@ -164,7 +164,7 @@ void sim_motion_tick_done(void *motion, uint32_t cycles)
     m->prev_cost = cycles;
     m->raised = 0;
     m->ticks += (uint32_t)ran;
-    sim_inputs_tick_done(m->inputs, m->avr->data[m->probe.latch_next]);
+    sim_inputs_tick_done(m->inputs, m->avr->data[m->probe.latches_taken]);
 }
 
 sim_motion *sim_motion_attach(avr_t *avr, const sim_board *board, const sim_probe *probe,

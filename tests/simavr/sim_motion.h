@@ -33,7 +33,7 @@ typedef struct {
     uint16_t left;  /* uint16_t */
     uint16_t tail;  /* uint8_t */
     uint16_t state; /* uint8_t */
-    uint16_t latch_next; /* uint8_t: the latch ring's write index */
+    uint16_t latches_taken; /* uint8_t: latches taken (mod 256) */
     uint16_t hold_ticks; /* low byte of the hold's tick count */
 } sim_probe;
 
