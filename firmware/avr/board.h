@@ -87,7 +87,7 @@
 /* Control pins on both boards: abort, feed hold, cycle start on bits 0-2,
  * the probe on bit 5; to input numbers 9, 10, 11 and 8. */
 #define QS_CONTROL_MASK 0x27u
-#define QS_CONTROL_INPUTS(c) ((uint16_t)((((uint16_t)(c) & 7u) << 9) | ((((uint16_t)(c) >> 5) & 1u) << 8)))
+#define QS_CONTROL_INPUTS(c) ((uint16_t)((uint16_t)(uint8_t)((((c) & 7u) << 1) | (((uint8_t)(c) >> 5) & 1u)) << 8))
 /* The pin-change flags of both ports (set by any change of a masked pin;
  * the pin-change interrupts themselves stay off). */
 #define QS_INPUT_FLAGS ((uint8_t)(_BV(QS_LIMIT_PCIF) | _BV(QS_CONTROL_PCIF)))

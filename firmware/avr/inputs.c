@@ -6,8 +6,10 @@
 
 static uint16_t read_inputs(void)
 {
-    return (uint16_t)(QS_LIMIT_INPUTS(QS_LIMIT_PIN & QS_LIMIT_MASK)
-                      | QS_CONTROL_INPUTS(QS_CONTROL_PIN & QS_CONTROL_MASK));
+    const uint8_t limits = QS_LIMIT_PIN & QS_LIMIT_MASK; /* each port read once */
+    const uint8_t control = QS_CONTROL_PIN & QS_CONTROL_MASK;
+
+    return (uint16_t)(QS_LIMIT_INPUTS(limits) | QS_CONTROL_INPUTS(control));
 }
 
 /* From the step interrupt's asm (which saved the registers), and once

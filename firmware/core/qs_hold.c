@@ -4,18 +4,23 @@
 /* floor(2*kn*D * decel * 2^-24) = (kn * decel) >> 11 */
 #define DB_SHIFT (QS_DECEL_SHIFT - QS_SPEED_SHIFT - 1)
 
+/* Shifts by constants only: the AVR shifts by a variable count in a loop,
+ * and an armed PROBE plans in the tick. */
 uint8_t qs_hold_shift(uint16_t n)
 {
     uint8_t shift = 0;
 
-    while ((uint16_t)(n << (shift + 1)) <= QS_N_MAX)
+    while ((uint16_t)(n << 1) <= QS_N_MAX) {
+        n = (uint16_t)(n << 1);
         shift++;
+    }
     return shift;
 }
 
 qs_i24 qs_hold_db(uint16_t kn, uint16_t decel)
 {
-    uint16_t quanta = (uint16_t)(((uint32_t)kn * decel) >> DB_SHIFT);
+    /* kn * decel < 2^24: the product's middle bytes, then the last 3 bits. */
+    uint16_t quanta = (uint16_t)((uint16_t)(((uint32_t)kn * decel) >> 8) >> (DB_SHIFT - 8));
 
     /* A deceleration below one quantum would never stop the axis. */
     return quanta ? -(qs_i24)quanta : -1;
@@ -29,7 +34,7 @@ void qs_hold_plan(qs_hold *hd, uint16_t n, const uint16_t *decel)
 
     hd->shift = shift;
     hd->bits_k = (uint8_t)(1u << (shift & 7));
-    hd->two_c2 = (qs_i24)2 * kn * QS_D;
+    hd->two_c2 = (qs_i24)(uint16_t)(kn << (QS_SPEED_SHIFT + 1 - 8)) << 8; /* 2knD: a short shift, a byte move */
     for (axis = 0; axis < QS_AXIS_COUNT; axis++) {
         hd->db[axis] = qs_hold_db(kn, decel[axis]);
         hd->steps[axis] = 0;

@@ -18,6 +18,7 @@ void qs_inputs_init(qs_inputs *in, uint16_t present)
     in->hard_limits = 1;
     for (i = 0; i < QS_INPUT_COUNT; i++)
         in->debounce[i] = 0;
+    in->at_once = QS_INPUTS_ALL;
     for (i = 0; i < QS_AXIS_COUNT; i++)
         in->hold_decel[i] = QS_INPUTS_DEFAULT_HOLD_DECEL;
     in->raw = QS_INPUTS_RESAMPLE;
@@ -32,18 +33,6 @@ static uint16_t active_levels(const qs_inputs *in, uint16_t raw)
 {
     /* Active low unless inverted: a switch to ground closes the input. */
     return (uint16_t)(~(raw ^ in->invert) & in->enabled);
-}
-
-/* The inputs in mask with no debounce. */
-static uint16_t without_debounce(const qs_inputs *in, uint16_t mask)
-{
-    uint16_t bit = 1, none = 0;
-    uint8_t i;
-
-    for (i = 0; i < QS_INPUT_COUNT; i++, bit = (uint16_t)(bit << 1))
-        if ((mask & bit) && in->debounce[i] == 0)
-            none |= bit;
-    return none;
 }
 
 /* The longest debounce among the inputs in mask. */
@@ -135,7 +124,7 @@ QS_NOINLINE uint8_t qs_inputs_update(qs_inputs *in, qs_engine *e, uint16_t raw)
     changed = (now ^ in->active) & (uint16_t)~in->window;
     if (!changed)
         return in->window != 0;
-    at_once = without_debounce(in, changed);
+    at_once = changed & in->at_once;
     later = changed & (uint16_t)~at_once;
     if (at_once)
         accept(in, e, qs_engine_latch_in_tick(e), at_once);
@@ -162,13 +151,18 @@ void qs_inputs_configure(qs_inputs *in, qs_engine *e, uint16_t invert, uint16_t 
                          const uint8_t *debounce, const uint16_t *hold_decel)
 {
     uint8_t saved = qs_port_lock();
+    uint16_t at_once = 0;
     uint8_t i;
 
     in->invert = invert & in->present;
     in->enabled = enabled & in->present;
     in->hard_limits = hard_limits;
-    for (i = 0; i < QS_INPUT_COUNT; i++)
+    for (i = 0; i < QS_INPUT_COUNT; i++) {
         in->debounce[i] = debounce[i];
+        if (debounce[i] == 0)
+            at_once |= BIT(i);
+    }
+    in->at_once = at_once;
     for (i = 0; i < QS_AXIS_COUNT; i++)
         in->hold_decel[i] = hold_decel[i];
     if (in->tentative != QS_INPUT_NONE)

@@ -48,6 +48,7 @@ typedef struct {
     uint16_t enabled;      /* inputs acted on and reported; the others are ignored */
     uint8_t hard_limits;   /* a limit becoming active outside an armed PROBE alarms */
     uint8_t debounce[QS_INPUT_COUNT]; /* ticks an edge must last */
+    uint16_t at_once;      /* inputs with debounce 0 */
     uint16_t hold_decel[QS_AXIS_COUNT]; /* the feed hold's decelerations, as HOLD's */
     /* The tick's side. */
     uint16_t raw;          /* raw levels, bit set: pin high; QS_INPUTS_RESAMPLE before the first sample */
