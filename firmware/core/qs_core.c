@@ -347,6 +347,17 @@ static uint8_t in_sequence(qs_core *c, const qs_host_msg *m)
     return 0;
 }
 
+/* A hold the firmware began itself (a trigger, the feed hold button) ends
+ * the stream: frames the host sent before it learns of it must not run once
+ * the hold is over. Moving next_seq on by half the sequence space makes
+ * every one of them a duplicate (PROTOCOL.md 5.4); the host adopts next_seq
+ * from a status at rest. */
+static void end_stream(qs_core *c)
+{
+    c->engine.resequence = 0;
+    c->next_seq = (uint8_t)(c->next_seq + 128);
+}
+
 /* Every host message, by type (PROTOCOL.md section 5): its parser, then
  * what it does. A new message is one case here. */
 static void on_frame(qs_core *c, const uint8_t *body, uint8_t len)
@@ -359,6 +370,8 @@ static void on_frame(qs_core *c, const uint8_t *body, uint8_t len)
 
     m.type = body[0];
     m.seq = body[1];
+    if (c->engine.resequence)
+        end_stream(c);
     report_pending_hold(c);
     switch (m.type) {
     case QS_TYPE_IDENTIFY:
@@ -489,9 +502,12 @@ static void serve_inputs(qs_core *c)
     qs_engine *e = &c->engine;
     const uint8_t request = c->inputs.hold_request;
 
+    if (e->resequence)
+        end_stream(c);
     if (request) {
         c->inputs.hold_request = 0;
         qs_engine_hold(e, request == QS_INPUTS_HOLD_FEED ? c->inputs.hold_decel : e->trigger_decel);
+        end_stream(c);
     }
     if (e->trigger && e->state == QS_STATE_IDLE && qs_queue_empty(&e->queue)
         && (uint16_t)e->segments_done != e->trigger_since && !qs_inputs_settling(&c->inputs))

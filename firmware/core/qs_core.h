@@ -79,7 +79,8 @@ static QS_ALWAYS_INLINE void qs_core_poll(qs_core *c)
 
     if (e->queue.retired != e->queue.tail || e->segments_done != c->space_announced
         || (e->alarm != QS_ALARM_NONE && !c->alarm_announced) || e->hold_report || e->frozen
-        || qs_engine_latch_waiting(e) || c->inputs.hold_request || (e->trigger && e->state == QS_STATE_IDLE))
+        || qs_engine_latch_waiting(e) || c->inputs.hold_request || e->resequence
+        || (e->trigger && e->state == QS_STATE_IDLE))
         qs_core_poll_work(c);
 }
 

@@ -33,6 +33,7 @@ void qs_engine_init(qs_engine *e, uint8_t queue_capacity)
     e->frozen = 0;
     e->trigger = 0;
     e->held_by_tick = 0;
+    e->resequence = 0;
 }
 
 static int32_t signed_steps(const qs_segment *s, uint8_t axis, int32_t steps, int32_t position)
@@ -469,6 +470,7 @@ uint8_t qs_engine_trigger_in_tick(qs_engine *e)
     moving = qs_hold_begin(&e->hold, s);
     e->state = QS_STATE_HOLDING;
     e->slow_path = 1;
+    e->resequence = 1;
     if (!moving) {
         /* Every axis at rest already (a dwell): nothing more moves, and the
          * main loop ends it there as a hold found at rest. */

@@ -46,6 +46,7 @@ typedef struct {
     uint8_t trigger_input;   /* QS_INPUT_* index (qs_inputs.h) */
     uint8_t trigger_level;   /* 1: until it becomes active, 0: until it becomes inactive */
     uint8_t held_by_tick;    /* the hold was begun by the tick: drop the queue when it ends */
+    volatile uint8_t resequence; /* the tick ended the stream at a trigger: the core moves next_seq on */
     uint16_t trigger_decel[QS_AXIS_COUNT];
     uint16_t trigger_since;  /* segments_done when armed (low bits): the armed motion has run once it moves on */
 } qs_engine;

@@ -25,7 +25,6 @@
 #define UNDERRUN_GRACE_NS 500000000ull /* free-running: wait this long for the host */
 #define FREE_BATCH 4096u               /* free-running: ticks between input checks */
 #define PACED_POLL_MS 1
-#define SETTLE_MAX 1000000u            /* idle: at most this many input-only ticks at once */
 
 typedef struct {
     emu_options opts;
@@ -45,6 +44,9 @@ typedef struct {
     uint64_t clock_ticks;
     /* Free-running: when the engine began waiting at an underrun. */
     uint64_t underrun_since_ns;
+    /* At rest while the inputs settle: ticks sampled since idle_ref_ns (0: not settling). */
+    uint64_t idle_ref_ns;
+    uint64_t idle_ticks;
 } emulator;
 
 static emulator emu;
@@ -167,20 +169,35 @@ static void run_tick(emulator *m)
     watch_state(m);
 }
 
-/* At rest, the board still samples its inputs every tick: while the
+static int inputs_settling(const emulator *m)
+{
+    return qs_inputs_settling(&m->core.inputs) || (m->machine && machine_busy(m->machine));
+}
+
+/* At rest the board still samples its inputs every tick: while the
  * machine has a bounce or a press under way, or the firmware a debounce
- * window open, do the same (at once, not in real time). */
+ * window open, do the same, at the tick rate in real time (free-running
+ * too: a press lasts as long as on a board). */
 static void settle_inputs(emulator *m)
 {
-    uint32_t n;
+    uint64_t now, due;
 
-    for (n = 0; n < SETTLE_MAX && !in_motion(&m->core.engine); n++) {
-        if (!qs_inputs_settling(&m->core.inputs) && !(m->machine && machine_busy(m->machine)))
-            break;
+    if (!inputs_settling(m)) {
+        m->idle_ref_ns = 0;
+        return;
+    }
+    now = now_ns();
+    if (m->idle_ref_ns == 0) {
+        m->idle_ref_ns = now;
+        m->idle_ticks = 0;
+    }
+    due = (now - m->idle_ref_ns) / 1000ull * m->opts.tick_hz / 1000000ull;
+    while (m->idle_ticks < due && !in_motion(&m->core.engine) && inputs_settling(m)) {
         move_machine(m, 0, 0);
         sample_inputs(m);
         qs_core_poll(&m->core);
         watch_state(m);
+        m->idle_ticks++;
     }
 }
 
@@ -292,7 +309,7 @@ static int poll_timeout_ms(emulator *m, int waiting_at_underrun)
     uint64_t left;
 
     if (!in_motion(&m->core.engine))
-        return -1;
+        return inputs_settling(m) ? PACED_POLL_MS : -1;
     if (!m->opts.free_running)
         return PACED_POLL_MS;
     if (!waiting_at_underrun)
@@ -393,6 +410,7 @@ int main(int argc, char **argv)
             emu_port_discard(); /* the previous client's unread reports */
         read_input(m);
         if (in_motion(&m->core.engine)) {
+            m->idle_ref_ns = 0;
             if (m->opts.free_running)
                 run_free(m);
             else
