@@ -24,7 +24,7 @@ MAX_FRAME = 64
 
 TYPES = {
     "IDENTIFY": 0x01, "STATUS": 0x02, "STOP": 0x03, "HOLD": 0x04, "INPUTS": 0x06,
-    "SEGMENT": 0x10, "SET_POSITION": 0x11, "PROBE": 0x15, "CONFIG": 0x16,
+    "SEGMENT": 0x10, "SET_POSITION": 0x11, "CUBIC_SEGMENT": 0x12, "PROBE": 0x15, "CONFIG": 0x16,
     "ACK": 0x80, "IDENTIFY_REPLY": 0x81, "STATUS_REPORT": 0x82, "ERROR": 0x83, "ALARM": 0x84, "EVENT": 0x85,
     "INPUT_STATUS": 0x86,
 }
@@ -35,7 +35,8 @@ ERROR_CODES = {
     "BAD_FIELD": 16, "BUSY": 17, "ALARM_ACTIVE": 18, "INPUT_AT_LEVEL": 19,
 }
 FIELDS = {"N": 1, "AXES": 2, "DIRECTION": 3, "V0": 4, "VN": 5, "RESIDUAL": 6, "DECEL": 7, "INPUT": 8, "LEVEL": 9,
-          "INPUTS": 10, "HARD_LIMITS": 11}
+          "INPUTS": 10, "HARD_LIMITS": 11,
+          "SPEED": 12, "ACCEL": 13}
 ALARMS = {"UNDERRUN": 1, "REJECTED_SEGMENT": 2, "HARD_LIMIT": 3, "HOST_LOST": 4, "E_STOP": 5}
 STATES = {"IDLE": 0, "RUNNING": 1, "ALARM": 2, "HOLDING": 3}
 EVENT_KINDS = {"HOLD_DONE": 1, "INPUT": 2, "PROBE_MISSED": 3}
@@ -91,6 +92,21 @@ def segment_payload(n: int, axes: list[dict], extra_mask: int = 0) -> bytes:
     return struct.pack("<HB", n, mask) + fields
 
 
+def cubic_payload(n: int, axes: list[dict], extra_mask: int = 0) -> bytes:
+    """n, the fields byte (bits 0-3 jerk, 4-7 set), then per named axis its set and its jerk."""
+    mask = extra_mask
+    out = b""
+    for a in sorted(axes, key=lambda a: a["axis"]):
+        if "speed" in a:
+            mask |= 16 << a["axis"]
+            out += struct.pack("<I", a["speed"] | (1 << 31 if a.get("direction", 1) < 0 else 0))
+            out += (a.get("accel", 0) & 0xFFFFFF).to_bytes(3, "little")
+        if "jerk" in a:
+            mask |= 1 << a["axis"]
+            out += struct.pack("<h", a["jerk"])
+    return struct.pack("<HB", n, mask) + out
+
+
 def set_position_payload(positions: dict[int, int], extra_mask: int = 0) -> bytes:
     mask = extra_mask
     for axis in positions:
@@ -120,6 +136,8 @@ def payload(msg: dict) -> bytes:
                            msg["hard_limits"], armed, msg["level"], msg["latches_lost"])
     if t == "SEGMENT":
         return segment_payload(msg["n"], msg["axes"])
+    if t == "CUBIC_SEGMENT":
+        return cubic_payload(msg["n"], msg["axes"])
     if t == "SET_POSITION":
         return set_position_payload({int(k): v for k, v in msg["positions"].items()})
     if t == "ACK":
@@ -193,6 +211,25 @@ def bad_segment(name: str, n: int, axes: list[dict], field: str, axis: int | Non
                 extra_mask: int = 0, axis_count: int = 4, seq: int = 7) -> None:
     frame = wire(bytes([TYPES["SEGMENT"], seq]) + segment_payload(n, axes, extra_mask))
     bad(name, TO_FW, frame, "BAD_FIELD", field, axis, axis_count)
+
+
+def cj(axis: int, jerk: int) -> dict:
+    """A cubic segment axis with a jerk only."""
+    return {"axis": axis, "jerk": jerk}
+
+
+def cs(axis: int, speed: int, accel: int, direction: int, jerk: int | None) -> dict:
+    """A cubic segment axis with a state set, and a jerk unless None."""
+    a = {"axis": axis, "speed": speed, "accel": accel, "direction": direction}
+    if jerk is not None:
+        a["jerk"] = jerk
+    return a
+
+
+def bad_cubic(name: str, n: int, axes: list[dict], field: str, axis: int | None, axis_count: int = 4,
+              seq: int = 9) -> None:
+    frame = wire(bytes([TYPES["CUBIC_SEGMENT"], seq]) + cubic_payload(n, axes))
+    bad(name, TO_FW, frame, "BAD_FIELD", field, axis, axis_count=axis_count)
 
 
 def hold(seq: int, *decel: int) -> dict:
@@ -321,8 +358,9 @@ def build() -> list[dict]:
           {"type": "ERROR", "seq": 8, "code": "BAD_LENGTH", "frame_type": 0x10, "frame_seq": 8,
            "field": None, "axis": None})
     for i, field in enumerate(FIELDS):
-        axis = i - 3 if field in ("V0", "VN", "RESIDUAL", "DECEL") else None
-        frame_type = TYPES["HOLD"] if field == "DECEL" else TYPES["SEGMENT"]
+        axis = i - 3 if field in ("V0", "VN", "RESIDUAL", "DECEL") else 1 if field in ("SPEED", "ACCEL") else None
+        frame_type = (TYPES["HOLD"] if field == "DECEL" else
+                      TYPES["CUBIC_SEGMENT"] if field in ("SPEED", "ACCEL") else TYPES["SEGMENT"])
         valid(f"error bad_field {field.lower()}", TO_HOST,
               {"type": "ERROR", "seq": 20 + i, "code": "BAD_FIELD", "frame_type": frame_type, "frame_seq": 20 + i,
                "field": field, "axis": axis})
@@ -397,7 +435,7 @@ def build() -> list[dict]:
     bad("64 decoded bytes pass framing, then bad length", TO_FW, wire(longest), "BAD_LENGTH")
 
     # Unknown types, immediate and sequenced ranges; reports sent the wrong way.
-    for t in (0x00, 0x05, 0x07, 0x0F, 0x12, 0x13, 0x14, 0x17, 0x3F, 0x40, 0x7F, 0x80, 0x82, 0x85, 0x86):
+    for t in (0x00, 0x05, 0x07, 0x0F, 0x13, 0x14, 0x17, 0x3F, 0x40, 0x7F, 0x80, 0x82, 0x85, 0x86):
         bad(f"unknown type 0x{t:02x} to firmware", TO_FW, wire(bytes([t, 3])), "UNKNOWN_TYPE")
     for t in (0x01, 0x04, 0x06, 0x10, 0x15, 0x87, 0xFF):
         bad(f"unknown type 0x{t:02x} to host", TO_HOST, wire(bytes([t, 3, 0, 0, 0, 0, 0])), "UNKNOWN_TYPE")
@@ -494,6 +532,34 @@ def build() -> list[dict]:
     bad_hold("hold decel for axis 3 on a 3-axis firmware", [1, 1, 1, 1], 3, axis_count=3)
     bad_hold("hold decel for axis 1 on a 1-axis firmware", [8191, 8191, 0, 0], 1, axis_count=1)
     bad_hold("hold decel 0 on axis 2 of a 3-axis firmware", [5, 5, 0, 0], 2, axis_count=3)
+
+    # CUBIC_SEGMENT: a chained jerk on three axes (15 bytes on the wire), a cruise with nothing
+    # named (9 bytes), state sets with both directions and the extremes of every field. Valid ones
+    # are valid for a freshly started firmware (every axis at rest).
+    valid("cubic segment, jerk on 3 axes", TO_FW,
+          {"type": "CUBIC_SEGMENT", "seq": 30, "n": 500, "axes": [cj(0, 3), cj(1, 7), cj(2, 1000)]})
+    valid("cubic segment, nothing named: a cruise", TO_FW, {"type": "CUBIC_SEGMENT", "seq": 31, "n": 65535, "axes": []})
+    valid("cubic segment, sets and jerks", TO_FW,
+          {"type": "CUBIC_SEGMENT", "seq": 32, "n": 1000,
+           "axes": [cs(0, 2**30, 1000, -1, 0), cs(1, 0, 0, 1, 30), cs(3, 12345, 1000, -1, None)]})
+    valid("cubic segment, extreme set", TO_FW,
+          {"type": "CUBIC_SEGMENT", "seq": 33, "n": 1,
+           "axes": [cs(0, 2**31 - 1, -(2**23) + 1, 1, None), cs(1, 2**31 - 1, 2**23 - 1, -1, None)]})
+    bad("cubic segment without payload", TO_FW, wire(bytes([0x12, 0])), "BAD_LENGTH")
+    bad("cubic segment, a jerk missing", TO_FW, wire(bytes([0x12, 0]) + cubic_payload(5, [cj(0, 1)])[:-1]),
+        "BAD_LENGTH")
+    bad("cubic segment, a set short by a byte", TO_FW,
+        wire(bytes([0x12, 0]) + cubic_payload(5, [cs(2, 1, 0, 1, None)])[:-1]), "BAD_LENGTH")
+    bad_cubic("cubic n = 0", 0, [cj(0, 1)], "N", None)
+    bad_cubic("cubic jerk on axis 3 of a 3-axis firmware", 10, [cj(3, 1)], "AXES", None, axis_count=3)
+    bad_cubic("cubic set on axis 3 of a 3-axis firmware", 10, [cs(3, 0, 0, 1, None)], "AXES", None, axis_count=3)
+    # content against the state a fresh firmware's axes have: at rest on the ideal
+    bad_cubic("cubic negative jerk from rest", 10, [cj(0, 2), cj(1, -5)], "SPEED", 1)
+    bad_cubic("cubic set that speeds past a step per tick", 100, [cs(0, 2**31 - 2**16, 100000, 1, None)], "SPEED", 0)
+    bad_cubic("cubic acceleration past 24 bits by the end", 100, [cs(2, 2**28, 8388000, 1, 100)], "ACCEL", 2)
+    bad_cubic("cubic acceleration checked before speed", 100,
+              [cs(0, 2**31 - 2**16, 100000, 1, None), cs(1, 2**28, 8388000, 1, 100)], "ACCEL", 1)
+    bad_cubic("cubic speed dipping below zero inside the segment", 1001, [cs(1, 1000000, -4000, 1, 8)], "SPEED", 1)
 
     # SET_POSITION content.
     frame = wire(bytes([TYPES["SET_POSITION"], 5]) + set_position_payload({3: 1}))

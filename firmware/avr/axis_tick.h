@@ -155,6 +155,124 @@ _Static_assert(offsetof(qs_segment, two_c2) + 2u <= 63u, "ldd reaches 63 bytes p
 _Static_assert(offsetof(qs_hold, steps) + 3u * QS_AXIS_COUNT - 1u <= 63u, "ldd reaches 63 bytes past Z");
 _Static_assert(sizeof(qs_i24) == 3, "24-bit engine values");
 
+
+/* The cubic segment's decisions for every axis at once (qs_cubic_axis_tick
+ * in qs_engine_tick.h, the same effect), in one block so that the steps
+ * can build up in r0 (each axis writes its bit with bst/bld: the bit is set
+ * when the axis does NOT step, and the block ends with a complement). Per
+ * axis the 32-bit h and b and the 24-bit q and r stream through r18..r25
+ * and are added byte by byte from memory: ldd/std leave the carry alone.
+ * Adding Sigma = 2^31 without a step is subi 0x80 on h's top byte; q is
+ * sign-extended into b's top byte with adc 0 and a conditional dec. The
+ * rarer paths (r = 0, steady) branch out of line, so a jerk phase runs
+ * straight through: 73 cycles per axis. */
+#define QS_STR_(x) #x
+#define QS_STR(x) QS_STR_(x)
+#define QS_CUBIC_AXIS_ASM(A)                                                                                  \
+    "ldd r24, Z+%[ta]\n\t"                                                                                    \
+    "sbrs r24, " QS_STR(A) "\n\t"                                                                             \
+    "rjmp .Ldone%=_" QS_STR(A) "\n\t"                                                                         \
+    "ldd r18, Z+%[h" QS_STR(A) "]+3\n\t"                                                                      \
+    "bst r18, 7\n\t"                                                                                          \
+    "bld r0, " QS_STR(A) "\n\t"                                                                               \
+    "sbrc r18, 7\n\t"                                                                                         \
+    "subi r18, 0x80\n\t"                                                                                      \
+    "ldd r19, Z+%[b" QS_STR(A) "]\n\t"                                                                        \
+    "ldd r20, Z+%[b" QS_STR(A) "]+1\n\t"                                                                      \
+    "ldd r22, Z+%[b" QS_STR(A) "]+2\n\t"                                                                      \
+    "ldd r23, Z+%[b" QS_STR(A) "]+3\n\t"                                                                      \
+    "ldd r25, Z+%[h" QS_STR(A) "]\n\t"                                                                        \
+    "add r25, r19\n\t"                                                                                        \
+    "std Z+%[h" QS_STR(A) "], r25\n\t"                                                                        \
+    "ldd r25, Z+%[h" QS_STR(A) "]+1\n\t"                                                                      \
+    "adc r25, r20\n\t"                                                                                        \
+    "std Z+%[h" QS_STR(A) "]+1, r25\n\t"                                                                      \
+    "ldd r25, Z+%[h" QS_STR(A) "]+2\n\t"                                                                      \
+    "adc r25, r22\n\t"                                                                                        \
+    "std Z+%[h" QS_STR(A) "]+2, r25\n\t"                                                                      \
+    "adc r18, r23\n\t"                                                                                        \
+    "std Z+%[h" QS_STR(A) "]+3, r18\n\t"                                                                      \
+    "sbrc r24, " QS_STR(A) "+4\n\t"                                                                           \
+    "rjmp .Lnoj%=_" QS_STR(A) "\n\t"                                                                          \
+    "ldd r18, Z+%[q" QS_STR(A) "]\n\t"                                                                        \
+    "ldd r24, Z+%[r" QS_STR(A) "]\n\t"                                                                        \
+    "add r18, r24\n\t"                                                                                        \
+    "std Z+%[q" QS_STR(A) "], r18\n\t"                                                                        \
+    "ldd r21, Z+%[q" QS_STR(A) "]+1\n\t"                                                                      \
+    "ldd r24, Z+%[r" QS_STR(A) "]+1\n\t"                                                                      \
+    "adc r21, r24\n\t"                                                                                        \
+    "std Z+%[q" QS_STR(A) "]+1, r21\n\t"                                                                      \
+    "ldd r25, Z+%[q" QS_STR(A) "]+2\n\t"                                                                      \
+    "ldd r24, Z+%[r" QS_STR(A) "]+2\n\t"                                                                      \
+    "adc r25, r24\n\t"                                                                                        \
+    "std Z+%[q" QS_STR(A) "]+2, r25\n"                                                                        \
+    ".Lbq%=_" QS_STR(A) ":\n\t"                                                                               \
+    "add r19, r18\n\t"                                                                                        \
+    "adc r20, r21\n\t"                                                                                        \
+    "adc r22, r25\n\t"                                                                                        \
+    "adc r23, __zero_reg__\n\t"                                                                               \
+    "sbrc r25, 7\n\t"                                                                                         \
+    "dec r23\n\t"                                                                                             \
+    "std Z+%[b" QS_STR(A) "], r19\n\t"                                                                        \
+    "std Z+%[b" QS_STR(A) "]+1, r20\n\t"                                                                      \
+    "std Z+%[b" QS_STR(A) "]+2, r22\n\t"                                                                      \
+    "std Z+%[b" QS_STR(A) "]+3, r23\n"                                                                        \
+    ".Ldone%=_" QS_STR(A) ":\n\t"
+
+/* Out of line: r = 0 (q stays), and steady (b stays too). */
+#define QS_CUBIC_AXIS_RARE_ASM(A)                                                                             \
+    ".Lnoj%=_" QS_STR(A) ":\n\t"                                                                              \
+    "ldd r24, Z+%[st]\n\t"                                                                                    \
+    "sbrc r24, " QS_STR(A) "\n\t"                                                                             \
+    "rjmp .Ldone%=_" QS_STR(A) "\n\t"                                                                         \
+    "ldd r18, Z+%[q" QS_STR(A) "]\n\t"                                                                        \
+    "ldd r21, Z+%[q" QS_STR(A) "]+1\n\t"                                                                      \
+    "ldd r25, Z+%[q" QS_STR(A) "]+2\n\t"                                                                      \
+    "rjmp .Lbq%=_" QS_STR(A) "\n\t"
+
+#define QS_CUBIC_OFF(field, axis) (offsetof(qs_segment, c) + offsetof(qs_cubic_run, field) + sizeof(((qs_cubic_run *)0)->field[0]) * (axis))
+#define QS_CUBIC_AXIS_OPERANDS(A)                                                                             \
+    [h##A] "n"(QS_CUBIC_OFF(h, A)), [b##A] "n"(QS_CUBIC_OFF(b, A)), [q##A] "n"(QS_CUBIC_OFF(q, A)),           \
+        [r##A] "n"(QS_CUBIC_OFF(r, A))
+
+#if QS_AXIS_COUNT == 3
+#define QS_CUBIC_AXES_ASM QS_CUBIC_AXIS_ASM(0) QS_CUBIC_AXIS_ASM(1) QS_CUBIC_AXIS_ASM(2)
+#define QS_CUBIC_RARE_ASM QS_CUBIC_AXIS_RARE_ASM(0) QS_CUBIC_AXIS_RARE_ASM(1) QS_CUBIC_AXIS_RARE_ASM(2)
+#define QS_CUBIC_OPERANDS QS_CUBIC_AXIS_OPERANDS(0), QS_CUBIC_AXIS_OPERANDS(1), QS_CUBIC_AXIS_OPERANDS(2)
+#elif QS_AXIS_COUNT == 4
+#define QS_CUBIC_AXES_ASM QS_CUBIC_AXIS_ASM(0) QS_CUBIC_AXIS_ASM(1) QS_CUBIC_AXIS_ASM(2) QS_CUBIC_AXIS_ASM(3)
+#define QS_CUBIC_RARE_ASM                                                                                     \
+    QS_CUBIC_AXIS_RARE_ASM(0) QS_CUBIC_AXIS_RARE_ASM(1) QS_CUBIC_AXIS_RARE_ASM(2) QS_CUBIC_AXIS_RARE_ASM(3)
+#define QS_CUBIC_OPERANDS                                                                                     \
+    QS_CUBIC_AXIS_OPERANDS(0), QS_CUBIC_AXIS_OPERANDS(1), QS_CUBIC_AXIS_OPERANDS(2), QS_CUBIC_AXIS_OPERANDS(3)
+#else
+#error "the AVR cubic tick is written for 3 or 4 axes"
+#endif
+
+static inline __attribute__((always_inline)) uint8_t cubic_axes_tick(qs_segment *s)
+{
+    register uint8_t steps __asm__("r24");
+
+    __asm__ __volatile__(
+        "clr r0\n\t"
+        "com r0\n\t"
+        QS_CUBIC_AXES_ASM
+        "rjmp .Lend%=\n\t"
+        QS_CUBIC_RARE_ASM
+        ".Lend%=:\n\t"
+        "mov r24, r0\n\t"
+        "com r24"
+        : "=&r"(steps)
+        : [s] "z"(s), [ta] "n"(offsetof(qs_segment, tick_axes)), [st] "n"(offsetof(qs_segment, cubic)),
+          QS_CUBIC_OPERANDS
+        : "r18", "r19", "r20", "r21", "r22", "r23", "r25", "memory");
+    return steps;
+}
+
+_Static_assert(QS_CUBIC_OFF(r, QS_AXIS_COUNT - 1) + 2u <= 63u, "ldd reaches 63 bytes past Z");
+
+#define QS_CUBIC_AXES_TICK(s, axes, steady) cubic_axes_tick(s)
+
 #define QS_ENGINE_AXIS_TICK(s, axis, axes, steps) axis_tick(s, axis, axes, steps)
 #define QS_HOLD_AXIS_TICK(hd, axis, moving, steps) hold_axis_tick(hd, axis, &(moving), steps)
 

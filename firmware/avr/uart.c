@@ -1,6 +1,7 @@
 /* USART0 driver with bounded receive and transmit rings (see uart.h). */
 #include "uart.h"
 
+#include <avr/interrupt.h>
 #include <avr/io.h>
 
 #ifndef QS_BAUD
@@ -30,8 +31,9 @@ _Static_assert(QS_UART_TX_RING >= 8 && QS_UART_TX_RING <= 256 &&
 
 volatile uint8_t uart_rx_ring[QS_UART_RX_RING];
 /* The service marks slot head, the main loop clears slot tail: never the
- * same slot at once. */
-volatile uint8_t uart_rx_lost_before[QS_UART_RX_RING];
+ * same slot at once, but perhaps the same byte, which the main loop
+ * therefore changes with the tick locked out. */
+volatile uint8_t uart_rx_lost_before[QS_UART_RX_RING / 8];
 volatile uint8_t uart_rx_marks;
 static uint8_t rx_marks_taken; /* main loop: marks cleared by uart_rx_take */
 volatile uint8_t uart_rx_head; /* next slot the service fills */
@@ -59,9 +61,13 @@ uint8_t uart_rx_ready(void)
 uint8_t uart_rx_take(uint8_t *byte)
 {
     const uint8_t tail = uart_rx_tail;
-    const uint8_t lost = uart_rx_lost_before[tail];
+    const uint8_t bit = uart_slot_bit(tail);
+    const uint8_t lost = (uart_rx_lost_before[tail >> 3] & bit) != 0;
     if (lost) {
-        uart_rx_lost_before[tail] = 0;
+        const uint8_t sreg = SREG;
+        cli();
+        uart_rx_lost_before[tail >> 3] &= (uint8_t)~bit;
+        SREG = sreg;
         rx_marks_taken++;
     }
     *byte = uart_rx_ring[tail];
@@ -86,7 +92,8 @@ uint8_t uart_rx_run(const uint8_t **bytes)
         /* A loss is marked somewhere ahead: the run ends before the first
          * mark, which uart_rx_take then reports. */
         uint8_t clean = 0;
-        while (clean < count && !uart_rx_lost_before[tail + clean]) {
+        while (clean < count
+               && !(uart_rx_lost_before[(uint8_t)(tail + clean) >> 3] & uart_slot_bit((uint8_t)(tail + clean)))) {
             clean++;
         }
         count = clean;

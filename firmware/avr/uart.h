@@ -46,9 +46,15 @@ void uart_write(const uint8_t *bytes, uint8_t len);
 #define UART_RX_MASK ((uint8_t)(QS_UART_RX_RING - 1))
 #define UART_TX_MASK ((uint8_t)(QS_UART_TX_RING - 1))
 extern volatile uint8_t uart_rx_ring[QS_UART_RX_RING];
-/* Nonzero: bytes were lost on the line just before the byte that goes into
- * that slot. A byte per slot keeps the tick's part to one store. */
-extern volatile uint8_t uart_rx_lost_before[QS_UART_RX_RING];
+/* Bit (slot & 7) of byte (slot >> 3) set: bytes were lost on the line just
+ * before the byte that goes into that slot. A bit per slot: RAM is short,
+ * and only a loss pays for finding the bit. */
+extern volatile uint8_t uart_rx_lost_before[QS_UART_RX_RING / 8];
+
+static inline __attribute__((always_inline)) uint8_t uart_slot_bit(uint8_t slot)
+{
+    return (uint8_t)(1u << (slot & 7u));
+}
 /* Marks set so far (mod 256), so that the main loop can tell without
  * looking at every slot that none awaits it. */
 extern volatile uint8_t uart_rx_marks;
@@ -77,15 +83,43 @@ static inline __attribute__((always_inline)) void uart_service(void)
     while ((status = UCSR0A) & _BV(RXC0)) { /* the flags describe the byte in UDR0 */
         const uint8_t byte = UDR0;
         const uint8_t head = uart_rx_head;
+        uint8_t head_bit = head;
         const uint8_t next = (uint8_t)((head + 1u) & UART_RX_MASK);
         const uint8_t full = next == uart_rx_tail;
         if (full || (status & _BV(DOR0))) {
             /* The line lost bytes (DOR), or the ring is full and this byte
              * is lost: either way before whatever lands in slot head. */
-            if (!uart_rx_lost_before[head]) {
-                uart_rx_lost_before[head] = 1;
-                uart_rx_marks++;
-            }
+            /* written out: the compiler's version of this rare path took
+             * two more registers, which every tick would save */
+            __asm__ __volatile__(
+                "mov r30, %[head]\n\t"
+                "lsr r30\n\t"
+                "lsr r30\n\t"
+                "lsr r30\n\t"
+                "ldi r31, 0\n\t"
+                "subi r30, lo8(-(uart_rx_lost_before))\n\t"
+                "sbci r31, hi8(-(uart_rx_lost_before))\n\t"
+                "mov r0, %[head]\n\t"
+                "ldi %[head], 1\n\t"
+                "sbrc r0, 1\n\t"
+                "ldi %[head], 4\n\t"
+                "sbrc r0, 0\n\t"
+                "lsl %[head]\n\t"
+                "sbrc r0, 2\n\t"
+                "swap %[head]\n\t"
+                "ld r0, Z\n\t"
+                "and r0, %[head]\n\t"
+                "brne 1f\n\t"
+                "ld r0, Z\n\t"
+                "or r0, %[head]\n\t"
+                "st Z, r0\n\t"
+                "lds r0, uart_rx_marks\n\t"
+                "inc r0\n\t"
+                "sts uart_rx_marks, r0\n"
+                "1:"
+                : [head] "+d"(head_bit)
+                :
+                : "r30", "r31", "memory");
             if (full) {
                 continue;
             }

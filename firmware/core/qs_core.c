@@ -57,7 +57,8 @@ static void send_identify_reply(qs_core *c, uint8_t seq)
     id.n_max = QS_N_MAX;
     id.tick_hz = c->tick_hz;
     id.capabilities = QS_CAP_QUADRATIC_SEGMENTS | QS_CAP_SET_POSITION | QS_CAP_HOLD | QS_CAP_LIMIT_INPUTS
-                      | QS_CAP_PROBE_INPUT | QS_CAP_HOMING | QS_CAP_CONTROL_INPUTS;
+                      | QS_CAP_PROBE_INPUT | QS_CAP_HOMING | QS_CAP_CONTROL_INPUTS
+                      | QS_CAP_CUBIC_SEGMENTS;
     id.next_seq = c->next_seq;
     send_body(c, qs_msg_encode_identify_reply(tx_body(c), seq, &id));
 }
@@ -165,41 +166,84 @@ static void reject(qs_core *c, const qs_host_msg *m, const qs_fault *f)
 
 /* ---- messages ---- */
 
-static void on_segment(qs_core *c, const qs_host_msg *m)
+/* Whether a segment may be taken in this state; refused (consumed) if not. */
+static uint8_t may_queue(qs_core *c, const qs_host_msg *m)
 {
-    qs_engine *e = &c->engine;
     qs_fault f;
 
-    if (e->state == QS_STATE_ALARM) {
+    if (c->engine.state == QS_STATE_ALARM) {
         fault(&f, QS_ERR_ALARM_ACTIVE);
         reject(c, m, &f);
-        return;
+        return 0;
     }
-    if (e->state == QS_STATE_HOLDING) {
+    if (c->engine.state == QS_STATE_HOLDING) {
         /* The host learns of the hold's end from HOLD_DONE: a segment sent
          * before that was planned for motion the hold discarded. */
         fault(&f, QS_ERR_BUSY);
         reject(c, m, &f);
-        return;
+        return 0;
     }
+    return 1;
+}
+
+/* A segment the engine could not run exactly: later segments were planned
+ * from where this one would have left the axes, so everything stops. */
+static void refuse_segment(qs_core *c, const qs_host_msg *m, const qs_fault *f)
+{
+    qs_engine_halt(&c->engine, QS_STATE_ALARM, QS_ALARM_REJECTED_SEGMENT);
+    c->alarm_announced = 0;
+    reject(c, m, f);
+    send_alarm(c);
+}
+
+static void queued(qs_core *c, const qs_host_msg *m)
+{
+    qs_queue_publish(&c->engine.queue);
+    qs_engine_wake(&c->engine);
+    c->next_seq++;
+    send_ack(c, m->seq, QS_ACK_ACCEPTED);
+}
+
+static void on_segment(qs_core *c, const qs_host_msg *m)
+{
+    qs_engine *e = &c->engine;
+    qs_segment *slot;
+    qs_fault f;
+
+    if (!may_queue(c, m))
+        return;
     if (qs_msg_check_segment(&m->as.segment, c->axis_count, &f) != QS_ERR_NONE) {
-        /* Later segments were planned from where this one would have left
-         * the axes: stop everything. */
-        qs_engine_halt(e, QS_STATE_ALARM, QS_ALARM_REJECTED_SEGMENT);
-        c->alarm_announced = 0;
-        reject(c, m, &f);
-        send_alarm(c);
+        refuse_segment(c, m, &f);
         return;
     }
     if (qs_queue_free(&e->queue) == 0) {
         send_ack(c, m->seq, QS_ACK_QUEUE_FULL);
         return;
     }
-    qs_segment_prepare(qs_queue_back(&e->queue), &m->as.segment);
-    qs_queue_publish(&e->queue);
-    qs_engine_wake(e);
-    c->next_seq++;
-    send_ack(c, m->seq, QS_ACK_ACCEPTED);
+    slot = qs_queue_back(&e->queue);
+    qs_segment_prepare(slot, &m->as.segment);
+    qs_cubic_follow_quadratic(&e->chain, slot, &m->as.segment);
+    queued(c, m);
+}
+
+/* A cubic segment is checked against the chain as it prepares its slot,
+ * which moves the chain on: so the queue's room is asked first. */
+static void on_cubic_segment(qs_core *c, const qs_host_msg *m)
+{
+    qs_engine *e = &c->engine;
+    qs_fault f;
+
+    if (!may_queue(c, m))
+        return;
+    if (qs_queue_free(&e->queue) == 0) {
+        send_ack(c, m->seq, QS_ACK_QUEUE_FULL);
+        return;
+    }
+    if (qs_cubic_prepare(&e->chain, qs_queue_back(&e->queue), &m->as.cubic, c->axis_count, &f) != QS_ERR_NONE) {
+        refuse_segment(c, m, &f);
+        return;
+    }
+    queued(c, m);
 }
 
 static void on_set_position(qs_core *c, const qs_host_msg *m)
@@ -413,6 +457,11 @@ static void on_frame(qs_core *c, const uint8_t *body, uint8_t len)
         code = qs_msg_parse_segment(p, plen, &m.as.segment);
         if (code == QS_ERR_NONE && in_sequence(c, &m))
             on_segment(c, &m);
+        break;
+    case QS_TYPE_CUBIC_SEGMENT:
+        code = qs_msg_parse_cubic(p, plen, &m.as.cubic);
+        if (code == QS_ERR_NONE && in_sequence(c, &m))
+            on_cubic_segment(c, &m);
         break;
     case QS_TYPE_SET_POSITION:
         code = qs_msg_parse_set_position(p, plen, &m.as.set_position);

@@ -34,6 +34,14 @@ void qs_engine_init(qs_engine *e, uint8_t queue_capacity)
     e->trigger = 0;
     e->held_by_tick = 0;
     e->resequence = 0;
+    qs_cubic_reset(&e->chain);
+}
+
+/* The segment length a hold's plan is for (qs_hold_plan): a quadratic
+ * segment's own, and for a cubic one the scale its hold runs in. */
+static uint16_t hold_key(const qs_segment *s)
+{
+    return s->cubic ? QS_HOLD_CUBIC_N : s->n;
 }
 
 static int32_t signed_steps(const qs_segment *s, uint8_t axis, int32_t steps, int32_t position)
@@ -46,6 +54,16 @@ static int32_t signed_steps(const qs_segment *s, uint8_t axis, int32_t steps, in
  * division each) run unlocked. The slot itself stays put meanwhile: only
  * the main loop refills slots, after retiring them, and a held slot's own
  * state is frozen. */
+
+/* Steps an axis of s made in its first t ticks, from its state frozen or
+ * copied after them. */
+static int32_t steps_at(const qs_segment *s, uint8_t axis, uint16_t t)
+{
+    if (s->cubic)
+        return qs_cubic_steps(s, axis, t, s->c.h[axis], s->c.b[axis], s->c.q[axis]);
+    return qs_segment_steps(s, axis, t);
+}
+
 _Static_assert(sizeof(qs_i24) == sizeof(qs_u24), "b and steps are copied alike");
 
 /* Kept short: it runs with the tick locked out. */
@@ -72,9 +90,15 @@ static void take_progress(const qs_engine *e, qs_progress *p)
         p->seg = e->seg;
         p->t = (uint16_t)(e->seg->n - e->left);
         p->ticks = 0;
+        if (e->seg->cubic) {
+            from = (const uint8_t *)&e->seg->c;
+            for (i = 0; i < sizeof p->at.c; i++)
+                to[i] = from[i];
+            return;
+        }
         from = (const uint8_t *)e->seg->b;
     }
-    for (i = 0; i < sizeof p->at; i++)
+    for (i = 0; i < sizeof p->at.b; i++)
         to[i] = from[i];
 }
 
@@ -90,7 +114,9 @@ static void add_progress(const qs_progress *p, int32_t *position, uint32_t *tick
         if (!(s->active & (1u << axis)))
             continue;
         if (p->held)
-            steps = qs_segment_steps(s, axis, p->t) + (int32_t)p->at.steps[axis];
+            steps = steps_at(s, axis, p->t) + (int32_t)p->at.steps[axis];
+        else if (s->cubic)
+            steps = qs_cubic_steps(s, axis, p->t, p->at.c.h[axis], p->at.c.b[axis], p->at.c.q[axis]);
         else
             steps = qs_segment_steps_from(s, axis, p->t, p->at.b[axis]);
         position[axis] = signed_steps(s, axis, steps, position[axis]);
@@ -108,7 +134,7 @@ static QS_NOINLINE void fold_held(qs_engine *e)
     for (axis = 0; axis < QS_AXIS_COUNT; axis++)
         if (s->active & (1u << axis))
             e->base[axis] = signed_steps(s, axis,
-                                         qs_segment_steps(s, axis, e->held_t0) + (int32_t)e->hold.steps[axis],
+                                         steps_at(s, axis, e->held_t0) + (int32_t)e->hold.steps[axis],
                                          e->base[axis]);
     e->completed_ticks += e->held_t0 + (uint32_t)e->hold.ticks;
     e->held = 0;
@@ -118,6 +144,7 @@ static void note_hold_done(qs_engine *e)
 {
     e->hold_report = 1;
     e->hold_end_tick = e->completed_ticks;
+    qs_cubic_reset(&e->chain); /* whatever the queue was planned on is gone */
 }
 
 /* Latches whose snapshot is of the slot at queue index slot become
@@ -242,6 +269,7 @@ void qs_engine_halt(qs_engine *e, uint8_t state, uint8_t alarm)
     e->held_by_tick = 0;
     e->trigger = 0;
     flush(e);
+    qs_cubic_reset(&e->chain);
     e->alarm = alarm;
     e->state = state;
     e->frozen = 0;
@@ -262,6 +290,8 @@ uint8_t qs_engine_set_positions(qs_engine *e, uint8_t mask, const int32_t *posit
         if (mask & (1u << axis))
             e->base[axis] = position[axis];
     qs_port_unlock(saved);
+    if (ok)
+        qs_cubic_rest_on_ideal(&e->chain, mask);
     return ok;
 }
 
@@ -284,8 +314,8 @@ void qs_engine_read(qs_engine *e, qs_engine_view *v)
     add_progress(&p, v->position, &v->motion_ticks);
 }
 
-/* The length of the segment a hold would begin in if it began now (0:
- * none), so that the plan is usually made before the lock that begins it. */
+/* The plan a hold would need if it began now (0: none), so that it is
+ * usually made before the lock that begins it. */
 static uint16_t likely_held_n(qs_engine *e)
 {
     uint8_t saved = qs_port_lock();
@@ -293,9 +323,9 @@ static uint16_t likely_held_n(qs_engine *e)
 
     if (e->state == QS_STATE_RUNNING) {
         if (e->left != 0)
-            n = e->seg->n;
+            n = hold_key(e->seg);
         else if (!qs_queue_empty(&e->queue))
-            n = qs_queue_front(&e->queue)->n;
+            n = hold_key(qs_queue_front(&e->queue));
     }
     qs_port_unlock(saved);
     return n;
@@ -341,11 +371,11 @@ QS_NOINLINE uint8_t qs_engine_hold(qs_engine *e, const uint16_t *decel)
             qs_port_unlock(saved);
             return QS_HOLD_NO_SEGMENT;
         }
-        if (e->hold.planned_n == s->n)
+        if (e->hold.planned_n == hold_key(s))
             break;
         /* The segment ended meanwhile: plan for the one now running, out of
          * the lock, and look again. */
-        guess = s->n;
+        guess = hold_key(s);
         qs_port_unlock(saved);
     }
     if (e->left == 0) {
@@ -369,6 +399,7 @@ QS_NOINLINE uint8_t qs_engine_hold(qs_engine *e, const uint16_t *decel)
         resolve_latches(e, halted);
         add_progress(&p, e->base, &e->completed_ticks);
         note_hold_done(e);
+        qs_cubic_reset(&e->chain);
         return QS_HOLD_AT_REST;
     }
     left = e->left;
@@ -384,12 +415,13 @@ QS_NOINLINE uint8_t qs_engine_hold(qs_engine *e, const uint16_t *decel)
      * begins segments (HOLDING), so the queued ones can go now. */
     q->head = qs_queue_next(q, tail);
     e->hold_tick = e->completed_ticks + e->held_t0;
+    qs_cubic_reset(&e->chain); /* the chain the queue was planned on is gone */
     return QS_HOLD_STARTED;
 }
 
 int32_t qs_engine_speed_2n_locked(const qs_engine *e, uint8_t axis)
 {
-    if (e->left == 0 || e->held || !(e->seg->active & (1u << axis)))
+    if (e->left == 0 || e->held || e->seg->cubic || !(e->seg->active & (1u << axis)))
         return 0;
     return qs_segment_speed_2n(e->seg, axis);
 }
@@ -466,7 +498,7 @@ uint8_t qs_engine_trigger_in_tick(qs_engine *e)
     } else {
         return 0; /* the queue ran dry while moving: the underrun stands */
     }
-    qs_hold_plan(&e->hold, s->n, e->trigger_decel);
+    qs_hold_plan(&e->hold, hold_key(s), e->trigger_decel);
     moving = qs_hold_begin(&e->hold, s);
     e->state = QS_STATE_HOLDING;
     e->slow_path = 1;

@@ -13,6 +13,7 @@
 
 #include <stdint.h>
 #include "qs_config.h"
+#include "qs_cubic.h"
 #include "qs_protocol.h"
 #include "qs_hold.h"
 #include "qs_latch.h"
@@ -23,12 +24,15 @@ typedef struct {
     /* Tick side. */
     qs_segment *seg;          /* the running slot, valid while left > 0 */
     uint16_t left;            /* ticks left in it; 0 between segments */
-    uint8_t slow_path;        /* left == 0 or a hold is under way */
+    uint8_t slow_path;        /* 0: a quadratic segment runs; QS_PATH_CUBIC:
+                               * a cubic one; else left == 0 or a hold */
     uint8_t dir_bits;         /* bit i: axis i's pending steps are negative */
     volatile uint8_t state;   /* QS_STATE_* */
     volatile uint8_t alarm;   /* QS_ALARM_*, nonzero only in ALARM */
     uint8_t ends_moving;      /* the last finished segment left an axis moving */
-    /* Main loop side: totals over retired slots. */
+    /* Main loop side: the cubic chain after the last slot prepared, */
+    qs_cubic_chain chain;
+    /* and totals over retired slots. */
     int32_t base[QS_AXIS_COUNT];
     uint32_t completed_ticks;
     uint32_t segments_done;
@@ -50,6 +54,8 @@ typedef struct {
     uint16_t trigger_decel[QS_AXIS_COUNT];
     uint16_t trigger_since;  /* segments_done when armed (low bits): the armed motion has run once it moves on */
 } qs_engine;
+
+#define QS_PATH_CUBIC 2 /* slow_path while a cubic segment runs */
 
 /* What qs_engine_hold did. */
 #define QS_HOLD_STARTED 0    /* decelerating: state HOLDING */

@@ -47,6 +47,48 @@ static QS_ALWAYS_INLINE uint8_t qs_engine_axis_tick(qs_segment *s, uint8_t axis,
 #define QS_ENGINE_AXIS_TICK(s, axis, axes, steps) ((uint8_t)((steps) | qs_engine_axis_tick(s, axis, axes)))
 #endif
 
+/* One axis of a cubic segment (qs_cubic.h): the same sign test, in 32 bits;
+ * adding Sigma = 2^31 without a step flips the top bit. axes is the slot's
+ * tick_axes (bit i + 4: r = 0, q stays), steady its cubic bits (bit i:
+ * q = r = 0, b stays). */
+static QS_ALWAYS_INLINE uint8_t qs_cubic_axis_tick(qs_segment *s, uint8_t axis, uint8_t axes, uint8_t steady)
+{
+    const uint8_t bit = (uint8_t)(1u << axis);
+    uint32_t h, b;
+    uint8_t stepped = 0;
+
+    if (!(axes & bit))
+        return 0;
+    h = s->c.h[axis];
+    if ((int32_t)h >= 0)
+        stepped = bit;
+    else
+        h += QS_SIGMA;
+    b = s->c.b[axis];
+    s->c.h[axis] = h + b;
+    if (!(axes & (bit << 4)))
+        s->c.q[axis] += s->c.r[axis];
+    if (!(steady & bit))
+        s->c.b[axis] = b + (uint32_t)(int32_t)s->c.q[axis];
+    return stepped;
+}
+
+#ifndef QS_CUBIC_AXES_TICK
+#define QS_CUBIC_AXIS(s, axis, axes, steady) qs_cubic_axis_tick(s, axis, axes, steady)
+#if QS_AXIS_COUNT == 1
+#define QS_CUBIC_AXES_TICK(s, axes, steady) QS_CUBIC_AXIS(s, 0, axes, steady)
+#elif QS_AXIS_COUNT == 2
+#define QS_CUBIC_AXES_TICK(s, axes, steady) (QS_CUBIC_AXIS(s, 0, axes, steady) | QS_CUBIC_AXIS(s, 1, axes, steady))
+#elif QS_AXIS_COUNT == 3
+#define QS_CUBIC_AXES_TICK(s, axes, steady)                                                               \
+    (QS_CUBIC_AXIS(s, 0, axes, steady) | QS_CUBIC_AXIS(s, 1, axes, steady) | QS_CUBIC_AXIS(s, 2, axes, steady))
+#else
+#define QS_CUBIC_AXES_TICK(s, axes, steady)                                                               \
+    (QS_CUBIC_AXIS(s, 0, axes, steady) | QS_CUBIC_AXIS(s, 1, axes, steady) | QS_CUBIC_AXIS(s, 2, axes, steady) \
+     | QS_CUBIC_AXIS(s, 3, axes, steady))
+#endif
+#endif
+
 /* Between segments: take the next one, or settle. */
 static QS_ALWAYS_INLINE uint8_t qs_engine_begin(qs_engine *e)
 {
@@ -67,7 +109,7 @@ static QS_ALWAYS_INLINE uint8_t qs_engine_begin(qs_engine *e)
     s = qs_queue_front(&e->queue);
     e->seg = s;
     e->left = s->n;
-    e->slow_path = 0;
+    e->slow_path = s->cubic ? QS_PATH_CUBIC : 0;
     /* Inactive axes keep their direction pins as they were. */
     e->dir_bits = (uint8_t)((e->dir_bits & (uint8_t)~s->active) | s->negative);
     return 1;
@@ -86,16 +128,32 @@ static QS_ALWAYS_INLINE void qs_engine_finish(qs_engine *e, qs_segment *s)
         e->state = QS_STATE_IDLE;
 }
 
+/* A tick of a cubic segment: every axis, then the count. */
+static QS_ALWAYS_INLINE uint8_t qs_engine_cubic_tick(qs_engine *e)
+{
+    qs_segment *s = e->seg;
+    uint8_t steps = QS_CUBIC_AXES_TICK(s, s->tick_axes, s->cubic);
+
+    if (QS_UNLIKELY(--e->left == 0))
+        qs_engine_finish(e, s);
+    return steps;
+}
+
 static QS_ALWAYS_INLINE uint8_t qs_engine_tick(qs_engine *e)
 {
     qs_segment *s;
     uint8_t axes, steps;
 
+    /* A quadratic segment's ticks pay one test; a cubic one's one more. */
     if (QS_UNLIKELY(e->slow_path)) {
-        if (e->hold.moving)
-            return qs_engine_hold_tick(e);
-        if (!qs_engine_begin(e))
-            return 0;
+        if (e->slow_path != QS_PATH_CUBIC) {
+            if (e->hold.moving)
+                return qs_engine_hold_tick(e);
+            if (!qs_engine_begin(e))
+                return 0;
+        }
+        if (e->slow_path == QS_PATH_CUBIC)
+            return qs_engine_cubic_tick(e);
     }
     s = e->seg;
     axes = s->tick_axes;

@@ -1,4 +1,5 @@
 #include "qs_hold.h"
+#include "qs_cubic.h"
 #include "qs_protocol.h"
 
 /* floor(2*kn*D * decel * 2^-24) = (kn * decel) >> 11 */
@@ -87,10 +88,46 @@ static QS_ALWAYS_INLINE uint8_t begin_axis(qs_hold *hd, const qs_segment *s, uin
     return (uint8_t)(1u << axis);
 }
 
+/* A cubic axis (qs_cubic.h): the increment over the next tick is
+ * I(t+1) = b - q + Sigma and the ideal is e = h - I(t+1) + Sigma/2 ahead;
+ * both, floored to the hold's scale 2^22, start it. */
+static QS_ALWAYS_INLINE uint8_t begin_cubic_axis(qs_hold *hd, const qs_segment *s, uint8_t axis)
+{
+    const uint32_t next = s->c.b[axis] - (uint32_t)(int32_t)s->c.q[axis] + QS_SIGMA;
+    const int32_t e = (int32_t)(s->c.h[axis] - next + QS_HALF_SIGMA);
+    const qs_i24 i1 = (qs_i24)(next >> QS_HOLD_CUBIC_SHIFT);
+
+    if (!(s->active & (1u << axis)) || i1 <= 0)
+        return 0;
+    hd->h[axis] = (qs_i24)(e >> QS_HOLD_CUBIC_SHIFT) + i1 - ((qs_i24)QS_HOLD_CUBIC_N * QS_D);
+    hd->inc[axis] = i1 + hd->db[axis];
+    return (uint8_t)(1u << axis);
+}
+
+static QS_NOINLINE uint8_t begin_cubic(qs_hold *hd, const qs_segment *s)
+{
+    uint8_t moving = begin_cubic_axis(hd, s, 0);
+
+#if QS_AXIS_COUNT > 1
+    moving |= begin_cubic_axis(hd, s, 1);
+#endif
+#if QS_AXIS_COUNT > 2
+    moving |= begin_cubic_axis(hd, s, 2);
+#endif
+#if QS_AXIS_COUNT > 3
+    moving |= begin_cubic_axis(hd, s, 3);
+#endif
+    return moving;
+}
+
 uint8_t qs_hold_begin(qs_hold *hd, const qs_segment *s)
 {
     const uint8_t bytes = hd->shift & 8, k = hd->bits_k;
-    uint8_t moving = begin_axis(hd, s, 0, bytes, k);
+    uint8_t moving;
+
+    if (s->cubic)
+        return begin_cubic(hd, s);
+    moving = begin_axis(hd, s, 0, bytes, k);
 
 #if QS_AXIS_COUNT > 1
     moving |= begin_axis(hd, s, 1, bytes, k);

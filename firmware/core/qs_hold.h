@@ -35,6 +35,12 @@ typedef struct {
     uint8_t bits_k;              /* 2^(shift mod 8): the rescale's multiplier */
 } qs_hold;
 
+/* A cubic segment's hold runs in the scale 2^22 = 2*512*D: planned as for
+ * a quadratic segment of 512 ticks (k = 1), so that one closed form serves
+ * both (PROTOCOL.md section 8.1). */
+#define QS_HOLD_CUBIC_N 512
+#define QS_HOLD_CUBIC_SHIFT 9 /* 2^31 / 2^22 */
+
 /* log2 k: the largest shift with (n << shift) <= QS_N_MAX, 1 <= n <= N_MAX. */
 uint8_t qs_hold_shift(uint16_t n);
 

@@ -23,8 +23,13 @@ typedef struct {
     qs_u24 ticks;          /* a hold's ticks since */
     uint8_t held;
     union {
-        qs_i24 b[QS_AXIS_COUNT];     /* running: its b after t ticks */
+        qs_i24 b[QS_AXIS_COUNT];     /* running quadratic: its b after t ticks */
         qs_u24 steps[QS_AXIS_COUNT]; /* held: the hold's steps */
+        struct {                     /* running cubic: its state after t ticks */
+            uint32_t h[QS_AXIS_COUNT];
+            uint32_t b[QS_AXIS_COUNT];
+            qs_i24 q[QS_AXIS_COUNT];
+        } c;
     } at;
 } qs_progress;
 

@@ -67,6 +67,42 @@ uint8_t qs_msg_parse_segment(const uint8_t *p, uint8_t len, qs_segment_msg *s)
     return QS_ERR_NONE;
 }
 
+uint8_t qs_msg_parse_cubic(const uint8_t *p, uint8_t len, qs_cubic_msg *c)
+{
+    uint8_t axis, bit, need;
+
+    if (len < QS_LEN_CUBIC_SEGMENT_HEAD)
+        return QS_ERR_BAD_LENGTH;
+    c->n = get16(p);
+    c->jerk = p[2] & 0x0F;
+    c->set = (uint8_t)(p[2] >> 4);
+    need = (uint8_t)(QS_LEN_CUBIC_SEGMENT_HEAD + QS_LEN_CUBIC_SEGMENT_SET * bit_count(c->set)
+                     + QS_LEN_CUBIC_SEGMENT_JERK * bit_count(c->jerk));
+    if (len != need)
+        return QS_ERR_BAD_LENGTH;
+    p += QS_LEN_CUBIC_SEGMENT_HEAD;
+    c->negative = 0;
+    for (axis = 0, bit = 1; axis < QS_PROTOCOL_AXES; axis++, bit = (uint8_t)(bit << 1)) {
+        c->speed[axis] = 0;
+        c->accel[axis] = 0;
+        c->r[axis] = 0;
+        if (c->set & bit) {
+            uint32_t v = get32(p);
+            /* bit 31: the direction; accel: 24 bits, sign-extended */
+            c->speed[axis] = v & 0x7FFFFFFFUL;
+            if (v & 0x80000000UL)
+                c->negative |= bit;
+            c->accel[axis] = (int32_t)((uint32_t)get16(p + 4) | ((uint32_t)p[6] << 16) | (p[6] & 0x80 ? 0xFF000000UL : 0));
+            p += QS_LEN_CUBIC_SEGMENT_SET;
+        }
+        if (c->jerk & bit) {
+            c->r[axis] = (int16_t)get16(p);
+            p += QS_LEN_CUBIC_SEGMENT_JERK;
+        }
+    }
+    return QS_ERR_NONE;
+}
+
 uint8_t qs_msg_parse_set_position(const uint8_t *p, uint8_t len, qs_set_position_msg *sp)
 {
     uint8_t axis;

@@ -18,6 +18,19 @@ typedef struct {
     int16_t r[QS_PROTOCOL_AXES];
 } qs_segment_msg;
 
+/* CUBIC_SEGMENT: n ticks; per axis an optional state set (speed and
+ * acceleration) and an optional jerk, the rest carried from the segment
+ * before (PROTOCOL.md section 5.2, docs/CUBIC.md). */
+typedef struct {
+    uint16_t n;
+    uint8_t jerk;     /* bit i: axis i has a jerk field */
+    uint8_t set;      /* bit i: axis i has a state set */
+    uint8_t negative; /* bit i: a set axis moves in the negative direction */
+    uint32_t speed[QS_PROTOCOL_AXES]; /* set: I, the advance over the first tick, 2^-31 step (< 2^31) */
+    int32_t accel[QS_PROTOCOL_AXES];  /* set: its change per tick, 2^-31 step per tick^2 (24 bits) */
+    int16_t r[QS_PROTOCOL_AXES];      /* jerk: the change of that per tick; 0 where absent */
+} qs_cubic_msg;
+
 typedef struct {
     uint8_t mask;
     int32_t position[QS_PROTOCOL_AXES]; /* indexed by axis, valid where in mask */
@@ -53,6 +66,7 @@ typedef struct {
     uint8_t seq;
     union {
         qs_segment_msg segment;
+        qs_cubic_msg cubic;
         qs_set_position_msg set_position;
         qs_hold_msg hold;
         qs_probe_msg probe;
@@ -72,6 +86,7 @@ typedef struct {
  * are. Return QS_ERR_NONE or QS_ERR_BAD_LENGTH. Which function a type
  * needs is the switch in qs_core.c (on_frame). */
 uint8_t qs_msg_parse_empty(uint8_t len);
+uint8_t qs_msg_parse_cubic(const uint8_t *p, uint8_t len, qs_cubic_msg *c);
 uint8_t qs_msg_parse_segment(const uint8_t *p, uint8_t len, qs_segment_msg *s);
 uint8_t qs_msg_parse_set_position(const uint8_t *p, uint8_t len, qs_set_position_msg *sp);
 uint8_t qs_msg_parse_hold(const uint8_t *p, uint8_t len, qs_hold_msg *h);

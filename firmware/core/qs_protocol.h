@@ -19,6 +19,13 @@
 #define QS_DECEL_SHIFT 24
 #define QS_DECEL_MAX 8191
 
+/* Cubic segments (section 5.2, CUBIC_SEGMENT; docs/CUBIC.md): the ideal's
+ * advance per tick in 2^-QS_CUBIC_SHIFT step, its change per tick under
+ * QS_CUBIC_ACCEL_LIMIT in magnitude, segments up to QS_CUBIC_N_MAX ticks. */
+#define QS_CUBIC_SHIFT 31
+#define QS_CUBIC_ACCEL_LIMIT 8388608L /* 2^23 */
+#define QS_CUBIC_N_MAX 65535
+
 /* Framing (section 2). */
 #define QS_MAX_FRAME 64      /* decoded body + crc16 */
 #define QS_MIN_FRAME 4       /* type, seq, crc16 */
@@ -38,6 +45,7 @@
 #define QS_TYPE_SET_POSITION 0x11
 #define QS_TYPE_PROBE 0x15
 #define QS_TYPE_CONFIG 0x16
+#define QS_TYPE_CUBIC_SEGMENT 0x12
 #define QS_TYPE_ACK 0x80
 #define QS_TYPE_IDENTIFY_REPLY 0x81
 #define QS_TYPE_STATUS_REPORT 0x82
@@ -54,6 +62,9 @@
 #define QS_LEN_HOLD 8 /* decel:u16 for each of the 4 axes the wire names */
 #define QS_LEN_SEGMENT_HEAD 3
 #define QS_LEN_SEGMENT_AXIS 6
+#define QS_LEN_CUBIC_SEGMENT_HEAD 3 /* n, fields; then per axis a set and a jerk, each if named */
+#define QS_LEN_CUBIC_SEGMENT_SET 7  /* speed:u32, accel:i24 */
+#define QS_LEN_CUBIC_SEGMENT_JERK 2 /* r:i16 */
 #define QS_LEN_SET_POSITION_HEAD 1
 #define QS_LEN_SET_POSITION_AXIS 4
 #define QS_LEN_ACK 5
@@ -108,6 +119,8 @@
 #define QS_FIELD_LEVEL 9
 #define QS_FIELD_INPUTS 10
 #define QS_FIELD_HARD_LIMITS 11
+#define QS_FIELD_SPEED 12 /* cubic: an advance per tick outside 0 ... 1 step */
+#define QS_FIELD_ACCEL 13 /* cubic: an acceleration outside 24 bits */
 #define QS_AXIS_NONE 0xFF
 
 /* ALARM codes. */

@@ -17,21 +17,45 @@
 #include "qs_int24.h"
 #include "qs_messages.h"
 
+/* A cubic segment's running state (qs_cubic.h), per axis, in the scale
+ * Sigma = 2^31: h the sign test, b = I(t+2) - Sigma, q = I(t+2) - I(t+1)
+ * (I(k): the ideal's advance over tick k), r the constant third
+ * difference; e_top the top byte of the error at the segment's start, for
+ * reading positions back mid-segment. */
 typedef struct {
-    qs_i24 h[QS_AXIS_COUNT];
-    qs_i24 b[QS_AXIS_COUNT];
-    qs_i24 db[QS_AXIS_COUNT];
-    qs_i24 two_c2;
-    int16_t r[QS_AXIS_COUNT];      /* the segment's residuals, and */
-    uint16_t total[QS_AXIS_COUNT]; /* its steps, for the positions */
+    uint32_t h[QS_AXIS_COUNT];
+    uint32_t b[QS_AXIS_COUNT];
+    qs_i24 q[QS_AXIS_COUNT];
+    qs_i24 r[QS_AXIS_COUNT];
+    int8_t e_top[QS_AXIS_COUNT];
+} qs_cubic_run;
+
+typedef struct {
+    /* First, so that the tick reaches them from the slot with ldd. */
     uint16_t n;
     uint8_t active;        /* bit i: axis i runs the loop */
     uint8_t tick_axes;     /* for the tick: active in bits 0-3, and in bits
-                            * 4-7 the active axes with db = 0 (steady
-                            * speed), whose b never changes */
+                            * 4-7 the active axes whose b (quadratic: db = 0)
+                            * or q (cubic: r = 0) never changes */
     uint8_t negative;      /* bit i: axis i steps in the negative direction */
-    uint8_t ends_moving;   /* some active axis has vn > 0 */
+    uint8_t ends_moving;   /* some active axis is moving at the end */
+    uint8_t cubic;         /* 0: a quadratic segment; else a cubic one, with
+                            * bit i set for axes whose b never changes
+                            * (q = r = 0), and bit 7 always */
+    union {
+        struct { /* quadratic (SEGMENT) */
+            qs_i24 h[QS_AXIS_COUNT];
+            qs_i24 b[QS_AXIS_COUNT];
+            qs_i24 db[QS_AXIS_COUNT];
+            qs_i24 two_c2;
+            int16_t r[QS_AXIS_COUNT]; /* the segment's residuals */
+        };
+        qs_cubic_run c; /* cubic (CUBIC_SEGMENT) */
+    };
+    uint16_t total[QS_AXIS_COUNT]; /* steps over the segment, for the positions */
 } qs_segment;
+
+#define QS_CUBIC_KIND 0x80
 
 /* Fill a slot from a segment that passed qs_msg_check_segment. */
 void qs_segment_prepare(qs_segment *slot, const qs_segment_msg *m);

@@ -21,7 +21,9 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from .cubic_model import CubicChain, cubic_step_ticks
 from .protocol.constants import DECEL_SHIFT
+from .protocol.cubic import CubicSegment
 from .protocol.segment import D, MAX_AXES, N_MAX, SPEED_SHIFT, AxisMove, Segment
 
 
@@ -81,24 +83,43 @@ class Prediction:
 
 
 def predict(
-    segments: Iterable[Segment],
+    segments: Iterable[Segment | CubicSegment],
     positions: Sequence[int] | None = None,
     start_tick: int = 0,
     axis_count: int = MAX_AXES,
+    chain: CubicChain | None = None,
 ) -> Prediction:
-    """Predict the steps the firmware makes for `segments`, starting at motion tick `start_tick`."""
+    """Predict the steps the firmware makes for `segments`, starting at motion tick `start_tick`.
+
+    Cubic segments run on `chain`, the state the firmware's axes carry (default: a fresh firmware's,
+    at rest on the ideal), which this advances; quadratic ones set it to their end state.
+    """
     pos = list(positions) if positions is not None else [0] * axis_count
     counts = [0] * axis_count
     tick = start_tick
     chunks: list[np.ndarray] = []
     count = 0
+    chain = chain if chain is not None else CubicChain(axis_count)
     for seg in segments:
+        if isinstance(seg, CubicSegment):
+            for step in chain.advance(seg):
+                ticks = cubic_step_ticks(seg.n, step)
+                if ticks.size:
+                    chunks.append(_step_rows(ticks + tick, step.axis, step.start.direction))
+                pos[step.axis] += step.start.direction * int(ticks.size)
+                counts[step.axis] += int(ticks.size)
+            tick += seg.n
+            count += 1
+            continue
+        totals = {}
         for mv in seg.axes:
             ticks = step_ticks(seg.n, mv)
             if ticks.size:
                 chunks.append(_step_rows(ticks + tick, mv.axis, mv.direction))
             pos[mv.axis] += mv.direction * int(ticks.size)
             counts[mv.axis] += int(ticks.size)
+            totals[mv.axis] = int(ticks.size)
+        chain.follow_quadratic(seg, totals)
         tick += seg.n
         count += 1
     steps = _stack(chunks)

@@ -37,6 +37,7 @@ MESSAGE_KEYS = {
     "INPUT_STATUS": {"present", "active", "raw", "invert", "enabled", "hard_limits", "armed", "level",
                      "latches_lost"},
     "SEGMENT": {"n", "axes"},
+    "CUBIC_SEGMENT": {"n", "axes"},
     "SET_POSITION": {"positions"},
     "ACK": {"next_seq", "free", "reason", "done"},
     "IDENTIFY_REPLY": {"protocol_version", "fw_major", "fw_minor", "fw_patch", "board",
@@ -106,6 +107,25 @@ def message_fields(msg: dict, axis_count: int) -> list[str]:
                    ".v0 = {%s}, .vn = {%s}, .r = {%s}}}"
                    % (msg["n"], active, negative, ", ".join(map(str, v0)),
                       ", ".join(map(str, vn)), ", ".join(map(str, r))))
+    elif kind == "CUBIC_SEGMENT":
+        jerk = sets = negative = 0
+        speed = [0] * 4
+        accel = [0] * 4
+        r = [0] * 4
+        for ax in msg["axes"]:
+            i = ax["axis"]
+            if "speed" in ax:
+                sets |= 1 << i
+                speed[i], accel[i] = ax["speed"], ax.get("accel", 0)
+                if ax.get("direction", 1) == -1:
+                    negative |= 1 << i
+            if "jerk" in ax:
+                jerk |= 1 << i
+                r[i] = ax["jerk"]
+        out.append(".host = {.cubic = {.n = %d, .jerk = 0x%02X, .set = 0x%02X, .negative = 0x%02X, "
+                   ".speed = {%s}, .accel = {%s}, .r = {%s}}}"
+                   % (msg["n"], jerk, sets, negative, ", ".join(f"{v}UL" for v in speed),
+                      ", ".join(f"{v}L" for v in accel), ", ".join(map(str, r))))
     elif kind == "SET_POSITION":
         mask = 0
         pos = [0] * 4

@@ -17,6 +17,7 @@ typedef struct {
     uint8_t seq;
     union {
         qs_segment_msg segment;
+        qs_cubic_msg cubic;
         qs_set_position_msg set_position;
         qs_hold_msg hold;
         qs_probe_msg probe;

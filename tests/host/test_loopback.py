@@ -95,7 +95,7 @@ def test_malformed_frames_are_counted_and_the_next_good_frame_works(free_emulato
         bad_crc[-3] ^= 0x01
         truncated = cobs_encode(encode(good_segment, next_seq)[1:3]) + b"\x00"  # 2 bytes: too short
         too_long = encode_frame(bytes([0x10, next_seq]) + bytes(range(1, 70)))
-        unknown = encode_frame(bytes([0x12, next_seq]))
+        unknown = encode_frame(bytes([0x3E, next_seq]))
         bad_length = encode_frame(bytes([0x10, next_seq, 5, 0]))
         raw.write(garbage + bytes(bad_crc) + truncated + too_long + unknown + bad_length)
         errors = raw.collect(6)
@@ -104,7 +104,7 @@ def test_malformed_frames_are_counted_and_the_next_good_frame_works(free_emulato
             ErrorCode.BAD_COBS, ErrorCode.BAD_CRC, ErrorCode.FRAME_TOO_SHORT, ErrorCode.FRAME_TOO_LONG,
             ErrorCode.UNKNOWN_TYPE, ErrorCode.BAD_LENGTH,
         ]
-        assert [(e.message.frame_type, e.message.frame_seq) for e in errors[4:]] == [(0x12, next_seq), (0x10, next_seq)]
+        assert [(e.message.frame_type, e.message.frame_seq) for e in errors[4:]] == [(0x3E, next_seq), (0x10, next_seq)]
         raw.write(encode(good_segment, next_seq))
         ack = raw.collect(1)[0].message
         assert isinstance(ack, Ack) and ack.reason == AckReason.ACCEPTED and ack.next_seq == (next_seq + 1) & 0xFF

@@ -94,7 +94,7 @@ def test_the_none_values_and_protocol_numbers_agree() -> None:
     assert C["QS_AXIS_NONE"] == py.NO_AXIS
     assert C["QS_SEQ_UNSOLICITED"] == py.BROADCAST_SEQ
     for name in ("PROTOCOL_VERSION", "SPEED_SHIFT", "D", "N_MAX", "V_MAX", "R_MAX", "DECEL_SHIFT", "DECEL_MAX",
-                 "MAX_FRAME", "MIN_FRAME"):
+                 "MAX_FRAME", "MIN_FRAME", "CUBIC_SHIFT", "CUBIC_ACCEL_LIMIT", "CUBIC_N_MAX"):
         assert C[f"QS_{name}"] == getattr(py, name), name
     assert c_defines(MESSAGES_H)["QS_PROTOCOL_AXES"] == py.MAX_AXES
 
@@ -108,7 +108,11 @@ def declared_lengths() -> dict[str, int]:
         if name == "EVENT":
             continue  # each kind has its own layout
         head, unit = cls.wire_head(), cls.wire_unit()
-        if unit:
+        named = [pair for _, codec in cls.wire_fields() for pair in getattr(codec, "named_lengths", ())]
+        if named:  # a head, then parts of their own sizes
+            lengths[f"{name}_HEAD"] = head
+            lengths.update({f"{name}_{part}": size for part, size in named})
+        elif unit:
             lengths[f"{name}_HEAD"] = head
             lengths[f"{name}_AXIS"] = unit
         elif head:

@@ -12,6 +12,8 @@ import random
 from dataclasses import dataclass, field
 
 from quadstep.engine_model import advance, residual
+from quadstep.cubic_model import CubicChain
+from quadstep.protocol.cubic import CubicAxis, CubicSegment
 from quadstep.protocol import AxisMove, Segment
 from quadstep.protocol.segment import D, N_MAX
 
@@ -99,6 +101,46 @@ def random_runs(axis_count: int, seed: int, runs: int = 3, per_run: int = 12) ->
                 moves[a] = (direction[a], v0, vn)
                 speed[a] = vn
             run.append(b.segment(n, moves))
+        out.append(run)
+    return out
+
+
+def s_curve(axis_count: int, n1: int, n2: int, cruise: int, jerks: dict[int, int]) -> list[CubicSegment]:
+    """A rest-to-rest jerk-limited move: per axis jerk +r for n1 ticks, none for n2, -r for n1, a cruise,
+    then the same with the jerks negated, which brings every axis back to rest exactly."""
+    def phase(n: int, sign: int) -> CubicSegment:
+        return CubicSegment(n=n, axes=tuple(CubicAxis(axis=a, jerk=sign * r) for a, r in sorted(jerks.items()) if r))
+
+    accel = [phase(n1, 1), CubicSegment(n=n2), phase(n1, -1)]
+    decel = [phase(n1, -1), CubicSegment(n=n2), phase(n1, 1)]
+    return accel + [CubicSegment(n=cruise)] + decel
+
+
+def cubic_runs(axis_count: int, seed: int, runs: int = 2, shortest: int = 150) -> list[list[Segment | CubicSegment]]:
+    """Runs of cubic segments the way a jerk-limited plan has them: S-curves on every axis with
+    random jerks, turned round at rest by state sets, with corners (a set mid-motion) and a long cruise,
+    each checked against the firmware's own rules (CubicChain) as it is made."""
+    rng = random.Random(seed)
+    out: list[list[Segment | CubicSegment]] = []
+    chain = CubicChain(axis_count)
+    for _ in range(runs):
+        run: list[Segment | CubicSegment] = []
+        for _ in range(3):
+            # phases of a few hundred ticks: the board's main loop prepares a cubic segment in about
+            # 19,000 cycles (docs/CUBIC.md), so shorter ones in a row would outrun it
+            n1, n2 = rng.randint(shortest, shortest + 250), rng.randint(shortest, shortest + 150)
+            fastest = int(0.4 * 2**31 / (n1 * (n1 + n2)))  # a jerk that peaks at 0.4 step per tick
+            jerks = {a: rng.randint(0, fastest) for a in range(axis_count)}
+            turn = tuple(CubicAxis(axis=a, speed=0, direction=rng.choice((1, -1))) for a in range(axis_count))
+            run.append(CubicSegment(n=rng.randint(shortest, shortest + 50), axes=turn))
+            run += s_curve(axis_count, n1, n2, rng.choice((shortest, 500, 30000)), jerks)
+        # a corner: every axis set to a new speed mid-motion, then slowed to rest by a jerk
+        corner = tuple(CubicAxis(axis=a, speed=rng.randint(1, 2**30), direction=rng.choice((1, -1)))
+                       for a in range(axis_count))
+        run.append(CubicSegment(n=300, axes=corner))
+        run.append(CubicSegment(n=shortest, axes=tuple(CubicAxis(axis=a, speed=0) for a in range(axis_count))))
+        for seg in run:
+            chain.advance(seg)  # every segment valid where it stands
         out.append(run)
     return out
 

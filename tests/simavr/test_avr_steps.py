@@ -67,7 +67,7 @@ def run_both(board: str, runs: list[list[Segment]], tmp_path: Path, start_emulat
 
 @pytest.mark.parametrize(
     "name",
-    ["full_speed", "ramps_and_reversals", "random_runs"],
+    ["full_speed", "ramps_and_reversals", "random_runs", "cubic_runs"],
 )
 def test_uno_steps_match_emulator_and_model(name: str, avr_build: None, tmp_path: Path, start_emulator) -> None:
     axes = AXES["uno"]
@@ -75,9 +75,14 @@ def test_uno_steps_match_emulator_and_model(name: str, avr_build: None, tmp_path
         "full_speed": lambda: avr_scenarios.full_speed(axes),
         "ramps_and_reversals": lambda: avr_scenarios.ramps_and_reversals(axes),
         "random_runs": lambda: avr_scenarios.random_runs(axes, seed=7),
+        "cubic_runs": lambda: avr_scenarios.cubic_runs(axes, seed=5),
     }[name]()
     run_both("uno", runs, tmp_path, start_emulator)
 
 
 def test_mega_four_axes_match_emulator_and_model(avr_build: None, tmp_path: Path, start_emulator) -> None:
     run_both("mega", avr_scenarios.random_runs(AXES["mega"], seed=11, runs=2), tmp_path, start_emulator)
+
+
+def test_mega_cubic_segments_match_emulator_and_model(avr_build: None, tmp_path: Path, start_emulator) -> None:
+    run_both("mega", avr_scenarios.cubic_runs(AXES["mega"], seed=12, runs=1, shortest=1000), tmp_path, start_emulator)

@@ -41,11 +41,12 @@ from .messages import (
     Stop,
     message_type,
 )
+from .cubic import CubicAxis, CubicSegment
 from .segment import D, MAX_AXES, N_MAX, R_MAX, AxisMove, Segment
 from .wire import Report, Request
 
 __all__ = [
-    "AXIS_NAMES", "Ack", "AckReason", "Alarm", "AlarmCode", "AxisMove", "Board", "Capability", "Config", "D",
+    "AXIS_NAMES", "Ack", "AckReason", "Alarm", "AlarmCode", "AxisMove", "CubicAxis", "CubicSegment", "Board", "Capability", "Config", "D",
     "DECEL_MAX", "DECEL_SHIFT", "Input", "InputCause", "InputChange", "InputStatus", "Inputs", "Probe", "ProbeMissed",
     "DecodeError", "Decoder", "ErrorCode", "ErrorReport", "Event", "EventKind", "FieldId", "Hold", "HoldDone",
     "Frame", "Identify", "IdentifyReply", "MAX_AXES", "MAX_FRAME", "Message", "MessageType", "N_MAX",

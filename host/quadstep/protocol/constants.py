@@ -23,10 +23,14 @@ NO_AXIS = 0xFF  # ERROR axis when no axis is named
 MAX_IN_FLIGHT = 127  # sequenced frames outstanding at once
 DECEL_SHIFT = 24  # a HOLD deceleration d means d / 2^24 step per tick²
 DECEL_MAX = 8191  # largest HOLD deceleration (keeps the hold's per-tick values inside 24 bits)
+CUBIC_SHIFT = 31  # a cubic segment's advances are in 2^-31 step (docs/CUBIC.md)
+CUBIC_ACCEL_LIMIT = 1 << 23  # |change of the advance per tick| stays below this (24 bits)
+CUBIC_N_MAX = 65535  # longest cubic segment in ticks (a 16-bit count)
 
 __all__ = [
     "AXIS_NAMES", "D", "MAX_AXES", "N_MAX", "R_MAX", "SPEED_SHIFT", "V_MAX", "PROTOCOL_VERSION", "MAX_FRAME", "MIN_FRAME",
-    "DELIMITER", "BROADCAST_SEQ", "NO_FIELD", "NO_AXIS", "MAX_IN_FLIGHT", "DECEL_SHIFT", "DECEL_MAX",
+    "DELIMITER", "BROADCAST_SEQ", "NO_FIELD", "NO_AXIS", "MAX_IN_FLIGHT", "DECEL_SHIFT", "DECEL_MAX", "CUBIC_SHIFT",
+    "CUBIC_ACCEL_LIMIT", "CUBIC_N_MAX",
     "AckReason", "ErrorCode", "FieldId", "AlarmCode", "State", "Board", "Capability", "TypeClass",
     "is_immediate", "is_report", "is_sequenced", "Input", "InputCause", "INPUT_COUNT",
 ]
@@ -96,6 +100,8 @@ class FieldId(IntEnum):
     LEVEL = 9
     INPUTS = 10
     HARD_LIMITS = 11
+    SPEED = 12
+    ACCEL = 13
 
 
 class AlarmCode(IntEnum):

@@ -43,6 +43,7 @@ from .constants import (
     State,
     TypeClass,
 )
+from .cubic import CubicAxis, CubicSegment
 from .segment import AxisMove, Segment
 from .wire import (
     FieldFault,
@@ -424,7 +425,7 @@ def message_from_json(fields: dict[str, Any]) -> tuple[int, WireMessage]:
 
 
 __all__ = [
-    "Ack", "Alarm", "AxisMove", "Config", "ErrorReport", "Event", "EventKind", "Hold", "HoldDone", "Identify",
+    "Ack", "Alarm", "AxisMove", "Config", "CubicAxis", "CubicSegment", "ErrorReport", "Event", "EventKind", "Hold", "HoldDone", "Identify",
     "IdentifyReply", "InputChange", "InputStatus", "Inputs", "Message", "MessageType", "Probe", "ProbeMissed",
     "Report", "Request", "Segment", "SetPosition", "Status", "StatusReport", "Stop", "message_from_json",
     "message_type",

@@ -61,8 +61,8 @@ static void test_identify_reports_what_the_firmware_is(void)
     TEST_ASSERT_EQUAL_INT(12, p[7]);
     TEST_ASSERT_EQUAL_INT(1022, tp_u16(p + 8));
     TEST_ASSERT_EQUAL_UINT32(40000, tp_u32(p + 10));
-    /* quadratic, set position, hold; limit, probe and control inputs, homing */
-    TEST_ASSERT_EQUAL_HEX16(0x0177, tp_u16(p + 14));
+    /* quadratic, set position, hold; limit, probe and control inputs, homing; cubic */
+    TEST_ASSERT_EQUAL_HEX16(0x01F7, tp_u16(p + 14));
     TEST_ASSERT_EQUAL_INT(9, p[16]);
 }
 
@@ -312,13 +312,13 @@ static void test_set_position_only_when_idle(void)
 
 static void test_message_errors_name_the_frame_and_count(void)
 {
-    uint8_t body[] = {0x12, 44};
+    uint8_t body[] = {0x3E, 44};
     qs_error_report e;
     tp_send(&core, body, sizeof body);
     TEST_ASSERT_EQUAL_INT(1, sent());
     e = tp_error(&reports[0]);
     TEST_ASSERT_EQUAL_INT(QS_ERR_UNKNOWN_TYPE, e.code);
-    TEST_ASSERT_EQUAL_HEX8(0x12, e.type);
+    TEST_ASSERT_EQUAL_HEX8(0x3E, e.type);
     TEST_ASSERT_EQUAL_UINT8(44, e.seq);
     TEST_ASSERT_EQUAL_UINT8(44, reports[0].seq);
     TEST_ASSERT_EQUAL_INT(QS_FIELD_NONE, e.field);

@@ -77,6 +77,8 @@ static uint8_t parse(const uint8_t *body, uint8_t len, qs_host_msg *m)
         return qs_msg_parse_segment(p, plen, &m->as.segment);
     case QS_TYPE_SET_POSITION:
         return qs_msg_parse_set_position(p, plen, &m->as.set_position);
+    case QS_TYPE_CUBIC_SEGMENT:
+        return qs_msg_parse_cubic(p, plen, &m->as.cubic);
     default:
         return QS_ERR_UNKNOWN_TYPE;
     }
@@ -99,6 +101,13 @@ static uint8_t decode(const qs_vector *v, qs_host_msg *m, qs_fault *f)
         return qs_msg_check_segment(&m->as.segment, v->axis_count, f);
     if (m->type == QS_TYPE_SET_POSITION)
         return qs_msg_check_set_position(&m->as.set_position, v->axis_count, f);
+    if (m->type == QS_TYPE_CUBIC_SEGMENT) {
+        /* against the chain of a freshly started firmware */
+        static qs_cubic_chain chain;
+        static qs_segment slot;
+        qs_cubic_reset(&chain);
+        return qs_cubic_prepare(&chain, &slot, &m->as.cubic, v->axis_count, f);
+    }
     if (m->type == QS_TYPE_HOLD)
         return qs_msg_check_hold(&m->as.hold, v->axis_count, f);
     if (m->type == QS_TYPE_PROBE)
@@ -123,6 +132,17 @@ static void check_host_message(const qs_vector *v, const qs_host_msg *m)
             TEST_ASSERT_EQUAL_UINT16_MESSAGE(e->v0[axis], a->v0[axis], at(v, "v0"));
             TEST_ASSERT_EQUAL_UINT16_MESSAGE(e->vn[axis], a->vn[axis], at(v, "vn"));
             TEST_ASSERT_EQUAL_INT_MESSAGE(e->r[axis], a->r[axis], at(v, "r"));
+        }
+    } else if (m->type == QS_TYPE_CUBIC_SEGMENT) {
+        const qs_cubic_msg *e = &v->host.cubic, *a = &m->as.cubic;
+        TEST_ASSERT_EQUAL_UINT16_MESSAGE(e->n, a->n, at(v, "n"));
+        TEST_ASSERT_EQUAL_HEX8_MESSAGE(e->jerk, a->jerk, at(v, "jerk axes"));
+        TEST_ASSERT_EQUAL_HEX8_MESSAGE(e->set, a->set, at(v, "set axes"));
+        TEST_ASSERT_EQUAL_HEX8_MESSAGE(e->negative, a->negative, at(v, "directions"));
+        for (axis = 0; axis < QS_PROTOCOL_AXES; axis++) {
+            TEST_ASSERT_EQUAL_UINT32_MESSAGE(e->speed[axis], a->speed[axis], at(v, "speed"));
+            TEST_ASSERT_EQUAL_INT_MESSAGE(e->accel[axis], a->accel[axis], at(v, "accel"));
+            TEST_ASSERT_EQUAL_INT_MESSAGE(e->r[axis], a->r[axis], at(v, "jerk"));
         }
     } else if (m->type == QS_TYPE_SET_POSITION) {
         const qs_set_position_msg *e = &v->host.set_position, *a = &m->as.set_position;
