@@ -97,8 +97,8 @@ static inline __attribute__((always_inline)) void uart_service(void)
                 "lsr r30\n\t"
                 "lsr r30\n\t"
                 "ldi r31, 0\n\t"
-                "subi r30, lo8(-(uart_rx_lost_before))\n\t"
-                "sbci r31, hi8(-(uart_rx_lost_before))\n\t"
+                "subi r30, lo8(-(%[lost]))\n\t"
+                "sbci r31, hi8(-(%[lost]))\n\t"
                 "mov r0, %[head]\n\t"
                 "ldi %[head], 1\n\t"
                 "sbrc r0, 1\n\t"
@@ -113,12 +113,12 @@ static inline __attribute__((always_inline)) void uart_service(void)
                 "ld r0, Z\n\t"
                 "or r0, %[head]\n\t"
                 "st Z, r0\n\t"
-                "lds r0, uart_rx_marks\n\t"
+                "lds r0, %[marks]\n\t"
                 "inc r0\n\t"
-                "sts uart_rx_marks, r0\n"
+                "sts %[marks], r0\n"
                 "1:"
                 : [head] "+d"(head_bit)
-                :
+                : [lost] "i"(uart_rx_lost_before), [marks] "i"(&uart_rx_marks)
                 : "r30", "r31", "memory");
             if (full) {
                 continue;
