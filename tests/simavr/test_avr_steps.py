@@ -17,7 +17,7 @@ from quadstep.link import Link
 from quadstep.protocol import Segment, State, StatusReport
 
 AXES = {"uno": 3, "mega": 4}
-QUEUE = {"uno": 16, "mega": 32}
+QUEUE = {"uno": 14, "mega": 32}
 
 
 def stream(url: str, runs: list[list[Segment]]) -> StatusReport:
