@@ -22,6 +22,8 @@ COMMANDS: dict[str, list[str]] = {
     "avr": [sys.executable, str(BENCH / "bench_avr.py")],
     "hold": [sys.executable, str(BENCH / "bench_hold.py")],
     "jog": [sys.executable, str(BENCH / "bench_jog.py")],
+    "cubic": [sys.executable, str(BENCH / "bench_cubic_avr.py")],
+    "seed002": [sys.executable, str(BENCH / "bench_seed002.py")],
 }
 
 
