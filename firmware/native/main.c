@@ -142,13 +142,14 @@ static void run_tick(emulator *m)
 {
     qs_engine *e = &m->core.engine;
     uint16_t left_before;
-    uint8_t tail_before, hold_ticks_before;
+    uint8_t tail_before, hold_ticks_before, resequence_before;
     int hold_begins;
     uint8_t bits, axis;
 
     left_before = e->left;
     tail_before = e->queue.tail;
     hold_ticks_before = (uint8_t)e->hold.ticks;
+    resequence_before = e->resequence;
     sample_inputs(m); /* may freeze the engine or begin a hold, before the decisions */
     hold_begins = e->hold.moving && e->hold.ticks == 0;
     bits = qs_engine_tick(e);
@@ -156,8 +157,10 @@ static void run_tick(emulator *m)
         emu_events_hold(&m->events, e->hold_tick, now_ns());
     /* A decision was made if a segment ran a tick (left moved on, or a
      * one-tick segment began and ended: tail moved) or a hold did (its
-     * tick count moved on). A frozen tick makes none. */
-    if (left_before != e->left || e->queue.tail != tail_before || (uint8_t)e->hold.ticks != hold_ticks_before) {
+     * tick count moved on, or a trigger began one in this tick: its count
+     * restarted). A frozen tick makes none. */
+    if (left_before != e->left || e->queue.tail != tail_before || (uint8_t)e->hold.ticks != hold_ticks_before
+        || (!resequence_before && e->resequence && e->hold.moving)) {
         m->motion_tick++;
         for (axis = 0; axis < QS_AXIS_COUNT; axis++)
             m->steps[axis] += (bits >> axis) & 1u;

@@ -30,6 +30,35 @@ class ConfigError(ValueError):
     """A machine configuration that cannot be used; the message names every bad key."""
 
 
+InputName = Literal["limit_0", "limit_1", "limit_2", "limit_3", "limit_max_0", "limit_max_1", "limit_max_2",
+                    "limit_max_3", "probe", "abort", "feed_hold", "cycle_start"]
+
+
+class HomingConfig(BaseModel):
+    """How an axis finds machine zero: the switch at one end of its travel (docs/INPUTS.md, Homing)."""
+
+    model_config = ConfigDict(extra="forbid", frozen=True)
+
+    end: Literal["min", "max"] = Field(default="min", description="which end of the travel the switch is at")
+    seek: float = Field(default=10.0, gt=0, description="mm/s, the fast approach")
+    locate: float = Field(default=1.0, gt=0, description="mm/s, the slow approach that sets zero")
+    pull_off: float = Field(default=1.0, gt=0, le=100, description="mm, backed off the switch after each approach")
+    switch_at: float | None = Field(default=None, description="mm, machine coordinate of the switch's point "
+                                                              "(default: the travel end)")
+
+
+class InputsConfig(BaseModel):
+    """The board's inputs: polarity, debounce, which are used, hard limits (sent as CONFIG at connect)."""
+
+    model_config = ConfigDict(extra="forbid", frozen=True)
+
+    hard_limits: bool = True
+    active_high: tuple[InputName, ...] = Field(default=(), description="inputs active when their pin is high "
+                                                                      "(normally closed switches)")
+    disabled: tuple[InputName, ...] = Field(default=(), description="inputs ignored (nothing wired)")
+    debounce_ms: float = Field(default=0.0, ge=0, le=100, description="every input's debounce")
+
+
 class AxisConfig(BaseModel):
     """One motor axis: its G-code letter, scale, limits and travel."""
 
@@ -42,6 +71,7 @@ class AxisConfig(BaseModel):
     travel_min: float = Field(ge=-100_000, le=100_000, description="mm")
     travel_max: float = Field(ge=-100_000, le=100_000, description="mm")
     invert: bool = False
+    homing: HomingConfig | None = None  # None: the axis has no homing switch
 
     @model_validator(mode="after")
     def _travel_in_order(self) -> AxisConfig:
@@ -69,6 +99,9 @@ class MachineConfig(BaseModel):
     junction_deviation: float = Field(default=0.01, gt=0, le=10, description="mm, GRBL-style cornering")
     arc_tolerance: float = Field(default=0.002, gt=0, le=10, description="mm, largest chord-to-arc distance")
     axes: tuple[AxisConfig, ...] = Field(min_length=1, max_length=MAX_AXES)
+    inputs: InputsConfig = InputsConfig()
+    homing_order: tuple[AxisName, ...] | None = Field(default=None, description="default: Z first, then the others")
+    homing_required: bool = False  # refuse jobs and jogs until the machine is homed
 
     @model_validator(mode="after")
     def _axes_consistent(self) -> MachineConfig:
@@ -82,7 +115,23 @@ class MachineConfig(BaseModel):
                     f"axes[{i}].max_speed = {axis.max_speed}: must be at most {limit:g} mm/s "
                     f"(3/4 step per tick at tick_hz {self.tick_hz} with {axis.steps_per_mm:g} steps/mm)"
                 )
+        for name in self.homing_order or ():
+            if name not in names:
+                raise ValueError(f"homing_order: {name} is not an axis ({names})")
+            if self.axes[names.index(name)].homing is None:
+                raise ValueError(f"homing_order: axis {name} has no [axes.homing]")
+        if self.homing_required and not any(a.homing for a in self.axes):
+            raise ValueError("homing_required = true: no axis has [axes.homing]")
         return self
+
+    @property
+    def homing_axes(self) -> tuple[int, ...]:
+        """The axes to home, in order: homing_order, or Z first and then the others with [axes.homing]."""
+        names = self.axis_names
+        if self.homing_order is not None:
+            return tuple(names.index(n) for n in self.homing_order)
+        homed = [i for i, a in enumerate(self.axes) if a.homing is not None]
+        return tuple(sorted(homed, key=lambda i: (names[i] != "Z", i)))
 
     @property
     def axis_names(self) -> tuple[str, ...]:

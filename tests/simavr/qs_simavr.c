@@ -26,8 +26,8 @@
 #include "sim_wire.h"
 
 #define PROBE_SYMBOL "qs_debug_probe"
-#define PROBE_VERSION 4
-#define PROBE_WORDS 6
+#define PROBE_VERSION 5
+#define PROBE_WORDS 8
 #define SERVICE_HZ 2000   /* host I/O and pacing checks per simulated second */
 #define IDLE_QUIET_MS 5   /* --exit-when-idle: line quiet this long first */
 
@@ -184,7 +184,7 @@ static int read_probe(const avr_t *avr, const elf_firmware_t *fw, sim_probe *p)
         fprintf(stderr, "qs-simavr: %s layout %u, expected %u\n", PROBE_SYMBOL, word[0], PROBE_VERSION);
         return -1;
     }
-    *p = (sim_probe){word[1], word[2], word[3], word[4], word[5]};
+    *p = (sim_probe){word[1], word[2], word[3], word[4], word[5], word[6], word[7]};
     return 0;
 }
 

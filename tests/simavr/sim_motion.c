@@ -21,6 +21,7 @@ struct sim_motion {
     uint16_t left_before;     /* engine state at the current interrupt's entry */
     uint8_t tail_before;
     uint8_t hold_ticks_before;
+    uint8_t resequence_before;
     uint32_t ticks;           /* motion ticks so far */
     int prev_ran;             /* the previous interrupt ran a segment */
     uint32_t prev_cost;       /* and cost this much */
@@ -135,6 +136,7 @@ void sim_motion_tick_enter(void *motion)
     m->left_before = read_u16(m->avr->data, m->probe.left);
     m->tail_before = m->avr->data[m->probe.tail];
     m->hold_ticks_before = m->avr->data[m->probe.hold_ticks];
+    m->resequence_before = m->avr->data[m->probe.resequence];
     sim_inputs_tick_enter(m->inputs, m->ticks);
 }
 
@@ -145,7 +147,8 @@ void sim_motion_tick_done(void *motion, uint32_t cycles)
      * or a hold ran one in this call: the rule the emulator counts by. */
     const int ran = m->left_before != read_u16(m->avr->data, m->probe.left) ||
                     m->avr->data[m->probe.tail] != m->tail_before ||
-                    m->avr->data[m->probe.hold_ticks] != m->hold_ticks_before;
+                    m->avr->data[m->probe.hold_ticks] != m->hold_ticks_before ||
+                    (!m->resequence_before && m->avr->data[m->probe.resequence] && m->avr->data[m->probe.hold_moving]);
 
     /* The previous interrupt's decisions are the steps this one raised. */
     if (m->have_prev) {

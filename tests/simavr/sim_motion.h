@@ -35,6 +35,8 @@ typedef struct {
     uint16_t state; /* uint8_t */
     uint16_t latches_taken; /* uint8_t: latches taken (mod 256) */
     uint16_t hold_ticks; /* low byte of the hold's tick count */
+    uint16_t resequence; /* uint8_t: a trigger began a hold in the tick */
+    uint16_t hold_moving; /* uint8_t */
 } sim_probe;
 
 typedef struct {

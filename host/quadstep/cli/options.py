@@ -17,10 +17,13 @@ class CliError(Exception):
 
 
 def add_connection_options(parser: argparse.ArgumentParser) -> None:
-    """--port PORT | --emulator, and --baud, --free, --trace."""
-    where = parser.add_mutually_exclusive_group(required=True)
+    """--port PORT | --emulator [--sim FILE.toml], and --baud, --free, --trace."""
+    where = parser.add_mutually_exclusive_group(required=False)
     where.add_argument("--port", metavar="PORT", help="serial port of the board (/dev/ttyACM0, socket://host:port)")
     where.add_argument("--emulator", action="store_true", help="start the loopback emulator and use it")
+    parser.add_argument("--sim", type=Path, metavar="FILE.toml",
+                        help="the emulator (implied) with this simulated machine around its motors: switches, "
+                             "probe, backlash (docs/SIMULATED_MACHINE.md)")
     parser.add_argument("--baud", type=int, default=DEFAULT_BAUD, help=f"baud rate (default {DEFAULT_BAUD})")
     parser.add_argument("--free", action="store_true", help="with --emulator: run ticks as fast as possible")
     parser.add_argument("--trace", type=Path, metavar="CSV", help="with --emulator: write every step to CSV")
@@ -31,11 +34,20 @@ def add_json_option(parser: argparse.ArgumentParser) -> None:
 
 
 def target(args: argparse.Namespace) -> Target:
-    """The machine the arguments name: --port PORT, or --emulator (with --free, --trace)."""
-    if not args.emulator and (args.free or args.trace):
+    """The machine the arguments name: --port PORT, or --emulator (with --free, --trace, --sim)."""
+    emulator = args.emulator or args.sim is not None
+    if args.port is not None and args.sim is not None:
+        raise CliError("--sim runs the emulator: give it without --port")
+    if args.port is None and not emulator:
+        raise CliError("give --port PORT, --emulator or --sim FILE.toml")
+    if not emulator and (args.free or args.trace):
         raise CliError("--free and --trace apply only with --emulator")
-    options = {"free": args.free, "trace": args.trace} if args.emulator else {}
-    return Target(port=args.port, emulator=args.emulator, baud=args.baud, emulator_options=options)
+    options: dict[str, object] = {"free": args.free, "trace": args.trace} if emulator else {}
+    if args.sim is not None:
+        if not args.sim.is_file():
+            raise CliError(f"--sim {args.sim}: no such file")
+        options["extra_args"] = ["--machine", str(args.sim)]
+    return Target(port=args.port, emulator=emulator, baud=args.baud, emulator_options=options)
 
 
 def connect(args: argparse.Namespace, config: MachineConfig | None = None, source: str = "") -> Machine:

@@ -17,18 +17,42 @@ import threading
 from collections.abc import Callable, Sequence
 
 from ..config import DEFAULT_CONFIG_NAME, MachineConfig, default_config
-from ..link import Link, LinkError, LinkStats
+from ..link import Link, LinkError, LinkStats, hold
 from ..planner.plan import Plan
 from ..planner.segments import SegmentArrays
 from ..port_process import PortProcess
-from ..protocol import IdentifyReply, Report, Segment, SetPosition, State, StatusReport
+from ..protocol import Alarm, AlarmCode, Capability, IdentifyReply, Report, Segment, SetPosition, State, StatusReport
 from .agreement import check_agreement
 from .errors import MachineError
+from .inputs import config_message
 from .job import JobRun
 from .motion import Motion, MotionEnd
 from .units import hold_decels
 
-Program = Motion | JobRun
+
+class Procedure:
+    """A routine that drives the link itself (homing, probing) while it holds the machine; halt() is the user's
+    stop for it: a HOLD, which ends whatever it streams (it then raises Stopped)."""
+
+    def __init__(self, machine: Machine, name: str) -> None:
+        self.machine = machine
+        self.name = name
+        self.halted: str | None = None
+
+    def halt(self, reason: str = "stop") -> MotionEnd | None:
+        self.halted = reason
+        hold(self.machine.link, self.machine.decels)
+        return None
+
+    def __enter__(self) -> Procedure:
+        self.machine._claim(self)
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.machine._release(self)
+
+
+Program = Motion | JobRun | Procedure
 
 
 class Machine:
@@ -54,6 +78,13 @@ class Machine:
         self._lock = threading.Lock()
         self._running: Program | None = None
         self._position: tuple[int, ...] = ()
+        # Machine zero is known once homed; a hard limit or the abort button loses it (as GRBL's alarm).
+        self.homed = False
+        self.position_lost = False
+        link.on_report(self._watch_alarms)
+        if identity.capabilities & Capability.LIMIT_INPUTS and link.status().state in (State.IDLE, State.ALARM):
+            link.send(config_message(self.config, identity.axis_count))
+            link.drain(timeout=5)
         self.sync()
 
     # --- what the machine is and where it stands ----------------------------------------------
@@ -190,7 +221,31 @@ class Machine:
         if self.busy:
             raise MachineError(f"cannot {what}: a program is running (stop it first)")
 
+    def procedure(self, name: str) -> Procedure:
+        """Hold the machine for a routine that drives the link itself (a context manager)."""
+        return Procedure(self, name)
+
+    def _watch_alarms(self, report: Report) -> None:
+        if isinstance(report, Alarm) and report.code in (AlarmCode.HARD_LIMIT, AlarmCode.E_STOP):
+            self.homed = False
+            self.position_lost = True
+
+    def _claim(self, program: Program) -> None:
+        with self._lock:
+            if self._running is not None:
+                raise MachineError("a program is running already: one at a time (stop it first)")
+            self._running = program
+
+    def _release(self, program: Program) -> None:
+        with self._lock:
+            if self._running is program:
+                self._running = None
+        self.sync()
+
     def _begin(self, program: Program) -> Program:
+        if self.config.homing_required and not self.homed:
+            raise MachineError("homing_required = true in the configuration: home the machine first "
+                               "(quadstep home, or the TUI's H)")
         with self._lock:
             if self._running is not None:
                 raise MachineError("a program is running already: one at a time (stop it first)")
