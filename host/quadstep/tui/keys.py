@@ -40,6 +40,9 @@ def bindings(step_presets: int) -> list[BindingType]:
         Binding("a", "zero(3)", "zero A", show=False),
         Binding("0", "zero_all", "zero all"),
         Binding("o", "open_job", "job"),
+        Binding("h", "home", "home", show=False),
+        Binding("p", "probe('38.2')", "probe Z", show=False),
+        Binding("P", "probe('38.4')", "probe off", show=False),
         Binding("g", "resume", "go on", show=False),
         Binding("ctrl+x", "reset", "STOP now", show=False),
         Binding("ctrl+r", "reconnect", "reconnect", show=False),
@@ -71,6 +74,13 @@ HELP = """\
   x y z a        make the current position of that axis 0 (SET_POSITION)
   0              make the current position 0 on every axis
   Soft limits are the configured travel, in these coordinates.
+
+[b]Homing and probing[/b]
+  h              home: each axis with [axes.homing], Z first (seek, back off,
+                 locate slowly, pull off); machine zero from the exact latch
+  p              G38.2: Z down toward its travel_min at 1 mm/s until the
+                 probe touches (a touch plate); the contact is logged
+  P              G38.4: Z up until the probe lets go
 
 [b]Jobs[/b]
   o              open a G-code or move file and run it (planned first:

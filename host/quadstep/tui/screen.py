@@ -20,6 +20,8 @@ from ..jog import JogMode, Jogger, JogResult
 from ..job import load_job
 from ..link import LinkError
 from ..machine import JobRun, Machine, MachineError, MotionEnd
+from ..machine.homing import home
+from ..machine.probing import probe
 from ..planner.program import JobError
 from ..protocol import Board
 from .help import HelpScreen
@@ -279,6 +281,51 @@ class MachineScreen(Screen[None]):
             command()
         except (LinkError, MachineError, ValueError, JobError) as exc:
             self.post_message(Note(f"{what}: {exc}", error=True))
+
+    # --- homing and probing -------------------------------------------------------------
+
+    def action_home(self) -> None:
+        """H: home every axis with [axes.homing], in the configured order; each phase goes to the log."""
+        if self._jogger_ready("home") is None or self.session.machine is None:
+            return
+        machine = self.session.machine
+        self.log_line("homing…")
+        self._thread(lambda: self._routine(machine, "home", lambda: self._homed(machine)), "quadstep-home")
+
+    def action_probe(self, code: str) -> None:
+        """P: G38.2 down Z to its travel_min at 1 mm/s (a touch plate); Shift+P: G38.4 up until it lets go."""
+        if self._jogger_ready(f"G{code}") is None or self.session.machine is None:
+            return
+        machine = self.session.machine
+        config = machine.config
+        if "Z" not in config.axis_names:
+            self.log_line(f"G{code}: this machine has no Z axis", error=True)
+            return
+        z = config.axis_names.index("Z")
+        target = list(machine.position_mm)
+        target[z] = config.axes[z].travel_min if code == "38.2" else config.axes[z].travel_max
+        self.log_line(f"G{code} Z{target[z]:g} F60…")
+
+        def run() -> str:
+            result = probe(machine, code, target, 1.0)
+            return (f"G{code}: contact at Z {result.machine_mm[z]:.4f} mm (step {result.steps[z]})"
+                    if result.found else f"G{code}: no contact")
+
+        self._thread(lambda: self._routine(machine, f"G{code}", run), "quadstep-probe")
+
+    def _homed(self, machine: Machine) -> str:
+        results = home(machine, None, lambda text: self.post_message(Note(f"home: {text}")))
+        return "homed: " + "  ".join(f"{r.name} {r.position_mm:.3f} mm" for r in results)
+
+    def _routine(self, machine: Machine, what: str, body: Callable[[], str]) -> None:
+        """A homing or probing routine in a worker thread: its outcome to the log, then the jogger resyncs."""
+        try:
+            self.post_message(Note(body()))
+        except (LinkError, MachineError, JobError) as exc:
+            self.post_message(Note(f"{what}: {exc}", error=True))
+        jogger = self.session.jogger
+        if jogger is not None and self.session.connected:
+            self._command(jogger.sync, "sync")
 
     # --- jobs ------------------------------------------------------------------------------
 
