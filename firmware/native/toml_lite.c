@@ -76,7 +76,7 @@ static int resolve(const toml_doc *doc, const char *name, char *out, size_t cap)
         strncat(plain, p, len);
         strncat(resolved, p, len);
         a = array_index(doc, plain);
-        if (a >= 0 && (dot || 1)) {
+        if (a >= 0) {
             char idx[16];
             snprintf(idx, sizeof idx, "[%d]", doc->array_len[a] - 1);
             if (strlen(resolved) + strlen(idx) >= sizeof resolved)
