@@ -15,6 +15,14 @@ from quadstep.link import Link
 REPO = Path(__file__).resolve().parents[1]
 
 
+@pytest.fixture(autouse=True)
+def state_home(tmp_path_factory: pytest.TempPathFactory, monkeypatch: pytest.MonkeyPatch) -> Path:
+    """Every test keeps work coordinates in a state folder of its own, never in the user's."""
+    home = tmp_path_factory.mktemp("state")
+    monkeypatch.setenv("XDG_STATE_HOME", str(home))
+    return home
+
+
 @pytest.fixture(scope="session")
 def emulator_binary() -> Path:
     """The emulator, built with `make emulator` once per session (a no-op when up to date)."""

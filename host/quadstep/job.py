@@ -13,6 +13,7 @@ import numpy as np
 from pydantic import BaseModel
 
 from .config import MachineConfig
+from .coordinates import WorkCoordinates
 from .gcode import parse_gcode
 from .movefile import move_program, read_move_file
 from .planner.plan import Plan, plan_program
@@ -35,9 +36,11 @@ def segment_frame_bytes(active_axes: int) -> int:
 class AxisSummary(BaseModel):
     name: str
     peak_speed: float  # mm/s
-    start_mm: float
+    start_mm: float  # machine coordinates
     end_mm: float
     end_steps: int
+    start_work_mm: float  # work coordinates: the start's in the system the job starts in, the end's in the one it ends in
+    end_work_mm: float
 
 
 class SkippedWord(BaseModel):
@@ -56,6 +59,7 @@ class JobSummary(BaseModel):
     duration_s: float
     wire_bytes: int
     pauses: list[int]  # lines of M0 / pause entries
+    work_system: str  # the work coordinate system the job ends in (G54 … G59)
     axes: list[AxisSummary]
     skipped: list[SkippedWord]
 
@@ -65,6 +69,12 @@ class Job:
     path: Path
     program: Program
     plan: Plan
+    coordinates: WorkCoordinates  # the work coordinates the job starts with
+
+    @property
+    def end_coordinates(self) -> WorkCoordinates:
+        """The work coordinates as the job leaves them (G10, G92, G54…G59 in it; M2/M30)."""
+        return self.program.coordinates or self.coordinates
 
     @property
     def label(self) -> str:
@@ -90,6 +100,9 @@ class Job:
     def summary(self) -> JobSummary:
         config = self.plan.config
         peaks = self.plan.peak_speeds()
+        names = config.axis_names
+        start_work = self.coordinates.to_work(names, config.to_mm(self.plan.start))
+        end_work = self.end_coordinates.to_work(names, config.to_mm(self.plan.end))
         return JobSummary(
             file=str(self.path),
             lines=self.program.lines,
@@ -99,6 +112,7 @@ class Job:
             duration_s=self.plan.duration_s,
             wire_bytes=self.wire_bytes(),
             pauses=[line for _, line in self.plan.pauses],
+            work_system=self.end_coordinates.name,
             axes=[
                 AxisSummary(
                     name=axis.name,
@@ -106,6 +120,8 @@ class Job:
                     start_mm=axis.to_mm(self.plan.start[i]),
                     end_mm=axis.to_mm(self.plan.end[i]),
                     end_steps=self.plan.end[i],
+                    start_work_mm=start_work[i],
+                    end_work_mm=end_work[i],
                 )
                 for i, axis in enumerate(config.axes)
             ],
@@ -114,15 +130,17 @@ class Job:
 
 
 def read_program(
-    path: Path, config: MachineConfig, start_steps: tuple[int, ...], skip_unsupported: bool = False
+    path: Path, config: MachineConfig, start_steps: tuple[int, ...], skip_unsupported: bool = False,
+    coordinates: WorkCoordinates | None = None,
 ) -> Program:
-    """Parse the job file into moves in machine coordinates, starting from `start_steps`."""
+    """Parse the job file into moves in machine coordinates, starting from `start_steps`, G-code in the work
+    coordinates `coordinates` (move files are machine coordinates)."""
     start_mm = config.to_mm(start_steps)
     if is_move_file(path):
         return move_program(read_move_file(path), config.axis_names, start_mm)
     text = read_text(path, JobError)
     try:
-        return parse_gcode(text, config.axis_names, start_mm, config.arc_tolerance, skip_unsupported)
+        return parse_gcode(text, config.axis_names, start_mm, config.arc_tolerance, skip_unsupported, coordinates)
     except JobError as exc:
         raise JobError(f"{path}: {exc}") from None
 
@@ -132,13 +150,15 @@ def load_job(
     config: MachineConfig,
     start_steps: tuple[int, ...] | None = None,
     skip_unsupported: bool = False,
+    coordinates: WorkCoordinates | None = None,
 ) -> Job:
     """Read, check and plan a whole job; raises JobError naming the line (or move) at fault."""
     start = tuple(start_steps) if start_steps is not None else (0,) * len(config.axes)
-    program = read_program(path, config, start, skip_unsupported)
+    coordinates = coordinates if coordinates is not None else WorkCoordinates()
+    program = read_program(path, config, start, skip_unsupported, coordinates)
     label = "move" if is_move_file(path) else "line"
     try:
         plan = plan_program(program, config, start, label)
     except JobError as exc:
         raise JobError(f"{path}: {exc}") from None
-    return Job(path=path, program=program, plan=plan)
+    return Job(path=path, program=program, plan=plan, coordinates=coordinates)

@@ -250,7 +250,7 @@ def test_skip_unsupported_does_not_skip_unknown_words() -> None:
         ("G4", "line 1, column 1: G4 needs P (seconds)"),
         ("G4 P-1", "line 1, column 4: 'P-1': the dwell must be at least 0 seconds"),
         ("G4 P1 X1", "line 1, column 7: 'X1': G4 takes no axis words"),
-        ("G1 X1 F60 P2", "line 1, column 11: 'P2' is only used with G4"),
+        ("G1 X1 F60 P2", "line 1, column 11: 'P2' is only used with G4 and G10"),
         ("G92", "line 1, column 1: G92 needs at least one axis word"),
         ("G1 X1 F60 I5", "line 1, column 11: 'I5' is only used with G2/G3"),
         ("G1 F60\nG2 X10 Y0", "line 2, column 1: G2 needs I/J offsets or R"),

@@ -20,9 +20,11 @@ import pytest
 
 from quadstep.cli import main
 from quadstep.config import load_config
+from quadstep.coordinates import WorkCoordinates
 from quadstep.engine_model import predict
 from quadstep.job import load_job
 from quadstep.link import Link
+from quadstep.machine import load_state, save_state, state_path
 from quadstep.protocol import SetPosition, State, StatusReport
 
 REPO = Path(__file__).resolve().parents[2]
@@ -148,8 +150,10 @@ def test_ctrl_c_stops_the_machine_and_reports_where(start_emulator) -> None:
     assert lines[1].startswith("stopped at line ")
     status = status_of(emu.url)
     assert status.state == State.IDLE and status.queue_fill == 0
+    work = "  ".join(f"{a.name} {a.to_mm(s):.3f} mm" for a, s in zip(CONFIG.axes, status.position))
     shown = "  ".join(f"{a.name} {a.to_mm(s):.3f} mm ({s} steps)" for a, s in zip(CONFIG.axes, status.position))
-    assert lines[2] == f"position: {shown}"
+    assert lines[2] == f"work (G54): {work}"  # no work offset stored: work = machine
+    assert lines[3] == f"machine: {shown}"
     assert 0 < status.segments_done < len(load_job(EXAMPLES / "demo.gcode", CONFIG).plan)
 
 
@@ -223,3 +227,42 @@ def test_missing_config_is_a_clear_error(
         "quadstep check: error: no machine configuration: give --config FILE "
         "(or put quadstep.toml in this directory)\n"
     )
+
+
+def test_run_and_check_work_in_the_stored_work_coordinates(start_emulator, tmp_path: Path, capsys: Capture) -> None:
+    stored = WorkCoordinates()
+    stored.set_offset(1, "X", 10.0)
+    save_state(state_path(ROUTER), stored)
+    job = tmp_path / "offsets.gcode"
+    job.write_text("G1 X5 Y2 F1200\nG10 L20 P2 X0\nG55 G1 X1\n")
+    code, out, _ = run_cli(["check", str(job), "--config", str(ROUTER), "--json"], capsys)
+    assert code == 0
+    summary = json.loads(out)
+    assert summary["work_system"] == "G55"
+    x = summary["axes"][0]
+    assert (x["start_mm"], x["start_work_mm"], x["end_mm"], x["end_work_mm"]) == (0.0, -10.0, 16.0, 1.0)
+    emu = start_emulator(free=True, axes=3, tick_hz=CONFIG.tick_hz)
+    code, out, err = run_cli(["run", str(job), "--config", str(ROUTER), "--port", emu.url, "--json"], capsys)
+    assert code == 0, err
+    result = json.loads(out)
+    assert result["work_system"] == "G55" and result["positions_mm"][:2] == [16.0, 2.0]
+    assert result["positions_work_mm"][:2] == [1.0, 2.0]
+    kept = load_state(state_path(ROUTER))  # the job completed: what it left is kept
+    assert kept.name == "G55" and kept.offsets[1] == {"X": 15.0} and kept.offsets[0] == {"X": 10.0}
+    code, out, _ = run_cli(["run", str(job), "--config", str(ROUTER), "--port", emu.url], capsys)
+    assert code == 0
+    lines = out.splitlines()
+    # From G55 this time: X5 is machine 20, where L20 puts G55's X0, so X1 is machine 21.
+    assert lines[-3] == "work (G55): X 1.000 mm  Y 2.000 mm  Z 0.000 mm"
+    assert lines[-2] == "machine: X 21.000 mm (8400 steps)  Y 2.000 mm (800 steps)  Z 0.000 mm (0 steps)"
+
+
+def test_a_job_that_does_not_complete_leaves_the_stored_coordinates_alone(start_emulator, tmp_path: Path) -> None:
+    job = tmp_path / "stop.gcode"
+    job.write_text("G10 L2 P1 X3\nG1 X5 F1200\nM0\nG1 X0\n")
+    emu = start_emulator(free=True, axes=3, tick_hz=CONFIG.tick_hz)
+    process = cli_process("run", str(job), "--config", str(ROUTER), "--port", emu.url, stdin=subprocess.PIPE)
+    out, err = process.communicate("", timeout=30)  # stdin closed at the pause: the job ends there
+    assert process.returncode == 1, err
+    assert "stopped at line 4" in out
+    assert load_state(state_path(ROUTER)) == WorkCoordinates()

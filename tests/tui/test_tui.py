@@ -7,6 +7,7 @@ from pathlib import Path
 
 from quadstep.config import MachineConfig
 from quadstep.jog import JogMode, JogSettings
+from quadstep.machine import load_state, state_path
 from quadstep.protocol import State
 from quadstep.tui import QuadstepApp, Session, Target
 from quadstep.tui.help import HelpScreen
@@ -20,7 +21,8 @@ def make_app(
     options: dict[str, object] = {"free": free, "binary": emulator_binary}
     if events is not None:
         options["extra_args"] = ("--events", str(events))
-    session = Session(Target(emulator=True, emulator_options=options), machine, settings)
+    session = Session(Target(emulator=True, emulator_options=options), machine, settings,
+                      state_file=state_path(None))
     return QuadstepApp(session, job_path=job_path, poll_interval=0.05)
 
 
@@ -104,20 +106,30 @@ async def test_space_stops_a_continuous_jog_with_hold(machine: MachineConfig, em
         assert 0 < positions(app)[1] < 3200
 
 
-async def test_zero_keys_set_the_position(machine: MachineConfig, emulator_binary: Path) -> None:
+async def test_zero_keys_set_the_work_offset_and_leave_machine_coordinates_alone(
+    machine: MachineConfig, emulator_binary: Path
+) -> None:
     app = make_app(machine, emulator_binary, free=True)
     async with app.run_test(size=(100, 32)) as pilot:
         await connected(pilot, app)
-        await pilot.press("right", "up", "up")
-        await shown(pilot, app, (80, 160, 0))
+        await pilot.press("right", "up", "up", "pagedown", "pagedown")
+        await shown(pilot, app, (80, 160, -800))
         await pilot.press("x")
+        await until(pilot, lambda: "zeroed X in G54" in log_text(app), what="zeroing X")
+        await pilot.press("0")
+        await until(pilot, lambda: "zeroed X, Y, Z in G54" in log_text(app), what="zeroing every axis")
+        snapshot_ok = lambda: (app.machine.snapshot is not None and app.machine.snapshot.work_mm == (0.0, 0.0, 0.0)
+                               and app.machine.snapshot.position_mm == (1.0, 2.0, -2.0))  # noqa: E731
+        await until(pilot, snapshot_ok, what="work 0 at machine (1, 2, -2) mm")
+        assert positions(app) == (80, 160, -800)  # the steps are untouched
+        # Z zeroed 2 mm down can still be raised back to its soft limit (travel_max = 0, machine), and X
+        # can go on down to its machine travel_min: the limits did not move with the zero.
+        await pilot.press("pageup", "pageup", "pageup", "left", "left")
         await shown(pilot, app, (0, 160, 0))
-        await pilot.press("pagedown", "0")
-        await shown(pilot, app, (0, 0, 0))
-        assert "zeroed X, Y, Z" in log_text(app)
-        await pilot.press("left")  # X 0 is travel_min again
-        await pilot.pause(0.2)
-        assert positions(app) == (0, 0, 0)
+        assert "Z+: stops at the soft limit travel_max = 0.000 mm" in log_text(app)
+        assert app.machine.snapshot.work_mm == (-1.0, 0.0, 2.0)  # type: ignore[union-attr]
+        stored = load_state(app.session.state_file)  # type: ignore[arg-type]
+        assert stored.offsets[0] == {"X": 1.0, "Y": 2.0, "Z": -2.0}
 
 
 async def test_a_job_runs_from_the_tui_to_its_end(

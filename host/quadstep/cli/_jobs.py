@@ -6,7 +6,9 @@ import argparse
 from pathlib import Path
 
 from ..config import ConfigError, MachineConfig, load_config
+from ..coordinates import WorkCoordinates
 from ..job import Job, load_job
+from ..machine import StateError, load_state, state_path
 from ..planner.program import JobError
 from .options import CliError
 
@@ -26,7 +28,7 @@ def add_job_options(parser: argparse.ArgumentParser) -> None:
 
 
 def machine_config(args: argparse.Namespace) -> MachineConfig:
-    path: Path = args.config or DEFAULT_CONFIG
+    path = config_path(args)
     if args.config is None and not path.exists():
         raise CliError(f"no machine configuration: give --config FILE (or put {DEFAULT_CONFIG} in this directory)")
     try:
@@ -35,11 +37,28 @@ def machine_config(args: argparse.Namespace) -> MachineConfig:
         raise CliError(str(exc)) from None
 
 
-def job_from_args(args: argparse.Namespace, config: MachineConfig, start: tuple[int, ...] | None = None) -> Job:
+def config_path(args: argparse.Namespace) -> Path:
+    return args.config or DEFAULT_CONFIG
+
+
+def stored_coordinates(args: argparse.Namespace) -> WorkCoordinates:
+    """The work coordinates kept for this configuration (machine/state.py)."""
     try:
-        return load_job(args.job, config, start, args.skip_unsupported)
+        return load_state(state_path(config_path(args)))
+    except StateError as exc:
+        raise CliError(str(exc)) from None
+
+
+def job_from_args(args: argparse.Namespace, config: MachineConfig, start: tuple[int, ...] | None = None,
+                  coordinates: WorkCoordinates | None = None) -> Job:
+    try:
+        return load_job(args.job, config, start, args.skip_unsupported, coordinates)
     except JobError as exc:
         raise CliError(str(exc)) from None
+
+
+def work_text(system: str, names: tuple[str, ...], work: tuple[float, ...]) -> str:
+    return f"work ({system}): " + "  ".join(f"{name} {x:.3f} mm" for name, x in zip(names, work))
 
 
 def format_duration(seconds: float) -> str:

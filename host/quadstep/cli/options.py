@@ -50,10 +50,11 @@ def target(args: argparse.Namespace) -> Target:
     return Target(port=args.port, emulator=emulator, baud=args.baud, emulator_options=options)
 
 
-def connect(args: argparse.Namespace, config: MachineConfig | None = None, source: str = "") -> Machine:
+def connect(args: argparse.Namespace, config: MachineConfig | None = None, source: str = "",
+            state_file: Path | None = None) -> Machine:
     """The connected Machine the arguments ask for (a context manager); an emulator started for it ticks
-    and has the axes that `config` says."""
-    return open_machine(target(args), config, source=source or "the configuration")
+    and has the axes that `config` says; `state_file` keeps its work coordinates."""
+    return open_machine(target(args), config, source=source or "the configuration", state_file=state_file)
 
 
 def _location(loc: tuple[int | str, ...]) -> str:

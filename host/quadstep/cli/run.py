@@ -23,7 +23,8 @@ from ..job import Job, read_program
 from ..machine import JobRun, Machine, MotionEnd
 from ..planner.program import JobError
 from ..protocol import State, StatusReport
-from ._jobs import add_job_options, format_duration, job_from_args, machine_config, skipped_text
+from ..machine import state_path
+from ._jobs import add_job_options, config_path, format_duration, job_from_args, machine_config, skipped_text, work_text
 from .options import CliError, add_connection_options, add_json_option, connect
 
 PROGRESS_INTERVAL = 0.1  # s between progress updates
@@ -39,7 +40,9 @@ class RunResult(BaseModel):
     planned_duration_s: float
     motion_ticks: int
     positions_steps: list[int]
-    positions_mm: list[float]
+    positions_mm: list[float]  # machine coordinates
+    work_system: str
+    positions_work_mm: list[float]
     planned_steps: list[int]
     exact: bool
     link: dict[str, int]
@@ -66,6 +69,12 @@ def positions_text(config: MachineConfig, steps: list[int]) -> str:
     )
 
 
+def position_lines(machine: Machine) -> list[str]:
+    """Where the machine stands: in work coordinates, then in machine coordinates and steps."""
+    return [work_text(machine.coordinates.name, machine.config.axis_names, machine.work_position),
+            f"machine: {positions_text(machine.config, list(machine.position))}"]
+
+
 def run(args: argparse.Namespace) -> int:
     config = machine_config(args)
     config_name = str(args.config or "quadstep.toml")
@@ -73,11 +82,11 @@ def run(args: argparse.Namespace) -> int:
         read_program(args.job, config, (0,) * len(config.axes), args.skip_unsupported)
     except JobError as exc:
         raise CliError(str(exc)) from None
-    with connect(args, config, config_name) as machine:
+    with connect(args, config, config_name, state_path(config_path(args))) as machine:
         status = machine.status()
         if status.state != State.IDLE or status.queue_fill:
             raise CliError(f"the firmware is {status.state.name}, not IDLE; nothing was sent")
-        job = job_from_args(args, config, machine.position)
+        job = job_from_args(args, config, machine.position, machine.coordinates)
         if not args.json:
             skipped = skipped_text(job)
             if skipped:
@@ -149,6 +158,8 @@ def stream(args: argparse.Namespace, machine: Machine, job: Job, start: StatusRe
     final = machine.status()
     done = run_.progress.done
     completed = end.ended_by == "done" and done >= len(plan)
+    if completed:
+        machine.adopt_coordinates(job.end_coordinates)  # what its G10, G92, G54…G59 and M2/M30 left
     stopped_line = None if completed else run_.progress.line
     positions = list(machine.position)
     exact = completed and tuple(positions) == plan.end
@@ -161,6 +172,8 @@ def stream(args: argparse.Namespace, machine: Machine, job: Job, start: StatusRe
         motion_ticks=final.motion_ticks - start.motion_ticks,
         positions_steps=positions,
         positions_mm=[axis.to_mm(s) for axis, s in zip(config.axes, positions)],
+        work_system=machine.coordinates.name,
+        positions_work_mm=list(machine.work_position),
         planned_steps=list(plan.end),
         exact=exact,
         link=machine.stats.as_dict(),
@@ -176,7 +189,7 @@ def stream(args: argparse.Namespace, machine: Machine, job: Job, start: StatusRe
         else:
             how = " (HOLD)" if end.held else ""
             print(f"stopped at {job.label} {stopped_line}{how}")
-        print(f"position: {positions_text(config, positions)}")
+        print("\n".join(position_lines(machine)))
         if completed:
             print("every axis is exactly where the job put it" if exact else
                   f"position differs from the plan: {positions_text(config, list(plan.end))}")

@@ -9,6 +9,7 @@ from pydantic import ValidationError
 
 from ..config import ConfigError, load_config
 from ..jog import JogSettings
+from ..machine import state_path
 from ._jobs import DEFAULT_CONFIG
 from .options import CliError, add_connection_options, format_validation_error, target
 
@@ -46,6 +47,6 @@ def run(args: argparse.Namespace) -> int:
         config = load_config(path) if path is not None else None
     except ConfigError as exc:
         raise CliError(str(exc)) from None
-    session = Session(where, config, settings_from(args), config_source=str(path))
+    session = Session(where, config, settings_from(args), config_source=str(path), state_file=state_path(path))
     QuadstepApp(session, job_path=args.job).run()
     return 0

@@ -11,9 +11,10 @@ from .errors import MachineError
 from .job import JobProgress, JobRun
 from .machine import Machine, Program
 from .motion import Motion, MotionEnd
+from .state import StateError, load_state, save_state, state_path
 from .target import Target, open_machine, start_emulator
 
 __all__ = [
-    "JobProgress", "JobRun", "Machine", "MachineError", "Motion", "MotionEnd", "Program", "Target",
-    "open_machine", "start_emulator",
+    "JobProgress", "JobRun", "Machine", "MachineError", "Motion", "MotionEnd", "Program", "StateError", "Target",
+    "load_state", "open_machine", "save_state", "start_emulator", "state_path",
 ]

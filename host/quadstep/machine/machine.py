@@ -9,14 +9,19 @@ The stop rule: `hold()` is the user's stop, a controlled deceleration to
 rest (HOLD) after which the exact position is known; `emergency_stop()` is
 the immediate STOP, for the emergency key only. Positions are the board's
 step counts, exact; mm are derived from them through the configuration.
+Work coordinates (G54–G59, G92, G28/G30: quadstep.coordinates) are kept in
+the state file (state.py) when the machine has one; the soft limits are
+always machine coordinates.
 """
 
 from __future__ import annotations
 
 import threading
 from collections.abc import Callable, Sequence
+from pathlib import Path
 
 from ..config import DEFAULT_CONFIG_NAME, MachineConfig, default_config
+from ..coordinates import WorkCoordinates
 from ..link import Link, LinkError, LinkStats, hold
 from ..planner.plan import Plan
 from ..planner.segments import SegmentArrays
@@ -27,6 +32,7 @@ from .errors import MachineError
 from .inputs import config_message
 from .job import JobRun
 from .motion import Motion, MotionEnd
+from .state import load_state, save_state
 from .units import hold_decels
 
 
@@ -65,6 +71,7 @@ class Machine:
         *,
         source: str = "the configuration",
         emulator: PortProcess | None = None,
+        state_file: Path | None = None,
     ) -> None:
         identity = link.identity
         if identity is None:
@@ -75,6 +82,8 @@ class Machine:
         check_agreement(identity, self.config, source if config is not None else DEFAULT_CONFIG_NAME)
         self.emulator = emulator  # an emulator this machine started, stopped by close()
         self.decels = hold_decels(self.config)  # HOLD decelerations: each axis's max_accel
+        self.state_file = state_file  # where the work coordinates are kept (None: in memory only)
+        self.coordinates = load_state(state_file) if state_file is not None else WorkCoordinates()
         self._lock = threading.Lock()
         self._running: Program | None = None
         self._position: tuple[int, ...] = ()
@@ -108,6 +117,28 @@ class Machine:
     @property
     def position_mm(self) -> tuple[float, ...]:
         return self.config.to_mm(self.position)
+
+    @property
+    def work_position(self) -> tuple[float, ...]:
+        """Where the machine stands in the active work coordinates (mm)."""
+        return self.coordinates.to_work(self.config.axis_names, self.position_mm)
+
+    def set_work_zero(self, axes: Sequence[int]) -> tuple[float, ...]:
+        """Make the current position 0 in the active work coordinates on `axes` (G10 L20 P0), and keep it."""
+        self._refuse_if_busy("set a work zero")
+        self.sync()
+        coordinates = self.coordinates.model_copy(deep=True)
+        machine = self.position_mm
+        for axis in axes:
+            coordinates.set_position(0, self.config.axes[axis].name, machine[axis], 0.0)
+        self.adopt_coordinates(coordinates)
+        return self.work_position
+
+    def adopt_coordinates(self, coordinates: WorkCoordinates) -> None:
+        """Take the work coordinates a job left (or any others) and keep them in the state file."""
+        if self.state_file is not None:
+            save_state(self.state_file, coordinates)
+        self.coordinates = coordinates
 
     @property
     def stats(self) -> LinkStats:

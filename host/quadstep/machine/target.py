@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from pathlib import Path
 from typing import Any
 
 from ..config import MachineConfig
@@ -40,10 +41,11 @@ def start_emulator(target: Target, config: MachineConfig | None) -> Emulator:
 
 def open_machine(
     target: Target, config: MachineConfig | None = None, *, source: str = "the configuration",
-    emulator: Emulator | None = None,
+    emulator: Emulator | None = None, state_file: Path | None = None,
 ) -> Machine:
     """Connect to `target`. For an emulator target, `emulator` is a running one to use (its owner stops
-    it); without it one is started, and the machine stops it when closed."""
+    it); without it one is started, and the machine stops it when closed. `state_file` keeps the work
+    coordinates (machine.state.state_path gives the usual one)."""
     started = None
     if target.emulator and emulator is None:
         emulator = started = start_emulator(target, config)
@@ -51,7 +53,7 @@ def open_machine(
     try:
         link = Link.open(url, target.baud)
         try:
-            return Machine(link, config, source=source, emulator=started)
+            return Machine(link, config, source=source, emulator=started, state_file=state_file)
         except BaseException:
             link.close()
             raise

@@ -42,10 +42,14 @@ class MoveTable:
 
 
 def _check_travel(config: MachineConfig, item: LinearMove, label: str) -> None:
-    for axis, x in zip(config.axes, item.target):
+    """The travel is in machine coordinates; the message names the value the line gave."""
+    for i, (axis, x) in enumerate(zip(config.axes, item.target)):
         if not axis.travel_min - 1e-9 <= x <= axis.travel_max + 1e-9:
+            work = item.work(i)
+            where = f"{axis.name} {x:.3f} mm" if abs(work - x) < 1e-9 else \
+                f"{axis.name} {work:.3f} mm in {item.system} (machine {x:.3f} mm)"
             raise JobError(
-                f"{label} {item.line}: {axis.name} {x:.3f} mm is outside the travel "
+                f"{label} {item.line}: {where} is outside the travel "
                 f"{axis.travel_min:.3f} … {axis.travel_max:.3f} mm"
             )
 

@@ -2,12 +2,16 @@
 
 The G-code parser and the move-file loader both produce a Program; the
 planner turns it into segments. Positions are absolute machine coordinates in
-mm, one value per configured axis, in the configuration's axis order.
+mm, one value per configured axis, in the configuration's axis order; a move
+also carries the work offset it was written in, so that messages can name
+the value its line gave.
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+
+from ..coordinates import WorkCoordinates
 
 
 class JobError(ValueError):
@@ -22,6 +26,12 @@ class LinearMove:
     target: tuple[float, ...]
     feed: float | None  # mm/s along the path
     accel: float | None = None  # mm/s² along the path, None: the machine's limits only
+    offset: tuple[float, ...] = field(default=(), compare=False)  # machine − work per axis; () = none
+    system: str = field(default="", compare=False)  # G54 … G59, or G53 for machine coordinates
+
+    def work(self, axis: int) -> float:
+        """The target of `axis` as its line wrote it (work coordinates)."""
+        return self.target[axis] - (self.offset[axis] if self.offset else 0.0)
 
 
 @dataclass(frozen=True, slots=True)
@@ -50,3 +60,4 @@ class Program:
     skipped: list[tuple[int, str]] = field(default_factory=list)  # (line, word)
     lines: int = 0  # source lines (or moves) read
     end_line: int | None = None  # line of M2/M30, if any
+    coordinates: WorkCoordinates | None = None  # the work coordinates as the program leaves them (G-code)

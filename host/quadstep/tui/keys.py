@@ -71,9 +71,11 @@ HELP = """\
   Ctrl+X         immediate STOP (no deceleration); also clears an alarm
 
 [b]Position[/b]
-  x y z a        make the current position of that axis 0 (SET_POSITION)
-  0              make the current position 0 on every axis
-  Soft limits are the configured travel, in these coordinates.
+  x y z a        make the current position of that axis 0 in the active
+                 work coordinates (G54 … G59: a work offset, kept across runs)
+  0              the same on every axis
+  Machine coordinates (the steps) never change: the soft limits are the
+  configured travel in machine coordinates.
 
 [b]Homing and probing[/b]
   h              home: each axis with [axes.homing], Z first (seek, back off,

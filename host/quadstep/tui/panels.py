@@ -28,19 +28,23 @@ class Panel(Static):
 
 
 class PositionPanel(Panel):
-    """Per axis: position in mm and in steps, and the soft limits."""
+    """Per axis: the work position (active system) and the machine position side by side, the steps, and the
+    soft limits (machine coordinates)."""
 
     def show(self, config: MachineConfig, snapshot: Snapshot | None) -> None:
-        text = Text(f"{'axis':<5}{'mm':>12}{'steps':>12}{'travel (mm)':>18}", style="dim")
+        system = snapshot.system if snapshot is not None else "work"
+        text = Text(f"{'axis':<5}{system:>10}{'machine':>10}{'steps':>9}{'travel':>16}", style="dim")
         for i, axis in enumerate(config.axes):
             if snapshot is None:
-                mm, steps = "—", "—"
+                work, mm, steps = "—", "—", "—"
             else:
-                mm, steps = f"{snapshot.position_mm[i]:.3f}", str(snapshot.status.position[i])
+                work, mm = f"{snapshot.work_mm[i]:.3f}", f"{snapshot.position_mm[i]:.3f}"
+                steps = str(snapshot.status.position[i])
             text.append(f"\n{axis.name:<5}", style="bold")
-            text.append(f"{mm:>12}", style="bold")
-            text.append(f"{steps:>12}")
-            text.append(f"{f'{axis.travel_min:g} … {axis.travel_max:g}':>18}", style="dim")
+            text.append(f"{work:>10}", style="bold")
+            text.append(f"{mm:>10}")
+            text.append(f"{steps:>9}")
+            text.append(f"{f'{axis.travel_min:g} … {axis.travel_max:g}':>16}", style="dim")
         self.show_text(text)
 
 

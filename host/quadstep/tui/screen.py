@@ -266,9 +266,10 @@ class MachineScreen(Screen[None]):
         names = ", ".join(jogger.config.axes[a].name for a in axes)
 
         def zero() -> None:
-            jogger.machine.set_position({axis: 0 for axis in axes})
-            jogger.sync()
-            self.post_message(Note(f"zeroed {names}"))
+            machine = jogger.machine
+            machine.set_work_zero(axes)
+            self.post_message(Note(f"zeroed {names} in {machine.coordinates.name} (work offset; "
+                                   "machine coordinates and soft limits unchanged)"))
 
         self._command(zero, "zero")
 

@@ -12,6 +12,7 @@ import threading
 from collections.abc import Callable
 from concurrent.futures import Future, ThreadPoolExecutor
 from dataclasses import dataclass
+from pathlib import Path
 from typing import Any, TypeVar
 
 from ..config import MachineConfig
@@ -33,7 +34,9 @@ class Snapshot:
     status: StatusReport
     link: dict[str, int]
     feed: float  # mm/min along the path since the previous snapshot
-    position_mm: tuple[float, ...]
+    position_mm: tuple[float, ...]  # machine coordinates
+    work_mm: tuple[float, ...]  # in the active work system
+    system: str  # G54 … G59
 
 
 class Session:
@@ -46,10 +49,12 @@ class Session:
         settings: JogSettings | None = None,
         on_jog: Callable[[JogResult], None] | None = None,
         config_source: str = "the configuration",
+        state_file: Path | None = None,
     ) -> None:
         self.target = target
         self.config_given = config
         self.config_source = config_source
+        self.state_file = state_file  # the work coordinates, kept across runs (machine/state.py)
         self.config: MachineConfig | None = config
         self.settings = settings or JogSettings()
         self.on_jog = on_jog
@@ -74,7 +79,8 @@ class Session:
         self.disconnect()
         if self.target.emulator and (self.emulator is None or not self.emulator.running):
             self.emulator = start_emulator(self.target, self.config_given)
-        machine = open_machine(self.target, self.config_given, source=self.config_source, emulator=self.emulator)
+        machine = open_machine(self.target, self.config_given, source=self.config_source, emulator=self.emulator,
+                               state_file=self.state_file)
         old = self.jogger
         jogger = Jogger(machine, self.settings, on_finish=self.on_jog)
         if old is not None:
@@ -126,11 +132,15 @@ class Session:
         config = machine.config
         position = tuple(status.position[: len(config.axes)])
         stats = machine.stats.as_dict()
+        position_mm = config.to_mm(position)
+        coordinates = machine.coordinates
         return Snapshot(
             status=status,
             link={key: stats[key] for key in LINK_HEALTH},
             feed=self._feed(config, status.motion_ticks, position),
-            position_mm=config.to_mm(position),
+            position_mm=position_mm,
+            work_mm=coordinates.to_work(config.axis_names, position_mm),
+            system=coordinates.name,
         )
 
     def _feed(self, config: MachineConfig, ticks: int, position: tuple[int, ...]) -> float:

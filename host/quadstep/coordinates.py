@@ -1,0 +1,105 @@
+"""Work coordinates as GRBL and LinuxCNC have them: six work offsets (G54–G59), the G92 offset on top,
+and the two stored positions of G28 and G30.
+
+Everything is in mm, keyed by axis name. A machine coordinate is what the
+steps say (through the configuration); a work coordinate is the machine
+coordinate minus the work offset of the active system and, while it is
+applied, the G92 offset:
+
+    work = machine − offsets[system] − (g92 if g92_applied else 0)
+
+Soft limits are always machine coordinates. The model is the state file's
+form (machine/state.py); the G-code interpreter works on a copy of it.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+from pydantic import BaseModel, ConfigDict, Field
+
+SYSTEMS = ("G54", "G55", "G56", "G57", "G58", "G59")
+
+Offsets = dict[str, float]
+
+
+def _six() -> list[Offsets]:
+    return [{} for _ in SYSTEMS]
+
+
+class WorkCoordinates(BaseModel):
+    """Work offsets, G92, and the G28/G30 positions; axes not named are 0."""
+
+    model_config = ConfigDict(extra="forbid", validate_assignment=True)
+
+    system: int = Field(default=1, ge=1, le=len(SYSTEMS), description="1 = G54 … 6 = G59")
+    offsets: list[Offsets] = Field(default_factory=_six, min_length=len(SYSTEMS), max_length=len(SYSTEMS))
+    g92: Offsets = Field(default_factory=dict)
+    g92_applied: bool = False  # G92 sets and applies; G92.2 suspends (values kept), G92.3 applies them again
+    g28: Offsets = Field(default_factory=dict, description="machine mm")
+    g30: Offsets = Field(default_factory=dict, description="machine mm")
+
+    @property
+    def name(self) -> str:
+        """The active system: G54 … G59."""
+        return SYSTEMS[self.system - 1]
+
+    def offset(self, axis: str) -> float:
+        """The active system's offset of `axis` with G92 on top: machine − work."""
+        g92 = self.g92.get(axis, 0.0) if self.g92_applied else 0.0
+        return self.offsets[self.system - 1].get(axis, 0.0) + g92
+
+    def to_work(self, axes: Sequence[str], machine: Sequence[float]) -> tuple[float, ...]:
+        return tuple(x - self.offset(a) for a, x in zip(axes, machine))
+
+    def to_machine(self, axes: Sequence[str], work: Sequence[float]) -> tuple[float, ...]:
+        return tuple(x + self.offset(a) for a, x in zip(axes, work))
+
+    # --- changes (each keeps the other axes as they are) ------------------------------------------
+
+    def set_offset(self, system: int, axis: str, mm: float) -> None:
+        """G10 L2 Pn: the offset of system n (0: the active one) is `mm` (machine mm of its origin)."""
+        index = (system or self.system) - 1
+        offsets = [dict(o) for o in self.offsets]
+        offsets[index][axis] = mm
+        self.offsets = offsets
+
+    def set_position(self, system: int, axis: str, machine: float, work: float) -> None:
+        """G10 L20 Pn (and the zero keys): make the machine coordinate `machine` read `work` in system n."""
+        g92 = self.g92.get(axis, 0.0) if self.g92_applied else 0.0
+        self.set_offset(system, axis, machine - g92 - work)
+
+    def set_g92(self, axis: str, machine: float, work: float) -> None:
+        """G92: make the machine coordinate `machine` read `work`, on top of the active system."""
+        self.g92 = {**self.g92, axis: machine - self.offsets[self.system - 1].get(axis, 0.0) - work}
+        self.g92_applied = True
+
+    def clear_g92(self) -> None:
+        """G92.1: G92 offsets to zero, and forgotten."""
+        self.g92 = {}
+        self.g92_applied = False
+
+    def suspend_g92(self) -> None:
+        """G92.2: G92 offsets no longer applied; G92.3 applies them again."""
+        self.g92_applied = False
+
+    def restore_g92(self) -> None:
+        """G92.3: the G92 offsets kept are applied again."""
+        self.g92_applied = bool(self.g92)
+
+    def store(self, which: int, axes: Sequence[str], machine: Sequence[float]) -> None:
+        """G28.1 / G30.1: remember the machine position."""
+        stored = {a: x for a, x in zip(axes, machine)}
+        if which == 28:
+            self.g28 = stored
+        else:
+            self.g30 = stored
+
+    def stored(self, which: int, axis: str) -> float:
+        """The G28 or G30 position of `axis`, machine mm (0 until stored)."""
+        return (self.g28 if which == 28 else self.g30).get(axis, 0.0)
+
+    def program_end(self) -> None:
+        """M2/M30 as RS274/NGC has it: back to G54, G92 offsets no longer applied (kept for G92.3)."""
+        self.system = 1
+        self.g92_applied = False

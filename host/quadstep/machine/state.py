@@ -1,0 +1,84 @@
+"""The state file: the work coordinates of one machine, kept across runs.
+
+One file per machine configuration, at
+
+    $XDG_STATE_HOME/quadstep/<config name>-<8 hex digits>.json   (XDG_STATE_HOME defaults to ~/.local/state)
+
+where the digits come from the configuration file's absolute path (two files
+of one name in different folders are two machines), and `default.json` for
+the generic configuration. It is replaced whole and atomically (written
+beside it, flushed to disk, renamed over it), so a crash leaves the old file
+or the new one, never half of either.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import os
+import tempfile
+from pathlib import Path
+from typing import Literal
+
+from pydantic import BaseModel, ConfigDict
+
+from ..config import validate
+from ..coordinates import WorkCoordinates
+from ..textfile import read_text
+
+
+class StateError(ValueError):
+    """A state file that cannot be read; the message names the file and the problem."""
+
+
+class StateFile(BaseModel):
+    model_config = ConfigDict(extra="forbid")
+
+    version: Literal[1] = 1
+    coordinates: WorkCoordinates = WorkCoordinates()
+
+
+def state_dir() -> Path:
+    return Path(os.environ.get("XDG_STATE_HOME") or Path.home() / ".local" / "state") / "quadstep"
+
+
+def state_path(config_path: Path | None) -> Path:
+    """Where the state of the machine described by `config_path` (None: the generic one) is kept."""
+    if config_path is None:
+        return state_dir() / "default.json"
+    resolved = config_path.resolve()
+    digest = hashlib.sha256(str(resolved).encode()).hexdigest()[:8]
+    return state_dir() / f"{resolved.stem}-{digest}.json"
+
+
+def load_state(path: Path) -> WorkCoordinates:
+    """The work coordinates kept in `path`; all zero, G54, when there is no file yet."""
+    if not path.exists():
+        return WorkCoordinates()
+    text = read_text(path, StateError)
+    try:
+        data = json.loads(text)
+    except json.JSONDecodeError as exc:
+        raise StateError(f"{path}: not valid JSON: {exc}") from None
+    return validate(StateFile, data, str(path), StateError).coordinates
+
+
+def save_state(path: Path, coordinates: WorkCoordinates) -> None:
+    """Replace `path` with these coordinates, atomically."""
+    path.parent.mkdir(parents=True, exist_ok=True)
+    text = StateFile(coordinates=coordinates).model_dump_json(indent=1) + "\n"
+    fd, temporary = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
+    try:
+        with os.fdopen(fd, "w", encoding="utf-8") as out:
+            out.write(text)
+            out.flush()
+            os.fsync(out.fileno())
+        os.replace(temporary, path)
+    except BaseException:
+        Path(temporary).unlink(missing_ok=True)
+        raise
+    directory = os.open(path.parent, os.O_RDONLY)
+    try:
+        os.fsync(directory)  # the rename itself reaches the disk
+    finally:
+        os.close(directory)
