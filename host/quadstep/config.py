@@ -9,11 +9,16 @@ from __future__ import annotations
 
 import math
 import re
-import tomllib
+import sys
 from pathlib import Path
 from typing import Any, Literal, TypeVar
 
 from pydantic import BaseModel, ConfigDict, Field, ValidationError, model_validator
+
+if sys.version_info >= (3, 11):
+    import tomllib
+else:  # the same parser, as a package, before Python 3.11
+    import tomli as tomllib
 
 from .protocol.constants import AXIS_NAMES, MAX_AXES
 from .textfile import read_text

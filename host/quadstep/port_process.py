@@ -74,7 +74,10 @@ class PortProcess:
         self._stderr_text: str | None = None  # kept once the child has ended
 
     def start(self) -> Self:
-        self._proc = subprocess.Popen(self.args, stdout=subprocess.PIPE, stderr=self._stderr, stdin=subprocess.DEVNULL)
+        # A session of its own: the terminal's Ctrl-C (SIGINT to the foreground process group) reaches the
+        # program that started the child, which then stops the machine through it; never the child itself.
+        self._proc = subprocess.Popen(self.args, stdout=subprocess.PIPE, stderr=self._stderr, stdin=subprocess.DEVNULL,
+                                      start_new_session=True)
         assert self._proc.stdout is not None
         line = read_line(self._proc.stdout.fileno(), START_TIMEOUT)
         if not line.startswith("PORT "):

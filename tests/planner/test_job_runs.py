@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import json
 import os
+import re
 import signal
 import struct
 import subprocess
@@ -124,16 +125,23 @@ def test_a_different_tick_rate_is_refused(start_emulator, tmp_path: Path, capsys
     assert status_of(emu.url).segments_done == 0
 
 
-def cli_process(*args: str, stdin: int | None = None) -> subprocess.Popen[str]:
-    """`quadstep ARGS` in the repository, using this checkout's package. Ctrl-C is given its usual
-    meaning even when the tests run where SIGINT is ignored (a background job inherits that)."""
-    env = dict(os.environ, PYTHONPATH=str(REPO / "host"))
+def cli_process(*args: str, stdin: int | None = None, env: dict[str, str] | None = None) -> subprocess.Popen[str]:
+    """`quadstep ARGS` in the repository, using this checkout's package, as the foreground process group of a
+    terminal of its own would run it. Ctrl-C is given its usual meaning even when the tests run where SIGINT
+    is ignored (a background job inherits that)."""
+    env = dict(os.environ, PYTHONPATH=str(REPO / "host"), **(env or {}))
     launch = "import signal, sys; signal.signal(signal.SIGINT, signal.default_int_handler); " \
              "from quadstep.cli import main; sys.exit(main())"
     return subprocess.Popen(
         [sys.executable, "-c", launch, *args],
         stdin=stdin, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, cwd=REPO, env=env,
+        start_new_session=True,
     )
+
+
+def ctrl_c(process: subprocess.Popen[str]) -> None:
+    """What the terminal does on Ctrl-C: SIGINT to every process of the foreground group."""
+    os.killpg(process.pid, signal.SIGINT)
 
 
 def test_ctrl_c_stops_the_machine_and_reports_where(start_emulator) -> None:
@@ -142,12 +150,12 @@ def test_ctrl_c_stops_the_machine_and_reports_where(start_emulator) -> None:
     assert process.stdout is not None
     first = process.stdout.readline()  # printed when streaming starts
     time.sleep(1.5)
-    process.send_signal(signal.SIGINT)  # as Ctrl-C does
+    ctrl_c(process)
     out, err = process.communicate(timeout=30)
     assert process.returncode == 130, err
     lines = [first.rstrip("\n"), *out.splitlines()]
     assert lines[0].startswith("examples/demo.gcode: 39 lines, ")
-    assert lines[1].startswith("stopped at line ")
+    assert lines[1].startswith("stopped at line ") and lines[1].endswith(" (HOLD)")
     status = status_of(emu.url)
     assert status.state == State.IDLE and status.queue_fill == 0
     work = "  ".join(f"{a.name} {a.to_mm(s):.3f} mm" for a, s in zip(CONFIG.axes, status.position))
@@ -155,6 +163,38 @@ def test_ctrl_c_stops_the_machine_and_reports_where(start_emulator) -> None:
     assert lines[2] == f"work (G54): {work}"  # no work offset stored: work = machine
     assert lines[3] == f"machine: {shown}"
     assert 0 < status.segments_done < len(load_job(EXAMPLES / "demo.gcode", CONFIG).plan)
+
+
+@pytest.mark.parametrize("command", ["run", "send"])
+def test_ctrl_c_with_the_emulator_started_by_the_command(emulator_binary: Path, tmp_path: Path, command: str) -> None:
+    """The emulator the command starts runs in a session of its own: Ctrl-C reaches the command alone, which
+    brings the machine to rest through it (HOLD) and reports where, instead of losing the port."""
+    if command == "run":
+        args = ["run", "examples/demo.gcode", "--config", str(ROUTER), "--emulator"]  # real time: about 11 s
+    else:
+        raw = tmp_path / "long.json"
+        segment = {"n": 1000, "axes": [{"axis": 0, "direction": 1, "v0": 2048, "vn": 2048, "r": 0}]}
+        stop = {"n": 1000, "axes": [{"axis": 0, "direction": 1, "v0": 2048, "vn": 0, "r": 0}]}
+        raw.write_text(json.dumps({"segments": [segment] * 500 + [stop]}))  # 10 s at 50 kHz
+        args = ["send", str(raw), "--emulator"]
+    process = cli_process(*args, env={"QUADSTEP_EMULATOR": str(emulator_binary)})
+    assert process.stdout is not None
+    first = process.stdout.readline() if command == "run" else ""
+    time.sleep(1.5)
+    ctrl_c(process)
+    out, err = process.communicate(timeout=30)
+    assert process.returncode == 130, err
+    assert "Input/output error" not in err and "serial port failed" not in err
+    lines = out.splitlines()
+    if command == "run":
+        assert first.startswith("examples/demo.gcode: 39 lines, ")
+        assert lines[0].startswith("stopped at line ") and lines[0].endswith(" (HOLD)")
+        assert lines[1].startswith("work (G54): X ") and lines[2].startswith("machine: X ")
+        steps = [int(s) for s in re.findall(r"\((-?\d+) steps\)", lines[2])]
+        assert len(steps) == 3 and any(steps)  # it stopped mid-job, somewhere along the way
+    else:
+        steps = json.loads(lines[-1].removeprefix("stopped (HOLD) at positions "))
+        assert 0 < steps[0] < 500 * 500  # mid-file: each of the 500 segments moves X by 500 steps
 
 
 def test_m0_waits_at_rest_for_the_operator(start_emulator, tmp_path: Path) -> None:
