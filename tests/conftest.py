@@ -1,4 +1,8 @@
-"""Fixtures shared by the Python tests: the emulator binary (built once) and running instances."""
+"""Fixtures shared by the Python tests: the emulator binary (built once) and running instances, a small
+machine for the jog, machine and TUI tests, and a state folder of each test's own.
+
+The test folders mirror the package (tests/protocol for host/quadstep/protocol, ...); helpers shared
+between them are in tests/helpers (on the path, pyproject.toml)."""
 
 from __future__ import annotations
 
@@ -9,8 +13,10 @@ from pathlib import Path
 
 import pytest
 
+from quadstep.config import MachineConfig, parse_config
 from quadstep.emulator import EMULATOR_ENV, Emulator
 from quadstep.link import Link
+from tui_helpers import MACHINE
 
 REPO = Path(__file__).resolve().parents[1]
 
@@ -61,4 +67,29 @@ def free_emulator(start_emulator: StartEmulator, tmp_path: Path) -> Emulator:
 @pytest.fixture
 def free_link(free_emulator: Emulator) -> Iterator[Link]:
     with Link.open(free_emulator.url) as link:
+        yield link
+
+
+@pytest.fixture
+def machine() -> MachineConfig:
+    return parse_config(MACHINE, "test machine")
+
+
+@pytest.fixture
+def paced_emulator(start_emulator, tmp_path: Path) -> Emulator:
+    """3 axes in real time (50 kHz), as a board would run; step trace in tmp_path/trace.csv."""
+    return start_emulator(free=False, axes=3, trace=tmp_path / "trace.csv")
+
+
+@pytest.fixture
+def paced_link(paced_emulator: Emulator) -> Iterator[Link]:
+    with Link.open(paced_emulator.url) as link:
+        yield link
+
+
+@pytest.fixture
+def fast_link(start_emulator) -> Iterator[Link]:
+    """3 axes, free-running: incremental jogs finish at once."""
+    emu = start_emulator(free=True, axes=3)
+    with Link.open(emu.url) as link:
         yield link

@@ -1,5 +1,5 @@
 /* Wire protocol constants (protocol/PROTOCOL.md, version 1).
- * tests/host/test_protocol_c_header.py parses this file and holds every
+ * tests/protocol/test_protocol_c_header.py parses this file and holds every
  * number here equal to the host's (host/quadstep/protocol/): names are
  * QS_<TABLE>_<NAME>, payload lengths QS_LEN_<MESSAGE>[_HEAD|_AXIS]. */
 #ifndef QS_PROTOCOL_H

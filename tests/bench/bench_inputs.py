@@ -18,7 +18,7 @@ from pathlib import Path
 
 REPO = Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(REPO / "tests" / "simavr"))
-sys.path.insert(0, str(REPO / "tests" / "host"))
+sys.path.insert(0, str(REPO / "tests" / "helpers"))
 
 import avr_sim  # noqa: E402
 from machine_helpers import along  # noqa: E402

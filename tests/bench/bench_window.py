@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""The send window alone, against a model of the firmware over a faulty line (tests/link/window_model.py):
+"""The send window alone, against a model of the firmware over a faulty line (tests/helpers/window_model.py):
 randomized scenarios of loss, duplication and reordering of frames and ACKs, no port, no threads.
 
     python3 tests/bench/bench_window.py [--scenarios N] [--repeat R]
@@ -16,7 +16,7 @@ import sys
 import time
 from pathlib import Path
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "link"))
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "helpers"))
 
 from window_model import scenario  # noqa: E402
 

@@ -3,7 +3,7 @@
 It numbers the frames, keeps each one until an ACK's `next_seq` passes it,
 decides what to write and when, and counts what it did. Time comes from an
 injected clock, so the window is tested on its own, without any port
-(tests/host/link/test_window.py); Link calls it under its one lock.
+(tests/link/test_window.py); Link calls it under its one lock.
 
 Each frame is `pending` until it is written. Retransmission is go-back-N: an
 ACK GAP or QUEUE_FULL (once per `next_seq`), or the retransmission timeout,

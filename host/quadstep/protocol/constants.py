@@ -1,5 +1,5 @@
 """Every number of the wire protocol (PROTOCOL.md) but the message types and event kinds, which each
-message declares itself (wire.py, messages.py). tests/host/test_protocol_c_header.py holds these equal
+message declares itself (wire.py, messages.py). tests/protocol/test_protocol_c_header.py holds these equal
 to firmware/core/qs_protocol.h."""
 
 from __future__ import annotations

@@ -6,7 +6,6 @@ from __future__ import annotations
 import json
 import random
 import subprocess
-import sys
 from pathlib import Path
 
 import pytest
@@ -15,18 +14,9 @@ from hold_helpers import check_hold, planned_job, read_trace
 from quadstep.engine_model import predict_hold
 from quadstep.protocol import DECEL_MAX, Decoder, Event, Hold, State, StatusReport, encode
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "simavr"))
-import avr_sim  # noqa: E402  (the harness's own helpers, beside its tests)
+import avr_sim
 
 F_CPU = avr_sim.F_CPU
-
-
-@pytest.fixture(scope="module")
-def avr_build() -> None:
-    try:
-        avr_sim.build()
-    except avr_sim.SimAvrError as exc:
-        pytest.fail(str(exc))
 
 
 @pytest.mark.parametrize("board, axes, queue", [("uno", 3, 16), ("mega", 4, 32)])
