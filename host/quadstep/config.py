@@ -154,7 +154,7 @@ _LIMIT_WORDS = {
     "greater_than_equal": "must be at least {ge}",
     "less_than": "must be less than {lt}",
     "less_than_equal": "must be at most {le}",
-    "too_short": "needs at least {min_length} entries",
+    "too_short": "needs at least {min_length} {entries}",
     "too_long": "allows at most {max_length} entries",
 }
 
@@ -178,6 +178,7 @@ def describe_validation_error(error: ValidationError) -> list[str]:
         kind = e["type"]
         if kind in _LIMIT_WORDS:
             ctx = {k: f"{v:g}" if isinstance(v, float) else v for k, v in e.get("ctx", {}).items()}
+            ctx["entries"] = "entry" if ctx.get("min_length") == 1 else "entries"
             lines.append(f"{key} = {e['input']!r}: {_LIMIT_WORDS[kind].format(**ctx)}")
         elif kind == "missing":
             lines.append(f"{key}: missing")

@@ -23,11 +23,11 @@ from typing import Annotated, Any, Literal
 import yaml
 from pydantic import BaseModel, ConfigDict, Field, model_validator
 
-from .config import validate
+from .config import AxisName, validate
 from .planner.program import Dwell, JobError, LinearMove, Pause, Program
 from .textfile import read_text
 
-Coordinates = dict[Literal["X", "Y", "Z", "A"], float]
+Coordinates = dict[AxisName, float]
 
 
 class Move(BaseModel):

@@ -17,7 +17,7 @@ from tui_helpers import MACHINE
 
 def test_bad_timeouts_are_refused_naming_the_option(capsys: pytest.CaptureFixture[str]) -> None:
     assert main(["tui", "--emulator", "--repeat-timeout", "0"]) == 1
-    assert "repeat_timeout: Input should be greater than 0 (got 0.0)" in capsys.readouterr().err
+    assert "repeat_timeout = 0.0: must be greater than 0" in capsys.readouterr().err
     assert main(["tui", "--emulator", "--first-repeat-timeout", "0.1", "--repeat-timeout", "0.2"]) == 1
     assert "repeat_timeout = 0.2: must be at most first_repeat_timeout = 0.1" in capsys.readouterr().err
 

@@ -112,3 +112,13 @@ def test_steps_are_rounded_once_from_absolute_millimetres() -> None:
     inverted = axis.model_copy(update={"invert": True})
     assert inverted.to_steps(12.3456) == -988
     assert inverted.to_mm(-988) == pytest.approx(12.35)
+
+
+def test_axis_names_are_the_protocols() -> None:
+    """The letters a configuration accepts are the wire's axes 0 … 3 (pydantic needs them as a Literal)."""
+    from typing import get_args
+
+    from quadstep.config import AxisName
+    from quadstep.protocol import AXIS_NAMES
+
+    assert get_args(AxisName) == AXIS_NAMES

@@ -70,7 +70,7 @@ def test_yaml_and_feeds_in_mm_per_second(tmp_path: Path) -> None:
         ([{"dwell": -1}], "moves[0].dwell = -1: must be at least 0"),
         ([{"to": {"B": 1}, "feed": 1}], "moves[0].to.B = 'B': must be one of 'X', 'Y', 'Z' or 'A'"),
         ([{"go": {"X": 1}}], "moves[0].go: unknown key"),
-        ([], "moves = []: needs at least 1 entries"),
+        ([], "moves = []: needs at least 1 entry"),
     ],
 )
 def test_bad_moves_name_the_move_and_field(tmp_path: Path, moves: list[object], message: str) -> None:

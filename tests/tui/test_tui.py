@@ -247,3 +247,22 @@ async def test_quitting_during_a_job_brings_the_machine_to_rest(
     assert emulator.summary is not None
     assert emulator.summary["state"] == "IDLE" and emulator.summary["alarm"] == "NONE"
     assert 0 < int(emulator.summary["position_0"]) < 2400
+
+
+async def test_a_job_runs_in_the_work_coordinates_the_zero_keys_set(
+    machine: MachineConfig, emulator_binary: Path, tmp_path: Path
+) -> None:
+    job = tmp_path / "work.gcode"
+    job.write_text("G1 X5 Y0 F1200\nG10 L20 P2 X0\n")
+    app = make_app(machine, emulator_binary, free=True, job_path=str(job))
+    async with app.run_test(size=(100, 32)) as pilot:
+        await connected(pilot, app)
+        await pilot.press("right", "right", "up")  # machine X 2 mm, Y 1 mm
+        await shown(pilot, app, (160, 80, 0))
+        await pilot.press("0")
+        await until(pilot, lambda: "zeroed X, Y, Z in G54" in log_text(app), what="zeroing")
+        await pilot.press("o", "enter")
+        await until(pilot, lambda: "work.gcode: done" in log_text(app), what="the job to finish")
+        await shown(pilot, app, (560, 80, 0))  # work X5 Y0 is machine X 7, Y 1
+        kept = load_state(app.session.state_file)  # type: ignore[arg-type]
+        assert kept.offsets[1] == {"X": 7.0}  # the job's G10 L20 P2 X0 is kept: it completed

@@ -16,10 +16,11 @@ from collections.abc import Sequence
 
 from pydantic import ValidationError
 
+from ..config import describe_validation_error
 from ..emulator import EmulatorError
 from ..link import LinkError
 from ..machine import MachineError
-from .options import CliError, format_validation_error
+from .options import CliError
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -44,7 +45,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         print(f"quadstep {args.command}: error: {exc}", file=sys.stderr)
         return 1
     except ValidationError as exc:
-        print(f"quadstep {args.command}: error: {format_validation_error(exc)}", file=sys.stderr)
+        print(f"quadstep {args.command}: error: {'; '.join(describe_validation_error(exc))}", file=sys.stderr)
         return 1
     except (LinkError, MachineError, EmulatorError) as exc:
         print(f"quadstep {args.command}: error: {exc}", file=sys.stderr)

@@ -5,9 +5,7 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from pydantic import ValidationError
-
-from ..config import MachineConfig, error_location
+from ..config import MachineConfig
 from ..link import DEFAULT_BAUD
 from ..machine import Machine, Target, open_machine
 
@@ -55,19 +53,3 @@ def connect(args: argparse.Namespace, config: MachineConfig | None = None, sourc
     """The connected Machine the arguments ask for (a context manager); an emulator started for it ticks
     and has the axes that `config` says; `state_file` keeps its work coordinates."""
     return open_machine(target(args), config, source=source or "the configuration", state_file=state_file)
-
-
-def _location(loc: tuple[int | str, ...]) -> str:
-    return error_location(loc) or "(top level)"
-
-
-def format_validation_error(error: ValidationError, source: str = "") -> str:
-    """One line per problem: where (e.g. segments[3].axes[0].v0), what is wrong, and the value given."""
-    lines = []
-    for e in error.errors():
-        where = _location(tuple(e["loc"]))
-        message = e["msg"].removeprefix("Value error, ")
-        scalar = isinstance(e["input"], (int, float, str)) and e["type"] != "missing"
-        given = f" (got {e['input']!r})" if scalar else ""
-        lines.append(f"{source}{': ' if source else ''}{where}: {message}{given}")
-    return "\n".join(lines)

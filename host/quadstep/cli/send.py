@@ -6,12 +6,13 @@ import argparse
 import json
 from pathlib import Path
 
-from pydantic import BaseModel, ConfigDict, Field, ValidationError
+from pydantic import BaseModel, ConfigDict, Field
 
+from ..config import validate
 from ..protocol import AXIS_NAMES, IdentifyReply, Segment
-from ..protocol.messages import I32
+from ..protocol.fields import I32
 from ..textfile import read_text
-from .options import CliError, add_connection_options, add_json_option, connect, format_validation_error
+from .options import CliError, add_connection_options, add_json_option, connect
 
 
 class SegmentsFile(BaseModel):
@@ -38,10 +39,7 @@ def load(path: Path) -> SegmentsFile:
         data = json.loads(text)
     except json.JSONDecodeError as exc:
         raise CliError(f"{path}: line {exc.lineno} column {exc.colno}: {exc.msg}") from None
-    try:
-        job = SegmentsFile.model_validate(data)
-    except ValidationError as exc:
-        raise CliError(format_validation_error(exc, str(path))) from None
+    job = validate(SegmentsFile, data, str(path), CliError)
     last = job.segments[-1]
     moving = [a.axis for a in last.axes if a.vn > 0]
     if moving:

@@ -7,11 +7,11 @@ from pathlib import Path
 
 from pydantic import ValidationError
 
-from ..config import ConfigError, load_config
+from ..config import ConfigError, describe_validation_error, load_config
 from ..jog import JogSettings
 from ..machine import state_path
 from ._jobs import DEFAULT_CONFIG
-from .options import CliError, add_connection_options, format_validation_error, target
+from .options import CliError, add_connection_options, target
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
@@ -35,7 +35,7 @@ def settings_from(args: argparse.Namespace) -> JogSettings:
     try:
         return JogSettings(first_repeat_timeout=args.first_repeat_timeout, repeat_timeout=args.repeat_timeout)
     except ValidationError as exc:
-        raise CliError(format_validation_error(exc)) from None
+        raise CliError("; ".join(describe_validation_error(exc))) from None
 
 
 def run(args: argparse.Namespace) -> int:

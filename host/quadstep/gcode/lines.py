@@ -10,6 +10,7 @@ from __future__ import annotations
 from collections.abc import Sequence
 from dataclasses import dataclass
 
+from ..protocol.constants import AXIS_NAMES
 from .words import GcodeError, Word
 
 # G codes by their number as written without leading zeros ("1", "92.1"), and their modal group.
@@ -31,7 +32,7 @@ M_SKIPPABLE = {
     7: "coolant on", 8: "coolant on", 9: "coolant off",
 }
 LETTERS_SKIPPABLE = {"S": "spindle speed", "T": "tool"}
-AXIS_LETTERS = "XYZA"
+AXIS_LETTERS = "".join(AXIS_NAMES)
 VALUE_LETTERS = "IJKRFPL"
 SKIP_HINT = "--skip-unsupported skips spindle, coolant and tool words"
 

@@ -4,8 +4,7 @@ A Link joins a Transport (the port, a reader and a writer thread), a
 SendWindow (which sequenced frames to write, and when), an Inbox (what the
 reader learns from each report) and an Outbox (what the writer writes next),
 all under one condition variable. Public methods block and are safe from any
-thread; from asyncio or Textual call them in worker threads
-(asyncio.to_thread). The HOLD procedure is hold.py's.
+thread (from asyncio or Textual: worker threads). HOLD is hold.py's.
 """
 
 from __future__ import annotations
@@ -19,12 +18,9 @@ import serial
 
 from ..protocol import (
     Alarm,
-    InputCause,
-    InputChange,
-    DecodeError,
-    Decoder,
     Identify,
     IdentifyReply,
+    InputChange,
     MessageType,
     Report,
     Request,
@@ -69,12 +65,10 @@ class Link:
         self._cond = threading.Condition()
         self._request_lock = threading.Lock()  # one immediate request at a time
         self._window = SendWindow(clock, rto, retries, self.stats)
-        self._decoder = Decoder("to_host")
         self._callbacks: list[ReportCallback] = []
         # Shared with the threads; guarded by _cond.
         self._in = Inbox(self._window, self.stats)
         self._out = Outbox(self._window, self._in, self.stats, poll_interval)
-        self._generation = 0  # restarts (STOP, HOLD) so far
         self._transport = Transport(port, self._cond, self._on_data, self._next_output, self._port_failed)
         self._transport.start()
 
@@ -142,7 +136,7 @@ class Link:
     def generation(self) -> int:
         """How many times the stream was restarted (STOP, HOLD): a waiter that saw another gives up."""
         with self._cond:
-            return self._generation
+            return self._in.generation
 
     @property
     def axis_count(self) -> int:
@@ -210,8 +204,8 @@ class Link:
         seq the firmware's next_seq; resynchronise from the answer. Returns it and the new generation."""
         with self._request_lock:
             with self._cond:
-                self._generation += 1
-                generation = self._generation
+                self._in.generation += 1
+                generation = self._in.generation
                 seq = self._window.restart()
                 self._in.stopping = True
                 self._cond.notify_all()
@@ -273,7 +267,7 @@ class Link:
             raise ValueError(f"{message.NAME} is not a sequenced message; use its own method")
         deadline = None if timeout is None else self._clock() + timeout
         with self._cond:
-            generation = self._generation
+            generation = self._in.generation
             while not self._window.room:
                 self._raise_failure(generation)
                 if not self._wait(deadline):
@@ -287,7 +281,7 @@ class Link:
         """Wait until the firmware has acknowledged every frame sent."""
         deadline = None if timeout is None else self._clock() + timeout
         with self._cond:
-            generation = self._generation
+            generation = self._in.generation
             while True:
                 self._raise_failure(generation)
                 if not self._window.in_flight:
@@ -299,14 +293,14 @@ class Link:
         """Wait until every frame is acknowledged and the firmware is IDLE; returns its final status."""
         deadline = None if timeout is None else self._clock() + timeout
         with self._cond:
-            generation = self._generation
+            generation = self._in.generation
         self.drain(timeout)
         while True:
             with self._cond:
                 remaining = self.poll_interval if deadline is None else max(0.0, deadline - self._clock())
                 self._cond.wait_for(
                     lambda: self._in.done_total >= self._in.expected_done or self._in.failure is not None
-                    or self._generation != generation,
+                    or self._in.generation != generation,
                     timeout=min(self.poll_interval, remaining),
                 )
                 self._raise_failure(generation)
@@ -332,7 +326,7 @@ class Link:
         with self._cond:
             self._cond.wait_for(
                 lambda: self._in.counts[cls] > after or self._in.failure is not None
-                or self._generation != generation or self._transport.closed,
+                or self._in.generation != generation or self._transport.closed,
                 timeout=timeout,
             )
             if self._in.counts[cls] > after:
@@ -343,7 +337,7 @@ class Link:
     def resync(self, status: StatusReport, generation: int) -> None:
         """Adopt a status taken at rest, unless the stream was restarted or fed since."""
         with self._cond:
-            if self._generation == generation and not self._window.in_flight:
+            if self._in.generation == generation and not self._window.in_flight:
                 self._in.resync(status)
 
     # --- shared-state helpers (call with _cond held) ----------------------------------------------
@@ -368,39 +362,20 @@ class Link:
         self._raise_if_closed()
         if self._in.failure is not None:
             raise self._in.failure
-        if generation != self._generation:
+        if generation != self._in.generation:
             raise Stopped("stop() or a hold was called: unsent and unacknowledged frames were dropped")
 
     # --- reader --------------------------------------------------------------------------------------
 
     def _on_data(self, data: bytes) -> None:
-        notify: list[Report] = []
         with self._cond:
-            self.stats.bytes_received += len(data)
             self._out.last_rx = self._clock()
-            for item in self._decoder.feed(data):
-                if isinstance(item, DecodeError):
-                    self.stats.decode_errors += 1
-                else:
-                    self.stats.frames_received += 1
-                    if self._in.apply(item):
-                        notify.append(item.message)  # type: ignore[arg-type]
-                    if isinstance(item.message, InputChange) and item.message.cause in (InputCause.TRIGGER,
-                                                                                        InputCause.FEED_HOLD):
-                        self._held_by_input()
+            notify = self._in.receive(data)
             self._cond.notify_all()
             callbacks = list(self._callbacks) if notify else []
         for report in notify:
             for callback in callbacks:
                 callback(report)
-
-    def _held_by_input(self) -> None:
-        """The firmware began a hold itself, at an input (a PROBE's edge, the feed hold button): what is queued
-        or in flight will not run (segments arriving while it holds are refused, BUSY), so the stream restarts
-        as at a STOP or HOLD; a waiter resyncs once it is at rest (inputs.wait_rest). With _cond held."""
-        self._generation += 1
-        self._window.restart()
-        self._in.held_by_input += 1
 
     def _port_failed(self, exc: Exception) -> None:
         """The port raised in the reader or the writer thread: the link is closed."""

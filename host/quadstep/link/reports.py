@@ -9,7 +9,20 @@ from __future__ import annotations
 from collections import defaultdict, deque
 from dataclasses import dataclass
 
-from ..protocol import Ack, AckReason, Alarm, ErrorReport, Event, Frame, InputChange, Report, StatusReport
+from ..protocol import (
+    Ack,
+    AckReason,
+    Alarm,
+    DecodeError,
+    Decoder,
+    ErrorReport,
+    Event,
+    Frame,
+    InputCause,
+    InputChange,
+    Report,
+    StatusReport,
+)
 from ..protocol.constants import is_sequenced
 from .errors import AlarmError, FirmwareError, LinkError
 from .stats import LinkStats
@@ -31,6 +44,8 @@ class Inbox:
     def __init__(self, window: SendWindow, stats: LinkStats) -> None:
         self.window = window
         self.stats = stats
+        self.decoder = Decoder("to_host")
+        self.generation = 0  # restarts of the stream (STOP, HOLD, a hold the firmware began) so far
         self.queue_capacity: int | None = None  # known once connected
         self.waiter: Waiter | None = None
         self.failure: LinkError | None = None  # raised by every call until the next restart
@@ -42,6 +57,19 @@ class Inbox:
         self.counts: defaultdict[type, int] = defaultdict(int)
         self.input_changes: deque[InputChange] = deque(maxlen=256)  # the latest EVENT INPUT reports
         self.held_by_input = 0  # holds the firmware began itself (a PROBE's edge, the feed hold button)
+
+    def receive(self, data: bytes) -> list[Report]:
+        """Decode and apply what the reader read; returns the reports that on_report callbacks want."""
+        self.stats.bytes_received += len(data)
+        notify: list[Report] = []
+        for item in self.decoder.feed(data):
+            if isinstance(item, DecodeError):
+                self.stats.decode_errors += 1
+                continue
+            self.stats.frames_received += 1
+            if self.apply(item):
+                notify.append(item.message)  # type: ignore[arg-type]
+        return notify
 
     def fail(self, failure: LinkError) -> None:
         if self.failure is None:
@@ -69,6 +97,8 @@ class Inbox:
             self.counts[type(m)] += 1
             if isinstance(m, InputChange):
                 self.input_changes.append(m)
+                if m.cause in (InputCause.TRIGGER, InputCause.FEED_HOLD):
+                    self._held_by_input()
             if isinstance(m, Alarm):
                 self.stats.alarms += 1
                 if not self.stopping:
@@ -83,6 +113,14 @@ class Inbox:
             if not self.stopping and self.queue_capacity is not None:  # repairs a lost SPACE ack
                 self.expected_done += self.window.on_status(m.next_seq, self.queue_capacity - m.queue_fill)
         return False
+
+    def _held_by_input(self) -> None:
+        """The firmware began a hold itself, at an input (a PROBE's edge, the feed hold button): what is queued
+        or in flight will not run (segments arriving while it holds are refused, BUSY), so the stream restarts
+        as at a STOP or HOLD; a waiter resyncs once it is at rest (inputs.wait_rest)."""
+        self.generation += 1
+        self.window.restart()
+        self.held_by_input += 1
 
     def _on_ack(self, ack: Ack) -> None:
         self.done_total += (ack.done - self.done16) & 0xFFFF

@@ -3,7 +3,7 @@
 A message is a class declared with `@message(code, NAME)` on `Request` (host
 → firmware) or `Report` (firmware → host); its fields go on the wire in the
 order written here, each as its annotation says (U8, U16, I32, Positions,
-...). An EVENT kind is a subclass of `Event` declared with `@event_kind`.
+...: fields.py). An EVENT kind is a subclass of `Event` declared with `@event_kind`.
 `MessageType` and `EventKind` are built from these declarations.
 
 Enumerated fields accept their name or their number and serialise to the name
@@ -12,14 +12,11 @@ in JSON, which is also the form of protocol/vectors.json.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
 from enum import IntEnum
-from typing import Annotated, Any, ClassVar, TypeVar
+from typing import Annotated, Any, ClassVar
 
 from pydantic import (
-    BeforeValidator,
     Field,
-    PlainSerializer,
     SerializationInfo,
     SerializerFunctionWrapHandler,
     model_serializer,
@@ -28,28 +25,38 @@ from pydantic import (
 
 from .constants import (
     DECEL_MAX,
-    MAX_AXES,
     NO_AXIS,
-    NO_FIELD,
-    AckReason,
-    AlarmCode,
     Board,
     Capability,
-    ErrorCode,
     INPUT_COUNT,
     FieldId,
     Input,
-    InputCause,
-    State,
     TypeClass,
 )
 from .cubic import CubicAxis, CubicSegment
+from .fields import (
+    U8,
+    U16,
+    U32,
+    AxisIndex,
+    Decels,
+    I32,
+    NamedAckReason,
+    NamedAlarmCode,
+    NamedCause,
+    NamedErrorCode,
+    NamedInput,
+    NamedState,
+    OptionalAlarmCode,
+    OptionalFieldId,
+    OptionalInput,
+    Positions,
+    PositionsByAxis,
+)
 from .segment import AxisMove, Segment
 from .wire import (
     FieldFault,
     Int,
-    Masked,
-    PerAxis,
     Report,
     Request,
     WireMessage,
@@ -59,56 +66,6 @@ from .wire import (
     event_kind,
     message,
 )
-
-E = TypeVar("E", bound=IntEnum)
-
-
-def _by_name(enum: type[IntEnum]) -> BeforeValidator:
-    """Accept an enumerated field by its name as well as by its number."""
-
-    def parse(value: object) -> object:
-        if isinstance(value, str):
-            try:
-                return enum[value]
-            except KeyError:
-                raise ValueError(f"unknown {enum.__name__} {value!r}") from None
-        return value
-
-    return BeforeValidator(parse)
-
-
-_AS_NAME = PlainSerializer(lambda e: None if e is None else e.name, when_used="json")
-
-
-def _named(enum: type[E]) -> Any:
-    """A u8 field holding one of `enum`'s codes."""
-    return Annotated[enum, _by_name(enum), _AS_NAME, Int("B", enum=enum)]
-
-
-def _named_or_none(enum: type[E], none: int) -> Any:
-    """A u8 field holding one of `enum`'s codes, or `none` on the wire for None."""
-    return Annotated[enum | None, _by_name(enum), _AS_NAME, Int("B", enum=enum, none=none)]
-
-
-NamedAckReason = _named(AckReason)
-NamedState = _named(State)
-NamedErrorCode = _named(ErrorCode)
-NamedAlarmCode = _named(AlarmCode)
-NamedInput = _named(Input)
-NamedCause = _named(InputCause)
-OptionalInput = _named_or_none(Input, NO_AXIS)
-OptionalAlarmCode = _named_or_none(AlarmCode, 0)
-OptionalFieldId = _named_or_none(FieldId, NO_FIELD)
-
-U8 = Annotated[int, Field(ge=0, le=0xFF), Int("B")]
-U16 = Annotated[int, Field(ge=0, le=0xFFFF), Int("H")]
-U32 = Annotated[int, Field(ge=0, le=0xFFFF_FFFF), Int("I")]
-I32 = Annotated[int, Field(ge=-(2**31), le=2**31 - 1)]
-AxisIndex = Annotated[int, Field(ge=0, lt=MAX_AXES)]
-Decel = Annotated[int, Field(ge=0, le=DECEL_MAX)]
-# The step position of every axis the firmware has, to the end of the payload.
-Positions = Annotated[tuple[I32, ...], Field(min_length=1, max_length=MAX_AXES), PerAxis("i")]
-
 
 # --- host → firmware ----------------------------------------------------------
 
@@ -136,7 +93,7 @@ class Hold(Request):
     0 for axes the firmware does not have; Link.hold builds it from a list.
     """
 
-    decel: Annotated[tuple[Decel, Decel, Decel, Decel], Int("H", count=MAX_AXES)]
+    decel: Decels
 
     @classmethod
     def check_wire(cls, raw: dict[str, Any], axis_count: int) -> None:
@@ -153,35 +110,16 @@ def _check_decel(values: Any, axis_count: int) -> None:
             raise FieldFault(FieldId.DECEL, axis, f"decel = {d} for an axis the firmware lacks ({axis_count} axes)")
 
 
-Decels = Annotated[tuple[Decel, Decel, Decel, Decel], Int("H", count=MAX_AXES)]
-InputMask = Annotated[int, Field(ge=0, lt=1 << INPUT_COUNT), Int("H")]
-
-
 @message(0x06, "INPUTS")
 class Inputs(Request):
     """The inputs' state and settings now (answered by INPUT_STATUS)."""
-
-
-@dataclass(frozen=True)
-class _PositionsByAxis(Masked):
-    """A mask byte, then i32 for each axis in it, in axis order."""
-
-    unit_code: str = "i"
-
-    def pack(self, value: dict[int, int]) -> bytes:
-        axes = sorted(value)
-        return self.pack_raw(sum(1 << a for a in axes), [value[a] for a in axes])
-
-    def value(self, raw: Any) -> dict[int, int]:
-        mask, items = raw
-        return {axis: item[0] for axis, item in zip(bits(mask), items)}
 
 
 @message(0x11, "SET_POSITION")
 class SetPosition(Request):
     """Step positions for the axes listed; only while IDLE with an empty queue."""
 
-    positions: Annotated[dict[AxisIndex, I32], _PositionsByAxis()]
+    positions: Annotated[dict[AxisIndex, I32], PositionsByAxis()]
 
     @classmethod
     def check_wire(cls, raw: dict[str, Any], axis_count: int) -> None:

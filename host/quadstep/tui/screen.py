@@ -8,26 +8,23 @@ from __future__ import annotations
 
 import threading
 from collections.abc import Callable
-from pathlib import Path
 
 from rich.text import Text
 from textual.app import ComposeResult
 from textual.containers import Horizontal
-from textual.screen import Screen
 from textual.widgets import Footer, Header, Static
 
 from ..jog import JogMode, Jogger, JogResult
-from ..job import load_job
 from ..link import LinkError
-from ..machine import JobRun, Machine, MachineError, MotionEnd
+from ..machine import JobRun, Machine, MachineError
 from ..machine.homing import home
 from ..machine.probing import probe
 from ..planner.program import JobError
-from ..protocol import Board
+from ..protocol import AXIS_NAMES, Board
 from .help import HelpScreen
-from .job_dialog import JobDialog
+from .jobs import JobKeys
 from .keys import bindings
-from .messages import Connected, ConnectionLost, JobDone, JobStarted, JogDone, Note, StatusUpdate
+from .messages import Connected, ConnectionLost, JogDone, Note, StatusUpdate
 from .panels import JobPanel, JogPanel, MachinePanel, MessageLog, PositionPanel
 from .session import Session, Snapshot
 
@@ -41,7 +38,7 @@ def _board_name(board: int) -> str:
         return f"board {board}"
 
 
-class MachineScreen(Screen[None]):
+class MachineScreen(JobKeys):
     BINDINGS = bindings(9)  # step keys beyond the presets are hidden by check_action
 
     def __init__(self, session: Session, job_path: str = "", poll_interval: float = POLL_INTERVAL) -> None:
@@ -193,7 +190,7 @@ class MachineScreen(Screen[None]):
         if jogger is None:
             return
         if axis >= len(jogger.config.axes):
-            self.log_line(f"jog: this machine has no axis {'XYZA'[axis]}", error=True)
+            self.log_line(f"jog: this machine has no axis {AXIS_NAMES[axis]}", error=True)
             return
         self._command(lambda: jogger.jog(axis, direction), "jog")
 
@@ -327,66 +324,6 @@ class MachineScreen(Screen[None]):
         jogger = self.session.jogger
         if jogger is not None and self.session.connected:
             self._command(jogger.sync, "sync")
-
-    # --- jobs ------------------------------------------------------------------------------
-
-    def action_open_job(self) -> None:
-        if self._jogger_ready("job") is None:
-            return
-        self.app.push_screen(JobDialog(self.job_path), self._job_chosen)
-
-    def _job_chosen(self, path: Path | None) -> None:
-        if path is None:
-            return
-        self.job_path = str(path)
-        machine = self.session.machine
-        if machine is None or machine.busy:
-            self.log_line("job: the machine is busy", error=True)
-            return
-        self.log_line(f"planning {path}…")
-        self._thread(lambda: self._job_worker(machine, path), "quadstep-job")
-
-    def _job_worker(self, machine: Machine, path: Path) -> None:
-        try:
-            plan = load_job(path, machine.config, machine.sync()).plan
-            if len(plan) == 0:
-                raise JobError(f"{path}: no move leaves the current position")
-            job = machine.run_job(plan)
-        except (JobError, LinkError, MachineError) as exc:
-            self.post_message(Note(f"job not started: {exc}", error=True))
-            return
-        self.post_message(JobStarted(job, path.name))
-        end = job.wait()
-        assert end is not None
-        self.post_message(JobDone(path.name, end))
-
-    def on_job_started(self, message: JobStarted) -> None:
-        job = message.job
-        self.job = job
-        self.job_name = message.name
-        self.log_line(f"running {message.name}: {len(job.plan)} segments, {job.plan.duration_s:.1f} s planned")
-        self.query_one(JobPanel).show(self.job_name, job.progress)
-
-    def on_job_done(self, message: JobDone) -> None:
-        job = self.job
-        self.job = None
-        end: MotionEnd = message.end
-        if end.ended_by == "done":
-            outcome = "done"
-        elif end.error:
-            outcome = f"failed: {end.error}"
-        else:
-            line = job.progress.line if job is not None else "?"
-            outcome = f"stopped near line {line} ({'HOLD' if end.held else 'STOP'})"
-        self.log_line(f"{message.name}: {outcome}", error=bool(end.error))
-        self.query_one(JobPanel).show(None, None, f"{message.name}: {outcome}")
-        jogger = self.session.jogger
-        if jogger is not None and self.session.connected:
-            self._command(jogger.sync, "sync")
-
-    def action_resume(self) -> None:
-        if self.job is None or not self.job.resume():
-            self.log_line("go on: no job waits at a pause", error=True)
 
     # --- the rest --------------------------------------------------------------------------
 
