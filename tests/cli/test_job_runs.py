@@ -306,3 +306,14 @@ def test_a_job_that_does_not_complete_leaves_the_stored_coordinates_alone(start_
     assert process.returncode == 1, err
     assert "stopped at line 4" in out
     assert load_state(state_path(ROUTER)) == WorkCoordinates()
+
+
+def test_a_broken_state_file_is_refused_naming_it(start_emulator, tmp_path: Path, capsys: Capture) -> None:
+    path = state_path(ROUTER)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    path.write_text('{"version": 1, "coordinates": {"system": 9}}')
+    emu = start_emulator(axes=3, tick_hz=CONFIG.tick_hz)
+    code, _, err = run_cli(["run", str(EXAMPLES / "demo.gcode"), "--config", str(ROUTER), "--port", emu.url], capsys)
+    assert code == 1
+    assert err == f"quadstep run: error: {path}: coordinates.system = 9: must be at most 6\n"
+    assert status_of(emu.url).segments_done == 0

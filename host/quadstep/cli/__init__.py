@@ -19,7 +19,7 @@ from pydantic import ValidationError
 from ..config import describe_validation_error
 from ..emulator import EmulatorError
 from ..link import LinkError
-from ..machine import MachineError
+from ..machine import MachineError, StateError
 from .options import CliError
 
 
@@ -47,7 +47,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     except ValidationError as exc:
         print(f"quadstep {args.command}: error: {'; '.join(describe_validation_error(exc))}", file=sys.stderr)
         return 1
-    except (LinkError, MachineError, EmulatorError) as exc:
+    except (LinkError, MachineError, StateError, EmulatorError) as exc:
         print(f"quadstep {args.command}: error: {exc}", file=sys.stderr)
         return 1
     except KeyboardInterrupt:
