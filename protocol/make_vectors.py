@@ -23,7 +23,7 @@ PROTOCOL_VERSION = 1
 MAX_FRAME = 64
 
 TYPES = {
-    "IDENTIFY": 0x01, "STATUS": 0x02, "STOP": 0x03, "HOLD": 0x04, "INPUTS": 0x06,
+    "IDENTIFY": 0x01, "STATUS": 0x02, "STOP": 0x03, "HOLD": 0x04, "INPUTS": 0x06, "WATCHDOG": 0x07,
     "SEGMENT": 0x10, "SET_POSITION": 0x11, "CUBIC_SEGMENT": 0x12, "PROBE": 0x15, "CONFIG": 0x16,
     "ACK": 0x80, "IDENTIFY_REPLY": 0x81, "STATUS_REPORT": 0x82, "ERROR": 0x83, "ALARM": 0x84, "EVENT": 0x85,
     "INPUT_STATUS": 0x86,
@@ -36,7 +36,9 @@ ERROR_CODES = {
 }
 FIELDS = {"N": 1, "AXES": 2, "DIRECTION": 3, "V0": 4, "VN": 5, "RESIDUAL": 6, "DECEL": 7, "INPUT": 8, "LEVEL": 9,
           "INPUTS": 10, "HARD_LIMITS": 11,
-          "SPEED": 12, "ACCEL": 13}
+          "SPEED": 12, "ACCEL": 13, "POSITION": 14, "TIMEOUT": 15}
+POSITION_MAX = 2**31 - 2**24  # the firmware keeps every position within ±this (§5.2)
+WATCHDOG_MAX_MS = 4000
 ALARMS = {"UNDERRUN": 1, "REJECTED_SEGMENT": 2, "HARD_LIMIT": 3, "HOST_LOST": 4, "E_STOP": 5}
 STATES = {"IDLE": 0, "RUNNING": 1, "ALARM": 2, "HOLDING": 3}
 EVENT_KINDS = {"HOLD_DONE": 1, "INPUT": 2, "PROBE_MISSED": 3}
@@ -159,6 +161,8 @@ def payload(msg: dict) -> bytes:
         return struct.pack(f"<BI{len(pos)}i", ALARMS[msg["code"]], msg["motion_ticks"], *pos)
     if t == "HOLD":
         return struct.pack("<4H", *msg["decel"])
+    if t == "WATCHDOG":
+        return struct.pack("<H", msg["timeout_ms"])
     if t == "EVENT" and msg["kind"] == "HOLD_DONE":
         pos = msg["position"]
         return struct.pack(f"<BII{len(pos)}i", EVENT_KINDS[msg["kind"]], msg["hold_tick"], msg["motion_ticks"], *pos)
@@ -314,7 +318,19 @@ def build() -> list[dict]:
     valid("set position, no axes", TO_FW, {"type": "SET_POSITION", "seq": 4, "positions": {}})
     valid("set position, four axes, extreme values", TO_FW,
           {"type": "SET_POSITION", "seq": 0xFF,
-           "positions": {"0": 2**31 - 1, "1": -(2**31), "2": 0, "3": 123456789}}, 4)
+           "positions": {"0": POSITION_MAX, "1": -POSITION_MAX, "2": 0, "3": 123456789}}, 4)
+    for axis, value in ((0, POSITION_MAX + 1), (2, -POSITION_MAX - 1), (1, 2**31 - 1), (3, -(2**31))):
+        frame = wire(bytes([TYPES["SET_POSITION"], 6]) + set_position_payload({axis: value}))
+        bad(f"set position axis {axis} to {value}, past the position range", TO_FW, frame, "BAD_FIELD",
+            "POSITION", axis, axis_count=4)
+
+    # WATCHDOG (immediate): 0 turns it off.
+    valid("watchdog off", TO_FW, {"type": "WATCHDOG", "seq": 3, "timeout_ms": 0})
+    valid("watchdog 500 ms", TO_FW, {"type": "WATCHDOG", "seq": 0x41, "timeout_ms": 500})
+    valid("watchdog at its longest", TO_FW, {"type": "WATCHDOG", "seq": 0xFF, "timeout_ms": WATCHDOG_MAX_MS})
+    bad("watchdog past its longest", TO_FW, wire(bytes([TYPES["WATCHDOG"], 1]) + struct.pack("<H", WATCHDOG_MAX_MS + 1)),
+        "BAD_FIELD", "TIMEOUT", None)
+    bad("watchdog with one byte", TO_FW, wire(bytes([TYPES["WATCHDOG"], 1, 5])), "BAD_LENGTH")
 
     # Reports.
     for i, reason in enumerate(ACK_REASONS):
@@ -435,9 +451,9 @@ def build() -> list[dict]:
     bad("64 decoded bytes pass framing, then bad length", TO_FW, wire(longest), "BAD_LENGTH")
 
     # Unknown types, immediate and sequenced ranges; reports sent the wrong way.
-    for t in (0x00, 0x05, 0x07, 0x0F, 0x13, 0x14, 0x17, 0x3F, 0x40, 0x7F, 0x80, 0x82, 0x85, 0x86):
+    for t in (0x00, 0x05, 0x08, 0x0F, 0x13, 0x14, 0x17, 0x3F, 0x40, 0x7F, 0x80, 0x82, 0x85, 0x86):
         bad(f"unknown type 0x{t:02x} to firmware", TO_FW, wire(bytes([t, 3])), "UNKNOWN_TYPE")
-    for t in (0x01, 0x04, 0x06, 0x10, 0x15, 0x87, 0xFF):
+    for t in (0x01, 0x04, 0x06, 0x07, 0x10, 0x15, 0x87, 0xFF):
         bad(f"unknown type 0x{t:02x} to host", TO_HOST, wire(bytes([t, 3, 0, 0, 0, 0, 0])), "UNKNOWN_TYPE")
 
     # Wrong payload lengths.

@@ -7,4 +7,7 @@
 
 extern qs_core core;
 
+/* Start the port clock (port.c): Timer0, free-running. */
+void port_clock_init(void);
+
 #endif

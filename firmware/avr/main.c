@@ -54,6 +54,7 @@ int main(void)
     qs_inputs_init(&core.inputs, QS_INPUTS_PRESENT);
     inputs_changed(); /* the power-up state: switches already closed are a state, not an edge */
     uart_init();
+    port_clock_init();
     step_timer_init();
     set_sleep_mode(SLEEP_MODE_IDLE);
     sei();

@@ -21,6 +21,7 @@
  * the core's (the QS_*_AXIS_TICK hooks of qs_engine_tick.h). */
 #include "axis_tick.h"
 #include "inputs_tick.h"
+#include "underrun_tick.h"
 #include "qs_engine_tick.h"
 
 #ifndef QS_STEP_PULSE_US
@@ -60,6 +61,12 @@ void step_timer_init(void)
     TIFR1 = _BV(OCF1A);
     TIMSK1 = _BV(OCIE1A);
     TCCR1B = _BV(WGM12) | _BV(CS10); /* CTC on OCR1A, clock undivided */
+}
+
+/* Called from the interrupt's asm only (underrun_tick.h): kept by `used`. */
+__attribute__((used)) void underrun_in_tick(void)
+{
+    qs_engine_underrun_in_tick(&core.engine);
 }
 
 ISR(TIMER1_COMPA_vect)

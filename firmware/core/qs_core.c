@@ -58,7 +58,7 @@ static void send_identify_reply(qs_core *c, uint8_t seq)
     id.tick_hz = c->tick_hz;
     id.capabilities = QS_CAP_QUADRATIC_SEGMENTS | QS_CAP_SET_POSITION | QS_CAP_HOLD | QS_CAP_LIMIT_INPUTS
                       | QS_CAP_PROBE_INPUT | QS_CAP_HOMING | QS_CAP_CONTROL_INPUTS
-                      | QS_CAP_CUBIC_SEGMENTS;
+                      | QS_CAP_CUBIC_SEGMENTS | QS_CAP_CONTROLLED_STOPS;
     id.next_seq = c->next_seq;
     send_body(c, qs_msg_encode_identify_reply(tx_body(c), seq, &id));
 }
@@ -204,6 +204,20 @@ static void queued(qs_core *c, const qs_host_msg *m)
     send_ack(c, m->seq, QS_ACK_ACCEPTED);
 }
 
+/* Whether the segment could carry a position past QS_POSITION_MAX; if so f
+ * names the axis. */
+static uint8_t beyond_positions(qs_core *c, uint8_t active, uint16_t n, qs_fault *f)
+{
+    uint8_t axis;
+
+    if (qs_engine_room_for(&c->engine, active, n, &axis))
+        return 0;
+    f->code = QS_ERR_BAD_FIELD;
+    f->field = QS_FIELD_POSITION;
+    f->axis = axis;
+    return 1;
+}
+
 static void on_segment(qs_core *c, const qs_host_msg *m)
 {
     qs_engine *e = &c->engine;
@@ -212,7 +226,8 @@ static void on_segment(qs_core *c, const qs_host_msg *m)
 
     if (!may_queue(c, m))
         return;
-    if (qs_msg_check_segment(&m->as.segment, c->axis_count, &f) != QS_ERR_NONE) {
+    if (qs_msg_check_segment(&m->as.segment, c->axis_count, &f) != QS_ERR_NONE
+        || beyond_positions(c, m->as.segment.active, m->as.segment.n, &f)) {
         refuse_segment(c, m, &f);
         return;
     }
@@ -223,6 +238,7 @@ static void on_segment(qs_core *c, const qs_host_msg *m)
     slot = qs_queue_back(&e->queue);
     qs_segment_prepare(slot, &m->as.segment);
     qs_cubic_follow_quadratic(&e->chain, slot, &m->as.segment);
+    qs_engine_note_prepared(e, slot);
     queued(c, m);
 }
 
@@ -239,10 +255,13 @@ static void on_cubic_segment(qs_core *c, const qs_host_msg *m)
         send_ack(c, m->seq, QS_ACK_QUEUE_FULL);
         return;
     }
-    if (qs_cubic_prepare(&e->chain, qs_queue_back(&e->queue), &m->as.cubic, c->axis_count, &f) != QS_ERR_NONE) {
+    /* Every axis may move: one the segment does not name keeps its speed. */
+    if (qs_cubic_prepare(&e->chain, qs_queue_back(&e->queue), &m->as.cubic, c->axis_count, &f) != QS_ERR_NONE
+        || beyond_positions(c, (uint8_t)((1u << c->axis_count) - 1u), m->as.cubic.n, &f)) {
         refuse_segment(c, m, &f);
         return;
     }
+    qs_engine_note_prepared(e, qs_queue_back(&e->queue));
     queued(c, m);
 }
 
@@ -304,6 +323,21 @@ static void on_hold(qs_core *c, const qs_host_msg *m)
     /* The answer first, then a HOLD_DONE if the hold is already over. */
     send_status_report(c, m->seq, 0);
     report_pending_hold(c);
+}
+
+/* WATCHDOG: in force at once, in any state. */
+static void on_watchdog(qs_core *c, const qs_host_msg *m)
+{
+    qs_fault f;
+
+    if (qs_msg_check_watchdog(&m->as.watchdog, &f) != QS_ERR_NONE) {
+        refuse_immediate(c, m, &f);
+        return;
+    }
+    /* ms to clock counts, rounded up: a nonzero timeout stays nonzero. */
+    c->watchdog = (uint16_t)(((uint32_t)m->as.watchdog.timeout_ms * 1000u + QS_PORT_CLOCK_US - 1u) / QS_PORT_CLOCK_US);
+    c->heard = qs_port_clock();
+    send_status_report(c, m->seq, 1);
 }
 
 static void send_input_status(qs_core *c, uint8_t seq)
@@ -438,6 +472,11 @@ static void on_frame(qs_core *c, const uint8_t *body, uint8_t len)
         if (code == QS_ERR_NONE)
             on_hold(c, &m);
         break;
+    case QS_TYPE_WATCHDOG:
+        code = qs_msg_parse_watchdog(p, plen, &m.as.watchdog);
+        if (code == QS_ERR_NONE)
+            on_watchdog(c, &m);
+        break;
     case QS_TYPE_INPUTS:
         code = qs_msg_parse_empty(plen);
         if (code == QS_ERR_NONE)
@@ -497,6 +536,8 @@ void qs_core_init(qs_core *c)
     c->tick_hz = QS_TICK_HZ;
     c->space_announced = 0;
     c->alarm_announced = 0;
+    c->watchdog = 0;
+    c->heard = 0;
 }
 
 uint8_t qs_core_configure(qs_core *c, uint8_t axis_count, uint8_t queue_capacity, uint32_t tick_hz)
@@ -518,6 +559,7 @@ QS_NOINLINE void qs_core_rx_frame(qs_core *c)
     if (result == QS_FRAME_NOTHING)
         return;
     if (result == QS_FRAME_READY) {
+        c->heard = qs_port_clock(); /* the host is there */
         on_frame(c, qs_frame_body(&c->rx), qs_frame_body_len(&c->rx));
         return;
     }
@@ -544,6 +586,19 @@ static QS_NOINLINE void report_probe_missed(qs_core *c)
                                             v.position));
 }
 
+/* The host went silent while moving: a hold at stop_decel, ending in ALARM
+ * HOST_LOST (at once if nothing moves). Out of line: rare. */
+static QS_NOINLINE void stop_for_silence(qs_core *c)
+{
+    qs_engine *e = &c->engine;
+    const uint8_t outcome = qs_engine_hold(e, e->stop_decel);
+
+    if (outcome == QS_HOLD_STARTED || (outcome == QS_HOLD_UNDER_WAY && !e->hold_alarm))
+        e->hold_alarm = QS_ALARM_HOST_LOST;
+    else if (outcome == QS_HOLD_AT_REST)
+        qs_engine_halt(e, QS_STATE_ALARM, QS_ALARM_HOST_LOST);
+}
+
 /* What the inputs left for the main loop: a hold to begin, an armed
  * motion that ended without its edge. */
 static void serve_inputs(qs_core *c)
@@ -553,9 +608,11 @@ static void serve_inputs(qs_core *c)
 
     if (e->resequence)
         end_stream(c);
+    if (qs_core_host_silent(c))
+        stop_for_silence(c);
     if (request) {
         c->inputs.hold_request = 0;
-        qs_engine_hold(e, request == QS_INPUTS_HOLD_FEED ? c->inputs.hold_decel : e->trigger_decel);
+        qs_engine_hold(e, request == QS_INPUTS_HOLD_FEED ? e->stop_decel : e->trigger_decel);
         end_stream(c);
     }
     if (e->trigger && e->state == QS_STATE_IDLE && qs_queue_empty(&e->queue)
@@ -573,6 +630,9 @@ QS_NOINLINE void qs_core_poll_work(qs_core *c)
         c->space_announced = c->engine.segments_done;
         send_ack(c, QS_SEQ_UNSOLICITED, QS_ACK_SPACE);
     }
+    /* A hold that ends in an alarm (an underrun, a silent host) is reported
+     * first: HOLD_DONE says when it began and where it rests. */
+    report_pending_hold(c);
     if (c->engine.alarm != QS_ALARM_NONE && !c->alarm_announced)
         send_alarm(c);
     serve_inputs(c);

@@ -11,6 +11,7 @@
 #include "qs_frame.h"
 #include "qs_inputs.h"
 #include "qs_messages.h"
+#include "qs_port.h"
 
 typedef struct {
     qs_engine engine;
@@ -22,6 +23,8 @@ typedef struct {
     uint32_t tick_hz;         /* as reported */
     uint32_t space_announced; /* segments_done of the last SPACE ack */
     uint8_t alarm_announced;  /* the current alarm has been reported */
+    uint16_t watchdog;        /* WATCHDOG: silence that stops motion, in port clock counts; 0 off */
+    uint16_t heard;           /* port clock at the last good frame */
     uint8_t tx[QS_MAX_WIRE];  /* the report being sent, built and sealed in place */
 } qs_core;
 
@@ -73,6 +76,13 @@ void qs_core_rx_overrun(qs_core *c);
  * to do it costs a few compares. */
 void qs_core_poll_work(qs_core *c);
 
+/* Moving, and no good frame for longer than the watchdog allows. */
+static QS_ALWAYS_INLINE uint8_t qs_core_host_silent(const qs_core *c)
+{
+    return c->watchdog && c->engine.state == QS_STATE_RUNNING
+           && (uint16_t)(qs_port_clock() - c->heard) > c->watchdog;
+}
+
 static QS_ALWAYS_INLINE void qs_core_poll(qs_core *c)
 {
     const qs_engine *e = &c->engine;
@@ -80,7 +90,7 @@ static QS_ALWAYS_INLINE void qs_core_poll(qs_core *c)
     if (e->queue.retired != e->queue.tail || e->segments_done != c->space_announced
         || (e->alarm != QS_ALARM_NONE && !c->alarm_announced) || e->hold_report || e->frozen
         || qs_engine_latch_waiting(e) || c->inputs.hold_request || e->resequence
-        || (e->trigger && e->state == QS_STATE_IDLE))
+        || (e->trigger && e->state == QS_STATE_IDLE) || qs_core_host_silent(c))
         qs_core_poll_work(c);
 }
 

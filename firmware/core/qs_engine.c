@@ -12,9 +12,11 @@ void qs_engine_init(qs_engine *e, uint8_t queue_capacity)
     e->dir_bits = 0;
     e->state = QS_STATE_IDLE;
     e->alarm = QS_ALARM_NONE;
-    e->ends_moving = 0;
-    for (axis = 0; axis < QS_AXIS_COUNT; axis++)
+    e->kept = 0;
+    for (axis = 0; axis < QS_AXIS_COUNT; axis++) {
         e->base[axis] = 0;
+        e->pending[axis] = 0;
+    }
     e->completed_ticks = 0;
     e->segments_done = 0;
     e->hold.moving = 0;
@@ -24,6 +26,10 @@ void qs_engine_init(qs_engine *e, uint8_t queue_capacity)
     e->hold_tick = 0;
     e->hold_end_tick = 0;
     e->hold_report = 0;
+    e->hold_alarm = QS_ALARM_NONE;
+    e->holds_begun = 0;
+    for (axis = 0; axis < QS_AXIS_COUNT; axis++)
+        e->stop_decel[axis] = QS_DEFAULT_STOP_DECEL;
     for (axis = 0; axis < QS_LATCH_RING; axis++)
         e->latches.entry[axis].state = QS_LATCH_FREE;
     e->latches.next = 0;
@@ -73,9 +79,10 @@ static void take_progress(const qs_engine *e, qs_progress *p)
     uint8_t *to = (uint8_t *)&p->at;
     uint8_t i;
 
-    if (!e->left) {
+    if (!e->left && !e->kept) {
         /* Between segments, at rest, or a hold that has just ended (its
-         * slot released, to be folded): nothing is part-way. */
+         * slot released, to be folded): nothing is part-way. (A kept slot
+         * is read as a segment after all its ticks.) */
         p->seg = 0;
         return;
     }
@@ -137,7 +144,12 @@ static QS_NOINLINE void fold_held(qs_engine *e)
                                          steps_at(s, axis, e->held_t0) + (int32_t)e->hold.steps[axis],
                                          e->base[axis]);
     e->completed_ticks += e->held_t0 + (uint32_t)e->hold.ticks;
+    if (e->held_t0 == s->n)
+        e->segments_done++; /* held at its end (an underrun): it ran whole */
     e->held = 0;
+    /* Nothing was queued while holding, and what was queued is gone. */
+    for (axis = 0; axis < QS_AXIS_COUNT; axis++)
+        e->pending[axis] = 0;
 }
 
 static void note_hold_done(qs_engine *e)
@@ -202,7 +214,10 @@ void qs_engine_retire_slots(qs_engine *e)
                 e->held_by_tick = 0;
             }
             fold_held(e);
-            e->state = QS_STATE_IDLE;
+            /* A hold the firmware began for a fault ends in its alarm. */
+            e->alarm = e->hold_alarm;
+            e->state = e->hold_alarm ? QS_STATE_ALARM : QS_STATE_IDLE;
+            e->hold_alarm = QS_ALARM_NONE;
             note_hold_done(e);
         } else {
             /* A whole segment: its step totals, no closed form needed (a
@@ -211,10 +226,13 @@ void qs_engine_retire_slots(qs_engine *e)
             for (axis = 0; axis < QS_AXIS_COUNT; axis++, bit = (uint8_t)(bit << 1)) {
                 if (!(s->active & bit))
                     continue;
-                if (s->negative & bit)
+                if (s->negative & bit) {
                     e->base[axis] -= s->total[axis];
-                else
+                    e->pending[axis] += s->total[axis];
+                } else {
                     e->base[axis] += s->total[axis];
+                    e->pending[axis] -= s->total[axis];
+                }
             }
             e->completed_ticks += s->n;
             e->segments_done++;
@@ -249,11 +267,16 @@ void qs_engine_wake(qs_engine *e)
  * locked out and its steps already folded). */
 static void flush(qs_engine *e)
 {
+    uint8_t axis;
+
     e->left = 0;
     e->slow_path = 1;
     e->queue.tail = e->queue.head;
     e->queue.retired = e->queue.head;
-    e->ends_moving = 0;
+    e->kept = 0;
+    e->hold_alarm = QS_ALARM_NONE;
+    for (axis = 0; axis < QS_AXIS_COUNT; axis++)
+        e->pending[axis] = 0;
 }
 
 void qs_engine_halt(qs_engine *e, uint8_t state, uint8_t alarm)
@@ -314,6 +337,42 @@ void qs_engine_read(qs_engine *e, qs_engine_view *v)
     add_progress(&p, v->position, &v->motion_ticks);
 }
 
+/* The slot a hold beginning now starts from, with the tick locked out (or
+ * in it), while RUNNING: the running one; a kept one (the segment ended
+ * moving, nothing behind it), from its end; between segments the next,
+ * from its start (the kept one before it let go); 0 if none. */
+static qs_segment *hold_slot(qs_engine *e)
+{
+    qs_queue *q = &e->queue;
+
+    if (e->left != 0)
+        return e->seg;
+    if (e->kept) {
+        if (qs_queue_count(q) == 1)
+            return e->seg;
+        e->kept = 0;
+        qs_queue_release(q);
+    }
+    return qs_queue_empty(q) ? 0 : qs_queue_front(q);
+}
+
+/* A slot that hold_slot gave, and that has not begun: begin it as the tick
+ * would have. A kept slot has run already: returns 1 (the hold begins at its
+ * end), and it is now the held one, released when the hold ends. */
+static uint8_t begin_slot(qs_engine *e, qs_segment *s)
+{
+    if (e->kept) {
+        e->kept = 0;
+        return 1;
+    }
+    if (e->left == 0) {
+        e->seg = s;
+        e->left = s->n;
+        e->dir_bits = (uint8_t)((e->dir_bits & (uint8_t)~s->active) | s->negative);
+    }
+    return 0;
+}
+
 /* The plan a hold would need if it began now (0: none), so that it is
  * usually made before the lock that begins it. */
 static uint16_t likely_held_n(qs_engine *e)
@@ -322,10 +381,9 @@ static uint16_t likely_held_n(qs_engine *e)
     uint16_t n = 0;
 
     if (e->state == QS_STATE_RUNNING) {
-        if (e->left != 0)
-            n = hold_key(e->seg);
-        else if (!qs_queue_empty(&e->queue))
-            n = hold_key(qs_queue_front(&e->queue));
+        const qs_segment *s = hold_slot(e);
+        if (s)
+            n = hold_key(s);
     }
     qs_port_unlock(saved);
     return n;
@@ -336,8 +394,8 @@ QS_NOINLINE uint8_t qs_engine_hold(qs_engine *e, const uint16_t *decel)
     qs_queue *q = &e->queue;
     uint16_t guess = likely_held_n(e);
     qs_segment *s;
-    uint16_t left;
-    uint8_t saved, moving, tail;
+    uint16_t t0;
+    uint8_t saved, moving, tail, at_end;
 
     /* First, so that no trigger begins a hold from the tick while this
      * one is planned (both plan into e->hold). */
@@ -363,13 +421,11 @@ QS_NOINLINE uint8_t qs_engine_hold(qs_engine *e, const uint16_t *decel)
             qs_port_unlock(saved);
             return outcome;
         }
-        if (e->left != 0) {
-            s = e->seg;
-        } else if (!qs_queue_empty(q)) {
-            s = qs_queue_front(q); /* between segments: hold from the start of the next */
-        } else {
+        s = hold_slot(e);
+        if (!s) {
+            /* Not reached: RUNNING with nothing left would be IDLE. */
             qs_port_unlock(saved);
-            return QS_HOLD_NO_SEGMENT;
+            return QS_HOLD_AT_REST;
         }
         if (e->hold.planned_n == hold_key(s))
             break;
@@ -378,18 +434,17 @@ QS_NOINLINE uint8_t qs_engine_hold(qs_engine *e, const uint16_t *decel)
         guess = hold_key(s);
         qs_port_unlock(saved);
     }
-    if (e->left == 0) {
-        /* Begin it as the tick would have. */
-        e->seg = s;
-        e->left = s->n;
-        e->dir_bits = (uint8_t)((e->dir_bits & (uint8_t)~s->active) | s->negative);
-    }
-    moving = qs_hold_begin(&e->hold, s);
+    at_end = begin_slot(e, s);
+    moving = qs_hold_begin(&e->hold, s, at_end);
+    e->holds_begun++;
+    t0 = (uint16_t)(s->n - e->left); /* at the end: left is 0, t0 = n */
+    if (at_end)
+        e->left = 1; /* nonzero while a slot is held: the hold releases it */
     if (!moving) {
         const uint8_t halted = q->tail;
         qs_progress p;
         e->held = s;
-        e->held_t0 = (uint16_t)(s->n - e->left);
+        e->held_t0 = t0;
         take_progress(e, &p);
         e->held = 0;
         flush(e);
@@ -402,13 +457,12 @@ QS_NOINLINE uint8_t qs_engine_hold(qs_engine *e, const uint16_t *decel)
         qs_cubic_reset(&e->chain);
         return QS_HOLD_AT_REST;
     }
-    left = e->left;
     tail = q->tail; /* the held slot's: the tick releases it when the hold ends */
     e->state = QS_STATE_HOLDING;
     e->hold.moving = moving; /* the next tick decelerates */
     e->slow_path = 1;
     e->held = s; /* an input's latch in the tick reads the hold's progress */
-    e->held_t0 = (uint16_t)(s->n - left);
+    e->held_t0 = t0;
     qs_port_unlock(saved);
     /* What only the main loop reads, after the lock: it delays a tick that
      * falls due meanwhile, so it holds the least. The tick no longer
@@ -478,40 +532,35 @@ void qs_engine_finish_freeze_slow(qs_engine *e)
 
 uint8_t qs_engine_trigger_in_tick(qs_engine *e)
 {
-    qs_queue *q = &e->queue;
     const uint16_t left = e->left;
     qs_segment *s;
-    uint8_t moving;
+    uint8_t moving, at_end;
 
     e->trigger = 0;
     if (e->state != QS_STATE_RUNNING)
         return 0;
-    if (e->left != 0) {
-        s = e->seg;
-    } else if (!qs_queue_empty(q)) {
-        /* Between segments: hold from the start of the next, begun as the
-         * tick would have. */
-        s = qs_queue_front(q);
-        e->seg = s;
-        e->left = s->n;
-        e->dir_bits = (uint8_t)((e->dir_bits & (uint8_t)~s->active) | s->negative);
-    } else {
-        return 0; /* the queue ran dry while moving: the underrun stands */
-    }
+    s = hold_slot(e);
+    if (!s)
+        return 0;
+    at_end = begin_slot(e, s);
     qs_hold_plan(&e->hold, hold_key(s), e->trigger_decel);
-    moving = qs_hold_begin(&e->hold, s);
+    moving = qs_hold_begin(&e->hold, s, at_end);
+    e->holds_begun++;
     e->state = QS_STATE_HOLDING;
     e->slow_path = 1;
     e->resequence = 1;
     if (!moving) {
         /* Every axis at rest already (a dwell): nothing more moves, and the
          * main loop ends it there as a hold found at rest. */
-        e->left = left; /* a segment not begun stays so */
+        e->left = left; /* a segment not begun stays so, and a kept one kept */
+        e->kept = at_end;
         e->frozen = QS_FROZEN_AT_REST;
         return 1;
     }
     e->held = s;
     e->held_t0 = (uint16_t)(s->n - e->left);
+    if (at_end)
+        e->left = 1; /* nonzero while a slot is held: the hold releases it */
     e->held_by_tick = 1;
     e->hold.moving = moving;
     return 1;
@@ -564,4 +613,66 @@ void qs_engine_free_latch(qs_engine *e)
 
     r->entry[r->oldest].state = QS_LATCH_FREE;
     r->oldest = next_latch(r->oldest);
+}
+
+/* ---- faults, from the tick ---- */
+
+void qs_engine_underrun_in_tick(qs_engine *e)
+{
+    qs_segment *s = e->seg; /* the kept slot, after all its ticks */
+    uint8_t moving;
+
+    qs_hold_plan(&e->hold, hold_key(s), e->stop_decel);
+    moving = qs_hold_begin(&e->hold, s, 1);
+    e->holds_begun++;
+    e->trigger = 0;
+    if (!moving) {
+        /* Nothing would move one tick on: the segment's end is the rest. */
+        e->kept = 0;
+        qs_queue_release(&e->queue);
+        e->alarm = QS_ALARM_UNDERRUN;
+        e->state = QS_STATE_ALARM;
+        return;
+    }
+    e->kept = 0;
+    e->left = 1; /* nonzero while a slot is held: the hold releases it */
+    e->state = QS_STATE_HOLDING;
+    e->held = s;
+    e->held_t0 = s->n;
+    e->held_by_tick = 1;
+    e->hold_alarm = QS_ALARM_UNDERRUN; /* segments arriving meanwhile are BUSY, then ALARM_ACTIVE */
+    e->hold.moving = moving;
+}
+
+/* ---- positions ---- */
+
+uint8_t qs_engine_room_for(const qs_engine *e, uint8_t active, uint16_t n, uint8_t *axis)
+{
+    uint8_t a;
+
+    for (a = 0; a < QS_AXIS_COUNT; a++) {
+        int32_t ahead;
+        if (!(active & (1u << a)))
+            continue;
+        ahead = e->base[a] + e->pending[a]; /* where the queue leaves it; a segment moves it at most n */
+        if (ahead > QS_POSITION_MAX - (int32_t)n || ahead < (int32_t)n - QS_POSITION_MAX) {
+            *axis = a;
+            return 0;
+        }
+    }
+    return 1;
+}
+
+void qs_engine_note_prepared(qs_engine *e, const qs_segment *s)
+{
+    uint8_t axis;
+
+    for (axis = 0; axis < QS_AXIS_COUNT; axis++) {
+        if (!(s->active & (1u << axis)))
+            continue;
+        if (s->negative & (1u << axis))
+            e->pending[axis] -= s->total[axis];
+        else
+            e->pending[axis] += s->total[axis];
+    }
 }

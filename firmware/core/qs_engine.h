@@ -29,11 +29,15 @@ typedef struct {
     uint8_t dir_bits;         /* bit i: axis i's pending steps are negative */
     volatile uint8_t state;   /* QS_STATE_* */
     volatile uint8_t alarm;   /* QS_ALARM_*, nonzero only in ALARM */
-    uint8_t ends_moving;      /* the last finished segment left an axis moving */
+    uint8_t kept;             /* the slot at tail has finished moving, nothing behind it: kept
+                               * for a hold from its end (qs_engine_finish) */
     /* Main loop side: the cubic chain after the last slot prepared, */
     qs_cubic_chain chain;
-    /* and totals over retired slots. */
+    /* and totals over retired slots, */
     int32_t base[QS_AXIS_COUNT];
+    /* and the steps of the slots prepared and not yet retired, so that no
+     * segment is taken that could carry a position past QS_POSITION_MAX. */
+    int32_t pending[QS_AXIS_COUNT];
     uint32_t completed_ticks;
     uint32_t segments_done;
     /* A hold: the tick runs hold instead of seg while hold.moving != 0. */
@@ -43,6 +47,8 @@ typedef struct {
     uint32_t hold_tick;      /* motion tick at which the deceleration began */
     uint32_t hold_end_tick;  /* motion tick at which the last hold ended */
     uint8_t hold_report;     /* a hold has ended and is not yet reported */
+    uint8_t hold_alarm;      /* the alarm the running hold ends in (an underrun, a silent host), or 0 */
+    uint8_t holds_begun;     /* holds begun so far (mod 256), for the emulator's event log */
     /* Inputs (qs_inputs.h) act on the engine from the tick: */
     qs_latch_ring latches;   /* exact positions at input edges */
     volatile uint8_t frozen; /* QS_FROZEN_*: the tick stopped everything, the main loop completes it */
@@ -53,6 +59,9 @@ typedef struct {
     volatile uint8_t resequence; /* the tick ended the stream at a trigger: the core moves next_seq on */
     uint16_t trigger_decel[QS_AXIS_COUNT];
     uint16_t trigger_since;  /* segments_done when armed (low bits): the armed motion has run once it moves on */
+    /* The decelerations of the holds the firmware begins itself (the feed
+     * hold button, an underrun, a silent host): CONFIG's hold_decel. */
+    uint16_t stop_decel[QS_AXIS_COUNT];
 } qs_engine;
 
 #define QS_PATH_CUBIC 2 /* slow_path while a cubic segment runs */
@@ -61,8 +70,16 @@ typedef struct {
 #define QS_HOLD_STARTED 0    /* decelerating: state HOLDING */
 #define QS_HOLD_AT_REST 1    /* nothing was moving: IDLE, a HOLD_DONE is pending */
 #define QS_HOLD_UNDER_WAY 2  /* a hold was already running or just finished */
-#define QS_HOLD_NO_SEGMENT 3 /* the queue ran dry while moving: the underrun stands */
 #define QS_HOLD_IN_ALARM 4   /* nothing changed */
+
+#ifndef QS_DEFAULT_STOP_DECEL
+#define QS_DEFAULT_STOP_DECEL 256 /* 2^-16 step per tick^2, until CONFIG says */
+#endif
+
+/* Positions stay within +-QS_POSITION_MAX (qs_protocol.h) steps before any
+ * segment is taken, so that neither the queue behind it (at most 127
+ * segments of 65535 steps) nor a hold (at most 2^22 steps) can carry one
+ * past 2^31. */
 
 /* What a status report needs, taken at one instant. */
 typedef struct {
@@ -105,6 +122,14 @@ void qs_engine_read(qs_engine *e, qs_engine_view *v);
  * boundary, and discard the queued segments. Returns QS_HOLD_*. */
 uint8_t qs_engine_hold(qs_engine *e, const uint16_t *decel);
 
+/* Whether a segment of n ticks moving the axes in active may be taken:
+ * 0 with *axis set to the first axis it could carry past
+ * QS_POSITION_MAX. Main loop. */
+uint8_t qs_engine_room_for(const qs_engine *e, uint8_t active, uint16_t n, uint8_t *axis);
+
+/* A slot was prepared (before it is published): its steps join pending. */
+void qs_engine_note_prepared(qs_engine *e, const qs_segment *s);
+
 /* Whether a hold has ended and is not yet reported, once: returns 1 and its
  * hold_tick, or 0. Until it is taken nothing moves (segments are refused
  * while holding and the core takes it before it handles the next frame),
@@ -136,6 +161,13 @@ void qs_engine_freeze_in_tick(qs_engine *e, uint8_t alarm);
  * HOLD would) and return 1; the queued segments are dropped when it ends.
  * Else (nothing to hold) 0. */
 uint8_t qs_engine_trigger_in_tick(qs_engine *e);
+
+/* The queue ran dry after a segment that ends moving (in the tick, out of
+ * line: QS_ENGINE_UNDERRUN): every moving axis decelerates from where it
+ * ended, at stop_decel, and the hold
+ * ends in ALARM UNDERRUN; if nothing would move, the alarm is raised at
+ * once. */
+void qs_engine_underrun_in_tick(qs_engine *e);
 
 /* ---- main loop ---- */
 

@@ -73,6 +73,12 @@ static QS_ALWAYS_INLINE uint8_t qs_cubic_axis_tick(qs_segment *s, uint8_t axis, 
     return stepped;
 }
 
+/* The underrun's hold, begun out of line (a target calls it its own way:
+ * firmware/avr/rare_call.h). */
+#ifndef QS_ENGINE_UNDERRUN
+#define QS_ENGINE_UNDERRUN(e) qs_engine_underrun_in_tick(e)
+#endif
+
 #ifndef QS_CUBIC_AXES_TICK
 #define QS_CUBIC_AXIS(s, axis, axes, steady) qs_cubic_axis_tick(s, axis, axes, steady)
 #if QS_AXIS_COUNT == 1
@@ -89,21 +95,26 @@ static QS_ALWAYS_INLINE uint8_t qs_cubic_axis_tick(qs_segment *s, uint8_t axis, 
 #endif
 #endif
 
-/* Between segments: take the next one, or settle. */
+/* Between segments: take the next one, or settle. A segment that ended
+ * moving with nothing behind it keeps its slot (e->kept) until this tick:
+ * if the queue is still dry, a hold begins where it ended (an underrun:
+ * QS_ENGINE_UNDERRUN, out of line), else the slot goes. */
 static QS_ALWAYS_INLINE uint8_t qs_engine_begin(qs_engine *e)
 {
     qs_segment *s;
 
     if (e->state != QS_STATE_RUNNING)
         return 0;
-    if (qs_queue_empty(&e->queue)) {
-        /* The previous segment ended moving and nothing followed it. */
-        if (e->ends_moving) {
-            e->alarm = QS_ALARM_UNDERRUN;
-            e->state = QS_STATE_ALARM;
-        } else {
-            e->state = QS_STATE_IDLE;
+    if (QS_UNLIKELY(e->kept)) {
+        if (qs_queue_count(&e->queue) == 1) {
+            QS_ENGINE_UNDERRUN(e);
+            return 0;
         }
+        e->kept = 0;
+        qs_queue_release(&e->queue);
+    }
+    if (qs_queue_empty(&e->queue)) {
+        e->state = QS_STATE_IDLE;
         return 0;
     }
     s = qs_queue_front(&e->queue);
@@ -115,16 +126,25 @@ static QS_ALWAYS_INLINE uint8_t qs_engine_begin(qs_engine *e)
     return 1;
 }
 
-/* The segment's last decision is made: hand its slot back. */
+/* The segment's last decision is made: hand its slot back, unless it ends
+ * moving with nothing queued behind it: then the slot stays (e->kept), so
+ * that a hold can begin from its end (an underrun, or a HOLD meanwhile).
+ * At rest with nothing queued: idle at once, so SET_POSITION is allowed as
+ * soon as the host learns the segment is done. An underrun waits for the
+ * next tick, giving the host that much more time. */
 static QS_ALWAYS_INLINE void qs_engine_finish(qs_engine *e, qs_segment *s)
 {
-    e->ends_moving = s->ends_moving;
     e->slow_path = 1;
+    if (s->ends_moving) {
+        if (qs_queue_next(&e->queue, e->queue.tail) == e->queue.head) {
+            e->kept = 1;
+            return;
+        }
+        qs_queue_release(&e->queue);
+        return;
+    }
     qs_queue_release(&e->queue);
-    /* At rest with nothing queued: idle at once, so SET_POSITION is allowed
-     * as soon as the host learns the segment is done. An underrun waits for
-     * the next tick, giving the host that much more time. */
-    if (!e->ends_moving && qs_queue_empty(&e->queue))
+    if (qs_queue_empty(&e->queue))
         e->state = QS_STATE_IDLE;
 }
 
@@ -147,10 +167,11 @@ static QS_ALWAYS_INLINE uint8_t qs_engine_tick(qs_engine *e)
     /* A quadratic segment's ticks pay one test; a cubic one's one more. */
     if (QS_UNLIKELY(e->slow_path)) {
         if (e->slow_path != QS_PATH_CUBIC) {
+            /* An underrun begins a hold in place of the next segment. */
+            if (!e->hold.moving && !qs_engine_begin(e) && !e->hold.moving)
+                return 0;
             if (e->hold.moving)
                 return qs_engine_hold_tick(e);
-            if (!qs_engine_begin(e))
-                return 0;
         }
         if (e->slow_path == QS_PATH_CUBIC)
             return qs_engine_cubic_tick(e);

@@ -75,15 +75,19 @@ static QS_ALWAYS_INLINE qs_i24 scaled(qs_i24 x, uint8_t bytes, uint8_t k)
 
 /* One axis; constant axis numbers keep this short, under the lock. */
 static QS_ALWAYS_INLINE uint8_t begin_axis(qs_hold *hd, const qs_segment *s, uint8_t axis, uint8_t bytes,
-                                          uint8_t k)
+                                          uint8_t k, uint8_t at_end)
 {
     /* The increment over the tick of the next decision: b as it was before
-     * the last decision, plus 2nD. */
-    const qs_i24 next = s->b[axis] - s->db[axis] + s->two_c2;
+     * the last decision, plus 2nD. After the segment's end the quadratic
+     * would go on accelerating (past one step a tick, near the top speed):
+     * the hold's first tick runs at the end speed instead, 2n*vn, which is
+     * C1 = db/2 less, and h, which holds that increment already, too. */
+    const qs_i24 past = at_end ? s->db[axis] / 2 : 0;
+    const qs_i24 next = s->b[axis] - s->db[axis] + s->two_c2 - past;
 
     if (!(s->active & (1u << axis)) || next <= 0)
         return 0;
-    hd->h[axis] = scaled(s->h[axis], bytes, k);
+    hd->h[axis] = scaled(s->h[axis] - past, bytes, k);
     hd->inc[axis] = scaled(next, bytes, k) + hd->db[axis];
     return (uint8_t)(1u << axis);
 }
@@ -91,11 +95,15 @@ static QS_ALWAYS_INLINE uint8_t begin_axis(qs_hold *hd, const qs_segment *s, uin
 /* A cubic axis (qs_cubic.h): the increment over the next tick is
  * I(t+1) = b - q + Sigma and the ideal is e = h - I(t+1) + Sigma/2 ahead;
  * both, floored to the hold's scale 2^22, start it. */
-static QS_ALWAYS_INLINE uint8_t begin_cubic_axis(qs_hold *hd, const qs_segment *s, uint8_t axis)
+static QS_ALWAYS_INLINE uint8_t begin_cubic_axis(qs_hold *hd, const qs_segment *s, uint8_t axis,
+                                                uint8_t at_end)
 {
     const uint32_t next = s->c.b[axis] - (uint32_t)(int32_t)s->c.q[axis] + QS_SIGMA;
     const int32_t e = (int32_t)(s->c.h[axis] - next + QS_HALF_SIGMA);
-    const qs_i24 i1 = (qs_i24)(next >> QS_HOLD_CUBIC_SHIFT);
+    /* After the end, I(n+1) was never checked against one step a tick: the
+     * last tick's advance I(n) = I(n+1) - (q - r) starts the hold instead. */
+    const uint32_t first = at_end ? next - (uint32_t)(int32_t)(s->c.q[axis] - s->c.r[axis]) : next;
+    const qs_i24 i1 = (qs_i24)(first >> QS_HOLD_CUBIC_SHIFT);
 
     if (!(s->active & (1u << axis)) || i1 <= 0)
         return 0;
@@ -104,39 +112,60 @@ static QS_ALWAYS_INLINE uint8_t begin_cubic_axis(qs_hold *hd, const qs_segment *
     return (uint8_t)(1u << axis);
 }
 
-static QS_NOINLINE uint8_t begin_cubic(qs_hold *hd, const qs_segment *s)
+static QS_NOINLINE uint8_t begin_cubic(qs_hold *hd, const qs_segment *s, uint8_t at_end)
 {
-    uint8_t moving = begin_cubic_axis(hd, s, 0);
+    uint8_t moving = begin_cubic_axis(hd, s, 0, at_end);
 
 #if QS_AXIS_COUNT > 1
-    moving |= begin_cubic_axis(hd, s, 1);
+    moving |= begin_cubic_axis(hd, s, 1, at_end);
 #endif
 #if QS_AXIS_COUNT > 2
-    moving |= begin_cubic_axis(hd, s, 2);
+    moving |= begin_cubic_axis(hd, s, 2, at_end);
 #endif
 #if QS_AXIS_COUNT > 3
-    moving |= begin_cubic_axis(hd, s, 3);
+    moving |= begin_cubic_axis(hd, s, 3, at_end);
 #endif
     return moving;
 }
 
-uint8_t qs_hold_begin(qs_hold *hd, const qs_segment *s)
+/* After all n ticks of a segment (a hold at its end) the increment is the
+ * end speed's; out of line, so the usual hold's code stays as short. */
+static QS_NOINLINE uint8_t begin_at_end(qs_hold *hd, const qs_segment *s)
+{
+    const uint8_t bytes = hd->shift & 8, k = hd->bits_k;
+    uint8_t moving = begin_axis(hd, s, 0, bytes, k, 1);
+
+#if QS_AXIS_COUNT > 1
+    moving |= begin_axis(hd, s, 1, bytes, k, 1);
+#endif
+#if QS_AXIS_COUNT > 2
+    moving |= begin_axis(hd, s, 2, bytes, k, 1);
+#endif
+#if QS_AXIS_COUNT > 3
+    moving |= begin_axis(hd, s, 3, bytes, k, 1);
+#endif
+    return moving;
+}
+
+uint8_t qs_hold_begin(qs_hold *hd, const qs_segment *s, uint8_t at_end)
 {
     const uint8_t bytes = hd->shift & 8, k = hd->bits_k;
     uint8_t moving;
 
     if (s->cubic)
-        return begin_cubic(hd, s);
-    moving = begin_axis(hd, s, 0, bytes, k);
+        return begin_cubic(hd, s, at_end);
+    if (at_end)
+        return begin_at_end(hd, s);
+    moving = begin_axis(hd, s, 0, bytes, k, 0);
 
 #if QS_AXIS_COUNT > 1
-    moving |= begin_axis(hd, s, 1, bytes, k);
+    moving |= begin_axis(hd, s, 1, bytes, k, 0);
 #endif
 #if QS_AXIS_COUNT > 2
-    moving |= begin_axis(hd, s, 2, bytes, k);
+    moving |= begin_axis(hd, s, 2, bytes, k, 0);
 #endif
 #if QS_AXIS_COUNT > 3
-    moving |= begin_axis(hd, s, 3, bytes, k);
+    moving |= begin_axis(hd, s, 3, bytes, k, 0);
 #endif
     return moving;
 }

@@ -55,9 +55,11 @@ qs_i24 qs_hold_db(uint16_t kn, uint16_t decel);
 void qs_hold_plan(qs_hold *hd, uint16_t n, const uint16_t *decel);
 
 /* At the hold tick, with the tick locked out: take over the running state
- * of s (planned for s->n) after t < n of its ticks, rescaled. Returns the
- * axes that move (an axis whose next increment is 0 is at rest already);
- * setting moving, which starts the tick on the hold, is the caller's. */
-uint8_t qs_hold_begin(qs_hold *hd, const qs_segment *s);
+ * of s (planned for s->n) after t < n of its ticks, or after all n (at_end:
+ * the hold's first tick then runs at the speed the segment ended with),
+ * rescaled. Returns the axes that move (an axis whose next increment is 0
+ * is at rest already); setting moving, which starts the tick on the hold,
+ * is the caller's. */
+uint8_t qs_hold_begin(qs_hold *hd, const qs_segment *s, uint8_t at_end);
 
 #endif

@@ -4,9 +4,6 @@
 
 #define BIT(input) ((uint16_t)(1u << (input)))
 
-#ifndef QS_INPUTS_DEFAULT_HOLD_DECEL
-#define QS_INPUTS_DEFAULT_HOLD_DECEL 256 /* 2^-16 step per tick^2 */
-#endif
 
 void qs_inputs_init(qs_inputs *in, uint16_t present)
 {
@@ -19,8 +16,6 @@ void qs_inputs_init(qs_inputs *in, uint16_t present)
     for (i = 0; i < QS_INPUT_COUNT; i++)
         in->debounce[i] = 0;
     in->at_once = QS_INPUTS_ALL;
-    for (i = 0; i < QS_AXIS_COUNT; i++)
-        in->hold_decel[i] = QS_INPUTS_DEFAULT_HOLD_DECEL;
     in->raw = QS_INPUTS_RESAMPLE;
     in->active = 0;
     in->window = 0;
@@ -164,7 +159,7 @@ void qs_inputs_configure(qs_inputs *in, qs_engine *e, uint16_t invert, uint16_t 
     }
     in->at_once = at_once;
     for (i = 0; i < QS_AXIS_COUNT; i++)
-        in->hold_decel[i] = hold_decel[i];
+        e->stop_decel[i] = hold_decel[i]; /* every hold the firmware begins itself */
     if (in->tentative != QS_INPUT_NONE)
         e->latches.entry[in->tentative].state = QS_LATCH_DISCARDED;
     in->tentative = QS_INPUT_NONE;

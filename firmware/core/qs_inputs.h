@@ -36,7 +36,7 @@
 #define QS_INPUTS_ALL 0x0FFFu
 
 /* What the main loop is asked to do (hold_request). */
-#define QS_INPUTS_HOLD_FEED 1    /* feed hold: HOLD at hold_decel */
+#define QS_INPUTS_HOLD_FEED 1    /* feed hold: HOLD at the engine's stop_decel */
 #define QS_INPUTS_HOLD_TRIGGER 2 /* the trigger fired with nothing moving: report it at rest */
 
 #define QS_INPUTS_RESAMPLE 0xFFFFu /* `seen` that no sample equals: the next tick looks again */
@@ -49,7 +49,6 @@ typedef struct {
     uint8_t hard_limits;   /* a limit becoming active outside an armed PROBE alarms */
     uint8_t debounce[QS_INPUT_COUNT]; /* ticks an edge must last */
     uint16_t at_once;      /* inputs with debounce 0 */
-    uint16_t hold_decel[QS_AXIS_COUNT]; /* the feed hold's decelerations, as HOLD's */
     /* The tick's side. */
     uint16_t raw;          /* raw levels, bit set: pin high; QS_INPUTS_RESAMPLE before the first sample */
     uint16_t active;       /* accepted states, bit set: active */

@@ -221,8 +221,29 @@ QS_NOINLINE uint8_t qs_msg_check_segment(const qs_segment_msg *s, uint8_t axis_c
 
 uint8_t qs_msg_check_set_position(const qs_set_position_msg *p, uint8_t axis_count, qs_fault *f)
 {
+    uint8_t axis;
+
     if (p->mask & axes_beyond(axis_count))
         return bad_field(f, QS_FIELD_AXES, QS_AXIS_NONE);
+    for (axis = 0; axis < QS_PROTOCOL_AXES; axis++)
+        if ((p->mask & (1u << axis)) && (p->position[axis] > QS_POSITION_MAX || p->position[axis] < -QS_POSITION_MAX))
+            return bad_field(f, QS_FIELD_POSITION, axis);
+    f->code = QS_ERR_NONE;
+    return QS_ERR_NONE;
+}
+
+uint8_t qs_msg_parse_watchdog(const uint8_t *p, uint8_t len, qs_watchdog_msg *w)
+{
+    if (len != QS_LEN_WATCHDOG)
+        return QS_ERR_BAD_LENGTH;
+    w->timeout_ms = get16(p);
+    return QS_ERR_NONE;
+}
+
+uint8_t qs_msg_check_watchdog(const qs_watchdog_msg *w, qs_fault *f)
+{
+    if (w->timeout_ms > QS_WATCHDOG_MAX_MS)
+        return bad_field(f, QS_FIELD_TIMEOUT, QS_AXIS_NONE);
     f->code = QS_ERR_NONE;
     return QS_ERR_NONE;
 }

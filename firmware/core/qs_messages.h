@@ -42,6 +42,12 @@ typedef struct {
     uint16_t decel[QS_PROTOCOL_AXES];
 } qs_hold_msg;
 
+/* WATCHDOG: stop (a hold, then ALARM HOST_LOST) when no frame has come
+ * for timeout_ms while moving; 0 turns it off. */
+typedef struct {
+    uint16_t timeout_ms;
+} qs_watchdog_msg;
+
 /* PROBE: the motion that follows ends where input reaches level (1
  * active, 0 inactive), with a hold at these decelerations (HOLD's). */
 typedef struct {
@@ -71,6 +77,7 @@ typedef struct {
         qs_hold_msg hold;
         qs_probe_msg probe;
         qs_config_msg config;
+        qs_watchdog_msg watchdog;
     } as;
 } qs_host_msg;
 
@@ -92,6 +99,7 @@ uint8_t qs_msg_parse_set_position(const uint8_t *p, uint8_t len, qs_set_position
 uint8_t qs_msg_parse_hold(const uint8_t *p, uint8_t len, qs_hold_msg *h);
 uint8_t qs_msg_parse_probe(const uint8_t *p, uint8_t len, qs_probe_msg *pr);
 uint8_t qs_msg_parse_config(const uint8_t *p, uint8_t len, qs_config_msg *cf);
+uint8_t qs_msg_parse_watchdog(const uint8_t *p, uint8_t len, qs_watchdog_msg *w);
 
 /* Content checks in the order of section 5.2. Return QS_ERR_NONE or
  * QS_ERR_BAD_FIELD with f filled in. */
@@ -101,6 +109,7 @@ uint8_t qs_msg_check_hold(const qs_hold_msg *h, uint8_t axis_count, qs_fault *f)
 /* present: the inputs the firmware has. */
 uint8_t qs_msg_check_probe(const qs_probe_msg *pr, uint8_t axis_count, uint16_t present, qs_fault *f);
 uint8_t qs_msg_check_config(const qs_config_msg *cf, uint8_t axis_count, qs_fault *f);
+uint8_t qs_msg_check_watchdog(const qs_watchdog_msg *w, qs_fault *f);
 
 typedef struct {
     uint8_t next_seq;

@@ -13,4 +13,12 @@ void qs_port_send(const uint8_t *bytes, uint8_t len);
 uint8_t qs_port_lock(void);
 void qs_port_unlock(uint8_t saved);
 
+/* A free-running count of QS_PORT_CLOCK_US microseconds each, wrapping at
+ * 2^16, for the host watchdog. Main loop only. */
+uint16_t qs_port_clock(void);
+
+#ifndef QS_PORT_CLOCK_US
+#define QS_PORT_CLOCK_US 64 /* 2^16 counts: 4.19 s */
+#endif
+
 #endif

@@ -41,6 +41,7 @@
 #define QS_TYPE_STOP 0x03
 #define QS_TYPE_HOLD 0x04
 #define QS_TYPE_INPUTS 0x06
+#define QS_TYPE_WATCHDOG 0x07
 #define QS_TYPE_SEGMENT 0x10
 #define QS_TYPE_SET_POSITION 0x11
 #define QS_TYPE_PROBE 0x15
@@ -60,6 +61,7 @@
 /* Payload lengths: a fixed payload, or a fixed head and then a number of
  * bytes per axis. */
 #define QS_LEN_HOLD 8 /* decel:u16 for each of the 4 axes the wire names */
+#define QS_LEN_WATCHDOG 2 /* timeout_ms:u16 */
 #define QS_LEN_SEGMENT_HEAD 3
 #define QS_LEN_SEGMENT_AXIS 6
 #define QS_LEN_CUBIC_SEGMENT_HEAD 3 /* n, fields; then per axis a set and a jerk, each if named */
@@ -121,6 +123,8 @@
 #define QS_FIELD_HARD_LIMITS 11
 #define QS_FIELD_SPEED 12 /* cubic: an advance per tick outside 0 ... 1 step */
 #define QS_FIELD_ACCEL 13 /* cubic: an acceleration outside 24 bits */
+#define QS_FIELD_POSITION 14 /* a position past QS_POSITION_MAX, or a segment that could carry one there */
+#define QS_FIELD_TIMEOUT 15 /* WATCHDOG: a timeout above QS_WATCHDOG_MAX_MS */
 #define QS_AXIS_NONE 0xFF
 
 /* ALARM codes. */
@@ -128,7 +132,7 @@
 #define QS_ALARM_UNDERRUN 1
 #define QS_ALARM_REJECTED_SEGMENT 2
 #define QS_ALARM_HARD_LIMIT 3
-#define QS_ALARM_HOST_LOST 4  /* reserved */
+#define QS_ALARM_HOST_LOST 4  /* the host went silent while moving (WATCHDOG) */
 #define QS_ALARM_E_STOP 5
 
 /* Machine states. */
@@ -179,5 +183,11 @@
 #define QS_CAP_HOMING 0x0040
 #define QS_CAP_CUBIC_SEGMENTS 0x0080
 #define QS_CAP_CONTROL_INPUTS 0x0100
+#define QS_CAP_CONTROLLED_STOPS 0x0200 /* an underrun and a silent host end in a hold; WATCHDOG */
+
+/* WATCHDOG (section 5.1): the longest timeout, in ms. */
+#define QS_WATCHDOG_MAX_MS 4000
+/* Positions (section 5.2): the firmware keeps every position within this. */
+#define QS_POSITION_MAX 2130706432L /* 2^31 - 2^24 */
 
 #endif

@@ -1,6 +1,7 @@
 #include "emu_port.h"
 
 #include <string.h>
+#include <time.h>
 
 #include "qs_port.h"
 
@@ -40,6 +41,14 @@ void qs_port_send(const uint8_t *bytes, uint8_t len)
     }
     out.frames++;
     emu_faults_tx(out.faults, bytes, len, append, 0);
+}
+
+uint16_t qs_port_clock(void)
+{
+    struct timespec ts;
+
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (uint16_t)(((uint64_t)ts.tv_sec * 1000000u + (uint64_t)ts.tv_nsec / 1000u) / QS_PORT_CLOCK_US);
 }
 
 uint8_t qs_port_lock(void)

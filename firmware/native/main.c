@@ -74,8 +74,8 @@ static const char *state_name(uint8_t state)
 static const char *alarm_name(uint8_t alarm)
 {
     static const char *const names[] = {"NONE", "UNDERRUN", "REJECTED_SEGMENT", "HARD_LIMIT",
-                                        "HOST_LOST"};
-    return alarm < 5 ? names[alarm] : "?";
+                                        "HOST_LOST", "E_STOP"};
+    return alarm < 6 ? names[alarm] : "?";
 }
 
 /* Ticks run while RUNNING or HOLDING. */
@@ -142,25 +142,30 @@ static void run_tick(emulator *m)
 {
     qs_engine *e = &m->core.engine;
     uint16_t left_before;
-    uint8_t tail_before, hold_ticks_before, resequence_before;
-    int hold_begins;
+    uint8_t tail_before, hold_ticks_before, holds_before, kept_before;
+    int hold_begins, hold_began;
     uint8_t bits, axis;
 
     left_before = e->left;
     tail_before = e->queue.tail;
     hold_ticks_before = (uint8_t)e->hold.ticks;
-    resequence_before = e->resequence;
-    sample_inputs(m); /* may freeze the engine or begin a hold, before the decisions */
-    hold_begins = e->hold.moving && e->hold.ticks == 0;
+    holds_before = e->holds_begun;
+    kept_before = e->kept;
+    sample_inputs(m); /* may freeze the engine or begin a hold (a trigger), before the decisions */
+    hold_begins = e->hold.moving && e->hold.ticks == 0; /* begun in the main loop or by a trigger */
     bits = qs_engine_tick(e);
-    if (hold_begins)
-        emu_events_hold(&m->events, e->hold_tick, now_ns());
+    /* A hold begun in this tick or just before has made its first decision
+     * (an underrun's begins inside the tick). */
+    hold_began = holds_before != e->holds_begun && e->hold.ticks == 1;
+    if (hold_begins || hold_began)
+        emu_events_hold(&m->events, m->motion_tick, now_ns()); /* ticks before its first decision: its hold_tick */
     /* A decision was made if a segment ran a tick (left moved on, or a
-     * one-tick segment began and ended: tail moved) or a hold did (its
-     * tick count moved on, or a trigger began one in this tick: its count
-     * restarted). A frozen tick makes none. */
+     * one-tick segment began and ended: tail moved, or its slot was kept
+     * for a hold from its end) or a hold did (its
+     * tick count moved on, or one began in this tick: its count restarted).
+     * A frozen tick makes none. */
     if (left_before != e->left || e->queue.tail != tail_before || (uint8_t)e->hold.ticks != hold_ticks_before
-        || (!resequence_before && e->resequence && e->hold.moving)) {
+        || hold_began || (!kept_before && e->kept)) {
         m->motion_tick++;
         for (axis = 0; axis < QS_AXIS_COUNT; axis++)
             m->steps[axis] += (bits >> axis) & 1u;
@@ -204,12 +209,11 @@ static void settle_inputs(emulator *m)
     }
 }
 
-/* Running, between segments, nothing queued, an axis still moving: the
- * next tick would be an underrun. */
+/* Running, a segment ended moving with nothing behind it: the next tick
+ * would be an underrun. */
 static int at_underrun(const qs_engine *e)
 {
-    return e->state == QS_STATE_RUNNING && e->left == 0 && qs_queue_empty(&e->queue)
-           && e->ends_moving;
+    return e->state == QS_STATE_RUNNING && e->left == 0 && e->kept && qs_queue_count(&e->queue) == 1;
 }
 
 /* --hold-at: a HOLD as if the host had sent it, once the motion tick is

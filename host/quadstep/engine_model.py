@@ -176,17 +176,19 @@ class AxisHold:
 
 
 def axis_hold(n: int, mv: AxisMove, t0: int, decel: int) -> AxisHold:
-    """The state a hold takes over after t0 < n ticks of a segment, from the closed form, rescaled."""
-    if not 0 <= t0 < n:
-        raise ValueError(f"t0 = {t0} outside the segment's ticks 0..{n - 1}")
+    """The state a hold takes over after t0 ≤ n ticks of a segment, from the closed form, rescaled.
+
+    At t0 = n (a hold at the segment's end: an underrun, or a HOLD with nothing queued behind it) the
+    first hold tick runs at the end speed, i1 = k·2n·vn, not the quadratic's continuation."""
+    if not 0 <= t0 <= n:
+        raise ValueError(f"t0 = {t0} outside the segment's ticks 0..{n}")
     k = 1 << hold_shift(n)
     c1 = mv.vn - mv.v0
     x = n * mv.r + c1 * t0 * t0 + 2 * n * mv.v0 * t0  # 2nD·x(t0)
     before = int(steps_by_tick(n, mv, np.array([t0]))[0])
-    return AxisHold(
-        kn=k * n, e0=k * (x - 2 * n * D * before), i1=k * (2 * n * mv.v0 + c1 * (2 * t0 + 1)),
-        d=hold_step_change(k * n, decel), before=before,
-    )
+    i1 = 2 * n * mv.vn if t0 == n else 2 * n * mv.v0 + c1 * (2 * t0 + 1)
+    return AxisHold(kn=k * n, e0=k * (x - 2 * n * D * before), i1=k * i1, d=hold_step_change(k * n, decel),
+                    before=before)
 
 
 @dataclass
@@ -211,8 +213,9 @@ def predict_hold(
     """Predict a HOLD (decels[axis] in 1/2^24 step per tick²) that began at motion tick `hold_tick`.
 
     `segments` are those sent since motion tick `start_tick`; the hold discards every one after the
-    segment running at hold_tick (at a boundary: the one starting there). The firmware reports hold_tick
-    in HOLD_DONE, so a host predicts every step of the hold exactly.
+    segment running at hold_tick (at a boundary: the one starting there). At the end of the last segment,
+    if it ends moving, the hold begins from its end (an underrun's hold: `predict_underrun`). The firmware
+    reports hold_tick in HOLD_DONE, so a host predicts every step of the hold exactly.
     """
     pos = list(positions) if positions is not None else [0] * axis_count
     tick = start_tick
@@ -221,12 +224,27 @@ def predict_hold(
     for index, seg in enumerate(segments):
         if hold_tick < tick + seg.n:
             return _hold_segment(seg, index, hold_tick - tick, hold_tick, decels, pos)
+        if hold_tick == tick + seg.n and index == len(segments) - 1 and any(mv.vn for mv in seg.axes):
+            return _hold_segment(seg, index, seg.n, hold_tick, decels, pos)
         for mv in seg.axes:
             pos[mv.axis] += mv.direction * segment_steps(seg.n, mv)
         tick += seg.n
     if hold_tick != tick:
         raise ValueError(f"hold tick {hold_tick} is after the end of the segments ({tick})")
     return HoldPrediction(hold_tick, hold_tick, pos, _stack([]), None)
+
+
+def predict_underrun(
+    segments: Sequence[Segment],
+    decels: Sequence[int],
+    positions: Sequence[int] | None = None,
+    start_tick: int = 0,
+    axis_count: int = MAX_AXES,
+) -> HoldPrediction:
+    """The controlled stop after the last of `segments` when nothing follows it (PROTOCOL.md §8.1): a hold at
+    the firmware's stop decelerations (CONFIG's hold_decel) from where that segment ended."""
+    end = start_tick + sum(seg.n for seg in segments)
+    return predict_hold(segments, end, decels, positions, start_tick, axis_count)
 
 
 def _hold_segment(

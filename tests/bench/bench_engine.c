@@ -20,6 +20,11 @@ void qs_port_send(const uint8_t *bytes, uint8_t len)
     (void)len;
 }
 
+uint16_t qs_port_clock(void)
+{
+    return 0;
+}
+
 uint8_t qs_port_lock(void)
 {
     return 0;

@@ -32,6 +32,7 @@ MESSAGE_KEYS = {
     "STOP": set(),
     "HOLD": {"decel"},
     "INPUTS": set(),
+    "WATCHDOG": {"timeout_ms"},
     "PROBE": {"input", "level", "decel"},
     "CONFIG": {"invert", "enabled", "hard_limits", "debounce", "hold_decel"},
     "INPUT_STATUS": {"present", "active", "raw", "invert", "enabled", "hard_limits", "armed", "level",
@@ -138,6 +139,8 @@ def message_fields(msg: dict, axis_count: int) -> list[str]:
         if len(msg["decel"]) != 4:
             raise VectorError("HOLD needs 4 decel values")
         out.append(".host = {.hold = {.decel = {%s}}}" % ", ".join(map(str, msg["decel"])))
+    elif kind == "WATCHDOG":
+        out.append(".host = {.watchdog = {.timeout_ms = %d}}" % msg["timeout_ms"])
     elif kind == "PROBE":
         out.append(".host = {.probe = {.input = %s, .level = %d, .hold = {.decel = {%s}}}}"
                    % (constant("input", msg["input"]), msg["level"], ", ".join(map(str, msg["decel"]))))

@@ -20,6 +20,13 @@ void qs_port_send(const uint8_t *bytes, uint8_t len)
     sent_len += len;
 }
 
+uint16_t test_clock; /* the port clock, moved by the tests */
+
+uint16_t qs_port_clock(void)
+{
+    return test_clock;
+}
+
 uint8_t qs_port_lock(void)
 {
     lock_depth++;

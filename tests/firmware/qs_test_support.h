@@ -68,4 +68,7 @@ int64_t tp_floor_div(int64_t num, int64_t den);
 int64_t tp_ideal_2nd(const qs_segment_msg *m, uint8_t axis, int64_t t);
 int64_t tp_closed_form(const qs_segment_msg *m, uint8_t axis, int64_t t);
 
+/* qs_port_clock() reads this; tests move it. */
+extern uint16_t test_clock;
+
 #endif

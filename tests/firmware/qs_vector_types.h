@@ -22,6 +22,7 @@ typedef struct {
         qs_hold_msg hold;
         qs_probe_msg probe;
         qs_config_msg config;
+        qs_watchdog_msg watchdog;
     } host;
     qs_input_status input_status;
     qs_ack ack;

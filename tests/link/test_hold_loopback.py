@@ -13,7 +13,7 @@ import pytest
 from hold_helpers import assert_deceleration_within, check_hold, planned_job, read_events, read_trace
 from host_helpers import RawPort
 
-from quadstep.engine_model import predict_hold
+from quadstep.engine_model import predict_hold, predict_underrun
 from quadstep.link import AlarmError, FirmwareError, Link, Stopped, hold, hold_async
 from quadstep.protocol import (
     D,
@@ -187,12 +187,15 @@ def test_the_firmware_refuses_a_bad_hold_and_the_job_goes_on(start_emulator) -> 
 
 
 def test_hold_in_alarm_raises_the_alarm(free_link: Link) -> None:
-    free_link.send(Segment(n=100, axes=(AxisMove(axis=0, direction=1, v0=D, vn=D, r=0),)))
+    segment = Segment(n=100, axes=(AxisMove(axis=0, direction=1, v0=D, vn=D, r=0),))
+    free_link.send(segment)
     with pytest.raises(AlarmError):
-        free_link.wait_idle(10)  # the underrun
+        free_link.wait_idle(10)  # the underrun, once its controlled stop is at rest
+    stop = predict_underrun([segment], [256] * 4, axis_count=4)  # the firmware's stop deceleration before CONFIG
     with pytest.raises(AlarmError) as caught:
         hold(free_link, [100])
-    assert caught.value.alarm.motion_ticks == 100
+    assert caught.value.alarm.motion_ticks == stop.motion_ticks > 100
+    assert list(caught.value.alarm.position) == stop.positions
     assert free_link.stop().state == State.IDLE
 
 

@@ -13,7 +13,7 @@ import pytest
 from host_helpers import RawPort, random_segments, read_trace
 
 from quadstep.emulator import Emulator
-from quadstep.engine_model import predict
+from quadstep.engine_model import predict, predict_underrun
 from quadstep.link import AlarmError, FirmwareError, Link, Stopped
 from quadstep.protocol import (
     D,
@@ -26,6 +26,8 @@ from quadstep.protocol import (
     ErrorReport,
     FieldId,
     Frame,
+    HoldDone,
+    POSITION_MAX,
     Segment,
     SetPosition,
     State,
@@ -76,7 +78,7 @@ def test_random_segments_execute_exactly_as_predicted(free_emulator: Emulator, f
 
 
 def test_set_position_offsets_every_later_step(free_emulator: Emulator, free_link: Link) -> None:
-    start = [1000, -2000, 2**31 - 5000, -(2**31) + 5000]
+    start = [1000, -2000, POSITION_MAX - 5000, -POSITION_MAX + 5000]
     free_link.send(SetPosition(positions=dict(enumerate(start))))
     segments = random_segments(random.Random(2), 20)
     final = stream(free_link, segments)
@@ -179,12 +181,14 @@ def test_invalid_segment_is_refused_with_its_field_and_raises_an_alarm(free_emul
         assert stopped.state == State.IDLE and stopped.alarm is None and stopped.next_seq == 77
 
 
-def test_underrun_raises_an_alarm_with_exact_positions_and_stop_clears_it(start_emulator, tmp_path: Path) -> None:
+def test_underrun_holds_then_alarms_with_exact_positions_and_stop_clears_it(start_emulator, tmp_path: Path) -> None:
+    """The queue runs dry at speed: a controlled stop from where the segment ended, at the firmware's stop
+    deceleration (256 before any CONFIG), every step as predicted, then ALARM UNDERRUN with the rest positions."""
     emu = start_emulator(trace=tmp_path / "trace.csv")
     ends_moving = Segment(
         n=800, axes=(AxisMove(axis=0, direction=1, v0=2000, vn=3000, r=0), AxisMove(axis=3, direction=-1, v0=100, vn=90, r=-7))
     )
-    expected = predict([ends_moving])
+    expected = predict_underrun([ends_moving], [256] * 4)
     alarms: list = []
     with Link.open(emu.url) as link:
         link.on_report(lambda report: alarms.append(report) if isinstance(report, Alarm) else None)
@@ -193,7 +197,8 @@ def test_underrun_raises_an_alarm_with_exact_positions_and_stop_clears_it(start_
             link.wait_idle(timeout=10)
         assert caught.value.alarm.code == AlarmCode.UNDERRUN
         assert list(caught.value.alarm.position) == expected.positions
-        assert caught.value.alarm.motion_ticks == 800
+        assert caught.value.alarm.motion_ticks == expected.motion_ticks > 800
+        assert link.last_report(HoldDone).hold_tick == 800  # type: ignore[union-attr]
         assert alarms == [caught.value.alarm] and link.last_alarm == caught.value.alarm
         with pytest.raises(AlarmError):
             link.send(ends_moving)
@@ -202,8 +207,11 @@ def test_underrun_raises_an_alarm_with_exact_positions_and_stop_clears_it(start_
         assert list(stopped.position) == expected.positions
         at_rest = Segment(n=50, axes=(AxisMove(axis=1, direction=1, v0=4096, vn=0, r=0),))
         final = stream(link, [at_rest])
-    assert list(final.position) == predict([ends_moving, at_rest]).positions
-    assert_trace_is_prediction(emu.trace, [ends_moving, at_rest])  # type: ignore[arg-type]
+    after = predict([at_rest], expected.positions, start_tick=expected.motion_ticks)
+    assert list(final.position) == after.positions
+    emu.stop()
+    steps = np.concatenate([predict([ends_moving]).steps, expected.steps, after.steps])
+    assert np.array_equal(read_trace(emu.trace), steps)  # type: ignore[arg-type]
 
 
 def test_set_position_while_moving_is_refused_busy(start_emulator) -> None:

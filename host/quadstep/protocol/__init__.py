@@ -6,7 +6,9 @@ from .constants import (
     DECEL_MAX,
     DECEL_SHIFT,
     MAX_FRAME,
+    POSITION_MAX,
     PROTOCOL_VERSION,
+    WATCHDOG_MAX_MS,
     AckReason,
     AlarmCode,
     Board,
@@ -39,6 +41,7 @@ from .messages import (
     Status,
     StatusReport,
     Stop,
+    Watchdog,
     message_type,
 )
 from .cubic import CubicAxis, CubicSegment
@@ -51,5 +54,6 @@ __all__ = [
     "DecodeError", "Decoder", "ErrorCode", "ErrorReport", "Event", "EventKind", "FieldId", "Hold", "HoldDone",
     "Frame", "Identify", "IdentifyReply", "MAX_AXES", "MAX_FRAME", "Message", "MessageType", "N_MAX",
     "PROTOCOL_VERSION", "R_MAX", "Report", "Request", "Segment", "SetPosition", "State", "Status", "StatusReport",
-    "Stop", "decode", "decode_body", "encode", "message_type", "payload",
+    "Stop", "POSITION_MAX", "WATCHDOG_MAX_MS", "Watchdog", "decode", "decode_body", "encode", "message_type",
+    "payload",
 ]

@@ -25,6 +25,8 @@ from pydantic import (
 
 from .constants import (
     DECEL_MAX,
+    POSITION_MAX,
+    WATCHDOG_MAX_MS,
     NO_AXIS,
     Board,
     Capability,
@@ -115,6 +117,19 @@ class Inputs(Request):
     """The inputs' state and settings now (answered by INPUT_STATUS)."""
 
 
+@message(0x07, "WATCHDOG")
+class Watchdog(Request):
+    """Stop (a hold at CONFIG's hold_decel, then ALARM HOST_LOST) when no good frame has come for `timeout_ms`
+    while moving; 0 turns it off (PROTOCOL.md §5.1). Answered by STATUS_REPORT."""
+
+    timeout_ms: U16
+
+    @classmethod
+    def check_wire(cls, raw: dict[str, Any], axis_count: int) -> None:
+        if raw["timeout_ms"] > WATCHDOG_MAX_MS:
+            raise FieldFault(FieldId.TIMEOUT, None, f"timeout_ms = {raw['timeout_ms']}, limit 0..{WATCHDOG_MAX_MS}")
+
+
 @message(0x11, "SET_POSITION")
 class SetPosition(Request):
     """Step positions for the axes listed; only while IDLE with an empty queue."""
@@ -123,9 +138,13 @@ class SetPosition(Request):
 
     @classmethod
     def check_wire(cls, raw: dict[str, Any], axis_count: int) -> None:
-        axes = bits(raw["positions"][0])
+        mask, items = raw["positions"]
+        axes = bits(mask)
         if any(a >= axis_count for a in axes):
             raise FieldFault(FieldId.AXES, None, f"axes {axes}, firmware has {axis_count}")
+        for axis, item in zip(axes, items):
+            if abs(item[0]) > POSITION_MAX:
+                raise FieldFault(FieldId.POSITION, axis, f"position = {item[0]}, limit ±{POSITION_MAX}")
 
 
 @message(0x15, "PROBE")

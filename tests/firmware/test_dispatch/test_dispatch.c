@@ -61,8 +61,8 @@ static void test_identify_reports_what_the_firmware_is(void)
     TEST_ASSERT_EQUAL_INT(12, p[7]);
     TEST_ASSERT_EQUAL_INT(1022, tp_u16(p + 8));
     TEST_ASSERT_EQUAL_UINT32(40000, tp_u32(p + 10));
-    /* quadratic, set position, hold; limit, probe and control inputs, homing; cubic */
-    TEST_ASSERT_EQUAL_HEX16(0x01F7, tp_u16(p + 14));
+    /* quadratic, set position, hold; limit, probe and control inputs, homing; cubic; controlled stops */
+    TEST_ASSERT_EQUAL_HEX16(0x03F7, tp_u16(p + 14));
     TEST_ASSERT_EQUAL_INT(9, p[16]);
 }
 
@@ -191,26 +191,47 @@ static void test_status_while_running_reads_the_steps_made_so_far(void)
     TEST_ASSERT_EQUAL_INT(QS_STATE_RUNNING, status().state);
 }
 
-static void test_underrun_raises_an_alarm_with_exact_positions(void)
+/* The queue runs dry at full speed: the next tick begins a hold from the
+ * last segment's end at the configured decelerations; at rest HOLD_DONE
+ * (hold_tick 10) and then ALARM UNDERRUN with the exact rest positions. */
+static void test_underrun_holds_to_rest_then_alarms_with_exact_positions(void)
 {
     const uint8_t *p;
+    uint32_t steps, ticks = 0, hold_steps;
     qs_ack a;
+    uint8_t axis;
+    for (axis = 0; axis < QS_AXIS_COUNT; axis++)
+        core.engine.stop_decel[axis] = 8191;
     tp_send_segment(&core, 0, 10, 0x1, 0, &cruise);
     sent();
     TEST_ASSERT_EQUAL_UINT32(10, tp_ticks(&core, 10));
     TEST_ASSERT_EQUAL_INT(QS_STATE_RUNNING, status().state); /* the host may still catch up */
-    TEST_ASSERT_EQUAL_UINT32(0, tp_ticks(&core, 1));
-    TEST_ASSERT_EQUAL_INT(QS_STATE_ALARM, status().state);
+    hold_steps = tp_ticks(&core, 1);
+    TEST_ASSERT_EQUAL_UINT32(1, hold_steps); /* at the end speed, one step a tick */
+    TEST_ASSERT_EQUAL_INT(QS_STATE_HOLDING, status().state);
+    while (core.engine.hold.moving && ticks < 10000) {
+        hold_steps += tp_ticks(&core, 1);
+        ticks++;
+    }
+    /* From one step a tick at 8191 * 2^-24 step per tick^2: about 2048 ticks, 1024 steps. */
+    TEST_ASSERT_TRUE(ticks > 1900 && ticks < 2200);
+    TEST_ASSERT_TRUE(hold_steps > 950 && hold_steps < 1100);
+    steps = 10 + hold_steps;
     qs_core_poll(&core);
-    TEST_ASSERT_EQUAL_INT(2, sent());
+    TEST_ASSERT_EQUAL_INT(3, sent());
     TEST_ASSERT_EQUAL_INT(QS_ACK_SPACE, tp_ack(&reports[0]).reason);
-    TEST_ASSERT_EQUAL_HEX8(QS_TYPE_ALARM, reports[1].type);
-    TEST_ASSERT_EQUAL_UINT8(QS_SEQ_UNSOLICITED, reports[1].seq);
-    TEST_ASSERT_EQUAL_INT(QS_LEN_ALARM_HEAD + QS_LEN_ALARM_AXIS * 4, reports[1].len);
-    p = reports[1].payload;
+    TEST_ASSERT_EQUAL_HEX8(QS_TYPE_EVENT, reports[1].type);
+    TEST_ASSERT_EQUAL_INT(QS_EVENT_HOLD_DONE, reports[1].payload[0]);
+    TEST_ASSERT_EQUAL_UINT32(10, tp_u32(reports[1].payload + 1));
+    TEST_ASSERT_EQUAL_HEX8(QS_TYPE_ALARM, reports[2].type);
+    TEST_ASSERT_EQUAL_UINT8(QS_SEQ_UNSOLICITED, reports[2].seq);
+    TEST_ASSERT_EQUAL_INT(QS_LEN_ALARM_HEAD + QS_LEN_ALARM_AXIS * 4, reports[2].len);
+    p = reports[2].payload;
     TEST_ASSERT_EQUAL_INT(QS_ALARM_UNDERRUN, p[0]);
-    TEST_ASSERT_EQUAL_UINT32(10, tp_u32(p + 1));
-    TEST_ASSERT_EQUAL_INT32(10, (int32_t)tp_u32(p + 5));
+    TEST_ASSERT_EQUAL_UINT32(11 + ticks, tp_u32(p + 1));
+    TEST_ASSERT_EQUAL_INT32((int32_t)steps, (int32_t)tp_u32(p + 5));
+    TEST_ASSERT_EQUAL_INT32((int32_t)steps, status().position[0]);
+    TEST_ASSERT_EQUAL_INT(QS_STATE_ALARM, status().state);
     qs_core_poll(&core);
     TEST_ASSERT_EQUAL_INT(0, sent()); /* reported once */
     /* Segments are refused until STOP. */
@@ -225,9 +246,96 @@ static void test_underrun_raises_an_alarm_with_exact_positions(void)
     sent();
     TEST_ASSERT_EQUAL_INT(QS_STATE_IDLE, status().state);
     TEST_ASSERT_EQUAL_INT(QS_ALARM_NONE, status().alarm);
-    TEST_ASSERT_EQUAL_INT32(10, status().position[0]);
+    TEST_ASSERT_EQUAL_INT32((int32_t)steps, status().position[0]);
     tp_send_segment(&core, 2, 10, 0x1, 0, &to_rest);
     TEST_ASSERT_EQUAL_INT(QS_ACK_ACCEPTED, only_ack().reason);
+}
+
+/* WATCHDOG: while moving, no good frame for the timeout stops at
+ * stop_decel; at rest HOLD_DONE, then ALARM HOST_LOST. Any good frame,
+ * whatever its seq, keeps it quiet; idle it never fires; 0 turns it off;
+ * past 4000 ms it is refused. */
+static void test_a_silent_host_stops_the_motion_under_control(void)
+{
+    const uint8_t set100[] = {QS_TYPE_WATCHDOG, 0x40, 100, 0}, too_long[] = {QS_TYPE_WATCHDOG, 0x41, 0xA1, 0x0F};
+    const uint16_t counts = (100 * 1000 + QS_PORT_CLOCK_US - 1) / QS_PORT_CLOCK_US;
+    uint8_t axis;
+    uint16_t i;
+
+    for (axis = 0; axis < QS_AXIS_COUNT; axis++)
+        core.engine.stop_decel[axis] = 8191;
+    test_clock = 60000; /* wraps during the test */
+    tp_send(&core, too_long, sizeof too_long);
+    TEST_ASSERT_EQUAL_INT(1, sent());
+    TEST_ASSERT_EQUAL_INT(QS_FIELD_TIMEOUT, tp_error(&reports[0]).field);
+    tp_send(&core, set100, sizeof set100);
+    TEST_ASSERT_EQUAL_INT(1, sent());
+    TEST_ASSERT_EQUAL_HEX8(QS_TYPE_STATUS_REPORT, reports[0].type);
+    test_clock = (uint16_t)(test_clock + 10 * counts); /* idle: nothing to stop */
+    qs_core_poll(&core);
+    TEST_ASSERT_EQUAL_INT(0, sent());
+    tp_send_segment(&core, 0, 1000, 0x1, 0, &cruise);
+    tp_send_segment(&core, 1, 1000, 0x1, 0, &cruise);
+    sent();
+    for (i = 0; i < 20; i++) { /* a STATUS every half timeout keeps it quiet */
+        tp_ticks(&core, 10);
+        test_clock = (uint16_t)(test_clock + counts / 2);
+        tp_send_simple(&core, QS_TYPE_STATUS, 0x50);
+        qs_core_poll(&core);
+    }
+    sent();
+    TEST_ASSERT_EQUAL_INT(QS_STATE_RUNNING, status().state);
+    test_clock = (uint16_t)(test_clock + counts + 1);
+    qs_core_poll(&core);
+    TEST_ASSERT_EQUAL_INT(QS_STATE_HOLDING, status().state);
+    TEST_ASSERT_EQUAL_INT(0, sent()); /* nothing until it rests */
+    tp_ticks(&core, 3000);
+    qs_core_poll(&core);
+    TEST_ASSERT_EQUAL_INT(2, sent());
+    TEST_ASSERT_EQUAL_HEX8(QS_TYPE_EVENT, reports[0].type);
+    TEST_ASSERT_EQUAL_INT(QS_EVENT_HOLD_DONE, reports[0].payload[0]);
+    TEST_ASSERT_EQUAL_UINT32(200, tp_u32(reports[0].payload + 1));
+    TEST_ASSERT_EQUAL_HEX8(QS_TYPE_ALARM, reports[1].type);
+    TEST_ASSERT_EQUAL_INT(QS_ALARM_HOST_LOST, reports[1].payload[0]);
+    TEST_ASSERT_EQUAL_INT32(status().position[0], (int32_t)tp_u32(reports[1].payload + 5));
+    TEST_ASSERT_EQUAL_INT(QS_STATE_ALARM, status().state);
+    tp_send_simple(&core, QS_TYPE_STOP, 9);
+    sent();
+    TEST_ASSERT_EQUAL_INT(QS_STATE_IDLE, status().state);
+}
+
+/* No position ever wraps: SET_POSITION past POSITION_MAX is refused, and a
+ * segment that could carry an axis past it, with the axis named. */
+static void test_positions_cannot_wrap(void)
+{
+    uint8_t body[2 + 1 + 4];
+    int32_t near = QS_POSITION_MAX - 999;
+    qs_error_report e;
+
+    body[0] = QS_TYPE_SET_POSITION;
+    body[1] = 0;
+    body[2] = 0x2;
+    body[3] = (uint8_t)near; body[4] = (uint8_t)(near >> 8); body[5] = (uint8_t)(near >> 16); body[6] = (uint8_t)(near >> 24);
+    tp_send(&core, body, sizeof body);
+    TEST_ASSERT_EQUAL_INT(QS_ACK_ACCEPTED, only_ack().reason);
+    near = QS_POSITION_MAX + 1;
+    body[1] = 1;
+    body[3] = (uint8_t)near; body[4] = (uint8_t)(near >> 8); body[5] = (uint8_t)(near >> 16); body[6] = (uint8_t)(near >> 24);
+    tp_send(&core, body, sizeof body);
+    TEST_ASSERT_EQUAL_INT(2, sent());
+    e = tp_error(&reports[0]);
+    TEST_ASSERT_EQUAL_INT(QS_FIELD_POSITION, e.field);
+    TEST_ASSERT_EQUAL_INT(1, e.axis);
+    /* 999 ticks fit (they move it 500), then 500 more could pass the limit */
+    tp_send_segment(&core, 2, 999, 0x2, 0, &to_rest);
+    TEST_ASSERT_EQUAL_INT(QS_ACK_ACCEPTED, only_ack().reason);
+    tp_send_segment(&core, 3, 500, 0x2, 0, &to_rest);
+    TEST_ASSERT_EQUAL_INT(3, sent());
+    e = tp_error(&reports[0]);
+    TEST_ASSERT_EQUAL_INT(QS_FIELD_POSITION, e.field);
+    TEST_ASSERT_EQUAL_INT(1, e.axis);
+    TEST_ASSERT_EQUAL_HEX8(QS_TYPE_ALARM, reports[2].type);
+    TEST_ASSERT_EQUAL_INT(QS_ALARM_REJECTED_SEGMENT, reports[2].payload[0]);
 }
 
 static void test_a_segment_ending_at_rest_returns_to_idle(void)
@@ -377,7 +485,9 @@ int main(void)
     RUN_TEST(test_one_space_ack_covers_segments_finished_together);
     RUN_TEST(test_stop_halts_flushes_and_sets_next_seq);
     RUN_TEST(test_status_while_running_reads_the_steps_made_so_far);
-    RUN_TEST(test_underrun_raises_an_alarm_with_exact_positions);
+    RUN_TEST(test_underrun_holds_to_rest_then_alarms_with_exact_positions);
+    RUN_TEST(test_a_silent_host_stops_the_motion_under_control);
+    RUN_TEST(test_positions_cannot_wrap);
     RUN_TEST(test_a_segment_ending_at_rest_returns_to_idle);
     RUN_TEST(test_a_rejected_segment_halts_everything_and_raises_an_alarm);
     RUN_TEST(test_set_position_only_when_idle);

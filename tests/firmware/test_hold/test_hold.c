@@ -52,7 +52,8 @@ static ref_hold reference(const qs_segment_msg *m, uint8_t axis, uint16_t t0, ui
     r.w = 2 * r.kn * D;
     r.s_t0 = tp_closed_form(m, axis, t0);
     r.e0 = k * (x_t0 - 2 * n * D * r.s_t0);
-    r.i1 = k * (2 * n * m->v0[axis] + c1 * (2 * t0 + 1));
+    /* After the end (t0 = n) the first hold tick runs at the end speed. */
+    r.i1 = t0 == n ? k * 2 * n * m->vn[axis] : k * (2 * n * m->v0[axis] + c1 * (2 * t0 + 1));
     /* a = decel / 2^24 step per tick^2 is 2knD*a = kn*decel / 2^11 quanta. */
     quanta = r.kn * decel / 2048;
     r.d = quanta > 0 ? -quanta : -1;
@@ -122,8 +123,18 @@ static void random_segment(qs_segment_msg *m, uint16_t n)
 /* Run a hold begun after t0 ticks of m to its end, checking every tick of
  * every axis against the reference; returns the ticks it took. Positions
  * are relative to the start of m. */
+static int64_t run_hold_from(const qs_segment_msg *m, uint16_t t0, const uint16_t *decel, int32_t *made,
+                             int begun_by_tick);
+
 static int64_t run_hold_checked(const qs_segment_msg *m, uint16_t t0, const uint16_t *decel,
                                 int32_t *made)
+{
+    return run_hold_from(m, t0, decel, made, 0);
+}
+
+/* The same for a hold that the first tick begins (an underrun). */
+static int64_t run_hold_from(const qs_segment_msg *m, uint16_t t0, const uint16_t *decel, int32_t *made,
+                             int begun_by_tick)
 {
     ref_hold ref[QS_AXIS_COUNT];
     int64_t steps[QS_AXIS_COUNT] = {0};
@@ -137,7 +148,7 @@ static int64_t run_hold_checked(const qs_segment_msg *m, uint16_t t0, const uint
     }
     for (j = 1; j <= longest; j++) {
         uint8_t bits;
-        TEST_ASSERT_EQUAL_INT(QS_STATE_HOLDING, engine.state);
+        TEST_ASSERT_EQUAL_INT(j == 1 && begun_by_tick ? QS_STATE_RUNNING : QS_STATE_HOLDING, engine.state);
         bits = qs_engine_tick(&engine);
         for (axis = 0; axis < QS_AXIS_COUNT; axis++) {
             const ref_hold *r = &ref[axis];
@@ -418,7 +429,8 @@ static void test_stop_detection_at_the_edges(void)
 }
 
 /* Between two segments the hold begins the next one at its tick 0, as the
- * tick would have; with nothing queued while moving the underrun stands;
+ * tick would have; with nothing queued after a segment that ends moving it
+ * holds from where that one ended;
  * idle, a hold is done at once; in ALARM nothing changes; a second hold
  * while holding changes nothing. */
 static void test_hold_at_boundaries_and_in_every_state(void)
@@ -453,12 +465,77 @@ static void test_hold_at_boundaries_and_in_every_state(void)
     enqueue(&a);
     for (t = 0; t < 10; t++)
         qs_engine_tick(&engine);
-    TEST_ASSERT_EQUAL_INT(QS_HOLD_NO_SEGMENT, qs_engine_hold(&engine, decel));
-    qs_engine_tick(&engine);
-    TEST_ASSERT_EQUAL_INT(QS_STATE_ALARM, engine.state);
-    TEST_ASSERT_EQUAL_INT(QS_ALARM_UNDERRUN, engine.alarm);
+    TEST_ASSERT_TRUE(engine.kept);
+    TEST_ASSERT_EQUAL_INT(QS_HOLD_STARTED, qs_engine_hold(&engine, decel));
+    TEST_ASSERT_EQUAL_UINT32(10, engine.hold_tick);
+    run_hold_checked(&a, 10, decel, made);
+    qs_engine_read(&engine, &v);
+    TEST_ASSERT_EQUAL_INT(QS_STATE_IDLE, v.state);
+    TEST_ASSERT_EQUAL_INT32(made[0], v.position[0]);
+    TEST_ASSERT_TRUE(made[0] > 10);
+    TEST_ASSERT_EQUAL_UINT32(1, v.segments_done); /* it ran whole before the hold */
+
+    qs_engine_halt(&engine, QS_STATE_ALARM, QS_ALARM_REJECTED_SEGMENT);
     TEST_ASSERT_EQUAL_INT(QS_HOLD_IN_ALARM, qs_engine_hold(&engine, decel));
     TEST_ASSERT_EQUAL_INT(QS_STATE_ALARM, engine.state);
+}
+
+/* The queue runs dry after random segments that end moving, from any
+ * state: the tick that would have begun the next segment begins a hold
+ * from where the last one ended at the underrun decelerations, every tick
+ * of it the closed form at t0 = n; at rest the alarm is UNDERRUN with the
+ * exact positions. A segment that arrives in time goes on as usual. */
+static void test_an_underrun_holds_from_the_end_of_the_last_segment(void)
+{
+    int i;
+    for (i = 0; i < 300; i++) {
+        qs_segment_msg m, late;
+        uint16_t decel[QS_AXIS_COUNT];
+        int32_t made[QS_AXIS_COUNT];
+        qs_engine_view v;
+        uint16_t t;
+        uint8_t axis, moving_axis = 0;
+
+        qs_engine_init(&engine, QS_QUEUE_CAPACITY);
+        for (axis = 0; axis < QS_AXIS_COUNT; axis++)
+            engine.stop_decel[axis] = decel[axis] = rnd_decel();
+        random_segment(&m, (uint16_t)(1 + tp_rand(i % 4 == 0 ? 8 : QS_N_MAX)));
+        for (axis = 0; axis < QS_AXIS_COUNT; axis++)
+            if ((m.active >> axis) & 1)
+                moving_axis |= m.vn[axis] != 0;
+        if (!moving_axis) {
+            m.vn[0] = (uint16_t)(1 + tp_rand(4096));
+            m.active |= 1;
+            if (m.r[0] == 4096 && m.v0[0] == 4096 && m.vn[0] == 4096)
+                m.r[0] = 0;
+        }
+        enqueue(&m);
+        for (t = 0; t < m.n; t++)
+            qs_engine_tick(&engine);
+        TEST_ASSERT_TRUE(engine.kept);
+        TEST_ASSERT_EQUAL_INT(QS_STATE_RUNNING, engine.state);
+        if (i % 10 == 0) {
+            /* In time: the kept slot goes and the next one runs. */
+            random_segment(&late, 5);
+            enqueue(&late);
+            qs_engine_tick(&engine);
+            TEST_ASSERT_FALSE(engine.kept);
+            TEST_ASSERT_EQUAL_INT(4, engine.left);
+            continue;
+        }
+        if (run_hold_from(&m, m.n, decel, made, 1) == 0) {
+            /* Nothing would move one tick on: the alarm at once. */
+            TEST_ASSERT_EQUAL_INT(QS_STATE_ALARM, engine.state);
+        }
+        qs_engine_retire(&engine);
+        qs_engine_read(&engine, &v);
+        TEST_ASSERT_EQUAL_INT(QS_STATE_ALARM, v.state);
+        TEST_ASSERT_EQUAL_INT(QS_ALARM_UNDERRUN, v.alarm);
+        TEST_ASSERT_EQUAL_UINT32(1, v.segments_done);
+        for (axis = 0; axis < QS_AXIS_COUNT; axis++)
+            TEST_ASSERT_EQUAL_INT32(made[axis], v.position[axis]);
+        TEST_ASSERT_EQUAL_UINT32(m.n, engine.hold_tick);
+    }
 }
 
 /* STOP during a hold stops at once; the steps made stay counted. */
@@ -506,6 +583,7 @@ int main(void)
     RUN_TEST(test_hold_values_stay_within_24_bits);
     RUN_TEST(test_stop_detection_at_the_edges);
     RUN_TEST(test_hold_at_boundaries_and_in_every_state);
+    RUN_TEST(test_an_underrun_holds_from_the_end_of_the_last_segment);
     RUN_TEST(test_halt_during_a_hold_keeps_exact_positions);
     return UNITY_END();
 }

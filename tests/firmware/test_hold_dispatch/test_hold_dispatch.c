@@ -246,9 +246,11 @@ static void test_refused_holds_change_nothing(void)
     TEST_ASSERT_EQUAL_INT(2, status().queue_fill);
     TEST_ASSERT_EQUAL_UINT32(2, status().counters.rejected);
     TEST_ASSERT_EQUAL_UINT32(190, tp_ticks(&core, 190));
-    TEST_ASSERT_EQUAL_UINT32(0, tp_ticks(&core, 1));
-    TEST_ASSERT_EQUAL_INT(QS_STATE_ALARM, status().state); /* the underrun */
+    tp_ticks(&core, 1);
+    TEST_ASSERT_EQUAL_INT(QS_STATE_HOLDING, status().state); /* the underrun's hold */
+    tp_ticks(&core, 70000);
     qs_core_poll(&core);
+    TEST_ASSERT_EQUAL_INT(QS_STATE_ALARM, status().state); /* then its alarm */
     sent();
     send_hold(62, 10, 10, 10, 0);
     TEST_ASSERT_EQUAL_INT(1, sent());
@@ -256,22 +258,25 @@ static void test_refused_holds_change_nothing(void)
     TEST_ASSERT_EQUAL_INT(2, status().next_seq);
 }
 
-/* A hold finds the queue run dry while moving: nothing can decelerate
- * along, so the underrun alarm stands, and no HOLD_DONE follows. */
-static void test_hold_at_an_underrun_leaves_the_alarm(void)
+/* A hold finds the queue run dry while moving: it holds from where the
+ * last segment ended (hold_tick at its end), to rest, with no alarm. */
+static void test_hold_at_an_underrun_holds_from_the_last_segment_end(void)
 {
     tp_send_segment(&core, 0, 10, 0x1, 0, &cruise);
     tp_ticks(&core, 10);
     sent();
-    send_hold(5, 10, 10, 10, 10);
+    send_hold(5, 8191, 8191, 8191, 8191);
     TEST_ASSERT_EQUAL_INT(1, sent());
-    TEST_ASSERT_EQUAL_INT(QS_STATE_RUNNING, reports[0].payload[0]);
-    tp_ticks(&core, 1);
+    TEST_ASSERT_EQUAL_INT(QS_STATE_HOLDING, reports[0].payload[0]);
+    tp_ticks(&core, 5000);
     qs_core_poll(&core);
     TEST_ASSERT_EQUAL_INT(2, sent());
     TEST_ASSERT_EQUAL_INT(QS_ACK_SPACE, tp_ack(&reports[0]).reason);
-    TEST_ASSERT_EQUAL_HEX8(QS_TYPE_ALARM, reports[1].type);
-    TEST_ASSERT_EQUAL_INT(QS_ALARM_UNDERRUN, reports[1].payload[0]);
+    TEST_ASSERT_EQUAL_HEX8(QS_TYPE_EVENT, reports[1].type);
+    TEST_ASSERT_EQUAL_INT(QS_EVENT_HOLD_DONE, reports[1].payload[0]);
+    TEST_ASSERT_EQUAL_UINT32(10, tp_u32(reports[1].payload + 1));
+    TEST_ASSERT_EQUAL_INT(QS_STATE_IDLE, status().state);
+    TEST_ASSERT_EQUAL_INT(QS_ALARM_NONE, status().alarm);
 }
 
 int main(void)
@@ -282,6 +287,6 @@ int main(void)
     RUN_TEST(test_hold_done_comes_before_any_later_answer);
     RUN_TEST(test_stop_during_a_hold_stops_at_once);
     RUN_TEST(test_refused_holds_change_nothing);
-    RUN_TEST(test_hold_at_an_underrun_leaves_the_alarm);
+    RUN_TEST(test_hold_at_an_underrun_holds_from_the_last_segment_end);
     return UNITY_END();
 }

@@ -69,6 +69,8 @@ static uint8_t parse(const uint8_t *body, uint8_t len, qs_host_msg *m)
         return qs_msg_parse_empty(plen);
     case QS_TYPE_HOLD:
         return qs_msg_parse_hold(p, plen, &m->as.hold);
+    case QS_TYPE_WATCHDOG:
+        return qs_msg_parse_watchdog(p, plen, &m->as.watchdog);
     case QS_TYPE_PROBE:
         return qs_msg_parse_probe(p, plen, &m->as.probe);
     case QS_TYPE_CONFIG:
@@ -114,6 +116,8 @@ static uint8_t decode(const qs_vector *v, qs_host_msg *m, qs_fault *f)
         return qs_msg_check_probe(&m->as.probe, v->axis_count, QS_INPUTS_ALL, f);
     if (m->type == QS_TYPE_CONFIG)
         return qs_msg_check_config(&m->as.config, v->axis_count, f);
+    if (m->type == QS_TYPE_WATCHDOG)
+        return qs_msg_check_watchdog(&m->as.watchdog, f);
     return QS_ERR_NONE;
 }
 
@@ -158,6 +162,8 @@ static void check_host_message(const qs_vector *v, const qs_host_msg *m)
         for (axis = 0; axis < QS_PROTOCOL_AXES; axis++)
             TEST_ASSERT_EQUAL_UINT16_MESSAGE(v->host.probe.hold.decel[axis], m->as.probe.hold.decel[axis],
                                              at(v, "decel"));
+    } else if (m->type == QS_TYPE_WATCHDOG) {
+        TEST_ASSERT_EQUAL_UINT16_MESSAGE(v->host.watchdog.timeout_ms, m->as.watchdog.timeout_ms, at(v, "timeout_ms"));
     } else if (m->type == QS_TYPE_CONFIG) {
         const qs_config_msg *e = &v->host.config, *a = &m->as.config;
         TEST_ASSERT_EQUAL_UINT16_MESSAGE(e->invert, a->invert, at(v, "invert"));
