@@ -6,7 +6,8 @@
  * - the firmware's own code at full width: 10^6 random chained segments on
  *   four axes through qs_cubic_prepare and the engine's tick, every tick
  *   against a reference that adds up the ideal exactly, with no drift;
- * - validation, positions read mid-segment, and a hold from a cubic state. */
+ * - validation, positions read mid-segment, a hold from a cubic state, and a
+ *   quadratic segment in a slot a cubic one used before. */
 #include <stdint.h>
 #include <stdio.h>
 #include <string.h>
@@ -399,9 +400,50 @@ static void test_a_hold_from_a_cubic_state_follows_its_closed_form(void)
     }
 }
 
+/* Slots are reused round the ring: a quadratic segment prepared into the slot
+ * a cubic one ran in runs as a quadratic segment (its closed form), not on
+ * the cubic path with what that slot held. */
+static void test_a_quadratic_segment_after_a_cubic_one_in_the_same_slot(void)
+{
+    qs_cubic_msg m = rest_msg(200);
+    qs_segment_msg q = {0};
+    uint32_t made = 0;
+    uint16_t t;
+    qs_fault f;
+
+    qs_engine_init(&engine, 2); /* two slots: the third segment reuses the cubic one's */
+    m.set = 0x01;
+    m.speed[0] = 0x10000000u; /* 1/8 step per tick: 25 steps */
+    TEST_ASSERT_EQUAL_INT(QS_ERR_NONE, qs_cubic_prepare(&engine.chain, qs_queue_back(&engine.queue), &m, 4, &f));
+    qs_queue_publish(&engine.queue);
+    q.n = 100;
+    q.active = 0x01;
+    q.v0[0] = 2048; /* then half a step per tick: 50 steps */
+    q.vn[0] = 2048;
+    qs_segment_prepare(qs_queue_back(&engine.queue), &q);
+    qs_cubic_follow_quadratic(&engine.chain, qs_queue_back(&engine.queue), &q);
+    qs_queue_publish(&engine.queue);
+    qs_engine_wake(&engine);
+    for (t = 0; t < 201; t++)
+        made += qs_engine_tick(&engine) & 1;
+    qs_engine_retire(&engine);
+    TEST_ASSERT_EQUAL_UINT32(1, qs_queue_free(&engine.queue));
+    q.vn[0] = 0; /* and to rest: 25 steps, in the slot the cubic segment ran in */
+    qs_segment_prepare(qs_queue_back(&engine.queue), &q);
+    qs_cubic_follow_quadratic(&engine.chain, qs_queue_back(&engine.queue), &q);
+    qs_queue_publish(&engine.queue);
+    for (t = 0; t < 200; t++)
+        made += qs_engine_tick(&engine) & 1;
+    qs_engine_retire(&engine);
+    TEST_ASSERT_EQUAL_UINT8(QS_STATE_IDLE, engine.state);
+    TEST_ASSERT_EQUAL_UINT32(100, made);
+    TEST_ASSERT_EQUAL_INT32(100, engine.base[0]);
+}
+
 int main(void)
 {
     UNITY_BEGIN();
+    RUN_TEST(test_a_quadratic_segment_after_a_cubic_one_in_the_same_slot);
     RUN_TEST(test_validation_names_the_field_and_changes_nothing);
     RUN_TEST(test_positions_read_mid_segment_match_the_steps_made);
     RUN_TEST(test_a_hold_from_a_cubic_state_follows_its_closed_form);
