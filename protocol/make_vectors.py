@@ -28,7 +28,7 @@ TYPES = {
     "ACK": 0x80, "IDENTIFY_REPLY": 0x81, "STATUS_REPORT": 0x82, "ERROR": 0x83, "ALARM": 0x84, "EVENT": 0x85,
     "INPUT_STATUS": 0x86,
 }
-ACK_REASONS = {"ACCEPTED": 0, "GAP": 1, "DUPLICATE": 2, "QUEUE_FULL": 3, "REJECTED": 4, "SPACE": 5}
+ACK_REASONS = {"ACCEPTED": 0, "GAP": 1, "DUPLICATE": 2, "QUEUE_FULL": 3, "REJECTED": 4, "SPACE": 5, "PARKED": 6}
 ERROR_CODES = {
     "FRAME_TOO_LONG": 1, "FRAME_TOO_SHORT": 2, "BAD_COBS": 3, "BAD_CRC": 4,
     "UNKNOWN_TYPE": 5, "BAD_LENGTH": 6, "RX_OVERRUN": 7,
@@ -337,7 +337,7 @@ def build() -> list[dict]:
         seq = 0xFF if reason == "SPACE" else 10 + i
         valid(f"ack {reason.lower()}", TO_HOST,
               {"type": "ACK", "seq": seq, "next_seq": (seq + 1) & 0xFF, "free": 31 - i, "reason": reason,
-               "done": [0, 1, 255, 256, 65535, 12345][i]})
+               "done": [0, 1, 255, 256, 65535, 12345, 7][i]})
     valid("ack, zero bytes everywhere", TO_HOST,
           {"type": "ACK", "seq": 0, "next_seq": 0, "free": 0, "reason": "ACCEPTED", "done": 0})
     valid("identify reply, emulator", TO_HOST,

@@ -294,6 +294,7 @@ static void on_stop(qs_core *c, const qs_host_msg *m)
     c->inputs.hold_request = 0;
     c->alarm_announced = 0;
     c->next_seq = m->seq;
+    c->parked = 0;
     send_status_report(c, m->seq, 1);
 }
 
@@ -320,6 +321,7 @@ static void on_hold(qs_core *c, const qs_host_msg *m)
     /* Unless an alarm was raised meanwhile, which the answer then shows. */
     qs_engine_hold(&c->engine, m->as.hold.decel);
     c->next_seq = m->seq;
+    c->parked = 0;
     /* The answer first, then a HOLD_DONE if the hold is already over. */
     send_status_report(c, m->seq, 0);
     report_pending_hold(c);
@@ -406,9 +408,88 @@ static void on_config(qs_core *c, const qs_host_msg *m)
     send_ack(c, m->seq, QS_ACK_ACCEPTED);
 }
 
+/* ---- selective repeat ---- */
+
+#define PARK_MAX 32 /* frames ahead that can wait (the bits of parked) */
+
+_Static_assert(sizeof(qs_host_msg) <= sizeof(qs_segment), "a parked frame waits in a queue slot");
+
+/* Bring the parked frames' bookkeeping to next_seq and the queue's head:
+ * every frame consumed since must have taken a slot (else the slots they
+ * wait in are not theirs any more: all go, the host sends them again). */
+static void rebase_parked(qs_core *c)
+{
+    const uint8_t frames = (uint8_t)(c->next_seq - c->parked_seq);
+    const uint8_t slots = qs_queue_distance(&c->engine.queue, c->parked_head, c->engine.queue.head);
+
+    if (frames != slots || frames >= PARK_MAX)
+        c->parked = 0;
+    else
+        c->parked >>= frames;
+    c->parked_seq = c->next_seq;
+    c->parked_head = c->engine.queue.head;
+}
+
+static qs_segment *slot_ahead(qs_queue *q, uint8_t d)
+{
+    uint8_t i = q->head;
+
+    while (d--)
+        i = qs_queue_next(q, i);
+    return qs_queue_at(q, i);
+}
+
+/* A segment d frames ahead of next_seq: kept in the slot it will take, if
+ * there is room, and while segments may run. Returns whether it was. */
+static uint8_t park(qs_core *c, const qs_host_msg *m, uint8_t d)
+{
+    const uint8_t state = c->engine.state;
+    const uint8_t *from = (const uint8_t *)m;
+    uint8_t *to;
+    uint8_t i;
+
+    if ((m->type != QS_TYPE_SEGMENT && m->type != QS_TYPE_CUBIC_SEGMENT) || d >= PARK_MAX
+        || (state != QS_STATE_IDLE && state != QS_STATE_RUNNING))
+        return 0;
+    rebase_parked(c);
+    if (d >= qs_queue_free(&c->engine.queue))
+        return 0;
+    to = (uint8_t *)slot_ahead(&c->engine.queue, d);
+    for (i = 0; i < sizeof *m; i++)
+        to[i] = from[i];
+    c->parked |= (uint32_t)1 << d;
+    return 1;
+}
+
+/* The frames parked behind the one just taken, now in order. One message
+ * buffer, outside the frame's own call, keeps the stack as it was. */
+static QS_NOINLINE void run_parked(qs_core *c)
+{
+    qs_host_msg m;
+
+    for (;;) {
+        const uint8_t *from;
+        uint8_t *to = (uint8_t *)&m;
+        uint8_t i;
+
+        rebase_parked(c);
+        if (!(c->parked & 1u))
+            return;
+        c->parked &= ~(uint32_t)1;
+        from = (const uint8_t *)qs_queue_back(&c->engine.queue);
+        for (i = 0; i < sizeof m; i++)
+            to[i] = from[i];
+        if (m.type == QS_TYPE_SEGMENT)
+            on_segment(c, &m);
+        else
+            on_cubic_segment(c, &m);
+    }
+}
+
 /* Whether a sequenced frame is the one expected next. A later frame means
- * some were lost; an earlier one is a resend of a frame already consumed.
- * Neither is executed: the answer says which. */
+ * some were lost: a segment is parked to run after them if it can be, else
+ * dropped; an earlier one is a resend of a frame already consumed. The
+ * answer says which. */
 static uint8_t in_sequence(qs_core *c, const qs_host_msg *m)
 {
     uint8_t delta = (uint8_t)(m->seq - c->next_seq);
@@ -417,7 +498,7 @@ static uint8_t in_sequence(qs_core *c, const qs_host_msg *m)
         return 1;
     if (delta <= 127) {
         count(&c->counters.seq_gap);
-        send_ack(c, m->seq, QS_ACK_GAP);
+        send_ack(c, m->seq, park(c, m, delta) ? QS_ACK_PARKED : QS_ACK_GAP);
     } else {
         count(&c->counters.seq_dup);
         send_ack(c, m->seq, QS_ACK_DUPLICATE);
@@ -433,12 +514,13 @@ static uint8_t in_sequence(qs_core *c, const qs_host_msg *m)
 static void end_stream(qs_core *c)
 {
     c->engine.resequence = 0;
+    c->parked = 0;
     c->next_seq = (uint8_t)(c->next_seq + 128);
 }
 
 /* Every host message, by type (PROTOCOL.md section 5): its parser, then
  * what it does. A new message is one case here. */
-static void on_frame(qs_core *c, const uint8_t *body, uint8_t len)
+static QS_NOINLINE void on_frame(qs_core *c, const uint8_t *body, uint8_t len)
 {
     const uint8_t *p = body + 2;
     uint8_t plen = (uint8_t)(len - 2);
@@ -538,6 +620,9 @@ void qs_core_init(qs_core *c)
     c->alarm_announced = 0;
     c->watchdog = 0;
     c->heard = 0;
+    c->parked = 0;
+    c->parked_seq = 0;
+    c->parked_head = 0;
 }
 
 uint8_t qs_core_configure(qs_core *c, uint8_t axis_count, uint8_t queue_capacity, uint32_t tick_hz)
@@ -561,6 +646,8 @@ QS_NOINLINE void qs_core_rx_frame(qs_core *c)
     if (result == QS_FRAME_READY) {
         c->heard = qs_port_clock(); /* the host is there */
         on_frame(c, qs_frame_body(&c->rx), qs_frame_body_len(&c->rx));
+        if (c->parked)
+            run_parked(c);
         return;
     }
     /* Nothing in a frame that failed these checks can be trusted. */

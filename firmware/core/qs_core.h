@@ -23,6 +23,11 @@ typedef struct {
     uint32_t tick_hz;         /* as reported */
     uint32_t space_announced; /* segments_done of the last SPACE ack */
     uint8_t alarm_announced;  /* the current alarm has been reported */
+    /* Selective repeat: segments that arrived after a lost frame wait,
+     * parsed, in the queue slots they will take, until it comes. */
+    uint32_t parked;          /* bit d: the frame parked_seq + d waits in the slot parked_head + d */
+    uint8_t parked_seq;
+    uint8_t parked_head;
     uint16_t watchdog;        /* WATCHDOG: silence that stops motion, in port clock counts; 0 off */
     uint16_t heard;           /* port clock at the last good frame */
     uint8_t tx[QS_MAX_WIRE];  /* the report being sent, built and sealed in place */

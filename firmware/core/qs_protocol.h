@@ -93,6 +93,7 @@
 #define QS_ACK_QUEUE_FULL 3
 #define QS_ACK_REJECTED 4
 #define QS_ACK_SPACE 5
+#define QS_ACK_PARKED 6 /* after a gap: kept, to run once the frames before it arrive */
 
 /* ERROR codes (section 6). */
 #define QS_ERR_NONE 0

@@ -52,7 +52,7 @@ QS_NOINLINE void qs_segment_prepare(qs_segment *slot, const qs_segment_msg *m)
     slot->tick_axes = m->active;
     slot->negative = m->negative;
     slot->ends_moving = 0;
-    slot->cubic = 0; /* the slot may have held a cubic segment */
+    slot->cubic = 0; /* the slot may have held a cubic segment, or a parked frame */
     slot->two_c2 = c2 + c2;
     PREPARE_AXIS(0);
 #if QS_AXIS_COUNT > 1

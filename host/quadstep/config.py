@@ -7,6 +7,7 @@ mm/s (3/4 step per tick at tick_hz 50000 with 80 steps/mm)`.
 
 from __future__ import annotations
 
+import json
 import math
 import re
 import sys
@@ -20,8 +21,8 @@ if sys.version_info >= (3, 11):
 else:  # the same parser, as a package, before Python 3.11
     import tomli as tomllib
 
-from .protocol.constants import AXIS_NAMES, MAX_AXES
-from .textfile import read_text
+from .protocol.constants import AXIS_NAMES, MAX_AXES, POSITION_MAX
+from .textfile import parse_nested, read_text
 
 AxisName = Literal["X", "Y", "Z", "A"]  # AXIS_NAMES, as pydantic needs them
 Model = TypeVar("Model", bound=BaseModel)
@@ -84,6 +85,11 @@ class AxisConfig(BaseModel):
             raise ValueError(
                 f"travel_max = {self.travel_max}: must be greater than travel_min = {self.travel_min}"
             )
+        reach = POSITION_MAX / self.steps_per_mm  # the firmware keeps step positions within ±POSITION_MAX
+        for key, value in (("travel_min", self.travel_min), ("travel_max", self.travel_max)):
+            if abs(value) > reach:
+                raise ValueError(f"{key} = {value:g}: must be within ±{reach:.0f} mm, the firmware's position range "
+                                 f"(±{POSITION_MAX} steps at {self.steps_per_mm:g} steps/mm)")
         return self
 
     def to_steps(self, mm: float) -> int:
@@ -107,6 +113,8 @@ class MachineConfig(BaseModel):
     inputs: InputsConfig = InputsConfig()
     homing_order: tuple[AxisName, ...] | None = Field(default=None, description="default: Z first, then the others")
     homing_required: bool = False  # refuse jobs and jogs until the machine is homed
+    host_timeout: float = Field(default=0.5, ge=0, le=4, description="s: a host silent this long while the machine "
+                                "moves makes the firmware stop on its own (a hold, then ALARM HOST_LOST); 0: never")
 
     @model_validator(mode="after")
     def _axes_consistent(self) -> MachineConfig:
@@ -176,6 +184,8 @@ def describe_validation_error(error: ValidationError) -> list[str]:
     for e in error.errors():
         key = error_location(tuple(part for part in e["loc"] if part != "[key]"))  # a bad dict key: name it once
         kind = e["type"]
+        if kind == "too_short" and len(e["input"]) >= e["ctx"]["min_length"]:
+            continue  # its entries were refused (named on their own lines), not too few given
         if kind in _LIMIT_WORDS:
             ctx = {k: f"{v:g}" if isinstance(v, float) else v for k, v in e.get("ctx", {}).items()}
             ctx["entries"] = "entry" if ctx.get("min_length") == 1 else "entries"
@@ -196,9 +206,17 @@ def describe_validation_error(error: ValidationError) -> list[str]:
 
 
 def validate(model: type[Model], data: Any, source: str, error: type[Exception]) -> Model:
-    """`data` as a `model`; raises `error` with one `source: key = value: rule` line per problem."""
+    """`data` (as a JSON, YAML or TOML parser gives it) as a `model`, strictly: a string or a boolean is never
+    taken for a number, nor a number for a string or a boolean. Raises `error` with one `source: key = value: rule`
+    line per problem, or one line for what no such file can hold (a date, nesting hundreds of levels deep)."""
     try:
-        return model.model_validate(data)
+        text = json.dumps(data, allow_nan=False)  # JSON's own types, in which strict validation takes lists as tuples
+    except (TypeError, ValueError) as exc:
+        raise error(f"{source}: {exc} (only numbers, strings, booleans, lists and tables)") from None
+    except RecursionError:
+        raise error(f"{source}: nested too deep") from None
+    try:
+        return model.model_validate_json(text, strict=True)
     except ValidationError as exc:
         raise error("\n".join(f"{source}: {line}" for line in describe_validation_error(exc))) from None
 
@@ -227,7 +245,7 @@ def load_config(path: Path) -> MachineConfig:
     """Read and validate a machine configuration file."""
     text = read_text(path, ConfigError)
     try:
-        data = tomllib.loads(text)
+        data = parse_nested(tomllib.loads, text, path, ConfigError)
     except tomllib.TOMLDecodeError as exc:
         raise ConfigError(f"{path}: not valid TOML: {exc}") from None
     return parse_config(data, str(path))

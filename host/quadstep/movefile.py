@@ -25,7 +25,7 @@ from pydantic import BaseModel, ConfigDict, Field, model_validator
 
 from .config import AxisName, validate
 from .planner.program import Dwell, JobError, LinearMove, Pause, Program
-from .textfile import read_text
+from .textfile import parse_nested, read_text
 
 Coordinates = dict[AxisName, float]
 
@@ -70,7 +70,8 @@ def read_move_file(path: Path) -> MoveFile:
     """Load and validate; errors name the move index and field."""
     text = read_text(path, JobError)
     try:
-        data: Any = yaml.safe_load(text) if path.suffix.lower() in (".yaml", ".yml") else json.loads(text)
+        parse = yaml.safe_load if path.suffix.lower() in (".yaml", ".yml") else json.loads
+        data: Any = parse_nested(parse, text, path, JobError)
     except (yaml.YAMLError, json.JSONDecodeError) as exc:
         kind = "YAML" if path.suffix.lower() in (".yaml", ".yml") else "JSON"
         raise JobError(f"{path}: not valid {kind}: {exc}") from None

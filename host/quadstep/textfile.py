@@ -2,14 +2,29 @@
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from pathlib import Path
+from typing import Any
+
+MAX_BYTES = 256 * 1024 * 1024  # a job or configuration larger than this is refused before it is read
 
 
 def read_text(path: Path, error: type[Exception]) -> str:
-    """The file's UTF-8 text; raises `error` saying why when it cannot be read or is not text."""
+    """The file's UTF-8 text; raises `error` saying why when it cannot be read, is too large or is not text."""
     try:
+        size = path.stat().st_size
+        if size > MAX_BYTES:
+            raise error(f"{path}: {size / 1e6:.0f} MB, larger than the {MAX_BYTES // 2**20} MB a file may be")
         return path.read_text(encoding="utf-8")
     except OSError as exc:
         raise error(f"{path}: cannot read: {exc.strerror}") from None
     except UnicodeDecodeError as exc:
         raise error(f"{path}: not a text file ({exc.reason} at byte {exc.start})") from None
+
+
+def parse_nested(parse: Callable[[str], Any], text: str, path: Path, error: type[Exception]) -> Any:
+    """`parse(text)` (JSON, YAML, TOML), with input nested too deep for the parser as one clear error."""
+    try:
+        return parse(text)
+    except RecursionError:
+        raise error(f"{path}: nested too deep (lists or tables inside one another hundreds of levels down)") from None

@@ -6,41 +6,46 @@ import asyncio
 import os
 import random
 import signal
+import time
 
 import pytest
 from host_helpers import random_segments
 
 from quadstep.engine_model import predict
-from quadstep.link import Link, LinkError, LinkTimeout
+from quadstep.link import BoardSilent, Link, LinkError
 from quadstep.protocol import AxisMove, Segment, State
 
 SEGMENT = Segment(n=100, axes=(AxisMove(axis=0, direction=1, v0=4096, vn=0, r=0),))
 
 
-def test_unacknowledged_frame_gives_up_after_its_resends(start_emulator) -> None:
+def test_a_silent_board_ends_the_link_and_what_it_got_ran_once(start_emulator) -> None:
+    """A board that stops answering (SIGSTOP) while a frame waits: resent with a short timeout, then BoardSilent
+    (the link is closed; every call says so at once). Once it runs again the copies are duplicates: the segment
+    ran once."""
     emu = start_emulator(free=True)
-    with Link.open(emu.url, rto=0.05, retries=3, request_timeout=0.1) as link:
-        os.kill(emu.pid, signal.SIGSTOP)
-        try:
-            link.send(SEGMENT)
-            with pytest.raises(LinkTimeout, match="frame seq .* unacknowledged after 3 resends"):
-                link.drain(timeout=10)
-            assert link.stats.retransmits == 3
-            with pytest.raises(LinkTimeout, match="no answer to STATUS after 3 tries"):
-                link.status()
-        finally:
-            os.kill(emu.pid, signal.SIGCONT)
-        # The firmware now reads the four copies: one executes, three are duplicates. (A STOP sent now
-        # could arrive in the same read as the copies and flush the segment before its first tick.)
-        status = link.status()
+    link = Link.open(emu.url, rto=0.05, retries=3, request_timeout=0.1)
+    os.kill(emu.pid, signal.SIGSTOP)
+    try:
+        start = time.monotonic()
+        link.send(SEGMENT)
+        with pytest.raises(BoardSilent, match="has not answered for 1.5 s.*last frame it confirmed was seq"):
+            link.drain(timeout=10)
+        assert time.monotonic() - start < 2.0
+        assert link.stats.retransmits >= 3
+        with pytest.raises(BoardSilent):
+            link.status()
+    finally:
+        os.kill(emu.pid, signal.SIGCONT)
+        link.close()
+    with Link.open(emu.url) as again:
+        status = again.status()
         for _ in range(100):
             if status.segments_done == 1 and status.state == State.IDLE:
                 break
-            status = link.status()
-        assert status.seq_dup == 3 and status.segments_done == 1 and status.position[0] == 50
-        assert link.stop().state == State.IDLE
-        link.send(SEGMENT)
-        assert link.wait_idle(timeout=10).position[0] == 100
+            status = again.status()
+        assert status.seq_dup == link.stats.retransmits and status.segments_done == 1 and status.position[0] == 50
+        again.send(SEGMENT)
+        assert again.wait_idle(timeout=10).position[0] == 100
 
 
 def test_emulator_gone_is_a_link_error(start_emulator) -> None:

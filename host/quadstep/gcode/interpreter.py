@@ -279,7 +279,9 @@ def parse_gcode(
     """Parse a whole G-code text; raises GcodeError at the first problem."""
     interpreter = GcodeInterpreter(axis_names, start or [0.0] * len(axis_names), arc_tolerance, skip_unsupported,
                                    coordinates)
-    for number, line in enumerate(text.splitlines(), start=1):
+    # Lines end at a newline only, as an editor counts them (not at \x1c-\x1e, \x85 or \u2028).
+    for number, line in enumerate(text.split("\n"), start=1):
+        line = line.removesuffix("\r")
         if not interpreter.feed_line(line, number):
             break
     return interpreter.program

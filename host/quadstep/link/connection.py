@@ -31,7 +31,7 @@ from ..protocol import (
     encode,
 )
 from ..protocol.constants import PROTOCOL_VERSION, is_sequenced
-from .errors import AlarmError, FirmwareError, LinkError, LinkTimeout, ProtocolVersionError, Stopped
+from .errors import AlarmError, BoardSilent, FirmwareError, LinkError, LinkTimeout, ProtocolVersionError, Stopped
 from .outbox import Outbox
 from .reports import Inbox, Waiter
 from .stats import LinkStats
@@ -284,7 +284,7 @@ class Link:
             generation = self._in.generation
             while True:
                 self._raise_failure(generation)
-                if not self._window.in_flight:
+                if not self._window.in_flight and self._in.refused is None:  # a refusal waits for its status
                     return
                 if not self._wait(deadline):
                     raise LinkTimeout(f"{self._window.in_flight} frames still unacknowledged after {timeout:g} s")
@@ -369,8 +369,7 @@ class Link:
 
     def _on_data(self, data: bytes) -> None:
         with self._cond:
-            self._out.last_rx = self._clock()
-            notify = self._in.receive(data)
+            notify = self._in.receive(data, self._clock())
             self._cond.notify_all()
             callbacks = list(self._callbacks) if notify else []
         for report in notify:
@@ -392,8 +391,9 @@ class Link:
         while not self._transport.closed:
             now = self._clock()
             out = self._out.take(now)
-            if self._in.failure is not None:
-                self._cond.notify_all()  # a frame resent too often: wake whoever waits
+            if self._in.failure is not None:  # a frame resent too often, or the board silent: wake whoever waits
+                self._transport.closed |= isinstance(self._in.failure, BoardSilent)  # a silent board ends the link
+                self._cond.notify_all()
             if out:
                 return out
             self._cond.wait(self._out.wait_time(now))

@@ -13,6 +13,10 @@ class LinkTimeout(LinkError):
     """The firmware did not answer after every retry."""
 
 
+class BoardSilent(LinkTimeout):
+    """Nothing came back from the board for too long while it owed an answer; the link is closed."""
+
+
 class ProtocolVersionError(LinkError):
     """The firmware speaks a protocol version this host does not know."""
 
@@ -52,4 +56,4 @@ class AlarmError(LinkError):
         )
 
 
-__all__ = ["AlarmError", "FirmwareError", "LinkError", "LinkTimeout", "ProtocolVersionError", "Stopped"]
+__all__ = ["AlarmError", "BoardSilent", "FirmwareError", "LinkError", "LinkTimeout", "ProtocolVersionError", "Stopped"]

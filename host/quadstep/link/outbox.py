@@ -1,5 +1,11 @@
 """What the writer thread writes next: immediate requests first, then the sequenced frames the window
-says are due, then a STATUS when the window has stayed closed too long (a lost SPACE ack).
+says are due, then a STATUS when one is wanted: the window has stayed closed (a SPACE ack lost), the line
+has been quiet on our side while the board may be moving (the keep-alive that the firmware's WATCHDOG
+needs), or an ERROR asked for an explanation (an alarm whose report was lost).
+
+It also notices a silent board: while anything is outstanding (a frame unacknowledged, a segment the board
+has not finished), no good frame back for `silence` seconds fails the link with BoardSilent, which says what
+the board last confirmed.
 
 An Outbox is shared state: every method and field is used with the link's condition held.
 """
@@ -9,57 +15,92 @@ from __future__ import annotations
 from collections import deque
 
 from ..protocol import Status, encode
-from .errors import LinkTimeout
+from .errors import BoardSilent, LinkTimeout
 from .reports import Inbox
 from .stats import LinkStats
 from .window import SendWindow
 
+KEEPALIVE = 0.1  # s without a write, while the board may be moving, before a STATUS
+STALL_POLL = 0.05  # s without a report, while the window is closed, before a STATUS
+SILENCE = 1.5  # s without a good frame, while something is outstanding, before the link gives up
+
 
 class Outbox:
-    def __init__(self, window: SendWindow, inbox: Inbox, stats: LinkStats, poll_interval: float) -> None:
+    def __init__(self, window: SendWindow, inbox: Inbox, stats: LinkStats, poll_interval: float,
+                 silence: float = SILENCE) -> None:
         self.window = window
         self.inbox = inbox
         self.stats = stats
         self.poll_interval = poll_interval
+        self.silence = silence
         self.urgent: deque[bytes] = deque()  # immediate requests, written before any sequenced frame
         self.request_seq = 0x40
-        self.last_rx = 0.0  # clock time of the last bytes received
         self.last_poll = 0.0
+        self.last_write = 0.0
 
     def next_request_seq(self) -> int:
         self.request_seq = (self.request_seq + 1) & 0xFF
         return self.request_seq
 
     def take(self, now: float) -> bytes:
-        """Everything to write now (b"" for nothing); a frame resent too often fails the link."""
+        """Everything to write now (b"" for nothing); a frame resent too often, or a silent board, fails the link."""
         out = bytearray()
         while self.urgent:
             data = self.urgent.popleft()
             self.stats.frames_sent += data != b"\x00"
             out += data
-        if self.inbox.failure is None and not self.inbox.stopping:
+        inbox = self.inbox
+        if inbox.failure is None and not inbox.stopping:
             try:
                 frames = self.window.due()
             except LinkTimeout as exc:
-                self.inbox.fail(exc)
+                inbox.fail(exc)
                 frames = []
             for data in frames:
                 out += data
             self.stats.frames_sent += len(frames)
-            if self._stalled(now):
+            if self._outstanding() and now - inbox.last_frame_at >= self.silence:
+                inbox.fail(BoardSilent(self._silence_text(now)))
+            elif inbox.want_status or self._stalled(now) or (not out and self._keepalive_due(now)):
+                inbox.want_status = False
                 self.last_poll = now
                 self.stats.frames_sent += 1
                 out += encode(Status(), self.next_request_seq())
+        if out:
+            self.last_write = now
         self.stats.bytes_sent += len(out)
         return bytes(out)
 
     def wait_time(self, now: float) -> float:
         """How long the writer may sleep before take() can have something (unless woken)."""
+        waits = [self.poll_interval]
         deadline = self.window.deadline()
-        wait = self.poll_interval if deadline is None else min(self.poll_interval, deadline - now)
-        return max(0.001, wait)
+        if deadline is not None:
+            waits.append(deadline - now)
+        if self._outstanding():
+            waits += [self.last_write + KEEPALIVE - now, self.inbox.last_frame_at + self.silence - now]
+        if self._stall_possible():
+            waits.append(max(self.inbox.last_frame_at, self.last_poll) + STALL_POLL - now)
+        return max(0.001, min(waits))
+
+    def _outstanding(self) -> bool:
+        """Something the board owes an answer for: a frame unacknowledged, or a segment not yet finished."""
+        return self.inbox.queue_capacity is not None and (
+            self.window.in_flight > 0 or self.inbox.expected_done > self.inbox.done_total)
+
+    def _keepalive_due(self, now: float) -> bool:
+        return self._outstanding() and now - self.last_write >= KEEPALIVE
+
+    def _stall_possible(self) -> bool:
+        return self.inbox.queue_capacity is not None and self.window.stalled
 
     def _stalled(self, now: float) -> bool:
-        """The window closed with nothing awaiting an ACK, and no report for a while."""
-        return (self.inbox.queue_capacity is not None and self.window.stalled
-                and now - max(self.last_rx, self.last_poll) >= self.poll_interval)
+        """The window closed with nothing awaiting an ACK, and no report for a while (a lost SPACE ack)."""
+        return self._stall_possible() and now - max(self.inbox.last_frame_at, self.last_poll) >= STALL_POLL
+
+    def _silence_text(self, now: float) -> str:
+        inbox, window = self.inbox, self.window
+        return (f"the board has not answered for {now - inbox.last_frame_at:.1f} s (is it powered, connected, "
+                f"running?): the last frame it confirmed was seq {(window.base - 1) & 0xFF}; "
+                f"{inbox.done_total} segments done, {max(0, inbox.expected_done - inbox.done_total)} more accepted, "
+                f"{window.in_flight} frames unacknowledged")

@@ -15,12 +15,14 @@ from ..protocol import (
     Alarm,
     DecodeError,
     Decoder,
+    ErrorCode,
     ErrorReport,
     Event,
     Frame,
     InputCause,
     InputChange,
     Report,
+    State,
     StatusReport,
 )
 from ..protocol.constants import is_sequenced
@@ -57,15 +59,19 @@ class Inbox:
         self.counts: defaultdict[type, int] = defaultdict(int)
         self.input_changes: deque[InputChange] = deque(maxlen=256)  # the latest EVENT INPUT reports
         self.held_by_input = 0  # holds the firmware began itself (a PROBE's edge, the feed hold button)
+        self.last_frame_at = 0.0  # clock time of the last good frame received
+        self.want_status = False  # the writer sends a STATUS: something needs explaining
+        self.refused: ErrorReport | None = None  # BUSY or ALARM_ACTIVE for a frame of ours, until a status explains it
 
-    def receive(self, data: bytes) -> list[Report]:
-        """Decode and apply what the reader read; returns the reports that on_report callbacks want."""
+    def receive(self, data: bytes, now: float) -> list[Report]:
+        """Decode and apply what the reader read at `now`; returns the reports that on_report callbacks want."""
         self.stats.bytes_received += len(data)
         notify: list[Report] = []
         for item in self.decoder.feed(data):
             if isinstance(item, DecodeError):
                 self.stats.decode_errors += 1
                 continue
+            self.last_frame_at = now
             self.stats.frames_received += 1
             if self.apply(item):
                 notify.append(item.message)  # type: ignore[arg-type]
@@ -82,12 +88,13 @@ class Inbox:
         self.done_total = status.segments_done
         self.done16 = status.segments_done & 0xFFFF
         self.expected_done = status.segments_done + status.queue_fill
+        self.refused = None
 
     def apply(self, frame: Frame) -> bool:
         """Apply one report; True if on_report callbacks want it."""
         m = frame.message
         if isinstance(m, Ack):
-            self._on_ack(m)
+            self._on_ack(m, frame.seq)
             return m.reason == AckReason.SPACE
         if isinstance(m, ErrorReport):
             self._on_error(m)
@@ -112,7 +119,19 @@ class Inbox:
             self.done16 = m.segments_done & 0xFFFF
             if not self.stopping and self.queue_capacity is not None:  # repairs a lost SPACE ack
                 self.expected_done += self.window.on_status(m.next_seq, self.queue_capacity - m.queue_fill)
+                self._explain(m)
         return False
+
+    def _explain(self, status: StatusReport) -> None:
+        """A status while streaming: an alarm whose report was lost, or what a refusal was about."""
+        if self.failure is not None:
+            return
+        streaming = self.window.in_flight > 0 or self.expected_done > self.done_total or self.refused is not None
+        if status.state == State.ALARM and status.alarm is not None and streaming:
+            self.fail(AlarmError(Alarm(code=status.alarm, motion_ticks=status.motion_ticks, position=status.position)))
+        elif self.refused is not None and status.state != State.HOLDING:
+            self.fail(FirmwareError(self.refused))
+        # HOLDING without a HOLD from here: a stop the firmware began itself (an underrun); its alarm follows.
 
     def _held_by_input(self) -> None:
         """The firmware began a hold itself, at an input (a PROBE's edge, the feed hold button): what is queued
@@ -122,17 +141,17 @@ class Inbox:
         self.window.restart()
         self.held_by_input += 1
 
-    def _on_ack(self, ack: Ack) -> None:
+    def _on_ack(self, ack: Ack, seq: int) -> None:
         self.done_total += (ack.done - self.done16) & 0xFFFF
         self.done16 = ack.done
-        if ack.reason == AckReason.GAP:
+        if ack.reason in (AckReason.GAP, AckReason.PARKED):
             self.stats.gaps += 1
         elif ack.reason == AckReason.DUPLICATE:
             self.stats.duplicates += 1
         elif ack.reason == AckReason.QUEUE_FULL:
             self.stats.queue_full += 1
         if not self.stopping:
-            self.expected_done += self.window.on_ack(ack.next_seq, ack.free, ack.reason)
+            self.expected_done += self.window.on_ack(ack.next_seq, ack.free, ack.reason, seq)
 
     def _on_error(self, error: ErrorReport) -> None:
         self.stats.errors += 1
@@ -141,6 +160,11 @@ class Inbox:
             waiter.error = error
             return
         if self.window.holds(error.frame_seq) and is_sequenced(error.frame_type) and not self.stopping:
-            self.fail(FirmwareError(error))
+            if error.code in (ErrorCode.BUSY, ErrorCode.ALARM_ACTIVE):
+                # Usually a stop the firmware began (an underrun, a silent host): a status says which.
+                self.refused = self.refused or error
+                self.want_status = True
+            else:
+                self.fail(FirmwareError(error))
         # Framing errors (a frame damaged on the wire) are repaired by go-back-N; errors about
         # frames this link did not send (another writer on the line) are only counted.

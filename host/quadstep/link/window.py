@@ -28,8 +28,12 @@ from .stats import LinkStats
 Clock = Callable[[], float]
 
 
+MIN_RTO = 0.02  # s: the retransmission timeout never goes below this, however short the round trip
+GIVE_UP = 2.0  # s: a frame resent `retries` times is given up only once it has waited this long too
+
+
 class _Frame:
-    __slots__ = ("seq", "data", "is_segment", "transmissions", "pending")
+    __slots__ = ("seq", "data", "is_segment", "transmissions", "pending", "first_sent", "sent_at", "order", "parked")
 
     def __init__(self, seq: int, data: bytes, is_segment: bool) -> None:
         self.seq = seq
@@ -37,6 +41,10 @@ class _Frame:
         self.is_segment = is_segment  # takes a queue slot; counted as accepted when acknowledged
         self.transmissions = 0
         self.pending = True
+        self.first_sent = 0.0
+        self.sent_at = 0.0
+        self.order = 0  # the window's write count at its last write: the line keeps this order
+        self.parked = False  # the firmware keeps it until the frames before it arrive (ACK PARKED)
 
 
 class SendWindow:
@@ -47,7 +55,10 @@ class SendWindow:
         max_in_flight: int = MAX_IN_FLIGHT,
     ) -> None:
         self.clock = clock
-        self.rto = rto
+        self.max_rto = rto  # the timeout before any round trip is measured, and its ceiling
+        self.rto = rto  # now: from the measured round trips (RFC 6298), doubled by each timeout
+        self._srtt: float | None = None
+        self._rttvar = 0.0
         self.retries = retries
         self.stats = stats if stats is not None else LinkStats()
         self.max_in_flight = max_in_flight
@@ -59,6 +70,7 @@ class SendWindow:
         self._written = 0  # frames written and not yet acknowledged
         self._last_progress = 0.0  # last ACK that advanced, or first write of the frame at base
         self._gap_handled_for: int | None = None
+        self._writes = 0
 
     # --- the firmware's state -----------------------------------------------------------------
 
@@ -121,14 +133,18 @@ class SendWindow:
 
     # --- acknowledgements -------------------------------------------------------------------------
 
-    def on_ack(self, next_seq: int, free: int, reason: AckReason) -> int:
-        """Apply an ACK; returns the segment frames it acknowledges as accepted."""
+    def on_ack(self, next_seq: int, free: int, reason: AckReason, seq: int | None = None) -> int:
+        """Apply an ACK (of frame `seq`); returns the segment frames it acknowledges as accepted."""
         frames = self._frames
         advance = (next_seq - self.base) & 0xFF
         if advance > len(frames):
             return 0  # about frames from before a restart
+        if reason == AckReason.PARKED and seq is not None:
+            self._parked(seq)
         accepted = 0
         last = advance - 1
+        if advance and frames[last].transmissions == 1 and not frames[last].pending:
+            self._sample_rtt(self.clock() - frames[last].sent_at)  # Karn: never from a resent frame
         for i in range(advance):
             frame = frames[i]
             if not frame.pending:
@@ -147,7 +163,7 @@ class SendWindow:
             self._gap_handled_for = None
         if reason in (AckReason.GAP, AckReason.QUEUE_FULL) and self._gap_handled_for != next_seq:
             self._gap_handled_for = next_seq
-            self._go_back()
+            self._go_back(parked_too=False)
         return accepted
 
     # --- writing ---------------------------------------------------------------------------------
@@ -158,7 +174,8 @@ class SendWindow:
         if self._written and now >= self._last_progress + self.rto:
             self.stats.timeouts += 1
             self._gap_handled_for = None
-            self._go_back()
+            self.rto = min(self.max_rto, 2 * self.rto)  # back off until a round trip is measured again
+            self._go_back(parked_too=True)  # the firmware may have let parked frames go
         frames = self._frames
         stop = min(len(frames), self.max_in_flight)
         if self._first_pending >= stop:
@@ -172,10 +189,16 @@ class SendWindow:
             if i >= room and not frame.transmissions:
                 stop = i
                 break
-            if frame.transmissions > self.retries:
-                raise LinkTimeout(f"frame seq {frame.seq} unacknowledged after {self.retries} resends")
+            if frame.transmissions > self.retries and now - frame.first_sent >= GIVE_UP:
+                raise LinkTimeout(f"frame seq {frame.seq} unacknowledged after {frame.transmissions - 1} resends "
+                                  f"over {now - frame.first_sent:.1f} s")
             if frame.transmissions:
                 self.stats.retransmits += 1
+            else:
+                frame.first_sent = now
+            frame.sent_at = now
+            self._writes += 1
+            frame.order = self._writes
             frame.transmissions += 1
             frame.pending = False
             self._written += 1
@@ -193,10 +216,33 @@ class SendWindow:
 
     # --- internals --------------------------------------------------------------------------------
 
-    def _go_back(self) -> None:
-        """Go-back-N: every unacknowledged frame is written again."""
-        for i in range(len(self._frames)):
-            self._mark_pending(i)
+    def _sample_rtt(self, rtt: float) -> None:
+        """RFC 6298: smoothed round trip and its variation; the timeout four variations above."""
+        if self._srtt is None:
+            self._srtt, self._rttvar = rtt, rtt / 2
+        else:
+            self._rttvar = 0.75 * self._rttvar + 0.25 * abs(self._srtt - rtt)
+            self._srtt = 0.875 * self._srtt + 0.125 * rtt
+        self.rto = min(self.max_rto, max(MIN_RTO, self._srtt + 4 * self._rttvar))
+
+    def _go_back(self, parked_too: bool) -> None:
+        """Go-back-N: every unacknowledged frame is written again (but those the firmware keeps)."""
+        for i, frame in enumerate(self._frames):
+            if parked_too or not frame.parked:
+                self._mark_pending(i)
+
+    def _parked(self, seq: int) -> None:
+        """Selective repeat: frame `seq` waits in the firmware for the ones before it. Those written before
+        it and neither acknowledged nor kept were lost on the way (the line keeps the order): resend them."""
+        index = (seq - self.base) & 0xFF
+        if index >= len(self._frames):
+            return
+        kept = self._frames[index]
+        kept.parked = True
+        for i in range(index):
+            frame = self._frames[i]
+            if not frame.parked and not frame.pending and frame.order < kept.order:
+                self._mark_pending(i)
 
     def _mark_pending(self, index: int) -> None:
         frame = self._frames[index]

@@ -26,7 +26,8 @@ from ..link import Link, LinkError, LinkStats, hold
 from ..planner.plan import Plan
 from ..planner.segments import SegmentArrays
 from ..port_process import PortProcess
-from ..protocol import Alarm, AlarmCode, Capability, IdentifyReply, Report, Segment, SetPosition, State, StatusReport
+from ..protocol import (Alarm, AlarmCode, Capability, IdentifyReply, Report, Segment, SetPosition, State, StatusReport,
+                        Watchdog)
 from .agreement import check_agreement
 from .errors import MachineError
 from .inputs import config_message
@@ -94,6 +95,8 @@ class Machine:
         if identity.capabilities & Capability.LIMIT_INPUTS and link.status().state in (State.IDLE, State.ALARM):
             link.send(config_message(self.config, identity.axis_count))
             link.drain(timeout=5)
+        if identity.capabilities & Capability.CONTROLLED_STOPS:  # the link keeps it fed while anything moves
+            link.request(Watchdog(timeout_ms=round(self.config.host_timeout * 1000)), StatusReport)
         self.sync()
 
     # --- what the machine is and where it stands ----------------------------------------------

@@ -75,6 +75,7 @@ class AckReason(IntEnum):
     QUEUE_FULL = 3
     REJECTED = 4
     SPACE = 5
+    PARKED = 6  # after a gap: kept, to run once the frames before it arrive (selective repeat)
 
 
 class ErrorCode(IntEnum):

@@ -79,15 +79,73 @@ static void test_in_order_segments_are_accepted_and_counted_free(void)
     TEST_ASSERT_EQUAL_INT(QS_STATE_RUNNING, status().state);
 }
 
+/* Selective repeat: segments after a lost one wait, parsed, in the slots
+ * they will take (ACK PARKED); when it comes they all run in order, each
+ * once; one too far ahead for the queue's room is dropped (GAP); a
+ * sequenced frame without a slot in between sends them all back (GAP
+ * again when resent, then they run); STOP forgets them. */
+static void test_parked_segments_run_in_order_once_the_lost_one_arrives(void)
+{
+    static const tp_axis slow = {100, 100, 0}, slowing = {100, 0, 0};
+    qs_status st;
+    uint8_t seq;
+
+    qs_core_configure(&core, 4, 6, QS_TICK_HZ);
+    tp_send_segment(&core, 0, 100, 0x1, 0, &slow);
+    only_ack();
+    for (seq = 2; seq <= 5; seq++) {
+        tp_send_segment(&core, seq, 100, 0x1, 0, seq == 5 ? &slowing : &slow);
+        TEST_ASSERT_EQUAL_INT(QS_ACK_PARKED, only_ack().reason);
+    }
+    tp_send_segment(&core, 6, 100, 0x1, 0, &slow); /* 5 ahead: no room (5 slots free) */
+    TEST_ASSERT_EQUAL_INT(QS_ACK_GAP, only_ack().reason);
+    tp_send_segment(&core, 3, 100, 0x1, 0, &slow); /* parked again: the same */
+    TEST_ASSERT_EQUAL_INT(QS_ACK_PARKED, only_ack().reason);
+    TEST_ASSERT_EQUAL_INT(1, status().queue_fill);
+    tp_send_segment(&core, 1, 100, 0x1, 0, &slow);
+    TEST_ASSERT_EQUAL_INT(5, sent()); /* 1, then 2..5 */
+    for (seq = 0; seq < 5; seq++) {
+        qs_ack a = tp_ack(&reports[seq]);
+        TEST_ASSERT_EQUAL_INT(QS_ACK_ACCEPTED, a.reason);
+        TEST_ASSERT_EQUAL_UINT8(1 + seq, reports[seq].seq);
+        TEST_ASSERT_EQUAL_INT(2 + seq, a.next_seq);
+    }
+    st = status();
+    TEST_ASSERT_EQUAL_INT(6, st.queue_fill);
+    TEST_ASSERT_EQUAL_INT(6, st.next_seq);
+    tp_ticks(&core, 600);
+    qs_core_poll(&core);
+    sent();
+    TEST_ASSERT_EQUAL_UINT32(6, status().segments_done);
+    /* A SET_POSITION in between takes no slot: what waited behind it goes. */
+    tp_send_segment(&core, 8, 100, 0x1, 0, &to_rest);
+    TEST_ASSERT_EQUAL_INT(QS_ACK_PARKED, only_ack().reason);
+    {
+        uint8_t body[] = {QS_TYPE_SET_POSITION, 6, 0x00};
+        tp_send(&core, body, sizeof body);
+        TEST_ASSERT_EQUAL_INT(QS_ACK_ACCEPTED, only_ack().reason);
+    }
+    tp_send_segment(&core, 7, 100, 0x1, 0, &to_rest);
+    TEST_ASSERT_EQUAL_INT(QS_ACK_ACCEPTED, only_ack().reason); /* and nothing else runs */
+    TEST_ASSERT_EQUAL_INT(8, status().next_seq);
+    tp_send_segment(&core, 9, 100, 0x1, 0, &to_rest);
+    TEST_ASSERT_EQUAL_INT(QS_ACK_PARKED, only_ack().reason);
+    tp_send_simple(&core, QS_TYPE_STOP, 8);
+    sent();
+    tp_send_segment(&core, 8, 100, 0x1, 0, &to_rest);
+    TEST_ASSERT_EQUAL_INT(1, sent()); /* 9 was forgotten by the STOP */
+    TEST_ASSERT_EQUAL_INT(9, status().next_seq);
+}
+
 static void test_a_gap_is_refused_and_a_duplicate_never_runs_twice(void)
 {
     qs_ack a;
     tp_send_segment(&core, 0, 10, 0x1, 0, &to_rest);
     only_ack();
-    /* seq 2 while 1 is expected: frame 1 was lost. */
+    /* seq 2 while 1 is expected: frame 1 was lost; 2 waits for it. */
     tp_send_segment(&core, 2, 10, 0x1, 0, &to_rest);
     a = only_ack();
-    TEST_ASSERT_EQUAL_INT(QS_ACK_GAP, a.reason);
+    TEST_ASSERT_EQUAL_INT(QS_ACK_PARKED, a.reason);
     TEST_ASSERT_EQUAL_INT(1, a.next_seq);
     TEST_ASSERT_EQUAL_UINT8(2, reports[0].seq);
     /* seq 0 again: its ACK was lost and the host resent it. */
@@ -481,6 +539,7 @@ int main(void)
     RUN_TEST(test_identify_reports_what_the_firmware_is);
     RUN_TEST(test_in_order_segments_are_accepted_and_counted_free);
     RUN_TEST(test_a_gap_is_refused_and_a_duplicate_never_runs_twice);
+    RUN_TEST(test_parked_segments_run_in_order_once_the_lost_one_arrives);
     RUN_TEST(test_queue_full_keeps_the_seq_and_space_reports_free_slots);
     RUN_TEST(test_one_space_ack_covers_segments_finished_together);
     RUN_TEST(test_stop_halts_flushes_and_sets_next_seq);

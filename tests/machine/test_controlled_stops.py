@@ -1,0 +1,95 @@
+"""Every fault at full speed ends in a controlled stop with the position known: the host killed mid-job (the
+firmware's watchdog), and the queue run dry (an underrun). Each stop is checked against the trace: every step
+after the stop began is the one a hold at the configured decelerations makes (engine_model.predict_hold), so the
+deceleration never exceeds the configured one; and the position the board reports at reconnect is exact."""
+
+from __future__ import annotations
+
+import os
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+from host_helpers import read_trace
+
+from quadstep.config import load_config
+from quadstep.engine_model import predict, predict_hold, predict_underrun
+from quadstep.job import load_job
+from quadstep.link import Link
+from quadstep.machine import Machine
+from quadstep.machine.units import hold_decels
+from quadstep.protocol import AlarmCode, HoldDone, State
+
+REPO = Path(__file__).resolve().parents[2]
+ROUTER = REPO / "examples" / "router-uno.toml"
+CONFIG = load_config(ROUTER)
+FAST = "G21 G90\nG0 X250 Y180\nG0 X0 Y0\n"  # rapids: seconds at full speed
+
+
+def hold_ticks(events: Path) -> list[int]:
+    return [int(line.split(",")[1]) for line in events.read_text().splitlines()[1:] if line.startswith("hold,")]
+
+
+def test_the_host_killed_at_full_speed_leaves_a_controlled_stop_and_an_exact_position(start_emulator,
+                                                                                       tmp_path: Path) -> None:
+    job = tmp_path / "fast.gcode"
+    job.write_text(FAST)
+    trace, events = tmp_path / "trace.csv", tmp_path / "events.csv"
+    emu = start_emulator(trace=trace, axes=3, tick_hz=CONFIG.tick_hz,
+                         extra_args=("--events", str(events)))
+    cli = subprocess.Popen([sys.executable, "-m", "quadstep.cli", "run", str(job), "--config", str(ROUTER),
+                            "--port", emu.url], stdin=subprocess.DEVNULL, stdout=subprocess.PIPE,
+                           stderr=subprocess.DEVNULL)
+    try:
+        assert cli.stdout is not None
+        assert "planned" in cli.stdout.readline().decode()  # printed as the stream starts
+        time.sleep(1.0)  # well into the first rapid
+        assert cli.poll() is None
+    finally:
+        os.kill(cli.pid, signal.SIGKILL)  # at full speed, without a word to the board
+        cli.wait()
+    time.sleep(1.5)  # the watchdog (0.5 s) and the stop
+    with Link.open(emu.url) as link:
+        status = link.status()
+        assert status.state == State.ALARM and status.alarm == AlarmCode.HOST_LOST
+        at_rest = list(status.position[:3])
+        link.stop()
+    emu.stop()
+    plan = load_job(job, CONFIG, (0, 0, 0)).plan
+    (hold_tick,) = hold_ticks(events)
+    stop = predict_hold(plan.segments.segments(), hold_tick, hold_decels(CONFIG), axis_count=3)
+    assert stop.positions == at_rest
+    moved = predict(plan.segments.segments(), axis_count=3).steps
+    expected = np.concatenate([moved[moved[:, 0] <= hold_tick], stop.steps])
+    steps = read_trace(trace)
+    assert np.array_equal(steps, expected)
+    assert len(stop.steps) > 100  # it was moving fast: a real deceleration, not a stop at speed
+    assert status.motion_ticks == stop.motion_ticks
+
+
+def test_an_underrun_at_full_speed_brakes_at_the_configured_deceleration(start_emulator, tmp_path: Path) -> None:
+    """The stream stops halfway through a rapid (the host stops sending): the firmware brakes from the last
+    segment's end at the machine's decelerations, then ALARM UNDERRUN with the exact rest position."""
+    job = tmp_path / "fast.gcode"
+    job.write_text(FAST)
+    trace = tmp_path / "trace.csv"
+    emu = start_emulator(trace=trace, axes=3, tick_hz=CONFIG.tick_hz)
+    plan = load_job(job, CONFIG, (0, 0, 0)).plan
+    segments = list(plan.segments.segments())
+    ticks = np.cumsum([s.n for s in segments])
+    half = int(np.searchsorted(ticks, ticks[-1] // 4))  # mid-rapid, at full speed
+    with Link.open(emu.url) as link:
+        machine = Machine(link, CONFIG)
+        end = machine.send_segments(segments[:half]).wait()
+        done = link.last_report(HoldDone)
+    assert end is not None and end.ended_by == "error" and "UNDERRUN" in (end.error or "")
+    emu.stop()
+    stop = predict_underrun(segments[:half], hold_decels(CONFIG), axis_count=3)
+    assert done is not None and done.hold_tick == ticks[half - 1] and list(done.position[:3]) == stop.positions
+    assert list(end.position) == stop.positions == list(machine.position)
+    expected = np.concatenate([predict(segments[:half], axis_count=3).steps, stop.steps])
+    assert np.array_equal(read_trace(trace), expected)
+    assert len(stop.steps) > 100
