@@ -205,7 +205,7 @@ def describe_validation_error(error: ValidationError) -> list[str]:
     return lines
 
 
-def validate(model: type[Model], data: Any, source: str, error: type[Exception]) -> Model:
+def validate(model: type[Model], data: Any, source: str, error: type[Exception], strict: bool = True) -> Model:
     """`data` (as a JSON, YAML or TOML parser gives it) as a `model`, strictly: a string or a boolean is never
     taken for a number, nor a number for a string or a boolean. Raises `error` with one `source: key = value: rule`
     line per problem, or one line for what no such file can hold (a date, nesting hundreds of levels deep)."""
@@ -216,7 +216,7 @@ def validate(model: type[Model], data: Any, source: str, error: type[Exception])
     except RecursionError:
         raise error(f"{source}: nested too deep") from None
     try:
-        return model.model_validate_json(text, strict=True)
+        return model.model_validate_json(text, strict=strict)
     except ValidationError as exc:
         raise error("\n".join(f"{source}: {line}" for line in describe_validation_error(exc))) from None
 

@@ -27,12 +27,18 @@ class SegmentsFile(BaseModel):
 
     @model_validator(mode="before")
     @classmethod
-    def _no_boolean_directions(cls, data: Any) -> Any:
-        """`direction` is 1 or -1: true (which equals 1) is not a direction."""
-        for i, seg in enumerate(data.get("segments", []) if isinstance(data, dict) else []):
-            for j, move in enumerate(seg.get("axes", []) if isinstance(seg, dict) else []):
-                if isinstance(move, dict) and isinstance(move.get("direction"), bool):
-                    raise ValueError(f"segments[{i}].axes[{j}].direction = {move['direction']}: must be 1 or -1")
+    def _whole_numbers_only(cls, data: Any) -> Any:
+        """Every value of the file is a whole number: never a string, a boolean or a fraction taken for one."""
+        def check(value: Any, where: str) -> None:
+            if isinstance(value, dict):
+                for key, item in value.items():
+                    check(item, f"{where}.{key}" if where else str(key))
+            elif isinstance(value, list):
+                for i, item in enumerate(value):
+                    check(item, f"{where}[{i}]")
+            elif isinstance(value, bool) or not isinstance(value, int):
+                raise ValueError(f"{where} = {value!r}: must be a whole number")
+        check(data, "")
         return data
 
 
@@ -51,7 +57,7 @@ def load(path: Path) -> SegmentsFile:
         data = parse_nested(json.loads, text, path, CliError)
     except json.JSONDecodeError as exc:
         raise CliError(f"{path}: line {exc.lineno} column {exc.colno}: {exc.msg}") from None
-    job = validate(SegmentsFile, data, str(path), CliError)
+    job = validate(SegmentsFile, data, str(path), CliError, strict=False)  # whole numbers only: _whole_numbers_only
     last = job.segments[-1]
     moving = [a.axis for a in last.axes if a.vn > 0]
     if moving:
