@@ -24,7 +24,7 @@ MAX_FRAME = 64
 
 TYPES = {
     "IDENTIFY": 0x01, "STATUS": 0x02, "STOP": 0x03, "HOLD": 0x04, "INPUTS": 0x06, "WATCHDOG": 0x07,
-    "SEGMENT": 0x10, "SET_POSITION": 0x11, "CUBIC_SEGMENT": 0x12, "PROBE": 0x15, "CONFIG": 0x16,
+    "SEGMENT": 0x10, "SET_POSITION": 0x11, "CUBIC_SEGMENT": 0x12, "PROBE": 0x15, "CONFIG": 0x16, "OUTPUTS": 0x17,
     "ACK": 0x80, "IDENTIFY_REPLY": 0x81, "STATUS_REPORT": 0x82, "ERROR": 0x83, "ALARM": 0x84, "EVENT": 0x85,
     "INPUT_STATUS": 0x86,
 }
@@ -36,7 +36,7 @@ ERROR_CODES = {
 }
 FIELDS = {"N": 1, "AXES": 2, "DIRECTION": 3, "V0": 4, "VN": 5, "RESIDUAL": 6, "DECEL": 7, "INPUT": 8, "LEVEL": 9,
           "INPUTS": 10, "HARD_LIMITS": 11,
-          "SPEED": 12, "ACCEL": 13, "POSITION": 14, "TIMEOUT": 15}
+          "SPEED": 12, "ACCEL": 13, "POSITION": 14, "TIMEOUT": 15, "OUTPUTS": 16, "REFERENCE": 17}
 POSITION_MAX = 2**31 - 2**24  # the firmware keeps every position within ±this (§5.2)
 WATCHDOG_MAX_MS = 4000
 ALARMS = {"UNDERRUN": 1, "REJECTED_SEGMENT": 2, "HARD_LIMIT": 3, "HOST_LOST": 4, "E_STOP": 5}
@@ -132,6 +132,8 @@ def payload(msg: dict) -> bytes:
     if t == "CONFIG":
         return struct.pack("<HHB12B4H", msg["invert"], msg["enabled"], msg["hard_limits"], *msg["debounce"],
                            *msg["hold_decel"])
+    if t == "OUTPUTS":
+        return struct.pack("<BHBH", msg["outputs"], msg["power"], msg["axis"], msg["speed"])
     if t == "INPUT_STATUS":
         armed = 0xFF if msg["armed"] is None else INPUTS[msg["armed"]]
         return struct.pack("<HHHHHBBBH", msg["present"], msg["active"], msg["raw"], msg["invert"], msg["enabled"],
@@ -254,6 +256,16 @@ def config(seq: int, invert: int, enabled: int, hard_limits: int, debounce: list
             "debounce": debounce, "hold_decel": hold_decel}
 
 
+def outputs(seq: int, bits: int, power: int, axis: int = 0, speed: int = 0) -> dict:
+    return {"type": "OUTPUTS", "seq": seq, "outputs": bits, "power": power, "axis": axis, "speed": speed}
+
+
+def bad_outputs(name: str, bits: int, power: int, axis: int, speed: int, field: str, error_axis: int | None,
+                axis_count: int = 4) -> None:
+    frame = wire(bytes([TYPES["OUTPUTS"], 6]) + struct.pack("<BHBH", bits, power, axis, speed))
+    bad(name, TO_FW, frame, "BAD_FIELD", field, error_axis, axis_count)
+
+
 def bad_probe(name: str, input_number: int, level: int, decel: list[int], field: str, axis: int | None,
               axis_count: int = 4) -> None:
     frame = wire(bytes([TYPES["PROBE"], 3]) + struct.pack("<BB4H", input_number, level, *decel))
@@ -290,6 +302,13 @@ def build() -> list[dict]:
     valid("config, every input inverted and enabled", TO_FW,
           config(9, 0x0FFF, 0x0FFF, 1, [0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 255], [1, 8191, 256, 4096]), 4)
     valid("config, hard limits off, 3 axes", TO_FW, config(0, 0x0100, 0x0F07, 0, [5] * 12, [64, 64, 64, 0]), 3)
+
+    # OUTPUTS: spindle (or laser) on, reversed, a power following an axis's speed, coolant; everything off.
+    valid("outputs, everything off", TO_FW, outputs(0, 0, 0), 4)
+    valid("outputs, spindle on at full power, flood and mist", TO_FW, outputs(1, 0x31, 0xFFFF), 4)
+    valid("outputs, spindle reversed at a third", TO_FW, outputs(0xFF, 0x03, 21845), 3)
+    valid("outputs, laser following axis 0 up to full speed", TO_FW, outputs(2, 0x05, 40000, 0, D), 3)
+    valid("outputs, laser following axis 2, zero bytes", TO_FW, outputs(3, 0x05, 0x0100, 2, 0x0100), 3)
 
     # SEGMENT: 0..4 axes, extreme values. A firmware with fewer axes rejects the
     # ones using axis 3 (and 2), so these assume 4 axes (the emulator's default).
@@ -451,7 +470,7 @@ def build() -> list[dict]:
     bad("64 decoded bytes pass framing, then bad length", TO_FW, wire(longest), "BAD_LENGTH")
 
     # Unknown types, immediate and sequenced ranges; reports sent the wrong way.
-    for t in (0x00, 0x05, 0x08, 0x0F, 0x13, 0x14, 0x17, 0x3F, 0x40, 0x7F, 0x80, 0x82, 0x85, 0x86):
+    for t in (0x00, 0x05, 0x08, 0x0F, 0x13, 0x14, 0x18, 0x3F, 0x40, 0x7F, 0x80, 0x82, 0x85, 0x86):
         bad(f"unknown type 0x{t:02x} to firmware", TO_FW, wire(bytes([t, 3])), "UNKNOWN_TYPE")
     for t in (0x01, 0x04, 0x06, 0x07, 0x10, 0x15, 0x87, 0xFF):
         bad(f"unknown type 0x{t:02x} to host", TO_HOST, wire(bytes([t, 3, 0, 0, 0, 0, 0])), "UNKNOWN_TYPE")
@@ -493,6 +512,8 @@ def build() -> list[dict]:
     bad("probe 11 bytes", TO_FW, wire(bytes([0x15, 0]) + bytes(11)), "BAD_LENGTH")
     bad("config 24 bytes", TO_FW, wire(bytes([0x16, 0]) + bytes(24)), "BAD_LENGTH")
     bad("config 26 bytes", TO_FW, wire(bytes([0x16, 0]) + bytes(26)), "BAD_LENGTH")
+    bad("outputs 5 bytes", TO_FW, wire(bytes([0x17, 0]) + bytes(5)), "BAD_LENGTH")
+    bad("outputs 7 bytes", TO_FW, wire(bytes([0x17, 0]) + bytes(7)), "BAD_LENGTH")
     bad("input status 14 bytes", TO_HOST, wire(bytes([0x86, 0]) + bytes(14)), "BAD_LENGTH")
     bad("event input without positions", TO_HOST, wire(bytes([0x85, 0xFF, 2]) + bytes(9)), "BAD_LENGTH")
     bad("event probe missed, partial position", TO_HOST, wire(bytes([0x85, 0xFF, 3]) + bytes(4 + 6)), "BAD_LENGTH")
@@ -512,6 +533,15 @@ def build() -> list[dict]:
     bad_config("config hold decel 8192 on axis 0", 0, 0, 0, [8192, 1, 1, 1], "DECEL", 0)
     bad_config("config hold decel for axis 2 on a 2-axis firmware", 0, 0, 1, [1, 1, 1, 0], "DECEL", 2,
                axis_count=2)
+
+    # OUTPUTS content: bits an output has; a power following a speed names an axis the firmware has and a
+    # speed of 1 ... 4096; a power that follows nothing names neither.
+    bad_outputs("outputs bit 3", 0x08, 0, 0, 0, "OUTPUTS", None)
+    bad_outputs("outputs bit 7, checked before the reference", 0x81, 0, 9, 9, "OUTPUTS", None)
+    bad_outputs("outputs following axis 3 on a 3-axis firmware", 0x05, 100, 3, 100, "REFERENCE", 3, axis_count=3)
+    bad_outputs("outputs following a speed of 0", 0x05, 100, 1, 0, "REFERENCE", 1)
+    bad_outputs("outputs following a speed of 4097", 0x04, 100, 0, 4097, "REFERENCE", 0)
+    bad_outputs("outputs with a reference but no following", 0x01, 100, 0, 10, "REFERENCE", None)
 
     # SEGMENT content: every field id, in validation order. axis_count is the
     # firmware's axis count the outcome assumes.

@@ -44,6 +44,18 @@
 #define QS_CONTROL_PCMSK PCMSK1
 #define QS_CONTROL_PCIF PCIF1
 #define QS_INPUTS_PRESENT 0x0F07u /* limits 0-2, probe, abort, feed hold, cycle start */
+/* Outputs (outputs.c), as on GRBL's shield: spindle or laser PWM on D11 =
+ * PB3 (Timer2's OC2A), spindle direction D13 = PB5, coolant flood A3 = PC3,
+ * mist A4 = PC4. */
+#define QS_PWM_DDR DDRB
+#define QS_PWM_BIT PB3
+#define QS_SPINDLE_DIR_PORT PORTB
+#define QS_SPINDLE_DIR_DDR DDRB
+#define QS_SPINDLE_DIR_BIT PB5
+#define QS_COOLANT_PORT PORTC
+#define QS_COOLANT_DDR DDRC
+#define QS_FLOOD_BIT PC3
+#define QS_MIST_BIT PC4
 
 #elif QS_BOARD == 2
 /* Arduino Mega 2560: all motion pins on PORTA (the double header's D22..D29):
@@ -79,6 +91,17 @@
 #define QS_CONTROL_PCMSK PCMSK0
 #define QS_CONTROL_PCIF PCIF0
 #define QS_INPUTS_PRESENT 0x0FFFu
+/* Outputs (outputs.c): spindle or laser PWM on D10 = PB4 (Timer2's OC2A),
+ * spindle direction D13 = PB7, coolant flood D8 = PH5, mist D9 = PH6. */
+#define QS_PWM_DDR DDRB
+#define QS_PWM_BIT PB4
+#define QS_SPINDLE_DIR_PORT PORTB
+#define QS_SPINDLE_DIR_DDR DDRB
+#define QS_SPINDLE_DIR_BIT PB7
+#define QS_COOLANT_PORT PORTH
+#define QS_COOLANT_DDR DDRH
+#define QS_FLOOD_BIT PH5
+#define QS_MIST_BIT PH6
 
 #else
 #error "QS_BOARD must be 1 (ATmega328P) or 2 (ATmega2560) for the AVR build"

@@ -6,6 +6,7 @@
 #include "board.h"
 #include "firmware.h"
 #include "inputs_tick.h"
+#include "outputs.h"
 #include "pins.h"
 #include "step_timer.h"
 #include "uart.h"
@@ -50,6 +51,7 @@ static void receive(void)
 int main(void)
 {
     pins_init();
+    outputs_init();
     qs_core_init(&core);
     qs_inputs_init(&core.inputs, QS_INPUTS_PRESENT);
     inputs_changed(); /* the power-up state: switches already closed are a state, not an edge */
@@ -62,6 +64,7 @@ int main(void)
     for (;;) {
         receive();
         qs_core_poll(&core); /* a few compares unless the tick left work */
+        outputs_poll();      /* a flag test, but once per PWM period */
 
         /* Sleep until the next interrupt (a tick or a byte). Interrupts stay
          * off between the check and the sleep so a byte cannot slip in

@@ -58,7 +58,7 @@ static void send_identify_reply(qs_core *c, uint8_t seq)
     id.tick_hz = c->tick_hz;
     id.capabilities = QS_CAP_QUADRATIC_SEGMENTS | QS_CAP_SET_POSITION | QS_CAP_HOLD | QS_CAP_LIMIT_INPUTS
                       | QS_CAP_PROBE_INPUT | QS_CAP_HOMING | QS_CAP_CONTROL_INPUTS
-                      | QS_CAP_CUBIC_SEGMENTS | QS_CAP_CONTROLLED_STOPS;
+                      | QS_CAP_CUBIC_SEGMENTS | QS_CAP_CONTROLLED_STOPS | QS_CAP_OUTPUTS;
     id.next_seq = c->next_seq;
     send_body(c, qs_msg_encode_identify_reply(tx_body(c), seq, &id));
 }
@@ -117,6 +117,7 @@ static void send_alarm(qs_core *c)
     for (axis = 0; axis < c->axis_count; axis++)
         a.position[axis] = v.position[axis];
     c->alarm_announced = 1;
+    qs_outputs_off(&c->outputs); /* an alarm leaves every output off until the host sets them again */
     send_body(c, qs_msg_encode_alarm(tx_body(c), QS_SEQ_UNSOLICITED, &a));
 }
 
@@ -239,6 +240,7 @@ static void on_segment(qs_core *c, const qs_host_msg *m)
     qs_segment_prepare(slot, &m->as.segment);
     qs_cubic_follow_quadratic(&e->chain, slot, &m->as.segment);
     qs_engine_note_prepared(e, slot);
+    slot->outputs = c->outputs.latest;
     queued(c, m);
 }
 
@@ -262,6 +264,7 @@ static void on_cubic_segment(qs_core *c, const qs_host_msg *m)
         return;
     }
     qs_engine_note_prepared(e, qs_queue_back(&e->queue));
+    qs_queue_back(&e->queue)->outputs = c->outputs.latest;
     queued(c, m);
 }
 
@@ -283,6 +286,27 @@ static void on_set_position(qs_core *c, const qs_host_msg *m)
     send_ack(c, m->seq, QS_ACK_ACCEPTED);
 }
 
+/* OUTPUTS: refused, like a segment, in ALARM and while holding; else the
+ * setting the segments queued from now on carry, in effect at once at rest
+ * (QUEUE_FULL while every setting entry is carried by a queued segment). */
+static void on_outputs(qs_core *c, const qs_host_msg *m)
+{
+    qs_fault f;
+
+    if (qs_msg_check_outputs(&m->as.outputs, c->axis_count, &f) != QS_ERR_NONE) {
+        reject(c, m, &f);
+        return;
+    }
+    if (!may_queue(c, m))
+        return;
+    if (!qs_outputs_take(&c->outputs, &c->engine, &m->as.outputs)) {
+        send_ack(c, m->seq, QS_ACK_QUEUE_FULL);
+        return;
+    }
+    c->next_seq++;
+    send_ack(c, m->seq, QS_ACK_ACCEPTED);
+}
+
 static void on_stop(qs_core *c, const qs_host_msg *m)
 {
     /* An abort input still active keeps the alarm: nothing moves until it
@@ -293,6 +317,7 @@ static void on_stop(qs_core *c, const qs_host_msg *m)
         qs_engine_halt(&c->engine, QS_STATE_IDLE, QS_ALARM_NONE);
     c->inputs.hold_request = 0;
     c->alarm_announced = 0;
+    qs_outputs_off(&c->outputs);
     c->next_seq = m->seq;
     c->parked = 0;
     send_status_report(c, m->seq, 1);
@@ -574,6 +599,11 @@ static QS_NOINLINE void on_frame(qs_core *c, const uint8_t *body, uint8_t len)
         if (code == QS_ERR_NONE && in_sequence(c, &m))
             on_config(c, &m);
         break;
+    case QS_TYPE_OUTPUTS:
+        code = qs_msg_parse_outputs(p, plen, &m.as.outputs);
+        if (code == QS_ERR_NONE && in_sequence(c, &m))
+            on_outputs(c, &m);
+        break;
     case QS_TYPE_SEGMENT:
         code = qs_msg_parse_segment(p, plen, &m.as.segment);
         if (code == QS_ERR_NONE && in_sequence(c, &m))
@@ -623,6 +653,7 @@ void qs_core_init(qs_core *c)
     c->parked = 0;
     c->parked_seq = 0;
     c->parked_head = 0;
+    qs_outputs_off(&c->outputs);
 }
 
 uint8_t qs_core_configure(qs_core *c, uint8_t axis_count, uint8_t queue_capacity, uint32_t tick_hz)

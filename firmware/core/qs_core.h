@@ -12,6 +12,7 @@
 #include "qs_inputs.h"
 #include "qs_messages.h"
 #include "qs_port.h"
+#include "qs_outputs.h"
 
 typedef struct {
     qs_engine engine;
@@ -30,6 +31,7 @@ typedef struct {
     uint8_t parked_head;
     uint16_t watchdog;        /* WATCHDOG: silence that stops motion, in port clock counts; 0 off */
     uint16_t heard;           /* port clock at the last good frame */
+    qs_outputs outputs;       /* the OUTPUTS settings: segments queued from now on carry the latest */
     uint8_t tx[QS_MAX_WIRE];  /* the report being sent, built and sealed in place */
 } qs_core;
 
@@ -101,5 +103,12 @@ static QS_ALWAYS_INLINE void qs_core_poll(qs_core *c)
 
 /* A consistent snapshot of what STATUS_REPORT carries. */
 void qs_core_status(qs_core *c, qs_status *st);
+
+/* The spindle, laser and coolant outputs as the pins should show them now
+ * (qs_outputs.h); main loop, at the target's own pace. */
+static inline void qs_core_outputs(qs_core *c, qs_output_level *out)
+{
+    qs_outputs_level(&c->engine, &c->outputs, out);
+}
 
 #endif

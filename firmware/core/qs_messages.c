@@ -160,6 +160,17 @@ uint8_t qs_msg_parse_config(const uint8_t *p, uint8_t len, qs_config_msg *cf)
     return qs_msg_parse_hold(p + 5 + QS_WIRE_INPUTS, QS_LEN_HOLD, &cf->hold);
 }
 
+uint8_t qs_msg_parse_outputs(const uint8_t *p, uint8_t len, qs_outputs_msg *o)
+{
+    if (len != QS_LEN_OUTPUTS)
+        return QS_ERR_BAD_LENGTH;
+    o->outputs = p[0];
+    o->power = get16(p + 1);
+    o->axis = p[3];
+    o->speed = get16(p + 4);
+    return QS_ERR_NONE;
+}
+
 static uint8_t bad_field(qs_fault *f, uint8_t field, uint8_t axis)
 {
     f->code = QS_ERR_BAD_FIELD;
@@ -285,6 +296,23 @@ uint8_t qs_msg_check_config(const qs_config_msg *cf, uint8_t axis_count, qs_faul
     if (cf->hard_limits > 1)
         return bad_field(f, QS_FIELD_HARD_LIMITS, QS_AXIS_NONE);
     return qs_msg_check_hold(&cf->hold, axis_count, f);
+}
+
+/* A power that follows a speed names an axis the firmware has and a speed
+ * it can reach; any other names none. */
+uint8_t qs_msg_check_outputs(const qs_outputs_msg *o, uint8_t axis_count, qs_fault *f)
+{
+    if (o->outputs & (uint8_t)~QS_OUT_BITS)
+        return bad_field(f, QS_FIELD_OUTPUTS, QS_AXIS_NONE);
+    if (o->outputs & QS_OUT_DYNAMIC) {
+        if (o->axis >= axis_count)
+            return bad_field(f, QS_FIELD_REFERENCE, o->axis);
+        if (o->speed == 0 || o->speed > QS_D)
+            return bad_field(f, QS_FIELD_REFERENCE, o->axis);
+    } else if (o->axis != 0 || o->speed != 0) {
+        return bad_field(f, QS_FIELD_REFERENCE, QS_AXIS_NONE);
+    }
+    return QS_ERR_NONE;
 }
 
 static uint8_t head(uint8_t *body, uint8_t type, uint8_t seq)

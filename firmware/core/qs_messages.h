@@ -67,6 +67,17 @@ typedef struct {
     qs_hold_msg hold; /* the feed hold input's decelerations (hold_decel) */
 } qs_config_msg;
 
+/* OUTPUTS: the spindle (or laser) and coolant outputs from the next segment
+ * on (PROTOCOL.md section 5.5). power is the output's duty, 0 ... 65535;
+ * with QS_OUT_DYNAMIC it is the duty at `speed` (1/4096 step per tick) of
+ * `axis`, and the duty follows that axis's speed below it. */
+typedef struct {
+    uint8_t outputs; /* QS_OUT_* */
+    uint8_t axis;
+    uint16_t power;
+    uint16_t speed;
+} qs_outputs_msg;
+
 typedef struct {
     uint8_t type;
     uint8_t seq;
@@ -78,6 +89,7 @@ typedef struct {
         qs_probe_msg probe;
         qs_config_msg config;
         qs_watchdog_msg watchdog;
+        qs_outputs_msg outputs;
     } as;
 } qs_host_msg;
 
@@ -100,6 +112,7 @@ uint8_t qs_msg_parse_hold(const uint8_t *p, uint8_t len, qs_hold_msg *h);
 uint8_t qs_msg_parse_probe(const uint8_t *p, uint8_t len, qs_probe_msg *pr);
 uint8_t qs_msg_parse_config(const uint8_t *p, uint8_t len, qs_config_msg *cf);
 uint8_t qs_msg_parse_watchdog(const uint8_t *p, uint8_t len, qs_watchdog_msg *w);
+uint8_t qs_msg_parse_outputs(const uint8_t *p, uint8_t len, qs_outputs_msg *o);
 
 /* Content checks in the order of section 5.2. Return QS_ERR_NONE or
  * QS_ERR_BAD_FIELD with f filled in. */
@@ -110,6 +123,7 @@ uint8_t qs_msg_check_hold(const qs_hold_msg *h, uint8_t axis_count, qs_fault *f)
 uint8_t qs_msg_check_probe(const qs_probe_msg *pr, uint8_t axis_count, uint16_t present, qs_fault *f);
 uint8_t qs_msg_check_config(const qs_config_msg *cf, uint8_t axis_count, qs_fault *f);
 uint8_t qs_msg_check_watchdog(const qs_watchdog_msg *w, qs_fault *f);
+uint8_t qs_msg_check_outputs(const qs_outputs_msg *o, uint8_t axis_count, qs_fault *f);
 
 typedef struct {
     uint8_t next_seq;

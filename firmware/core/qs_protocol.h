@@ -47,6 +47,7 @@
 #define QS_TYPE_PROBE 0x15
 #define QS_TYPE_CONFIG 0x16
 #define QS_TYPE_CUBIC_SEGMENT 0x12
+#define QS_TYPE_OUTPUTS 0x17
 #define QS_TYPE_ACK 0x80
 #define QS_TYPE_IDENTIFY_REPLY 0x81
 #define QS_TYPE_STATUS_REPORT 0x82
@@ -80,6 +81,7 @@
 #define QS_LEN_HOLD_DONE_AXIS 4
 #define QS_LEN_PROBE 10 /* input, level, decel:u16 x 4 */
 #define QS_LEN_CONFIG 25 /* invert, enabled, hard_limits, debounce:u8 x 12, hold_decel:u16 x 4 */
+#define QS_LEN_OUTPUTS 6 /* outputs, power:u16, axis, speed:u16 */
 #define QS_LEN_INPUT_STATUS 15
 #define QS_LEN_INPUT_HEAD 10 /* EVENT INPUT: kind, motion_ticks, active, changed, cause */
 #define QS_LEN_INPUT_AXIS 4
@@ -126,6 +128,8 @@
 #define QS_FIELD_ACCEL 13 /* cubic: an acceleration outside 24 bits */
 #define QS_FIELD_POSITION 14 /* a position past QS_POSITION_MAX, or a segment that could carry one there */
 #define QS_FIELD_TIMEOUT 15 /* WATCHDOG: a timeout above QS_WATCHDOG_MAX_MS */
+#define QS_FIELD_OUTPUTS 16 /* OUTPUTS: a bit no output has */
+#define QS_FIELD_REFERENCE 17 /* OUTPUTS: a power following no axis, or a speed outside 1 ... 4096 */
 #define QS_AXIS_NONE 0xFF
 
 /* ALARM codes. */
@@ -190,5 +194,14 @@
 #define QS_WATCHDOG_MAX_MS 4000
 /* Positions (section 5.2): the firmware keeps every position within this. */
 #define QS_POSITION_MAX 2130706432L /* 2^31 - 2^24 */
+#define QS_CAP_OUTPUTS 0x0400 /* spindle, laser and coolant outputs (OUTPUTS) */
+
+/* OUTPUTS bits (section 5.5). */
+#define QS_OUT_ON 0x01      /* the spindle or laser output is on */
+#define QS_OUT_REVERSE 0x02 /* the spindle turns the other way (direction pin) */
+#define QS_OUT_DYNAMIC 0x04 /* the power follows the speed of an axis */
+#define QS_OUT_MIST 0x10    /* coolant: mist */
+#define QS_OUT_FLOOD 0x20   /* coolant: flood */
+#define QS_OUT_BITS (QS_OUT_ON | QS_OUT_REVERSE | QS_OUT_DYNAMIC | QS_OUT_MIST | QS_OUT_FLOOD)
 
 #endif

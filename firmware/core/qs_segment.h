@@ -53,6 +53,7 @@ typedef struct {
         qs_cubic_run c; /* cubic (CUBIC_SEGMENT) */
     };
     uint16_t total[QS_AXIS_COUNT]; /* steps over the segment, for the positions */
+    uint8_t outputs;               /* the outputs while it runs: an index of qs_outputs.setting */
 } qs_segment;
 
 #define QS_CUBIC_KIND 0x80

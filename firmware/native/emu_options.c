@@ -9,7 +9,7 @@
 
 static const char usage[] =
     "usage: quadstep-emu [--pty | --tcp PORT] [--free] [--tick-hz N] [--axes N]\n"
-    "                    [--queue N] [--trace FILE] [--events FILE]\n"
+    "                    [--queue N] [--trace FILE] [--outputs FILE] [--events FILE]\n"
     "                    [--machine FILE.toml] [--limit-pins 1|2]\n"
     "                    [--hold-at TICK:DECEL[,DECEL...]] [--drop-rx-frame K]...\n"
     "                    [--corrupt-rx-frame K]... [--drop-tx-frame K]...\n"
@@ -153,6 +153,12 @@ int emu_options_parse(emu_options *o, int argc, char **argv)
                 return 0;
             }
             o->trace_path = arg;
+        } else if (strcmp(opt, "--outputs") == 0) {
+            if (!arg) {
+                fprintf(stderr, "quadstep-emu: --outputs needs a file name\n");
+                return 0;
+            }
+            o->outputs_path = arg;
         } else if (strcmp(opt, "--events") == 0) {
             if (!arg) {
                 fprintf(stderr, "quadstep-emu: --events needs a file name\n");

@@ -20,6 +20,7 @@ typedef struct {
     uint8_t queue;
     const char *trace_path; /* NULL: no trace */
     const char *events_path; /* NULL: no events log */
+    const char *outputs_path; /* NULL: no output trace */
     const char *machine_path; /* NULL: a perfect machine with nothing wired to the inputs */
     uint8_t limit_pins;   /* per axis: 2 (a min and a max input) or 1 (shared, as the Uno) */
     /* --hold-at: inject a HOLD when this motion tick is reached (tests). */

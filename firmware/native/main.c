@@ -14,6 +14,7 @@
 #include "emu_faults.h"
 #include "emu_link.h"
 #include "emu_options.h"
+#include "emu_outputs.h"
 #include "emu_port.h"
 #include "emu_trace.h"
 #include "machine.h"
@@ -31,6 +32,7 @@ typedef struct {
     emu_link link;
     emu_faults faults;
     emu_trace trace;
+    emu_outputs outputs;
     emu_events events;
     qs_core core;
     machine *machine;       /* --machine, or NULL */
@@ -91,12 +93,24 @@ static void on_settled(emulator *m)
     qs_status st;
 
     emu_trace_flush(&m->trace);
+    emu_outputs_flush(&m->outputs);
     qs_core_status(&m->core, &st);
     if (st.motion_ticks != m->motion_tick) {
         fprintf(stderr, "quadstep-emu: internal error: trace tick %lu, core motion_ticks %lu\n",
                 (unsigned long)m->motion_tick, (unsigned long)st.motion_ticks);
         exit(3);
     }
+}
+
+/* The outputs as the board's pins would show them, from this motion tick
+ * on: looked at after every tick and every message (a board looks once per
+ * PWM period). */
+static void watch_outputs(emulator *m)
+{
+    qs_output_level level;
+
+    qs_core_outputs(&m->core, &level);
+    emu_outputs_update(&m->outputs, m->motion_tick, &level);
 }
 
 static void watch_state(emulator *m)
@@ -111,6 +125,7 @@ static void watch_state(emulator *m)
         m->clock_ticks = 0;
     }
     m->last_state = state;
+    watch_outputs(m);
 }
 
 /* The inputs, sampled as the board samples its pins at the start of each
@@ -351,8 +366,9 @@ static void summary(emulator *m)
             (unsigned long)m->faults.rx_frames, (unsigned long)emu_port_frames_sent(),
             (unsigned long)m->faults.rx_dropped, (unsigned long)m->faults.rx_corrupted,
             (unsigned long)m->faults.tx_dropped, (unsigned long)emu_port_bytes_discarded());
-    fprintf(f, "\"inputs_active\": %u, \"latches_lost\": %u, \"machine\": ", m->core.inputs.active,
-            m->core.engine.latches.lost);
+    fprintf(f, "\"inputs_active\": %u, \"latches_lost\": %u, \"output_pins\": %u, \"output_duty\": %u, ",
+            m->core.inputs.active, m->core.engine.latches.lost, m->outputs.last.pins, m->outputs.last.duty);
+    fprintf(f, "\"machine\": ");
     if (m->machine)
         machine_write_json(m->machine, f);
     else
@@ -397,6 +413,7 @@ int main(int argc, char **argv)
     emu_port_init(&m->faults);
     m->last_state = QS_STATE_IDLE;
     if (!emu_trace_open(&m->trace, m->opts.trace_path, m->machine != NULL)
+        || !emu_outputs_open(&m->outputs, m->opts.outputs_path)
         || !emu_events_open(&m->events, m->opts.events_path) || !emu_link_open(&m->link, &m->opts))
         return 1;
 
@@ -430,6 +447,7 @@ int main(int argc, char **argv)
     }
     write_output(m);
     emu_trace_close(&m->trace);
+    emu_outputs_close(&m->outputs);
     emu_events_close(&m->events);
     summary(m);
     emu_link_close(&m->link);

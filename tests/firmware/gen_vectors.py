@@ -35,6 +35,7 @@ MESSAGE_KEYS = {
     "WATCHDOG": {"timeout_ms"},
     "PROBE": {"input", "level", "decel"},
     "CONFIG": {"invert", "enabled", "hard_limits", "debounce", "hold_decel"},
+    "OUTPUTS": {"outputs", "power", "axis", "speed"},
     "INPUT_STATUS": {"present", "active", "raw", "invert", "enabled", "hard_limits", "armed", "level",
                      "latches_lost"},
     "SEGMENT": {"n", "axes"},
@@ -151,6 +152,9 @@ def message_fields(msg: dict, axis_count: int) -> list[str]:
                    ".debounce = {%s}, .hold = {.decel = {%s}}}}"
                    % (msg["invert"], msg["enabled"], msg["hard_limits"], ", ".join(map(str, msg["debounce"])),
                       ", ".join(map(str, msg["hold_decel"]))))
+    elif kind == "OUTPUTS":
+        out.append(".host = {.outputs = {.outputs = 0x%02X, .axis = %d, .power = %d, .speed = %d}}"
+                   % (msg["outputs"], msg["axis"], msg["power"], msg["speed"]))
     elif kind == "INPUT_STATUS":
         armed = "0xFF" if msg["armed"] is None else constant("input", msg["armed"])
         out.append(".input_status = {.present = 0x%04X, .active = 0x%04X, .raw = 0x%04X, .invert = 0x%04X, "

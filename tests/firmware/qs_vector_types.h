@@ -23,6 +23,7 @@ typedef struct {
         qs_probe_msg probe;
         qs_config_msg config;
         qs_watchdog_msg watchdog;
+        qs_outputs_msg outputs;
     } host;
     qs_input_status input_status;
     qs_ack ack;

@@ -21,6 +21,7 @@
 #include "sim_isr.h"
 #include "sim_link.h"
 #include "sim_motion.h"
+#include "sim_outputs.h"
 #include "sim_profile.h"
 #include "sim_stack.h"
 #include "sim_wire.h"
@@ -35,7 +36,7 @@ typedef struct {
     const char *mcu;
     const char *elf;
     int pty, stdio_link;
-    const char *input, *feed, *output, *trace, *edges, *stats, *profile, *profile_pc, *machine;
+    const char *input, *feed, *output, *trace, *edges, *outputs, *stats, *profile, *profile_pc, *machine;
     uint32_t input_delay;
     uint64_t max_cycles;
     int realtime; /* -1: default for the link */
@@ -54,7 +55,7 @@ typedef struct {
     machine *mach;
     sim_inputs *inputs;
     sim_isr *isr_timer, *isr_rx, *isr_udre;
-    FILE *trace, *edges;
+    FILE *trace, *edges, *outputs;
     sim_profile *profile;    /* symbols always; cycles only with --profile */
     int profiling;
     uint16_t static_end;
@@ -76,7 +77,7 @@ static void usage(void)
     fprintf(stderr,
             "usage: qs-simavr --mcu atmega328p|atmega2560 --elf FILE\n"
             "        [--pty | --stdio | --input FILE | --feed FILE] [--output FILE]\n"
-            "        [--trace FILE] [--edges FILE] [--stats FILE] [--profile FILE] [--profile-pc FILE]\n"
+            "        [--trace FILE] [--edges FILE] [--outputs FILE] [--stats FILE] [--profile FILE] [--profile-pc FILE]\n"
             "        [--max-cycles N] [--realtime | --free] [--exit-when-idle] [--freq HZ]\n"
             "        [--machine FILE.toml] [--input-delay CYCLES]\n");
 }
@@ -112,6 +113,8 @@ static int parse_options(int argc, char **argv, options *o)
             text = &o->trace;
         } else if (!strcmp(a, "--edges")) {
             text = &o->edges;
+        } else if (!strcmp(a, "--outputs")) {
+            text = &o->outputs;
         } else if (!strcmp(a, "--stats")) {
             text = &o->stats;
         } else if (!strcmp(a, "--profile")) {
@@ -429,6 +432,7 @@ int main(int argc, char **argv)
 
     h.trace = open_out(o.trace);
     h.edges = open_out(o.edges);
+    h.outputs = open_out(o.outputs);
     h.output = open_out(o.output);
     h.wire = sim_wire_attach(h.avr, on_board_byte, &h);
     if (o.machine) {
@@ -446,7 +450,8 @@ int main(int argc, char **argv)
                                 sim_motion_tick_done, h.motion);
     h.isr_rx = sim_isr_watch(h.avr, h.board->rx_vector, NULL, NULL, NULL);
     h.isr_udre = sim_isr_watch(h.avr, h.board->udre_vector, NULL, NULL, NULL);
-    if (!h.wire || !h.inputs || !h.motion || !h.isr_timer || !h.isr_rx || !h.isr_udre) {
+    if (!h.wire || !h.inputs || !h.motion || !h.isr_timer || !h.isr_rx || !h.isr_udre
+        || sim_outputs_attach(h.avr, h.board, h.outputs) != 0) {
         fprintf(stderr, "qs-simavr: cannot attach to the simulated %s\n", o.mcu);
         return 2;
     }
@@ -525,6 +530,9 @@ int main(int argc, char **argv)
 
     if (h.trace) {
         fclose(h.trace);
+    }
+    if (h.outputs) {
+        fclose(h.outputs);
     }
     if (h.edges) {
         fclose(h.edges);

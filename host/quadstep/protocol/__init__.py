@@ -17,6 +17,7 @@ from .constants import (
     FieldId,
     Input,
     InputCause,
+    Output,
     State,
 )
 from .messages import (
@@ -35,6 +36,7 @@ from .messages import (
     InputStatus,
     Message,
     MessageType,
+    Outputs,
     Probe,
     ProbeMissed,
     SetPosition,
@@ -50,7 +52,7 @@ from .wire import Report, Request
 
 __all__ = [
     "AXIS_NAMES", "Ack", "AckReason", "Alarm", "AlarmCode", "AxisMove", "CubicAxis", "CubicSegment", "Board", "Capability", "Config", "D",
-    "DECEL_MAX", "DECEL_SHIFT", "Input", "InputCause", "InputChange", "InputStatus", "Inputs", "Probe", "ProbeMissed",
+    "DECEL_MAX", "DECEL_SHIFT", "Input", "InputCause", "InputChange", "Output", "Outputs", "InputStatus", "Inputs", "Probe", "ProbeMissed",
     "DecodeError", "Decoder", "ErrorCode", "ErrorReport", "Event", "EventKind", "FieldId", "Hold", "HoldDone",
     "Frame", "Identify", "IdentifyReply", "MAX_AXES", "MAX_FRAME", "Message", "MessageType", "N_MAX",
     "PROTOCOL_VERSION", "R_MAX", "Report", "Request", "Segment", "SetPosition", "State", "Status", "StatusReport",

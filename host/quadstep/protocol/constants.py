@@ -35,7 +35,7 @@ __all__ = [
     "WATCHDOG_MAX_MS",
     "CUBIC_ACCEL_LIMIT", "CUBIC_N_MAX",
     "AckReason", "ErrorCode", "FieldId", "AlarmCode", "State", "Board", "Capability", "TypeClass",
-    "is_immediate", "is_report", "is_sequenced", "Input", "InputCause", "INPUT_COUNT",
+    "is_immediate", "is_report", "is_sequenced", "Input", "InputCause", "INPUT_COUNT", "Output",
 ]
 
 
@@ -108,6 +108,8 @@ class FieldId(IntEnum):
     ACCEL = 13
     POSITION = 14
     TIMEOUT = 15
+    OUTPUTS = 16
+    REFERENCE = 17
 
 
 class AlarmCode(IntEnum):
@@ -142,6 +144,18 @@ class Capability(IntFlag):
     CUBIC_SEGMENTS = 1 << 7
     CONTROL_INPUTS = 1 << 8
     CONTROLLED_STOPS = 1 << 9  # an underrun and a silent host end in a hold; WATCHDOG
+    OUTPUTS = 1 << 10  # spindle, laser and coolant outputs (OUTPUTS)
+
+
+class Output(IntFlag):
+    """The OUTPUTS bits (PROTOCOL.md §5.5): spindle or laser on, its direction, a power that follows an axis's
+    speed, and the coolant outputs."""
+
+    ON = 1 << 0
+    REVERSE = 1 << 1
+    DYNAMIC = 1 << 2
+    MIST = 1 << 4
+    FLOOD = 1 << 5
 
 
 INPUT_COUNT = 12  # inputs the wire names: bit i of every input mask is Input(i)

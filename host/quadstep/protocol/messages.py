@@ -55,6 +55,7 @@ from .fields import (
     Positions,
     PositionsByAxis,
 )
+from .outputs import Outputs
 from .segment import AxisMove, Segment
 from .wire import (
     FieldFault,
@@ -383,7 +384,7 @@ def message_from_json(fields: dict[str, Any]) -> tuple[int, WireMessage]:
 
 __all__ = [
     "Ack", "Alarm", "AxisMove", "Config", "CubicAxis", "CubicSegment", "ErrorReport", "Event", "EventKind", "Hold", "HoldDone", "Identify",
-    "IdentifyReply", "InputChange", "InputStatus", "Inputs", "Message", "MessageType", "Probe", "ProbeMissed",
+    "IdentifyReply", "InputChange", "InputStatus", "Inputs", "Message", "MessageType", "Outputs", "Probe", "ProbeMissed",
     "Report", "Request", "Segment", "SetPosition", "Status", "StatusReport", "Stop", "message_from_json",
     "message_type",
 ]

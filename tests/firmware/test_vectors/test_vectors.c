@@ -75,6 +75,8 @@ static uint8_t parse(const uint8_t *body, uint8_t len, qs_host_msg *m)
         return qs_msg_parse_probe(p, plen, &m->as.probe);
     case QS_TYPE_CONFIG:
         return qs_msg_parse_config(p, plen, &m->as.config);
+    case QS_TYPE_OUTPUTS:
+        return qs_msg_parse_outputs(p, plen, &m->as.outputs);
     case QS_TYPE_SEGMENT:
         return qs_msg_parse_segment(p, plen, &m->as.segment);
     case QS_TYPE_SET_POSITION:
@@ -118,6 +120,8 @@ static uint8_t decode(const qs_vector *v, qs_host_msg *m, qs_fault *f)
         return qs_msg_check_config(&m->as.config, v->axis_count, f);
     if (m->type == QS_TYPE_WATCHDOG)
         return qs_msg_check_watchdog(&m->as.watchdog, f);
+    if (m->type == QS_TYPE_OUTPUTS)
+        return qs_msg_check_outputs(&m->as.outputs, v->axis_count, f);
     return QS_ERR_NONE;
 }
 
@@ -172,6 +176,12 @@ static void check_host_message(const qs_vector *v, const qs_host_msg *m)
         TEST_ASSERT_EQUAL_HEX8_ARRAY_MESSAGE(e->debounce, a->debounce, QS_WIRE_INPUTS, at(v, "debounce"));
         for (axis = 0; axis < QS_PROTOCOL_AXES; axis++)
             TEST_ASSERT_EQUAL_UINT16_MESSAGE(e->hold.decel[axis], a->hold.decel[axis], at(v, "hold_decel"));
+    } else if (m->type == QS_TYPE_OUTPUTS) {
+        const qs_outputs_msg *e = &v->host.outputs, *a = &m->as.outputs;
+        TEST_ASSERT_EQUAL_HEX8_MESSAGE(e->outputs, a->outputs, at(v, "outputs"));
+        TEST_ASSERT_EQUAL_UINT16_MESSAGE(e->power, a->power, at(v, "power"));
+        TEST_ASSERT_EQUAL_UINT8_MESSAGE(e->axis, a->axis, at(v, "axis"));
+        TEST_ASSERT_EQUAL_UINT16_MESSAGE(e->speed, a->speed, at(v, "speed"));
     }
 }
 

@@ -1,0 +1,49 @@
+/* The spindle (or laser) and coolant outputs (PROTOCOL.md section 5.5).
+ *
+ * An OUTPUTS message takes effect in stream order: every segment queued
+ * after it carries it (qs_segment.outputs, an index into a small ring of
+ * settings, so that a slot costs one byte), those queued before keep what
+ * they carry, and at rest the latest one applies. What the pins should be
+ * now — which outputs are on and the duty — is computed from the engine's
+ * running state, so a power that follows the speed follows what the axes
+ * actually do: the ramps of a segment, a cubic segment, a hold. Nothing
+ * here runs in the tick: a target asks at its own pace (the AVR once per
+ * PWM period, the emulator every tick) and drives its pins. */
+#ifndef QS_OUTPUTS_H
+#define QS_OUTPUTS_H
+
+#include <stdint.h>
+#include "qs_engine.h"
+#include "qs_messages.h"
+
+/* Distinct settings that queued segments can carry at once; one more
+ * waits (QUEUE_FULL) until the oldest is no longer queued. */
+#define QS_OUTPUT_SETTINGS 4
+
+typedef struct {
+    qs_outputs_msg setting[QS_OUTPUT_SETTINGS];
+    uint8_t latest; /* what segments queued now carry, and what applies at rest */
+} qs_outputs;
+
+/* The outputs as the pins should show them. */
+typedef struct {
+    uint8_t pins;  /* QS_OUT_ON, QS_OUT_REVERSE, QS_OUT_MIST, QS_OUT_FLOOD */
+    uint16_t duty; /* the spindle or laser output's duty, 0 ... 65535 (0 when off) */
+} qs_output_level;
+
+/* Everything off: at reset, and what STOP and every alarm leave. */
+void qs_outputs_off(qs_outputs *o);
+
+/* A new latest setting (main loop); 0 when every other entry is carried by
+ * a segment still queued or running. */
+uint8_t qs_outputs_take(qs_outputs *o, qs_engine *e, const qs_outputs_msg *m);
+
+/* The level now: the running (or held) segment's setting while moving,
+ * the latest when idle, everything off in an alarm. */
+void qs_outputs_level(const qs_engine *e, const qs_outputs *o, qs_output_level *out);
+
+/* floor(65536 * num / den), at most 65536, for 0 <= num and 0 < den, with
+ * both shifted right together until den fits 16 bits (PROTOCOL.md 5.5). */
+uint32_t qs_outputs_ratio(uint32_t num, uint32_t den);
+
+#endif
