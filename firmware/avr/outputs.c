@@ -22,17 +22,18 @@ void outputs_init(void)
 /* A pin of a port the step interrupt never writes. */
 #define SET_PIN(port, bit, on) ((on) ? ((port) |= _BV(bit)) : ((port) &= (uint8_t)~_BV(bit)))
 
-static uint8_t pins_set; /* the direction and coolant pins as last written */
-
-void outputs_poll(void)
+QS_NOINLINE void outputs_update(void)
 {
     qs_output_level level;
     uint8_t pins;
 
-    if (!(TIFR2 & _BV(TOV2)))
-        return;
     TIFR2 = _BV(TOV2);
-    qs_core_outputs(&core, &level);
+    if (qs_outputs_all_off(&core.outputs)) {
+        level.pins = 0; /* no need to look at the engine */
+        level.duty = 0;
+    } else {
+        qs_core_outputs(&core, &level);
+    }
     /* OCR2A takes effect at the next period: high for (OCR2A + 1) / 256 of
      * it; a duty of 0 disconnects the pin, which then stays low. Registers
      * are written only when they change. */
@@ -40,11 +41,13 @@ void outputs_poll(void)
         OCR2A = (uint8_t)(level.duty >> 8);
     if (!level.duty != !(TCCR2A & _BV(COM2A1)))
         TCCR2A ^= _BV(COM2A1);
-    /* Written only when they change: the port also holds input pull-ups. */
+    /* Written only when they change: the ports also hold input pull-ups
+     * (and simavr drives the PWM pin from its port on every write). */
     pins = (uint8_t)(level.pins & (QS_OUT_REVERSE | QS_OUT_FLOOD | QS_OUT_MIST));
-    if (pins == pins_set)
+    if (pins == (uint8_t)((QS_SPINDLE_DIR_PORT & _BV(QS_SPINDLE_DIR_BIT) ? QS_OUT_REVERSE : 0)
+                          | (QS_COOLANT_PORT & _BV(QS_FLOOD_BIT) ? QS_OUT_FLOOD : 0)
+                          | (QS_COOLANT_PORT & _BV(QS_MIST_BIT) ? QS_OUT_MIST : 0)))
         return;
-    pins_set = pins;
     SET_PIN(QS_SPINDLE_DIR_PORT, QS_SPINDLE_DIR_BIT, pins & QS_OUT_REVERSE);
     SET_PIN(QS_COOLANT_PORT, QS_FLOOD_BIT, pins & QS_OUT_FLOOD);
     SET_PIN(QS_COOLANT_PORT, QS_MIST_BIT, pins & QS_OUT_MIST);

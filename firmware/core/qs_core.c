@@ -289,7 +289,7 @@ static void on_set_position(qs_core *c, const qs_host_msg *m)
 /* OUTPUTS: refused, like a segment, in ALARM and while holding; else the
  * setting the segments queued from now on carry, in effect at once at rest
  * (QUEUE_FULL while every setting entry is carried by a queued segment). */
-static void on_outputs(qs_core *c, const qs_host_msg *m)
+static QS_NOINLINE void on_outputs(qs_core *c, const qs_host_msg *m)
 {
     qs_fault f;
 

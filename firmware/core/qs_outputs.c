@@ -7,32 +7,30 @@ void qs_outputs_off(qs_outputs *o)
     uint8_t i;
 
     for (i = 0; i < QS_OUTPUT_SETTINGS; i++) {
-        o->setting[i].outputs = 0;
-        o->setting[i].axis = 0;
+        o->setting[i].bits = 0;
         o->setting[i].power = 0;
         o->setting[i].speed = 0;
     }
     o->latest = 0;
 }
 
-static uint8_t same(const qs_outputs_msg *a, const qs_outputs_msg *b)
-{
-    return a->outputs == b->outputs && a->axis == b->axis && a->power == b->power && a->speed == b->speed;
-}
-
 uint8_t qs_outputs_take(qs_outputs *o, qs_engine *e, const qs_outputs_msg *m)
 {
     const uint8_t next = (uint8_t)(o->latest + 1 == QS_OUTPUT_SETTINGS ? 0 : o->latest + 1);
+    const qs_output_setting *latest = &o->setting[o->latest];
+    const uint8_t bits = (uint8_t)(m->outputs | (uint8_t)(m->axis << QS_OUT_AXIS_SHIFT));
     uint8_t i;
 
-    if (same(m, &o->setting[o->latest]))
+    if (latest->bits == bits && latest->power == m->power && latest->speed == m->speed)
         return 1;
     /* The segments from the running one on carry indices in order: the
      * next entry is free unless one of them still carries it. */
     for (i = e->queue.tail; i != e->queue.head; i = qs_queue_next(&e->queue, i))
         if (qs_queue_at(&e->queue, i)->outputs == next)
             return 0;
-    o->setting[next] = *m;
+    o->setting[next].bits = bits;
+    o->setting[next].power = m->power;
+    o->setting[next].speed = m->speed;
     o->latest = next;
     return 1;
 }
@@ -93,8 +91,7 @@ static void reference_speed(const qs_engine *e, const qs_segment *s, uint8_t axi
 void qs_outputs_level(const qs_engine *engine, const qs_outputs *outputs, qs_output_level *out)
 {
     qs_engine *e = (qs_engine *)engine; /* only read; the queue's accessors are not const */
-    const qs_outputs_msg *o;
-    qs_outputs_msg setting;
+    qs_output_setting setting;
     uint32_t num = 0, den = 1;
     uint8_t saved = qs_port_lock();
     const qs_segment *s = in_effect(e);
@@ -105,15 +102,14 @@ void qs_outputs_level(const qs_engine *engine, const qs_outputs *outputs, qs_out
         out->duty = 0;
         return;
     }
-    o = &outputs->setting[s ? s->outputs : outputs->latest];
-    setting = *o;
-    if (s && (setting.outputs & QS_OUT_DYNAMIC))
-        reference_speed(e, s, setting.axis, setting.speed, &num, &den);
+    setting = outputs->setting[s ? s->outputs : outputs->latest];
+    if (s && (setting.bits & QS_OUT_DYNAMIC))
+        reference_speed(e, s, (uint8_t)(setting.bits >> QS_OUT_AXIS_SHIFT), setting.speed, &num, &den);
     qs_port_unlock(saved);
-    out->pins = (uint8_t)(setting.outputs & (QS_OUT_ON | QS_OUT_REVERSE | QS_OUT_MIST | QS_OUT_FLOOD));
-    if (!(setting.outputs & QS_OUT_ON))
+    out->pins = (uint8_t)(setting.bits & (QS_OUT_ON | QS_OUT_REVERSE | QS_OUT_MIST | QS_OUT_FLOOD));
+    if (!(setting.bits & QS_OUT_ON))
         out->duty = 0;
-    else if (!(setting.outputs & QS_OUT_DYNAMIC))
+    else if (!(setting.bits & QS_OUT_DYNAMIC))
         out->duty = setting.power;
     else
         out->duty = (uint16_t)(((uint32_t)setting.power * qs_outputs_ratio(num, den)) >> 16);

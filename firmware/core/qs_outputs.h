@@ -17,11 +17,23 @@
 #include "qs_messages.h"
 
 /* Distinct settings that queued segments can carry at once; one more
- * waits (QUEUE_FULL) until the oldest is no longer queued. */
-#define QS_OUTPUT_SETTINGS 4
+ * waits (QUEUE_FULL) until the oldest is no longer queued. Three on a
+ * board with a short queue (the Uno's RAM), eight otherwise. */
+#ifndef QS_OUTPUT_SETTINGS
+#define QS_OUTPUT_SETTINGS (QS_QUEUE_CAPACITY < 16 ? 3 : 8)
+#endif
+
+/* An OUTPUTS message kept in 5 bytes: the reference axis in bits 6-7. */
+typedef struct {
+    uint8_t bits;
+    uint16_t power;
+    uint16_t speed;
+} qs_output_setting;
+
+#define QS_OUT_AXIS_SHIFT 6
 
 typedef struct {
-    qs_outputs_msg setting[QS_OUTPUT_SETTINGS];
+    qs_output_setting setting[QS_OUTPUT_SETTINGS];
     uint8_t latest; /* what segments queued now carry, and what applies at rest */
 } qs_outputs;
 
@@ -37,6 +49,16 @@ void qs_outputs_off(qs_outputs *o);
 /* A new latest setting (main loop); 0 when every other entry is carried by
  * a segment still queued or running. */
 uint8_t qs_outputs_take(qs_outputs *o, qs_engine *e, const qs_outputs_msg *m);
+
+/* Every setting off: whatever runs, every output is off. */
+static inline uint8_t qs_outputs_all_off(const qs_outputs *o)
+{
+    uint8_t i, bits = 0;
+
+    for (i = 0; i < QS_OUTPUT_SETTINGS; i++)
+        bits |= o->setting[i].bits;
+    return (uint8_t)((bits & (QS_OUT_ON | QS_OUT_REVERSE | QS_OUT_MIST | QS_OUT_FLOOD)) == 0);
+}
 
 /* The level now: the running (or held) segment's setting while moving,
  * the latest when idle, everything off in an alarm. */

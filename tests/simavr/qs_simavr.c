@@ -368,7 +368,8 @@ static int service(harness *h, const options *o, double wall_start, int *stdin_e
         const uint64_t quiet = (uint64_t)h->avr->frequency / 1000 * IDLE_QUIET_MS;
         const int line_quiet = sim_wire_backlog(h->wire) == 0 &&
                                h->avr->cycle > sim_wire_last_start(h->wire) + quiet;
-        const int engine_rests = sim_motion_state(h->motion) != 1; /* not RUNNING */
+        const uint8_t state = sim_motion_state(h->motion);
+        const int engine_rests = state != 1 && state != 3; /* not RUNNING, not HOLDING */
         const int feed_done = !h->feed || sim_feed_finished(h->feed);
         const int host_done = !o->stdio_link || *stdin_ended;
         if (line_quiet && engine_rests && feed_done && host_done) {

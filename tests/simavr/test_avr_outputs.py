@@ -111,8 +111,9 @@ def test_direction_and_coolant_follow_the_message(run: tuple) -> None:
 
 
 def test_laser_power_follows_the_ramp(run: tuple) -> None:
-    """Each period's duty is the exact level at a moment of the period before it (the main loop samples it
-    once per period): between the levels at that period's start and end."""
+    """Each period's duty is the exact level (qs_outputs_level) at a moment within a period of it: the main loop
+    samples the level once per period, just after the overflow; the chip applies the new OCR2A at the next
+    period, simavr at once, so the sample is of the period before or of this one."""
     _, edges, steps = run
     start = _ramp_start(steps)
     # whole periods inside the ramp up (simavr applies a new OCR2A at once, not at the period's end as the chip
@@ -122,9 +123,8 @@ def test_laser_power_follows_the_ramp(run: tuple) -> None:
     checked = 0
     for rise, fall in ramp:
         ocr = (fall - rise) // 64 - 1
-        period_before = rise - PERIOD
-        t_lo = max(0, (period_before - start) // TICK - 2)
-        t_hi = min(RAMP_N, (rise - start) // TICK + 2)
+        t_lo = max(0, (rise - PERIOD - start) // TICK - 4)  # the ramp's start is known to a few ticks
+        t_hi = min(RAMP_N, (rise + PERIOD - start) // TICK + 4)
         if t_hi <= 0:
             continue
         low, high = ramp_duty(t_lo) >> 8, ramp_duty(t_hi) >> 8
