@@ -240,7 +240,7 @@ static void on_segment(qs_core *c, const qs_host_msg *m)
     qs_segment_prepare(slot, &m->as.segment);
     qs_cubic_follow_quadratic(&e->chain, slot, &m->as.segment);
     qs_engine_note_prepared(e, slot);
-    slot->outputs = c->outputs.latest;
+    qs_outputs_carry(&c->outputs, slot);
     queued(c, m);
 }
 
@@ -264,7 +264,7 @@ static void on_cubic_segment(qs_core *c, const qs_host_msg *m)
         return;
     }
     qs_engine_note_prepared(e, qs_queue_back(&e->queue));
-    qs_queue_back(&e->queue)->outputs = c->outputs.latest;
+    qs_outputs_carry(&c->outputs, qs_queue_back(&e->queue));
     queued(c, m);
 }
 

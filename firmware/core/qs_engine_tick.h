@@ -135,7 +135,7 @@ static QS_ALWAYS_INLINE uint8_t qs_engine_begin(qs_engine *e)
 static QS_ALWAYS_INLINE void qs_engine_finish(qs_engine *e, qs_segment *s)
 {
     e->slow_path = 1;
-    if (s->ends_moving) {
+    if (s->ends_moving & QS_ENDS_MOVING) {
         if (qs_queue_next(&e->queue, e->queue.tail) == e->queue.head) {
             e->kept = 1;
             return;

@@ -26,7 +26,7 @@ uint8_t qs_outputs_take(qs_outputs *o, qs_engine *e, const qs_outputs_msg *m)
     /* The segments from the running one on carry indices in order: the
      * next entry is free unless one of them still carries it. */
     for (i = e->queue.tail; i != e->queue.head; i = qs_queue_next(&e->queue, i))
-        if (qs_queue_at(&e->queue, i)->outputs == next)
+        if (qs_outputs_carried(qs_queue_at(&e->queue, i)) == next)
             return 0;
     o->setting[next].bits = bits;
     o->setting[next].power = m->power;
@@ -102,7 +102,7 @@ void qs_outputs_level(const qs_engine *engine, const qs_outputs *outputs, qs_out
         out->duty = 0;
         return;
     }
-    setting = outputs->setting[s ? s->outputs : outputs->latest];
+    setting = outputs->setting[s ? qs_outputs_carried(s) : outputs->latest];
     if (s && (setting.bits & QS_OUT_DYNAMIC))
         reference_speed(e, s, (uint8_t)(setting.bits >> QS_OUT_AXIS_SHIFT), setting.speed, &num, &den);
     qs_port_unlock(saved);

@@ -1,8 +1,8 @@
 /* The spindle (or laser) and coolant outputs (PROTOCOL.md section 5.5).
  *
  * An OUTPUTS message takes effect in stream order: every segment queued
- * after it carries it (qs_segment.outputs, an index into a small ring of
- * settings, so that a slot costs one byte), those queued before keep what
+ * after it carries it (an index into a small ring of settings, in three
+ * spare bits of the slot), those queued before keep what
  * they carry, and at rest the latest one applies. What the pins should be
  * now — which outputs are on and the duty — is computed from the engine's
  * running state, so a power that follows the speed follows what the axes
@@ -42,6 +42,19 @@ typedef struct {
     uint8_t pins;  /* QS_OUT_ON, QS_OUT_REVERSE, QS_OUT_MIST, QS_OUT_FLOOD */
     uint16_t duty; /* the spindle or laser output's duty, 0 ... 65535 (0 when off) */
 } qs_output_level;
+
+_Static_assert(QS_OUTPUT_SETTINGS <= 8, "a slot keeps the setting's index in 3 bits");
+
+/* The slot just prepared carries the latest setting. */
+static inline void qs_outputs_carry(const qs_outputs *o, qs_segment *slot)
+{
+    slot->ends_moving = (uint8_t)((slot->ends_moving & QS_ENDS_MOVING) | (o->latest << QS_SLOT_OUTPUTS_SHIFT));
+}
+
+static inline uint8_t qs_outputs_carried(const qs_segment *slot)
+{
+    return (uint8_t)(slot->ends_moving >> QS_SLOT_OUTPUTS_SHIFT);
+}
 
 /* Everything off: at reset, and what STOP and every alarm leave. */
 void qs_outputs_off(qs_outputs *o);

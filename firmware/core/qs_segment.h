@@ -38,7 +38,10 @@ typedef struct {
                             * 4-7 the active axes whose b (quadratic: db = 0)
                             * or q (cubic: r = 0) never changes */
     uint8_t negative;      /* bit i: axis i steps in the negative direction */
-    uint8_t ends_moving;   /* some active axis is moving at the end */
+    uint8_t ends_moving;   /* bit 0 (QS_ENDS_MOVING): some active axis is
+                            * moving at the end; bits 5-7: the outputs
+                            * while it runs, an index of qs_outputs.setting
+                            * (kept here for the Uno's RAM) */
     uint8_t cubic;         /* 0: a quadratic segment; else a cubic one, with
                             * bit i set for axes whose b never changes
                             * (q = r = 0), and bit 7 always */
@@ -53,10 +56,11 @@ typedef struct {
         qs_cubic_run c; /* cubic (CUBIC_SEGMENT) */
     };
     uint16_t total[QS_AXIS_COUNT]; /* steps over the segment, for the positions */
-    uint8_t outputs;               /* the outputs while it runs: an index of qs_outputs.setting */
 } qs_segment;
 
 #define QS_CUBIC_KIND 0x80
+#define QS_ENDS_MOVING 0x01
+#define QS_SLOT_OUTPUTS_SHIFT 5
 
 /* Fill a slot from a segment that passed qs_msg_check_segment. */
 void qs_segment_prepare(qs_segment *slot, const qs_segment_msg *m);
