@@ -285,7 +285,7 @@ uint16_t qs_cubic_steps(const qs_segment *s, uint8_t axis, uint16_t t, uint32_t 
     e = (int32_t)(h - next + QS_HALF_SIGMA);
     sum = (wide)((uint64_t)t * next) - times((int32_t)choose2((uint32_t)t + 1), q)
           + choose3_times(choose3((uint32_t)t + 2), (int16_t)s->c.r[axis]);
-    sum += ((wide)s->c.e_top[axis] << 24) - e + (wide)QS_HALF_SIGMA;
+    sum += (wide)s->c.e_top[axis] * 16777216 - e + (wide)QS_HALF_SIGMA; /* a multiply: the top byte may be negative */
     sum_low = (uint32_t)(sum >> 16) >> (QS_CUBIC_SHIFT - 16);
     return (uint16_t)sum_low;
 }

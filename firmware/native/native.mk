@@ -38,3 +38,20 @@ $(NATIVE_OUT)/bench_engine: tests/bench/bench_engine.c $(NATIVE_CORE_OBJS)
 	$(CC) $(NATIVE_CFLAGS) -D_POSIX_C_SOURCE=200809L $^ -o $@
 
 -include $(NATIVE_CORE_OBJS:.o=.d) $(NATIVE_EMU_OBJS:.o=.d)
+
+# The emulator with AddressSanitizer and UndefinedBehaviorSanitizer, any
+# finding fatal; `make test-sanitize` runs the whole Python suite on it.
+SAN_OUT := $(BUILD)/native-san
+SAN_FLAGS := -fsanitize=address,undefined -fno-sanitize-recover=all -fno-omit-frame-pointer
+
+.PHONY: emulator-sanitize test-sanitize
+
+emulator-sanitize: $(SAN_OUT)/quadstep-emu
+
+$(SAN_OUT)/quadstep-emu: $(NATIVE_CORE_SOURCES) $(NATIVE_EMU_SOURCES) $(wildcard firmware/core/*.h firmware/native/*.h)
+	@mkdir -p $(@D)
+	$(CC) $(NATIVE_EMU_CFLAGS) $(SAN_FLAGS) $(NATIVE_CORE_SOURCES) $(NATIVE_EMU_SOURCES) -o $@ -lm
+
+test-sanitize: setup all harness $(SAN_OUT)/quadstep-emu
+	QUADSTEP_EMULATOR=$(abspath $(SAN_OUT)/quadstep-emu) ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 \
+	  UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 $(PYTHON) -m pytest -q

@@ -160,7 +160,8 @@ async def test_a_job_waits_at_m0_until_g(machine: MachineConfig, emulator_binary
         assert positions(app) == (800, 0, 0)
 
 
-async def test_a_running_job_stops_with_space(machine: MachineConfig, emulator_binary: Path, tmp_path: Path) -> None:
+async def test_a_running_job_holds_with_space_and_stops_with_esc(machine: MachineConfig, emulator_binary: Path,
+                                                                 tmp_path: Path) -> None:
     job = tmp_path / "long.gcode"
     job.write_text("G1 X30 F60\nG1 X0\n")  # 1 mm/s: the stop lands mid-move even on a loaded machine
     app = make_app(machine, emulator_binary, free=False, job_path=str(job))
@@ -170,12 +171,18 @@ async def test_a_running_job_stops_with_space(machine: MachineConfig, emulator_b
         await until(pilot, lambda: app.machine.job is not None, what="the job to start")
         send_key(app, "right")  # jogging is refused while a job runs
         await asyncio.sleep(0.4)
-        send_key(app, "space", " ")
-        await until(pilot, lambda: "long.gcode: stopped near line 1 (HOLD)" in log_text(app), what="the stop")
-        assert "jog: a job is running (Space stops it)" in log_text(app)
+        send_key(app, "space", " ")  # a feed hold: at rest, the rest of the job kept
+        await until(pilot, lambda: app.machine.job is not None and app.machine.job.held, what="the feed hold")
+        assert "jog: a job is running (Space holds it, Esc stops it)" in log_text(app)
         status = app.session.machine.status()  # type: ignore[union-attr]
         assert status.state == State.IDLE and status.queue_fill == 0
-        assert 0 < status.position[0] < 2400
+        held_at = status.position[0]
+        assert 0 < held_at < 2400
+        send_key(app, "space", " ")  # resume: it moves on from where it rests
+        await until(pilot, lambda: app.session.machine.status().position[0] > held_at,  # type: ignore[union-attr]
+                    what="the job to move on")
+        send_key(app, "escape")
+        await until(pilot, lambda: "long.gcode: stopped near line 1 (HOLD)" in log_text(app), what="the stop")
         assert app.machine.job is None
 
 

@@ -3,12 +3,16 @@
 Nothing is sent until the job has been read, checked against the travel and
 planned completely, and the firmware agrees with the configuration. Ctrl-C
 brings the machine to rest (HOLD) and reports the line and the exact
-position; exit code 130.
+position; exit code 130. A feed hold (SIGUSR1, or the board's feed hold
+button) brings it to rest and keeps the rest of the job; Enter (in a
+terminal), SIGUSR2 or the cycle start button resumes it.
 """
 
 from __future__ import annotations
 
 import argparse
+import select
+import signal
 import sys
 import time
 from collections.abc import Callable
@@ -101,14 +105,41 @@ def run(args: argparse.Namespace) -> int:
 
 def follow(run_: JobRun, job: Job, progress: Progress, show: Callable[[int], None]) -> tuple[MotionEnd, bool]:
     """Wait for the job in this (the main) thread, so that Ctrl-C lands here and nowhere in the link:
-    then HOLD. Returns how the job ended and whether Ctrl-C ended it."""
+    then HOLD. SIGUSR1 is a feed hold, SIGUSR2 resumes. Returns how the job ended and whether Ctrl-C ended it."""
+    asked: list[str] = []
+    previous = {sig: signal.signal(sig, lambda number, _: asked.append("hold" if number == signal.SIGUSR1 else "go"))
+                for sig in (signal.SIGUSR1, signal.SIGUSR2)}
+    try:
+        return _follow(run_, job, progress, show, asked)
+    finally:
+        for sig, handler in previous.items():
+            signal.signal(sig, handler)
+
+
+def _follow(run_: JobRun, job: Job, progress: Progress, show: Callable[[int], None],
+            asked: list[str]) -> tuple[MotionEnd, bool]:
+    prompted = False
     try:
         while True:
             end = run_.wait(PROGRESS_INTERVAL)
             show(run_.progress.done)
             if end is not None:
                 return end, False
+            while asked:
+                if asked.pop(0) == "hold":
+                    run_.feed_hold()
+                else:
+                    run_.resume()
             line = run_.paused_at
+            if line is not None and run_.held:
+                if not prompted:
+                    prompted = True
+                    print(f"feed hold at {job.label} {line}: Enter, SIGUSR2 or cycle start resumes; Ctrl-C stops",
+                          file=sys.stderr, flush=True)
+                if sys.stdin.isatty() and select.select([sys.stdin], [], [], 0)[0] and sys.stdin.readline():
+                    run_.resume()
+                continue
+            prompted = False
             if line is not None:
                 progress.stop()  # the prompt must not be drawn over
                 try:
@@ -151,7 +182,7 @@ def stream(args: argparse.Namespace, machine: Machine, job: Job, start: StatusRe
         progress.update(task, completed=ticks, description=f"{job.label} {line}/{job.program.lines}", left=left)
 
     with progress:
-        run_ = machine.run_job(plan)
+        run_ = machine.run_job(plan, job.program, job.label)
         end, interrupted = follow(run_, job, progress, show)
     if end.error:
         raise CliError(end.error)

@@ -28,7 +28,7 @@ from .stats import LinkStats
 Clock = Callable[[], float]
 
 
-MIN_RTO = 0.02  # s: the retransmission timeout never goes below this, however short the round trip
+MIN_RTO = 0.05  # s: the retransmission timeout never goes below this (a busy host answers late), however short the round trip
 GIVE_UP = 2.0  # s: a frame resent `retries` times is given up only once it has waited this long too
 
 

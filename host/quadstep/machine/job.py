@@ -15,7 +15,10 @@ from itertools import accumulate
 
 from ..link import Link, LinkError
 from ..planner.plan import Plan
+from ..planner.program import JobError, Program
+from ..protocol import InputCause, InputChange, Report
 from .motion import Motion, MotionEnd
+from .remainder import plan_remainder
 
 
 @dataclass(frozen=True)
@@ -27,15 +30,27 @@ class JobProgress:
     paused_at: int | None  # line of the pause the job waits at
 
 
+FEED_HOLD = "feed hold"  # how a motion held to rest with the rest of the job kept ends
+
+
 class JobRun:
-    """One planned job on one link: start() it, then wait(), resume() after a pause, or halt()."""
+    """One planned job on one link: start() it, then wait(), resume() after a pause or a feed hold, or halt().
+
+    feed_hold() (or the board's feed hold button) brings the machine to rest and keeps the rest of the job; with
+    the job's `program`, resume() (or the cycle start button) plans what is left from where the machine rests and
+    goes on. Without it a feed hold ends the job, as halt() does."""
 
     def __init__(
-        self, link: Link, plan: Plan, decels: tuple[int, ...], on_end: Callable[[MotionEnd], None] | None = None
+        self, link: Link, plan: Plan, decels: tuple[int, ...], on_end: Callable[[MotionEnd], None] | None = None,
+        program: Program | None = None, label: str = "line",
     ) -> None:
         self.link = link
         self.plan = plan
+        self.program = program
+        self.label = label
         self.decels = decels
+        self.held = False  # waiting after a feed hold (paused_at names the line)
+        self._done_before = 0  # segments of the job run before the plan now streamed (after a feed hold)
         self.on_end = on_end  # called once, in the job's thread, before wait() returns
         self._ticks = list(accumulate(plan.segments.n, initial=0))
         self._lock = threading.Lock()
@@ -56,9 +71,10 @@ class JobRun:
             motion, offset, paused = self._motion, self._offset, self._paused_at
         done = offset + (motion.done if motion is not None else 0)
         total = len(self.plan)
+        before = self._done_before
         line = int(self.plan.segments.line[min(done, total - 1)]) if total else 0
         left = (self._ticks[-1] - self._ticks[done]) / self.plan.config.tick_hz
-        return JobProgress(done, total, line, left, paused)
+        return JobProgress(before + done, before + total, line, left, paused)
 
     @property
     def paused_at(self) -> int | None:
@@ -90,6 +106,15 @@ class JobRun:
         self._resume.set()
         return True
 
+    def feed_hold(self) -> bool:
+        """Bring the machine to rest (HOLD) and keep the rest of the job for resume(); False when nothing moves."""
+        with self._lock:
+            motion = self._motion if not self._halted else None
+        if motion is None or self.program is None:
+            return False
+        motion.halt(FEED_HOLD)
+        return True
+
     def halt(self, reason: str = "stop") -> MotionEnd:
         """Bring the machine to rest (HOLD) and end the job; returns how it ended."""
         with self._lock:
@@ -105,14 +130,45 @@ class JobRun:
     # --- the job's thread ----------------------------------------------------------------------
 
     def _run(self) -> None:
+        unregister = self.link.on_report(self._on_report)
         try:
             end = self._sections()
-        except LinkError as exc:
+            while end.ended_by == FEED_HOLD and self.program is not None and not self._halted:
+                end = self._after_feed_hold(end)
+        except (LinkError, JobError) as exc:
             end = MotionEnd("error", (), self._offset, error=str(exc))
+        finally:
+            unregister()
         self._end = end
         if self.on_end is not None:
             self.on_end(end)
         self._ended.set()
+
+    def _after_feed_hold(self, held: MotionEnd) -> MotionEnd:
+        """At rest after a feed hold: wait for resume(), then plan what is left from here and stream it."""
+        total = len(self.plan)
+        at = min(self._offset, total - 1)
+        with self._lock:
+            self.held, self._paused_at = True, int(self.plan.segments.line[at])
+        self._resume.wait()
+        self._resume.clear()
+        with self._lock:
+            self.held, self._paused_at = False, None
+            if self._halted:
+                return MotionEnd(self._halted, held.position, self._done_before + self._offset, held=True,
+                                 hold_tick=held.hold_tick)
+        assert self.program is not None
+        rest = tuple(self.link.status().position[: self.plan.segments.axis_count])
+        remainder = plan_remainder(self.program, self.plan, self._offset, rest, self.label)
+        with self._lock:
+            self._done_before += self._offset
+            self.plan, self._ticks, self._offset = remainder, list(accumulate(remainder.segments.n, initial=0)), 0
+        return self._sections()
+
+    def _on_report(self, report: Report) -> None:
+        """The board's cycle start button resumes a held job (in the reader thread: only an event is set)."""
+        if isinstance(report, InputChange) and report.cause == InputCause.CYCLE_START and self.held:
+            self.resume()
 
     def _sections(self) -> MotionEnd:
         """Each stretch of segments between pauses, and a wait at each pause (at the start or the end too)."""
@@ -132,7 +188,7 @@ class JobRun:
                     self._motion = None
                     self._offset = index if end.ended_by == "done" else first + end.segments_done
                 if end.ended_by != "done":
-                    return end
+                    return end  # a feed hold among them: the caller plans what is left
                 first = index
             if line is None:
                 break

@@ -24,6 +24,7 @@ from ..config import DEFAULT_CONFIG_NAME, MachineConfig, default_config
 from ..coordinates import WorkCoordinates
 from ..link import Link, LinkError, LinkStats, hold
 from ..planner.plan import Plan
+from ..planner.program import Program
 from ..planner.segments import SegmentArrays
 from ..port_process import PortProcess
 from ..protocol import (Alarm, AlarmCode, Capability, IdentifyReply, Report, Segment, SetPosition, State, StatusReport,
@@ -190,9 +191,10 @@ class Machine:
         motion = Motion(self.link, segments, self.decels, first=first, last=last, lookahead_ticks=lookahead_ticks)
         return self._begin(motion).start()  # type: ignore[return-value]
 
-    def run_job(self, plan: Plan) -> JobRun:
-        """Start a planned job now (pauses wait for JobRun.resume())."""
-        job = JobRun(self.link, plan, self.decels)
+    def run_job(self, plan: Plan, program: Program | None = None, label: str = "line") -> JobRun:
+        """Start a planned job now (pauses wait for JobRun.resume()). With the `program` it was planned from, a
+        feed hold (JobRun.feed_hold, the board's button) keeps the rest of the job for resume()."""
+        job = JobRun(self.link, plan, self.decels, program=program, label=label)
         return self._begin(job).start()  # type: ignore[return-value]
 
     def send_segments(self, segments: Sequence[Segment]) -> Motion:

@@ -16,9 +16,9 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from itertools import accumulate
 
-from ..link import AlarmError, Link, LinkError, Stopped, hold
+from ..link import AlarmError, Link, LinkError, Stopped, hold, wait_rest
 from ..planner.segments import SegmentArrays
-from ..protocol import DECEL_MAX, AckReason, Capability, Report
+from ..protocol import DECEL_MAX, AckReason, Capability, HoldDone, InputCause, Report
 
 # Keep at least this many segments queued, whatever the lookahead, so the board
 # always has the next one when a segment ends.
@@ -96,6 +96,7 @@ class Motion:
         self._sent = 0
         self._base_done = 0
         self._generation = 0  # the link's, when streaming began: a STOP from elsewhere changes it
+        self._input_holds = 0  # holds the firmware began itself, when streaming began
         self._thread = threading.Thread(target=self._run, name="quadstep-motion", daemon=True)
 
     # --- progress ------------------------------------------------------------------
@@ -118,6 +119,7 @@ class Motion:
     def start(self) -> Motion:
         self._base_done = self.link.segments_done
         self._generation = self.link.generation
+        self._input_holds = self.link.holds_by_input
         self._thread.start()
         return self
 
@@ -208,11 +210,19 @@ class Motion:
             self._space.clear()
 
     def _after_stop(self) -> None:
-        """A STOP from elsewhere (not halt()) dropped the rest of the motion: end where the board stands."""
+        """A STOP from elsewhere (not halt()) dropped the rest of the motion: end where the board stands. The
+        board's feed hold button (a hold the firmware began itself) ends it as a feed hold, once at rest."""
         with self._lock:
             if self._halting is not None:
                 return
         try:
+            holding = [c.cause for c in self.link.input_changes if c.cause in (InputCause.FEED_HOLD, InputCause.TRIGGER)]
+            if self.link.holds_by_input != self._input_holds and holding and holding[-1] == InputCause.FEED_HOLD:
+                status = wait_rest(self.link)
+                done = self.link.last_report(HoldDone)
+                self._finish(MotionEnd("feed hold", self._axes(status.position), self.done, held=True,
+                                       hold_tick=done.hold_tick if done is not None else None))
+                return
             position = self._axes(self.link.status().position)
         except LinkError as exc:
             self._finish(MotionEnd("error", (), self.done, error=str(exc)))

@@ -1,5 +1,6 @@
 """The machine screen's job keys: open a job (planned whole, in the work coordinates), run it, go on
-after a pause. Mixed into MachineScreen, whose log, session and worker threads they use."""
+after a pause, hold and resume it (Space; the board's feed hold and cycle start buttons too). Alarms and
+the buttons go to the log. Mixed into MachineScreen, whose log, session and worker threads they use."""
 
 from __future__ import annotations
 
@@ -13,6 +14,7 @@ from ..job import Job, load_job
 from ..link import LinkError
 from ..machine import JobRun, Machine, MachineError, MotionEnd
 from ..planner.program import JobError
+from ..protocol import Alarm, InputCause, InputChange, Report
 from .job_dialog import JobDialog
 from .messages import JobDone, JobStarted, Note
 from .panels import JobPanel
@@ -56,7 +58,7 @@ class JobKeys(Screen[None]):
             job: Job = load_job(path, machine.config, machine.sync(), coordinates=machine.coordinates)
             if len(job.plan) == 0:
                 raise JobError(f"{path}: no move leaves the current position")
-            run = machine.run_job(job.plan)
+            run = machine.run_job(job.plan, job.program, job.label)
         except (JobError, LinkError, MachineError) as exc:
             self.post_message(Note(f"job not started: {exc}", error=True))
             return
@@ -90,6 +92,29 @@ class JobKeys(Screen[None]):
         jogger = self.session.jogger
         if jogger is not None and self.session.connected:
             self._command(jogger.sync, "sync")
+
+    def action_hold_resume(self) -> bool:
+        """Space while a job runs: a feed hold that keeps the rest of the job; again: resume. False: no job."""
+        job = self.job
+        if job is None:
+            return False
+        if job.held:
+            job.resume()
+            self.log_line("resuming: what is left is planned from here")
+        else:
+            self._thread(lambda: job.feed_hold(), "quadstep-feed-hold")
+            self.log_line("feed hold: Space resumes, Esc stops the job")
+        return True
+
+    def watch_reports(self, machine: Machine) -> None:
+        """Alarms (E_STOP, HARD_LIMIT, UNDERRUN, HOST_LOST) and the board's buttons, in the log."""
+        def note(report: Report) -> None:
+            if isinstance(report, Alarm):
+                self.post_message(Note(f"ALARM {report.code.name} at steps {list(report.position)}; "
+                                       "Ctrl+X clears it", error=True))
+            elif isinstance(report, InputChange) and report.cause in (InputCause.FEED_HOLD, InputCause.CYCLE_START):
+                self.post_message(Note(f"board button: {report.cause.name.lower().replace('_', ' ')}"))
+        machine.on_report(note)
 
     def action_resume(self) -> None:
         if self.job is None or not self.job.resume():

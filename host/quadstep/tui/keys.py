@@ -32,7 +32,7 @@ def bindings(step_presets: int) -> list[BindingType]:
         Binding("minus", "speed(-1)", "slower", key_display="-", group=SPEED),
         Binding("plus,equals_sign", "speed(1)", "faster", key_display="+", group=SPEED),
         Binding("c", "toggle_mode", "cont/incr"),
-        Binding("space", "halt", "stop", key_display="Space", group=STOP),
+        Binding("space", "space", "hold/resume", key_display="Space", group=STOP),
         Binding("escape", "halt", "stop", key_display="Esc", group=STOP),
         Binding("x", "zero(0)", "zero X", show=False),
         Binding("y", "zero(1)", "zero Y", show=False),
@@ -88,7 +88,8 @@ HELP = """\
   o              open a G-code or move file and run it (planned first:
                  nothing moves if any line is wrong)
   g              go on after a pause (M0)
-  Space, Esc     stop the job (HOLD)
+  Space          feed hold (keeps the rest of the job), again: resume
+  Esc            stop the job (HOLD)
 
 [b]Connection[/b]
   Ctrl+R         reconnect after the link was lost

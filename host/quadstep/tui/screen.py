@@ -124,6 +124,8 @@ class MachineScreen(JobKeys):
         given = "" if self.session.config_given is not None else " (no --config: default 80 steps/mm, ±1000 mm)"
         self.log_line(f"connected: {_board_name(ident.board)}, {ident.axis_count} axes, "
                       f"queue {ident.queue_capacity}{given}")
+        if self.session.machine is not None:
+            self.watch_reports(self.session.machine)
         self._start_polling()
         self.refresh_panels()
 
@@ -181,7 +183,7 @@ class MachineScreen(JobKeys):
             self.log_line(f"{what}: not connected (Ctrl+R reconnects)", error=True)
             return None
         if self.job is not None:
-            self.log_line(f"{what}: a job is running (Space stops it)", error=True)
+            self.log_line(f"{what}: a job is running (Space holds it, Esc stops it)", error=True)
             return None
         return jogger
 
@@ -227,8 +229,13 @@ class MachineScreen(JobKeys):
             self.log_line(f"{axis.name} at {axis.to_mm(result.position[result.axis]):.3f} mm "
                           f"({result.position[result.axis]} steps)")
 
+    def action_space(self) -> None:
+        """Space: hold or resume a running job; else what Esc does."""
+        if not self.action_hold_resume():
+            self.action_halt()
+
     def action_halt(self) -> None:
-        """Space/Esc: cancel queued jog presses and bring whatever moves to rest with HOLD."""
+        """Esc: cancel queued jog presses and bring whatever moves to rest with HOLD (a job ends there)."""
         self.session.cancel_pending()
         machine = self.session.machine
         if machine is not None and machine.busy:

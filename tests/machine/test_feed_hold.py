@@ -1,0 +1,120 @@
+"""Feed hold and resume: a hold keeps the rest of the job; resume plans what is left from the rest position (a
+fresh acceleration) and every remaining move lands exactly. From the host (JobRun.feed_hold) and from the board's
+feed hold button (the simulated machine presses it); the cycle start button resumes."""
+
+from __future__ import annotations
+
+import time
+from pathlib import Path
+
+import numpy as np
+from host_helpers import read_trace
+
+from quadstep.config import load_config
+from quadstep.engine_model import predict, predict_hold
+from quadstep.job import load_job
+from quadstep.link import Link
+from quadstep.machine import Machine
+from quadstep.machine.remainder import plan_remainder
+from quadstep.machine.units import hold_decels
+from quadstep.protocol import HoldDone, Input, InputCause, InputChange
+
+REPO = Path(__file__).resolve().parents[2]
+CONFIG = load_config(REPO / "examples" / "router-uno.toml")
+JOB = "G21 G90 F3000\nG1 X20 Y10\nG2 X30 Y20 I5 J5\nG1 X5 Y25\nG1 Z-1 F600\nG0 Z0\nG0 X0 Y0\n"
+
+
+def wait_until(condition, timeout: float = 10.0) -> None:
+    deadline = time.monotonic() + timeout
+    while not condition():
+        assert time.monotonic() < deadline, "timed out"
+        time.sleep(0.01)
+
+
+def check_trace(trace: Path, plan, hold: HoldDone, program) -> None:
+    """Before the hold the plan's steps, then the hold's, then the remainder's from the rest position."""
+    segments = list(plan.segments.segments())
+    stop = predict_hold(segments, hold.hold_tick, hold_decels(CONFIG), axis_count=3)
+    assert stop.held is not None
+    remainder = plan_remainder(program, plan, stop.held, tuple(stop.positions), "line")
+    before = predict(segments, axis_count=3).steps
+    after = predict(remainder.segments.segments(), stop.positions, start_tick=stop.motion_ticks, axis_count=3)
+    expected = np.concatenate([before[before[:, 0] <= hold.hold_tick], stop.steps, after.steps])
+    assert np.array_equal(read_trace(trace), expected)
+    assert tuple(after.positions) == plan.end
+
+
+def test_a_feed_hold_keeps_the_job_and_resume_finishes_it_exactly(start_emulator, tmp_path: Path) -> None:
+    path = tmp_path / "job.gcode"
+    path.write_text(JOB)
+    trace = tmp_path / "trace.csv"
+    emu = start_emulator(trace=trace, axes=3, tick_hz=CONFIG.tick_hz)
+    with Link.open(emu.url) as link:
+        machine = Machine(link, CONFIG)
+        job = load_job(path, CONFIG, machine.position)
+        run = machine.run_job(job.plan, job.program)
+        time.sleep(0.4)
+        seen = machine.report_count(HoldDone)
+        assert run.feed_hold()
+        wait_until(lambda: run.held)
+        hold = link.last_report(HoldDone)
+        assert machine.report_count(HoldDone) == seen + 1 and hold is not None
+        assert run.paused_at is not None and run.wait(0.3) is None  # held, not ended
+        assert run.resume()
+        end = run.wait(30)
+        assert end is not None and end.ended_by == "done", end
+        assert machine.position == job.plan.end
+    emu.stop()
+    check_trace(trace, job.plan, hold, job.program)
+
+
+def test_the_feed_hold_button_holds_and_cycle_start_resumes(start_emulator, tmp_path: Path) -> None:
+    path = tmp_path / "job.gcode"
+    path.write_text(JOB)
+    sim = tmp_path / "machine.toml"
+    sim.write_text('[[press]]\ninput = "feed_hold"\nat_tick = 9000\nticks = 50\n')
+    trace = tmp_path / "trace.csv"
+    emu = start_emulator(trace=trace, axes=3, tick_hz=CONFIG.tick_hz,
+                         extra_args=("--machine", str(sim)))
+    with Link.open(emu.url) as link:
+        machine = Machine(link, CONFIG)
+        job = load_job(path, CONFIG, machine.position)
+        run = machine.run_job(job.plan, job.program)
+        wait_until(lambda: run.held)
+        hold = link.last_report(HoldDone)
+        assert hold is not None and hold.hold_tick >= 9000
+        # The cycle start button, as the board reports it (the simulated machine presses at motion ticks only).
+        run._on_report(InputChange(motion_ticks=hold.motion_ticks, active=1 << Input.CYCLE_START,
+                                   changed=1 << Input.CYCLE_START, cause=InputCause.CYCLE_START,
+                                   position=hold.position))
+        end = run.wait(30)
+        assert end is not None and end.ended_by == "done", end
+        assert machine.position == job.plan.end
+    emu.stop()
+    rows = np.loadtxt(trace, delimiter=",", skiprows=1, ndmin=2)[:, :3].astype(np.int64)  # (with motor, carriage)
+    check_trace_rows = tmp_path / "steps.csv"
+    np.savetxt(check_trace_rows, rows, delimiter=",", fmt="%d", header="tick,axis,direction", comments="")
+    check_trace(check_trace_rows, job.plan, hold, job.program)
+
+
+def test_quadstep_run_holds_on_sigusr1_and_resumes_on_sigusr2(start_emulator, tmp_path: Path) -> None:
+    import os
+    import signal
+    import subprocess
+    import sys
+
+    path = tmp_path / "job.gcode"
+    path.write_text(JOB)
+    emu = start_emulator(axes=3, tick_hz=CONFIG.tick_hz)
+    cli = subprocess.Popen([sys.executable, "-m", "quadstep.cli", "run", str(path), "--config",
+                            str(REPO / "examples" / "router-uno.toml"), "--port", emu.url],
+                           stdin=subprocess.DEVNULL, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    assert cli.stdout is not None and "planned" in cli.stdout.readline()
+    time.sleep(0.3)
+    os.kill(cli.pid, signal.SIGUSR1)
+    time.sleep(0.8)
+    assert cli.poll() is None  # held, waiting
+    os.kill(cli.pid, signal.SIGUSR2)
+    out, err = cli.communicate(timeout=30)
+    assert cli.returncode == 0, err
+    assert "feed hold at line" in err and "every axis is exactly where the job put it" in out
