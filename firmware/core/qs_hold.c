@@ -82,10 +82,13 @@ static QS_ALWAYS_INLINE uint8_t begin_axis(qs_hold *hd, const qs_segment *s, uin
      * would go on accelerating (past one step a tick, near the top speed):
      * the hold's first tick runs at the end speed instead, 2n*vn, which is
      * C1 = db/2 less, and h, which holds that increment already, too. */
-    const qs_i24 past = at_end ? s->db[axis] / 2 : 0;
-    const qs_i24 next = s->b[axis] - s->db[axis] + s->two_c2 - past;
+    qs_i24 past, next;
 
-    if (!(s->active & (1u << axis)) || next <= 0)
+    if (!(s->active & (1u << axis)))
+        return 0; /* its fields are whatever the slot held before: never read */
+    past = at_end ? s->db[axis] / 2 : 0;
+    next = s->b[axis] - s->db[axis] + s->two_c2 - past;
+    if (next <= 0)
         return 0;
     hd->h[axis] = scaled(s->h[axis] - past, bytes, k);
     hd->inc[axis] = scaled(next, bytes, k) + hd->db[axis];

@@ -27,7 +27,8 @@ $(FUZZ_OUT)/seeds/.done: tests/fuzz/seeds.py protocol/vectors.json
 fuzz-short: $(FUZZ_OUT)/fuzz_core $(FUZZ_OUT)/seeds/.done
 	@mkdir -p $(FUZZ_OUT)/corpus
 	$(FUZZ_OUT)/fuzz_core -runs=0 $(FUZZ_REGRESSIONS) > $(FUZZ_OUT)/regressions.log 2>&1 || (cat $(FUZZ_OUT)/regressions.log; exit 1)
-	$(FUZZ_OUT)/fuzz_core -runs=$(FUZZ_SHORT_RUNS) -max_len=512 -print_final_stats=1 \
+	@mkdir -p $(FUZZ_OUT)/findings
+	$(FUZZ_OUT)/fuzz_core -runs=$(FUZZ_SHORT_RUNS) -max_len=512 -print_final_stats=1 -artifact_prefix=$(FUZZ_OUT)/findings/ \
 	  $(FUZZ_OUT)/corpus $(FUZZ_OUT)/seeds > $(FUZZ_OUT)/short.log 2>&1 || (tail -40 $(FUZZ_OUT)/short.log; exit 1)
 	@grep -E "stat::number_of_executed_units" $(FUZZ_OUT)/short.log | sed 's/^/fuzz (short): /'
 
