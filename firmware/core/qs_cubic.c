@@ -103,12 +103,42 @@ void qs_cubic_reset(qs_cubic_chain *c)
         c->d[axis] = 0;
     }
     c->negative = 0;
+    c->after = 0;
+}
+
+/* The end state of the quadratic segment the chain was left after. */
+static QS_NOINLINE void settle_quadratic(qs_cubic_chain *c)
+{
+    const qs_segment *slot = c->after;
+    uint8_t axis, bit;
+
+    for (axis = 0, bit = 1; axis < QS_AXIS_COUNT; axis++, bit = (uint8_t)(bit << 1)) {
+        c->d[axis] = 0;
+        if (!(c->after_active & bit)) {
+            c->i[axis] = 0;
+            continue;
+        }
+        /* The residual after it, rest - 4096 in 1/8192 step, is 2^18 times
+         * that in this scale; the end speed vn/4096 step per tick is 2^19
+         * times vn. */
+        c->e[axis] = (int32_t)((uint32_t)(int32_t)((int16_t)slot->rest[axis] - QS_D) << 18);
+        c->i[axis] = (uint32_t)c->after_vn[axis] << 19;
+    }
+    c->negative = (uint8_t)((c->negative & ~c->after_active) | (c->after_negative & c->after_active));
+    c->after = 0;
+}
+
+static QS_ALWAYS_INLINE void settle(qs_cubic_chain *c)
+{
+    if (c->after)
+        settle_quadratic(c);
 }
 
 void qs_cubic_rest_on_ideal(qs_cubic_chain *c, uint8_t mask)
 {
     uint8_t axis;
 
+    settle(c);
     for (axis = 0; axis < QS_AXIS_COUNT; axis++)
         if (mask & (1u << axis))
             c->e[axis] = 0;
@@ -118,21 +148,11 @@ void qs_cubic_follow_quadratic(qs_cubic_chain *c, const qs_segment *slot, const 
 {
     uint8_t axis;
 
-    for (axis = 0; axis < QS_AXIS_COUNT; axis++) {
-        const uint8_t bit = (uint8_t)(1u << axis);
-        c->d[axis] = 0;
-        if (!(m->active & bit)) {
-            c->i[axis] = 0;
-            continue;
-        }
-        /* The residual after it, in 1/8192 step, is 2^18 in this scale;
-         * its end speed vn/4096 step per tick, 2^19. */
-        c->e[axis] = (int32_t)((int32_t)m->r[axis] + (int32_t)m->n * (m->v0[axis] + m->vn[axis])
-                               - 8192L * slot->total[axis])
-                     * (1L << 18);
-        c->i[axis] = (uint32_t)m->vn[axis] << 19;
-        c->negative = (uint8_t)((c->negative & ~bit) | (m->negative & bit));
-    }
+    c->after = slot;
+    for (axis = 0; axis < QS_AXIS_COUNT; axis++)
+        c->after_vn[axis] = m->vn[axis];
+    c->after_active = m->active;
+    c->after_negative = m->negative;
 }
 
 static uint8_t bad_field(qs_fault *f, uint8_t field, uint8_t axis)
@@ -215,6 +235,7 @@ QS_NOINLINE uint8_t qs_cubic_prepare(qs_cubic_chain *c, qs_segment *slot, const 
     choose3_t c3;
     uint8_t axis, bit;
 
+    settle(c);
     if (n < 1)
         return bad_field(f, QS_FIELD_N, QS_AXIS_NONE);
     if (named & (uint8_t)(0xFFu << axis_count))

@@ -30,6 +30,14 @@ typedef struct {
     uint32_t i[QS_AXIS_COUNT]; /* I(1) of the next segment, mod 2^32 (valid: <= Sigma) */
     int32_t d[QS_AXIS_COUNT];  /* I(2) - I(1) */
     uint8_t negative;          /* bit i: axis i's direction is negative */
+    /* After a quadratic segment, its end state is worked out only when a
+     * cubic one follows (quadratic streams pay for a few bytes kept): the
+     * slot (its end residuals stay there until the ring comes round to it,
+     * and every segment prepared in between replaces this) and its end
+     * speeds. */
+    const qs_segment *after;
+    uint16_t after_vn[QS_AXIS_COUNT];
+    uint8_t after_active, after_negative;
 } qs_cubic_chain;
 
 /* At rest, on the ideal: after reset, STOP, a hold, an alarm. */
@@ -38,8 +46,8 @@ void qs_cubic_reset(qs_cubic_chain *c);
 /* The axes in mask have new step positions: they rest on the ideal. */
 void qs_cubic_rest_on_ideal(qs_cubic_chain *c, uint8_t mask);
 
-/* After a quadratic segment (slot prepared from m): its exact end state.
- * Axes it does not name stop. */
+/* After a quadratic segment (slot prepared from m): its exact end state,
+ * kept to be worked out when needed. Axes it does not name stop. */
 void qs_cubic_follow_quadratic(qs_cubic_chain *c, const qs_segment *slot, const qs_segment_msg *m);
 
 /* Check m against the chain (field by field as PROTOCOL.md section 5.2 lists

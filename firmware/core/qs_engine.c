@@ -271,8 +271,7 @@ static void flush(qs_engine *e)
 
     e->left = 0;
     e->slow_path = 1;
-    e->queue.tail = e->queue.head;
-    e->queue.retired = e->queue.head;
+    qs_queue_drop(&e->queue);
     e->kept = 0;
     e->hold_alarm = QS_ALARM_NONE;
     for (axis = 0; axis < QS_AXIS_COUNT; axis++)

@@ -95,10 +95,13 @@ static QS_ALWAYS_INLINE uint8_t qs_cubic_axis_tick(qs_segment *s, uint8_t axis, 
 #endif
 #endif
 
-/* Between segments: take the next one, or settle. A segment that ended
- * moving with nothing behind it keeps its slot (e->kept) until this tick:
- * if the queue is still dry, a hold begins where it ended (an underrun:
- * QS_ENGINE_UNDERRUN, out of line), else the slot goes. */
+/* Between segments: take the next one (returns 1), or settle (0). A
+ * segment that ended moving with nothing behind it keeps its slot
+ * (e->kept) until this tick: if the queue is still dry, a hold begins where
+ * it ended (an underrun: QS_ENGINE_UNDERRUN, out of line), else the slot
+ * goes. Cheap otherwise, as it runs in the tick that makes the segment's
+ * first decision: the slot is ready, found without arithmetic
+ * (qs_queue_front). */
 static QS_ALWAYS_INLINE uint8_t qs_engine_begin(qs_engine *e)
 {
     qs_segment *s;
@@ -172,10 +175,12 @@ static QS_ALWAYS_INLINE uint8_t qs_engine_tick(qs_engine *e)
                 return 0;
             if (e->hold.moving)
                 return qs_engine_hold_tick(e);
+            if (!e->slow_path)
+                goto quadratic;
         }
-        if (e->slow_path == QS_PATH_CUBIC)
-            return qs_engine_cubic_tick(e);
+        return qs_engine_cubic_tick(e);
     }
+quadratic:
     s = e->seg;
     axes = s->tick_axes;
     steps = QS_ENGINE_AXIS_TICK(s, 0, axes, 0);

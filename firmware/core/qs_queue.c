@@ -7,4 +7,6 @@ void qs_queue_init(qs_queue *q, uint8_t capacity)
     q->retired = 0;
     q->capacity = capacity;
     q->wrap = (uint8_t)(2 * capacity);
+    q->front = q->slot;
+    q->last = &q->slot[capacity - 1];
 }

@@ -19,6 +19,9 @@ typedef struct {
     uint8_t retired;       /* oldest slot not yet retired; main loop */
     uint8_t capacity;      /* slots in use, 1 .. QS_QUEUE_CAPACITY */
     uint8_t wrap;          /* 2 * capacity, where indices wrap */
+    qs_segment *front;     /* the slot at tail, kept with it (the tick
+                            * finds it without a multiply) */
+    qs_segment *last;      /* the last slot in use */
 } qs_queue;
 
 /* 1 <= capacity <= QS_QUEUE_CAPACITY. */
@@ -72,12 +75,22 @@ static inline void qs_queue_publish(qs_queue *q)
 /* Tick: the oldest published slot (only when not empty), then release it. */
 static inline qs_segment *qs_queue_front(qs_queue *q)
 {
-    return qs_queue_at(q, q->tail);
+    return q->front;
 }
 
-static inline void qs_queue_release(qs_queue *q)
+static QS_ALWAYS_INLINE void qs_queue_release(qs_queue *q)
 {
+    qs_segment *s = q->front;
+    q->front = s == q->last ? q->slot : s + 1;
     q->tail = qs_queue_next(q, q->tail);
+}
+
+/* Main loop, with the tick locked out: drop every published slot. */
+static inline void qs_queue_drop(qs_queue *q)
+{
+    q->tail = q->head;
+    q->retired = q->head;
+    q->front = qs_queue_at(q, q->head);
 }
 
 #endif

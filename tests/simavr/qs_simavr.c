@@ -31,12 +31,13 @@
 #define PROBE_WORDS 8
 #define SERVICE_HZ 2000   /* host I/O and pacing checks per simulated second */
 #define IDLE_QUIET_MS 5   /* --exit-when-idle: line quiet this long first */
+#define LONGEST_TICK_STEPS 1024 /* --longest-tick: instructions kept per interrupt */
 
 typedef struct {
     const char *mcu;
     const char *elf;
     int pty, stdio_link;
-    const char *input, *feed, *output, *trace, *edges, *outputs, *stats, *profile, *profile_pc, *machine;
+    const char *input, *feed, *output, *trace, *edges, *outputs, *stats, *profile, *profile_pc, *longest, *machine;
     uint32_t input_delay;
     uint64_t max_cycles;
     int realtime; /* -1: default for the link */
@@ -62,6 +63,12 @@ typedef struct {
     uint64_t sleep_cycles;
     uint64_t irq_off_max;    /* longest stretch with interrupts off outside the tick */
     uint32_t irq_off_max_pc; /* where it began */
+    /* --longest-tick: the instructions of the tick interrupt running now,
+     * and those of the longest so far, with the cycles each took */
+    uint32_t tick_pc[LONGEST_TICK_STEPS], longest_pc[LONGEST_TICK_STEPS];
+    uint8_t tick_cycles_of[LONGEST_TICK_STEPS], longest_cycles_of[LONGEST_TICK_STEPS];
+    uint32_t tick_steps, longest_steps;
+    uint64_t longest_total, longest_at;
 } harness;
 
 static volatile sig_atomic_t stop_requested;
@@ -72,13 +79,52 @@ static void on_signal(int sig)
     stop_requested = 1;
 }
 
+/* --longest-tick: keep the instructions of every tick interrupt while it
+ * runs, and those of the longest one. */
+static void note_tick_step(harness *h, int was_inside, uint32_t pc, uint64_t cycles)
+{
+    if (sim_isr_inside(h->isr_timer) || was_inside) {
+        if (h->tick_steps < LONGEST_TICK_STEPS) {
+            h->tick_pc[h->tick_steps] = pc;
+            h->tick_cycles_of[h->tick_steps] = (uint8_t)cycles;
+            h->tick_steps++;
+        }
+    }
+    if (was_inside && !sim_isr_inside(h->isr_timer)) {
+        uint64_t total = 0;
+        for (uint32_t i = 0; i < h->tick_steps; i++) {
+            total += h->tick_cycles_of[i];
+        }
+        if (total > h->longest_total) {
+            h->longest_total = total;
+            h->longest_at = h->avr->cycle;
+            h->longest_steps = h->tick_steps;
+            memcpy(h->longest_pc, h->tick_pc, sizeof h->tick_pc[0] * h->tick_steps);
+            memcpy(h->longest_cycles_of, h->tick_cycles_of, sizeof h->tick_cycles_of[0] * h->tick_steps);
+        }
+        h->tick_steps = 0;
+    }
+}
+
+/* CSV `address,function,cycles`, in the order they ran. */
+static void write_longest_tick(const harness *h, FILE *out)
+{
+    fprintf(out, "# longest tick interrupt: %llu cycles, ended at cycle %llu\n",
+            (unsigned long long)h->longest_total, (unsigned long long)h->longest_at);
+    fprintf(out, "address,function,cycles\n");
+    for (uint32_t i = 0; i < h->longest_steps; i++) {
+        fprintf(out, "0x%05x,%s,%u\n", (unsigned)h->longest_pc[i], sim_profile_name(h->profile, h->longest_pc[i]),
+                (unsigned)h->longest_cycles_of[i]);
+    }
+}
+
 static void usage(void)
 {
     fprintf(stderr,
             "usage: qs-simavr --mcu atmega328p|atmega2560 --elf FILE\n"
             "        [--pty | --stdio | --input FILE | --feed FILE] [--output FILE]\n"
             "        [--trace FILE] [--edges FILE] [--outputs FILE] [--stats FILE] [--profile FILE] [--profile-pc FILE]\n"
-            "        [--max-cycles N] [--realtime | --free] [--exit-when-idle] [--freq HZ]\n"
+            "        [--longest-tick FILE] [--max-cycles N] [--realtime | --free] [--exit-when-idle] [--freq HZ]\n"
             "        [--machine FILE.toml] [--input-delay CYCLES]\n");
 }
 
@@ -121,6 +167,8 @@ static int parse_options(int argc, char **argv, options *o)
             text = &o->profile;
         } else if (!strcmp(a, "--profile-pc")) {
             text = &o->profile_pc;
+        } else if (!strcmp(a, "--longest-tick")) {
+            text = &o->longest;
         } else if (!strcmp(a, "--machine")) {
             text = &o->machine;
         } else if (!strcmp(a, "--input-delay") && v) {
@@ -494,7 +542,11 @@ int main(int argc, char **argv)
         const int was_sleeping = h.avr->state == cpu_Sleeping;
         const uint64_t before = h.avr->cycle;
         const uint32_t pc = h.avr->pc;
+        const int in_tick = o.longest && sim_isr_inside(h.isr_timer);
         const int state = avr_run(h.avr);
+        if (o.longest) {
+            note_tick_step(&h, in_tick, pc, h.avr->cycle - before);
+        }
         if (was_sleeping) {
             h.sleep_cycles += h.avr->cycle - before;
         } else if (h.profiling) {
@@ -550,6 +602,11 @@ int main(int argc, char **argv)
     if (o.profile) {
         FILE *f = open_out(o.profile);
         sim_profile_write(h.profile, f);
+        fclose(f);
+    }
+    if (o.longest) {
+        FILE *f = open_out(o.longest);
+        write_longest_tick(&h, f);
         fclose(f);
     }
     if (o.profile_pc) {
