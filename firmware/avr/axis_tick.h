@@ -159,24 +159,23 @@ _Static_assert(sizeof(qs_i24) == 3, "24-bit engine values");
 /* The cubic segment's decisions for every axis at once (qs_cubic_axis_tick
  * in qs_engine_tick.h, the same effect), in one block so that the steps
  * can build up in r0 (each axis writes its bit with bst/bld: the bit is set
- * when the axis does NOT step, and the block ends with a complement). Per
- * axis the 32-bit h and b and the 24-bit q and r stream through r18..r25
- * and are added byte by byte from memory: ldd/std leave the carry alone.
- * Adding Sigma = 2^31 without a step is subi 0x80 on h's top byte; q is
- * sign-extended into b's top byte with adc 0 and a conditional dec. The
- * rarer paths (r = 0, steady) branch out of line, so a jerk phase runs
- * straight through: 73 cycles per axis. */
+ * when the axis does NOT step, and the block ends with a complement) and
+ * the slot's tick_axes stays in r24. Per axis the 32-bit h and b and the
+ * 24-bit q and r stream through r18..r25 (r's bytes through r1, cleared
+ * after) and are added byte by byte from memory: ldd/std leave the carry
+ * alone. Without a step h gains Sigma = 2^31, with one nothing: either way
+ * its top bit ends clear (andi). q is sign-extended into b's top byte with
+ * adc 0 and a conditional dec. The rarer paths (r = 0, steady) branch out
+ * of line, so a jerk phase runs straight through: 71 cycles per axis. */
 #define QS_STR_(x) #x
 #define QS_STR(x) QS_STR_(x)
 #define QS_CUBIC_AXIS_ASM(A)                                                                                  \
-    "ldd r24, Z+%[ta]\n\t"                                                                                    \
     "sbrs r24, " QS_STR(A) "\n\t"                                                                             \
     "rjmp .Ldone%=_" QS_STR(A) "\n\t"                                                                         \
     "ldd r18, Z+%[h" QS_STR(A) "]+3\n\t"                                                                      \
     "bst r18, 7\n\t"                                                                                          \
     "bld r0, " QS_STR(A) "\n\t"                                                                               \
-    "sbrc r18, 7\n\t"                                                                                         \
-    "subi r18, 0x80\n\t"                                                                                      \
+    "andi r18, 0x7F\n\t"                                                                                      \
     "ldd r19, Z+%[b" QS_STR(A) "]\n\t"                                                                        \
     "ldd r20, Z+%[b" QS_STR(A) "]+1\n\t"                                                                      \
     "ldd r22, Z+%[b" QS_STR(A) "]+2\n\t"                                                                      \
@@ -195,17 +194,18 @@ _Static_assert(sizeof(qs_i24) == 3, "24-bit engine values");
     "sbrc r24, " QS_STR(A) "+4\n\t"                                                                           \
     "rjmp .Lnoj%=_" QS_STR(A) "\n\t"                                                                          \
     "ldd r18, Z+%[q" QS_STR(A) "]\n\t"                                                                        \
-    "ldd r24, Z+%[r" QS_STR(A) "]\n\t"                                                                        \
-    "add r18, r24\n\t"                                                                                        \
+    "ldd r1, Z+%[r" QS_STR(A) "]\n\t"                                                                         \
+    "add r18, r1\n\t"                                                                                         \
     "std Z+%[q" QS_STR(A) "], r18\n\t"                                                                        \
     "ldd r21, Z+%[q" QS_STR(A) "]+1\n\t"                                                                      \
-    "ldd r24, Z+%[r" QS_STR(A) "]+1\n\t"                                                                      \
-    "adc r21, r24\n\t"                                                                                        \
+    "ldd r1, Z+%[r" QS_STR(A) "]+1\n\t"                                                                       \
+    "adc r21, r1\n\t"                                                                                         \
     "std Z+%[q" QS_STR(A) "]+1, r21\n\t"                                                                      \
     "ldd r25, Z+%[q" QS_STR(A) "]+2\n\t"                                                                      \
-    "ldd r24, Z+%[r" QS_STR(A) "]+2\n\t"                                                                      \
-    "adc r25, r24\n\t"                                                                                        \
-    "std Z+%[q" QS_STR(A) "]+2, r25\n"                                                                        \
+    "ldd r1, Z+%[r" QS_STR(A) "]+2\n\t"                                                                       \
+    "adc r25, r1\n\t"                                                                                         \
+    "std Z+%[q" QS_STR(A) "]+2, r25\n\t"                                                                      \
+    "clr __zero_reg__\n"                                                                                       \
     ".Lbq%=_" QS_STR(A) ":\n\t"                                                                               \
     "add r19, r18\n\t"                                                                                        \
     "adc r20, r21\n\t"                                                                                        \
@@ -216,14 +216,14 @@ _Static_assert(sizeof(qs_i24) == 3, "24-bit engine values");
     "std Z+%[b" QS_STR(A) "], r19\n\t"                                                                        \
     "std Z+%[b" QS_STR(A) "]+1, r20\n\t"                                                                      \
     "std Z+%[b" QS_STR(A) "]+2, r22\n\t"                                                                      \
-    "std Z+%[b" QS_STR(A) "]+3, r23\n"                                                                        \
+    "std Z+%[b" QS_STR(A) "]+3, r23\n"                                                                         \
     ".Ldone%=_" QS_STR(A) ":\n\t"
 
 /* Out of line: r = 0 (q stays), and steady (b stays too). */
 #define QS_CUBIC_AXIS_RARE_ASM(A)                                                                             \
     ".Lnoj%=_" QS_STR(A) ":\n\t"                                                                              \
-    "ldd r24, Z+%[st]\n\t"                                                                                    \
-    "sbrc r24, " QS_STR(A) "\n\t"                                                                             \
+    "ldd r18, Z+%[st]\n\t"                                                                                    \
+    "sbrc r18, " QS_STR(A) "\n\t"                                                                             \
     "rjmp .Ldone%=_" QS_STR(A) "\n\t"                                                                         \
     "ldd r18, Z+%[q" QS_STR(A) "]\n\t"                                                                        \
     "ldd r21, Z+%[q" QS_STR(A) "]+1\n\t"                                                                      \
@@ -256,6 +256,7 @@ static inline __attribute__((always_inline)) uint8_t cubic_axes_tick(qs_segment 
     __asm__ __volatile__(
         "clr r0\n\t"
         "com r0\n\t"
+        "ldd r24, Z+%[ta]\n\t"
         QS_CUBIC_AXES_ASM
         "rjmp .Lend%=\n\t"
         QS_CUBIC_RARE_ASM

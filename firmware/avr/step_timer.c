@@ -84,11 +84,11 @@ ISR(TIMER1_COMPA_vect)
     const uint8_t held_dir = pulse & QS_DIR_PINS;
 
 #if QS_STEP_PULSE_US > 0
-    /* Only a pulse whose tick had little to compute waits here. 8-bit
-     * arithmetic is exact: the pulse starts a few cycles after the compare
-     * match, far from the timer's wrap. */
+    /* Only a pulse whose tick had little to compute waits here. The low
+     * byte alone repeats every 256 cycles; a tick that has run past that
+     * (TCNT1H, latched as TCNT1L is read, is not 0) waits for nothing. */
     if (pulse & QS_STEP_PINS) {
-        while ((uint8_t)(TCNT1L - pulse_start) < PULSE_CYCLES) {
+        while ((uint8_t)(TCNT1L - pulse_start) < PULSE_CYCLES && !TCNT1H) {
         }
     }
 #endif

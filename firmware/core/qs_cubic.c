@@ -1,35 +1,29 @@
 #include "qs_cubic.h"
+#include "qs_cubic_sums.h"
 #include "qs_protocol.h"
 
-/* Sums over a segment need more than 32 bits (an advance of up to n steps
- * in 2^-31 step, terms up to C(n, 3)*r < 2^61); the main loop does them
- * once per segment, each product of two 32-bit factors (a widening
- * multiply: far cheaper on the AVR than a 64 x 64 one). */
-typedef int64_t wide;
-
-static wide times(int32_t a, int32_t b)
-{
-    return (wide)a * (wide)b;
-}
+/* The sums are 48-bit (qs_wide.h, qs_cubic_sums.h): the steps are their
+ * bits 31 and up. */
+_Static_assert(QS_CUBIC_SHIFT == 31, "a step is 2^31");
 
 /* C(n, 2) = n(n-1)/2 < 2^31 for n <= 65535. */
-static uint32_t choose2(uint32_t n)
+static uint32_t choose2(uint16_t n)
 {
-    return n < 2 ? 0 : (n * (n - 1)) >> 1;
+    return n < 2 ? 0 : qs_umul16(n, (uint16_t)(n - 1)) >> 1;
 }
 
-/* C(n, 3) = n(n-1)(n-2)/6 < 2^46, as two factors: ab < 2^31 and c < 2^16
- * (the factor 2 and the factor 3 divided out of n, n-1, n-2 first), so
- * that C(n, 3)*r is ab * (c*r), two 32-bit factors. */
-typedef struct {
-    int32_t ab;
-    uint16_t c;
-} choose3_t;
-
-static choose3_t choose3(uint32_t n)
+/* x / 3 for any 16-bit x, by a multiply (exact: 3 * 43691 = 2^17 + 1). */
+static uint16_t third(uint16_t x)
 {
-    uint16_t a = (uint16_t)n, b = (uint16_t)(n - 1), c = (uint16_t)(n - 2);
-    choose3_t out = {0, 0};
+    return (uint16_t)((uint16_t)(qs_umul16(x, 43691u) >> 16) >> 1);
+}
+
+/* C(n, 3) = n(n-1)(n-2)/6 < 2^46: the factor 2 and the factor 3 divided
+ * out of n, n-1, n-2 first, then two products. */
+static QS_NOINLINE qs_w48 choose3(uint16_t n)
+{
+    uint16_t a = n, b = (uint16_t)(n - 1), c = (uint16_t)(n - 2);
+    qs_w48 out = qs_w48_of(0);
 
     if (n < 3)
         return out;
@@ -37,60 +31,73 @@ static choose3_t choose3(uint32_t n)
         b >>= 1;
     else
         a >>= 1;
-    switch ((uint16_t)n % 3) { /* the one of n, n-1, n-2 that 3 divides */
+    switch ((uint16_t)(n - 3 * third(n))) { /* the one of n, n-1, n-2 that 3 divides */
     case 0:
-        a /= 3;
+        a = third(a);
         break;
     case 1:
-        b /= 3; /* n-1, halved or not */
+        b = third(b); /* n-1, halved or not */
         break;
     default:
-        c /= 3;
+        c = third(c);
         break;
     }
-    out.ab = (int32_t)((uint32_t)a * b);
-    out.c = c;
+    qs_w48_mac(&out, qs_umul16(a, b), c);
     return out;
 }
 
-static wide choose3_times(choose3_t c3, int16_t r)
+#if !defined(__AVR__)
+/* qs_cubic_sums.h in C (firmware/avr/cubic_sums.c has the AVR's). */
+void qs_cubic_last(qs_cubic_terms *t)
 {
-    return times(c3.ab, (int32_t)c3.c * r);
+    const int64_t last = (int64_t)t->i + (int64_t)t->n_less * t->d + (int64_t)t->c2_less * t->r;
+    t->last = qs_w48_from((uint64_t)last);
 }
 
-/* I(k) = i + (k-1)*d + C(k-1, 2)*r, exactly. */
-static wide advance_at(wide i, int32_t d, int16_t r, uint32_t k)
+void qs_cubic_twice(qs_cubic_terms *t)
 {
-    return i + times((int32_t)(k - 1), d) + times((int32_t)choose2(k - 1), r);
+    const uint64_t sum = (uint64_t)t->i + t->last.lo;
+    const uint64_t twice = 2 * (uint64_t)t->ahead + t->n * sum - qs_w48_value(t->c3) * (uint64_t)(int64_t)t->r;
+    t->twice = qs_w48_from(twice);
+}
+#endif
+
+/* 0 <= x <= Sigma for a signed 48-bit x. */
+static uint8_t in_range(qs_w48 x)
+{
+    return x.hi == 0 && x.lo <= QS_SIGMA;
 }
 
-static uint8_t in_range(wide x)
+/* -2^23 < q < 2^23 */
+static uint8_t accel_fits(int32_t q)
 {
-    return x >= 0 && x <= (wide)QS_SIGMA;
+    return (uint32_t)((uint32_t)q + (uint32_t)(QS_CUBIC_ACCEL_LIMIT - 1)) < (uint32_t)(2 * QS_CUBIC_ACCEL_LIMIT - 1);
 }
 
-static uint8_t accel_fits(wide q)
+/* Whether I's differences d + (k-1)*r change sign before k = n, so that
+ * I(k) has an extreme inside the segment (the ends are checked apart). */
+static QS_ALWAYS_INLINE uint8_t has_extreme(int32_t d, int16_t r, int32_t nr)
 {
-    return q > -QS_CUBIC_ACCEL_LIMIT && q < QS_CUBIC_ACCEL_LIMIT;
+    const int32_t last_difference = d + nr - 2 * (int32_t)r; /* d + (n-2)*r: between I(n-1) and I(n) */
+    return (r > 0 && d < 0 && last_difference > 0) || (r < 0 && d > 0 && last_difference < 0);
 }
 
-/* Whether 0 <= I(k) <= Sigma for k = 1..n, given I(1) = i and I(n) = last:
- * I is quadratic in k, so the ends and, where its differences d + (k-1)*r
- * change sign inside, the extreme between them (found by a division, only
- * then). */
-static uint8_t advances_in_range(wide i, wide last, int32_t d, int16_t r, uint16_t n)
+/* Whether that extreme is in [0, Sigma] too. Found by a division. */
+static QS_NOINLINE uint8_t extreme_in_range(const qs_cubic_terms *t)
 {
-    uint32_t k;
+    const int32_t d = t->d, r = t->r;
+    qs_cubic_terms at = *t;
+    uint16_t k;
 
-    if (!in_range(i) || !in_range(last))
-        return 0;
-    if (r > 0 && d < 0)
-        k = 1 + (uint32_t)((-(int32_t)d + r - 1) / r); /* the first k whose difference is >= 0: the least I */
-    else if (r < 0 && d > 0)
-        k = 1 + (uint32_t)((d - r - 1) / -(int32_t)r); /* the first k whose difference is <= 0: the largest I */
+    if (r > 0)
+        k = (uint16_t)(1 + (uint32_t)(-d + r - 1) / (uint16_t)r); /* the first k whose difference is >= 0: the least I */
     else
-        return 1;
-    return k >= n || in_range(advance_at(i, d, r, k));
+        k = (uint16_t)(1 + (uint32_t)(d - r - 1) / (uint16_t)-r); /* the first k whose difference is <= 0: the largest I */
+    /* I(k) = i + (k-1)*d + C(k-1, 2)*r: last's sum with k in place of n */
+    at.n_less = (uint16_t)(k - 1);
+    at.c2_less = choose2((uint16_t)(k - 1));
+    qs_cubic_last(&at);
+    return in_range(at.last);
 }
 
 void qs_cubic_reset(qs_cubic_chain *c)
@@ -118,11 +125,16 @@ static QS_NOINLINE void settle_quadratic(qs_cubic_chain *c)
             c->i[axis] = 0;
             continue;
         }
-        /* The residual after it, rest - 4096 in 1/8192 step, is 2^18 times
-         * that in this scale; the end speed vn/4096 step per tick is 2^19
-         * times vn. */
-        c->e[axis] = (int32_t)((uint32_t)(int32_t)((int16_t)slot->rest[axis] - QS_D) << 18);
-        c->i[axis] = (uint32_t)c->after_vn[axis] << 19;
+        /* The residual after it, r + n(v0 + vn) - 8192*steps in 1/8192
+         * step (v0 + vn = 2vn - db/2: the slot keeps r and db), lies in
+         * [-4096, 4096): its low 13 bits are exact in 16-bit arithmetic.
+         * In this scale it is 2^18 times that; the end speed vn/4096 step
+         * per tick is 2^19 times vn. */
+        const uint16_t vn = c->after_vn[axis];
+        const uint16_t sum = (uint16_t)(2 * vn - (uint16_t)((int32_t)slot->db[axis] / 2));
+        const uint16_t rest = (uint16_t)((uint16_t)slot->r[axis] + (uint16_t)(slot->n * sum) + QS_D) & (2 * QS_D - 1);
+        c->e[axis] = (int32_t)((uint32_t)(int32_t)((int16_t)rest - QS_D) << 18);
+        c->i[axis] = (uint32_t)vn << 19;
     }
     c->negative = (uint8_t)((c->negative & ~c->after_active) | (c->after_negative & c->after_active));
     c->after = 0;
@@ -163,77 +175,110 @@ static uint8_t bad_field(qs_fault *f, uint8_t field, uint8_t axis)
     return QS_ERR_BAD_FIELD;
 }
 
-/* One axis's start state: the chain's, or the set's; a set that turns the
- * axis round measures the error the other way. */
+/* The jerk of axis of m and its start (the chain's state, or the set's: a
+ * set that turns the axis round measures the error the other way) into
+ * c->terms. */
+static void load_start(qs_cubic_chain *c, const qs_cubic_msg *m, uint8_t axis)
+{
+    qs_cubic_terms *t = &c->terms;
+    const uint8_t bit = (uint8_t)(1u << axis);
+    int32_t e = c->e[axis];
+
+    if (m->set & bit) {
+        if ((c->negative ^ m->negative) & bit)
+            e = -e;
+        t->i = m->speed[axis];
+        t->d = m->accel[axis];
+    } else {
+        t->i = c->i[axis];
+        t->d = c->d[axis];
+    }
+    t->ahead = (uint32_t)e + QS_HALF_SIGMA;
+    t->r = m->r[axis];
+}
+
+/* What an axis leaves the chain. */
 typedef struct {
     int32_t e;
     uint32_t i;
     int32_t d;
-} start_state;
+} axis_end;
 
-static start_state axis_start(const qs_cubic_chain *c, const qs_cubic_msg *m, uint8_t axis)
+/* One axis of a segment that passed the ACCEL checks, exactly: its start
+ * state and steps into the slot, its end state into end; returns 0 if some
+ * advance leaves [0, Sigma]. The advances I(k) are quadratic in k: the
+ * ends, I(1) = i and last = I(n), and an extreme between them decide. */
+static QS_NOINLINE uint8_t plan_axis(qs_cubic_chain *c, const qs_cubic_msg *m, qs_segment *slot, uint8_t axis,
+                                     axis_end *end)
 {
+    qs_cubic_terms *t = &c->terms;
     const uint8_t bit = (uint8_t)(1u << axis);
-    start_state s;
+    int32_t nr;
 
-    s.e = c->e[axis];
-    s.i = c->i[axis];
-    s.d = c->d[axis];
-    if (m->set & bit) {
-        if ((c->negative ^ m->negative) & bit)
-            s.e = -s.e;
-        s.i = m->speed[axis];
-        s.d = m->accel[axis];
+    load_start(c, m, axis);
+    if (!(t->i || t->d || t->r)) {
+        /* at rest, and stays there */
+        end->e = (int32_t)(t->ahead - QS_HALF_SIGMA);
+        end->i = 0;
+        end->d = 0;
+        slot->total[axis] = 0;
+        return 1;
     }
-    return s;
+    if (t->i > QS_SIGMA)
+        return 0;
+    if (t->d || t->r) {
+        qs_cubic_last(t);
+        if (!in_range(t->last))
+            return 0;
+    } else {
+        t->last = qs_w48_of(t->i); /* a steady speed */
+    }
+    nr = qs_usmul16(t->n, t->r);
+    if (has_extreme(t->d, t->r, nr) && !extreme_in_range(t))
+        return 0;
+    /* I(n+1) = I(n) + d + (n-1)*r, within 32 bits now that I(n) is */
+    end->d = t->d + nr;
+    end->i = t->last.lo + (uint32_t)(end->d - t->r);
+    /* twice is 2*(e + Sigma/2 + X(n)): the steps are its bits 32 and up,
+     * the new e (plus Sigma/2) its bits 1 to 31 */
+    qs_cubic_twice(t);
+    end->e = (int32_t)((t->twice.lo >> 1) & (QS_SIGMA - 1u)) - (int32_t)QS_HALF_SIGMA;
+    slot->total[axis] = t->twice.hi;
+    slot->c.h[axis] = t->ahead + t->i - QS_SIGMA;
+    slot->c.b[axis] = t->i + (uint32_t)t->d - QS_SIGMA;
+    slot->c.q[axis] = t->d;
+    slot->c.r[axis] = t->r;
+    slot->c.e_top[axis] = (int8_t)((t->ahead - QS_HALF_SIGMA) >> 24);
+    slot->active |= bit;
+    slot->tick_axes |= bit;
+    if (!t->r) {
+        slot->tick_axes |= (uint8_t)(bit << 4);
+        if (!t->d)
+            slot->cubic |= bit;
+    }
+    if (end->i || end->d)
+        slot->ends_moving = 1;
+    return 1;
 }
 
-/* One axis over a segment: where it starts, what the segment does to it. */
-typedef struct {
-    start_state s;
-    int32_t end_e;
-    uint32_t end_i;
-    int32_t end_d;
-    uint16_t steps;
-    uint8_t moves;
-} axis_plan;
-
-/* The sums of a segment of n ticks for one axis, exactly: its end state,
- * the steps it makes; returns 0 if some advance leaves [0, Sigma]. */
-static uint8_t plan_axis(axis_plan *p, uint16_t n, uint32_t c2, choose3_t c3, int16_t r)
+/* The ACCEL check of axis of m: |d| < 2^23 at the start and at the end. */
+static uint8_t accel_ok(const qs_cubic_chain *c, const qs_cubic_msg *m, uint8_t axis)
 {
-    const start_state *s = &p->s;
-    wide travel, total, end_i;
+    const int32_t d = (m->set & (1u << axis)) ? m->accel[axis] : c->d[axis];
+    const int32_t nr = qs_usmul16(m->n, m->r[axis]);
 
-    p->end_e = s->e;
-    p->end_i = 0;
-    p->end_d = 0;
-    p->steps = 0;
-    p->moves = s->i || s->d || r;
-    if (!p->moves)
-        return 1; /* at rest, and stays there */
-    p->end_d = s->d + (int32_t)((int32_t)n * r);
-    end_i = (wide)s->i + times(n, s->d) + times((int32_t)c2, r);
-    /* I(n) = I(n+1) - (d + (n-1)*r) */
-    if (!advances_in_range(s->i, end_i - (p->end_d - r), s->d, r, n))
-        return 0;
-    travel = (wide)((uint64_t)n * s->i) + times((int32_t)c2, s->d) + choose3_times(c3, r);
-    total = (wide)s->e + travel + (wide)QS_HALF_SIGMA;
-    p->steps = (uint16_t)((uint32_t)(total >> 16) >> (QS_CUBIC_SHIFT - 16));
-    p->end_e = (int32_t)((uint32_t)total & (QS_SIGMA - 1u)) - (int32_t)QS_HALF_SIGMA;
-    p->end_i = (uint32_t)end_i;
-    return 1;
+    /* |n*r| < 2^31; below 2^24 unless the end is out of range anyway */
+    return accel_fits(d) && nr < (1L << 24) && nr > -(1L << 24) && accel_fits(d + nr);
 }
 
 QS_NOINLINE uint8_t qs_cubic_prepare(qs_cubic_chain *c, qs_segment *slot, const qs_cubic_msg *m, uint8_t axis_count,
                                      qs_fault *f)
 {
+    qs_cubic_terms *t = &c->terms;
     const uint16_t n = m->n;
     const uint8_t named = (uint8_t)(m->jerk | m->set);
-    axis_plan plan[QS_AXIS_COUNT];
-    uint32_t c2;
-    choose3_t c3;
-    uint8_t axis, bit;
+    axis_end end[QS_AXIS_COUNT];
+    uint8_t axis;
 
     settle(c);
     if (n < 1)
@@ -242,46 +287,27 @@ QS_NOINLINE uint8_t qs_cubic_prepare(qs_cubic_chain *c, qs_segment *slot, const 
         return bad_field(f, QS_FIELD_AXES, QS_AXIS_NONE);
     /* Field by field, each in axis order: the acceleration's width, then
      * the advance per tick. */
-    for (axis = 0; axis < axis_count; axis++) {
-        plan[axis].s = axis_start(c, m, axis);
-        if (!accel_fits(plan[axis].s.d) || !accel_fits((wide)plan[axis].s.d + (int32_t)n * m->r[axis]))
-            return bad_field(f, QS_FIELD_ACCEL, axis);
-    }
-    c2 = choose2(n);
-    c3 = choose3(n);
     for (axis = 0; axis < axis_count; axis++)
-        if (!plan_axis(&plan[axis], n, c2, c3, m->r[axis]))
-            return bad_field(f, QS_FIELD_SPEED, axis);
-
-    /* Valid: fill the slot, and the chain moves on. */
+        if (!accel_ok(c, m, axis))
+            return bad_field(f, QS_FIELD_ACCEL, axis);
+    t->n = n;
+    t->n_less = (uint16_t)(n - 1);
+    t->c2_less = choose2((uint16_t)(n - 1));
+    t->c3 = choose3(n);
     slot->n = n;
     slot->active = 0;
     slot->tick_axes = 0;
     slot->cubic = QS_CUBIC_KIND;
     slot->ends_moving = 0;
-    for (axis = 0, bit = 1; axis < axis_count; axis++, bit = (uint8_t)(bit << 1)) {
-        const axis_plan *p = &plan[axis];
-        const int16_t r = m->r[axis];
-        slot->total[axis] = p->steps;
-        c->e[axis] = p->end_e;
-        c->i[axis] = p->end_i;
-        c->d[axis] = p->end_d;
-        if (!p->moves)
-            continue;
-        slot->active |= bit;
-        slot->tick_axes |= bit;
-        if (!r) {
-            slot->tick_axes |= (uint8_t)(bit << 4);
-            if (!p->s.d)
-                slot->cubic |= bit;
-        }
-        if (p->end_i || p->end_d)
-            slot->ends_moving = 1;
-        slot->c.h[axis] = (uint32_t)p->s.e + p->s.i - QS_HALF_SIGMA;
-        slot->c.b[axis] = p->s.i + (uint32_t)p->s.d - QS_SIGMA;
-        slot->c.q[axis] = p->s.d;
-        slot->c.r[axis] = r;
-        slot->c.e_top[axis] = (int8_t)(p->s.e >> 24);
+    for (axis = 0; axis < axis_count; axis++)
+        if (!plan_axis(c, m, slot, axis, &end[axis]))
+            return bad_field(f, QS_FIELD_SPEED, axis);
+
+    /* Valid: the chain moves on. */
+    for (axis = 0; axis < axis_count; axis++) {
+        c->e[axis] = end[axis].e;
+        c->i[axis] = end[axis].i;
+        c->d[axis] = end[axis].d;
     }
     c->negative = (uint8_t)((c->negative & ~m->set) | (m->negative & m->set));
     slot->negative = (uint8_t)(c->negative & slot->active);
@@ -294,9 +320,9 @@ uint16_t qs_cubic_steps(const qs_segment *s, uint8_t axis, uint16_t t, uint32_t 
      * from I(t+1): t*I(t+1) - C(t+1, 2)*q + C(t+2, 3)*r. The steps made
      * are (e(0) + advance - e(t)) / Sigma exactly, so e(0)'s top byte is
      * enough. */
-    uint32_t next, sum_low;
-    int32_t e;
-    wide sum;
+    uint32_t next, c2;
+    int32_t e, mq;
+    qs_w48 sum, c3, high;
 
     if (t == 0)
         return 0; /* even when e(0) is half a step, which would round up */
@@ -304,9 +330,20 @@ uint16_t qs_cubic_steps(const qs_segment *s, uint8_t axis, uint16_t t, uint32_t 
         return s->total[axis];
     next = b - (uint32_t)(int32_t)q + QS_SIGMA;
     e = (int32_t)(h - next + QS_HALF_SIGMA);
-    sum = (wide)((uint64_t)t * next) - times((int32_t)choose2((uint32_t)t + 1), q)
-          + choose3_times(choose3((uint32_t)t + 2), (int16_t)s->c.r[axis]);
-    sum += (wide)s->c.e_top[axis] * 16777216 - e + (wide)QS_HALF_SIGMA; /* a multiply: the top byte may be negative */
-    sum_low = (uint32_t)(sum >> 16) >> (QS_CUBIC_SHIFT - 16);
-    return (uint16_t)sum_low;
+    sum = qs_w48_of(QS_HALF_SIGMA);
+    qs_w48_add(&sum, (int32_t)((uint32_t)(int32_t)s->c.e_top[axis] << 24));
+    qs_w48_add(&sum, -e);
+    qs_w48_mac(&sum, next, t);
+    /* - C(t+1, 2)*q, with -q split at bit 16 */
+    c2 = choose2((uint16_t)(t + 1));
+    mq = -(int32_t)q;
+    qs_w48_mac(&sum, c2, (uint16_t)mq);
+    high = qs_w48_of(0);
+    qs_w48_mac_sy(&high, c2, (int16_t)(mq >> 16));
+    qs_w48_add_16(&sum, high.lo);
+    /* + C(t+2, 3)*r = (C(t+1, 3) + C(t+1, 2))*r, as t + 2 may need 17 bits */
+    c3 = choose3((uint16_t)(t + 1));
+    qs_w48_mac(&c3, c2, 1);
+    qs_w48_mac_48(&sum, c3, (int16_t)s->c.r[axis]);
+    return (uint16_t)((sum.hi << 1) | (sum.lo >> 31)); /* bits 31-46 */
 }

@@ -27,7 +27,6 @@ static QS_ALWAYS_INLINE void prepare_axis(qs_segment *slot, uint8_t axis, uint16
     slot->db[axis] = c1 + c1;
     slot->r[axis] = r;
     slot->total[axis] = (uint16_t)((uint16_t)(twice_travel >> 8) >> (QS_SPEED_SHIFT + 1 - 8));
-    slot->rest[axis] = (uint16_t)twice_travel & (uint16_t)(2 * QS_D - 1);
     slot->ends_moving |= vn != 0;
     if (vn == v0)
         slot->tick_axes |= (uint8_t)(0x10u << axis);

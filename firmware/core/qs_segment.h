@@ -52,7 +52,6 @@ typedef struct {
             qs_i24 db[QS_AXIS_COUNT];
             qs_i24 two_c2;
             int16_t r[QS_AXIS_COUNT]; /* the segment's residuals */
-            uint16_t rest[QS_AXIS_COUNT]; /* the residual after it plus D, 0 ... 2D - 1 (1/8192 step) */
         };
         qs_cubic_run c; /* cubic (CUBIC_SEGMENT) */
     };

@@ -145,6 +145,23 @@ def cubic_runs(axis_count: int, seed: int, runs: int = 2, shortest: int = 150) -
     return out
 
 
+def quadratic_into_cubic(axis_count: int) -> list[list[Segment | CubicSegment]]:
+    """Quadratic segments that end moving, carried on by cubic ones with no state set (the chain takes the
+    quadratic's exact end: its residual and end speed), slowed to rest by a jerk-limited ramp."""
+    b = ChainBuilder(axis_count)
+    run: list[Segment | CubicSegment] = [dwell(300)]
+    dirs = {a: -1 if a == 1 else 1 for a in range(axis_count)}
+    run.append(b.segment(400, {a: (dirs[a], 0, 1500 + 500 * a) for a in range(axis_count)}))
+    run.append(b.segment(301, {a: (dirs[a], 1500 + 500 * a, 2000 + 500 * a) for a in range(axis_count)}))
+    # from speed v (v/4096 step per tick) to rest: jerk -r over n, then +r over n (the acceleration back to 0)
+    n = 700
+    jerks = {a: -((2000 + 500 * a) * 2**19 // (n * n)) for a in range(axis_count)}  # ends just above rest
+    run.append(CubicSegment(n=n, axes=tuple(CubicAxis(axis=a, jerk=r) for a, r in jerks.items())))
+    run.append(CubicSegment(n=n, axes=tuple(CubicAxis(axis=a, jerk=-r) for a, r in jerks.items())))
+    run.append(CubicSegment(n=50, axes=tuple(CubicAxis(axis=a, speed=0) for a in range(axis_count))))
+    return [run]
+
+
 def every_message_kind(axis_count: int) -> bytes:
     """Wire bytes (no flow control needed) that exercise every path of the
     firmware while axes move: segments, SET_POSITION (accepted at rest,

@@ -147,5 +147,6 @@ def test_sampling_the_inputs_costs_the_tick_three_cycles(avr_build: None, tmp_pa
     cycles = {int(row.split(",")[0], 16): int(row.split(",")[2]) for row in profile.read_text().splitlines()[1:]}
     interrupts = outputs.load_stats()["isr"]["timer"]["count"]
     assert interrupts > 3000
-    assert cycles[addresses[0]] == interrupts  # `in`: one cycle, every tick
-    assert cycles[addresses[1]] == 2 * interrupts  # `cpse` skipping the jump: two
+    started = cycles[addresses[0]]  # `in`: one cycle, every tick (the run may stop inside the last one)
+    assert started - interrupts in (0, 1)
+    assert cycles[addresses[1]] == 2 * started  # `cpse` skipping the jump: two

@@ -67,7 +67,7 @@ def run_both(board: str, runs: list[list[Segment]], tmp_path: Path, start_emulat
 
 @pytest.mark.parametrize(
     "name",
-    ["full_speed", "ramps_and_reversals", "random_runs", "cubic_runs"],
+    ["full_speed", "ramps_and_reversals", "random_runs", "cubic_runs", "quadratic_into_cubic"],
 )
 def test_uno_steps_match_emulator_and_model(name: str, avr_build: None, tmp_path: Path, start_emulator) -> None:
     axes = AXES["uno"]
@@ -76,6 +76,7 @@ def test_uno_steps_match_emulator_and_model(name: str, avr_build: None, tmp_path
         "ramps_and_reversals": lambda: avr_scenarios.ramps_and_reversals(axes),
         "random_runs": lambda: avr_scenarios.random_runs(axes, seed=7),
         "cubic_runs": lambda: avr_scenarios.cubic_runs(axes, seed=5),
+        "quadratic_into_cubic": lambda: avr_scenarios.quadratic_into_cubic(axes),
     }[name]()
     run_both("uno", runs, tmp_path, start_emulator)
 

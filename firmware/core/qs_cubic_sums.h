@@ -1,0 +1,45 @@
+/* The two wide sums of one axis over a cubic segment, the main loop's
+ * per-segment arithmetic (qs_cubic.c; docs/CUBIC.md derives them):
+ *
+ *   last  = I(n) = i + (n-1)*d + C(n-1, 2)*r
+ *   twice = 2*(e + Sigma/2) + n*(i + I(n)) - C(n, 3)*r
+ *
+ * (twice is 2*(e + Sigma/2 + X(n)), X(n) the travel: the trapezoid
+ * n*(I(1) + I(n))/2 less the curvature C(n, 3)*r/2.) Both are kept modulo
+ * 2^48: a valid segment's values are below 2^47, and for one whose advance
+ * per tick is out of range last still shows it (|last| < 2^47 whatever the
+ * fields). i and I(n) are at most Sigma when twice is asked for.
+ *
+ * The firmware core has the portable version; on the AVR, firmware/avr
+ * has it written out with the 8 x 8-bit multiplier, which avr-gcc 5.4
+ * does not use well for sums wider than 32 bits. */
+#ifndef QS_CUBIC_SUMS_H
+#define QS_CUBIC_SUMS_H
+
+#include <stdint.h>
+
+#include "qs_wide.h"
+
+typedef struct {
+    /* the axis */
+    uint32_t i;     /* the advance over the segment's first tick */
+    int32_t d;      /* its change per tick (24 bits, sign-extended) */
+    int16_t r;      /* the segment's jerk */
+    uint32_t ahead; /* e + Sigma/2, 0 ... Sigma */
+    /* the segment's counts */
+    uint16_t n;
+    uint16_t n_less; /* n - 1 */
+    uint32_t c2_less; /* C(n-1, 2) */
+    qs_w48 c3;        /* C(n, 3) */
+    /* the sums */
+    qs_w48 last;
+    qs_w48 twice;
+} qs_cubic_terms;
+
+/* last, from the axis and the counts. */
+void qs_cubic_last(qs_cubic_terms *t);
+
+/* twice, from the axis, the counts and last (0 <= i, last <= Sigma). */
+void qs_cubic_twice(qs_cubic_terms *t);
+
+#endif
