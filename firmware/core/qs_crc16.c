@@ -1,5 +1,7 @@
 #include "qs_crc16.h"
 
+#if !defined(__AVR__) /* the AVR's is table-driven: firmware/avr/crc16.c */
+
 /* qs_crc16_update with the two bytes kept apart across the loop. */
 uint16_t qs_crc16(const uint8_t *bytes, uint8_t len)
 {
@@ -13,3 +15,4 @@ uint16_t qs_crc16(const uint8_t *bytes, uint8_t len)
     }
     return (uint16_t)((uint16_t)(hi << 8) | lo);
 }
+#endif

@@ -647,11 +647,12 @@ void qs_engine_underrun_in_tick(qs_engine *e)
 
 uint8_t qs_engine_room_for(const qs_engine *e, uint8_t active, uint16_t n, uint8_t *axis)
 {
-    uint8_t a;
+    uint8_t a, bit;
 
-    for (a = 0; a < QS_AXIS_COUNT; a++) {
+    /* a walking bit: the AVR shifts by a variable count in a loop */
+    for (a = 0, bit = 1; a < QS_AXIS_COUNT; a++, bit = (uint8_t)(bit << 1)) {
         int32_t ahead;
-        if (!(active & (1u << a)))
+        if (!(active & bit))
             continue;
         ahead = e->base[a] + e->pending[a]; /* where the queue leaves it; a segment moves it at most n */
         if (ahead > QS_POSITION_MAX - (int32_t)n || ahead < (int32_t)n - QS_POSITION_MAX) {
@@ -664,12 +665,12 @@ uint8_t qs_engine_room_for(const qs_engine *e, uint8_t active, uint16_t n, uint8
 
 void qs_engine_note_prepared(qs_engine *e, const qs_segment *s)
 {
-    uint8_t axis;
+    uint8_t axis, bit;
 
-    for (axis = 0; axis < QS_AXIS_COUNT; axis++) {
-        if (!(s->active & (1u << axis)))
+    for (axis = 0, bit = 1; axis < QS_AXIS_COUNT; axis++, bit = (uint8_t)(bit << 1)) {
+        if (!(s->active & bit))
             continue;
-        if (s->negative & (1u << axis))
+        if (s->negative & bit)
             e->pending[axis] -= s->total[axis];
         else
             e->pending[axis] += s->total[axis];

@@ -1,11 +1,12 @@
 #include "qs_segment.h"
 #include "qs_protocol.h"
+#include "qs_wide.h"
 
 /* n * v for n <= N_MAX and 0 <= v <= 2 * V_MAX: below 2^23, so 24 bits
- * hold it. */
-static qs_i24 product(uint16_t n, uint16_t v)
+ * hold it (the AVR's 8 x 8-bit products, qs_wide.h, not a library call). */
+static QS_ALWAYS_INLINE qs_i24 product(uint16_t n, uint16_t v)
 {
-    return (qs_i24)((uint32_t)n * v);
+    return (qs_i24)qs_umul16(n, v);
 }
 
 /* One active axis. Every value here stays within +-(2nD + 3D) < 2^23
