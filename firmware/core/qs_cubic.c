@@ -176,11 +176,9 @@ static uint8_t bad_field(qs_fault *f, uint8_t field, uint8_t axis)
 }
 
 /* The jerk of axis of m and its start (the chain's state, or the set's: a
- * set that turns the axis round measures the error the other way) into
- * c->terms. */
-static void load_start(qs_cubic_chain *c, const qs_cubic_msg *m, uint8_t axis)
+ * set that turns the axis round measures the error the other way) into t. */
+static void load_start(qs_cubic_terms *t, const qs_cubic_chain *c, const qs_cubic_msg *m, uint8_t axis)
 {
-    qs_cubic_terms *t = &c->terms;
     const uint8_t bit = (uint8_t)(1u << axis);
     int32_t e = c->e[axis];
 
@@ -208,14 +206,13 @@ typedef struct {
  * state and steps into the slot, its end state into end; returns 0 if some
  * advance leaves [0, Sigma]. The advances I(k) are quadratic in k: the
  * ends, I(1) = i and last = I(n), and an extreme between them decide. */
-static QS_NOINLINE uint8_t plan_axis(qs_cubic_chain *c, const qs_cubic_msg *m, qs_segment *slot, uint8_t axis,
-                                     axis_end *end)
+static QS_NOINLINE uint8_t plan_axis(qs_cubic_terms *t, const qs_cubic_chain *c, const qs_cubic_msg *m,
+                                     qs_segment *slot, uint8_t axis, axis_end *end)
 {
-    qs_cubic_terms *t = &c->terms;
     const uint8_t bit = (uint8_t)(1u << axis);
     int32_t nr;
 
-    load_start(c, m, axis);
+    load_start(t, c, m, axis);
     if (!(t->i || t->d || t->r)) {
         /* at rest, and stays there */
         end->e = (int32_t)(t->ahead - QS_HALF_SIGMA);
@@ -274,7 +271,7 @@ static uint8_t accel_ok(const qs_cubic_chain *c, const qs_cubic_msg *m, uint8_t 
 QS_NOINLINE uint8_t qs_cubic_prepare(qs_cubic_chain *c, qs_segment *slot, const qs_cubic_msg *m, uint8_t axis_count,
                                      qs_fault *f)
 {
-    qs_cubic_terms *t = &c->terms;
+    qs_cubic_terms terms, *t = &terms;
     const uint16_t n = m->n;
     const uint8_t named = (uint8_t)(m->jerk | m->set);
     axis_end end[QS_AXIS_COUNT];
@@ -300,7 +297,7 @@ QS_NOINLINE uint8_t qs_cubic_prepare(qs_cubic_chain *c, qs_segment *slot, const 
     slot->cubic = QS_CUBIC_KIND;
     slot->ends_moving = 0;
     for (axis = 0; axis < axis_count; axis++)
-        if (!plan_axis(c, m, slot, axis, &end[axis]))
+        if (!plan_axis(t, c, m, slot, axis, &end[axis]))
             return bad_field(f, QS_FIELD_SPEED, axis);
 
     /* Valid: the chain moves on. */

@@ -19,7 +19,6 @@
 
 #include <stdint.h>
 #include "qs_config.h"
-#include "qs_cubic_sums.h"
 #include "qs_messages.h"
 #include "qs_segment.h"
 
@@ -39,7 +38,6 @@ typedef struct {
     const qs_segment *after;
     uint16_t after_vn[QS_AXIS_COUNT];
     uint8_t after_active, after_negative;
-    qs_cubic_terms terms; /* qs_cubic_prepare's work, one axis at a time */
 } qs_cubic_chain;
 
 /* At rest, on the ideal: after reset, STOP, a hold, an alarm. */
