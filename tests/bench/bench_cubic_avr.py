@@ -48,8 +48,13 @@ def steady_stream(n: int, count: int, accel: int) -> list[CubicSegment]:
     return segs
 
 
-def feed(segs: list[CubicSegment], name: str, seconds: float) -> dict:
+def feed(segs: list[CubicSegment], name: str, seconds: float, dwell: bool = False) -> dict:
+    """Run segs flow-controlled; with dwell, after a segment that moves nothing for 1022 ticks, so that the
+    queue is full before the motion starts (as a host starts a job) and the ticks measured serve no bytes
+    but the acks'."""
     WORK.mkdir(parents=True, exist_ok=True)
+    if dwell:
+        segs = [CubicSegment(n=1022), *segs]
     frames = b"".join(encode(s, i & 0xFF) for i, s in enumerate(segs))
     path = WORK / f"{name}.feed"
     path.write_bytes(frames)
@@ -86,7 +91,7 @@ def main() -> None:
             ("3 axes steady", steady_stream(1000, 8, 0))]
     print(f"  {'step interrupt':>24} {'ticks':>7} {'mean':>7} {'max':>5}   (cycles, 3 axes stepping / all ticks)")
     for name, segs in rows:
-        st = feed(segs, name.replace(" ", "-"), 1.0)
+        st = feed(segs, name.replace(" ", "-"), 1.0, dwell=True)
         b3 = st["tick_isr"]["steps3"]
         isr = st["isr"]["timer"]
         print(f"  {name:>24} {b3['count']:>7} {b3['mean']:>7.1f} {b3['max']:>5}   all ticks: mean {isr['mean']:.1f}, "
