@@ -65,6 +65,26 @@ class InputsConfig(BaseModel):
     debounce_ms: float = Field(default=0.0, ge=0, le=100, description="every input's debounce")
 
 
+class BacklashConfig(BaseModel):
+    """An axis's backlash and how it is taken up (docs/BACKLASH.md): at each reversal the motor makes the extra
+    steps inside the motion, with an acceleration- and jerk-limited ramp; positions never include them."""
+
+    model_config = ConfigDict(extra="forbid", frozen=True)
+
+    mm: float = Field(ge=0, le=10, description="the dead band: motor travel on a reversal before the carriage moves")
+    compensate: bool = Field(default=True, description="take it up at every reversal (false: measure only)")
+    accel: float | None = Field(default=None, gt=0, le=1_000_000,
+                                description="mm/s², the take-up's acceleration (default and most: the axis's max_accel)")
+    jerk: float | None = Field(default=None, gt=0, le=1e12,
+                               description="mm/s³, the take-up's jerk (default: its acceleration reached in 5 ms)")
+    place: Literal["around", "after"] = Field(
+        default="around", description="around: centred on the reversal (smallest path error); "
+                                      "after: begun where the axis reverses")
+    switch_hysteresis: float | None = Field(
+        default=None, ge=0, le=10, description="mm, the limit switch's own hysteresis, calibrated once "
+                                               "(quadstep backlash measure --method switch subtracts it)")
+
+
 class AxisConfig(BaseModel):
     """One motor axis: its G-code letter, scale, limits and travel."""
 
@@ -78,6 +98,20 @@ class AxisConfig(BaseModel):
     travel_max: float = Field(ge=-100_000, le=100_000, description="mm")
     invert: bool = False
     homing: HomingConfig | None = None  # None: the axis has no homing switch
+    backlash: BacklashConfig | None = None  # None: no backlash known
+
+    @model_validator(mode="after")
+    def _takeup_within_limits(self) -> AxisConfig:
+        if self.backlash is not None and self.backlash.accel is not None and self.backlash.accel > self.max_accel:
+            raise ValueError(f"backlash.accel = {self.backlash.accel}: must be at most max_accel = {self.max_accel}")
+        return self
+
+    @property
+    def backlash_steps(self) -> int:
+        """The take-up in whole steps (0: none), rounded once."""
+        if self.backlash is None or not self.backlash.compensate:
+            return 0
+        return math.floor(self.backlash.mm * self.steps_per_mm + 0.5)
 
     @model_validator(mode="after")
     def _travel_in_order(self) -> AxisConfig:

@@ -17,10 +17,10 @@ from ..config import AxisConfig, HomingConfig, MachineConfig
 from ..link import input_status, until_input
 from ..planner.plan import plan_program
 from ..planner.program import LinearMove, Program
-from ..protocol import MAX_AXES, InputChange, Probe, ProbeMissed, Segment, SetPosition
+from ..protocol import MAX_AXES, Probe, ProbeMissed, Segment
 from .errors import MachineError
 from .inputs import switch_input
-from .machine import Machine
+from .machine import Machine, Procedure
 from .units import braking_steps
 
 Progress = Callable[[str], None]
@@ -72,15 +72,15 @@ def home(machine: Machine, axes: Sequence[str] | None = None, on_progress: Progr
         raise HomingError("no axis has [axes.homing] in the configuration")
     say = on_progress or (lambda text: None)
     results = []
-    with machine.procedure("home"):
+    with machine.procedure("home") as procedure:
         for i in order:
-            results.append(_home_axis(machine, i, say))
+            results.append(_home_axis(machine, procedure, i, say))
     machine.homed = len(order) == len([a for a in config.axes if a.homing is not None])
     machine.position_lost = machine.position_lost and not machine.homed
     return results
 
 
-def _home_axis(machine: Machine, i: int, say: Progress) -> AxisHomed:
+def _home_axis(machine: Machine, procedure: Procedure, i: int, say: Progress) -> AxisHomed:
     config, link = machine.config, machine.link
     axis: AxisConfig = config.axes[i]
     homing: HomingConfig = axis.homing  # type: ignore[assignment]
@@ -94,19 +94,25 @@ def _home_axis(machine: Machine, i: int, say: Progress) -> AxisHomed:
     back = overshoot + homing.pull_off
 
     def at() -> list[int]:
-        return list(link.status().position[:n])
+        return list(machine.position) + [0] * (n - machine.axis_count)
 
-    def approach(level: int, mm: float, feed: float, what: str) -> InputChange:
+    def approach(level: int, mm: float, feed: float, what: str) -> tuple[int, ...]:
+        """Where (take-ups excluded) the switch reached `level` on a move of `mm`."""
+        segments = machine.takeup_stream(straight(free, at(), i, mm, feed, n))
         end = until_input(link, Probe(input=which, level=level, decel=decel),  # type: ignore[arg-type]
-                          straight(free, at(), i, mm, feed, n), TIMEOUT)
+                          segments, TIMEOUT)  # type: ignore[arg-type]
         if isinstance(end, ProbeMissed):
+            machine.rested()
             raise HomingError(f"axis {axis.name}: {what} within {abs(mm):.1f} mm ({which.name})")
-        return end
+        latched = machine.shown(end.position, end.motion_ticks)
+        machine.rested(end.motion_ticks)
+        return latched
 
     def move(mm: float, feed: float) -> None:
-        for segment in straight(free, at(), i, mm, feed, n):
+        for segment in machine.takeup_stream(straight(free, at(), i, mm, feed, n)):
             link.send(segment, TIMEOUT)
         link.wait_idle(TIMEOUT)
+        machine.rested()
 
     if input_status(link).is_active(which):
         say(f"{axis.name}: switch closed already, pulling off")
@@ -122,10 +128,7 @@ def _home_axis(machine: Machine, i: int, say: Progress) -> AxisHomed:
     move(-toward * homing.pull_off, homing.locate)
     switch_mm = homing.switch_at if homing.switch_at is not None else (
         axis.travel_min if homing.end == "min" else axis.travel_max)
-    now = at()[i]
-    zero_shift = axis.to_steps(switch_mm) - hit.position[i]
-    link.send(SetPosition(positions={i: now + zero_shift}), TIMEOUT)
-    link.drain(TIMEOUT)
-    position = at()[i]
+    zero_shift = axis.to_steps(switch_mm) - hit[i]
+    position = machine.set_position({i: machine.position[i] + zero_shift}, within=procedure)[i]
     say(f"{axis.name}: homed, switch at {switch_mm:g} mm, now at {axis.to_mm(position):.3f} mm")
-    return AxisHomed(axis.name, hit.position[i] + zero_shift, position, axis.to_mm(position))
+    return AxisHomed(axis.name, hit[i] + zero_shift, position, axis.to_mm(position))

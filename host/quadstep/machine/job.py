@@ -12,11 +12,13 @@ import threading
 from collections.abc import Callable
 from dataclasses import dataclass
 from itertools import accumulate
+from typing import Protocol
 
 from ..link import Link, LinkError
 from ..planner.plan import Plan
 from ..planner.program import JobError, Program
 from ..protocol import InputCause, InputChange, Report
+from .takeups import StreamPlan
 from .motion import Motion, MotionEnd
 from .remainder import plan_remainder
 
@@ -33,6 +35,15 @@ class JobProgress:
 FEED_HOLD = "feed hold"  # how a motion held to rest with the rest of the job kept ends
 
 
+class Restream(Protocol):
+    """What the machine does for a job going on after a feed hold: the band where the hold left it and the
+    position at rest (take-ups excluded), then the rest of the job with its take-ups."""
+
+    def held(self, end: MotionEnd) -> tuple[int, ...]: ...
+
+    def stream(self, plan: Plan) -> StreamPlan: ...
+
+
 class JobRun:
     """One planned job on one link: start() it, then wait(), resume() after a pause or a feed hold, or halt().
 
@@ -41,7 +52,7 @@ class JobRun:
     goes on. Without it a feed hold ends the job, as halt() does."""
 
     def __init__(
-        self, link: Link, plan: Plan, decels: tuple[int, ...], on_end: Callable[[MotionEnd], None] | None = None,
+        self, link: Link, plan: Plan | StreamPlan, decels: tuple[int, ...], on_end: Callable[[MotionEnd], None] | None = None,
         program: Program | None = None, label: str = "line",
     ) -> None:
         self.link = link
@@ -52,6 +63,8 @@ class JobRun:
         self.held = False  # waiting after a feed hold (paused_at names the line)
         self._done_before = 0  # segments of the job run before the plan now streamed (after a feed hold)
         self.on_end = on_end  # called once, in the job's thread, before wait() returns
+        self.settle: Callable[[MotionEnd], MotionEnd] | None = None  # the machine's view of the end, before that
+        self.restream: Restream | None = None  # the machine's, to go on after a feed hold with its take-ups
         self._ticks = list(accumulate(plan.segments.n, initial=0))
         self._lock = threading.Lock()
         self._resume = threading.Event()
@@ -139,6 +152,8 @@ class JobRun:
             end = MotionEnd("error", (), self._offset, error=str(exc))
         finally:
             unregister()
+        if self.settle is not None:
+            end = self.settle(end)
         self._end = end
         if self.on_end is not None:
             self.on_end(end)
@@ -158,11 +173,18 @@ class JobRun:
                 return MotionEnd(self._halted, held.position, self._done_before + self._offset, held=True,
                                  hold_tick=held.hold_tick)
         assert self.program is not None
-        rest = tuple(self.link.status().position[: self.plan.segments.axis_count])
-        remainder = plan_remainder(self.program, self.plan, self._offset, rest, self.label)
+        if self.restream is not None and isinstance(self.plan, StreamPlan):  # the machine's positions and take-ups
+            rest = self.restream.held(held)
+            planned = self.plan.base
+            held_at = self.plan.segments.origin_of(self._offset)
+        else:
+            rest = tuple(self.link.status().position[: self.plan.segments.axis_count])
+            planned, held_at = self.plan, self._offset  # type: ignore[assignment]
+        remainder = plan_remainder(self.program, planned, held_at, rest, self.label)  # type: ignore[arg-type]
+        streamed = self.restream.stream(remainder) if self.restream is not None else remainder
         with self._lock:
             self._done_before += self._offset
-            self.plan, self._ticks, self._offset = remainder, list(accumulate(remainder.segments.n, initial=0)), 0
+            self.plan, self._ticks, self._offset = streamed, list(accumulate(streamed.segments.n, initial=0)), 0
         return self._sections()
 
     def _on_report(self, report: Report) -> None:

@@ -22,19 +22,23 @@ from pathlib import Path
 
 from ..config import DEFAULT_CONFIG_NAME, MachineConfig, default_config
 from ..coordinates import WorkCoordinates
+from ..backlash.compensate import Compensated
 from ..link import Link, LinkError, LinkStats, hold
 from ..planner.plan import Plan
 from ..planner.program import Program
 from ..planner.segments import SegmentArrays
 from ..port_process import PortProcess
-from ..protocol import (Alarm, AlarmCode, Capability, IdentifyReply, Report, Segment, SetPosition, State, StatusReport,
-                        Watchdog)
+from ..protocol import (
+    Alarm, AlarmCode, Capability, IdentifyReply, Report, Segment, State, StatusReport, Watchdog,
+)
 from .agreement import check_agreement
 from .errors import MachineError
 from .inputs import config_message
 from .job import JobRun
 from .motion import Motion, MotionEnd
-from .state import load_state, save_state
+from .state import read_state, save_state
+from .standing import Standing, _Restream
+from .takeups import StreamPlan, TakeUps
 from .units import hold_decels
 
 
@@ -63,7 +67,7 @@ class Procedure:
 Program = Motion | JobRun | Procedure
 
 
-class Machine:
+class Machine(Standing):
     """The machine behind `link`, described by `config` (None: a generic one, see config.default_config)."""
 
     def __init__(
@@ -85,10 +89,13 @@ class Machine:
         self.emulator = emulator  # an emulator this machine started, stopped by close()
         self.decels = hold_decels(self.config)  # HOLD decelerations: each axis's max_accel
         self.state_file = state_file  # where the work coordinates are kept (None: in memory only)
-        self.coordinates = load_state(state_file) if state_file is not None else WorkCoordinates()
+        kept = read_state(state_file) if state_file is not None else None
+        self.coordinates = kept.coordinates if kept is not None else WorkCoordinates()
+        self._kept_band = kept.band if kept is not None else None
+        self.takeups = TakeUps(self.config)  # the backlash: take-ups in every program, positions without them
         self._lock = threading.Lock()
         self._running: Program | None = None
-        self._position: tuple[int, ...] = ()
+        self._motor: tuple[int, ...] = ()  # the board's step counts where it last stood still
         # Machine zero is known once homed; a hard limit or the abort button loses it (as GRBL's alarm).
         self.homed = False
         self.position_lost = False
@@ -99,6 +106,8 @@ class Machine:
         if identity.capabilities & Capability.CONTROLLED_STOPS:  # the link keeps it fed while anything moves
             link.request(Watchdog(timeout_ms=round(self.config.host_timeout * 1000)), StatusReport)
         self.sync()
+        if self._kept_band is not None:
+            self.takeups.reset(self._kept_band.restore(self.config, self._motor))
 
     # --- what the machine is and where it stands ----------------------------------------------
 
@@ -111,12 +120,6 @@ class Machine:
     def axis_count(self) -> int:
         """Configured axes (the firmware may drive more)."""
         return len(self.config.axes)
-
-    @property
-    def position(self) -> tuple[int, ...]:
-        """Step position of every configured axis where the machine last stood still, exact."""
-        with self._lock:
-            return self._position
 
     @property
     def position_mm(self) -> tuple[float, ...]:
@@ -167,7 +170,7 @@ class Machine:
         if status.state == State.IDLE and status.queue_fill == 0:
             with self._lock:
                 if self._running is None:
-                    self._position = tuple(status.position[: self.axis_count])
+                    self._motor = tuple(status.position[: self.axis_count])
         return status
 
     def sync(self) -> tuple[int, ...]:
@@ -175,33 +178,29 @@ class Machine:
         self.status()
         return self.position
 
-    def set_position(self, steps: dict[int, int]) -> tuple[int, ...]:
-        """Redefine the step count of some axes (SET_POSITION): only at rest. Machine coordinates move with
-        it, so this is for homing and tools; work coordinates are the user's zero."""
-        self._refuse_if_busy("set the position")
-        self.link.send(SetPosition(positions=steps))
-        self.link.drain()
-        return self.sync()
-
     # --- programs ---------------------------------------------------------------------------------
 
-    def move(self, segments: SegmentArrays, *, first: int = 0, last: int | None = None,
-             lookahead_ticks: int | None = None) -> Motion:
-        """Start streaming planned segments [first, last) now; wait() on the Motion for its end."""
-        motion = Motion(self.link, segments, self.decels, first=first, last=last, lookahead_ticks=lookahead_ticks)
-        return self._begin(motion).start()  # type: ignore[return-value]
+    def move(self, segments: SegmentArrays, *, lookahead_ticks: int | None = None) -> Motion:
+        """Start streaming planned segments now, the backlash taken up in them; wait() on the Motion."""
+        compensated = self.takeups.compensate(segments)
+        motion = Motion(self.link, compensated.stream, self.decels, lookahead_ticks=lookahead_ticks)
+        return self._begin(motion, compensated).start()  # type: ignore[return-value]
 
     def run_job(self, plan: Plan, program: Program | None = None, label: str = "line") -> JobRun:
-        """Start a planned job now (pauses wait for JobRun.resume()). With the `program` it was planned from, a
-        feed hold (JobRun.feed_hold, the board's button) keeps the rest of the job for resume()."""
-        job = JobRun(self.link, plan, self.decels, program=program, label=label)
-        return self._begin(job).start()  # type: ignore[return-value]
+        """Start a planned job now, the backlash taken up in it (pauses wait for JobRun.resume()). With the
+        `program` it was planned from, a feed hold (JobRun.feed_hold, the board's button) keeps the rest of the
+        job for resume()."""
+        compensated = self.takeups.compensate(plan.segments, plan.pauses)
+        job = JobRun(self.link, StreamPlan(plan.config, compensated.stream, compensated.pauses, compensated, plan),
+                     self.decels, program=program, label=label)
+        job.restream = _Restream(self)
+        return self._begin(job, compensated).start()  # type: ignore[return-value]
 
     def send_segments(self, segments: Sequence[Segment]) -> Motion:
-        """Start streaming raw segments (every firmware axis) now."""
+        """Start streaming raw segments (every firmware axis) now, as they are (no take-ups added)."""
         arrays = SegmentArrays.of(segments, self.identity.axis_count)
         motion = Motion(self.link, arrays, self.decels)
-        return self._begin(motion).start()  # type: ignore[return-value]
+        return self._begin(motion, raw=segments).start()  # type: ignore[return-value]
 
     def hold(self, reason: str = "stop") -> MotionEnd | None:
         """The user's stop: bring the running program to rest with HOLD; returns how it ended, with the
@@ -212,8 +211,7 @@ class Machine:
     def emergency_stop(self) -> StatusReport:
         """Immediate STOP, no deceleration (positions stay exact); also clears an alarm."""
         status = self.link.stop()
-        with self._lock:
-            self._position = tuple(status.position[: self.axis_count])
+        self._rest(status.position, status.motion_ticks, False)
         return status
 
     # --- reports from the firmware ------------------------------------------------------------------
@@ -241,6 +239,7 @@ class Machine:
         except LinkError:
             pass  # the link is gone already
         finally:
+            self._keep_band()
             self.link.close()
             if self.emulator is not None:
                 self.emulator.stop()
@@ -278,7 +277,8 @@ class Machine:
                 self._running = None
         self.sync()
 
-    def _begin(self, program: Program) -> Program:
+    def _begin(self, program: Program, compensated: Compensated | None = None,
+               raw: Sequence[Segment] | None = None) -> Program:
         if self.config.homing_required and not self.homed:
             raise MachineError("homing_required = true in the configuration: home the machine first "
                                "(quadstep home, or the TUI's H)")
@@ -286,13 +286,16 @@ class Machine:
             if self._running is not None:
                 raise MachineError("a program is running already: one at a time (stop it first)")
             self._running = program
+        if compensated is not None:
+            status = self.link.status()  # at rest: where the stream begins, in steps and motion ticks
+            self.takeups.begin(compensated, status.position[: self.axis_count], status.motion_ticks)
+        program.settle = lambda end: self._settle(end, raw)  # type: ignore[union-attr]
         program.on_end = lambda end: self._ended(program, end)
         return program
 
     def _ended(self, program: Program, end: MotionEnd) -> None:
-        """In the program's thread, before its waiters wake: adopt the exact rest position."""
+        """In the program's thread, before its waiters wake (after _settle): the machine is free again."""
         with self._lock:
-            if end.position:
-                self._position = tuple(end.position[: self.axis_count])
             if self._running is program:
                 self._running = None
+

@@ -15,10 +15,10 @@ import time
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from itertools import accumulate
+from typing import Protocol
 
 from ..link import AlarmError, Link, LinkError, Stopped, hold, wait_rest
-from ..planner.segments import SegmentArrays
-from ..protocol import DECEL_MAX, AckReason, Capability, HoldDone, InputCause, Report
+from ..protocol import DECEL_MAX, AckReason, Capability, CubicSegment, HoldDone, InputCause, Report, Segment
 
 # Keep at least this many segments queued, whatever the lookahead, so the board
 # always has the next one when a segment ends.
@@ -67,13 +67,24 @@ def bring_to_rest(link: Link, decels: Sequence[int]) -> Rest:
     return Rest(tuple(status.position), False, None)
 
 
+class Segments(Protocol):
+    """What a motion streams from: the planner's arrays, or a stream with take-ups (planner/stream.py)."""
+
+    axis_count: int
+    n: Sequence[int]
+
+    def __len__(self) -> int: ...
+
+    def segment(self, i: int) -> Segment | CubicSegment: ...
+
+
 class Motion:
     """Streams segments [first, last) of `segments`; start() it, then wait() or halt()."""
 
     def __init__(
         self,
         link: Link,
-        segments: SegmentArrays,
+        segments: Segments,
         decels: Sequence[int],
         *,
         first: int = 0,
@@ -83,6 +94,7 @@ class Motion:
     ) -> None:
         self.link = link
         self.on_end = on_end  # called once, in the thread that ends the motion, before wait() returns
+        self.settle: Callable[[MotionEnd], MotionEnd] | None = None  # the machine's view of the end, before that
         self.segments = segments
         self.decels = tuple(decels)
         self.first = first
@@ -251,6 +263,8 @@ class Motion:
             if self._end is not None or (self._halting is not None and not from_halt):
                 return
             self._end = end
+        if self.settle is not None:
+            end = self._end = self.settle(end)
         if self.on_end is not None:
             self.on_end(end)
         self._ended.set()

@@ -46,16 +46,19 @@ def probe(machine: Machine, code: str, target_mm: Sequence[float], feed: float,
     with machine.procedure(f"G{code}"):
         if input_status(link).is_active(Input.PROBE) == bool(level):
             raise ProbeError(f"G{code}: the probe is {'touching' if level else 'clear'} already")
-        start = tuple(link.status().position[: link.axis_count])
+        machine.sync()
         program = Program(items=[LinearMove(line=1, target=tuple(target_mm), feed=feed)], lines=1)
-        plan = plan_program(program, config, start[: len(config.axes)])  # a target outside the travel: JobError
+        plan = plan_program(program, config, machine.position)  # a target outside the travel: JobError
         decel = tuple(list(machine.decels) + [0] * (MAX_AXES - len(machine.decels)))
+        segments = machine.takeup_stream([plan.segments.segment(i) for i in range(len(plan))])
         end = until_input(link, Probe(input=Input.PROBE, level=level, decel=decel),  # type: ignore[arg-type]
-                          [plan.segments.segment(i) for i in range(len(plan))], timeout)
-    found = isinstance(end, InputChange)
+                          segments, timeout)  # type: ignore[arg-type]
+        found = isinstance(end, InputChange)
+        steps = machine.shown(end.position, end.motion_ticks) if found else ()
+        rest = machine.rested(end.motion_ticks if found else None)
     if must and not found:
         raise ProbeError(f"G{code}: no contact {'made' if level else 'lost'} on the way to "
                          + " ".join(f"{a.name}{x:g}" for a, x in zip(config.axes, target_mm)))
-    steps = tuple(end.position[: len(config.axes)])
+    steps = steps or rest
     machine_mm = config.to_mm(steps)
     return ProbeResult(code, found, steps, machine_mm, tuple(m - o for m, o in zip(machine_mm, offset)))

@@ -22,6 +22,7 @@ from typing import Literal
 
 from pydantic import BaseModel, ConfigDict
 
+from ..backlash.band import BandRecord
 from ..config import validate
 from ..coordinates import WorkCoordinates
 from ..textfile import read_text
@@ -36,6 +37,7 @@ class StateFile(BaseModel):
 
     version: Literal[1] = 1
     coordinates: WorkCoordinates = WorkCoordinates()
+    band: BandRecord | None = None  # where each carriage sits in its backlash (backlash/band.py)
 
 
 def state_dir() -> Path:
@@ -51,22 +53,30 @@ def state_path(config_path: Path | None) -> Path:
     return state_dir() / f"{resolved.stem}-{digest}.json"
 
 
-def load_state(path: Path) -> WorkCoordinates:
-    """The work coordinates kept in `path`; all zero, G54, when there is no file yet."""
+def read_state(path: Path) -> StateFile:
+    """What `path` keeps; nothing (all zero, G54) when there is no file yet."""
     if not path.exists():
-        return WorkCoordinates()
+        return StateFile()
     text = read_text(path, StateError)
     try:
         data = json.loads(text)
     except json.JSONDecodeError as exc:
         raise StateError(f"{path}: not valid JSON: {exc}") from None
-    return validate(StateFile, data, str(path), StateError).coordinates
+    return validate(StateFile, data, str(path), StateError)
 
 
-def save_state(path: Path, coordinates: WorkCoordinates) -> None:
-    """Replace `path` with these coordinates, atomically."""
+def load_state(path: Path) -> WorkCoordinates:
+    """The work coordinates kept in `path`; all zero, G54, when there is no file yet."""
+    return read_state(path).coordinates
+
+
+def save_state(path: Path, coordinates: WorkCoordinates | None = None, band: BandRecord | None = None) -> None:
+    """Replace `path`, atomically, with these coordinates and band (either one not given: the one kept)."""
+    kept = read_state(path) if coordinates is None or band is None else StateFile()
+    state = StateFile(coordinates=coordinates if coordinates is not None else kept.coordinates,
+                      band=band if band is not None else kept.band)
     path.parent.mkdir(parents=True, exist_ok=True)
-    text = StateFile(coordinates=coordinates).model_dump_json(indent=1) + "\n"
+    text = state.model_dump_json(indent=1) + "\n"
     fd, temporary = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
     try:
         with os.fdopen(fd, "w", encoding="utf-8") as out:

@@ -39,7 +39,7 @@ class PositionPanel(Panel):
                 work, mm, steps = "—", "—", "—"
             else:
                 work, mm = f"{snapshot.work_mm[i]:.3f}", f"{snapshot.position_mm[i]:.3f}"
-                steps = str(snapshot.status.position[i])
+                steps = str(snapshot.steps[i])
             text.append(f"\n{axis.name:<5}", style="bold")
             text.append(f"{work:>10}", style="bold")
             text.append(f"{mm:>10}")

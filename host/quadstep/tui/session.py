@@ -37,6 +37,7 @@ class Snapshot:
     position_mm: tuple[float, ...]  # machine coordinates
     work_mm: tuple[float, ...]  # in the active work system
     system: str  # G54 … G59
+    steps: tuple[int, ...] = ()  # machine position in steps, the backlash's take-ups excluded
 
 
 class Session:
@@ -130,7 +131,7 @@ class Session:
             self.mark_lost(str(exc))
             raise
         config = machine.config
-        position = tuple(status.position[: len(config.axes)])
+        position = machine.live_position(status)
         stats = machine.stats.as_dict()
         position_mm = config.to_mm(position)
         coordinates = machine.coordinates
@@ -141,6 +142,7 @@ class Session:
             position_mm=position_mm,
             work_mm=coordinates.to_work(config.axis_names, position_mm),
             system=coordinates.name,
+            steps=position,
         )
 
     def _feed(self, config: MachineConfig, ticks: int, position: tuple[int, ...]) -> float:

@@ -1,0 +1,143 @@
+"""Where a machine stands: the board's step counts, the backlash's band, and the positions shown without the
+take-ups (docs/BACKLASH.md) — at rest, while a program runs, at a latch — kept in the state file."""
+
+from __future__ import annotations
+
+import threading
+from collections.abc import Callable, Sequence
+from dataclasses import replace
+from pathlib import Path
+from typing import TYPE_CHECKING
+
+from ..backlash.band import BandRecord
+from ..link import Link, LinkError
+from ..planner.plan import Plan
+from ..planner.segments import SegmentArrays
+from ..protocol import CubicSegment, IdentifyReply, Segment, SetPosition, StatusReport
+from .motion import MotionEnd
+from .state import save_state
+from .takeups import StreamPlan, TakeUps
+
+if TYPE_CHECKING:
+    from .machine import Procedure, Program
+
+
+class Standing:
+    """The part of a Machine that knows where it stands (a mixin: the Machine makes the fields)."""
+
+    link: Link
+    takeups: TakeUps
+    state_file: Path | None
+    _lock: threading.Lock
+    _motor: tuple[int, ...]
+    identity: IdentifyReply  # the Machine's
+    axis_count: int
+    program: Program | None
+    _refuse_if_busy: Callable[[str], None]
+
+    @property
+    def position(self) -> tuple[int, ...]:
+        """Step position of every configured axis where the machine last stood still, exact, the backlash's
+        take-ups excluded (the carriage's position: docs/BACKLASH.md)."""
+        with self._lock:
+            motor = self._motor
+        return self.takeups.position(motor)
+
+    @property
+    def motor_position(self) -> tuple[int, ...]:
+        """The board's own step counts there (take-ups included)."""
+        with self._lock:
+            return self._motor
+
+    def live_position(self, status: StatusReport) -> tuple[int, ...]:
+        """The position a status shows, take-ups excluded, also while a program runs."""
+        return self.takeups.position(status.position[: self.axis_count], status.motion_ticks)
+
+    def set_position(self, steps: dict[int, int], within: Procedure | None = None) -> tuple[int, ...]:
+        """Redefine the position of some axes (SET_POSITION): only at rest (or by the procedure `within`, which
+        holds the machine). Machine coordinates move with it, so this is for homing and tools; work
+        coordinates are the user's zero."""
+        if within is None or self.program is not within:
+            self._refuse_if_busy("set the position")
+        offsets = [m - p for m, p in zip(self.motor_position, self.position)]
+        self.link.send(SetPosition(positions={a: s + (offsets[a] if a < len(offsets) else 0) for a, s in steps.items()}))
+        self.link.drain()
+        status = self.link.status()
+        with self._lock:
+            self._motor = tuple(status.position[: self.axis_count])
+        self._keep_band()
+        return self.position
+
+    def takeup_stream(self, segments: Sequence[Segment]) -> list[Segment | CubicSegment]:
+        """For a procedure that streams itself (homing, probing), at rest: `segments` with their take-ups. Until
+        `rested()`, positions the firmware reports in between are shown by `live_position`/`shown`."""
+        compensated = self.takeups.compensate(SegmentArrays.of(segments, self.identity.axis_count))
+        status = self.link.status()
+        self.takeups.begin(compensated, status.position[: self.axis_count], status.motion_ticks)
+        return list(compensated.stream.segments())
+
+    def shown(self, motor: Sequence[int], tick: int) -> tuple[int, ...]:
+        """A position the firmware reported at motion tick `tick` (a latch), take-ups excluded."""
+        return self.takeups.position(motor[: self.axis_count], tick)
+
+    def rested(self, hold_tick: int | None = None) -> tuple[int, ...]:
+        """A procedure's motion is at rest: after a hold that began at `hold_tick`, or (None) at its end."""
+        status = self.link.status()
+        self._rest(status.position, hold_tick if hold_tick is not None else status.motion_ticks, hold_tick is None)
+        return self.position
+
+    def _settle(self, end: MotionEnd, raw: Sequence[Segment] | None) -> MotionEnd:
+        """In the program's thread, before its waiters wake: the exact rest position (motors), the band where
+        the stop left it, and the end as everything above sees it (take-ups excluded)."""
+        if not end.position:
+            try:
+                status = self.link.status()
+            except LinkError:
+                return end
+            self._rest(status.position, status.motion_ticks, False)
+            return end
+        if raw is not None:
+            self.takeups.moved_raw(raw, end.ended_by == "done")
+            with self._lock:
+                self._motor = tuple(end.position[: self.axis_count])
+        else:
+            tick = end.hold_tick
+            if tick is None and end.ended_by != "done":
+                try:
+                    tick = self.link.status().motion_ticks
+                except LinkError:
+                    tick = None
+            self._rest(end.position, tick, end.ended_by == "done")
+        return replace(end, position=self.position)
+
+    def _rest(self, motor: Sequence[int], tick: int | None, done: bool) -> None:
+        with self._lock:
+            self._motor = tuple(motor[: self.axis_count])
+        self.takeups.end(motor, tick, done)
+        self._keep_band()
+
+    def _keep_band(self) -> None:
+        if self.state_file is not None and self.takeups.active:
+            try:
+                save_state(self.state_file, band=BandRecord.of(self.takeups.band, self.motor_position))
+            except OSError:
+                pass  # the band is kept for the next run only where the state file can be written
+
+
+
+class _Restream:
+    """A job of this machine goes on after a feed hold (machine/job.py, Restream)."""
+
+    def __init__(self, machine: Standing) -> None:
+        self.machine = machine
+
+    def held(self, end: MotionEnd) -> tuple[int, ...]:
+        status = self.machine.link.status()
+        self.machine._rest(status.position, end.hold_tick, False)
+        return self.machine.position
+
+    def stream(self, plan: Plan) -> StreamPlan:
+        compensated = self.machine.takeups.compensate(plan.segments, plan.pauses)
+        status = self.machine.link.status()
+        self.machine.takeups.begin(compensated, status.position[: self.machine.axis_count], status.motion_ticks)
+        return StreamPlan(plan.config, compensated.stream, compensated.pauses, compensated, plan)

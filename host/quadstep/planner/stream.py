@@ -1,0 +1,81 @@
+"""A stream of segments as sent: planned quadratic segments with some replaced by others (cubic ones).
+
+The planner's arrays stay as they are; a stream refers to their segments by index and holds only what is
+new, so a job of a few hundred thousand segments costs a few bytes per segment here. It offers what the
+machine streams from (`n`, `segment(i)`, `axis_count`) and the source line of each segment.
+"""
+
+from __future__ import annotations
+
+from array import array
+from collections.abc import Iterator
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..protocol.cubic import CubicSegment
+from ..protocol.segment import Segment
+from .segments import SegmentArrays
+
+
+@dataclass
+class Stream:
+    """Items in order: segment `ref[i]` of `base` (ref ≥ 0), or `extra[−ref[i] − 1]`."""
+
+    base: SegmentArrays | list[Segment | CubicSegment]
+    axes: int = 0  # the axis count, for a base that is a list
+    ref: array = field(default_factory=lambda: array("i"))
+    extra: list[Segment | CubicSegment] = field(default_factory=list)
+    n: array = field(default_factory=lambda: array("I"))
+    line: array = field(default_factory=lambda: array("i"))
+    origin: array = field(default_factory=lambda: array("i"))  # the base segment each item runs (part of)
+
+    @property
+    def axis_count(self) -> int:
+        return self.base.axis_count if isinstance(self.base, SegmentArrays) else self.axes
+
+    def __len__(self) -> int:
+        return len(self.ref)
+
+    def add_base(self, index: int) -> None:
+        self.ref.append(index)
+        self.origin.append(index)
+        if isinstance(self.base, SegmentArrays):
+            self.n.append(self.base.n[index])
+            self.line.append(self.base.line[index])
+        else:
+            self.n.append(self.base[index].n)
+            self.line.append(0)
+
+    def add(self, segment: Segment | CubicSegment, line: int, origin: int = 0) -> None:
+        self.ref.append(-len(self.extra) - 1)
+        self.origin.append(origin)
+        self.extra.append(segment)
+        self.n.append(segment.n)
+        self.line.append(line)
+
+    def origin_of(self, i: int) -> int:
+        """The base segment that item i runs, or part of it (at the end: the number of base segments)."""
+        return self.origin[i] if i < len(self) else (len(self.base) if isinstance(self.base, SegmentArrays)
+                                                     else len(self.base))
+
+    def segment(self, i: int) -> Segment | CubicSegment:
+        ref = self.ref[i]
+        if ref < 0:
+            return self.extra[-ref - 1]
+        return self.base.segment(ref) if isinstance(self.base, SegmentArrays) else self.base[ref]
+
+    def segments(self, start: int = 0, stop: int | None = None) -> Iterator[Segment | CubicSegment]:
+        for i in range(start, len(self) if stop is None else stop):
+            yield self.segment(i)
+
+    def numpy(self) -> dict[str, np.ndarray]:
+        """n and line as numpy views."""
+        return {
+            "n": np.frombuffer(self.n, dtype=np.uint32) if len(self) else np.zeros(0, np.uint32),
+            "line": np.frombuffer(self.line, dtype=np.int32) if len(self) else np.zeros(0, np.int32),
+        }
+
+    @property
+    def ticks(self) -> int:
+        return int(np.sum(self.numpy()["n"], dtype=np.int64))
