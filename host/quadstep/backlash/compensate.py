@@ -47,6 +47,7 @@ class TakeUp:
     kind: str  # gap, rest, around, after
     peak_accel: float  # mm/s²
     line: int
+    planned: int  # the motion tick of the plan (without take-ups) where it begins
 
 
 @dataclass(frozen=True)
@@ -135,12 +136,15 @@ def _place(base: BaseStream, config: MachineConfig, axis: int, prev: int, new: i
     if inside:  # a pause in between: only the part after it
         lo = max(lo, inside[-1])
     room = hi - lo
-    if room >= ramp.ticks:
-        budget = limit - _base_accel(base, axis, lo, hi)
-        if budget < accel:
-            ramp = design(steps, max(budget, accel * 0.01), jerk)
-        if room >= ramp.ticks:
-            return _Placed(axis, ramp, "gap", lo + (room - ramp.ticks) // 2, line)
+    gap_ramp = ramp
+    for _ in range(3):  # in the middle of the pause, with what acceleration the plan leaves there
+        if room < gap_ramp.ticks:
+            break
+        start = lo + (room - gap_ramp.ticks) // 2
+        budget = min(accel, limit - _base_accel(base, axis, start, start + gap_ramp.ticks))
+        if gap_ramp.peak_accel <= budget * (1 + 1e-9):
+            return _Placed(axis, gap_ramp, "gap", start, line)
+        gap_ramp = design(steps, max(budget, accel * 0.01), jerk)
     if prev < 0:
         return _Placed(axis, design(steps, accel, jerk), "rest", max([0, *[b for b in barriers if b <= new]]), line)
     rests = [b for b in range(prev + 1, new + 1) if base.rest_before[b]]
@@ -289,8 +293,9 @@ def _assemble(base: BaseStream, config: MachineConfig, band: Band, band_end: Ban
     hz = float(config.tick_hz)
     for p in placed:
         a = config.axes[p.axis]
+        planned = int(base.start[p.at]) if p.kind == "rest" else p.at
         result.takeups.append(TakeUp(p.axis, p.start, p.ramp.ticks, p.ramp.steps, p.kind,
-                                     p.ramp.peak_accel * hz * hz / a.steps_per_mm, p.line))
+                                     p.ramp.peak_accel * hz * hz / a.steps_per_mm, p.line, planned))
     result.pauses = [(first_item[b], line) for b, line in pauses]
     return result
 

@@ -7,6 +7,9 @@ from pathlib import Path
 
 import numpy as np
 
+from ..backlash.band import Band
+from ..backlash.base import from_arrays
+from ..backlash.compensate import TakeUp, compensate
 from ..planner.timeline import Timeline, timeline
 from ._jobs import add_job_options, job_from_args, machine_config
 from .options import CliError
@@ -27,7 +30,8 @@ def _stairs(t: Timeline, i: int) -> tuple[np.ndarray, np.ndarray, np.ndarray, np
     return time, speed, time, accel
 
 
-def draw(t: Timeline, names: list[str], title: str, output: Path) -> None:
+def draw(t: Timeline, names: list[str], title: str, output: Path, takeups: list[TakeUp] | None = None,
+         tick_hz: int = 1) -> None:
     import matplotlib
 
     matplotlib.use("Agg")
@@ -42,6 +46,12 @@ def draw(t: Timeline, names: list[str], title: str, output: Path) -> None:
         time, speed, _, accel = _stairs(t, i)
         ax_speed.plot(time, speed, label=name, linewidth=1)
         ax_accel.plot(time, accel, label=name, linewidth=1)
+    for k, takeup in enumerate(takeups or []):  # the backlash's take-ups (at rest: added time, drawn at its start)
+        begin = takeup.planned / tick_hz
+        span = takeup.ticks / tick_hz if takeup.kind != "rest" else 0.0
+        for axes in (ax_speed, ax_accel):
+            axes.axvspan(begin, begin + max(span, 1e-3), color="tab:red", alpha=0.2,
+                         label="backlash take-up" if k == 0 and axes is ax_speed else None)
     ax_speed.set_ylabel("speed (mm/s)")
     ax_accel.set_ylabel("acceleration (mm/s²)")
     ax_accel.set_xlabel("time (s)")
@@ -70,8 +80,10 @@ def run(args: argparse.Namespace) -> int:
     if len(job.plan) == 0:
         raise CliError(f"{args.job}: the job has no motion to plot")
     try:
-        draw(timeline(job.plan), list(config.axis_names), f"{args.job.name}: planned motion", args.output)
+        takeups = compensate(from_arrays(job.plan.segments), config, Band.of(config)).takeups
+        draw(timeline(job.plan), list(config.axis_names), f"{args.job.name}: planned motion", args.output,
+             takeups, config.tick_hz)
     except OSError as exc:
         raise CliError(f"cannot write {args.output}: {exc.strerror}") from None
-    print(f"wrote {args.output}")
+    print(f"wrote {args.output}" + (f" ({len(takeups)} backlash take-ups shaded)" if takeups else ""))
     return 0

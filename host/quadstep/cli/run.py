@@ -154,8 +154,10 @@ def _follow(run_: JobRun, job: Job, progress: Progress, show: Callable[[int], No
 
 def stream(args: argparse.Namespace, machine: Machine, job: Job, start: StatusReport) -> int:
     config, plan = machine.config, job.plan
-    ends = np.cumsum(plan.segments.numpy()["n"], dtype=np.int64)
-    lines = plan.segments.numpy()["line"]
+    run_ = machine.run_job(plan, job.program, job.label)  # streamed as compensated for the backlash: its segments, not the plan's
+    streamed = run_.plan.segments.numpy()
+    ends = np.cumsum(streamed["n"], dtype=np.int64)
+    lines = streamed["line"]
     total_ticks = int(ends[-1]) if len(ends) else 0
     console = Console(stderr=True)
     progress = Progress(
@@ -182,13 +184,12 @@ def stream(args: argparse.Namespace, machine: Machine, job: Job, start: StatusRe
         progress.update(task, completed=ticks, description=f"{job.label} {line}/{job.program.lines}", left=left)
 
     with progress:
-        run_ = machine.run_job(plan, job.program, job.label)
         end, interrupted = follow(run_, job, progress, show)
     if end.error:
         raise CliError(end.error)
     final = machine.status()
     done = run_.progress.done
-    completed = end.ended_by == "done" and done >= len(plan)
+    completed = end.ended_by == "done" and done >= len(run_.plan)
     if completed:
         machine.adopt_coordinates(job.end_coordinates)  # what its G10, G92, G54…G59 and M2/M30 left
     stopped_line = None if completed else run_.progress.line

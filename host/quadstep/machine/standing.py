@@ -76,6 +76,12 @@ class Standing:
         self.takeups.begin(compensated, status.position[: self.axis_count], status.motion_ticks)
         return list(compensated.stream.segments())
 
+    def raw_moved(self, before: Sequence[int], after: Sequence[int]) -> None:
+        """A procedure's straight move without take-ups took the motors from `before` to `after` (at rest)."""
+        self.takeups.moved_straight([a - b for a, b in zip(after, before)])
+        with self._lock:
+            self._motor = tuple(after[: self.axis_count])
+
     def shown(self, motor: Sequence[int], tick: int) -> tuple[int, ...]:
         """A position the firmware reported at motion tick `tick` (a latch), take-ups excluded."""
         return self.takeups.position(motor[: self.axis_count], tick)

@@ -95,6 +95,18 @@ class TakeUps:
                 band = band.with_axis(axis, band.axes[axis].moved(int(s) for s in steps[steps[:, 1] == axis, 2]))
             self._band = band
 
+    def moved_straight(self, deltas: Sequence[int]) -> None:
+        """Each motor moved `deltas` steps in one straight motion, without take-ups."""
+        with self._lock:
+            band = self._band
+            for axis, delta in enumerate(deltas[: len(band.axes)]):
+                band = band.with_axis(axis, band.axes[axis].monotone(delta))
+            self._band = band
+
+    def set_axis(self, axis: int, state: BandAxis) -> None:
+        with self._lock:
+            self._band = self._band.with_axis(axis, state)
+
     def position(self, motor: Sequence[int], tick: int | None = None) -> tuple[int, ...]:
         """The positions shown for these motors: at rest, or `tick` (a motion tick) into the running program."""
         with self._lock:

@@ -15,6 +15,11 @@ import math
 from ..config import MachineConfig
 from .moves import MoveTable
 
+# An axis whose backlash is taken up (docs/BACKLASH.md) and that turns around sharply at a junction — moving
+# along both moves by more than this share of the path — stops there: the take-up then runs at rest, where it
+# costs no acceleration. (Shallow reversals, as on an arc's chords, take it up on the move.)
+SHARP_REVERSAL = 0.25
+
 # Ramps are planned at this fraction of each move's acceleration limit; the
 # rest is room for rounding every phase to whole ticks (docs/PLANNER.md).
 PLAN_ACCEL_FRACTION = 0.98
@@ -28,6 +33,9 @@ def _junction_speed(table: MoveTable, k: int, config: MachineConfig, amax: list[
     cap = min(table.max_speed[k - 1], table.max_speed[k])
     if cos_theta > 0.999999:
         return 0.0  # full reversal
+    for i, axis in enumerate(config.axes):
+        if axis.backlash_steps and e1[i] * e2[i] < 0 and min(abs(e1[i]), abs(e2[i])) > SHARP_REVERSAL:
+            return 0.0  # a sharp reversal of an axis with backlash: its take-up at rest
     if cos_theta < -0.999999:
         return cap  # straight on
     turn = [b - a for a, b in zip(e1, e2)]

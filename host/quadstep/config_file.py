@@ -1,0 +1,72 @@
+"""Writing a measured value back into the machine configuration file, comments and layout kept (tomlkit).
+
+The file is checked whole before it is replaced (the new text must load as a configuration), the old one is
+kept beside it as FILE.bak, and the new one replaces it atomically.
+"""
+
+from __future__ import annotations
+
+import os
+import shutil
+import tempfile
+from pathlib import Path
+
+import tomlkit
+from tomlkit.items import AoT, Table
+
+from .config import ConfigError, MachineConfig, parse_config
+from .textfile import read_text
+
+
+def _axis_table(document: tomlkit.TOMLDocument, name: str, path: Path) -> Table:
+    axes = document.get("axes")
+    if not isinstance(axes, AoT | list):
+        raise ConfigError(f"{path}: no [[axes]] to write to")
+    for table in axes:
+        if str(table.get("name", "")).upper() == name.upper():
+            return table
+    raise ConfigError(f"{path}: no [[axes]] with name = {name!r}")
+
+
+def new_table_ends_file(document: tomlkit.TOMLDocument, table: Table) -> bool:
+    axes = document.get("axes")
+    return bool(axes) and axes[-1] is table
+
+
+def set_backlash(path: Path, axis: str, **values: float) -> tuple[MachineConfig, Path]:
+    """Set keys of axis `axis`'s [axes.backlash] (mm, switch_hysteresis, ...) in the file at `path`; returns
+    the configuration as now written and where the old file was kept."""
+    text = read_text(path, ConfigError)
+    try:
+        document = tomlkit.parse(text)
+    except tomlkit.exceptions.ParseError as exc:
+        raise ConfigError(f"{path}: not valid TOML: {exc}") from None
+    table = _axis_table(document, axis, path)
+    backlash = table.get("backlash")
+    if backlash is None:
+        backlash = tomlkit.table()
+        backlash.comment("measured by quadstep backlash")
+        table["backlash"] = backlash
+    for key, value in values.items():
+        backlash[key] = round(float(value), 6)
+    if "backlash" not in text and not new_table_ends_file(document, table):
+        backlash.add(tomlkit.nl())
+    new_text = tomlkit.dumps(document)
+    config = parse_config(tomlkit.parse(new_text).unwrap(), str(path))  # refused whole if anything is wrong
+    backup = path.with_name(path.name + ".bak")
+    shutil.copy2(path, backup)
+    fd, temporary = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
+    try:
+        with os.fdopen(fd, "w", encoding="utf-8") as out:
+            out.write(new_text)
+            out.flush()
+            os.fsync(out.fileno())
+        shutil.copymode(path, temporary)
+        os.replace(temporary, path)
+    except BaseException:
+        Path(temporary).unlink(missing_ok=True)
+        raise
+    return config, backup
+
+
+__all__ = ["set_backlash"]

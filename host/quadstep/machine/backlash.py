@@ -1,0 +1,207 @@
+"""Measuring an axis's backlash from exact latches (docs/BACKLASH.md, "Measuring").
+
+**Probe** (hysteresis-free, independent of the target's size and the probe's tip): a corner of the target —
+a block, a touch plate's edge. The axis touches the face (the carriage is then at the face, pushed toward
+it) and backs off by e steps beyond its overshoot; the test axis then leaves and comes back along the
+neighbouring face, which it can touch only if the carriage is still at the face. A closing edge has no
+hysteresis, and the test asks only "contact or not", so the largest e that still touches is the backlash:
+the first e − B steps of the back-off move the motor inside the band, not the carriage. The largest e is
+found by doubling, then halving (a test that misses needs a new touch; one that hits does not).
+
+**Switch**: approach until the switch closes, reverse until it opens, approach again: each interval between
+two edges is the backlash plus the switch's own hysteresis (rounded up by 0 … 2 steps). The hysteresis,
+calibrated once (`switch_hysteresis`, from a backlash known by the probe), is subtracted.
+
+Both run k tries and refuse a result whose tries spread more than a bound.
+"""
+
+from __future__ import annotations
+
+import statistics
+from collections.abc import Callable
+from dataclasses import asdict, dataclass
+
+from ..config import AxisConfig
+from ..link import input_status
+from ..protocol import Input
+from .errors import MachineError
+from .inputs import switch_input
+from .machine import Machine
+from .raw_moves import RawMoves
+from .units import step_direction
+
+Progress = Callable[[str], None]
+
+
+class MeasureError(MachineError):
+    """The measurement could not be made (no contact, a switch not found, a result too scattered)."""
+
+
+@dataclass(frozen=True)
+class Measurement:
+    """A backlash measured k times: each try's steps, their mean and spread, in steps and mm."""
+
+    axis: str
+    method: str
+    tries: list[float]  # steps, each try
+    steps: float  # their mean
+    mm: float
+    spread_steps: float  # largest − smallest
+    spread_mm: float
+    bound_mm: float  # the largest spread accepted
+    sum_steps: float | None = None  # switch: backlash + hysteresis, before the hysteresis is taken off
+    hysteresis_mm: float | None = None  # switch: the calibrated hysteresis taken off
+
+    @property
+    def accepted(self) -> bool:
+        return self.spread_mm <= self.bound_mm + 1e-12
+
+    @property
+    def whole_steps(self) -> int:
+        return max(0, round(self.steps))
+
+    def as_dict(self) -> dict[str, object]:
+        return {**asdict(self), "accepted": self.accepted, "whole_steps": self.whole_steps}
+
+
+def _result(axis: AxisConfig, method: str, tries: list[float], bound_mm: float, **extra: float | None) -> Measurement:
+    spm = axis.steps_per_mm
+    mean = statistics.fmean(tries)
+    spread = max(tries) - min(tries)
+    return Measurement(axis.name, method, tries, mean, mean / spm, spread, spread / spm, bound_mm, **extra)
+
+
+def _axis(machine: Machine, name: str) -> int:
+    names = machine.config.axis_names
+    if name.upper() not in names:
+        raise MeasureError(f"axis {name}: not configured ({', '.join(names)})")
+    return names.index(name.upper())
+
+
+def measure_with_probe(machine: Machine, name: str, *, toward: int, test: str, test_toward: int, tries: int = 5,
+                       search: float = 10.0, clear: float = 3.0, largest: float = 1.0, feed: float = 2.0,
+                       max_spread: float = 0.01, on_progress: Progress | None = None) -> Measurement:
+    """The probe at a corner: `name` moves toward (+1/−1, machine direction) the face it measures, `test`
+    moves toward the neighbouring face; the probe starts outside the first face, and less than `clear` mm
+    inside the second's edge along the test axis. Distances in mm, `feed` in mm/s."""
+    a, t = _axis(machine, name), _axis(machine, test)
+    if a == t:
+        raise MeasureError("the test axis must be another axis than the one measured")
+    axis, test_axis = machine.config.axes[a], machine.config.axes[t]
+    say = on_progress or (lambda text: None)
+    s_a, s_t = step_direction(axis, toward), step_direction(test_axis, test_toward)
+    reach, back = round(search * axis.steps_per_mm), round(clear * test_axis.steps_per_mm)
+    top = round(largest * axis.steps_per_mm)
+    values: list[float] = []
+    with machine.procedure(f"backlash {axis.name}"):
+        moves = RawMoves(machine, feed)
+        if input_status(machine.link).is_active(Input.PROBE):
+            raise MeasureError("the probe touches already: move it clear of the target")
+
+        def touch() -> int:
+            """Touch the face; the overshoot past the latch (steps)."""
+            if input_status(machine.link).is_active(Input.PROBE):  # in contact from the last test: away first
+                moves.move(a, -s_a * (top + reach // 10))
+            latched = moves.until(a, s_a * reach, Input.PROBE, 1)
+            if latched is None:
+                raise MeasureError(f"{axis.name}: no contact within {search:g} mm")
+            return abs(moves.motor[a] - latched)
+
+        def hits() -> bool:
+            """Away along the test axis and back: does it touch the neighbouring face?"""
+            moves.move(t, -s_t * back)
+            if input_status(machine.link).is_active(Input.PROBE):
+                raise MeasureError(f"{test_axis.name}: the probe still touches {clear:g} mm away from the face")
+            return moves.until(t, s_t * back, Input.PROBE, 1) is not None
+
+        for k in range(tries):
+            overshoot, out = touch(), 0  # out: steps backed off beyond the overshoot
+
+            def back_off(e: int) -> None:
+                nonlocal out
+                moves.move(a, -s_a * (e - out + (overshoot if out == 0 else 0)))
+                out = e
+
+            low, e, high = 0, 1, None
+            while high is None:  # doubling, without a new touch while it still hits
+                if e > top:
+                    raise MeasureError(f"{axis.name}: the backlash is more than {largest:g} mm (--max)")
+                back_off(e)
+                if hits():
+                    low, e = e, e * 2
+                else:
+                    high = e
+            missed = True
+            while high - low > 1:  # halving: a miss needs a new touch first
+                middle = (low + high) // 2
+                if missed:
+                    overshoot, out = touch(), 0
+                back_off(middle)
+                missed = not hits()
+                low, high = (low, middle) if missed else (middle, high)
+            values.append(float(low))
+            say(f"{axis.name}: try {k + 1}/{tries}: {low} steps ({low / axis.steps_per_mm:.4f} mm)")
+        moves.move(a, -s_a * reach // 4)  # leave the target free
+    return _result(axis, "probe", values, max_spread)
+
+
+def switch_sums(machine: Machine, a: int, end: str, tries: int, search: float, feed: float,
+                say: Progress) -> list[float]:
+    """Per try, backlash + the switch's hysteresis in steps: the mean of two intervals between its edges."""
+    axis = machine.config.axes[a]
+    which = switch_input(input_status(machine.link).present, a, end)
+    s = step_direction(axis, -1 if end == "min" else 1)  # toward the switch, in steps
+    reach = round(search * axis.steps_per_mm)
+    sums: list[float] = []
+    with machine.procedure(f"backlash {axis.name}"):
+        moves = RawMoves(machine, feed)
+
+        def edge(level: int, direction: int) -> int:
+            latched = moves.until(a, direction * reach, which, level)
+            if latched is None:
+                raise MeasureError(f"{axis.name}: the switch did not {'close' if level else 'open'} within "
+                                   f"{search:g} mm ({which.name})")
+            return latched
+
+        if input_status(machine.link).is_active(which):
+            edge(0, -s)
+        edges = [edge(1, s)]
+        for k in range(tries):
+            edges += [edge(0, -s), edge(1, s)]
+            first, second = abs(edges[-2] - edges[-3]), abs(edges[-1] - edges[-2])
+            sums.append((first + second) / 2 - 1)  # each interval is the sum rounded up by 0 … 2 steps
+            say(f"{axis.name}: try {k + 1}/{tries}: backlash + hysteresis {sums[-1]:g} steps")
+        edge(0, -s)
+        moves.move(a, -s * reach // 10)  # off the switch
+    return sums
+
+
+def measure_with_switch(machine: Machine, name: str, *, end: str | None = None, tries: int = 5, search: float = 5.0,
+                        feed: float = 1.0, max_spread: float = 0.01, on_progress: Progress | None = None) -> Measurement:
+    """The axis's limit switch (at `end`, default its homing end): backlash + hysteresis − the calibrated
+    hysteresis."""
+    a = _axis(machine, name)
+    axis = machine.config.axes[a]
+    hysteresis = axis.backlash.switch_hysteresis if axis.backlash is not None else None
+    if hysteresis is None:
+        raise MeasureError(f"{axis.name}: the switch's hysteresis is not calibrated ([axes.backlash] "
+                           "switch_hysteresis): `quadstep backlash calibrate-switch` finds it once the backlash is "
+                           "known (from the probe)")
+    end = end or (axis.homing.end if axis.homing is not None else "min")
+    sums = switch_sums(machine, a, end, tries, search, feed, on_progress or (lambda text: None))
+    h = hysteresis * axis.steps_per_mm
+    result = _result(axis, "switch", [x - h for x in sums], max_spread, hysteresis_mm=hysteresis)
+    return Measurement(**{**asdict(result), "sum_steps": statistics.fmean(sums)})
+
+
+def calibrate_switch(machine: Machine, name: str, backlash_mm: float, *, end: str | None = None, tries: int = 5,
+                     search: float = 5.0, feed: float = 1.0, on_progress: Progress | None = None) -> float:
+    """The switch's hysteresis (mm): what is left of backlash + hysteresis once the known backlash is taken off."""
+    a = _axis(machine, name)
+    axis = machine.config.axes[a]
+    end = end or (axis.homing.end if axis.homing is not None else "min")
+    sums = switch_sums(machine, a, end, tries, search, feed, on_progress or (lambda text: None))
+    return max(0.0, statistics.fmean(sums) / axis.steps_per_mm - backlash_mm)
+
+
+__all__ = ["MeasureError", "Measurement", "calibrate_switch", "measure_with_probe", "measure_with_switch"]
