@@ -6,16 +6,14 @@ kept beside it as FILE.bak, and the new one replaces it atomically.
 
 from __future__ import annotations
 
-import os
 import shutil
-import tempfile
 from pathlib import Path
 
 import tomlkit
 from tomlkit.items import AoT, Table
 
 from .config import ConfigError, MachineConfig, parse_config
-from .textfile import read_text
+from .textfile import read_text, replace_text
 
 
 def _axis_table(document: tomlkit.TOMLDocument, name: str, path: Path) -> Table:
@@ -55,17 +53,7 @@ def set_backlash(path: Path, axis: str, **values: float) -> tuple[MachineConfig,
     config = parse_config(tomlkit.parse(new_text).unwrap(), str(path))  # refused whole if anything is wrong
     backup = path.with_name(path.name + ".bak")
     shutil.copy2(path, backup)
-    fd, temporary = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
-    try:
-        with os.fdopen(fd, "w", encoding="utf-8") as out:
-            out.write(new_text)
-            out.flush()
-            os.fsync(out.fileno())
-        shutil.copymode(path, temporary)
-        os.replace(temporary, path)
-    except BaseException:
-        Path(temporary).unlink(missing_ok=True)
-        raise
+    replace_text(path, new_text)
     return config, backup
 
 

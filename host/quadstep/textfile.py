@@ -1,7 +1,11 @@
-"""Reading the user's text files (configurations, jobs): failures become one clear line naming the file."""
+"""Reading the user's text files (configurations, jobs): failures become one clear line naming the file; and
+replacing a file whole, so that a crash leaves the old one or the new one, never half of either."""
 
 from __future__ import annotations
 
+import os
+import shutil
+import tempfile
 from collections.abc import Callable
 from pathlib import Path
 from typing import Any
@@ -28,3 +32,25 @@ def parse_nested(parse: Callable[[str], Any], text: str, path: Path, error: type
         return parse(text)
     except RecursionError:
         raise error(f"{path}: nested too deep (lists or tables inside one another hundreds of levels down)") from None
+
+
+def replace_text(path: Path, text: str) -> None:
+    """Replace `path` with `text` atomically: written beside it, flushed to disk, renamed over it (its mode kept)."""
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fd, temporary = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
+    try:
+        with os.fdopen(fd, "w", encoding="utf-8") as out:
+            out.write(text)
+            out.flush()
+            os.fsync(out.fileno())
+        if path.exists():
+            shutil.copymode(path, temporary)
+        os.replace(temporary, path)
+    except BaseException:
+        Path(temporary).unlink(missing_ok=True)
+        raise
+    directory = os.open(path.parent, os.O_RDONLY)
+    try:
+        os.fsync(directory)  # the rename itself reaches the disk
+    finally:
+        os.close(directory)

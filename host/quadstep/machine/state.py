@@ -16,7 +16,6 @@ from __future__ import annotations
 import hashlib
 import json
 import os
-import tempfile
 from pathlib import Path
 from typing import Literal
 
@@ -25,7 +24,7 @@ from pydantic import BaseModel, ConfigDict
 from ..backlash.band import BandRecord
 from ..config import validate
 from ..coordinates import WorkCoordinates
-from ..textfile import read_text
+from ..textfile import read_text, replace_text
 
 
 class StateError(ValueError):
@@ -75,20 +74,4 @@ def save_state(path: Path, coordinates: WorkCoordinates | None = None, band: Ban
     kept = read_state(path) if coordinates is None or band is None else StateFile()
     state = StateFile(coordinates=coordinates if coordinates is not None else kept.coordinates,
                       band=band if band is not None else kept.band)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    text = state.model_dump_json(indent=1) + "\n"
-    fd, temporary = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
-    try:
-        with os.fdopen(fd, "w", encoding="utf-8") as out:
-            out.write(text)
-            out.flush()
-            os.fsync(out.fileno())
-        os.replace(temporary, path)
-    except BaseException:
-        Path(temporary).unlink(missing_ok=True)
-        raise
-    directory = os.open(path.parent, os.O_RDONLY)
-    try:
-        os.fsync(directory)  # the rename itself reaches the disk
-    finally:
-        os.close(directory)
+    replace_text(path, state.model_dump_json(indent=1) + "\n")
