@@ -87,8 +87,7 @@ def test_take_ups_stay_within_the_axis_acceleration_left_by_the_plan() -> None:
     for t in comp.takeups:
         assert t.peak_accel <= 500 * (1 + 1e-9)
         if t.kind in ("around", "after"):  # superposed: the plan's own acceleration there plus the ramp's
-            base = t.start - comp.added_ticks  # no insertion before it in this job but the one at the start
-            lo, hi = np.searchsorted(timeline, [base, base + t.ticks], side="right") - 1
+            lo, hi = np.searchsorted(timeline, [t.planned, t.planned + t.ticks], side="right") - 1
             v0 = arrays["v0"][lo:hi + 1, t.axis].astype(float)
             vn = arrays["vn"][lo:hi + 1, t.axis].astype(float)
             plan_accel = np.max(np.abs(vn - v0) / 4096 / arrays["n"][lo:hi + 1]) * 32_000**2 / 400
