@@ -12,8 +12,6 @@ import sys
 from pathlib import Path
 
 from ..config import ConfigError
-from ..config_file import set_backlash
-from ..machine.backlash import MeasureError, Measurement, calibrate_switch, measure_with_probe, measure_with_switch
 from ._jobs import config_path, machine_config
 from .options import CliError, add_connection_options, add_json_option, connect
 
@@ -64,6 +62,8 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
+    from ..machine.backlash import MeasureError  # here: every command's parser is built at each start
+
     config = machine_config(args)
     name = args.axis.upper()
     if name not in config.axis_names:
@@ -92,7 +92,9 @@ def run(args: argparse.Namespace) -> int:
     return 0
 
 
-def _measure(args: argparse.Namespace, machine, name: str, say) -> Measurement:  # noqa: ANN001
+def _measure(args: argparse.Namespace, machine, name: str, say):  # noqa: ANN001, ANN202
+    from ..machine.backlash import measure_with_probe, measure_with_switch
+
     if args.method == "switch":
         return measure_with_switch(machine, name, end=args.end, tries=args.tries, search=args.search or 5.0,
                                    feed=args.feed or 1.0, max_spread=args.max_spread, on_progress=say)
@@ -104,6 +106,8 @@ def _measure(args: argparse.Namespace, machine, name: str, say) -> Measurement: 
 
 
 def _calibrate(args: argparse.Namespace, machine, name: str, say) -> int:  # noqa: ANN001
+    from ..machine.backlash import calibrate_switch
+
     axis = machine.config.axes[machine.config.axis_names.index(name)]
     known = args.backlash if args.backlash is not None else (axis.backlash.mm if axis.backlash is not None else None)
     if known is None:
@@ -120,6 +124,8 @@ def _calibrate(args: argparse.Namespace, machine, name: str, say) -> int:  # noq
 
 
 def _write(args: argparse.Namespace, name: str, what: str, **values: float) -> None:
+    from ..config_file import set_backlash
+
     path = config_path(args)
     if not args.yes:
         print(f"write {name} {what} to {path}? [y/N] ", end="", file=sys.stderr, flush=True)
