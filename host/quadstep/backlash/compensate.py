@@ -25,7 +25,7 @@ import numpy as np
 
 from ..config import MachineConfig
 from ..engine_model import predict
-from ..protocol.cubic import CubicChain, CubicSegment
+from ..protocol.cubic import CubicChain
 from ..protocol.segment import AxisMove, Segment
 from ..planner.stream import Stream
 from .band import Band

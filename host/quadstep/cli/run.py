@@ -154,7 +154,7 @@ def _follow(run_: JobRun, job: Job, progress: Progress, show: Callable[[int], No
 
 def stream(args: argparse.Namespace, machine: Machine, job: Job, start: StatusReport) -> int:
     config, plan = machine.config, job.plan
-    run_ = machine.run_job(plan, job.program, job.label)  # streamed as compensated for the backlash: its segments, not the plan's
+    run_ = machine.run_job(plan, job.program, job.label)  # streamed with its take-ups: its own segments
     streamed = run_.plan.segments.numpy()
     ends = np.cumsum(streamed["n"], dtype=np.int64)
     lines = streamed["line"]

@@ -7,7 +7,6 @@ import threading
 from collections.abc import Callable, Sequence
 from dataclasses import replace
 from pathlib import Path
-from typing import TYPE_CHECKING
 
 from ..backlash.band import BandRecord
 from ..link import Link, LinkError
@@ -17,9 +16,6 @@ from ..protocol import CubicSegment, IdentifyReply, Segment, SetPosition, Status
 from .motion import MotionEnd
 from .state import save_state
 from .takeups import StreamPlan, TakeUps
-
-if TYPE_CHECKING:
-    from .machine import Procedure, Program
 
 
 class Standing:
@@ -32,7 +28,7 @@ class Standing:
     _motor: tuple[int, ...]
     identity: IdentifyReply  # the Machine's
     axis_count: int
-    program: Program | None
+    program: object | None  # the program running (machine.Program)
     _refuse_if_busy: Callable[[str], None]
 
     @property
@@ -53,7 +49,7 @@ class Standing:
         """The position a status shows, take-ups excluded, also while a program runs."""
         return self.takeups.position(status.position[: self.axis_count], status.motion_ticks)
 
-    def set_position(self, steps: dict[int, int], within: Procedure | None = None) -> tuple[int, ...]:
+    def set_position(self, steps: dict[int, int], within: object | None = None) -> tuple[int, ...]:
         """Redefine the position of some axes (SET_POSITION): only at rest (or by the procedure `within`, which
         holds the machine). Machine coordinates move with it, so this is for homing and tools; work
         coordinates are the user's zero."""
