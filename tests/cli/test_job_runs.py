@@ -139,6 +139,15 @@ def cli_process(*args: str, stdin: int | None = None, env: dict[str, str] | None
     )
 
 
+def wait_for_child(process: subprocess.Popen[str], timeout: float = 60.0) -> None:
+    """Until the command has started a process of its own (the emulator), however loaded the machine."""
+    children = Path(f"/proc/{process.pid}/task/{process.pid}/children")
+    deadline = time.monotonic() + timeout
+    while not children.read_text().split():
+        assert process.poll() is None and time.monotonic() < deadline, "the command started no emulator"
+        time.sleep(0.05)
+
+
 def ctrl_c(process: subprocess.Popen[str]) -> None:
     """What the terminal does on Ctrl-C: SIGINT to every process of the foreground group."""
     os.killpg(process.pid, signal.SIGINT)
@@ -180,6 +189,7 @@ def test_ctrl_c_with_the_emulator_started_by_the_command(emulator_binary: Path, 
     process = cli_process(*args, env={"QUADSTEP_EMULATOR": str(emulator_binary)})
     assert process.stdout is not None
     first = process.stdout.readline() if command == "run" else ""
+    wait_for_child(process)  # `send` prints nothing first: its emulator started means it is past its imports
     time.sleep(1.5)
     ctrl_c(process)
     out, err = process.communicate(timeout=30)
