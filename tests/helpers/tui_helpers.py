@@ -25,8 +25,9 @@ FAST_RELEASE = JogSettings(first_repeat_timeout=0.6, repeat_timeout=0.3, lookahe
 HELD_UNTIL_STOPPED = JogSettings(first_repeat_timeout=5.0, repeat_timeout=5.0, lookahead=1.0)
 
 
-async def until(pilot, predicate, timeout: float = 10.0, what: str = "condition") -> None:  # noqa: ANN001
-    """Let the app run until predicate() holds; fail naming `what` after `timeout` seconds."""
+async def until(pilot, predicate, timeout: float = 30.0, what: str = "condition") -> None:  # noqa: ANN001
+    """Let the app run until predicate() holds; fail naming `what` after `timeout` seconds (generous: a loaded
+    test machine can take seconds to start an emulator or a job; no figure is measured here)."""
     import time
 
     deadline = time.monotonic() + timeout
