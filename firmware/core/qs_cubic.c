@@ -160,6 +160,11 @@ void qs_cubic_follow_quadratic(qs_cubic_chain *c, const qs_segment *slot, const 
 {
     uint8_t axis;
 
+    /* An axis the last quadratic segment moved and this one does not keeps
+     * that segment's end state: settle it before it is lost (its slot is
+     * still intact, this one went to the next). */
+    if (c->after && (c->after_active & (uint8_t)~m->active))
+        settle_quadratic(c);
     c->after = slot;
     for (axis = 0; axis < QS_AXIS_COUNT; axis++)
         c->after_vn[axis] = m->vn[axis];
