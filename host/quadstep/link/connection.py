@@ -257,17 +257,17 @@ class Link:
 
     # --- sequenced messages ------------------------------------------------------------------------
 
-    def send(self, message: Request, timeout: float | None = None) -> int:
+    def send(self, message: Request, timeout: float | None = None, generation: int | None = None) -> int:
         """Queue a sequenced message (Segment, SetPosition); blocks while the window is full.
 
-        Returns the seq it was given. Raises the first failure seen since the last
-        stop(): FirmwareError, AlarmError, LinkTimeout; Stopped if stop() is called meanwhile.
-        """
+        Returns the seq it was given. Raises the first failure seen since the last stop(): FirmwareError,
+        AlarmError, LinkTimeout; Stopped if stop() is called meanwhile, or if the stream was restarted after
+        `generation` (the one its motion began in: a hold the firmware began at an input ends that stream)."""
         if not is_sequenced(message.CODE):
             raise ValueError(f"{message.NAME} is not a sequenced message; use its own method")
         deadline = None if timeout is None else self._clock() + timeout
         with self._cond:
-            generation = self._in.generation
+            generation = self._in.generation if generation is None else generation
             while not self._window.room:
                 self._raise_failure(generation)
                 if not self._wait(deadline):

@@ -44,10 +44,11 @@ def until_input(link: Link, probe: Probe, segments: Iterable[Segment],
     `timeout` seconds."""
     deadline = None if timeout is None else time.monotonic() + timeout
     holds, missed, triggers = link.report_count(HoldDone), link.report_count(ProbeMissed), link.holds_by_input
-    link.send(probe, timeout)
+    stream = link.generation  # the edge ends it: a segment sent after that would open another
+    link.send(probe, timeout, stream)
     try:
         for segment in segments:
-            link.send(segment, timeout)
+            link.send(segment, timeout, stream)
     except Stopped:
         if link.holds_by_input == triggers:
             raise  # a STOP or HOLD from elsewhere
