@@ -24,6 +24,7 @@ COMMANDS: dict[str, list[str]] = {
     "jog": [sys.executable, str(BENCH / "bench_jog.py")],
     "cubic": [sys.executable, str(BENCH / "bench_cubic_avr.py")],
     "seed002": [sys.executable, str(BENCH / "bench_seed002.py")],
+    "backlash": [sys.executable, str(BENCH / "bench_backlash.py")],
 }
 
 

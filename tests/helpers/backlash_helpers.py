@@ -77,22 +77,23 @@ def pocket_path(width: float, height: float, stepover: float) -> np.ndarray:
     return np.array(points)
 
 
-def carriage_xy(rows: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """(tick, x, y) of the carriage after every tick with a step, from a trace with a machine (steps)."""
+def carriage_xy(rows: np.ndarray, start: tuple[float, float] = (0.0, 0.0)) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(tick, x, y) of the carriage after every tick with a step, from a trace with a machine (steps); `start`
+    is where each carriage was before its first step."""
     ticks, axes, carriage = rows[:, 0], rows[:, 1].astype(int), rows[:, 4]
     x = np.where(axes == 0, carriage, np.nan)
     y = np.where(axes == 1, carriage, np.nan)
-    x = _fill(x)
-    y = _fill(y)
+    x = _fill(x, start[0])
+    y = _fill(y, start[1])
     last = np.flatnonzero(np.diff(ticks, append=ticks[-1] + 1))  # after every step of a tick
     return ticks[last], x[last], y[last]
 
 
-def _fill(values: np.ndarray) -> np.ndarray:
+def _fill(values: np.ndarray, start: float) -> np.ndarray:
     index = np.where(np.isnan(values), 0, np.arange(values.size))
     np.maximum.accumulate(index, out=index)
     out = values[index]
-    return np.where(np.isnan(out), 0.0, out)
+    return np.where(np.isnan(out), start, out)
 
 
 def radial_error(x: np.ndarray, y: np.ndarray, radius_steps: float) -> np.ndarray:

@@ -185,3 +185,25 @@ def every_message_kind(axis_count: int) -> bytes:
         seq += 1
     out.append(encode(Stop(), 50))
     return b"".join(out)
+
+
+def takeups(axis_count: int) -> list[list[Segment | CubicSegment]]:
+    """Streams with backlash take-ups as the compensation stage makes them (docs/BACKLASH.md), 0.1 mm on X
+    and Y: a small pocket (take-ups in the stepovers' pauses; an axis stopping between quadratic segments
+    before a cubic window) and a circle (take-ups in and around its quadrants, cubic windows among quadratic
+    segments), each a run that starts with every carriage pushed +."""
+    from backlash_helpers import backlash_config, circle_gcode, pocket_gcode, pushed_plus
+    from quadstep.backlash.base import from_arrays
+    from quadstep.backlash.compensate import compensate
+    from quadstep.gcode import parse_gcode
+    from quadstep.planner.plan import plan_program
+
+    config = backlash_config((0.1, 0.1) + (0.0,) * (axis_count - 2))
+    start = (0,) * axis_count
+    out: list[list[Segment | CubicSegment]] = []
+    for gcode in (pocket_gcode(2, 0.5, 0.25, 10), circle_gcode(1, 10)):
+        plan = plan_program(parse_gcode(gcode, config.axis_names, start, config.arc_tolerance), config, start)
+        compensated = compensate(from_arrays(plan.segments), config, pushed_plus(config))
+        assert {t.axis for t in compensated.takeups} == {0, 1}
+        out.append([dwell(300), *compensated.stream.segments()])
+    return out

@@ -1,0 +1,145 @@
+#!/usr/bin/env python3
+"""Backlash: figures for docs/BACKLASH.md, on the emulator with a simulated machine whose backlash only the
+simulation knows.
+
+Measurement: random backlash values in 0 … 0.3 mm on each axis, measured with the probe at a block's corner
+and with the limit switch (hysteresis and bounce; its hysteresis calibrated once, from the probe's value):
+the worst error in steps. Compensation: a circle and a pocket, with and without it: the carriage's path error
+from the simulated carriage positions, the job time, and each axis's acceleration during the take-ups (from
+the stream's segment states, which the trace matches step for step, and from the trace's own second
+differences).
+
+    python3 tests/bench/bench_backlash.py [--values N] [--tries K] [--quick] [--only jobs|measurement]
+"""
+
+from __future__ import annotations
+
+import argparse
+import random
+import statistics
+import sys
+import tempfile
+from pathlib import Path
+
+import numpy as np
+
+REPO = Path(__file__).resolve().parents[2]
+sys.path.insert(0, str(REPO / "tests" / "helpers"))
+
+from backlash_helpers import STEPS_PER_MM, TICK_HZ, circle_gcode, pocket_gcode, pocket_path  # noqa: E402
+from backlash_jobs import Ran, circle_error, path_error, run_job, stepper_circle_error, takeup_accel  # noqa: E402
+from backlash_rig import HYSTERESIS, SWITCH_END, probe, rig, rig_config, switch  # noqa: E402
+from quadstep.engine_model import predict  # noqa: E402
+from quadstep.machine.backlash import calibrate_switch  # noqa: E402
+
+AXES = "XYZ"
+LARGEST = 0.3 * STEPS_PER_MM  # steps
+SMOOTHING = TICK_HZ // 100  # 10 ms: the trace's second differences
+
+
+def calibrated_hysteresis(work: Path, rng: random.Random, tries: int) -> tuple[float, ...]:
+    """Each switch's hysteresis (mm), calibrated once as a user would: the backlash measured with the probe,
+    then the switch's sum less it."""
+    found = []
+    for axis in range(3):
+        backlash = tuple(rng.uniform(0, LARGEST) for _ in range(3))
+        with rig(work, axis, backlash) as machine:
+            known = probe(machine, axis, tries).mm
+            found.append(calibrate_switch(machine, AXES[axis], known, end=SWITCH_END[axis], tries=tries, search=8))
+        print(f"  {AXES[axis]}: calibrated at a backlash of {backlash[axis]:.2f} steps (the probe: "
+              f"{known * STEPS_PER_MM:g}): hysteresis {found[-1] * STEPS_PER_MM:.3f} steps, simulated "
+              f"{HYSTERESIS[axis]}")
+    return tuple(found)
+
+
+def measurement(values: int, tries: int) -> None:
+    rng = random.Random(10)
+    print(f"measurement: {values} random backlash values in 0 … 0.3 mm (0 … {LARGEST:g} steps) on each axis, "
+          f"{tries} tries each; errors in steps (measured − simulated)")
+    with tempfile.TemporaryDirectory() as tmp:
+        work = Path(tmp)
+        hysteresis = calibrated_hysteresis(work, rng, tries)
+        config = rig_config(hysteresis)
+        errors: dict[str, list[list[float]]] = {"probe": [[], [], []], "switch": [[], [], []], "sum": [[], [], []]}
+        spreads = {"probe": 0.0, "switch": 0.0}
+        for _ in range(values):
+            backlash = tuple(rng.uniform(0, LARGEST) for _ in range(3))
+            for axis in range(3):
+                with rig(work, axis, backlash, config) as machine:
+                    by_probe, by_switch = probe(machine, axis, tries), switch(machine, axis, tries)
+                errors["probe"][axis].append(by_probe.steps - backlash[axis])
+                errors["switch"][axis].append(by_switch.steps - backlash[axis])
+                errors["sum"][axis].append(by_switch.sum_steps - backlash[axis] - HYSTERESIS[axis])
+                spreads["probe"] = max(spreads["probe"], by_probe.spread_steps)
+                spreads["switch"] = max(spreads["switch"], by_switch.spread_steps)
+    labels = {"probe": "probe at the corner", "switch": "switch, calibrated hysteresis taken off",
+              "sum": "switch, backlash + hysteresis alone (its rounding)"}
+    for method, per_axis in errors.items():
+        worst = [max(e, key=abs) for e in per_axis]
+        every = [x for e in per_axis for x in e]
+        print(f"  {labels[method]}: worst " + ", ".join(f"{AXES[a]} {w:+.3f}" for a, w in enumerate(worst))
+              + f"; all within {min(every):+.3f} … {max(every):+.3f} step, mean |error| "
+              f"{statistics.fmean(abs(x) for x in every):.2f}")
+    print(f"  largest spread over the tries: probe {spreads['probe']:g}, switch {spreads['switch']:g} steps")
+    print(f"  calibration's own error (hysteresis found − simulated): "
+          + ", ".join(f"{AXES[a]} {h * STEPS_PER_MM - HYSTERESIS[a]:+.2f}" for a, h in enumerate(hysteresis))
+          + " step; the switch's error is the sum's rounding less it")
+
+
+def jobs_figures(quick: bool) -> None:
+    jobs = [("circle r = 20 mm, 10 mm/s", circle_gcode(20, 10, turns=1 if quick else 2), "circle"),
+            ("pocket 20 × 6 mm, 1.5 mm stepover, 15 mm/s", pocket_gcode(20, 6, 1.5, 15), "pocket")]
+    print("compensation: the carriage's path error from the simulated carriage positions (steps; 1 step = "
+          f"{1000 / STEPS_PER_MM:g} µm; arc tolerance 0.002 mm = {0.002 * STEPS_PER_MM:g} step)")
+    with tempfile.TemporaryDirectory() as tmp:
+        for mm in ((0.1, 0.1, 0.0),) if quick else ((0.1, 0.1, 0.0), (0.3, 0.25, 0.0)):
+            for label, gcode, kind in jobs:
+                runs: dict[bool, Ran] = {}
+                for compensate in (True, False):
+                    runs[compensate] = ran = run_job(Path(tmp), f"{kind}-{compensate}", gcode, mm, compensate)
+                    assert ran.ended_by == "done", ran.ended_by
+                lines = (3, len(gcode.splitlines()) - 1)  # after the G0 to the start, before the rapid home
+                errors = {c: circle_error(r, 20, *lines) if kind == "circle"
+                          else path_error(r, pocket_path(20, 6, 1.5), *lines) for c, r in runs.items()}
+                with_, without = runs[True], runs[False]
+                same = np.array_equal(with_.rows[:, :3].astype(np.int64),
+                                      predict(with_.sent.segments.segments(), axis_count=3).steps)
+                ticks = (with_.sent.segments.ticks, without.sent.segments.ticks)
+                kinds = sorted({t.kind for t in with_.sent.compensated.takeups})
+                print(f"  {label}, backlash X {mm[0]:g} Y {mm[1]:g} mm ({mm[0] * STEPS_PER_MM:g}, "
+                      f"{mm[1] * STEPS_PER_MM:g} steps): {len(with_.sent.compensated.takeups)} take-ups "
+                      f"({', '.join(kinds)})")
+                steppers = "" if kind != "circle" else (
+                    f" (away from the circle's two ends, 0.1 s each: {circle_error(with_, 20, *lines, TICK_HZ // 10):.2f})"
+                    f"; the steppers alone, no backlash: {stepper_circle_error(with_.plan, 20, *lines):.2f}")
+                print(f"    path error: {errors[True]:.2f} steps with compensation, {errors[False]:.2f} without"
+                      + steppers)
+                print(f"    job time: {ticks[0] / TICK_HZ:.4f} s with, {ticks[1] / TICK_HZ:.4f} s without "
+                      f"({100 * (ticks[0] / ticks[1] - 1):+.3f} %)")
+                accel = takeup_accel(with_, SMOOTHING)
+                quantum = 2 / SMOOTHING**2 * TICK_HZ**2 / STEPS_PER_MM
+                print(f"    trace = the stream's predicted steps, take-ups included: {same}")
+                for axis, (exact, seen) in sorted(accel.items()):
+                    limit = with_.config.axes[axis].max_accel
+                    print(f"    {AXES[axis]} acceleration during take-ups: {exact:.1f} mm/s² (stream states), "
+                          f"{seen:.1f} ± {quantum:.0f} (trace, {1000 * SMOOTHING // TICK_HZ} ms second "
+                          f"differences); limit {limit:g}")
+
+
+def main() -> int:
+    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--values", type=int, default=20, help="backlash values per axis (default 20)")
+    parser.add_argument("--tries", type=int, default=5, help="tries per measurement (default 5)")
+    parser.add_argument("--quick", action="store_true", help="3 values, 2 tries, one backlash for the jobs")
+    parser.add_argument("--only", choices=("jobs", "measurement"), help="one part")
+    args = parser.parse_args()
+    values, tries = (3, 2) if args.quick else (args.values, args.tries)
+    if args.only != "measurement":
+        jobs_figures(args.quick)
+    if args.only != "jobs":
+        measurement(values, tries)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
