@@ -185,3 +185,28 @@ def test_continuous_jog_keeps_little_motion_queued(paced_link: Link, machine: Ma
     whole = math.ceil(settings.lookahead * machine.tick_hz / 1022)
     assert whole + 1 < paced_link.identify().queue_capacity
     assert 2 <= max(fills) <= whole + 1
+
+
+def test_a_held_key_queues_one_step_and_drops_the_repeats(fast_link: Link, machine: MachineConfig) -> None:
+    """Twenty repeats of a 10 mm step arriving at once: one waits, the rest are dropped; 0.01 mm steps all count."""
+    jogger = jogger_on(fast_link, machine)
+    jogger.select_step(3)  # 10 mm at 25 % of 50 mm/s: about 0.85 s a step
+    taken = [s for s in (jogger.queue_step(X, 1) for _ in range(20)) if s is not None]
+    assert len(taken) == 1 and jogger.queue.dropped == 19
+    assert jogger.queue.queued_mm() == {X: 10.0}
+    for step in taken:
+        jogger.run_queued(step)
+    assert fast_link.status().position[X] == 800
+    assert jogger.queue.queued_mm() == {}
+    jogger.select_step(0)  # 0.01 mm: a tap's worth of motion each, every tap runs
+    taps = [jogger.queue_step(X, -1) for _ in range(5)]
+    assert all(t is not None for t in taps)
+    for step in taps:
+        assert step is not None
+        jogger.run_queued(step)
+    assert fast_link.status().position[X] == 796  # 9.95 mm
+    dropped = jogger.queue_step(Z, -1)  # Z has its own step: 1 mm
+    assert dropped is not None and dropped.distance == 1.0
+    jogger.stop()  # the stop key drops what waits
+    assert jogger.run_queued(dropped) is None
+    assert fast_link.status().position[Z] == 0

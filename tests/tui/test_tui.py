@@ -55,7 +55,7 @@ async def test_jog_keys_move_exactly_the_preset_distances(machine: MachineConfig
         await shown(pilot, app, (160, 80, -400))
         await pilot.press("2", "left")  # 0.1 mm
         await shown(pilot, app, (152, 80, -400))
-        await pilot.press("4", "down", "pageup")  # 10 mm
+        await pilot.press("4", "right_square_bracket", "down", "pageup")  # 10 mm: X/Y by 4, Z by ]
         await pilot.press("1", "left", "left", "left")  # 0.01 mm × 3 from 1.9 mm: 1.87 mm = 149.6 steps
         await shown(pilot, app, (150, 0, 0))
         assert positions(app) == (150, 0, 0)

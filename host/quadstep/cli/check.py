@@ -3,6 +3,9 @@
 from __future__ import annotations
 
 import argparse
+import json
+
+from ..toolpath import Box, toolpath
 
 from ._jobs import add_job_options, format_duration, job_from_args, machine_config, skipped_text, stored_coordinates
 from .options import add_json_option
@@ -19,8 +22,13 @@ def run(args: argparse.Namespace) -> int:
     config = machine_config(args)
     job = job_from_args(args, config, coordinates=stored_coordinates(args))  # from the machine origin
     summary = job.summary()
+    path = toolpath(job.program, config.to_mm(job.plan.start))
+    names = config.axis_names
     if args.json:
-        print(summary.model_dump_json())
+        data = summary.model_dump()
+        data["bounds"] = {kind: _box_json(names, box) for kind, box in
+                          (("work", path.work_box), ("machine", path.machine_box))}
+        print(json.dumps(data))
         return 0
     print(
         f"{summary.file}: {job.source_size}, {summary.moves} moves, {summary.segments} segments "
@@ -33,6 +41,10 @@ def run(args: argparse.Namespace) -> int:
             f"{axis.name:<6} {axis.peak_speed:7.2f} mm/s   {axis.start_work_mm:.3f} → {axis.end_work_mm:.3f} mm"
             f"   {axis.start_mm:.3f} → {axis.end_mm:.3f} mm ({axis.end_steps} steps)"
         )
+    if path.machine_box is not None and path.work_box is not None:
+        print(f"bounding box   work     {_box_text(names, path.work_box)}")
+        print(f"               machine  {_box_text(names, path.machine_box)}")
+        print(f"{path.cuts} cuts, {path.rapids} rapids")
     if summary.pauses:
         print(f"pauses for the operator at line{'s' if len(summary.pauses) > 1 else ''} "
               f"{', '.join(map(str, summary.pauses))}")
@@ -40,3 +52,11 @@ def run(args: argparse.Namespace) -> int:
     if skipped:
         print(skipped)
     return 0
+
+
+def _box_text(names: tuple[str, ...], box: Box) -> str:
+    return "  ".join(f"{n} {lo:.3f} … {hi:.3f}" for n, lo, hi in zip(names, box.low, box.high))
+
+
+def _box_json(names: tuple[str, ...], box: Box | None) -> dict[str, list[float]] | None:
+    return None if box is None else {n: [lo, hi] for n, lo, hi in zip(names, box.low, box.high)}

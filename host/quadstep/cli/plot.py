@@ -11,6 +11,7 @@ from ..backlash.band import Band
 from ..backlash.base import from_arrays
 from ..backlash.compensate import TakeUp, compensate
 from ..planner.timeline import Timeline, timeline
+from ..toolpath import Toolpath, toolpath
 from ._jobs import add_job_options, job_from_args, machine_config
 from .options import CliError
 
@@ -31,7 +32,7 @@ def _stairs(t: Timeline, i: int) -> tuple[np.ndarray, np.ndarray, np.ndarray, np
 
 
 def draw(t: Timeline, names: list[str], title: str, output: Path, takeups: list[TakeUp] | None = None,
-         tick_hz: int = 1) -> None:
+         tick_hz: int = 1, path: Toolpath | None = None) -> None:
     import matplotlib
 
     matplotlib.use("Agg")
@@ -58,8 +59,18 @@ def draw(t: Timeline, names: list[str], title: str, output: Path, takeups: list[
     ax_speed.legend(loc="upper right")
     ax_speed.grid(True, alpha=0.3)
     ax_accel.grid(True, alpha=0.3)
-    if len(names) >= 2:
+    if len(names) >= 2 and path is None:
         ax_path.plot(t.position[:, 0], t.position[:, 1], linewidth=0.8)
+    if len(names) >= 2:
+        for rapid, style in ((True, {"color": "tab:orange", "linestyle": "--", "label": "rapid (G0)"}),
+                             (False, {"color": "tab:blue", "linestyle": "-", "label": "cut"})):
+            pieces = [p for p in (path.pieces if path is not None else ()) if p.rapid == rapid]  # as written
+            xs = [v for p in pieces for v in (p.start[0], p.end[0], np.nan)]
+            ys = [v for p in pieces for v in (p.start[1], p.end[1], np.nan)]
+            if pieces:
+                ax_path.plot(xs, ys, linewidth=0.8, **style)
+        if path is not None:
+            ax_path.legend(loc="upper right")
         ax_path.set_xlabel(f"{names[0]} (mm)")
         ax_path.set_ylabel(f"{names[1]} (mm)")
         ax_path.set_aspect("equal", adjustable="datalim")
@@ -67,7 +78,7 @@ def draw(t: Timeline, names: list[str], title: str, output: Path, takeups: list[
         ax_path.plot(np.concatenate([[0.0], t.end]), t.position[:, 0], linewidth=0.8)
         ax_path.set_xlabel("time (s)")
         ax_path.set_ylabel(f"{names[0]} (mm)")
-    ax_path.set_title("path")
+    ax_path.set_title("path" if path is None or len(names) < 2 else f"path: {path.cuts} cuts, {path.rapids} rapids")
     ax_path.grid(True, alpha=0.3)
     fig.suptitle(title)
     fig.savefig(output, dpi=100)
@@ -82,7 +93,7 @@ def run(args: argparse.Namespace) -> int:
     try:
         takeups = compensate(from_arrays(job.plan.segments), config, Band.of(config)).takeups
         draw(timeline(job.plan), list(config.axis_names), f"{args.job.name}: planned motion", args.output,
-             takeups, config.tick_hz)
+             takeups, config.tick_hz, toolpath(job.program, config.to_mm(job.plan.start)))
     except OSError as exc:
         raise CliError(f"cannot write {args.output}: {exc.strerror}") from None
     print(f"wrote {args.output}" + (f" ({len(takeups)} backlash take-ups shaded)" if takeups else ""))

@@ -1,8 +1,11 @@
 """Jogging on a Machine, independent of any user interface: presets, soft limits, continuous jogs
 stopped by HOLD."""
 
-from .jogger import JogMode, JogResult, Jogger
+from .jogger import JogResult, Jogger
+from .presets import JogMode, JogPresets
 from .release import ReleaseDetector
 from .settings import JogSettings
+from .step_queue import QueuedStep, StepQueue
 
-__all__ = ["JogMode", "JogResult", "JogSettings", "Jogger", "ReleaseDetector"]
+__all__ = ["JogMode", "JogPresets", "JogResult", "JogSettings", "Jogger", "QueuedStep", "ReleaseDetector",
+           "StepQueue"]

@@ -19,7 +19,6 @@ import threading
 import time
 from collections.abc import Callable
 from dataclasses import dataclass
-from enum import Enum
 
 from ..config import MachineConfig
 from ..link import LinkError
@@ -27,15 +26,12 @@ from ..machine import Machine, Motion, MotionEnd
 from ..machine.units import step_direction, step_limits
 from ..planner.plan import Plan, plan_program
 from ..planner.program import JobError, LinearMove, Program
+from .presets import JogMode, JogPresets
 from .release import ReleaseDetector
 from .settings import JogSettings
+from .step_queue import QueuedStep, StepQueue, step_seconds
 
 WATCH_INTERVAL = 0.05  # s: how often a continuous jog's watcher looks at the motion besides its deadline
-
-
-class JogMode(str, Enum):
-    INCREMENTAL = "incremental"
-    CONTINUOUS = "continuous"
 
 
 @dataclass(frozen=True)
@@ -87,7 +83,7 @@ class _Continuous:
         self.jogger._finish(self, end)
 
 
-class Jogger:
+class Jogger(JogPresets):
     """Jogs one machine: step(), press(), stop(). Making one talks to nobody."""
 
     def __init__(
@@ -96,15 +92,11 @@ class Jogger:
         settings: JogSettings | None = None,
         on_finish: Callable[[JogResult], None] | None = None,
     ) -> None:
+        super().__init__(machine.config, settings or JogSettings())
         self.machine = machine
-        self.config: MachineConfig = machine.config
-        self.settings = settings or JogSettings()
         self.on_finish = on_finish
-        self.mode = JogMode.INCREMENTAL
-        steps = self.settings.step_presets
-        self.step_index = steps.index(1.0) if 1.0 in steps else 0
-        self.speed_index = len(self.settings.speed_presets) // 2
         self.last_result: JogResult | None = None
+        self.queue = StepQueue()  # incremental presses waiting
         self._lock = threading.Lock()  # guards the fields below
         self._run_lock = threading.Lock()  # one motion at a time
         self._motion: Motion | None = None
@@ -112,35 +104,6 @@ class Jogger:
         self._idle = threading.Event()
         self._idle.set()
         self._commanded_mm: list[float] = [axis.to_mm(p) for axis, p in zip(self.config.axes, machine.position)]
-
-    # --- presets and state -------------------------------------------------------------
-
-    @property
-    def distance(self) -> float:
-        return self.settings.step_presets[self.step_index]
-
-    @property
-    def speed_fraction(self) -> float:
-        return self.settings.speed_presets[self.speed_index]
-
-    def speed(self, axis: int) -> float:
-        """The selected jog speed of `axis`, mm/s."""
-        return self.speed_fraction * self.config.axes[axis].max_speed
-
-    def select_step(self, index: int) -> None:
-        if not 0 <= index < len(self.settings.step_presets):
-            raise ValueError(f"step preset {index + 1} does not exist (1 … {len(self.settings.step_presets)})")
-        self.step_index = index
-
-    def change_speed(self, delta: int) -> None:
-        self.speed_index = min(max(self.speed_index + delta, 0), len(self.settings.speed_presets) - 1)
-
-    def toggle_mode(self) -> JogMode:
-        if self.mode == JogMode.INCREMENTAL:
-            self.mode = JogMode.CONTINUOUS
-        else:
-            self.mode = JogMode.INCREMENTAL
-        return self.mode
 
     @property
     def position(self) -> tuple[int, ...]:
@@ -169,14 +132,32 @@ class Jogger:
         return None
 
     def step(self, axis: int, direction: int, distance: float | None = None) -> JogResult:
-        """Move `axis` by `distance` mm (default: the selected preset) toward `direction`; blocks until at rest."""
+        """Move `axis` by `distance` mm (default: its selected preset) toward `direction`; blocks until at rest."""
         self._check_axis(axis, direction)
         with self._run_lock:
             self._idle.clear()
             try:
-                return self._step(axis, direction, self.distance if distance is None else distance)
+                return self._step(axis, direction, self.distance_for(axis) if distance is None else distance)
             finally:
                 self._idle.set()
+
+    def queue_step(self, axis: int, direction: int) -> QueuedStep | None:
+        """An incremental jog key: the step to run_queued() (in order, from a worker), or None when dropped
+        because enough jog motion waits already (a held key's repeats)."""
+        self._check_axis(axis, direction)
+        distance = self.distance_for(axis)
+        seconds = step_seconds(distance, self.speed(axis), self.config.axes[axis].max_accel)
+        step = QueuedStep(axis, direction, distance, seconds)
+        return step if self.queue.offer(step) else None
+
+    def run_queued(self, step: QueuedStep) -> JogResult | None:
+        """Run a step queue_step() took; None when a stop dropped it meanwhile."""
+        if not self.queue.take(step):
+            return None
+        try:
+            return self.step(step.axis, step.direction, step.distance)
+        finally:
+            self.queue.done(step)
 
     def press(self, axis: int, direction: int) -> None:
         """A press or repeat of a continuous jog key: starts the jog, or keeps it going."""
@@ -205,6 +186,7 @@ class Jogger:
         """The stop key: bring any jog to rest now (HOLD). Returns the ended jog, if one ran."""
         with self._lock:
             motion = self._motion
+        self.queue.clear()
         if motion is None:
             return None
         motion.halt("stop")
@@ -363,4 +345,4 @@ def _end_message(end: MotionEnd) -> str:
     return f"{end.ended_by}: stopped at once (this firmware has no HOLD)"
 
 
-__all__ = ["JogMode", "JogResult", "Jogger"]
+__all__ = ["JogResult", "Jogger"]

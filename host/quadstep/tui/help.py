@@ -9,6 +9,7 @@ from textual.screen import ModalScreen
 from textual.widgets import Static
 
 from ..jog import JogSettings
+from ..jog.step_queue import QUEUE_LIMIT
 from .keys import HELP
 
 
@@ -19,6 +20,7 @@ def help_text(settings: JogSettings) -> str:
         speed_list=" / ".join(f"{s * 100:g}" for s in settings.speed_presets),
         first=settings.first_repeat_timeout,
         repeat=settings.repeat_timeout,
+        queue=QUEUE_LIMIT,
     )
 
 
@@ -34,6 +36,11 @@ class HelpScreen(ModalScreen[None]):
     def compose(self) -> ComposeResult:
         with VerticalScroll(id="help"):
             yield Static(help_text(self.settings))
+
+    def on_mount(self) -> None:
+        box = self.query_one("#help")
+        box.border_title = "help: ↑ ↓ PgUp PgDn scroll, Esc closes"
+        box.focus()  # the arrow and page keys scroll it
 
     def action_dismiss(self) -> None:  # type: ignore[override]
         self.dismiss(None)

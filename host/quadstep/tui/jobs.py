@@ -9,18 +9,34 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from textual.screen import Screen
+from textual.widgets import Static
 
-from ..job import Job, load_job
+from ..job import Job, is_move_file, load_job
 from ..link import LinkError
-from ..machine import JobRun, Machine, MachineError, MotionEnd
+from ..machine import JobProgress, JobRun, Machine, MachineError, MotionEnd
+from ..mdi import Console
 from ..planner.program import JobError
 from ..protocol import Alarm, InputCause, InputChange, Report
+from ..toolpath import toolpath
+from .console import ConsoleLine
 from .job_dialog import JobDialog
+from .keys import JOB_KEY_LINE, KEY_LINE
 from .messages import JobDone, JobStarted, Note
 from .panels import JobPanel
+from .toolpath_view import ToolpathView
 
 if TYPE_CHECKING:
     from .session import Session
+
+
+def source_lines(path: Path) -> list[str]:
+    """A G-code file's lines, to show the one running (a move file's entries have no line text)."""
+    if is_move_file(path):
+        return []
+    try:
+        return path.read_text(errors="replace").split("\n")
+    except OSError:
+        return []
 
 
 class JobKeys(Screen[None]):
@@ -30,6 +46,8 @@ class JobKeys(Screen[None]):
     job: JobRun | None
     job_name: str | None
     job_path: str
+    job_source: list[str]
+    console: Console | None
 
     if TYPE_CHECKING:  # MachineScreen's own
         def log_line(self, text: str, error: bool = False) -> None: ...
@@ -46,35 +64,83 @@ class JobKeys(Screen[None]):
         if path is None:
             return
         self.job_path = str(path)
-        machine = self.session.machine
-        if machine is None or machine.busy:
-            self.log_line("job: the machine is busy", error=True)
+        machine = self._machine_free("job")
+        if machine is None:
             return
         self.log_line(f"planning {path}…")
-        self._thread(lambda: self._job_worker(machine, path), "quadstep-job")
 
-    def _job_worker(self, machine: Machine, path: Path) -> None:
+        def plan(start: tuple[int, ...]) -> Job:
+            return load_job(path, machine.config, start, coordinates=machine.coordinates)
+
+        self._thread(lambda: self._job_worker(machine, path.name, plan, source_lines(path)), "quadstep-job")
+
+    def action_console(self) -> None:
+        """`:` gives the keys to the console line (Esc gives them back)."""
+        if self._jogger_ready("MDI") is not None:
+            self.query_one(ConsoleLine).focus()
+
+    def on_console_line_run(self, message: ConsoleLine.Run) -> None:
+        """A line typed in the console: planned whole from where the machine stands, then run as a job."""
+        text = message.text
+        self.log_line(f"> {text}")
+        machine = self._machine_free("MDI") if self._jogger_ready("MDI") is not None else None
+        if machine is None:
+            return
+        if self.console is None or self.console.config is not machine.config:
+            self.console = Console(machine.config)
+        console = self.console
+
+        def plan(start: tuple[int, ...]) -> Job:
+            return console.plan(text, start, machine.coordinates)
+
+        self._thread(lambda: self._job_worker(machine, "MDI", plan, [text]), "quadstep-mdi")
+
+    def _machine_free(self, what: str) -> Machine | None:
+        machine = self.session.machine
+        if machine is None or machine.busy:
+            self.log_line(f"{what}: the machine is busy", error=True)
+            return None
+        return machine
+
+    def _job_worker(self, machine: Machine, name: str, plan: Callable[[tuple[int, ...]], Job],
+                    source: list[str]) -> None:
         try:
-            job: Job = load_job(path, machine.config, machine.sync(), coordinates=machine.coordinates)
+            start = machine.sync()
+            job = plan(start)
+            if len(job.plan) == 0 and name == "MDI":
+                machine.adopt_coordinates(job.end_coordinates)  # G10, G92, G54…G59: no motion
+                self.post_message(Note(f"MDI: done (no motion; {machine.coordinates.name} active)"))
+                return
             if len(job.plan) == 0:
-                raise JobError(f"{path}: no move leaves the current position")
+                raise JobError(f"{job.path}: no move leaves the current position")
+            path = toolpath(job.program, machine.config.to_mm(start)) if name != "MDI" else None
             run = machine.run_job(job.plan, job.program, job.label)
         except (JobError, LinkError, MachineError) as exc:
-            self.post_message(Note(f"job not started: {exc}", error=True))
+            self.post_message(Note(f"{name if name == 'MDI' else 'job'} not started: {exc}", error=True))
             return
-        self.post_message(JobStarted(run, path.name))
+        self.post_message(JobStarted(run, name, path, source))
         end = run.wait()
         assert end is not None
         if end.ended_by == "done":
             machine.adopt_coordinates(job.end_coordinates)  # what its G10, G92, G54…G59, M2/M30 left
-        self.post_message(JobDone(path.name, end))
+        self.post_message(JobDone(name, end))
 
     def on_job_started(self, message: JobStarted) -> None:
         job = message.job
         self.job = job
         self.job_name = message.name
+        self.job_source = message.source
+        if message.path is not None:
+            self.query_one(ToolpathView).show_path(message.path)
         self.log_line(f"running {message.name}: {len(job.plan)} segments, {job.plan.duration_s:.1f} s planned")
-        self.query_one(JobPanel).show(self.job_name, job.progress)
+        self.query_one("#keys", Static).update(JOB_KEY_LINE)
+        self.show_job(job.progress)
+
+    def show_job(self, progress: JobProgress) -> None:
+        """The job line: name, the line being run and its text, time left, progress."""
+        line = progress.line
+        text = self.job_source[line - 1] if 0 < line <= len(self.job_source) else ""
+        self.query_one(JobPanel).show(self.job_name, progress, source=text)
 
     def on_job_done(self, message: JobDone) -> None:
         job = self.job
@@ -88,6 +154,7 @@ class JobKeys(Screen[None]):
             line = job.progress.line if job is not None else "?"
             outcome = f"stopped near line {line} ({'HOLD' if end.held else 'STOP'})"
         self.log_line(f"{message.name}: {outcome}", error=bool(end.error))
+        self.query_one("#keys", Static).update(KEY_LINE)
         self.query_one(JobPanel).show(None, None, f"{message.name}: {outcome}")
         jogger = self.session.jogger
         if jogger is not None and self.session.connected:

@@ -29,6 +29,8 @@ def bindings(step_presets: int) -> list[BindingType]:
         Binding(str(i + 1), f"step_preset({i})", "step", group=STEP) for i in range(min(step_presets, 9))
     ]
     keys += [
+        Binding("left_square_bracket", "z_step(-1)", "Z step down", key_display="[", show=False),
+        Binding("right_square_bracket", "z_step(1)", "Z step up", key_display="]", show=False),
         Binding("minus", "speed(-1)", "slower", key_display="-", group=SPEED),
         Binding("plus,equals_sign", "speed(1)", "faster", key_display="+", group=SPEED),
         Binding("c", "toggle_mode", "cont/incr"),
@@ -40,6 +42,8 @@ def bindings(step_presets: int) -> list[BindingType]:
         Binding("a", "zero(3)", "zero A", show=False),
         Binding("0", "zero_all", "zero all"),
         Binding("o", "open_job", "job"),
+        Binding("colon", "console", "MDI", key_display=":"),
+        Binding("v", "toggle_view", "fit path", show=False),
         Binding("h", "home", "home", show=False),
         Binding("p", "probe('38.2')", "probe Z", show=False),
         Binding("P", "probe('38.4')", "probe off", show=False),
@@ -56,11 +60,14 @@ HELP = """\
   ← →            X− / X+
   ↑ ↓            Y+ / Y−
   PgUp PgDn      Z+ / Z−
-  1 … {steps}          step size: {step_list} mm
-  - +            slower / faster: {speed_list} % of each axis's max
+  1 … {steps}          X/Y step: {step_list} mm
+  [ ]            Z step smaller / larger (the same sizes)
+  - +            speed: {speed_list} % of each axis's max
   c              switch incremental ↔ continuous
 
-  Incremental: one press moves exactly the step size (presses queue up).
+  Incremental: one press moves exactly the step size. A held key's
+  repeats beyond what runs within {queue:g} s are dropped; "to go" shows the
+  distance still to move.
   Continuous: the axis moves while the key is held and decelerates to rest
   {first:g} s after the press if the key does not repeat, {repeat:g} s after
   the last repeat, or at once on Space/Esc. It never passes a soft limit:
@@ -72,14 +79,14 @@ HELP = """\
 
 [b]Position[/b]
   x y z a        make the current position of that axis 0 in the active
-                 work coordinates (G54 … G59: a work offset, kept across runs)
+                 work coordinates (G54 … G59: a work offset, kept)
   0              the same on every axis
   Machine coordinates (the steps) never change: the soft limits are the
   configured travel in machine coordinates.
 
 [b]Homing and probing[/b]
-  h              home: each axis with [axes.homing], Z first (seek, back off,
-                 locate slowly, pull off); machine zero from the exact latch
+  h              home: each axis with \\[axes.homing], Z first (seek, back
+                 off, locate slowly, pull off); machine zero from the latch
   p              G38.2: Z down toward its travel_min at 1 mm/s until the
                  probe touches (a touch plate); the contact is logged
   P              G38.4: Z up until the probe lets go
@@ -87,12 +94,22 @@ HELP = """\
 [b]Jobs[/b]
   o              open a G-code or move file and run it (planned first:
                  nothing moves if any line is wrong)
+  :              console (MDI): type a G-code line, Enter runs it (checked
+                 first), ↑ ↓ earlier lines, Esc back to the jog keys
+  v              path view: fit the job ↔ the whole travel (cuts solid,
+                 rapids dotted, + the work zero, ● the tool)
   g              go on after a pause (M0)
   Space          feed hold (keeps the rest of the job), again: resume
   Esc            stop the job (HOLD)
 
 [b]Connection[/b]
   Ctrl+R         reconnect after the link was lost
-  ?, F1          this help;  Esc or q closes it
+  ?, F1          this help (↑ ↓ PgUp PgDn scroll);  Esc or q closes it
   Ctrl+Q         quit (brings any motion to rest first)
 """
+
+# The screen's bottom line: the main keys, within 80 columns; another while a job runs.
+KEY_LINE = ("[b]←→↑↓ PgUp/Dn[/b] jog [b]1-4 \\[ ][/b] XY/Z step [b]-+[/b] speed [b]c[/b] mode "
+            "[b]Esc[/b] stop [b]:[/b] MDI [b]o[/b] job [b]?[/b] help")
+JOB_KEY_LINE = ("[b]Space[/b] hold/resume  [b]Esc[/b] stop  [b]g[/b] go on after M0  "
+                "[b]< >[/b] feed override  [b]?[/b] help")

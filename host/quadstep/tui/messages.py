@@ -7,6 +7,7 @@ from textual.message import Message
 from ..jog import JogResult
 from ..machine import JobProgress, JobRun, MotionEnd
 from ..protocol import IdentifyReply
+from ..toolpath import Toolpath
 from .session import Snapshot
 
 
@@ -38,10 +39,12 @@ class JogDone(Message):
 
 
 class JobStarted(Message):
-    def __init__(self, job: JobRun, name: str) -> None:
+    def __init__(self, job: JobRun, name: str, path: Toolpath | None = None, source: list[str] | None = None) -> None:
         super().__init__()
         self.job = job
         self.name = name
+        self.path = path  # to draw (None: keep the one shown)
+        self.source = source or []  # the job's lines
 
 
 class JobDone(Message):

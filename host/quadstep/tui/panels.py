@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from rich.text import Text
 from textual.app import ComposeResult
-from textual.containers import Vertical
+from textual.containers import Horizontal
 from textual.widgets import ProgressBar, RichLog, Static
 
 from ..config import MachineConfig
@@ -33,18 +33,18 @@ class PositionPanel(Panel):
 
     def show(self, config: MachineConfig, snapshot: Snapshot | None) -> None:
         system = snapshot.system if snapshot is not None else "work"
-        text = Text(f"{'axis':<5}{system:>10}{'machine':>10}{'steps':>9}{'travel':>16}", style="dim")
+        text = Text(f"{'':<2}{system:>9}{'machine':>10}{'steps':>9}{'travel':>12}", style="dim")
         for i, axis in enumerate(config.axes):
             if snapshot is None:
                 work, mm, steps = "—", "—", "—"
             else:
                 work, mm = f"{snapshot.work_mm[i]:.3f}", f"{snapshot.position_mm[i]:.3f}"
                 steps = str(snapshot.steps[i])
-            text.append(f"\n{axis.name:<5}", style="bold")
-            text.append(f"{work:>10}", style="bold")
+            text.append(f"\n{axis.name:<2}", style="bold")
+            text.append(f"{work:>9}", style="bold")
             text.append(f"{mm:>10}")
             text.append(f"{steps:>9}")
-            text.append(f"{f'{axis.travel_min:g} … {axis.travel_max:g}':>16}", style="dim")
+            text.append(f"{f'{axis.travel_min:g}…{axis.travel_max:g}':>12}", style="dim")
         self.show_text(text)
 
 
@@ -52,7 +52,7 @@ class MachinePanel(Panel):
     """State, alarm, queue fill, feed and link health."""
 
     def show(self, identity: IdentifyReply | None, snapshot: Snapshot | None, lost: str | None) -> None:
-        text = Text("state  ", style="dim")
+        text = Text("state ", style="dim")
         if lost is not None:
             text.append("DISCONNECTED", style="bold white on red")
         elif snapshot is None or identity is None:
@@ -61,58 +61,66 @@ class MachinePanel(Panel):
             st = snapshot.status
             text.append(st.state.name, style=STATE_STYLE.get(st.state, ""))
             if st.alarm:
-                text.append(f"  {st.alarm.name}", style="bold red")
+                text.append(f" {st.alarm.name}", style="bold red")
             health = snapshot.link
             bad = health["retransmits"] or health["errors"] or health["decode_errors"] or health["timeouts"]
-            text.append("\nqueue  ", style="dim")
-            text.append(f"{st.queue_fill} / {identity.queue_capacity}")
-            text.append("\nfeed   ", style="dim")
+            text.append("\nqueue ", style="dim")
+            text.append(f"{st.queue_fill}/{identity.queue_capacity}")
+            text.append("  feed ", style="dim")
             text.append(f"{snapshot.feed:.0f} mm/min")
-            text.append("\nlink   ", style="dim")
-            text.append("degraded" if bad else "ok", style="yellow" if bad else "green")
-            text.append(f"\n       retransmits {health['retransmits']}  timeouts {health['timeouts']}")
-            text.append(f"\n       errors {health['errors']}  bad frames {health['decode_errors']}")
+            text.append("\nlink  ", style="bold yellow" if bad else "green")  # yellow: degraded
+            text.append(f"retries {health['retransmits']}  t/o {health['timeouts']}")
+            text.append(f"\n      errors {health['errors']}  bad frames {health['decode_errors']}")
         self.show_text(text)
 
 
 class JogPanel(Panel):
-    """The jog mode and the selected step and speed."""
+    """The jog mode, the X/Y and Z steps, the speed, and the distance still to go of the steps pressed."""
 
     def show(self, jogger: Jogger | None) -> None:
         if jogger is None:
             self.show_text(Text(""))
             return
         mode = "CONTINUOUS" if jogger.mode == JogMode.CONTINUOUS else "INCREMENTAL"
-        text = Text.assemble(("jog ", "dim"), (mode, "bold"), ("   step ", "dim"), f"{jogger.distance:g} mm",
-                             ("   speed ", "dim"), f"{jogger.speed_fraction * 100:g} %")
-        speeds = "  ".join(f"{axis.name} {jogger.speed(i) * 60:.0f}" for i, axis in enumerate(jogger.config.axes))
-        text.append(f"  ({speeds} mm/min)", style="dim")
+        text = Text.assemble(("jog ", "dim"), (mode, "bold"), ("  XY ", "dim"), f"{jogger.distance:g}",
+                             ("  Z ", "dim"), f"{jogger.z_distance:g} mm", ("  speed ", "dim"),
+                             f"{jogger.speed_fraction * 100:g} %")
+        queued = jogger.queue.queued_mm()
+        if queued:
+            names = jogger.config.axes
+            text.append("  to go ", style="dim")
+            text.append(" ".join(f"{names[a].name}{mm:+g}" for a, mm in sorted(queued.items())), style="yellow")
+        else:
+            text.append(f"  ({jogger.speed(0) * 60:.0f} mm/min)", style="dim")
         self.show_text(text)
 
 
-class JobPanel(Vertical):
-    """The running job: file, line, progress, time left."""
+class JobPanel(Horizontal):
+    """The running job: file, line (and its text), progress, time left."""
 
     def compose(self) -> ComposeResult:
-        yield Static("no job  (o opens one)", id="job-label")
+        yield Static("no job  (o opens one, : types a line)", id="job-label")
         bar = ProgressBar(total=1, show_eta=False, id="job-progress")
         bar.display = False
         yield bar
 
-    def show(self, name: str | None, progress: JobProgress | None, outcome: str = "") -> None:
+    def show(self, name: str | None, progress: JobProgress | None, outcome: str = "", source: str = "") -> None:
         label = self.query_one("#job-label", Static)
         bar = self.query_one("#job-progress", ProgressBar)
         bar.display = name is not None
         if name is None:
-            label.update(outcome or "no job  (o opens one)")
+            label.update(outcome or "no job  (o opens one, : types a line)")
             return
         if progress is None:
             label.update(f"{name}: {outcome}")
             return
-        text = f"{name}: line {progress.line}, segment {progress.done} / {progress.total}, "
-        text += f"{progress.seconds_left:.1f} s left"
+        text = Text(f"{name} ", style="bold")
+        text.append(f"{progress.line}", style="bold")
+        if source:
+            text.append(f" {source.strip()}", style="cyan")
+        text.append(f"  {progress.seconds_left:.1f} s left", style="dim")
         if progress.paused_at is not None:
-            text += f"   PAUSED at line {progress.paused_at}: g goes on"
+            text.append(f"  PAUSED at {progress.paused_at}: g goes on", style="yellow")
         label.update(text)
         bar.update(total=max(progress.total, 1), progress=progress.done)
 

@@ -12,21 +12,25 @@ from collections.abc import Callable
 from rich.text import Text
 from textual.app import ComposeResult
 from textual.containers import Horizontal
-from textual.widgets import Footer, Header, Static
+from textual.widgets import Header, Static
 
-from ..jog import JogMode, Jogger, JogResult
+from ..jog import JogResult
 from ..link import LinkError
 from ..machine import JobRun, Machine, MachineError
 from ..machine.homing import home
 from ..machine.probing import probe
+from ..mdi import Console
 from ..planner.program import JobError
-from ..protocol import AXIS_NAMES, Board
+from ..protocol import Board
+from .console import ConsoleLine
 from .help import HelpScreen
 from .jobs import JobKeys
-from .keys import bindings
+from .jog_keys import JogKeys
+from .keys import KEY_LINE, bindings
 from .messages import Connected, ConnectionLost, JogDone, Note, StatusUpdate
 from .panels import JobPanel, JogPanel, MachinePanel, MessageLog, PositionPanel
 from .session import Session, Snapshot
+from .toolpath_view import ToolpathView
 
 POLL_INTERVAL = 0.1  # s between STATUS requests
 
@@ -38,8 +42,9 @@ def _board_name(board: int) -> str:
         return f"board {board}"
 
 
-class MachineScreen(JobKeys):
+class MachineScreen(JobKeys, JogKeys):
     BINDINGS = bindings(9)  # step keys beyond the presets are hidden by check_action
+    AUTO_FOCUS = ""  # nothing: every key jogs until `:` focuses the console line
 
     def __init__(self, session: Session, job_path: str = "", poll_interval: float = POLL_INTERVAL) -> None:
         super().__init__()
@@ -50,9 +55,12 @@ class MachineScreen(JobKeys):
         self.snapshot: Snapshot | None = None
         self.job: JobRun | None = None
         self.job_name: str | None = None
+        self.job_source: list[str] = []  # the running job's lines, to show the current one
+        self.console: Console | None = None
         self._poll_stop = threading.Event()
         self._connecting = False
         self.messages: list[str] = []  # every line of the message log, for scripts and tests
+        self._repeats = 0  # the last message again, not written again
 
     # --- layout ----------------------------------------------------------------------------
 
@@ -64,8 +72,11 @@ class MachineScreen(JobKeys):
             yield MachinePanel(id="machine")
         yield JogPanel(id="jog")
         yield JobPanel(id="job")
-        yield MessageLog(id="log", wrap=True)
-        yield Footer()
+        yield ConsoleLine(id="console")
+        with Horizontal(id="bottom"):
+            yield MessageLog(id="log", wrap=True)
+            yield ToolpathView(id="toolpath")
+        yield Static(KEY_LINE, id="keys")
 
     def on_mount(self) -> None:
         self.app.title = "quadstep"
@@ -74,21 +85,37 @@ class MachineScreen(JobKeys):
         self.query_one(PositionPanel).border_title = "position"
         self.query_one(MachinePanel).border_title = "machine"
         self.query_one(MessageLog).border_title = "messages"
+        self.query_one(ToolpathView).border_title = "path (v: fit)"
         self.connect()
 
     def on_unmount(self) -> None:
         self._poll_stop.set()
 
     def log_line(self, text: str, error: bool = False) -> None:
+        """A line in the message log; the same line again (a held key's repeats) is counted, not repeated."""
+        if self.messages and self.messages[-1] == text:
+            self._repeats += 1
+            return
+        if self._repeats:
+            self._write(f"  (the line above {self._repeats} more time{'s' if self._repeats > 1 else ''})", False)
+            self._repeats = 0
         self.messages.append(text)
+        self._write(text, error)
+
+    def _write(self, text: str, error: bool) -> None:
         self.query_one(MessageLog).write(Text(text, style="red" if error else ""))
 
     def refresh_panels(self) -> None:
         session = self.session
+        snapshot = self.snapshot if session.connected else None
         if session.config is not None:
-            self.query_one(PositionPanel).show(session.config, self.snapshot if session.connected else None)
+            self.query_one(PositionPanel).show(session.config, snapshot)
         self.query_one(MachinePanel).show(session.identity, self.snapshot, session.lost)
         self.query_one(JogPanel).show(session.jogger if session.connected else None)
+        origin = None
+        if snapshot is not None:
+            origin = tuple(m - w for m, w in zip(snapshot.position_mm, snapshot.work_mm))
+        self.query_one(ToolpathView).show(session.config, snapshot.position_mm if snapshot else None, origin)
 
     # --- connection ------------------------------------------------------------------------
 
@@ -164,128 +191,8 @@ class MachineScreen(JobKeys):
             return  # nothing changed: no redraw
         self.snapshot = message.snapshot
         if self.job is not None and message.job is not None:
-            self.query_one(JobPanel).show(self.job_name, message.job)
+            self.show_job(message.job)
         self.refresh_panels()
-
-    # --- jogging ---------------------------------------------------------------------------
-
-    def check_action(self, action: str, parameters: tuple[object, ...]) -> bool | None:
-        if action == "step_preset":
-            return int(parameters[0]) < len(self.session.settings.step_presets)  # type: ignore[call-overload]
-        if action in ("zero",):
-            config = self.session.config
-            return config is None or int(parameters[0]) < len(config.axes)  # type: ignore[call-overload]
-        return True
-
-    def _jogger_ready(self, what: str) -> Jogger | None:
-        jogger = self.session.jogger
-        if not self.session.connected or jogger is None:
-            self.log_line(f"{what}: not connected (Ctrl+R reconnects)", error=True)
-            return None
-        if self.job is not None:
-            self.log_line(f"{what}: a job is running (Space holds it, Esc stops it)", error=True)
-            return None
-        return jogger
-
-    def action_jog(self, axis: int, direction: int) -> None:
-        jogger = self._jogger_ready("jog")
-        if jogger is None:
-            return
-        if axis >= len(jogger.config.axes):
-            self.log_line(f"jog: this machine has no axis {AXIS_NAMES[axis]}", error=True)
-            return
-        self._command(lambda: jogger.jog(axis, direction), "jog")
-
-    def action_step_preset(self, index: int) -> None:
-        jogger = self.session.jogger
-        if jogger is not None:
-            jogger.select_step(index)
-            self.refresh_panels()
-
-    def action_speed(self, delta: int) -> None:
-        jogger = self.session.jogger
-        if jogger is not None:
-            jogger.change_speed(delta)
-            self.refresh_panels()
-
-    def action_toggle_mode(self) -> None:
-        jogger = self.session.jogger
-        if jogger is not None:
-            if jogger.busy:
-                self.log_line("mode: stop the jog first", error=True)
-                return
-            mode = jogger.toggle_mode()
-            self.log_line(f"jog mode: {mode.value}")
-            self.refresh_panels()
-
-    def on_jog_done(self, message: JogDone) -> None:
-        result = message.result
-        if result.message:
-            self.log_line(result.message, error=bool(result.end is not None and result.end.error))
-        if result.kind == JogMode.CONTINUOUS and result.end is not None and not result.end.error:
-            config = self.session.config
-            assert config is not None
-            axis = config.axes[result.axis]
-            self.log_line(f"{axis.name} at {axis.to_mm(result.position[result.axis]):.3f} mm "
-                          f"({result.position[result.axis]} steps)")
-
-    def action_space(self) -> None:
-        """Space: hold or resume a running job; else what Esc does."""
-        if not self.action_hold_resume():
-            self.action_halt()
-
-    def action_halt(self) -> None:
-        """Esc: cancel queued jog presses and bring whatever moves to rest with HOLD (a job ends there)."""
-        self.session.cancel_pending()
-        machine = self.session.machine
-        if machine is not None and machine.busy:
-            self._thread(lambda: self._guard(lambda: machine.hold("stop"), "stop"), "quadstep-halt")
-
-    def action_reset(self) -> None:
-        """Ctrl+X: the emergency key, an immediate STOP, no deceleration; clears an alarm."""
-        self.session.cancel_pending()
-        machine = self.session.machine
-        if machine is None or not self.session.connected:
-            self.log_line("STOP: not connected", error=True)
-            return
-
-        def stop() -> None:
-            status = machine.emergency_stop()
-            self.post_message(Note(f"STOP: stopped at once at steps {list(status.position)}"))
-
-        self._thread(lambda: self._guard(stop, "STOP"), "quadstep-reset")
-
-    def action_zero(self, axis: int) -> None:
-        self._zero([axis])
-
-    def action_zero_all(self) -> None:
-        config = self.session.config
-        if config is not None:
-            self._zero(list(range(len(config.axes))))
-
-    def _zero(self, axes: list[int]) -> None:
-        jogger = self._jogger_ready("zero")
-        if jogger is None:
-            return
-        names = ", ".join(jogger.config.axes[a].name for a in axes)
-
-        def zero() -> None:
-            machine = jogger.machine
-            machine.set_work_zero(axes)
-            self.post_message(Note(f"zeroed {names} in {machine.coordinates.name} (work offset; "
-                                   "machine coordinates and soft limits unchanged)"))
-
-        self._command(zero, "zero")
-
-    def _command(self, command: Callable[[], object], what: str) -> None:
-        self.session.submit(lambda: self._guard(command, what))
-
-    def _guard(self, command: Callable[[], object], what: str) -> None:
-        """Run a command in a worker thread; its failure becomes a red line, never a crash."""
-        try:
-            command()
-        except (LinkError, MachineError, ValueError, JobError) as exc:
-            self.post_message(Note(f"{what}: {exc}", error=True))
 
     # --- homing and probing -------------------------------------------------------------
 
@@ -341,6 +248,9 @@ class MachineScreen(JobKeys):
         if self.job is not None:
             self.job = None
         self.connect()
+
+    def action_toggle_view(self) -> None:
+        self.query_one(ToolpathView).toggle_extent()
 
     def action_help(self) -> None:
         self.app.push_screen(HelpScreen(self.session.settings))

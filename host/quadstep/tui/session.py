@@ -85,7 +85,7 @@ class Session:
         old = self.jogger
         jogger = Jogger(machine, self.settings, on_finish=self.on_jog)
         if old is not None:
-            jogger.mode, jogger.step_index, jogger.speed_index = old.mode, old.step_index, old.speed_index
+            jogger.copy_presets(old)
         with self._lock:
             self.machine, self.jogger, self.config, self.identity = machine, jogger, machine.config, machine.identity
             self.lost = None

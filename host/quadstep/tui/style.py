@@ -1,4 +1,5 @@
-"""The screen's layout and colours (Textual CSS), kept in the package so it installs with it."""
+"""The screen's layout and colours (Textual CSS), kept in the package so it installs with it. Everything fits
+80 × 24: the panels take the lines they need, the messages and the path view share what is left."""
 
 CSS = """
 #banner {
@@ -13,7 +14,7 @@ CSS = """
 }
 
 #positions {
-    width: 3fr;
+    width: 46;
     height: auto;
     padding: 0 1;
     border: round $primary;
@@ -21,29 +22,65 @@ CSS = """
 }
 
 #machine {
-    width: 2fr;
+    width: 1fr;
     height: auto;
     padding: 0 1;
     border: round $primary;
 }
 
-#jog {
-    height: auto;
+#jog, #job-label, #keys {
+    height: 1;
     padding: 0 1;
+    text-wrap: nowrap;
+    text-overflow: ellipsis;
 }
 
 #job {
-    height: auto;
-    padding: 0 1;
+    height: 1;
+}
+
+#job-label {
+    width: 1fr;
 }
 
 #job-progress {
-    width: 100%;
+    width: 18;
+}
+
+#job-progress Bar {
+    width: 12;
+}
+
+#console {
+    height: 1;
+    border: none;
+    padding: 0 1;
+    background: $surface;
+}
+
+#console:focus {
+    background: $boost;
+}
+
+#bottom {
+    height: 1fr;
 }
 
 #log {
-    height: 1fr;
+    width: 1fr;
+    scrollbar-gutter: stable;
+    scrollbar-size-vertical: 1;
     border: round $secondary;
+}
+
+#toolpath {
+    width: 40%;
+    max-width: 44;
+    border: round $secondary;
+}
+
+#keys {
+    background: $panel;
 }
 
 HelpScreen, JobDialog {
@@ -51,18 +88,20 @@ HelpScreen, JobDialog {
 }
 
 #help {
-    width: 88;
-    height: 90%;
+    width: 100%;
+    max-width: 84;
+    height: 100%;
     border: round $primary;
     background: $surface;
     padding: 0 1;
 }
 
 #job-dialog {
-    width: 80;
+    width: 100%;
+    max-width: 80;
     height: auto;
     border: round $primary;
     background: $surface;
-    padding: 1;
+    padding: 0 1;
 }
 """
