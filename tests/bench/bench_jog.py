@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Jog stop latency on the emulator paced at real time.
 
-    python3 tests/bench/bench_jog.py [--jogs N] [--tui-jogs N] [--seed S]
+    python3 tests/bench/bench_jog.py [--jogs N] [--tui-jogs N] [--release-jogs N] [--seed S]
 
 Continuous jogs on a router-like machine, each ended at a random moment,
 half by releasing the key (release detected by the repeat timeout) and half
@@ -11,7 +11,9 @@ tick of deceleration (the emulator's --events log, CLOCK_MONOTONIC, the same
 clock), and the distance travelled after the stop event (the step trace),
 checked against speed × latency + braking distance. Then the stop key
 through the whole TUI (Textual, headless): from the key event entering the
-app to the first tick of deceleration. Prints figures only.
+app to the first tick of deceleration. Last, a key release through a real
+terminal, both ways (bench_release.py): a kitty-protocol release event, and
+the repeat timeout. Prints figures only.
 """
 
 from __future__ import annotations
@@ -35,6 +37,8 @@ from quadstep.machine import Machine
 from quadstep.machine.units import DECEL_SHIFT, braking_steps, hold_decels
 from quadstep.link import Link
 from quadstep.protocol import D, SetPosition
+
+from bench_release import release_latencies
 
 # The router of examples/router-uno.toml: 400 steps/mm leadscrews.
 MACHINE: dict[str, Any] = {
@@ -159,6 +163,8 @@ def main() -> None:
     parser.add_argument("--jogs", type=int, default=60)
     parser.add_argument("--seed", type=int, default=1)
     parser.add_argument("--tui-jogs", type=int, default=20, help="stop-key jogs through the TUI")
+    parser.add_argument("--release-jogs", type=int, default=15,
+                        help="jogs ended by a release through a terminal, each way (kitty, repeat timeout)")
     args = parser.parse_args()
     config = parse_config(MACHINE, "bench machine")
     decels = hold_decels(config)
@@ -212,6 +218,14 @@ def main() -> None:
         tui = asyncio.run(tui_stop_keys(args.tui_jogs, args.seed, config, Path(tmp) / "events.csv"))
     print(f"stop key through the TUI      median {statistics.median(tui):.1f} ms, p90 {percentile(tui, 90):.1f} ms, "
           f"worst {max(tui):.1f} ms ({len(tui)} jogs: key event into the app → first decel tick)")
+    with tempfile.TemporaryDirectory() as tmp:
+        kitty = release_latencies(args.release_jogs, args.seed, True, Path(tmp))
+        repeats = release_latencies(args.release_jogs, args.seed, False, Path(tmp))
+    for name, values in (("kitty release event", kitty), ("repeat timeout", repeats)):
+        print(f"{name + ' → decel tick':<30}median {statistics.median(values):.1f} ms, "
+              f"p90 {percentile(values, 90):.1f} ms, worst {max(values):.1f} ms ({len(values)} jogs through a pty)")
+    print(f"  (the terminal's bytes written → first decel tick; repeat timeout: from the last repeat, "
+          f"timeout {JogSettings().repeat_timeout:g} s)")
     print("peers: GRBL jogging guide 0.4–0.9 s typical (jog cancel); UGS sends a jog every 10 ms, then a cancel")
 
 

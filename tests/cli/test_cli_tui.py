@@ -35,9 +35,10 @@ def test_a_bad_config_is_refused_before_anything_starts(tmp_path: Path, capsys: 
     assert "axes[0].max_speed = 900.0: must be at most 468.75 mm/s" in capsys.readouterr().err
 
 
-def _pump(fd: int, seconds: float, out: bytearray) -> None:
+def _pump(fd: int, seconds: float, out: bytearray, until: bytes | None = None) -> None:
+    """Read the terminal's output for `seconds`, or until `until` appears in it."""
     end = time.monotonic() + seconds
-    while time.monotonic() < end:
+    while time.monotonic() < end and (until is None or until not in out):
         if select.select([fd], [], [], 0.05)[0]:
             try:
                 out += os.read(fd, 65536)
@@ -45,8 +46,10 @@ def _pump(fd: int, seconds: float, out: bytearray) -> None:
                 return
 
 
-def test_a_terminal_session_jogs_and_quits(tmp_path: Path, emulator_binary: Path) -> None:
-    """The real terminal driver: an arrow key's escape sequence jogs X by 1 mm, Ctrl+Q quits cleanly."""
+def terminal_session(tmp_path: Path, emulator_binary: Path, script: list[tuple[bytes, float]],
+                     *options: str) -> tuple[bytes, list[str]]:
+    """`quadstep tui` in a real pseudo-terminal: write each chunk of `script` as a terminal would, wait its
+    seconds, quit with Ctrl+Q; the screen output and the emulator's step trace."""
     config = tmp_path / "machine.toml"
     axes = "".join(
         f"[[axes]]\nname = '{a['name']}'\nsteps_per_mm = {a['steps_per_mm']}\nmax_speed = {a['max_speed']}\n"
@@ -59,13 +62,14 @@ def test_a_terminal_session_jogs_and_quits(tmp_path: Path, emulator_binary: Path
     if pid == 0:  # the child: quadstep tui in a terminal
         os.environ["TERM"] = "xterm-256color"
         os.environ["QUADSTEP_EMULATOR"] = str(emulator_binary)
-        os.execvp(sys.executable, [sys.executable, "-m", "quadstep.cli", "tui", "--emulator", "--free",
-                                   "--trace", str(trace), "--config", str(config)])
+        os.execvp(sys.executable, [sys.executable, "-m", "quadstep.cli", "tui", "--emulator", "--trace", str(trace),
+                                   "--config", str(config), *options])
     out = bytearray()
     try:
-        _pump(fd, 4.0, out)
-        os.write(fd, b"\x1b[C")  # → as a terminal sends it
-        _pump(fd, 2.0, out)
+        _pump(fd, 30.0, out, until=b"connected: emulator")
+        for chunk, seconds in script:
+            os.write(fd, chunk)
+            _pump(fd, seconds, out)
         os.write(fd, b"\x11")  # Ctrl+Q
         _pump(fd, 5.0, out)
     finally:
@@ -81,5 +85,28 @@ def test_a_terminal_session_jogs_and_quits(tmp_path: Path, emulator_binary: Path
             pytest.fail("quadstep tui did not quit on Ctrl+Q")
     assert os.waitstatus_to_exitcode(status) == 0
     assert b"connected: emulator, 3 axes" in out
-    steps = trace.read_text().splitlines()[1:]
+    return bytes(out), trace.read_text().splitlines()[1:]
+
+
+def test_a_terminal_session_jogs_and_quits(tmp_path: Path, emulator_binary: Path) -> None:
+    """The real terminal driver: an arrow key's escape sequence jogs X by 1 mm, Ctrl+Q quits cleanly."""
+    _, steps = terminal_session(tmp_path, emulator_binary, [(b"\x1b[C", 2.0)], "--free")  # → as a terminal sends it
     assert len(steps) == 80 and all(line.endswith(",0,1") for line in steps)
+
+
+def test_a_kitty_terminal_ends_a_continuous_jog_on_the_release(tmp_path: Path, emulator_binary: Path) -> None:
+    """A terminal with the kitty keyboard protocol: asked for event types, it says it reports them, and a
+    continuous jog ends on the key's release, long before the 5 s repeat timeouts would end it."""
+    script = [
+        (b"\x1b[?27u", 0.5),  # the terminal's answer to the flags query: event types on
+        (b"\x1b[99u", 0.5),  # c, as the protocol reports every key: continuous mode
+        (b"\x1b[1;1:1C", 0.4),  # → pressed (no repeats follow)
+        (b"\x1b[1;1:3C", 1.5),  # → released
+    ]
+    out, steps = terminal_session(tmp_path, emulator_binary, script,
+                                  "--first-repeat-timeout", "5", "--repeat-timeout", "5")
+    assert b"\x1b[=27;1u" in out and b"\x1b[?u" in out  # the flags set, then asked for
+    assert b"the terminal reports key releases" in out
+    assert b"release: decelerated to rest" in out
+    # 0.4 s at 12.5 mm/s and the braking: a few mm, where the timeouts would have let it run to the limit
+    assert 0 < len(steps) < 800 and all(line.endswith(",0,1") for line in steps)

@@ -182,6 +182,16 @@ class Jogger(JogPresets):
             self._idle.set()
             self._run_lock.release()
 
+    def release(self, axis: int, direction: int) -> bool:
+        """The key of a continuous jog let go (a terminal that reports releases): HOLD now. False when no
+        continuous jog of that key runs."""
+        with self._lock:
+            current = self._continuous
+        if current is None or (current.axis, current.direction) != (axis, direction):
+            return False
+        current.motion.halt("release")
+        return True
+
     def stop(self) -> JogResult | None:
         """The stop key: bring any jog to rest now (HOLD). Returns the ended jog, if one ran."""
         with self._lock:

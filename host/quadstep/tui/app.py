@@ -6,6 +6,7 @@ import asyncio
 
 from textual.app import App
 
+from .kitty import KeyboardFlags, KeyRelease, ReleaseDriver
 from .screen import MachineScreen
 from .session import Session
 from .style import CSS
@@ -16,7 +17,7 @@ class QuadstepApp(App[None]):
     ENABLE_COMMAND_PALETTE = False
 
     def __init__(self, session: Session, job_path: str = "", poll_interval: float | None = None) -> None:
-        super().__init__()
+        super().__init__(driver_class=ReleaseDriver)
         self.session = session
         if poll_interval is None:
             self.machine = MachineScreen(session, job_path)
@@ -25,6 +26,14 @@ class QuadstepApp(App[None]):
 
     def on_mount(self) -> None:
         self.push_screen(self.machine)
+
+    def on_key_release(self, message: KeyRelease) -> None:
+        self.machine.key_released(message.key)
+
+    def on_keyboard_flags(self, message: KeyboardFlags) -> None:
+        if message.releases:
+            self.machine.log_line("the terminal reports key releases (kitty keyboard protocol): a continuous jog "
+                                  "stops when its key is let go")
 
     async def on_unmount(self) -> None:
         await asyncio.to_thread(self._shut_down)

@@ -14,6 +14,7 @@ from ..link import LinkError
 from ..machine import JobRun, MachineError
 from ..planner.program import JobError
 from ..protocol import AXIS_NAMES
+from .keys import JOG_KEYS
 from .messages import JogDone, Note
 
 if TYPE_CHECKING:
@@ -66,6 +67,19 @@ class JogKeys(Screen[None]):
         if step is not None:
             self._command(lambda: jogger.run_queued(step), "jog")
         self.refresh_panels()  # the queued distance
+
+    def key_released(self, key: str) -> None:
+        """A jog key let go, where the terminal reports it (kitty.py): a continuous jog stops at once."""
+        jogger = self.session.jogger
+        for name, axis, direction, _, _ in JOG_KEYS:
+            if name == key and jogger is not None and jogger.mode == JogMode.CONTINUOUS:
+                self._thread(lambda: self._guard_release(jogger, axis, direction), "quadstep-release")
+
+    def _guard_release(self, jogger: Jogger, axis: int, direction: int) -> None:
+        try:
+            jogger.release(axis, direction)
+        except LinkError as exc:
+            self.post_message(Note(f"release: {exc}", error=True))
 
     def action_step_preset(self, index: int) -> None:
         jogger = self.session.jogger
