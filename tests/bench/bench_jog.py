@@ -222,7 +222,7 @@ def main() -> None:
         kitty = release_latencies(args.release_jogs, args.seed, True, Path(tmp))
         repeats = release_latencies(args.release_jogs, args.seed, False, Path(tmp))
     for name, values in (("kitty release event", kitty), ("repeat timeout", repeats)):
-        print(f"{name + ' → decel tick':<30}median {statistics.median(values):.1f} ms, "
+        print(f"{name + ' → decel tick':<34}median {statistics.median(values):.1f} ms, "
               f"p90 {percentile(values, 90):.1f} ms, worst {max(values):.1f} ms ({len(values)} jogs through a pty)")
     print(f"  (the terminal's bytes written → first decel tick; repeat timeout: from the last repeat, "
           f"timeout {JogSettings().repeat_timeout:g} s)")
