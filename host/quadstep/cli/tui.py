@@ -9,7 +9,7 @@ from pydantic import ValidationError
 
 from ..config import ConfigError, describe_validation_error, load_config
 from ..jog import JogSettings
-from ..machine import state_path
+from ..machine import Target, state_path
 from ._jobs import DEFAULT_CONFIG
 from .options import CliError, add_connection_options, target
 
@@ -40,13 +40,27 @@ def settings_from(args: argparse.Namespace) -> JogSettings:
 
 def run(args: argparse.Namespace) -> int:
     from ..tui import QuadstepApp, Session  # Textual loads only for this command
+    from ..tui.port_picker import port_choices, the_one_board
 
-    where = target(args)
+    where = None  # the port picker asks
+    if args.port is None and not args.emulator and args.sim is None and not (args.free or args.trace):
+        one = the_one_board(port_choices())
+        if one is not None:
+            args.port = one.device  # exactly one board plugged in: that one
+    if args.port is not None or args.emulator or args.sim is not None or args.free or args.trace:
+        where = target(args)
     path = args.config if args.config is not None else (DEFAULT_CONFIG if DEFAULT_CONFIG.exists() else None)
     try:
         config = load_config(path) if path is not None else None
     except ConfigError as exc:
         raise CliError(str(exc)) from None
     session = Session(where, config, settings_from(args), config_source=str(path), state_file=state_path(path))
-    QuadstepApp(session, job_path=args.job).run()
+    QuadstepApp(session, job_path=args.job, choose=lambda device: _target(device, args.baud)).run()
     return 0
+
+
+def _target(device: str, baud: int) -> Target:
+    """What the port picker's choice means: a serial port at the given baud rate, or the emulator."""
+    from ..tui.port_picker import EMULATOR
+
+    return Target(emulator=True) if device == EMULATOR else Target(port=device, baud=baud)

@@ -45,14 +45,14 @@ class Session:
 
     def __init__(
         self,
-        target: Target,
+        target: Target | None,
         config: MachineConfig | None,
         settings: JogSettings | None = None,
         on_jog: Callable[[JogResult], None] | None = None,
         config_source: str = "the configuration",
         state_file: Path | None = None,
     ) -> None:
-        self.target = target
+        self.target = target  # None until the port picker chose one
         self.config_given = config
         self.config_source = config_source
         self.state_file = state_file  # the work coordinates, kept across runs (machine/state.py)
@@ -78,6 +78,8 @@ class Session:
     def connect(self) -> IdentifyReply:
         """Open the machine (starting the emulator when it is not running) and set up jogging."""
         self.disconnect()
+        if self.target is None:
+            raise LinkError("no port chosen")
         if self.target.emulator and (self.emulator is None or not self.emulator.running):
             self.emulator = start_emulator(self.target, self.config_given)
         machine = open_machine(self.target, self.config_given, source=self.config_source, emulator=self.emulator,

@@ -83,7 +83,7 @@ CSS = """
     background: $panel;
 }
 
-HelpScreen, JobDialog {
+HelpScreen, JobDialog, PortPicker {
     align: center middle;
 }
 
@@ -94,6 +94,21 @@ HelpScreen, JobDialog {
     border: round $primary;
     background: $surface;
     padding: 0 1;
+}
+
+#port-picker {
+    width: 100%;
+    max-width: 80;
+    height: auto;
+    max-height: 100%;
+    border: round $primary;
+    background: $surface;
+    padding: 0 1;
+}
+
+#ports {
+    height: auto;
+    max-height: 18;
 }
 
 #job-dialog {
