@@ -50,6 +50,8 @@ async def test_the_picker_lists_the_ports_and_connects_to_the_choice(machine: Ma
         assert [listed.get_option_at_index(i).id for i in range(listed.option_count)] == \
             ["/dev/ttyACM0", "/dev/ttyUSB0", "/dev/ttyS0", EMULATOR]
         assert "Arduino Mega 2560" in str(listed.get_option_at_index(0).prompt)
+        box = app.screen.query_one("#port-picker")
+        assert box.region.right <= 80 and box.region.bottom <= 24  # fits 80 × 24
         await pilot.press("end", "enter")
         await until(pilot, lambda: session.connected and app.machine.snapshot is not None, what="connection")
         assert session.target is not None and session.target.emulator

@@ -72,6 +72,10 @@ async def test_nothing_wraps_or_is_cut_at_80_by_24(machine: MachineConfig, emula
         for line in (KEY_LINE, JOB_KEY_LINE):
             plain = Text.from_markup(line).plain
             assert plain.endswith("? help") and len(plain) <= keys.content_size.width
+        await pilot.press("o")  # the job dialog
+        dialog = app.screen.query_one("#job-dialog")
+        assert dialog.region.right <= SIZE[0] and dialog.region.bottom <= SIZE[1]
+        await pilot.press("escape")
         await pilot.press("question_mark")
         assert isinstance(app.screen, HelpScreen)
         box = app.screen.query_one("#help")

@@ -111,5 +111,5 @@ HELP = """\
 # The screen's bottom line: the main keys, within 80 columns; another while a job runs.
 KEY_LINE = ("[b]←→↑↓ PgUp/Dn[/b] jog [b]1-4 \\[ ][/b] XY/Z step [b]-+[/b] speed [b]c[/b] mode "
             "[b]Esc[/b] stop [b]:[/b] MDI [b]o[/b] job [b]?[/b] help")
-JOB_KEY_LINE = ("[b]Space[/b] hold/resume  [b]Esc[/b] stop  [b]g[/b] go on after M0  "
-                "[b]< >[/b] feed override  [b]?[/b] help")
+JOB_KEY_LINE = ("[b]Space[/b] hold/resume  [b]Esc[/b] stop the job  [b]g[/b] go on after a pause  "
+                "[b]v[/b] fit path  [b]?[/b] help")
