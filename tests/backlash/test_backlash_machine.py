@@ -65,16 +65,17 @@ def test_a_circle_the_carriage_on_the_path_with_compensation_off_by_the_backlash
 
 
 def test_a_stop_inside_a_take_up_and_the_next_connection_know_where_the_carriage_is(start_emulator, tmp_path) -> None:  # noqa: ANN001
-    config = backlash_config((0.1, 0.0, 0.0))
+    config = backlash_config((0.1, 0.0, 0.0), accel=2.0)  # a take-up of about 0.45 s: room to stop inside it
     sim = write_sim(tmp_path / "sim.toml", (B_STEPS, 0.0, 0.0))
     emu = start_emulator(tick_hz=32_000, axes=3, extra_args=["--machine", str(sim)])  # real time
     state = tmp_path / "state.json"
     with open_machine(Target(emulator=True), config, emulator=emu, state_file=state) as machine:
         machine.takeups.reset(pushed_plus(config))
-        moves = plan_program(parse_gcode("G1 X-2 F1200\n", config.axis_names, machine.position, 1e-3), config,
+        moves = plan_program(parse_gcode("G1 X-1 F1200\n", config.axis_names, machine.position, 1e-3), config,
                              machine.position)
         motion = machine.move(moves.segments)
-        time.sleep(0.02)  # inside the take-up at the start of the move (about 34 ms at full acceleration)
+        while machine.status().position[0] == 0:  # the motor's first step of the take-up at the move's start
+            time.sleep(0.002)
         stopped = motion.halt()
         assert stopped.held and 0 < machine.takeups.band.axes[0].w < 40  # the motor stopped inside the band
         shown = machine.position
