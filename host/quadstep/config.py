@@ -85,6 +85,29 @@ class BacklashConfig(BaseModel):
                                                "(quadstep backlash measure --method switch subtracts it)")
 
 
+class SpindleConfig(BaseModel):
+    """The spindle (or laser) output: what S means, and whether M4 is a laser's power that follows the speed."""
+
+    model_config = ConfigDict(extra="forbid", frozen=True)
+
+    s_max: float = Field(default=1000.0, gt=0, le=1_000_000, description="S at full power (GRBL's $30)")
+    s_min: float = Field(default=0.0, ge=0, description="S below this runs at it (GRBL's $31); S0 is off")
+    laser: bool = Field(default=False, description="M3 constant power, M4 power following the speed, G0 off "
+                                                   "(GRBL's $32); false: M3 clockwise, M4 counter-clockwise")
+
+    @model_validator(mode="after")
+    def _range_in_order(self) -> SpindleConfig:
+        if self.s_min >= self.s_max:
+            raise ValueError(f"s_min = {self.s_min:g}: must be less than s_max = {self.s_max:g}")
+        return self
+
+    def power(self, speed: float) -> int:
+        """The duty (0 … 65535) for S = `speed`: 0 at S0, else in proportion to s_max, from s_min up."""
+        if speed <= 0:
+            return 0
+        return round(65535 * min(1.0, max(speed, self.s_min) / self.s_max))
+
+
 class AxisConfig(BaseModel):
     """One motor axis: its G-code letter, scale, limits and travel."""
 
@@ -145,6 +168,7 @@ class MachineConfig(BaseModel):
     arc_tolerance: float = Field(default=0.002, gt=0, le=10, description="mm, largest chord-to-arc distance")
     axes: tuple[AxisConfig, ...] = Field(min_length=1, max_length=MAX_AXES)
     inputs: InputsConfig = InputsConfig()
+    spindle: SpindleConfig = SpindleConfig()
     homing_order: tuple[AxisName, ...] | None = Field(default=None, description="default: Z first, then the others")
     homing_required: bool = False  # refuse jobs and jogs until the machine is homed
     host_timeout: float = Field(default=0.5, ge=0, le=4, description="s: a host silent this long while the machine "

@@ -12,13 +12,13 @@ import re
 import signal
 import struct
 import subprocess
-import sys
 import time
 from pathlib import Path
 
 import numpy as np
 import pytest
 
+from cli_helpers import cli_process
 from quadstep.cli import main
 from quadstep.config import load_config
 from quadstep.coordinates import WorkCoordinates
@@ -123,20 +123,6 @@ def test_a_different_tick_rate_is_refused(start_emulator, tmp_path: Path, capsys
         "set tick_hz = 50000 in the configuration\n"
     )
     assert status_of(emu.url).segments_done == 0
-
-
-def cli_process(*args: str, stdin: int | None = None, env: dict[str, str] | None = None) -> subprocess.Popen[str]:
-    """`quadstep ARGS` in the repository, using this checkout's package, as the foreground process group of a
-    terminal of its own would run it. Ctrl-C is given its usual meaning even when the tests run where SIGINT
-    is ignored (a background job inherits that)."""
-    env = dict(os.environ, PYTHONPATH=str(REPO / "host"), **(env or {}))
-    launch = "import signal, sys; signal.signal(signal.SIGINT, signal.default_int_handler); " \
-             "from quadstep.cli import main; sys.exit(main())"
-    return subprocess.Popen(
-        [sys.executable, "-c", launch, *args],
-        stdin=stdin, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, cwd=REPO, env=env,
-        start_new_session=True,
-    )
 
 
 def wait_for_child(process: subprocess.Popen[str], timeout: float = 60.0) -> None:
@@ -244,15 +230,12 @@ def test_check_summarises_without_a_machine(capsys: Capture) -> None:
     )
 
 
-def test_unsupported_words_refused_or_listed(tmp_path: Path, capsys: Capture) -> None:
+def test_spindle_words_run_or_are_skipped_and_listed(tmp_path: Path, capsys: Capture) -> None:
     job = tmp_path / "spindle.gcode"
     job.write_text("M3 S10000\nG1 X10 F600\nM5\n")
-    code, _, err = run_cli(["check", str(job), "--config", str(ROUTER)], capsys)
-    assert code == 1
-    assert err == (
-        f"quadstep check: error: {job}: line 1, column 1: 'M3' (spindle on) is not supported; "
-        "--skip-unsupported skips spindle, coolant and tool words\n"
-    )
+    code, out, err = run_cli(["check", str(job), "--config", str(ROUTER)], capsys)
+    assert code == 0, err
+    assert "skipped" not in out
     code, out, _ = run_cli(["check", str(job), "--config", str(ROUTER), "--skip-unsupported"], capsys)
     assert code == 0
     assert out.splitlines()[-1] == "skipped 3 unsupported words: line 1: M3, line 1: S10000, line 3: M5"

@@ -60,7 +60,9 @@ def test_defaults_for_cornering_and_arcs() -> None:
         ({"travel_max": -1}, 0, "m.toml: axes[0].travel_max = -1.0: must be greater than travel_min = 0.0"),
         ({"max_speed": 500}, 1, "m.toml: axes[1].max_speed = 500.0: must be at most 468.75 mm/s "
                                 "(3/4 step per tick at tick_hz 50000 with 80 steps/mm)"),
-        ({"spindle": 1}, None, "m.toml: spindle: unknown key"),
+        ({"laser": 1}, None, "m.toml: laser: unknown key"),
+        ({"spindle": {"s_max": 0}}, None, "m.toml: spindle.s_max = 0: must be greater than 0"),
+        ({"spindle": {"s_min": 2000}}, None, "m.toml: spindle.s_min = 2000: must be less than s_max = 1000"),
         ({"max_jerk": 1}, 0, "m.toml: axes[0].max_jerk: unknown key"),
     ],
 )

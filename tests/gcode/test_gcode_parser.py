@@ -213,7 +213,7 @@ def test_skip_unsupported_lists_every_skipped_word() -> None:
 
 
 def test_skip_unsupported_does_not_skip_unknown_words() -> None:
-    assert error("G38.2 Z-10", skip_unsupported=True) == "line 1, column 1: 'G38.2' is not supported"
+    assert error("G38.2 Z-10", skip_unsupported=True) == "line 1, column 1: 'G38.2': probing inside a job is not supported; probe before it with `quadstep probe` (or p in the TUI)"
 
 
 # --- malformed input: each with its exact message --------------------------------------
@@ -223,34 +223,44 @@ def test_skip_unsupported_does_not_skip_unknown_words() -> None:
     ("text", "message"),
     [
         ("G1 X1 F60\nG1 X2 Y", "line 2, column 7: 'Y' has no number after it"),
-        ("G1 X1 # F60", "line 1, column 7: unexpected character '#'"),
+        ("G1 X1 # F60", "line 1, column 7: '#': parameters (variables) are not supported"),
+        ("G1 X1 F60 ! X2", "line 1, column 11: unexpected character '!'"),
+        ("o100 sub", "line 1, column 1: 'o100': O-word flow control (subroutines, loops, conditions) is not "
+                     "supported"),
+        ("G1 X1 E0.5 F60", "line 1, column 7: 'E0.5' drives an extruder: this is a 3D-printer file (extruder "
+                           "and heater codes); quadstep runs CNC G-code"),
+        ("M104 S200", "line 1, column 1: 'M104' is a 3D printer's code: this is a 3D-printer file (extruder "
+                      "and heater codes); quadstep runs CNC G-code"),
+        ("M3 M5", "line 1, column 4: 'M5' and 'M3' contradict each other"),
+        ("M8 M9", "line 1, column 4: 'M9' and 'M8' contradict each other"),
+        ("M6", "line 1, column 1: M6 needs a tool: no T on this line or before"),
+        ("T1.5", "line 1, column 1: 'T1.5': a tool is a whole number"),
+        ("S-1", "line 1, column 1: 'S-1': the spindle speed must be at least 0"),
+        ("G64 P0", "line 1, column 5: 'P0': the path tolerance must be greater than 0 and at most 10 mm"),
+        ("G1 X1 F60 Q2", "line 1, column 11: 'Q2' is only used with G64"),
         ("G1 X1 (open comment", "line 1, column 7: comment '(' is not closed on this line"),
         ("G1 X1 X2 F60", "line 1, column 7: 'X2' repeats X (first at column 4)"),
         ("G0 G1 X1", "line 1, column 4: 'G1' and 'G0' are both in the motion group"),
         ("G20 G21", "line 1, column 5: 'G21' and 'G20' are both in the units group"),
         ("G4 P1 G92 X0", "line 1, column 7: 'G92' and 'G4' are both in the non-modal group"),
         ("M0 M30", "line 1, column 4: 'M30' and 'M0' are both program stops"),
-        ("G38.2 Z-10", "line 1, column 1: 'G38.2' is not supported"),
+        ("G38.2 Z-10", "line 1, column 1: 'G38.2': probing inside a job is not supported; probe before it with `quadstep probe` (or p in the TUI)"),
         ("G43 H1", "line 1, column 1: 'G43' is not supported"),
         ("G1 X1 F60 B2", "line 1, column 11: 'B2' is not supported"),
-        ("M3 S1000", "line 1, column 1: 'M3' (spindle on) is not supported; "
-                     "--skip-unsupported skips spindle, coolant and tool words"),
-        ("G1 X1 F60 M8", "line 1, column 11: 'M8' (coolant on) is not supported; "
-                         "--skip-unsupported skips spindle, coolant and tool words"),
-        ("T1 M6", "line 1, column 1: 'T1' (tool) is not supported; "
-                  "--skip-unsupported skips spindle, coolant and tool words"),
         ("M1", "line 1, column 1: 'M1' is not supported"),
         ("G1 A5 F60", "line 1, column 4: 'A5': axis A is not on this machine (axes X, Y, Z)"),
         ("X10", "line 1, column 1: 'X10': axis words without a motion mode (G0, G1, G2 or G3)"),
         ("G80 X10", "line 1, column 1: 'G80': axis words without a motion mode (G0, G1, G2 or G3)"),
-        ("G1 X10", "line 1, column 1: G1 needs a feed rate: no F on this line or before"),
-        ("G0 X1\nY2 G2 I1 J0", "line 2, column 4: G2 needs a feed rate: no F on this line or before"),
+        ("G1 X10", "line 1, column 1: G1 needs a feed rate: no F on this line or before "
+                   "(GRBL error 22: feed rate has not yet been set or is undefined)"),
+        ("G0 X1\nY2 G2 I1 J0", "line 2, column 4: G2 needs a feed rate: no F on this line or before "
+                               "(GRBL error 22: feed rate has not yet been set or is undefined)"),
         ("G1 X1 F0", "line 1, column 7: 'F0': the feed rate must be greater than 0"),
         ("G1 X1 F-5", "line 1, column 7: 'F-5': the feed rate must be greater than 0"),
         ("G4", "line 1, column 1: G4 needs P (seconds)"),
         ("G4 P-1", "line 1, column 4: 'P-1': the dwell must be at least 0 seconds"),
         ("G4 P1 X1", "line 1, column 7: 'X1': G4 takes no axis words"),
-        ("G1 X1 F60 P2", "line 1, column 11: 'P2' is only used with G4 and G10"),
+        ("G1 X1 F60 P2", "line 1, column 11: 'P2' is only used with G4, G10 and G64"),
         ("G92", "line 1, column 1: G92 needs at least one axis word"),
         ("G1 X1 F60 I5", "line 1, column 11: 'I5' is only used with G2/G3"),
         ("G1 F60\nG2 X10 Y0", "line 2, column 1: G2 needs I/J offsets or R"),
@@ -275,3 +285,10 @@ def test_errors_carry_line_and_column() -> None:
     with pytest.raises(GcodeError) as caught:
         parse_gcode("G1 X1 F60\n\n  G1 Q7", XYZ)
     assert (caught.value.line, caught.value.column) == (3, 6)
+
+
+def test_a_space_may_stand_between_a_letter_and_its_number() -> None:
+    spaced = parse_gcode("G 1 X 10 y -5.5 F 600\nz 20", XYZ)
+    plain = parse_gcode("G1 X10 Y-5.5 F600\nZ20", XYZ)
+    assert spaced.items == plain.items
+    assert split_words("X 10", 1)[0].text == "X10"

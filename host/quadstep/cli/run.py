@@ -25,7 +25,7 @@ from rich.progress import BarColumn, Progress, TaskProgressColumn, TextColumn
 from ..config import MachineConfig
 from ..job import Job, read_program
 from ..machine import JobRun, Machine, MotionEnd
-from ..planner.program import JobError
+from ..planner.program import JobError, Pause
 from ..protocol import State, StatusReport
 from ..machine import state_path
 from ._jobs import add_job_options, config_path, format_duration, job_from_args, machine_config, skipped_text, work_text
@@ -60,11 +60,20 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     parser.set_defaults(handler=run)
 
 
-def ask_operator(label: str, line: int) -> bool:
-    """Wait for Enter on stdin; False when stdin is closed."""
-    where = f"line {line} (M0)" if label == "line" else f"{label} {line}"
-    print(f"paused at {where}: press Enter to continue, Ctrl-C to stop", file=sys.stderr, flush=True)
-    return sys.stdin.readline() != ""
+def ask_operator(label: str, line: int, pause: Pause | None) -> bool:
+    """Wait for Enter on stdin; False when stdin is closed (nobody can answer)."""
+    if pause is not None and pause.tool is not None:
+        print(f"tool change at line {line}: put in T{pause.tool} (spindle and coolant off), then press Enter to "
+              "continue, Ctrl-C to stop", file=sys.stderr, flush=True)
+    else:
+        where = f"line {line} (M0)" if label == "line" else f"{label} {line}"
+        print(f"paused at {where}: press Enter to continue, Ctrl-C to stop", file=sys.stderr, flush=True)
+    if sys.stdin.readline() != "":
+        return True
+    what = pause.reason if pause is not None else "the pause"
+    print(f"stopped at {label} {line}: {what} waits for Enter, and stdin is closed (not a terminal); run the job "
+          "from a terminal, or give it what to answer on stdin", file=sys.stderr, flush=True)
+    return False
 
 
 def positions_text(config: MachineConfig, steps: list[int]) -> str:
@@ -143,7 +152,7 @@ def _follow(run_: JobRun, job: Job, progress: Progress, show: Callable[[int], No
             if line is not None:
                 progress.stop()  # the prompt must not be drawn over
                 try:
-                    answered = ask_operator(job.label, line)
+                    answered = ask_operator(job.label, line, run_.pause)
                 finally:
                     progress.start()
                 if not answered or not run_.resume():

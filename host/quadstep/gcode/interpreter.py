@@ -1,13 +1,18 @@
 """G-code words with modal state → a Program of moves in machine coordinates.
 
 Supported: G0 G1 G2 G3 (I/J/K and R forms, planes G17/G18/G19), G4 (P in
-seconds), G20/G21, G90/G91, F (units per minute), N, M0, M2/M30; work
+seconds), G20/G21, G90/G91, F (units per minute), N, M0, M2/M30; the
+spindle or laser and coolant (M3/M4/M5 with S, M7/M8/M9; M2/M30 turn them
+off); T and M6, a tool change: a pause for the operator with the spindle and
+coolant off, then back on as they were; G61 (exact stop) and G64 (P: the
+path tolerance at corners, which the cornering rule uses); work
 coordinates as GRBL and LinuxCNC have them (quadstep.coordinates): G54–G59,
 G10 L2/L20 Pn, G53 (machine coordinates for the line's G0/G1), G92, G92.1,
 G92.2, G92.3, G28/G30 (through an optional point, then to the stored
-position) and G28.1/G30.1; and G40 G49 G80 G94, which only select the one
-mode quadstep has. Words on a line take effect in this order: units, feed,
-plane, coordinate system, distance mode, then one of dwell, G10, G28/G30,
+position) and G28.1/G30.1; and G40 G49 G80 G91.1 G94, which only select the one
+mode quadstep has. Words on a line take effect in this order (GRBL's and
+LinuxCNC's): units, feed, S, T, M6, M3/M4/M5, M7/M8/M9, plane, coordinate
+system, path mode, distance mode, then one of dwell, G10, G28/G30,
 G28.1/G30.1, G92…, then motion, then M0/M2/M30. Arc offsets I/J/K are
 always relative to the arc's start. Every move carries the work offset it
 was given in, so that a move outside the travel is named by its own value.
@@ -17,9 +22,10 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
+from dataclasses import replace
 
 from ..coordinates import WorkCoordinates
-from ..planner.program import Dwell, LinearMove, Pause, Program
+from ..planner.program import Dwell, LinearMove, OutputState, Pause, Program, SetOutputs
 from . import offsets
 from .arcs import chord_count, radius_center, sweep_angle
 from .lines import Line, code, sort_words, whole
@@ -30,6 +36,9 @@ MM_PER_INCH = 25.4
 # plane → (first axis, second axis, normal axis), and the offset letters of the first two
 _PLANES = {17: ("X", "Y", "Z"), 18: ("Z", "X", "Y"), 19: ("Y", "Z", "X")}
 _PLANE_OFFSETS = {17: ("I", "J"), 18: ("K", "I"), 19: ("J", "K")}
+# Value words and the G codes that use them (S, T and F are used on any line).
+_USERS = {"P": ("4", "10", "64"), "L": ("10",), "Q": ("64",)}
+NO_FEED = "GRBL error 22: feed rate has not yet been set or is undefined"
 
 
 def _first(words: dict[str, Word]) -> Word:
@@ -61,6 +70,9 @@ class GcodeInterpreter:
         self.plane = 17
         self.motion: int | None = None
         self.feed: float | None = None  # mm/s
+        self.deviation: float | None = None  # G64 P (mm), 0 after G61, None: the configuration's cornering
+        self.outputs = OutputState()
+        self.tool: int | None = None  # the tool T selected
         self.program = Program(coordinates=self.coords)
 
     # -- reading -------------------------------------------------------------
@@ -79,8 +91,9 @@ class GcodeInterpreter:
         self._execute(parsed, line)
         if parsed.stop is not None:
             if whole(parsed.stop) == 0:
-                self.program.items.append(Pause(line))
+                self.program.items.append(Pause(line, coordinates=self.coords.model_copy(deep=True)))
             else:
+                self._set_outputs(OutputState(speed=self.outputs.speed), line)
                 self.coords.program_end()
                 self.program.end_line = line
                 return False
@@ -97,23 +110,29 @@ class GcodeInterpreter:
             if feed.value <= 0:
                 raise GcodeError(line, feed.column, f"'{feed.text}': the feed rate must be greater than 0")
             self.feed = feed.value * self.units / 60.0
+        self._spindle_words(p, line)
         plane = p.g.get("plane")
         if plane is not None:
             self.plane = int(plane.value)
         system = p.g.get("coordinate system")
         if system is not None:
             offsets.select_system(self.coords, system)
+        path = p.g.get("path mode")
+        if path is not None:
+            self._path_mode(path, p.values.get("P"), line)
         distance = p.g.get("distance")
         if distance is not None:
             self.absolute = code(distance) == "90"
         axes = dict(p.axes)
         g = p.g.get("non-modal")
         key = code(g) if g is not None else None
-        for letter, users in (("P", ("4", "10")), ("L", ("10",))):
+        path_key = code(path) if path is not None else None
+        for letter, users in _USERS.items():
             word = p.values.get(letter)
-            if word is not None and key not in users:
-                raise GcodeError(line, word.column, f"'{word.text}' is only used with "
-                                                    f"{' and '.join('G' + u for u in users)}")
+            if word is not None and key not in users and path_key not in users:
+                names = ["G" + u for u in users]
+                listed = names[0] if len(names) == 1 else f"{', '.join(names[:-1])} and {names[-1]}"
+                raise GcodeError(line, word.column, f"'{word.text}' is only used with {listed}")
         if g is not None and key == "4":
             self._dwell(g, p.values.get("P"), axes, line)
         elif g is not None and key == "10":
@@ -128,6 +147,55 @@ class GcodeInterpreter:
             offsets.g92(self.coords, g, key, axes, line, self.position, self.axis_names, self.units)
             axes = {}
         self._motion(p.g.get("motion"), axes, p.values, line, machine=g if key == "53" else None)
+
+    def _spindle_words(self, p: Line, line: int) -> None:
+        """S, T, M6, M3/M4/M5, M7/M8/M9, in that order."""
+        speed_word, tool_word = p.values.get("S"), p.values.get("T")
+        speed = self.outputs.speed
+        if speed_word is not None:
+            if speed_word.value < 0:
+                raise GcodeError(line, speed_word.column, f"'{speed_word.text}': the spindle speed must be at least 0")
+            speed = speed_word.value
+        if tool_word is not None:
+            if tool_word.value != int(tool_word.value) or tool_word.value < 0:
+                raise GcodeError(line, tool_word.column, f"'{tool_word.text}': a tool is a whole number")
+            self.tool = int(tool_word.value)
+        if "tool change" in p.m:
+            self._tool_change(line)
+        spindle, mist, flood = (p.m.get(k) for k in ("spindle", "mist", "flood"))
+        state = replace(self.outputs, speed=speed)
+        if spindle is not None:
+            state = replace(state, spindle=int(spindle.value))
+        if "coolant off" in p.m:
+            state = replace(state, mist=False, flood=False)
+        state = replace(state, mist=state.mist or mist is not None, flood=state.flood or flood is not None)
+        self._set_outputs(state, line)
+
+    def _tool_change(self, line: int) -> None:
+        """M6: the spindle and coolant off, a pause for the operator, then on again as they were."""
+        if self.tool is None:
+            raise GcodeError(line, 1, "M6 needs a tool: no T on this line or before")
+        running = self.outputs
+        self._set_outputs(OutputState(speed=running.speed), line)
+        self.program.items.append(Pause(line, tool=self.tool, coordinates=self.coords.model_copy(deep=True)))
+        self._set_outputs(running, line)
+
+    def _set_outputs(self, state: OutputState, line: int) -> None:
+        if state != self.outputs:
+            self.outputs = state
+            self.program.items.append(SetOutputs(line, state))
+
+    def _path_mode(self, path: Word, tolerance: Word | None, line: int) -> None:
+        """G61 and G61.1: stop at every corner; G64: corners within P mm of the path (or the configuration's)."""
+        if code(path) != "64":
+            self.deviation = 0.0
+        elif tolerance is None:
+            self.deviation = None
+        elif not 0 < tolerance.value * self.units <= 10:
+            raise GcodeError(line, tolerance.column, f"'{tolerance.text}': the path tolerance must be greater "
+                                                     "than 0 and at most 10 mm")
+        else:
+            self.deviation = tolerance.value * self.units
 
     def _dwell(self, g4: Word, pause: Word | None, axes: dict[str, Word], line: int) -> None:
         if pause is None:
@@ -169,7 +237,8 @@ class GcodeInterpreter:
 
     def _move(self, target: list[float], feed: float | None, line: int, machine: bool = False) -> None:
         offset, system = self._offsets(machine)
-        self.program.items.append(LinearMove(line, tuple(target), feed, offset=offset, system=system))
+        self.program.items.append(LinearMove(line, tuple(target), feed, offset=offset, system=system,
+                                             deviation=self.deviation))
         self.position = target
 
     def _motion(self, motion: Word | None, axes: dict[str, Word], values: dict[str, Word], line: int,
@@ -191,7 +260,7 @@ class GcodeInterpreter:
             why = "G0 or G1" if is_arc else "absolute distance (G90)"
             raise GcodeError(line, machine.column, f"G53 moves in machine coordinates only with {why}")
         if mode != 0 and self.feed is None:
-            raise GcodeError(line, where.column, f"G{mode} needs a feed rate: no F on this line or before")
+            raise GcodeError(line, where.column, f"G{mode} needs a feed rate: no F on this line or before ({NO_FEED})")
         target = self._target(axes, machine=machine is not None)
         feed = None if mode == 0 else self.feed
         if is_arc:
@@ -250,7 +319,8 @@ class GcodeInterpreter:
                 point[i2] = center[1] + radius * math.sin(angle0 + sweep * f)
             else:
                 point = list(target)
-            self.program.items.append(LinearMove(line, tuple(point), self.feed, offset=offset, system=system))
+            self.program.items.append(LinearMove(line, tuple(point), self.feed, offset=offset, system=system,
+                                                 deviation=self.deviation))
 
     def _radius_form(
         self, radius_word: Word, start: tuple[float, float], end: tuple[float, float], clockwise: bool, line: int

@@ -2,7 +2,7 @@
 
 Two words of one group on a line, a repeated letter, an axis the machine
 lacks or a word quadstep does not know is an error naming the line and the
-column; spindle, coolant and tool words can be skipped instead.
+column; spindle, coolant and tool words can be skipped instead (a dry run).
 """
 
 from __future__ import annotations
@@ -11,7 +11,7 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 
 from ..protocol.constants import AXIS_NAMES
-from .words import GcodeError, Word
+from .words import PRINTER_FILE, GcodeError, Word
 
 # G codes by their number as written without leading zeros ("1", "92.1"), and their modal group.
 G_GROUPS = {
@@ -25,16 +25,17 @@ G_GROUPS = {
     "54": "coordinate system", "55": "coordinate system", "56": "coordinate system", "57": "coordinate system",
     "58": "coordinate system", "59": "coordinate system",
     "94": "feed mode", "40": "cutter compensation", "49": "tool length offset",
+    "61": "path mode", "61.1": "path mode", "64": "path mode", "91.1": "arc distance",
 }
+CANNED_CYCLES = {"73", "81", "82", "83", "84", "85", "86", "87", "88", "89"}
+PROBING = {"38.2", "38.3", "38.4", "38.5"}
 M_STOPS = {0, 2, 30}
-M_SKIPPABLE = {
-    3: "spindle on", 4: "spindle on", 5: "spindle off", 6: "tool change",
-    7: "coolant on", 8: "coolant on", 9: "coolant off",
-}
-LETTERS_SKIPPABLE = {"S": "spindle speed", "T": "tool"}
+M_GROUPS = {3: "spindle", 4: "spindle", 5: "spindle", 6: "tool change", 7: "mist", 8: "flood", 9: "coolant off"}
+_CLASHES = {"coolant off": ("mist", "flood"), "mist": ("coolant off",), "flood": ("coolant off",)}
+M_PRINTER = {82, 83, 84, 104, 106, 107, 109, 140, 190}  # extruder modes, heaters, fans, motors off
 AXIS_LETTERS = "".join(AXIS_NAMES)
-VALUE_LETTERS = "IJKRFPL"
-SKIP_HINT = "--skip-unsupported skips spindle, coolant and tool words"
+VALUE_LETTERS = "IJKRFPLQST"
+SKIPPABLE_LETTERS = "ST"
 
 
 def code(word: Word) -> str | None:
@@ -54,29 +55,38 @@ class Line:
     g: dict[str, Word]  # modal group → word
     stop: Word | None  # M0/M2/M30
     axes: dict[str, Word]
-    values: dict[str, Word]  # I J K R F P L
+    values: dict[str, Word]  # I J K R F P L Q S T
+    m: dict[str, Word]  # M-word group (spindle, tool change, mist, flood, coolant off) → word
 
 
 def sort_words(words: list[Word], line: int, axis_names: Sequence[str], skip: list[tuple[int, str]] | None) -> Line:
-    """The words of `line` by kind; `skip` collects the spindle, coolant and tool words skipped (None:
-    they are errors)."""
+    """The words of `line` by kind; `skip`, when given, collects the spindle, coolant and tool words instead
+    (a dry run without them)."""
 
-    def unsupported(w: Word, what: str | None) -> None:
-        if what is None:
-            raise GcodeError(line, w.column, f"'{w.text}' is not supported")
-        if skip is None:
-            raise GcodeError(line, w.column, f"'{w.text}' ({what}) is not supported; {SKIP_HINT}")
-        skip.append((line, w.text))
+    def unsupported(w: Word) -> None:
+        raise GcodeError(line, w.column, f"'{w.text}' is not supported")
 
-    parsed = Line(g={}, stop=None, axes={}, values={})
+    parsed = Line(g={}, stop=None, axes={}, values={}, m={})
     for w in words:
+        if skip is not None and ((w.letter == "M" and whole(w) in M_GROUPS) or w.letter in SKIPPABLE_LETTERS):
+            skip.append((line, w.text))
+            continue
         if w.letter == "N":
             raise GcodeError(line, w.column, f"'{w.text}' (line number) must be the first word")
         if w.letter == "G":
             key = code(w)
             group = G_GROUPS.get(key) if key is not None else None
+            if group is None and key in PROBING:
+                raise GcodeError(line, w.column, f"'{w.text}': probing inside a job is not supported; probe before "
+                                                 "it with `quadstep probe` (or p in the TUI)")
+            if key in CANNED_CYCLES:
+                raise GcodeError(line, w.column, f"'{w.text}': canned cycles (G73, G81 … G89) are not supported; "
+                                                 "a CAM post for GRBL writes them as G0/G1 moves")
+            if key == "90.1":
+                raise GcodeError(line, w.column, "'G90.1': absolute arc centers are not supported (I, J and K are "
+                                                 "relative to the arc's start, G91.1)")
             if group is None:
-                unsupported(w, None)
+                unsupported(w)
                 continue
             if group in parsed.g:
                 first = parsed.g[group]
@@ -88,10 +98,16 @@ def sort_words(words: list[Word], line: int, axis_names: Sequence[str], skip: li
                 if parsed.stop is not None:
                     raise GcodeError(line, w.column, f"'{w.text}' and '{parsed.stop.text}' are both program stops")
                 parsed.stop = w
+            elif number in M_GROUPS:
+                group = M_GROUPS[number]
+                clash = [parsed.m[g] for g in (group, *_CLASHES.get(group, ())) if g in parsed.m]
+                if clash:
+                    raise GcodeError(line, w.column, f"'{w.text}' and '{clash[0].text}' contradict each other")
+                parsed.m[group] = w
+            elif number in M_PRINTER:
+                raise GcodeError(line, w.column, f"'{w.text}' is a 3D printer's code: this is {PRINTER_FILE}")
             else:
-                unsupported(w, M_SKIPPABLE.get(number) if number is not None else None)
-        elif w.letter in LETTERS_SKIPPABLE:
-            unsupported(w, LETTERS_SKIPPABLE[w.letter])
+                unsupported(w)
         elif w.letter in AXIS_LETTERS or w.letter in VALUE_LETTERS:
             if w.letter in AXIS_LETTERS and w.letter not in axis_names:
                 raise GcodeError(
@@ -104,5 +120,5 @@ def sort_words(words: list[Word], line: int, axis_names: Sequence[str], skip: li
                 raise GcodeError(line, w.column, f"'{w.text}' repeats {w.letter} (first at column {first.column})")
             table[w.letter] = w
         else:
-            unsupported(w, None)
+            unsupported(w)
     return parsed

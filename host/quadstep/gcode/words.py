@@ -1,7 +1,10 @@
 """Splitting one G-code line into words (letter + number), dropping comments.
 
 Exact and strict: every character is either part of a word, white space, or
-a comment; anything else is an error naming the line and column.
+a comment; anything else is an error naming the line and column. Spaces may
+stand between a letter and its number (`Z 20`, `G 1`), as GRBL and LinuxCNC
+allow. What other dialects write — O-word flow control, `#` parameters, a 3D
+printer's extruder (E) — is named as such.
 """
 
 from __future__ import annotations
@@ -11,7 +14,8 @@ from dataclasses import dataclass
 
 from ..planner.program import JobError
 
-_NUMBER = re.compile(r"[+-]?(?:\d+(?:\.\d*)?|\.\d+)")
+_NUMBER = re.compile(r"[ \t]*([+-]?(?:\d+(?:\.\d*)?|\.\d+))")
+PRINTER_FILE = "a 3D-printer file (extruder and heater codes); quadstep runs CNC G-code"
 
 
 class GcodeError(JobError):
@@ -51,11 +55,18 @@ def split_words(text: str, line: int) -> list[Word]:
             if close < 0:
                 raise GcodeError(line, i + 1, "comment '(' is not closed on this line")
             i = close + 1
+        elif c in "oO" and all(w.letter == "N" for w in words) and _NUMBER.match(text, i + 1):
+            raise GcodeError(line, i + 1, f"'{text[i:].split()[0][:20]}': O-word flow control (subroutines, "
+                                          "loops, conditions) is not supported")
+        elif c == "#":
+            raise GcodeError(line, i + 1, "'#': parameters (variables) are not supported")
         elif c.isascii() and c.isalpha():
             match = _NUMBER.match(text, i + 1)
+            if c in "eE" and match is not None:
+                raise GcodeError(line, i + 1, f"'{c}{match.group(1)}' drives an extruder: this is {PRINTER_FILE}")
             if match is None:
                 raise GcodeError(line, i + 1, f"'{c}' has no number after it")
-            number = match.group()
+            number = match.group(1)
             words.append(Word(c.upper(), number, float(number), i + 1))
             i = match.end()
         else:

@@ -9,6 +9,7 @@ both run jobs this way.
 from __future__ import annotations
 
 import threading
+from bisect import bisect_left
 from collections.abc import Callable
 from dataclasses import dataclass
 from itertools import accumulate
@@ -16,11 +17,13 @@ from typing import Protocol
 
 from ..link import Link, LinkError
 from ..planner.plan import Plan
-from ..planner.program import JobError, Program
-from ..protocol import InputCause, InputChange, Report
+from ..coordinates import WorkCoordinates
+from ..planner.program import JobError, Pause, Program
+from ..planner.outputs import OFF
+from ..protocol import InputCause, InputChange, Outputs, Report
 from .takeups import StreamPlan
 from .motion import Motion, MotionEnd
-from .remainder import plan_remainder
+from .remainder import carry_changes, plan_after_pause, plan_remainder
 
 
 @dataclass(frozen=True)
@@ -42,6 +45,14 @@ class Restream(Protocol):
     def held(self, end: MotionEnd) -> tuple[int, ...]: ...
 
     def stream(self, plan: Plan) -> StreamPlan: ...
+
+    def at_rest(self) -> tuple[int, ...]: ...
+
+    def position(self) -> tuple[int, ...]: ...
+
+    def coordinates(self) -> WorkCoordinates: ...
+
+    def adopt(self, coordinates: WorkCoordinates) -> None: ...
 
 
 class JobRun:
@@ -65,6 +76,7 @@ class JobRun:
         self.on_end = on_end  # called once, in the job's thread, before wait() returns
         self.settle: Callable[[MotionEnd], MotionEnd] | None = None  # the machine's view of the end, before that
         self.restream: Restream | None = None  # the machine's, to go on after a feed hold with its take-ups
+        self.busy_elsewhere: Callable[[], bool] | None = None  # the machine's: another program runs at a pause
         self._ticks = list(accumulate(plan.segments.n, initial=0))
         self._lock = threading.Lock()
         self._resume = threading.Event()
@@ -74,6 +86,7 @@ class JobRun:
         self._motion: Motion | None = None
         self._offset = 0  # segments of the sections before the current one
         self._paused_at: int | None = None
+        self._interrupted = False  # other programs ran while the job waited at its pause
         self._thread = threading.Thread(target=self._run, name="quadstep-job", daemon=True)
 
     # --- progress ----------------------------------------------------------------------------
@@ -96,6 +109,12 @@ class JobRun:
             return self._paused_at
 
     @property
+    def pause(self) -> Pause | None:
+        """What the job waits at, when it waits at an M0 or a tool change (M6: `tool`) of its program."""
+        line = self.paused_at
+        return None if line is None or self.held else self._pause_at(line)
+
+    @property
     def end(self) -> MotionEnd | None:
         return self._end
 
@@ -110,8 +129,26 @@ class JobRun:
         self._ended.wait(timeout)
         return self._end
 
+    @property
+    def gives_way(self) -> bool:
+        """Waiting at a pause of its program (M0, a tool change) on a machine: jogs, probing and work zeros may
+        run meanwhile, and the job goes on from where they leave the machine."""
+        with self._lock:
+            return self._paused_at is not None and not self.held and self.restream is not None \
+                and self.program is not None and not self._halted
+
+    def interrupt(self) -> None:
+        """Another program is about to run while the job waits (the machine calls this, gives_way being true):
+        the machine takes the job's place and band at the pause as where it stands."""
+        with self._lock:
+            first, self._interrupted = not self._interrupted, True
+        if first and self.restream is not None:
+            self.restream.at_rest()
+
     def resume(self) -> bool:
-        """Go on after a pause; False when the job is not paused."""
+        """Go on after a pause; False when the job is not paused, or another program runs meanwhile."""
+        if self.busy_elsewhere is not None and self.busy_elsewhere():
+            return False
         with self._lock:
             if self._paused_at is None:
                 return False
@@ -152,6 +189,7 @@ class JobRun:
             end = MotionEnd("error", (), self._offset, error=str(exc))
         finally:
             unregister()
+        end = self._switch_off(end)
         if self.settle is not None:
             end = self.settle(end)
         self._end = end
@@ -181,6 +219,47 @@ class JobRun:
             rest = tuple(self.link.status().position[: self.plan.segments.axis_count])
             planned, held_at = self.plan, self._offset  # type: ignore[assignment]
         remainder = plan_remainder(self.program, planned, held_at, rest, self.label)  # type: ignore[arg-type]
+        return self._continue(remainder)
+
+    def _outputs(self) -> list[tuple[int, int, Outputs]]:
+        """The plan's OUTPUTS at the places of the stream (a take-up's segments run with the move they are in)."""
+        plan = self.plan
+        if not isinstance(plan, StreamPlan):
+            return plan.outputs
+        stream, planned = plan.segments, len(plan.base)
+        return [(bisect_left(stream.origin, index) if index < planned else len(stream), section, message)
+                for index, section, message in plan.base.outputs]
+
+    def _switch_off(self, end: MotionEnd) -> MotionEnd:
+        """A job stopped before its end leaves the spindle, laser and coolant off (a feed hold keeps them)."""
+        if end.ended_by in ("done", FEED_HOLD) or not self._outputs():
+            return end
+        try:
+            self.link.send(OFF)
+            self.link.drain(timeout=2)
+        except LinkError as exc:
+            return end if end.error else MotionEnd(end.ended_by, end.position, end.segments_done, end.stop_event_ns,
+                                                   end.held, end.hold_tick, error=f"outputs not switched off: {exc}")
+        return end
+
+    def _pause_at(self, line: int) -> Pause | None:
+        if self.program is None:
+            return None
+        return next((i for i in self.program.items if isinstance(i, Pause) and i.line == line), None)
+
+    def _after_pause(self, pause: Pause, before: WorkCoordinates, after: WorkCoordinates,
+                     interrupted: bool) -> MotionEnd:
+        """The operator jogged, probed or set a work zero at the pause: the rest of the program from where the
+        machine stands, in the work offsets as they are now."""
+        assert self.program is not None and self.restream is not None
+        rest = self.restream.at_rest() if not interrupted else self.restream.position()
+        plan = self.plan.base if isinstance(self.plan, StreamPlan) else self.plan
+        remainder = plan_after_pause(self.program, pause.line, rest, before, after, plan.config, self.label)
+        if self.program.coordinates is not None:
+            carry_changes(self.program.coordinates, before, after)
+        return self._continue(remainder)
+
+    def _continue(self, remainder: Plan) -> MotionEnd:
         streamed = self.restream.stream(remainder) if self.restream is not None else remainder
         with self._lock:
             self._done_before += self._offset
@@ -197,12 +276,15 @@ class JobRun:
         total = len(self.plan)
         end: MotionEnd | None = None
         first = 0
-        for index, line in [*self.plan.pauses, (total, None)]:
-            if index > first:
+        outputs = self._outputs()
+        for section, (index, line) in enumerate([*self.plan.pauses, (total, None)]):
+            mine = [(at, message) for at, s, message in outputs if s == section]
+            if index > first or mine:
                 with self._lock:
                     if self._halted:
                         break
-                    motion = Motion(self.link, self.plan.segments, self.decels, first=first, last=index)
+                    motion = Motion(self.link, self.plan.segments, self.decels, first=first, last=index,
+                                    outputs=mine)
                     self._motion, self._offset = motion, first
                 end = motion.start().wait()
                 assert end is not None
@@ -214,14 +296,22 @@ class JobRun:
                 first = index
             if line is None:
                 break
+            pause = self._pause_at(line)
             with self._lock:
                 if self._halted:
                     break
-                self._paused_at = line
+                self._paused_at, self._interrupted = line, False
+            if pause is not None and pause.coordinates is not None and self.restream is not None:
+                self.restream.adopt(pause.coordinates.model_copy(deep=True))  # the program's, for a zero set here
             self._resume.wait()
             self._resume.clear()
             with self._lock:
                 self._paused_at = None
+                interrupted, halted = self._interrupted, self._halted
+            if pause is not None and pause.coordinates is not None and self.restream is not None and not halted:
+                after = self.restream.coordinates()
+                if interrupted or after != pause.coordinates:
+                    return self._after_pause(pause, pause.coordinates, after, interrupted)
         if end is not None and not self._halted:
             return end
         status = self.link.status()  # at rest: halted at a pause, or nothing to stream

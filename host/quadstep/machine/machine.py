@@ -95,6 +95,7 @@ class Machine(Standing):
         self.takeups = TakeUps(self.config)  # the backlash: take-ups in every program, positions without them
         self._lock = threading.Lock()
         self._running: Program | None = None
+        self._waiting: JobRun | None = None  # a job waiting at a pause while another program runs
         self._motor: tuple[int, ...] = ()  # the board's step counts where it last stood still
         # Machine zero is known once homed; a hard limit or the abort button loses it (as GRBL's alarm).
         self.homed = False
@@ -190,10 +191,14 @@ class Machine(Standing):
         """Start a planned job now, the backlash taken up in it (pauses wait for JobRun.resume()). With the
         `program` it was planned from, a feed hold (JobRun.feed_hold, the board's button) keeps the rest of the
         job for resume()."""
+        if plan.outputs and not self.identity.capabilities & Capability.OUTPUTS:
+            raise MachineError("the job sets the spindle, laser or coolant (M3/M4/M5, M7/M8/M9) and this firmware "
+                               "has no outputs; --skip-unsupported runs it without them")
         compensated = self.takeups.compensate(plan.segments, plan.pauses)
         job = JobRun(self.link, StreamPlan(plan.config, compensated.stream, compensated.pauses, compensated, plan),
                      self.decels, program=program, label=label)
         job.restream = _Restream(self)
+        job.busy_elsewhere = lambda: self._waiting is job
         return self._begin(job, compensated).start()  # type: ignore[return-value]
 
     def send_segments(self, segments: Sequence[Segment]) -> Motion:
@@ -253,8 +258,24 @@ class Machine(Standing):
     # --- internals ----------------------------------------------------------------------------------
 
     def _refuse_if_busy(self, what: str) -> None:
-        if self.busy:
+        with self._lock:
+            running = self._running
+        if running is not None and not (isinstance(running, JobRun) and running.gives_way):
             raise MachineError(f"cannot {what}: a program is running (stop it first)")
+
+    def _take(self, program: Program) -> None:
+        """Under the lock: `program` runs now. A job waiting at a pause gives way to it, and runs again after."""
+        running = self._running
+        if running is not None:
+            if not isinstance(running, JobRun) or not running.gives_way or self._waiting is not None:
+                raise MachineError("a program is running already: one at a time (stop it first)")
+            self._waiting = running
+        self._running = program
+
+    def _free(self, program: Program) -> None:
+        """Under the lock: `program` ended; a job that gave way to it is the one running again."""
+        if self._running is program:
+            self._running, self._waiting = self._waiting, None
 
     def procedure(self, name: str) -> Procedure:
         """Hold the machine for a routine that drives the link itself (a context manager)."""
@@ -266,26 +287,32 @@ class Machine(Standing):
             self.position_lost = True
 
     def _claim(self, program: Program) -> None:
+        self._interrupt_waiting()
         with self._lock:
-            if self._running is not None:
-                raise MachineError("a program is running already: one at a time (stop it first)")
-            self._running = program
+            self._take(program)
 
     def _release(self, program: Program) -> None:
         with self._lock:
-            if self._running is program:
-                self._running = None
-        self.sync()
+            self._free(program)
+            waiting = self._running is not None
+        if not waiting:
+            self.sync()
+
+    def _interrupt_waiting(self) -> None:
+        """Before another program runs while a job waits at its pause: the machine stands where the job does."""
+        with self._lock:
+            running = self._running
+        if isinstance(running, JobRun) and running.gives_way:
+            running.interrupt()
 
     def _begin(self, program: Program, compensated: Compensated | None = None,
                raw: Sequence[Segment] | None = None) -> Program:
         if self.config.homing_required and not self.homed:
             raise MachineError("homing_required = true in the configuration: home the machine first "
                                "(quadstep home, or the TUI's H)")
+        self._interrupt_waiting()
         with self._lock:
-            if self._running is not None:
-                raise MachineError("a program is running already: one at a time (stop it first)")
-            self._running = program
+            self._take(program)
         if compensated is not None:
             status = self.link.status()  # at rest: where the stream begins, in steps and motion ticks
             self.takeups.begin(compensated, status.position[: self.axis_count], status.motion_ticks)
@@ -296,6 +323,5 @@ class Machine(Standing):
     def _ended(self, program: Program, end: MotionEnd) -> None:
         """In the program's thread, before its waiters wake (after _settle): the machine is free again."""
         with self._lock:
-            if self._running is program:
-                self._running = None
+            self._free(program)
 

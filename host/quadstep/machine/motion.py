@@ -18,7 +18,7 @@ from itertools import accumulate
 from typing import Protocol
 
 from ..link import AlarmError, Link, LinkError, Stopped, hold, wait_rest
-from ..protocol import DECEL_MAX, AckReason, Capability, CubicSegment, HoldDone, InputCause, Report, Segment
+from ..protocol import DECEL_MAX, AckReason, Capability, CubicSegment, HoldDone, InputCause, Outputs, Report, Segment
 
 # Keep at least this many segments queued, whatever the lookahead, so the board
 # always has the next one when a segment ends.
@@ -91,6 +91,7 @@ class Motion:
         last: int | None = None,
         lookahead_ticks: int | None = None,
         on_end: Callable[[MotionEnd], None] | None = None,
+        outputs: Sequence[tuple[int, Outputs]] = (),
     ) -> None:
         self.link = link
         self.on_end = on_end  # called once, in the thread that ends the motion, before wait() returns
@@ -100,6 +101,7 @@ class Motion:
         self.first = first
         self.last = len(segments) if last is None else last
         self.lookahead_ticks = lookahead_ticks
+        self.outputs = list(outputs)  # (segment index, OUTPUTS): sent before that segment, or after the last
         self._lock = threading.Lock()
         self._space = threading.Event()
         self._ended = threading.Event()
@@ -185,6 +187,8 @@ class Motion:
         ticks = list(accumulate((self.segments.n[i] for i in range(self.first, self.last)), initial=0))
         identity = self.link.identity
         assert identity is not None
+        outputs = iter(self.outputs)
+        output = next(outputs, None)
         for index in range(self.first, self.last):
             k = index - self.first
             self._wait_for_room(k, ticks, identity.queue_capacity)
@@ -195,8 +199,15 @@ class Motion:
             with self._lock:
                 if self._halting:
                     return
+                while output is not None and output[0] <= index:  # in stream order, before the segment
+                    self.link.send(output[1])
+                    output = next(outputs, None)
                 self.link.send(segment)
                 self._sent = k + 1
+        with self._lock:
+            while output is not None and not self._halting:
+                self.link.send(output[1])
+                output = next(outputs, None)
 
     def _wait_for_room(self, k: int, ticks: list[int], capacity: int) -> None:
         """Until segment k fits in the board's queue and within the lookahead (or a halt)."""

@@ -1,5 +1,7 @@
 """What is left of a job held partway (a feed hold): the program from the move the hold interrupted on, planned
-again from where the machine rests, so that it accelerates afresh and every remaining move lands exactly."""
+again from where the machine rests, so that it accelerates afresh and every remaining move lands exactly. And
+what follows a pause (M0, a tool change) after the operator jogged or set a work zero there: the rest of the
+program from where the machine stands, each move shifted by how its work offset changed."""
 
 from __future__ import annotations
 
@@ -7,8 +9,9 @@ from bisect import bisect_right
 from dataclasses import replace
 
 from ..config import MachineConfig
+from ..coordinates import SYSTEMS, WorkCoordinates
 from ..planner.plan import Plan, plan_program
-from ..planner.program import LinearMove, Program
+from ..planner.program import Item, LinearMove, Pause, Program, SetOutputs
 
 
 def move_item(program: Program, config: MachineConfig, start: tuple[int, ...], move: int) -> int:
@@ -33,4 +36,49 @@ def plan_remainder(program: Program, plan: Plan, held_segment: int, rest: tuple[
     `rest`: the interrupted move again, from where the machine stands, then everything after it."""
     move = bisect_right(plan.move_ends, held_segment)  # the first move whose segments end past the held one
     first = move_item(program, plan.config, plan.start, move)
-    return plan_program(replace(program, items=program.items[first:]), plan.config, rest, label)
+    outputs = [item for item in program.items[:first] if isinstance(item, SetOutputs)][-1:]  # as they were
+    return plan_program(replace(program, items=outputs + program.items[first:]), plan.config, rest, label)
+
+
+def _offset(coordinates: WorkCoordinates, system: int, axis: str) -> float:
+    g92 = coordinates.g92.get(axis, 0.0) if coordinates.g92_applied else 0.0
+    return coordinates.offsets[system].get(axis, 0.0) + g92
+
+
+def shift_items(items: list[Item], before: WorkCoordinates, after: WorkCoordinates,
+                axis_names: tuple[str, ...]) -> list[Item]:
+    """`items` with every move in a work system moved by how that system's offset went from `before` to
+    `after` (moves in machine coordinates, G53 and G28/G30's, stay)."""
+    deltas = {name: tuple(_offset(after, k, a) - _offset(before, k, a) for a in axis_names)
+              for k, name in enumerate(SYSTEMS)}
+    if not any(any(d) for d in deltas.values()):
+        return items
+    shifted: list[Item] = []
+    for item in items:
+        delta = deltas.get(item.system) if isinstance(item, LinearMove) else None
+        if delta is not None and any(delta):
+            item = replace(item, target=tuple(t + d for t, d in zip(item.target, delta)),
+                           offset=tuple(o + d for o, d in zip(item.offset or (0.0,) * len(delta), delta)))
+        shifted.append(item)
+    return shifted
+
+
+def carry_changes(coordinates: WorkCoordinates, before: WorkCoordinates, after: WorkCoordinates) -> None:
+    """What the operator changed from `before` to `after` (offsets, G92) made to `coordinates` too."""
+    offsets = [dict(o) for o in coordinates.offsets]
+    for k, system in enumerate(offsets):
+        for axis in {*before.offsets[k], *after.offsets[k]}:
+            system[axis] = system.get(axis, 0.0) + after.offsets[k].get(axis, 0.0) - before.offsets[k].get(axis, 0.0)
+    coordinates.offsets = offsets
+    if after.g92 != before.g92 or after.g92_applied != before.g92_applied:
+        coordinates.g92, coordinates.g92_applied = dict(after.g92), after.g92_applied
+
+
+def plan_after_pause(program: Program, line: int, rest: tuple[int, ...], before: WorkCoordinates,
+                     after: WorkCoordinates, config: MachineConfig, label: str) -> Plan:
+    """The rest of `program` after its pause at `line`, from `rest`, with the work offsets the operator set
+    there (`after`, where the program had `before`)."""
+    where = next(i for i, item in enumerate(program.items) if isinstance(item, Pause) and item.line == line)
+    outputs = [item for item in program.items[:where] if isinstance(item, SetOutputs)][-1:]
+    items = shift_items(program.items[where + 1:], before, after, config.axis_names)
+    return plan_program(replace(program, items=outputs + items), config, rest, label)

@@ -9,6 +9,7 @@ from dataclasses import replace
 from pathlib import Path
 
 from ..backlash.band import BandRecord
+from ..coordinates import WorkCoordinates
 from ..link import Link, LinkError
 from ..planner.plan import Plan
 from ..planner.segments import SegmentArrays
@@ -29,6 +30,8 @@ class Standing:
     identity: IdentifyReply  # the Machine's
     axis_count: int
     program: object | None  # the program running (machine.Program)
+    coordinates: WorkCoordinates
+    adopt_coordinates: Callable[[WorkCoordinates], None]
     _refuse_if_busy: Callable[[str], None]
 
     @property
@@ -137,6 +140,21 @@ class _Restream:
         status = self.machine.link.status()
         self.machine._rest(status.position, end.hold_tick, False)
         return self.machine.position
+
+    def at_rest(self) -> tuple[int, ...]:
+        """Where a job stands at its pause, the band as its take-ups left it there."""
+        status = self.machine.link.status()
+        self.machine._rest(status.position, status.motion_ticks, False)
+        return self.machine.position
+
+    def position(self) -> tuple[int, ...]:
+        return self.machine.position
+
+    def coordinates(self) -> WorkCoordinates:
+        return self.machine.coordinates.model_copy(deep=True)
+
+    def adopt(self, coordinates: WorkCoordinates) -> None:
+        self.machine.adopt_coordinates(coordinates)
 
     def stream(self, plan: Plan) -> StreamPlan:
         compensated = self.machine.takeups.compensate(plan.segments, plan.pauses)

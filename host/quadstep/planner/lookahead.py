@@ -2,7 +2,8 @@
 
 Corners follow GRBL's junction-deviation rule: the speed at which a circle of
 radius `junction_deviation`·sin(θ/2)/(1−sin(θ/2)) tangent to both moves could be
-followed at the junction's acceleration limit. A backward pass then lowers
+followed at the junction's acceleration limit. A move under G64 P uses P as its
+deviation, one under G61 stops at its corner. A backward pass then lowers
 every junction so the machine can still stop by the end of the job (or the
 next stop), and a forward pass so each speed can be reached from the one
 before. Speeds in mm/tick.
@@ -14,6 +15,7 @@ import math
 
 from ..config import MachineConfig
 from .moves import MoveTable
+from .program import SetOutputs
 
 # An axis whose backlash is taken up (docs/BACKLASH.md) and that turns around sharply at a junction — moving
 # along both moves by more than this share of the path — stops there: the take-up then runs at rest, where it
@@ -31,8 +33,9 @@ def _junction_speed(table: MoveTable, k: int, config: MachineConfig, amax: list[
     e2 = table.unit[k]
     cos_theta = -sum(a * b for a, b in zip(e1, e2))
     cap = min(table.max_speed[k - 1], table.max_speed[k])
-    if cos_theta > 0.999999:
-        return 0.0  # full reversal
+    deviation = table.deviation[k] if table.deviation[k] is not None else config.junction_deviation
+    if cos_theta > 0.999999 or deviation == 0.0:
+        return 0.0  # full reversal, or exact stop (G61)
     for i, axis in enumerate(config.axes):
         if axis.backlash_steps and e1[i] * e2[i] < 0 and min(abs(e1[i]), abs(e2[i])) > SHARP_REVERSAL:
             return 0.0  # a sharp reversal of an axis with backlash: its take-up at rest
@@ -45,7 +48,6 @@ def _junction_speed(table: MoveTable, k: int, config: MachineConfig, amax: list[
         if abs(x) > 1e-12:
             accel = min(accel, amax[i] * norm / abs(x))
     sin_half = math.sqrt(0.5 * (1.0 - cos_theta))
-    deviation = config.junction_deviation
     return min(cap, math.sqrt(accel * deviation * sin_half / (1.0 - sin_half)))
 
 
@@ -54,7 +56,7 @@ def junction_speeds(table: MoveTable, config: MachineConfig) -> list[float]:
     count = len(table)
     hz = float(config.tick_hz)
     amax = [a.max_accel / (hz * hz) for a in config.axes]
-    stopped = {index for index, _ in table.stops}
+    stopped = {index for index, item in table.stops if not (isinstance(item, SetOutputs) and config.spindle.laser)}
     limit = [0.0] * (count + 1)
     for k in range(1, count):
         if k not in stopped:

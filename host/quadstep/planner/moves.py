@@ -12,7 +12,7 @@ import math
 from dataclasses import dataclass, field
 
 from ..config import MachineConfig
-from .program import Dwell, JobError, LinearMove, Pause, Program
+from .program import Dwell, JobError, LinearMove, Pause, Program, SetOutputs
 
 # A move may start up to ½ step away from its ideal start (the residual carried
 # from the move before), so each axis's share of a move is bounded with
@@ -32,8 +32,11 @@ class MoveTable:
     max_speed: list[float] = field(default_factory=list)  # mm/tick along the path
     accel: list[float] = field(default_factory=list)  # mm/tick² along the path
     accel_cap: list[float] = field(default_factory=list)  # the move's own accel (mm/tick²), inf if none
-    # stops: (number of moves before it, item), in order; the machine is at rest there
-    stops: list[tuple[int, Dwell | Pause]] = field(default_factory=list)
+    feed: list[float] = field(default_factory=list)  # the programmed feed (mm/tick), inf for a rapid
+    deviation: list[float | None] = field(default_factory=list)  # G64 P / G61 at the move's start corner
+    # stops: (number of moves before it, item), in order; the machine is at rest there (at an output change
+    # only without laser mode, as GRBL waits for the motion before it changes the spindle or the coolant)
+    stops: list[tuple[int, Dwell | Pause | SetOutputs]] = field(default_factory=list)
     start: tuple[int, ...] = ()
     skipped_lines: int = 0  # moves too short to make a step
 
@@ -93,5 +96,7 @@ def build_moves(
         table.max_speed.append(speed)
         table.accel.append(accel)
         table.accel_cap.append(cap)
+        table.feed.append(item.feed / hz if item.feed is not None else math.inf)
+        table.deviation.append(item.deviation)
         current = target
     return table

@@ -9,10 +9,12 @@ import numpy as np
 
 from ..config import MachineConfig
 from ..protocol.segment import D
+from ..protocol import Outputs
 from .lookahead import PLAN_ACCEL_FRACTION, junction_speeds
 from .moves import MoveTable, build_moves
+from .outputs import is_dynamic, output_message, set_at_rest
 from .profile import fit_profiles
-from .program import Dwell, JobError, Pause, Program
+from .program import Dwell, JobError, OutputState, Pause, Program, SetOutputs
 from .quantize import Quantizer
 from .segments import SegmentArrays
 
@@ -32,6 +34,8 @@ class Plan:
     max_landing_error: int = 0  # largest |ideal − target| at a move end, in 1/8192 step
     move_ends: array = field(default_factory=lambda: array("i"))  # segments planned after each move
     retries: int = 0  # moves whose best profile would have missed a target by rounding
+    # (segment index, pauses before it, message): OUTPUTS sent before that segment (at the end: after the last)
+    outputs: list[tuple[int, int, Outputs]] = field(default_factory=list)
 
     def __len__(self) -> int:
         return len(self.segments)
@@ -73,19 +77,31 @@ def plan_moves(table: MoveTable, config: MachineConfig, lines: int = 0, label: s
     retries = 0
     stops = iter(table.stops)
     next_stop = next(stops, None)
+    outputs: list[tuple[int, int, Outputs]] = []
+    state: OutputState | None = None  # None: the job sets no output
+
+    def send(message: Outputs) -> None:
+        if not outputs or outputs[-1][2] != message:
+            outputs.append((len(out), len(pauses), message))
 
     def flush_stops(before: int) -> None:
-        nonlocal next_stop
+        nonlocal next_stop, state
         while next_stop is not None and next_stop[0] <= before:
             item = next_stop[1]
             if isinstance(item, Dwell):
                 quantizer.dwell(round(item.seconds * config.tick_hz), item.line)
             elif isinstance(item, Pause):
                 pauses.append((len(out), item.line))
+            elif isinstance(item, SetOutputs):
+                state = item.state
+                if set_at_rest(state, config):
+                    send(output_message(state, config))
             next_stop = next(stops, None)
 
     for k in range(len(table)):
         flush_stops(k)
+        if state is not None and is_dynamic(state, config):
+            send(output_message(state, config, table.unit[k], table.feed[k]))
         accel = table.accel[k]
         profiles = fit_profiles(
             table.length[k], entry[k], entry[k + 1], table.max_speed[k], accel, accel * PLAN_ACCEL_FRACTION
@@ -112,4 +128,5 @@ def plan_moves(table: MoveTable, config: MachineConfig, lines: int = 0, label: s
         max_landing_error=quantizer.max_landing_error,
         move_ends=move_ends,
         retries=retries,
+        outputs=outputs,
     )

@@ -28,6 +28,7 @@ class LinearMove:
     accel: float | None = None  # mm/s² along the path, None: the machine's limits only
     offset: tuple[float, ...] = field(default=(), compare=False)  # machine − work per axis; () = none
     system: str = field(default="", compare=False)  # G54 … G59, or G53 for machine coordinates
+    deviation: float | None = None  # mm the path may leave a corner by (G64 P); 0: exact stop (G61); None: config
 
     def work(self, axis: int) -> float:
         """The target of `axis` as its line wrote it (work coordinates)."""
@@ -44,12 +45,36 @@ class Dwell:
 
 @dataclass(frozen=True, slots=True)
 class Pause:
-    """Come to rest and wait for the operator (M0)."""
+    """Come to rest and wait for the operator: M0, or a tool change (M6, `tool` the T word's number)."""
 
     line: int
+    tool: int | None = None  # a tool change to this tool; None: a program pause (M0)
+    coordinates: WorkCoordinates | None = field(default=None, compare=False)  # the program's, there
+
+    @property
+    def reason(self) -> str:
+        return "M0" if self.tool is None else f"tool change to T{self.tool}"
 
 
-Item = LinearMove | Dwell | Pause
+@dataclass(frozen=True, slots=True)
+class OutputState:
+    """The spindle (or laser) and coolant as the program has set them: M3/M4/M5 with S, M7/M8/M9."""
+
+    spindle: int = 5  # 3 (M3), 4 (M4) or 5 (M5: off)
+    speed: float = 0.0  # S, in the units of the configuration's [spindle] s_max
+    mist: bool = False  # M7
+    flood: bool = False  # M8
+
+
+@dataclass(frozen=True, slots=True)
+class SetOutputs:
+    """From here on the outputs are `state` (what follows runs under it; the machine does not stop)."""
+
+    line: int
+    state: OutputState
+
+
+Item = LinearMove | Dwell | Pause | SetOutputs
 
 
 @dataclass

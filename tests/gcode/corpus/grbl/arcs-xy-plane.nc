@@ -1,0 +1,16 @@
+(arcs in the XY plane: I/J and R forms, full circles, both directions)
+G21 G90 G17
+G0 Z5
+G0 X20 Y20
+S10000 M3
+G1 Z-1 F200
+G2 X20 Y20 I10 J0 F800
+G3 X20 Y20 I-5 J0
+G2 X40 Y20 R10
+G3 X50 Y30 R10
+G2 X60 Y20 R-10
+G1 X60 Y10
+G3 X40 Y10 I-10 J0
+G0 Z5
+M5
+M30

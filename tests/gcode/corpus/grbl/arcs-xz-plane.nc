@@ -1,0 +1,16 @@
+(arcs in the XZ plane: a rounded edge, ball nose)
+G21 G90
+G0 Z5
+G0 X10 Y10
+G18
+S12000 M3
+G1 Z0 F300
+G2 X15 Z-5 I5 K0 F600
+G3 X20 Z0 I0 K5
+G2 X30 Z0 R5
+G1 Y20
+G3 X20 Z0 R5
+G0 Z5
+G17
+M5
+M30

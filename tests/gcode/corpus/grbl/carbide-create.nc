@@ -1,0 +1,34 @@
+(Carbide Create 6)
+(Name: sign)
+(stockMin:0.00mm, 0.00mm, -12.70mm)
+(stockMax:60.00mm, 40.00mm, 0.00mm)
+(STOCK/BLOCK,60.00, 40.00, 12.70,0.00, 0.00, 12.70)
+G90
+G21
+(Move to safe Z to avoid workholding)
+G53G0Z-5.000
+M05
+(Toolpath: Contour 1)
+M05
+(TOOL/MILL,3.18, 0.00, 0.00, 0.00)
+M6T102
+M03S18000
+(PREPARE)
+G0X5.00Y5.00
+G0Z6.35
+(PASS 1)
+G1Z-1.00F254.0
+G1X55.00F1016.0
+G1Y35.00
+G1X5.00
+G1Y5.00
+(PASS 2)
+G1Z-2.00F254.0
+G1X55.00F1016.0
+G1Y35.00
+G1X5.00
+G1Y5.00
+G0Z6.35
+M05
+G53G0Z-5.000
+M02

@@ -1,0 +1,23 @@
+(aluminium facing with flood, then mist)
+G21 G90 G54
+T1 M6
+S14000 M3
+M8
+G0 X0 Y0
+G0 Z2
+G1 Z-0.3 F150
+G1 X40 F600
+G1 Y6
+G1 X0
+G1 Y12
+G1 X40
+G0 Z2
+M9
+M7
+G0 X0 Y20
+G1 Z-0.3 F150
+G1 X40 F600
+G0 Z2
+M9
+M5
+M30

@@ -1,0 +1,33 @@
+(Project engrave)
+(Created by Estlcam version 11 build 11.245)
+(Machining time about 00:01:10 hours)
+
+(Required tools:)
+(Engraving bit 30°)
+
+G21
+G90
+G94
+
+(No tool change at program start)
+
+F1200
+S24000
+G00 Z5.0000
+M03
+G00 X3.0000 Y3.0000
+G01 Z-0.2000 F300
+G01 X23.0000 F1200
+G01 Y13.0000
+G02 X18.0000 Y18.0000 I-5.0000 J0.0000
+G01 X3.0000
+G01 Y3.0000
+G00 Z5.0000
+G00 X30.0000 Y3.0000
+G01 Z-0.2000 F300
+G01 X40.0000 Y18.0000 F1200
+G01 X50.0000 Y3.0000
+G00 Z5.0000
+M05
+G00 X0.0000 Y0.0000
+M02

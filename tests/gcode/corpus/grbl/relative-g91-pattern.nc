@@ -1,0 +1,23 @@
+(a drill pattern in relative moves, G91)
+G21 G90
+G0 Z5
+G0 X10 Y10
+M3 S10000
+G91
+G1 Z-7 F200
+G0 Z7
+G0 X10
+G1 Z-7 F200
+G0 Z7
+G0 X10
+G1 Z-7 F200
+G0 Z7
+G0 Y10
+G1 Z-7 F200
+G0 Z7
+G0 X-10
+G1 Z-7 F200
+G0 Z7
+G90
+M5
+M30
