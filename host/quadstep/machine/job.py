@@ -301,17 +301,21 @@ class JobRun:
                 if self._halted:
                     break
                 self._paused_at, self._interrupted = line, False
-            if pause is not None and pause.coordinates is not None and self.restream is not None:
-                self.restream.adopt(pause.coordinates.model_copy(deep=True))  # the program's, for a zero set here
+            offered = pause is not None and pause.coordinates is not None and self.restream is not None
+            if offered:  # the program's coordinates there, for a zero set at the pause (not kept unless one is)
+                previous = self.restream.coordinates()
+                self.restream.adopt(pause.coordinates.model_copy(deep=True))
             self._resume.wait()
             self._resume.clear()
             with self._lock:
                 self._paused_at = None
                 interrupted, halted = self._interrupted, self._halted
-            if pause is not None and pause.coordinates is not None and self.restream is not None and not halted:
+            if offered:
                 after = self.restream.coordinates()
-                if interrupted or after != pause.coordinates:
+                if not halted and (interrupted or after != pause.coordinates):
                     return self._after_pause(pause, pause.coordinates, after, interrupted)
+                if after == pause.coordinates:
+                    self.restream.adopt(previous)
         if end is not None and not self._halted:
             return end
         status = self.link.status()  # at rest: halted at a pause, or nothing to stream

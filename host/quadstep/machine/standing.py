@@ -154,7 +154,8 @@ class _Restream:
         return self.machine.coordinates.model_copy(deep=True)
 
     def adopt(self, coordinates: WorkCoordinates) -> None:
-        self.machine.adopt_coordinates(coordinates)
+        """In memory only: the state file keeps what a work zero or a completed job sets."""
+        self.machine.coordinates = coordinates
 
     def stream(self, plan: Plan) -> StreamPlan:
         compensated = self.machine.takeups.compensate(plan.segments, plan.pauses)
