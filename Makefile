@@ -6,7 +6,7 @@ BUILD ?= build
 PYTHON ?= python3
 SUDO := $(shell [ "$$(id -u)" = 0 ] || echo sudo)
 APT_PACKAGES := gcc make pkg-config gcc-avr avr-libc binutils-avr simavr libsimavr-dev libelf-dev \
-	clang libclang-rt-14-dev
+	clang libclang-rt-14-dev avrdude
 
 .PHONY: all setup setup-apt setup-python demo test test-firmware test-python bench clean
 
@@ -23,6 +23,7 @@ setup: setup-apt setup-python
 # Debian packages, installed only when a tool is missing.
 setup-apt:
 	@if ! command -v avr-gcc >/dev/null || ! command -v gcc >/dev/null || ! command -v clang >/dev/null \
+	    || ! command -v avrdude >/dev/null \
 	    || ! pkg-config --exists simavr 2>/dev/null || [ ! -e /usr/include/libelf.h ]; then \
 	  $(SUDO) apt-get update -qq && \
 	  DEBIAN_FRONTEND=noninteractive $(SUDO) apt-get install -y -qq $(APT_PACKAGES); \

@@ -11,6 +11,7 @@
 AVR_CC ?= avr-gcc
 AVR_SIZE ?= avr-size
 AVR_OBJDUMP ?= avr-objdump
+AVR_OBJCOPY ?= avr-objcopy
 AVR_OUT := $(BUILD)/avr
 
 AVR_SOURCES := $(sort $(wildcard firmware/core/*.c)) $(sort $(wildcard firmware/avr/*.c))
@@ -51,7 +52,7 @@ $(AVR_FLAGS_STAMP): avr-flags-changed
 	@mkdir -p $(@D)
 	@echo '$(AVR_FLAGS_TEXT)' | cmp -s - $@ || echo '$(AVR_FLAGS_TEXT)' > $@
 
-firmware: $(AVR_OUT)/uno.elf $(AVR_OUT)/mega.elf
+firmware: $(AVR_OUT)/uno.elf $(AVR_OUT)/mega.elf $(AVR_OUT)/uno.hex $(AVR_OUT)/mega.hex
 	@for b in uno:$(AVR_UNO_MCU) mega:$(AVR_MEGA_MCU); do \
 	  elf=$(AVR_OUT)/$${b%%:*}.elf; \
 	  $(AVR_SIZE) -A $$elf | awk -v name=$${b%%:*} -v mcu=$${b#*:} \
@@ -71,6 +72,10 @@ $(AVR_OUT)/$(1).elf: $$(patsubst %.c,$(AVR_OUT)/$(1)/%.o,$$(AVR_SOURCES)) $$(AVR
 
 -include $$(patsubst %.c,$(AVR_OUT)/$(1)/%.d,$$(AVR_SOURCES))
 endef
+
+# What avrdude writes (quadstep flash): the flash image as Intel HEX.
+$(AVR_OUT)/%.hex: $(AVR_OUT)/%.elf
+	$(AVR_OBJCOPY) -O ihex -R .eeprom -R .noinit $< $@
 
 $(eval $(call AVR_BOARD_RULES,uno,$(AVR_UNO_MCU),$(AVR_UNO_DEFINES)))
 $(eval $(call AVR_BOARD_RULES,mega,$(AVR_MEGA_MCU),$(AVR_MEGA_DEFINES)))

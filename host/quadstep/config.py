@@ -123,12 +123,6 @@ class AxisConfig(BaseModel):
     homing: HomingConfig | None = None  # None: the axis has no homing switch
     backlash: BacklashConfig | None = None  # None: no backlash known
 
-    @model_validator(mode="after")
-    def _takeup_within_limits(self) -> AxisConfig:
-        if self.backlash is not None and self.backlash.accel is not None and self.backlash.accel > self.max_accel:
-            raise ValueError(f"backlash.accel = {self.backlash.accel}: must be at most max_accel = {self.max_accel}")
-        return self
-
     @property
     def backlash_steps(self) -> int:
         """The take-up in whole steps (0: none), rounded once."""
@@ -137,16 +131,19 @@ class AxisConfig(BaseModel):
         return math.floor(self.backlash.mm * self.steps_per_mm + 0.5)
 
     @model_validator(mode="after")
-    def _travel_in_order(self) -> AxisConfig:
+    def _consistent(self) -> AxisConfig:
+        problems = []
+        if self.backlash is not None and self.backlash.accel is not None and self.backlash.accel > self.max_accel:
+            problems.append(f"backlash.accel = {self.backlash.accel}: must be at most max_accel = {self.max_accel}")
         if self.travel_max <= self.travel_min:
-            raise ValueError(
-                f"travel_max = {self.travel_max}: must be greater than travel_min = {self.travel_min}"
-            )
+            problems.append(f"travel_max = {self.travel_max}: must be greater than travel_min = {self.travel_min}")
         reach = POSITION_MAX / self.steps_per_mm  # the firmware keeps step positions within ±POSITION_MAX
         for key, value in (("travel_min", self.travel_min), ("travel_max", self.travel_max)):
             if abs(value) > reach:
-                raise ValueError(f"{key} = {value:g}: must be within ±{reach:.0f} mm, the firmware's position range "
-                                 f"(±{POSITION_MAX} steps at {self.steps_per_mm:g} steps/mm)")
+                problems.append(f"{key} = {value:g}: must be within ±{reach:.0f} mm, the firmware's position range "
+                                f"(±{POSITION_MAX} steps at {self.steps_per_mm:g} steps/mm)")
+        if problems:
+            raise ValueError("\n".join(problems))  # every problem at once, a line each
         return self
 
     def to_steps(self, mm: float) -> int:
@@ -176,23 +173,26 @@ class MachineConfig(BaseModel):
 
     @model_validator(mode="after")
     def _axes_consistent(self) -> MachineConfig:
+        problems = []
         names = [a.name for a in self.axes]
         if len(set(names)) != len(names):
-            raise ValueError(f"axes: names must be unique, got {names}")
+            problems.append(f"axes: names must be unique, got {names}")
         for i, axis in enumerate(self.axes):
             limit = MAX_STEPS_PER_TICK * self.tick_hz / axis.steps_per_mm
             if axis.max_speed > limit:
-                raise ValueError(
+                problems.append(
                     f"axes[{i}].max_speed = {axis.max_speed}: must be at most {limit:g} mm/s "
                     f"(3/4 step per tick at tick_hz {self.tick_hz} with {axis.steps_per_mm:g} steps/mm)"
                 )
         for name in self.homing_order or ():
             if name not in names:
-                raise ValueError(f"homing_order: {name} is not an axis ({names})")
-            if self.axes[names.index(name)].homing is None:
-                raise ValueError(f"homing_order: axis {name} has no [axes.homing]")
+                problems.append(f"homing_order: {name} is not an axis ({names})")
+            elif self.axes[names.index(name)].homing is None:
+                problems.append(f"homing_order: axis {name} has no [axes.homing]")
         if self.homing_required and not any(a.homing for a in self.axes):
-            raise ValueError("homing_required = true: no axis has [axes.homing]")
+            problems.append("homing_required = true: no axis has [axes.homing]")
+        if problems:
+            raise ValueError("\n".join(problems))  # every problem at once, a line each
         return self
 
     @property
@@ -255,9 +255,10 @@ def describe_validation_error(error: ValidationError) -> list[str]:
         elif kind == "literal_error":
             lines.append(f"{key} = {e['input']!r}: must be one of {e['ctx']['expected']}")
         elif kind == "value_error":
-            # a validator's message may start with the key it is about ("travel_max = 5: ...")
-            message = str(e["ctx"]["error"])
-            lines.append(message if not key else f"{key}.{message}" if _KEYED.match(message) else f"{key}: {message}")
+            # a validator's message may start with the key it is about ("travel_max = 5: ..."), a line a problem
+            for message in str(e["ctx"]["error"]).split("\n"):
+                lines.append(message if not key else f"{key}.{message}" if _KEYED.match(message)
+                             else f"{key}: {message}")
         else:
             lines.append(f"{key} = {e['input']!r}: {e['msg'].lower()}")
     return lines

@@ -11,6 +11,7 @@ import pytest
 
 from quadstep.cli import build_parser, info, main, send
 from quadstep.cli.send import load
+from quadstep.config import load_config
 from quadstep.engine_model import predict
 
 REPO = Path(__file__).resolve().parents[2]
@@ -32,15 +33,18 @@ def test_info_json(emulator_binary: Path, capsys: pytest.CaptureFixture[str], mo
     monkeypatch.setenv("QUADSTEP_EMULATOR", str(emulator_binary))
     assert main(["info", "--emulator", "--json"]) == 0
     out = json.loads(capsys.readouterr().out)
-    assert out["identify"]["protocol_version"] == 1 and out["identify"]["axis_count"] == 4
-    assert out["status"]["state"] == "IDLE" and out["status"]["position"] == [0, 0, 0, 0]
+    # the emulator started without a configuration is the default machine: examples/router-uno.toml's
+    default = load_config(REPO / "examples" / "router-uno.toml")
+    assert out["identify"]["protocol_version"] == 1 and out["identify"]["axis_count"] == len(default.axes) == 3
+    assert out["identify"]["tick_hz"] == default.tick_hz == 32000
+    assert out["status"]["state"] == "IDLE" and out["status"]["position"] == [0, 0, 0]
 
 
 def test_info_text(emulator_binary: Path, capsys: pytest.CaptureFixture[str], monkeypatch: pytest.MonkeyPatch) -> None:
     monkeypatch.setenv("QUADSTEP_EMULATOR", str(emulator_binary))
     assert main(["info", "--emulator"]) == 0
     out = capsys.readouterr().out
-    assert "on EMULATOR, protocol 1" in out and "50000 Hz" in out and "X 0  Y 0  Z 0  A 0" in out
+    assert "on EMULATOR, protocol 1" in out and "32000 Hz" in out and "X 0  Y 0  Z 0\n" in out
 
 
 def test_send_example(emulator_binary: Path, capsys: pytest.CaptureFixture[str], monkeypatch: pytest.MonkeyPatch,
@@ -50,8 +54,8 @@ def test_send_example(emulator_binary: Path, capsys: pytest.CaptureFixture[str],
     assert main(["send", str(EXAMPLE), "--emulator", "--free", "--json", "--trace", str(trace)]) == 0
     out = json.loads(capsys.readouterr().out)
     job = load(EXAMPLE)
-    expected = predict(job.segments, positions=[0, 100, 0, 0])
-    assert out["positions"] == expected.positions == [1000, -150, 0, 0]
+    expected = predict(job.segments, positions=[0, 100, 0], axis_count=3)
+    assert out["positions"] == expected.positions == [1000, -150, 0]
     assert out["segments"] == 3 and out["motion_ticks"] == 3000
     assert out["link"]["retransmits"] == 0 and out["link"]["frames_sent"] >= 4
     assert trace.read_text().count("\n") == 1 + 1000 + 250
@@ -60,7 +64,7 @@ def test_send_example(emulator_binary: Path, capsys: pytest.CaptureFixture[str],
 def test_send_text(emulator_binary: Path, capsys: pytest.CaptureFixture[str], monkeypatch: pytest.MonkeyPatch) -> None:
     monkeypatch.setenv("QUADSTEP_EMULATOR", str(emulator_binary))
     assert main(["send", str(EXAMPLE), "--emulator", "--free"]) == 0
-    assert "positions (steps): X 1000  Y -150  Z 0  A 0" in capsys.readouterr().out
+    assert "positions (steps): X 1000  Y -150  Z 0\n" in capsys.readouterr().out
 
 
 @pytest.mark.parametrize(

@@ -250,15 +250,19 @@ def test_plot_writes_a_png(tmp_path: Path, capsys: Capture) -> None:
     assert struct.unpack(">II", data[16:24]) == (1200, 800)
 
 
-def test_missing_config_is_a_clear_error(
+def test_without_a_config_check_uses_the_default_machine_and_run_on_a_board_refuses(
     tmp_path: Path, capsys: Capture, monkeypatch: pytest.MonkeyPatch
 ) -> None:
     monkeypatch.chdir(tmp_path)
-    code, _, err = run_cli(["check", str(EXAMPLES / "demo.gcode")], capsys)
+    code, out, err = run_cli(["check", str(EXAMPLES / "demo.gcode")], capsys)
+    assert code == 0
+    assert err == "no configuration given: using the built-in default machine (the router of " \
+                  "examples/router-uno.toml)\n"
+    code, _, err = run_cli(["run", str(EXAMPLES / "demo.gcode"), "--port", "/dev/null"], capsys)
     assert code == 1
     assert err == (
-        "quadstep check: error: no machine configuration: give --config FILE "
-        "(or put quadstep.toml in this directory)\n"
+        "quadstep run: error: no machine configuration: give --config FILE (or put quadstep.toml in this "
+        "directory); examples/router-uno.toml is a commented one to start from\n"
     )
 
 

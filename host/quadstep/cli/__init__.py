@@ -11,11 +11,13 @@ from __future__ import annotations
 import argparse
 import importlib
 import pkgutil
+from importlib import metadata
 import sys
 from collections.abc import Sequence
 
 from pydantic import ValidationError
 
+from .. import __version__
 from ..config import describe_validation_error
 from ..emulator import EmulatorError
 from ..link import LinkError
@@ -25,6 +27,7 @@ from .options import CliError
 
 def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(prog="quadstep", description="Exact quadratic stepper motion over serial.")
+    parser.add_argument("--version", action="version", version=f"quadstep {version()}")
     subparsers = parser.add_subparsers(dest="command", metavar="COMMAND", required=True)
     for module in sorted(pkgutil.iter_modules(__path__), key=lambda m: m.name):
         if module.name.startswith("_"):
@@ -34,6 +37,14 @@ def build_parser() -> argparse.ArgumentParser:
         if callable(register):
             register(subparsers)
     return parser
+
+
+def version() -> str:
+    """The installed package's version (pyproject.toml), or the source tree's when it is not installed."""
+    try:
+        return metadata.version("quadstep")
+    except metadata.PackageNotFoundError:
+        return __version__
 
 
 def main(argv: Sequence[str] | None = None) -> int:

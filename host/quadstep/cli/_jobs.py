@@ -3,10 +3,12 @@
 from __future__ import annotations
 
 import argparse
+import sys
 from pathlib import Path
 
 from ..config import ConfigError, MachineConfig, load_config
 from ..coordinates import WorkCoordinates
+from ..default_machine import DEFAULT_MACHINE_NAME, default_machine
 from ..job import Job, load_job
 from ..machine import StateError, load_state, state_path
 from ..planner.program import JobError
@@ -28,17 +30,27 @@ def add_job_options(parser: argparse.ArgumentParser) -> None:
 
 
 def machine_config(args: argparse.Namespace) -> MachineConfig:
+    """--config FILE, else ./quadstep.toml, else — with nothing to move, or on the emulator — the default
+    machine (said so on stderr); a real board needs a configuration."""
     path = config_path(args)
-    if args.config is None and not path.exists():
-        raise CliError(f"no machine configuration: give --config FILE (or put {DEFAULT_CONFIG} in this directory)")
+    if path is None:
+        on_board = getattr(args, "emulator", None) is False and getattr(args, "sim", None) is None
+        if on_board:
+            raise CliError(f"no machine configuration: give --config FILE (or put {DEFAULT_CONFIG} in this "
+                           "directory); examples/router-uno.toml is a commented one to start from")
+        print(f"no configuration given: using {DEFAULT_MACHINE_NAME}", file=sys.stderr, flush=True)
+        return default_machine()
     try:
         return load_config(path)
     except ConfigError as exc:
         raise CliError(str(exc)) from None
 
 
-def config_path(args: argparse.Namespace) -> Path:
-    return args.config or DEFAULT_CONFIG
+def config_path(args: argparse.Namespace) -> Path | None:
+    """The configuration file the job commands read (None: the default machine, there being none)."""
+    if args.config is not None:
+        return args.config
+    return DEFAULT_CONFIG if DEFAULT_CONFIG.exists() else None
 
 
 def stored_coordinates(args: argparse.Namespace) -> WorkCoordinates:

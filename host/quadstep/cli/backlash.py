@@ -72,7 +72,7 @@ def run(args: argparse.Namespace) -> int:
         raise CliError(f"--tries {args.tries}: must be at least 1")
     say = (lambda text: None) if args.json else (lambda text: print(text, file=sys.stderr, flush=True))
     try:
-        with connect(args, config, str(config_path(args))) as machine:
+        with connect(args, config, str(config_path(args) or "the default machine")) as machine:
             if args.backlash_command == "calibrate-switch":
                 return _calibrate(args, machine, name, say)
             result = _measure(args, machine, name, say)
@@ -127,6 +127,8 @@ def _write(args: argparse.Namespace, name: str, what: str, **values: float) -> N
     from ..config_file import set_backlash
 
     path = config_path(args)
+    if path is None:
+        raise CliError("no configuration file to write the backlash to: give --config FILE")
     if not args.yes:
         print(f"write {name} {what} to {path}? [y/N] ", end="", file=sys.stderr, flush=True)
         if sys.stdin.readline().strip().lower() not in ("y", "yes"):

@@ -6,7 +6,7 @@ import argparse
 from pathlib import Path
 
 from ..config import MachineConfig
-from ..link import DEFAULT_BAUD
+from ..link import DEFAULT_BAUD, PortError, auto_port
 from ..machine import Machine, Target, open_machine
 
 
@@ -17,7 +17,8 @@ class CliError(Exception):
 def add_connection_options(parser: argparse.ArgumentParser) -> None:
     """--port PORT | --emulator [--sim FILE.toml], and --baud, --free, --trace."""
     where = parser.add_mutually_exclusive_group(required=False)
-    where.add_argument("--port", metavar="PORT", help="serial port of the board (/dev/ttyACM0, socket://host:port)")
+    where.add_argument("--port", metavar="PORT", help="serial port of the board (/dev/ttyUSB0, socket://host:port), "
+                       "or auto: the one Uno, Mega or clone on USB (the default without --emulator)")
     where.add_argument("--emulator", action="store_true", help="start the loopback emulator and use it")
     parser.add_argument("--sim", type=Path, metavar="FILE.toml",
                         help="the emulator (implied) with this simulated machine around its motors: switches, "
@@ -47,8 +48,12 @@ def target(args: argparse.Namespace) -> Target:
     emulator = args.emulator or args.sim is not None
     if args.port is not None and args.sim is not None:
         raise CliError("--sim runs the emulator: give it without --port")
-    if args.port is None and not emulator:
-        raise CliError("give --port PORT, --emulator or --sim FILE.toml")
+    if (args.port is None and not emulator) or args.port == "auto":
+        try:
+            args.port = auto_port()
+        except PortError as exc:
+            raise CliError(f"{exc}" if args.port == "auto" else
+                           f"{exc}; --emulator runs without a board") from None
     if args.port is not None and args.port.startswith("socket://") and not args.port[9:].rpartition(":")[2].isdigit():
         raise CliError(f"--port {args.port}: a TCP port is socket://HOST:PORT, with the port number")
     if not emulator and (args.free or args.trace):

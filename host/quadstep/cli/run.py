@@ -27,6 +27,7 @@ from ..job import Job, read_program
 from ..machine import JobRun, Machine, MotionEnd
 from ..planner.program import JobError, Pause
 from ..protocol import State, StatusReport
+from ..default_machine import DEFAULT_MACHINE_NAME
 from ..machine import state_path
 from ._jobs import add_job_options, config_path, format_duration, job_from_args, machine_config, skipped_text, work_text
 from .options import CliError, add_connection_options, add_json_option, connect
@@ -90,7 +91,8 @@ def position_lines(machine: Machine) -> list[str]:
 
 def run(args: argparse.Namespace) -> int:
     config = machine_config(args)
-    config_name = str(args.config or "quadstep.toml")
+    path = config_path(args)
+    config_name = str(path) if path is not None else DEFAULT_MACHINE_NAME
     try:  # syntax errors before touching the machine; the plan needs its position
         read_program(args.job, config, (0,) * len(config.axes), args.skip_unsupported)
     except JobError as exc:

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import re
 from pathlib import Path
 
 from typing import Any
@@ -15,6 +16,9 @@ from ..protocol import AXIS_NAMES, IdentifyReply, Segment
 from ..protocol.fields import I32
 from ..textfile import parse_nested, read_text
 from .options import CliError, add_connection_options, add_json_option, connect
+
+
+GCODE_LINE = re.compile(r"^\s*(?:[Nn]\d+\s*)?[GgMm]\s*\d", re.MULTILINE)
 
 
 class SegmentsFile(BaseModel):
@@ -56,6 +60,9 @@ def load(path: Path) -> SegmentsFile:
     try:
         data = parse_nested(json.loads, text, path, CliError)
     except json.JSONDecodeError as exc:
+        if GCODE_LINE.search(text):
+            raise CliError(f"{path} is G-code: `quadstep run {path}` runs it (send streams a JSON file of raw "
+                           "segments, docs/HOST.md)") from None
         raise CliError(f"{path}: line {exc.lineno} column {exc.colno}: {exc.msg}") from None
     job = validate(SegmentsFile, data, str(path), CliError, strict=False)  # whole numbers only: _whole_numbers_only
     last = job.segments[-1]

@@ -86,9 +86,9 @@ class Link:
         if connect:
             try:
                 link.connect()
-            except BaseException:
+            except BaseException as exc:
                 link.close()
-                raise
+                raise LinkError.at_connect(link._transport.heard, exc) from None
         return link
 
     def connect(self) -> IdentifyReply:

@@ -5,8 +5,24 @@ from __future__ import annotations
 from ..protocol import Alarm, ErrorReport
 
 
+HEARD_BYTES = 512  # bytes kept from before the board identified itself, to name another firmware
+
+
 class LinkError(Exception):
     """The link cannot go on: port closed, firmware unanswering, wrong version."""
+
+    @staticmethod
+    def at_connect(heard: bytes, error: BaseException) -> BaseException:
+        """Why connecting failed: a board that answered in another firmware's text (GRBL's banner, its `ok`s)
+        is named, with the fix; otherwise `error` as it was."""
+        if not isinstance(error, LinkError):
+            return error
+        if b"Grbl" in heard or b"grbl" in heard or b"ok\r\n" in heard or b"error:" in heard:
+            return LinkError("this board runs GRBL, not quadstep firmware: flash it with `quadstep flash`")
+        if b"Marlin" in heard or b"Klipper" in heard:
+            return LinkError("this board runs 3D-printer firmware, not quadstep firmware: flash it with "
+                             "`quadstep flash`")
+        return error
 
 
 class LinkTimeout(LinkError):
@@ -57,3 +73,4 @@ class AlarmError(LinkError):
 
 
 __all__ = ["AlarmError", "BoardSilent", "FirmwareError", "LinkError", "LinkTimeout", "ProtocolVersionError", "Stopped"]
+

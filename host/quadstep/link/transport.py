@@ -8,6 +8,8 @@ from collections.abc import Callable
 
 import serial
 
+from .errors import HEARD_BYTES
+
 # What pyserial raises once the port is gone (TypeError and AttributeError from a port closed under it).
 PORT_FAILURES = (serial.SerialException, OSError, TypeError, AttributeError)
 
@@ -31,6 +33,7 @@ class Transport:
         self.port = port
         self.cond = cond
         self.closed = False  # guarded by cond
+        self.heard = b""  # the first bytes read (HEARD_BYTES), to name a board that answers in another's text
         self._on_data = on_data
         self._next_output = next_output
         self._on_failure = on_failure
@@ -60,6 +63,8 @@ class Transport:
                 self._on_failure(exc)
                 return
             if data:
+                if len(self.heard) < HEARD_BYTES:
+                    self.heard += data[: HEARD_BYTES - len(self.heard)]
                 self._on_data(data)
 
     def _write_loop(self) -> None:

@@ -22,6 +22,7 @@ from pathlib import Path
 
 from ..config import DEFAULT_CONFIG_NAME, MachineConfig, default_config
 from ..coordinates import WorkCoordinates
+from ..default_machine import default_machine
 from ..backlash.compensate import Compensated
 from ..link import Link, LinkError, LinkStats, hold
 from ..planner.plan import Plan
@@ -40,6 +41,15 @@ from .state import read_state, save_state
 from .standing import Standing, _Restream
 from .takeups import StreamPlan, TakeUps
 from .units import hold_decels
+
+
+def fallback_config(identity: IdentifyReply) -> MachineConfig:
+    """Without a configuration: the default machine where the firmware is the one it describes (the emulator
+    started for it, an Uno at its 32 kHz), else a generic one from what the firmware says."""
+    default = default_machine()
+    if identity.tick_hz == default.tick_hz and identity.axis_count == len(default.axes):
+        return default
+    return default_config(identity.tick_hz, identity.axis_count)
 
 
 class Procedure:
@@ -84,7 +94,7 @@ class Machine(Standing):
             raise MachineError("the link is not connected")
         self.link = link
         self.config_given = config is not None
-        self.config = config if config is not None else default_config(identity.tick_hz, identity.axis_count)
+        self.config = config if config is not None else fallback_config(identity)
         check_agreement(identity, self.config, source if config is not None else DEFAULT_CONFIG_NAME)
         self.emulator = emulator  # an emulator this machine started, stopped by close()
         self.decels = hold_decels(self.config)  # HOLD decelerations: each axis's max_accel

@@ -7,6 +7,7 @@ from pathlib import Path
 from typing import Any
 
 from ..config import MachineConfig
+from ..default_machine import default_machine
 from ..emulator import Emulator
 from ..link import DEFAULT_BAUD, Link
 from .machine import Machine
@@ -31,11 +32,12 @@ class Target:
 
 
 def start_emulator(target: Target, config: MachineConfig | None) -> Emulator:
-    """The emulator of `target`, ticking and with the axes `config` asks for (unless its options say)."""
+    """The emulator of `target`, ticking and with the axes `config` (or the default machine) asks for, unless its
+    options say."""
     options = dict(target.emulator_options)
-    if config is not None:
-        options.setdefault("tick_hz", config.tick_hz)
-        options.setdefault("axes", len(config.axes))
+    config = config if config is not None else default_machine()
+    options.setdefault("tick_hz", config.tick_hz)
+    options.setdefault("axes", len(config.axes))
     return Emulator(**options).start()
 
 
