@@ -15,8 +15,6 @@ from ..config import ConfigError
 from ._jobs import config_path, machine_config
 from .options import CliError, add_connection_options, add_json_option, connect
 
-DEFAULT_TEST = {"X": "Y", "Y": "X", "Z": "X", "A": "X"}
-
 
 def _direction(text: str) -> int:
     if text not in ("+", "-"):
@@ -93,13 +91,14 @@ def run(args: argparse.Namespace) -> int:
 
 
 def _measure(args: argparse.Namespace, machine, name: str, say):  # noqa: ANN001, ANN202
-    from ..machine.backlash import measure_with_probe, measure_with_switch
+    from ..machine.backlash import PROBE_SETUP, measure_with_probe, measure_with_switch
 
     if args.method == "switch":
         return measure_with_switch(machine, name, end=args.end, tries=args.tries, search=args.search or 5.0,
                                    feed=args.feed or 1.0, max_spread=args.max_spread, on_progress=say)
-    toward = args.toward if args.toward is not None else (-1 if name == "Z" else 1)
-    return measure_with_probe(machine, name, toward=toward, test=(args.test_axis or DEFAULT_TEST[name]).upper(),
+    toward, test = PROBE_SETUP[name]
+    toward = args.toward if args.toward is not None else toward
+    return measure_with_probe(machine, name, toward=toward, test=(args.test_axis or test).upper(),
                               test_toward=args.test_toward, tries=args.tries, search=args.search or 10.0,
                               clear=args.clear, largest=args.max, feed=args.feed or 2.0,
                               max_spread=args.max_spread, on_progress=say)

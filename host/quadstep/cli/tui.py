@@ -54,7 +54,8 @@ def run(args: argparse.Namespace) -> int:
         config = load_config(path) if path is not None else None
     except ConfigError as exc:
         raise CliError(str(exc)) from None
-    session = Session(where, config, settings_from(args), config_source=str(path), state_file=state_path(path))
+    session = Session(where, config, settings_from(args), config_source=str(path), state_file=state_path(path),
+                      config_path=path)
     QuadstepApp(session, job_path=args.job, choose=lambda device: _target(device, args.baud)).run()
     return 0
 

@@ -32,6 +32,10 @@ from .units import step_direction
 
 Progress = Callable[[str], None]
 
+# Per axis, the probe's default corner: the direction toward the face measured, and the axis that tests the
+# neighbouring face (toward +): the −X, −Y corner of a block for X and Y, a plate's −X edge for Z.
+PROBE_SETUP = {"X": (1, "Y"), "Y": (1, "X"), "Z": (-1, "X"), "A": (1, "X")}
+
 
 class MeasureError(MachineError):
     """The measurement could not be made (no contact, a switch not found, a result too scattered)."""
@@ -204,4 +208,6 @@ def calibrate_switch(machine: Machine, name: str, backlash_mm: float, *, end: st
     return max(0.0, statistics.fmean(sums) / axis.steps_per_mm - backlash_mm)
 
 
-__all__ = ["MeasureError", "Measurement", "calibrate_switch", "measure_with_probe", "measure_with_switch"]
+__all__ = [
+    "PROBE_SETUP", "MeasureError", "Measurement", "calibrate_switch", "measure_with_probe", "measure_with_switch",
+]

@@ -47,6 +47,7 @@ def bindings(step_presets: int) -> list[BindingType]:
         Binding("h", "home", "home", show=False),
         Binding("p", "probe('38.2')", "probe Z", show=False),
         Binding("P", "probe('38.4')", "probe off", show=False),
+        Binding("b", "backlash", "backlash", show=False),
         Binding("g", "resume", "go on", show=False),
         Binding("ctrl+x", "reset", "STOP now", show=False),
         Binding("ctrl+r", "reconnect", "reconnect", show=False),
@@ -90,6 +91,9 @@ HELP = """\
   p              G38.2: Z down toward its travel_min at 1 mm/s until the
                  probe touches (a touch plate); the contact is logged
   P              G38.4: Z up until the probe lets go
+  b              backlash: measure an axis's (probe or switch, k tries) or
+                 use a dial indicator (d); written to the configuration
+                 after a confirm
 
 [b]Jobs[/b]
   o              open a G-code or move file and run it (planned first:

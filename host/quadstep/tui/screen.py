@@ -22,6 +22,7 @@ from ..machine.probing import probe
 from ..mdi import Console
 from ..planner.program import JobError
 from ..protocol import Board
+from .backlash_screen import BacklashScreen
 from .console import ConsoleLine
 from .help import HelpScreen
 from .jobs import JobKeys
@@ -251,6 +252,10 @@ class MachineScreen(JobKeys, JogKeys):
 
     def action_toggle_view(self) -> None:
         self.query_one(ToolpathView).toggle_extent()
+
+    def action_backlash(self) -> None:
+        if self._jogger_ready("backlash") is not None:
+            self.app.push_screen(BacklashScreen(self.session))
 
     def action_help(self) -> None:
         self.app.push_screen(HelpScreen(self.session.settings))

@@ -51,10 +51,12 @@ class Session:
         on_jog: Callable[[JogResult], None] | None = None,
         config_source: str = "the configuration",
         state_file: Path | None = None,
+        config_path: Path | None = None,
     ) -> None:
         self.target = target  # None until the port picker chose one
         self.config_given = config
         self.config_source = config_source
+        self.config_path = config_path  # where a measured backlash is written (tui/confirm.py)
         self.state_file = state_file  # the work coordinates, kept across runs (machine/state.py)
         self.config: MachineConfig | None = config
         self.settings = settings or JogSettings()

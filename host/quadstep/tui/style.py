@@ -83,7 +83,7 @@ CSS = """
     background: $panel;
 }
 
-HelpScreen, JobDialog, PortPicker {
+HelpScreen, JobDialog, PortPicker, ConfirmScreen {
     align: center middle;
 }
 
@@ -118,5 +118,23 @@ HelpScreen, JobDialog, PortPicker {
     border: round $primary;
     background: $surface;
     padding: 0 1;
+}
+
+#backlash, #dial {
+    height: 1fr;
+    border: round $primary;
+    padding: 0 1;
+}
+
+#backlash-result, #dial-result {
+    margin-top: 1;
+}
+
+#confirm {
+    width: 70;
+    height: auto;
+    border: round $warning;
+    background: $surface;
+    padding: 1;
 }
 """

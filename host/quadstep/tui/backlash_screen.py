@@ -1,0 +1,186 @@
+"""The backlash screen (b): measure an axis's backlash with the probe or its limit switch, k tries shown as
+they come, the result in mm and steps with its spread, refused over the spread bound, written to the
+configuration after a confirm; d opens the dial-indicator wizard for machines without a probe.
+
+The measurement runs in a worker thread (machine/backlash.py) and reports back with messages.
+"""
+
+from __future__ import annotations
+
+import threading
+
+from rich.markup import escape
+from textual.app import ComposeResult
+from textual.binding import Binding
+from textual.containers import Vertical
+from textual.message import Message
+from textual.screen import ModalScreen
+from textual.widgets import Footer, Static
+
+from ..config import MachineConfig
+from ..link import LinkError
+from ..machine import MachineError
+from ..machine.backlash import PROBE_SETUP, Measurement, measure_with_probe, measure_with_switch
+from .confirm import ask_to_write
+from .dial_wizard import DialWizard
+from .session import Session
+
+METHODS = ("probe", "switch")
+
+
+class Tried(Message):
+    def __init__(self, text: str) -> None:
+        super().__init__()
+        self.text = text
+
+
+class Measured(Message):
+    def __init__(self, result: Measurement | None, error: str = "") -> None:
+        super().__init__()
+        self.result = result
+        self.error = error
+
+
+class BacklashScreen(ModalScreen[None]):
+    BINDINGS = [
+        Binding("x", "axis('X')", "X"),
+        Binding("y", "axis('Y')", "Y"),
+        Binding("z", "axis('Z')", "Z"),
+        Binding("m", "method", "probe/switch"),
+        Binding("minus", "tries(-1)", "tries−", key_display="-"),
+        Binding("plus,equals_sign", "tries(1)", "tries+", key_display="+"),
+        Binding("enter,s", "start", "measure"),
+        Binding("w", "write", "write"),
+        Binding("d", "dial", "dial indicator"),
+        Binding("escape", "close", "close"),
+    ]
+
+    def __init__(self, session: Session, max_spread: float = 0.01) -> None:
+        super().__init__()
+        self.session = session
+        self.max_spread = max_spread  # mm: a result whose tries spread more is refused
+        config = session.config
+        self.axis = config.axis_names[0] if config is not None else "X"
+        self.method = "probe"
+        self.tries = 5
+        self.running = False
+        self.result: Measurement | None = None
+        self.lines: list[str] = []  # every line shown under the tries, for scripts and tests
+
+    def compose(self) -> ComposeResult:
+        with Vertical(id="backlash"):
+            yield Static(id="backlash-setup")
+            yield Static(id="backlash-tries")
+            yield Static(id="backlash-result")
+        yield Footer()
+
+    def on_mount(self) -> None:
+        self._show_setup()
+
+    # --- what it shows ---------------------------------------------------------------------
+
+    def _show_setup(self) -> None:
+        where = {"probe": "the probe at a corner of the target (docs/BACKLASH.md)",
+                 "switch": "the limit switch, less its calibrated hysteresis"}[self.method]
+        self.query_one("#backlash-setup", Static).update(
+            f"[b]Backlash[/b]  axis [b]{self.axis}[/b] (x y z)   method [b]{self.method}[/b] (m): {where}\n"
+            f"tries [b]{self.tries}[/b] (- +)   refused when they spread more than {self.max_spread:g} mm\n"
+            "Enter: measure   w: write the result   d: dial indicator   Esc: close")
+
+    def say(self, text: str, error: bool = False) -> None:
+        self.lines.append(text)
+        shown = "\n".join(escape(line) for line in self.lines[-10:])
+        self.query_one("#backlash-tries", Static).update(shown)
+        if error:
+            self.notify(text, severity="error")
+
+    # --- keys ------------------------------------------------------------------------------
+
+    def action_axis(self, name: str) -> None:
+        config = self.session.config
+        if self.running or config is None or name not in config.axis_names:
+            return
+        self.axis = name
+        self._show_setup()
+
+    def action_method(self) -> None:
+        if not self.running:
+            self.method = METHODS[(METHODS.index(self.method) + 1) % len(METHODS)]
+            self._show_setup()
+
+    def action_tries(self, delta: int) -> None:
+        if not self.running:
+            self.tries = min(20, max(1, self.tries + delta))
+            self._show_setup()
+
+    def action_start(self) -> None:
+        machine = self.session.machine
+        if self.running:
+            return
+        if machine is None or not self.session.connected:
+            self.say("not connected", True)
+            return
+        self.running, self.result = True, None
+        self.lines = []
+        self.query_one("#backlash-result", Static).update("")
+        self.say(f"measuring {self.axis} with the {self.method}, {self.tries} tries…")
+        axis, method, tries = self.axis, self.method, self.tries
+        threading.Thread(target=lambda: self._measure(axis, method, tries), name="quadstep-backlash",
+                         daemon=True).start()
+
+    def _measure(self, axis: str, method: str, tries: int) -> None:
+        machine = self.session.machine
+        assert machine is not None
+        progress = lambda text: self.post_message(Tried(text))  # noqa: E731
+        try:
+            if method == "switch":
+                result = measure_with_switch(machine, axis, tries=tries, max_spread=self.max_spread,
+                                             on_progress=progress)
+            else:
+                toward, test = PROBE_SETUP[axis]
+                result = measure_with_probe(machine, axis, toward=toward, test=test, test_toward=1, tries=tries,
+                                            max_spread=self.max_spread, on_progress=progress)
+        except (LinkError, MachineError) as exc:
+            self.post_message(Measured(None, str(exc)))
+        else:
+            self.post_message(Measured(result))
+        jogger = self.session.jogger
+        if jogger is not None and self.session.connected:
+            self.session.submit(jogger.sync)  # the motors moved under the jogger
+
+    def on_tried(self, message: Tried) -> None:
+        self.say(message.text)
+
+    def on_measured(self, message: Measured) -> None:
+        self.running = False
+        result = message.result
+        if result is None:
+            self.say(f"backlash {self.axis}: {message.error}", True)
+            return
+        text = (f"{result.axis} backlash: [b]{result.mm:.4f} mm[/b] ({result.steps:g} steps), spread "
+                f"{result.spread_steps:g} steps ({result.spread_mm:.4f} mm) over {len(result.tries)} tries")
+        if result.accepted:
+            self.result = result
+            text += "\nw: write it to the configuration (asks first)"
+        else:
+            text += (f"\n[b]refused[/b]: the tries spread {result.spread_mm:.4f} mm, more than "
+                     f"{result.bound_mm:g} mm (check the target and the switch, then measure again)")
+        self.lines.append(text)
+        self.query_one("#backlash-result", Static).update(text)
+
+    def action_write(self) -> None:
+        if self.running or self.result is None:
+            self.say("nothing to write: measure first (a refused result is not written)", True)
+            return
+        ask_to_write(self, self.session.config_path, self.result.axis, self.result.mm, self.say, self._written)
+
+    def _written(self, config: MachineConfig) -> None:
+        self.session.config_given = config  # the next connection compensates with it
+
+    def action_dial(self) -> None:
+        if not self.running:
+            self.app.push_screen(DialWizard(self.session, self.axis))
+
+    def action_close(self) -> None:
+        if not self.running:
+            self.dismiss(None)
