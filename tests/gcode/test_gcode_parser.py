@@ -213,7 +213,7 @@ def test_skip_unsupported_lists_every_skipped_word() -> None:
 
 
 def test_skip_unsupported_does_not_skip_unknown_words() -> None:
-    assert error("G38.2 Z-10", skip_unsupported=True) == "line 1, column 1: 'G38.2': probing inside a job is not supported; probe before it with `quadstep probe` (or p in the TUI)"
+    assert error("G43 H1", skip_unsupported=True) == "line 1, column 1: 'G43' is not supported"
 
 
 # --- malformed input: each with its exact message --------------------------------------
@@ -244,7 +244,11 @@ def test_skip_unsupported_does_not_skip_unknown_words() -> None:
         ("G20 G21", "line 1, column 5: 'G21' and 'G20' are both in the units group"),
         ("G4 P1 G92 X0", "line 1, column 7: 'G92' and 'G4' are both in the non-modal group"),
         ("M0 M30", "line 1, column 4: 'M30' and 'M0' are both program stops"),
-        ("G38.2 Z-10", "line 1, column 1: 'G38.2': probing inside a job is not supported; probe before it with `quadstep probe` (or p in the TUI)"),
+        ("G38.2 Z-10", "line 1, column 1: G38.2 needs a feed rate: no F on this line or before "
+                       "(GRBL error 22: feed rate has not yet been set or is undefined)"),
+        ("G38.3 F60", "line 1, column 1: G38.3 needs an axis word: where to probe toward"),
+        ("G38.2 Z0 F60", "line 1, column 1: G38.2: the target is where the machine already is"),
+        ("G53 G38.2 Z-5 F60", "line 1, column 1: G53 does not apply to probing"),
         ("G43 H1", "line 1, column 1: 'G43' is not supported"),
         ("G1 X1 F60 B2", "line 1, column 11: 'B2' is not supported"),
         ("M1", "line 1, column 1: 'M1' is not supported"),

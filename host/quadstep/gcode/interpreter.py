@@ -28,7 +28,8 @@ from ..coordinates import WorkCoordinates
 from ..planner.program import Dwell, LinearMove, OutputState, Pause, Program, SetOutputs
 from . import offsets
 from .arcs import chord_count, radius_center, sweep_angle
-from .lines import Line, code, sort_words, whole
+from .lines import PROBING, Line, code, sort_words, whole
+from .probing import probe_move
 from .words import GcodeError, Word, split_words
 
 MM_PER_INCH = 25.4
@@ -74,6 +75,7 @@ class GcodeInterpreter:
         self.outputs = OutputState()
         self.tool: int | None = None  # the tool T selected
         self.program = Program(coordinates=self.coords)
+        self.source: list[str] = []  # the file's lines, for reading on after a probe
 
     # -- reading -------------------------------------------------------------
 
@@ -243,6 +245,11 @@ class GcodeInterpreter:
 
     def _motion(self, motion: Word | None, axes: dict[str, Word], values: dict[str, Word], line: int,
                 machine: Word | None = None) -> None:
+        if motion is not None and code(motion) in PROBING:  # a probe: the motion mode stays as it was
+            if machine is not None:
+                raise GcodeError(line, machine.column, "G53 does not apply to probing")
+            probe_move(self, motion, axes, line, NO_FEED)
+            return
         if motion is not None:
             self.motion = int(motion.value)
         arc_words = {k: w for k, w in values.items() if k in "IJKR"}
@@ -350,8 +357,8 @@ def parse_gcode(
     interpreter = GcodeInterpreter(axis_names, start or [0.0] * len(axis_names), arc_tolerance, skip_unsupported,
                                    coordinates)
     # Lines end at a newline only, as an editor counts them (not at \x1c-\x1e, \x85 or \u2028).
-    for number, line in enumerate(text.split("\n"), start=1):
-        line = line.removesuffix("\r")
+    interpreter.source = [line.removesuffix("\r") for line in text.split("\n")]
+    for number, line in enumerate(interpreter.source, start=1):
         if not interpreter.feed_line(line, number):
             break
     return interpreter.program

@@ -26,6 +26,7 @@ G_GROUPS = {
     "58": "coordinate system", "59": "coordinate system",
     "94": "feed mode", "40": "cutter compensation", "49": "tool length offset",
     "61": "path mode", "61.1": "path mode", "64": "path mode", "91.1": "arc distance",
+    "38.2": "motion", "38.3": "motion", "38.4": "motion", "38.5": "motion",
 }
 CANNED_CYCLES = {"73", "81", "82", "83", "84", "85", "86", "87", "88", "89"}
 PROBING = {"38.2", "38.3", "38.4", "38.5"}
@@ -76,9 +77,6 @@ def sort_words(words: list[Word], line: int, axis_names: Sequence[str], skip: li
         if w.letter == "G":
             key = code(w)
             group = G_GROUPS.get(key) if key is not None else None
-            if group is None and key in PROBING:
-                raise GcodeError(line, w.column, f"'{w.text}': probing inside a job is not supported; probe before "
-                                                 "it with `quadstep probe` (or p in the TUI)")
             if key in CANNED_CYCLES:
                 raise GcodeError(line, w.column, f"'{w.text}': canned cycles (G73, G81 … G89) are not supported; "
                                                  "a CAM post for GRBL writes them as G0/G1 moves")

@@ -16,11 +16,12 @@ from itertools import accumulate
 from typing import Protocol
 
 from ..link import Link, LinkError
-from ..planner.plan import Plan
 from ..coordinates import WorkCoordinates
-from ..planner.program import JobError, Pause, Program
+from ..planner.plan import Plan, plan_program
+from ..planner.program import JobError, Pause, ProbeMove, Program
 from ..planner.outputs import OFF
 from ..protocol import InputCause, InputChange, Outputs, Report
+from .errors import MachineError
 from .takeups import StreamPlan
 from .motion import Motion, MotionEnd
 from .remainder import carry_changes, plan_after_pause, plan_remainder
@@ -51,6 +52,8 @@ class Restream(Protocol):
     def position(self) -> tuple[int, ...]: ...
 
     def coordinates(self) -> WorkCoordinates: ...
+
+    def probe(self, probe: ProbeMove) -> tuple[float, ...]: ...
 
     def adopt(self, coordinates: WorkCoordinates) -> None: ...
 
@@ -87,6 +90,7 @@ class JobRun:
         self._offset = 0  # segments of the sections before the current one
         self._paused_at: int | None = None
         self._interrupted = False  # other programs ran while the job waited at its pause
+        self._probing = False  # the machine probes for a G38.x of the job (not a pause: resume() has no say)
         self._thread = threading.Thread(target=self._run, name="quadstep-job", daemon=True)
 
     # --- progress ----------------------------------------------------------------------------
@@ -134,8 +138,8 @@ class JobRun:
         """Waiting at a pause of its program (M0, a tool change) on a machine: jogs, probing and work zeros may
         run meanwhile, and the job goes on from where they leave the machine."""
         with self._lock:
-            return self._paused_at is not None and not self.held and self.restream is not None \
-                and self.program is not None and not self._halted
+            return (self._probing or (self._paused_at is not None and not self.held)) \
+                and self.restream is not None and self.program is not None and not self._halted
 
     def interrupt(self) -> None:
         """Another program is about to run while the job waits (the machine calls this, gives_way being true):
@@ -185,7 +189,7 @@ class JobRun:
             end = self._sections()
             while end.ended_by == FEED_HOLD and self.program is not None and not self._halted:
                 end = self._after_feed_hold(end)
-        except (LinkError, JobError) as exc:
+        except (LinkError, JobError, MachineError) as exc:
             end = MotionEnd("error", (), self._offset, error=str(exc))
         finally:
             unregister()
@@ -247,6 +251,36 @@ class JobRun:
             return None
         return next((i for i in self.program.items if isinstance(i, Pause) and i.line == line), None)
 
+    def _probe_at(self, line: int) -> ProbeMove | None:
+        if self.program is None:
+            return None
+        return next((i for i in self.program.items if isinstance(i, ProbeMove) and i.line == line), None)
+
+    def _probe(self, probe: ProbeMove) -> MotionEnd:
+        """At rest before a G38.x of the program: the machine probes, then the rest of the program is read and
+        planned from where the probe left it."""
+        assert self.program is not None
+        if self.restream is None or probe.resume is None:
+            raise JobError(f"{self.label} {probe.line}: G{probe.code} probes only on a machine")
+        with self._lock:
+            if self._halted:
+                return MotionEnd(self._halted, self.restream.position(), self._offset)
+            self._probing = True  # the probe runs as the machine's program meanwhile
+        try:
+            rest_mm = self.restream.probe(probe)
+        finally:
+            with self._lock:
+                self._probing = False
+        program = probe.resume(rest_mm)
+        kept = self.program.coordinates  # the caller's: what the job leaves, as the rest read again says
+        if kept is not None and program.coordinates is not None:
+            for name in type(kept).model_fields:
+                setattr(kept, name, getattr(program.coordinates, name))
+            program.coordinates = kept
+        self.program = program
+        plan = self.plan.base if isinstance(self.plan, StreamPlan) else self.plan
+        return self._continue(plan_program(program, plan.config, self.restream.position(), self.label))
+
     def _after_pause(self, pause: Pause, before: WorkCoordinates, after: WorkCoordinates,
                      interrupted: bool) -> MotionEnd:
         """The operator jogged, probed or set a work zero at the pause: the rest of the program from where the
@@ -296,6 +330,9 @@ class JobRun:
                 first = index
             if line is None:
                 break
+            probe = self._probe_at(line)
+            if probe is not None:
+                return self._probe(probe)
             pause = self._pause_at(line)
             with self._lock:
                 if self._halted:

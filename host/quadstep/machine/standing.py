@@ -12,6 +12,7 @@ from ..backlash.band import BandRecord
 from ..coordinates import WorkCoordinates
 from ..link import Link, LinkError
 from ..planner.plan import Plan
+from ..planner.program import ProbeMove
 from ..planner.segments import SegmentArrays
 from ..protocol import CubicSegment, IdentifyReply, Segment, SetPosition, StatusReport
 from .motion import MotionEnd
@@ -152,6 +153,13 @@ class _Restream:
 
     def coordinates(self) -> WorkCoordinates:
         return self.machine.coordinates.model_copy(deep=True)
+
+    def probe(self, probe: ProbeMove) -> tuple[float, ...]:
+        """A job's G38.x, as `quadstep probe` runs it; the machine position where it rests (mm)."""
+        from .probing import probe as run_probe  # probing needs the Machine, which needs this module
+
+        run_probe(self.machine, probe.code, probe.target, probe.feed)  # type: ignore[arg-type]
+        return self.machine.position_mm  # type: ignore[attr-defined]
 
     def adopt(self, coordinates: WorkCoordinates) -> None:
         """In memory only: the state file keeps what a work zero or a completed job sets."""

@@ -12,7 +12,7 @@ import math
 from dataclasses import dataclass, field
 
 from ..config import MachineConfig
-from .program import Dwell, JobError, LinearMove, Pause, Program, SetOutputs
+from .program import Dwell, JobError, LinearMove, Pause, ProbeMove, Program, SetOutputs
 
 # A move may start up to ½ step away from its ideal start (the residual carried
 # from the move before), so each axis's share of a move is bounded with
@@ -36,7 +36,7 @@ class MoveTable:
     deviation: list[float | None] = field(default_factory=list)  # G64 P / G61 at the move's start corner
     # stops: (number of moves before it, item), in order; the machine is at rest there (at an output change
     # only without laser mode, as GRBL waits for the motion before it changes the spindle or the coolant)
-    stops: list[tuple[int, Dwell | Pause | SetOutputs]] = field(default_factory=list)
+    stops: list[tuple[int, Dwell | Pause | SetOutputs | ProbeMove]] = field(default_factory=list)
     start: tuple[int, ...] = ()
     skipped_lines: int = 0  # moves too short to make a step
 
@@ -60,8 +60,11 @@ def _check_travel(config: MachineConfig, item: LinearMove, label: str) -> None:
 def build_moves(
     program: Program, config: MachineConfig, start_steps: tuple[int, ...], label: str = "line"
 ) -> MoveTable:
-    """Check every target against the travel, then make the move table (nothing planned yet)."""
+    """Check every target against the travel, then make the move table (nothing planned yet). What follows a
+    probe (G38.x) is checked when the job has probed: its positions depend on where the probe stops."""
     for item in program.items:
+        if isinstance(item, ProbeMove):
+            break
         if isinstance(item, LinearMove):
             _check_travel(config, item, label)
     hz = float(config.tick_hz)

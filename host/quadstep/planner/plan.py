@@ -14,7 +14,7 @@ from .lookahead import PLAN_ACCEL_FRACTION, junction_speeds
 from .moves import MoveTable, build_moves
 from .outputs import is_dynamic, output_message, set_at_rest
 from .profile import fit_profiles
-from .program import Dwell, JobError, OutputState, Pause, Program, SetOutputs
+from .program import Dwell, JobError, OutputState, Pause, ProbeMove, Program, SetOutputs
 from .quantize import Quantizer
 from .segments import SegmentArrays
 
@@ -90,7 +90,7 @@ def plan_moves(table: MoveTable, config: MachineConfig, lines: int = 0, label: s
             item = next_stop[1]
             if isinstance(item, Dwell):
                 quantizer.dwell(round(item.seconds * config.tick_hz), item.line)
-            elif isinstance(item, Pause):
+            elif isinstance(item, (Pause, ProbeMove)):  # a probe: the job probes there, then plans again
                 pauses.append((len(out), item.line))
             elif isinstance(item, SetOutputs):
                 state = item.state

@@ -9,6 +9,7 @@ the value its line gave.
 
 from __future__ import annotations
 
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 
 from ..coordinates import WorkCoordinates
@@ -74,7 +75,19 @@ class SetOutputs:
     state: OutputState
 
 
-Item = LinearMove | Dwell | Pause | SetOutputs
+@dataclass(frozen=True, slots=True)
+class ProbeMove:
+    """G38.2–G38.5 toward `target` (machine mm) at `feed` (mm/s); the job comes to rest before it, probes, and
+    `resume(rest position in machine mm)` is the rest of the program read from where the probe stopped."""
+
+    line: int
+    code: str  # "38.2" … "38.5"
+    target: tuple[float, ...]
+    feed: float
+    resume: Callable[[Sequence[float]], Program] | None = field(default=None, compare=False)
+
+
+Item = LinearMove | Dwell | Pause | SetOutputs | ProbeMove
 
 
 @dataclass
