@@ -11,21 +11,19 @@ from __future__ import annotations
 
 import copy
 from collections.abc import Sequence
-from typing import TYPE_CHECKING
+from typing import Any
 
 from ..planner.program import ProbeMove, Program
 from .lines import code
 from .words import GcodeError, Word
 
-if TYPE_CHECKING:
-    from .interpreter import GcodeInterpreter
-
 # What the interpreter carries from line to line (besides the position, which the probe decides).
 MODAL = ("units", "absolute", "plane", "motion", "feed", "deviation", "outputs", "tool", "coords")
 
 
-def probe_move(interpreter: GcodeInterpreter, word: Word, axes: dict[str, Word], line: int, no_feed: str) -> None:
-    """G38.x on `line` toward the axis words: a ProbeMove, able to read the rest of the file from any rest."""
+def probe_move(interpreter: Any, word: Word, axes: dict[str, Word], line: int, no_feed: str) -> None:
+    """G38.x on `line` toward the axis words: a ProbeMove, able to read the rest of the file from any rest.
+    `interpreter` is the GcodeInterpreter reading the file (which imports this module)."""
     name = f"G{code(word)}"
     if not axes:
         raise GcodeError(line, word.column, f"{name} needs an axis word: where to probe toward")
@@ -45,7 +43,7 @@ def probe_move(interpreter: GcodeInterpreter, word: Word, axes: dict[str, Word],
     interpreter._move(target, interpreter.feed, line)  # planned as if it went all the way, for the checks
 
 
-def read_rest(like: GcodeInterpreter, source: list[str], after: int, state: dict[str, object],
+def read_rest(like: Any, source: list[str], after: int, state: dict[str, object],
               position_mm: Sequence[float]) -> Program:
     """The lines of `source` after line `after`, read from `position_mm` in the modal `state`."""
     interpreter = type(like)(like.axis_names, position_mm, like.arc_tolerance, like.skip_unsupported,

@@ -10,14 +10,37 @@ latched position in machine coordinates, and in work coordinates for the work of
 from __future__ import annotations
 
 from collections.abc import Sequence
+from contextlib import AbstractContextManager
 from dataclasses import dataclass
+from typing import Protocol
 
-from ..link import input_status, until_input
+from ..config import MachineConfig
+from ..link import Link, input_status, until_input
 from ..planner.plan import plan_program
 from ..planner.program import LinearMove, Program
-from ..protocol import MAX_AXES, Input, InputChange, Probe
+from ..protocol import MAX_AXES, CubicSegment, Input, InputChange, Probe, Segment
 from .errors import MachineError
-from .machine import Machine
+
+
+class ProbingMachine(Protocol):
+    """What probing uses of a Machine (machine.py), which probes for jobs through this module."""
+
+    config: MachineConfig
+    link: Link
+    decels: tuple[int, ...]
+
+    @property
+    def position(self) -> tuple[int, ...]: ...
+
+    def procedure(self, name: str) -> AbstractContextManager[object]: ...
+
+    def sync(self) -> tuple[int, ...]: ...
+
+    def takeup_stream(self, segments: Sequence[Segment]) -> list[Segment | CubicSegment]: ...
+
+    def shown(self, motor: Sequence[int], tick: int) -> tuple[int, ...]: ...
+
+    def rested(self, hold_tick: int | None = None) -> tuple[int, ...]: ...
 
 CODES = {"38.2": (1, True), "38.3": (1, False), "38.4": (0, True), "38.5": (0, False)}  # level, error if missed
 
@@ -35,7 +58,7 @@ class ProbeResult:
     work_mm: tuple[float, ...]
 
 
-def probe(machine: Machine, code: str, target_mm: Sequence[float], feed: float,
+def probe(machine: ProbingMachine, code: str, target_mm: Sequence[float], feed: float,
           work_offset: Sequence[float] | None = None, timeout: float = 600.0) -> ProbeResult:
     """Move toward `target_mm` (machine coordinates, inside the travel) at `feed` mm/s as G`code` does."""
     if code not in CODES:

@@ -16,6 +16,7 @@ from ..planner.program import ProbeMove
 from ..planner.segments import SegmentArrays
 from ..protocol import CubicSegment, IdentifyReply, Segment, SetPosition, StatusReport
 from .motion import MotionEnd
+from .probing import probe as run_probe
 from .state import save_state
 from .takeups import StreamPlan, TakeUps
 
@@ -156,8 +157,6 @@ class _Restream:
 
     def probe(self, probe: ProbeMove) -> tuple[float, ...]:
         """A job's G38.x, as `quadstep probe` runs it; the machine position where it rests (mm)."""
-        from .probing import probe as run_probe  # probing needs the Machine, which needs this module
-
         run_probe(self.machine, probe.code, probe.target, probe.feed)  # type: ignore[arg-type]
         return self.machine.position_mm  # type: ignore[attr-defined]
 
