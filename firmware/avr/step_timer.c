@@ -17,13 +17,6 @@
 #include "firmware.h"
 #include "uart.h"
 
-/* axis_tick.h first: it puts the AVR's own per-axis decisions in place of
- * the core's (the QS_*_AXIS_TICK hooks of qs_engine_tick.h). */
-#include "axis_tick.h"
-#include "inputs_tick.h"
-#include "underrun_tick.h"
-#include "qs_engine_tick.h"
-
 #ifndef QS_STEP_PULSE_US
 #define QS_STEP_PULSE_US 2
 #endif
@@ -31,6 +24,44 @@
 #define CYCLES_PER_US (F_CPU / 1000000UL)
 #define TICK_CYCLES (F_CPU / (QS_TICK_HZ))
 #define PULSE_CYCLES ((uint8_t)(CYCLES_PER_US * (QS_STEP_PULSE_US)))
+
+/* Motion port value for the next tick: the step pins it raises and the
+ * direction pins already set for them. Kept in a general-purpose I/O
+ * register, which `in`/`out` reach in one cycle. */
+#define next_pins GPIOR0
+/* Timer1's count when this tick's pulse went out, parked in another such
+ * register so it holds no CPU register across the engine's work. */
+#define pulse_start GPIOR1
+
+/* Hold the step pins up until the pulse is QS_STEP_PULSE_US long (Timer1's
+ * count). The low byte alone repeats every 256 cycles; a tick that has run
+ * past that (TCNT1H, latched as TCNT1L is read, is not 0) waits for
+ * nothing. */
+#define HOLD_PULSE()                                                                                          \
+    do {                                                                                                      \
+        if (QS_STEP_PULSE_US > 0 && (next_pins & QS_STEP_PINS)) {                                              \
+            while ((uint8_t)(TCNT1L - pulse_start) < PULSE_CYCLES && !TCNT1H) {                               \
+            }                                                                                                 \
+        }                                                                                                     \
+    } while (0)
+
+/* A running segment's decisions take longer than the shortest pulse: from
+ * reading pulse_start to the falling edge, a quadratic tick of one axis at
+ * a steady speed takes over 50 cycles (the tests measure every pulse from
+ * the pin edges). So only the ticks that run none (between segments, idle,
+ * a hold) look at the timer; with a longer pulse, every tick does. */
+#define PULSE_OUTLASTED_BY_DECISIONS (F_CPU / 1000000UL * (QS_STEP_PULSE_US) <= 40)
+#if PULSE_OUTLASTED_BY_DECISIONS
+#define QS_ENGINE_UNDECIDED() HOLD_PULSE()
+#endif
+
+/* axis_tick.h first: it puts the AVR's own per-axis decisions in place of
+ * the core's (the QS_*_AXIS_TICK hooks of qs_engine_tick.h). */
+#include "axis_tick.h"
+#include "inputs_tick.h"
+#include "underrun_tick.h"
+#include "qs_engine_tick.h"
+
 /* Direction changes wait this long after the step pins fall (driver hold time). */
 #define DIR_HOLD_CYCLES (CYCLES_PER_US)
 
@@ -44,13 +75,6 @@ _Static_assert(CYCLES_PER_US * (QS_STEP_PULSE_US) <= 64, "QS_STEP_PULSE_US at mo
  * a second look at the end of the tick splits the gap (uart.c refuses more). */
 #define UART_LOOKS_TWICE ((QS_BAUD) / 10UL > (QS_TICK_HZ))
 
-/* Motion port value for the next tick: the step pins it raises and the
- * direction pins already set for them. Kept in a general-purpose I/O
- * register, which `in`/`out` reach in one cycle. */
-#define next_pins GPIOR0
-/* Timer1's count when this tick's pulse went out, parked in another such
- * register so it holds no CPU register across the engine's work. */
-#define pulse_start GPIOR1
 
 void step_timer_init(void)
 {
@@ -83,14 +107,8 @@ ISR(TIMER1_COMPA_vect)
     const uint8_t dir_pins = (uint8_t)(core.engine.dir_bits << QS_DIR_SHIFT) & QS_DIR_PINS;
     const uint8_t held_dir = pulse & QS_DIR_PINS;
 
-#if QS_STEP_PULSE_US > 0
-    /* Only a pulse whose tick had little to compute waits here. The low
-     * byte alone repeats every 256 cycles; a tick that has run past that
-     * (TCNT1H, latched as TCNT1L is read, is not 0) waits for nothing. */
-    if (pulse & QS_STEP_PINS) {
-        while ((uint8_t)(TCNT1L - pulse_start) < PULSE_CYCLES && !TCNT1H) {
-        }
-    }
+#if !PULSE_OUTLASTED_BY_DECISIONS
+    HOLD_PULSE();
 #endif
     QS_MOTION_PORT = held_dir; /* falling edges */
     if (dir_pins != held_dir) {

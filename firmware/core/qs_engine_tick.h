@@ -162,6 +162,14 @@ static QS_ALWAYS_INLINE uint8_t qs_engine_cubic_tick(qs_engine *e)
     return steps;
 }
 
+/* A target may want to know which ticks ran no segment's decisions (and
+ * so took little time): between segments, idle, and in a hold. The AVR
+ * holds its step pulse to its shortest width only in those
+ * (firmware/avr/step_timer.c). */
+#ifndef QS_ENGINE_UNDECIDED
+#define QS_ENGINE_UNDECIDED()
+#endif
+
 static QS_ALWAYS_INLINE uint8_t qs_engine_tick(qs_engine *e)
 {
     qs_segment *s;
@@ -171,10 +179,15 @@ static QS_ALWAYS_INLINE uint8_t qs_engine_tick(qs_engine *e)
     if (QS_UNLIKELY(e->slow_path)) {
         if (e->slow_path != QS_PATH_CUBIC) {
             /* An underrun begins a hold in place of the next segment. */
-            if (!e->hold.moving && !qs_engine_begin(e) && !e->hold.moving)
+            if (!e->hold.moving && !qs_engine_begin(e) && !e->hold.moving) {
+                QS_ENGINE_UNDECIDED();
                 return 0;
-            if (e->hold.moving)
-                return qs_engine_hold_tick(e);
+            }
+            if (e->hold.moving) {
+                steps = qs_engine_hold_tick(e);
+                QS_ENGINE_UNDECIDED();
+                return steps;
+            }
             if (!e->slow_path)
                 goto quadratic;
         }
