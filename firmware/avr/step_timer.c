@@ -59,7 +59,7 @@
  * the core's (the QS_*_AXIS_TICK hooks of qs_engine_tick.h). */
 #include "axis_tick.h"
 #include "inputs_tick.h"
-#include "underrun_tick.h"
+#include "rare_call.h"
 #include "qs_engine_tick.h"
 
 /* Direction changes wait this long after the step pins fall (driver hold time). */
@@ -87,11 +87,19 @@ void step_timer_init(void)
     TCCR1B = _BV(WGM12) | _BV(CS10); /* CTC on OCR1A, clock undivided */
 }
 
-/* Called from the interrupt's asm only (underrun_tick.h): kept by `used`. */
-__attribute__((used)) void underrun_in_tick(void)
+/* Called from the interrupt's asm only (rare_call.h): kept by `used`. */
+__attribute__((used, externally_visible)) void underrun_in_tick(void)
 {
     qs_engine_underrun_in_tick(&core.engine);
 }
+
+__attribute__((used, externally_visible)) void trigger_split_in_tick(void)
+{
+    qs_engine_trigger_split_in_tick(&core.engine);
+}
+
+QS_AVR_RARE_TRAMPOLINE(underrun_rare, underrun_in_tick);
+QS_AVR_RARE_TRAMPOLINE(trigger_split_rare, trigger_split_in_tick);
 
 ISR(TIMER1_COMPA_vect)
 {

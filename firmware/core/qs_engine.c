@@ -1,4 +1,7 @@
+#include <string.h>
+
 #include "qs_engine.h"
+#include "qs_engine_tick.h"
 #include "qs_port.h"
 
 void qs_engine_init(qs_engine *e, uint8_t queue_capacity)
@@ -38,9 +41,22 @@ void qs_engine_init(qs_engine *e, uint8_t queue_capacity)
     e->latches.lost = 0;
     e->frozen = 0;
     e->trigger = 0;
+    e->trigger_window = 0;
+    e->trigger_rest = 0;
     e->held_by_tick = 0;
     e->resequence = 0;
     qs_cubic_reset(&e->chain);
+}
+
+/* A trigger's window closes early (a HOLD, STOP, an alarm): the segment's
+ * count is whole again. With the tick locked out, or in it. */
+static void close_trigger_window(qs_engine *e)
+{
+    if (!e->trigger_window)
+        return; /* trigger_rest is trigger_since, for an armed trigger */
+    e->left = (uint16_t)(e->left + e->trigger_rest);
+    e->trigger_rest = 0;
+    e->trigger_window = 0;
 }
 
 /* The segment length a hold's plan is for (qs_hold_plan): a quadratic
@@ -72,12 +88,11 @@ static int32_t steps_at(const qs_segment *s, uint8_t axis, uint16_t t)
 
 _Static_assert(sizeof(qs_i24) == sizeof(qs_u24), "b and steps are copied alike");
 
-/* Kept short: it runs with the tick locked out. */
+/* Kept short: it runs with the tick locked out, or in the tick at an
+ * input's edge. */
 static void take_progress(const qs_engine *e, qs_progress *p)
 {
-    const uint8_t *from;
-    uint8_t *to = (uint8_t *)&p->at;
-    uint8_t i;
+    const qs_segment *s = e->seg;
 
     if (!e->left && !e->kept) {
         /* Between segments, at rest, or a hold that has just ended (its
@@ -91,22 +106,19 @@ static void take_progress(const qs_engine *e, qs_progress *p)
         p->seg = e->held;
         p->t = e->held_t0;
         p->ticks = e->hold.ticks;
-        from = (const uint8_t *)e->hold.steps;
-    } else {
-        p->held = 0;
-        p->seg = e->seg;
-        p->t = (uint16_t)(e->seg->n - e->left);
-        p->ticks = 0;
-        if (e->seg->cubic) {
-            from = (const uint8_t *)&e->seg->c;
-            for (i = 0; i < sizeof p->at.c; i++)
-                to[i] = from[i];
-            return;
-        }
-        from = (const uint8_t *)e->seg->b;
+        memcpy(p->at.steps, e->hold.steps, sizeof p->at.steps);
+        return;
     }
-    for (i = 0; i < sizeof p->at.b; i++)
-        to[i] = from[i];
+    p->held = 0;
+    p->seg = s;
+    p->t = (uint16_t)(s->n - e->left);
+    if (e->trigger_window)
+        p->t = (uint16_t)(p->t - e->trigger_rest); /* the window cut the count */
+    p->ticks = 0;
+    if (s->cubic)
+        memcpy(&p->at.c, &s->c, sizeof p->at.c);
+    else
+        memcpy(p->at.b, s->b, sizeof p->at.b);
 }
 
 static void add_progress(const qs_progress *p, int32_t *position, uint32_t *ticks)
@@ -285,6 +297,7 @@ void qs_engine_halt(qs_engine *e, uint8_t state, uint8_t alarm)
     qs_progress p;
 
     /* Steps already made stay made: counted once the tick is let go. */
+    close_trigger_window(e);
     take_progress(e, &p);
     e->hold.moving = 0;
     e->held = 0;
@@ -396,9 +409,12 @@ QS_NOINLINE uint8_t qs_engine_hold(qs_engine *e, const uint16_t *decel)
     uint16_t t0;
     uint8_t saved, moving, tail, at_end;
 
-    /* First, so that no trigger begins a hold from the tick while this
-     * one is planned (both plan into e->hold). */
+    /* First, so that no trigger begins or plans a hold from the tick while
+     * this one is planned (both plan into e->hold). */
+    saved = qs_port_lock();
     e->trigger = 0;
+    close_trigger_window(e);
+    qs_port_unlock(saved);
     e->hold.planned_n = 0;
     for (;;) {
         if (guess && e->hold.planned_n != guess)
@@ -509,6 +525,7 @@ void qs_engine_freeze_in_tick(qs_engine *e, uint8_t alarm)
     /* The tick's slow path then begins nothing (not RUNNING) and holds
      * nothing (no axis moving); the running or held slot keeps its state,
      * from which the main loop counts the steps made. */
+    close_trigger_window(e);
     e->hold.moving = 0;
     e->slow_path = 1;
     e->trigger = 0;
@@ -529,32 +546,35 @@ void qs_engine_finish_freeze_slow(qs_engine *e)
     note_hold_done(e);
 }
 
-uint8_t qs_engine_trigger_in_tick(qs_engine *e)
+/* The trigger's hold begins at this tick boundary: from the running slot,
+ * a kept one's end or the next queued one's start, as HOLD would. Nothing
+ * left to hold (the motion came to rest in the window): a hold found at
+ * rest. Its plan is usually made already. */
+static void begin_trigger_hold(qs_engine *e)
 {
     const uint16_t left = e->left;
-    qs_segment *s;
+    qs_segment *s = e->state == QS_STATE_RUNNING ? hold_slot(e) : 0;
     uint8_t moving, at_end;
 
-    e->trigger = 0;
-    if (e->state != QS_STATE_RUNNING)
-        return 0;
-    s = hold_slot(e);
-    if (!s)
-        return 0;
+    e->trigger_window = 0;
+    if (!s) {
+        e->frozen = QS_FROZEN_AT_REST;
+        return;
+    }
     at_end = begin_slot(e, s);
-    qs_hold_plan(&e->hold, hold_key(s), e->trigger_decel);
+    if (e->hold.planned_n != hold_key(s))
+        qs_hold_plan(&e->hold, hold_key(s), e->trigger_decel);
     moving = qs_hold_begin(&e->hold, s, at_end);
     e->holds_begun++;
     e->state = QS_STATE_HOLDING;
     e->slow_path = 1;
-    e->resequence = 1;
     if (!moving) {
         /* Every axis at rest already (a dwell): nothing more moves, and the
          * main loop ends it there as a hold found at rest. */
         e->left = left; /* a segment not begun stays so, and a kept one kept */
         e->kept = at_end;
         e->frozen = QS_FROZEN_AT_REST;
-        return 1;
+        return;
     }
     e->held = s;
     e->held_t0 = (uint16_t)(s->n - e->left);
@@ -562,7 +582,72 @@ uint8_t qs_engine_trigger_in_tick(qs_engine *e)
         e->left = 1; /* nonzero while a slot is held: the hold releases it */
     e->held_by_tick = 1;
     e->hold.moving = moving;
+}
+
+/* Cut the running segment's count where the window's next work is due,
+ * the window's count of decisions on, or let it run to its end if that comes first
+ * (or one decision after: a cut never leaves a single tick, whose count
+ * would not move across the cut's tick). */
+static void cut_for_trigger(qs_engine *e)
+{
+    const uint8_t k = e->trigger_window & QS_TRIGGER_WAIT;
+    const uint8_t work = e->trigger_window & (uint8_t)~QS_TRIGGER_WAIT;
+
+    if (e->left > (uint16_t)k + 1u) {
+        e->trigger_rest = (uint16_t)(e->left - k);
+        e->left = k;
+        e->trigger_window = work;
+    } else {
+        e->trigger_rest = 0;
+        e->trigger_window = (uint8_t)(work | (e->left >= k ? 0 : (uint8_t)(k - e->left)));
+    }
+}
+
+uint8_t qs_engine_trigger_in_tick(qs_engine *e)
+{
+    e->trigger = 0;
+    if (e->state != QS_STATE_RUNNING)
+        return 0;
+    e->resequence = 1; /* the stream ends here: frames in flight never run */
+    if (e->left == 0 && e->kept) {
+        begin_trigger_hold(e); /* at a kept slot's end: nothing to spread it over */
+        return 1;
+    }
+    e->hold.planned_n = 0;
+    e->trigger_window = QS_TRIGGER_PLAN | QS_TRIGGER_PLAN_AT;
+    if (e->left)
+        cut_for_trigger(e); /* else the next segment, begun by this tick, is cut as it begins */
     return 1;
+}
+
+void qs_engine_trigger_split_in_tick(qs_engine *e)
+{
+    if (!e->left) {
+        /* The count ran out: where the window cut it, or at the segment's
+         * end. The next segment is the next tick's to begin (the last
+         * step goes out with its own direction), and it is cut then. */
+        const uint16_t rest = e->trigger_rest;
+        e->trigger_rest = 0;
+        e->left = rest;
+        if (!rest) {
+            qs_engine_end_segment(e, e->seg);
+            if (e->state != QS_STATE_RUNNING)
+                begin_trigger_hold(e); /* the motion came to rest: a hold found at rest */
+            return; /* a kept slot's end: the next tick begins the hold there (an underrun's path) */
+        }
+    }
+    /* A segment runs on past a cut, or has just begun: the work due now,
+     * then the next cut. */
+    if (!(e->trigger_window & QS_TRIGGER_WAIT)) {
+        if (e->trigger_window == QS_TRIGGER_BEGIN) {
+            begin_trigger_hold(e);
+            return;
+        }
+        /* The plan, for the slot that runs now: usually the one held. */
+        qs_hold_plan(&e->hold, hold_key(e->seg), e->trigger_decel);
+        e->trigger_window = QS_TRIGGER_BEGIN | (QS_TRIGGER_TICKS - QS_TRIGGER_PLAN_AT);
+    }
+    cut_for_trigger(e);
 }
 
 /* ---- inputs, main loop ---- */
@@ -621,6 +706,10 @@ void qs_engine_underrun_in_tick(qs_engine *e)
     qs_segment *s = e->seg; /* the kept slot, after all its ticks */
     uint8_t moving;
 
+    if (e->trigger_window) {
+        begin_trigger_hold(e); /* a trigger's window reached the end: its hold, from there */
+        return;
+    }
     qs_hold_plan(&e->hold, hold_key(s), e->stop_decel);
     moving = qs_hold_begin(&e->hold, s, 1);
     e->holds_begun++;

@@ -58,7 +58,17 @@ typedef struct {
     uint8_t held_by_tick;    /* the hold was begun by the tick: drop the queue when it ends */
     volatile uint8_t resequence; /* the tick ended the stream at a trigger: the core moves next_seq on */
     uint16_t trigger_decel[QS_AXIS_COUNT];
-    uint16_t trigger_since;  /* segments_done when armed (low bits): the armed motion has run once it moves on */
+    /* A trigger's window (qs_engine_trigger_in_tick): the motion runs on
+     * for QS_TRIGGER_TICKS decisions while its hold is planned, then the
+     * hold begins. The window cuts the running segment's count where the
+     * rare work is due (left runs out there, trigger_rest ticks of the
+     * segment are still to come), so the ticks in between pay nothing. */
+    uint8_t trigger_window;  /* 0: no window; else the work due (QS_TRIGGER_PLAN or _BEGIN) and, in
+                              * QS_TRIGGER_WAIT bits, the decisions from the current cut's end to it */
+    union {
+        uint16_t trigger_since; /* armed: segments_done then (low bits): the armed motion has run once it moves on */
+        uint16_t trigger_rest;  /* in a trigger's window (disarmed): ticks of the running segment after the cut */
+    };
     /* The decelerations of the holds the firmware begins itself (the feed
      * hold button, an underrun, a silent host): CONFIG's hold_decel. */
     uint16_t stop_decel[QS_AXIS_COUNT];
@@ -156,11 +166,29 @@ qs_latch *qs_engine_latch_in_tick(qs_engine *e);
  * completes the halt (qs_engine_finish_freeze). */
 void qs_engine_freeze_in_tick(qs_engine *e, uint8_t alarm);
 
-/* The armed trigger fired: disarm, and if a segment runs or is queued
- * begin a hold at this tick boundary with the armed decelerations (as
- * HOLD would) and return 1; the queued segments are dropped when it ends.
- * Else (nothing to hold) 0. */
+/* The armed trigger fired (its latch is taken): disarm, and if a segment
+ * runs or is queued open the trigger's window and return 1: the motion
+ * goes on for QS_TRIGGER_TICKS decisions, this tick's included, then a
+ * hold begins with the armed decelerations, exactly the hold a HOLD at
+ * that tick boundary would begin; the queued segments are dropped when it
+ * ends. The window spreads the hold's work so that no tick runs long: its
+ * plan after QS_TRIGGER_PLAN_AT decisions, its beginning at the end. Else
+ * (nothing to hold) 0. */
 uint8_t qs_engine_trigger_in_tick(qs_engine *e);
+
+/* The window's rare work, from the tick where its cut (or the segment's
+ * end) makes left run out (qs_engine_finish), and where a segment begins in
+ * it (qs_engine_begin). */
+void qs_engine_trigger_split_in_tick(qs_engine *e);
+
+#ifndef QS_TRIGGER_TICKS
+#define QS_TRIGGER_TICKS 12
+#endif
+#define QS_TRIGGER_PLAN_AT (QS_TRIGGER_TICKS / 2)
+#define QS_TRIGGER_PLAN 0x40  /* trigger_window: the hold's plan is due */
+#define QS_TRIGGER_BEGIN 0x80 /* the hold's beginning is due */
+#define QS_TRIGGER_WAIT 0x3F
+_Static_assert(QS_TRIGGER_TICKS <= QS_TRIGGER_WAIT, "a window's length fits its count");
 
 /* The queue ran dry after a segment that ends moving (in the tick, out of
  * line: QS_ENGINE_UNDERRUN): every moving axis decelerates from where it

@@ -95,6 +95,13 @@ static QS_ALWAYS_INLINE uint8_t qs_cubic_axis_tick(qs_segment *s, uint8_t axis, 
 #endif
 #endif
 
+/* The trigger's rare work where its window cuts a segment or one begins
+ * (qs_engine_trigger_split_in_tick), called out of line (a target calls it
+ * its own way: firmware/avr/rare_call.h). */
+#ifndef QS_ENGINE_TRIGGER_SPLIT
+#define QS_ENGINE_TRIGGER_SPLIT(e) qs_engine_trigger_split_in_tick(e)
+#endif
+
 /* Between segments: take the next one (returns 1), or settle (0). A
  * segment that ended moving with nothing behind it keeps its slot
  * (e->kept) until this tick: if the queue is still dry, a hold begins where
@@ -126,6 +133,8 @@ static QS_ALWAYS_INLINE uint8_t qs_engine_begin(qs_engine *e)
     e->slow_path = s->cubic ? QS_PATH_CUBIC : 0;
     /* Inactive axes keep their direction pins as they were. */
     e->dir_bits = (uint8_t)((e->dir_bits & (uint8_t)~s->active) | s->negative);
+    if (QS_UNLIKELY(e->trigger_window))
+        QS_ENGINE_TRIGGER_SPLIT(e); /* a trigger's window cuts it (or its hold begins here) */
     return 1;
 }
 
@@ -135,7 +144,7 @@ static QS_ALWAYS_INLINE uint8_t qs_engine_begin(qs_engine *e)
  * At rest with nothing queued: idle at once, so SET_POSITION is allowed as
  * soon as the host learns the segment is done. An underrun waits for the
  * next tick, giving the host that much more time. */
-static QS_ALWAYS_INLINE void qs_engine_finish(qs_engine *e, qs_segment *s)
+static QS_ALWAYS_INLINE void qs_engine_end_segment(qs_engine *e, qs_segment *s)
 {
     e->slow_path = 1;
     if (s->ends_moving & QS_ENDS_MOVING) {
@@ -149,6 +158,18 @@ static QS_ALWAYS_INLINE void qs_engine_finish(qs_engine *e, qs_segment *s)
     qs_queue_release(&e->queue);
     if (qs_queue_empty(&e->queue))
         e->state = QS_STATE_IDLE;
+}
+
+/* The count has run out: the segment's end, or in a trigger's window
+ * (qs_engine.h) maybe only where the window cut it: the rare path sorts
+ * that out. */
+static QS_ALWAYS_INLINE void qs_engine_finish(qs_engine *e, qs_segment *s)
+{
+    if (QS_UNLIKELY(e->trigger_window)) {
+        QS_ENGINE_TRIGGER_SPLIT(e);
+        return;
+    }
+    qs_engine_end_segment(e, s);
 }
 
 /* A tick of a cubic segment: every axis, then the count. */

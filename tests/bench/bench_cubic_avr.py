@@ -18,6 +18,7 @@ from pathlib import Path
 REPO = Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(REPO / "tests" / "simavr"))
 
+import avr_scenarios  # noqa: E402
 import avr_sim  # noqa: E402
 from quadstep.protocol import encode  # noqa: E402
 from quadstep.protocol.cubic import CubicAxis, CubicSegment  # noqa: E402
@@ -28,16 +29,7 @@ WORK = avr_sim.BUILD / "bench-cubic"
 
 
 def jerk_stream(n: int, count: int, axes: int = 3) -> list[CubicSegment]:
-    """Every axis near 0.9 step per tick, its jerk +r, -r, -r, +r in turn (the acceleration rises and
-    falls back, the speed swings a little): every axis steps nearly every tick, in jerk phases."""
-    r = max(1, int(0.02 * SIGMA / (n * n)))
-    start = CubicSegment(n=n, axes=tuple(CubicAxis(axis=a, speed=int(0.9 * SIGMA), jerk=r) for a in range(axes)))
-    pattern = (-r, -r, r, r)
-    segs = [start]
-    for k in range(count - 2):
-        segs.append(CubicSegment(n=n, axes=tuple(CubicAxis(axis=a, jerk=pattern[k % 4]) for a in range(axes))))
-    segs.append(CubicSegment(n=1, axes=tuple(CubicAxis(axis=a, speed=0) for a in range(axes))))
-    return segs
+    return avr_scenarios.jerk_phases(n, count, axes)
 
 
 def steady_stream(n: int, count: int, accel: int) -> list[CubicSegment]:

@@ -116,6 +116,21 @@ def s_curve(axis_count: int, n1: int, n2: int, cruise: int, jerks: dict[int, int
     return accel + [CubicSegment(n=cruise)] + decel
 
 
+def jerk_phases(n: int, count: int, axes: int = 3) -> list[CubicSegment]:
+    """Every axis near 0.9 step per tick, its jerk +r, -r, -r, +r in turn (the acceleration rises and
+    falls back, the speed swings a little): every axis steps nearly every tick, in jerk phases, the
+    costliest cubic tick."""
+    sigma = 1 << 31
+    r = max(1, int(0.02 * sigma / (n * n)))
+    start = CubicSegment(n=n, axes=tuple(CubicAxis(axis=a, speed=int(0.9 * sigma), jerk=r) for a in range(axes)))
+    pattern = (-r, -r, r, r)
+    segs = [start]
+    for k in range(count - 2):
+        segs.append(CubicSegment(n=n, axes=tuple(CubicAxis(axis=a, jerk=pattern[k % 4]) for a in range(axes))))
+    segs.append(CubicSegment(n=1, axes=tuple(CubicAxis(axis=a, speed=0) for a in range(axes))))
+    return segs
+
+
 def cubic_runs(axis_count: int, seed: int, runs: int = 2, shortest: int = 150) -> list[list[Segment | CubicSegment]]:
     """Runs of cubic segments the way a jerk-limited plan has them: S-curves on every axis with
     random jerks, turned round at rest by state sets, with corners (a set mid-motion) and a long cruise,

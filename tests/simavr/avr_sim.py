@@ -117,11 +117,12 @@ def _run(args: list[str], outputs: Outputs, timeout: float) -> dict:
 
 
 def run_feed(frames: bytes, outputs: Outputs, board: str = "uno", elf: Path | None = None,
-             max_cycles: int = 4 * F_CPU, reply_file: Path | None = None, timeout: float = 120.0) -> dict:
+             max_cycles: int = 4 * F_CPU, reply_file: Path | None = None, timeout: float = 120.0,
+             extra_args: Sequence[str] = ()) -> dict:
     """Send ready-made sequenced frames as fast as flow control allows, free-running; returns the stats."""
     feed = outputs.stats.with_suffix(".feed")
     feed.write_bytes(frames)
-    args = [*harness(board, elf), "--feed", str(feed), "--max-cycles", str(max_cycles)]
+    args = [*harness(board, elf), "--feed", str(feed), "--max-cycles", str(max_cycles), *extra_args]
     if reply_file is not None:
         args += ["--output", str(reply_file)]
     return _run(args, outputs, timeout)
