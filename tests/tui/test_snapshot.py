@@ -68,6 +68,11 @@ async def test_nothing_wraps_or_is_cut_at_80_by_24(machine: MachineConfig, emula
             region = widget.region
             if widget.display and region.area:
                 assert region.right <= SIZE[0] and region.bottom <= SIZE[1], f"{widget} leaves the screen"
+        screen.log_line("a message longer than the log is wide, as a soft limit's or a refused job's can be, "
+                        "wraps onto the next lines")
+        await pilot.pause(0.1)
+        log = screen.query_one("#log")
+        assert max(strip.cell_length for strip in log.lines) <= log.scrollable_content_region.width
         keys = screen.query_one("#keys")
         for line in (KEY_LINE, JOB_KEY_LINE):
             plain = Text.from_markup(line).plain
