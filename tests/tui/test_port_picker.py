@@ -24,11 +24,11 @@ def port(device: str, vid: int | None = None, pid: int | None = None) -> ListPor
 
 def test_boards_come_first_named_by_their_usb_identity() -> None:
     choices = port_choices([port("/dev/ttyS0"), port("/dev/ttyUSB0", 0x1A86, 0x7523)])
-    assert [(c.device, c.board) for c in choices] == [("/dev/ttyUSB0", "CH340 (Uno/Nano clone)"), ("/dev/ttyS0", None)]
+    assert [(c.device, c.board) for c in choices] == [("/dev/ttyUSB0", "CH340 (Uno/Nano/Mega clone)"), ("/dev/ttyS0", None)]
     one = the_one_board(choices)
     assert one is not None and one.device == "/dev/ttyUSB0"
     two = port_choices([port("/dev/ttyUSB0", 0x1A86, 0x7523), port("/dev/ttyACM0", 0x2341, 0x0043)])
-    assert [c.board for c in two] == ["Arduino Uno", "CH340 (Uno/Nano clone)"]
+    assert [c.board for c in two] == ["Arduino Uno", "CH340 (Uno/Nano/Mega clone)"]
     assert the_one_board(two) is None  # two boards: the user picks
     assert the_one_board(port_choices([port("/dev/ttyS0")])) is None
 

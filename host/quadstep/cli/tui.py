@@ -43,6 +43,8 @@ def run(args: argparse.Namespace) -> int:
     from ..tui.port_picker import port_choices, the_one_board
 
     where = None  # the port picker asks
+    if args.port == "auto":
+        args.port = None  # the one board, or the picker
     if args.port is None and not args.emulator and args.sim is None and not (args.free or args.trace):
         one = the_one_board(port_choices())
         if one is not None:

@@ -118,6 +118,10 @@ class Jogger(JogPresets):
         """Wait until no jog runs; False on timeout."""
         return self._idle.wait(timeout)
 
+    def anchor(self) -> None:
+        """Re-anchor on where the machine layer says the machine stands (a job stopped at its pause)."""
+        self._anchor(self.machine.position)
+
     def sync(self) -> None:
         """Read the board's position (machine at rest) and re-anchor on it."""
         self._anchor(self.machine.sync())

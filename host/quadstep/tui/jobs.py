@@ -48,6 +48,7 @@ class JobKeys(Screen[None]):
     job_path: str
     job_source: list[str]
     console: Console | None
+    _pause_shown: int | None = None  # the line of the pause last announced
 
     if TYPE_CHECKING:  # MachineScreen's own
         def log_line(self, text: str, error: bool = False) -> None: ...
@@ -137,10 +138,19 @@ class JobKeys(Screen[None]):
         self.show_job(job.progress)
 
     def show_job(self, progress: JobProgress) -> None:
-        """The job line: name, the line being run and its text, time left, progress."""
+        """The job line: name, the line being run and its text, time left, progress; at a pause what it waits
+        for (an M0, a tool change), said once in the log with what the operator may do."""
         line = progress.line
         text = self.job_source[line - 1] if 0 < line <= len(self.job_source) else ""
-        self.query_one(JobPanel).show(self.job_name, progress, source=text)
+        pause = self.job.pause if self.job is not None else None
+        reason = pause.reason if pause is not None else ""
+        self.query_one(JobPanel).show(self.job_name, progress, source=text, pause=reason)
+        if pause is not None and self._pause_shown != pause.line:
+            self._pause_shown = pause.line
+            self.log_line(f"line {pause.line}: {reason}. Jog, zero (x y z 0), probe (p); g goes on")
+            jogger = self.session.jogger
+            if jogger is not None:
+                jogger.anchor()  # jogs plan from where the job stopped
 
     def on_job_done(self, message: JobDone) -> None:
         job = self.job
@@ -184,5 +194,11 @@ class JobKeys(Screen[None]):
         machine.on_report(note)
 
     def action_resume(self) -> None:
-        if self.job is None or not self.job.resume():
+        job = self.job
+        if job is None or job.paused_at is None:
             self.log_line("go on: no job waits at a pause", error=True)
+        elif not job.resume():
+            self.log_line("go on: wait until the machine is at rest", error=True)
+        else:
+            self._pause_shown = None
+            self.log_line("going on")

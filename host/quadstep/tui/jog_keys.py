@@ -21,6 +21,9 @@ if TYPE_CHECKING:
     from .session import Session
 
 
+AT_A_PAUSE = ("jog", "zero", "G38.2", "G38.4")  # what may run while a job waits at its pause (M0, M6)
+
+
 class JogKeys(Screen[None]):
     """The part of MachineScreen that jogs, zeroes and stops."""
 
@@ -48,7 +51,7 @@ class JogKeys(Screen[None]):
         if not self.session.connected or jogger is None:
             self.log_line(f"{what}: not connected (Ctrl+R reconnects)", error=True)
             return None
-        if self.job is not None:
+        if self.job is not None and not (what in AT_A_PAUSE and self.job.gives_way):
             self.log_line(f"{what}: a job is running (Space holds it, Esc stops it)", error=True)
             return None
         return jogger

@@ -104,7 +104,8 @@ class JobPanel(Horizontal):
         bar.display = False
         yield bar
 
-    def show(self, name: str | None, progress: JobProgress | None, outcome: str = "", source: str = "") -> None:
+    def show(self, name: str | None, progress: JobProgress | None, outcome: str = "", source: str = "",
+             pause: str = "") -> None:
         label = self.query_one("#job-label", Static)
         bar = self.query_one("#job-progress", ProgressBar)
         bar.display = name is not None
@@ -120,7 +121,8 @@ class JobPanel(Horizontal):
             text.append(f" {source.strip()}", style="cyan")
         text.append(f"  {progress.seconds_left:.1f} s left", style="dim")
         if progress.paused_at is not None:
-            text.append(f"  PAUSED at {progress.paused_at}: g goes on", style="yellow")
+            text.append(f"  PAUSED at {progress.paused_at}{': ' + pause if pause else ''}: g goes on",
+                        style="yellow")
         label.update(text)
         bar.update(total=max(progress.total, 1), progress=progress.done)
 

@@ -15,14 +15,8 @@ from textual.screen import ModalScreen
 from textual.widgets import OptionList, Static
 from textual.widgets.option_list import Option
 
-# USB identities of the boards and adapters an Arduino-class controller shows up as.
-BOARDS = {
-    (0x2341, 0x0043): "Arduino Uno", (0x2341, 0x0001): "Arduino Uno", (0x2A03, 0x0043): "Arduino Uno",
-    (0x2341, 0x0042): "Arduino Mega 2560", (0x2341, 0x0010): "Arduino Mega 2560",
-    (0x2A03, 0x0042): "Arduino Mega 2560",
-    (0x1A86, 0x7523): "CH340 (Uno/Nano clone)", (0x1A86, 0x55D4): "CH9102 (clone)",
-    (0x0403, 0x6001): "FTDI FT232", (0x10C4, 0xEA60): "CP210x",
-}
+from ..link.ports import BOARDS
+
 EMULATOR = "emulator"
 
 
@@ -38,8 +32,6 @@ def port_choices(ports: Sequence[ListPortInfo] | None = None) -> list[PortChoice
     found = []
     for port in list_ports.comports() if ports is None else ports:
         board = BOARDS.get((port.vid, port.pid)) if port.vid is not None else None
-        if board is None and port.vid == 0x2341:
-            board = "Arduino"
         found.append(PortChoice(port.device, board, port.description or "n/a"))
     return sorted(found, key=lambda c: (c.board is None, c.device))
 
