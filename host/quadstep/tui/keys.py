@@ -102,7 +102,8 @@ HELP = """\
                  first), ↑ ↓ earlier lines, Esc back to the jog keys
   v              path view: fit the job ↔ the whole travel (cuts solid,
                  rapids dotted, + the work zero, ● the tool)
-  g              go on after a pause (M0)
+  g              go on after a pause (M0, or a tool change: jog, zero,
+                 probe there first)
   Space          feed hold (keeps the rest of the job), again: resume
   Esc            stop the job (HOLD)
 
