@@ -21,7 +21,7 @@ if sys.version_info >= (3, 11):
 else:  # the same parser, as a package, before Python 3.11
     import tomli as tomllib
 
-from .protocol.constants import AXIS_NAMES, MAX_AXES, POSITION_MAX
+from .protocol.constants import AXIS_NAMES, CUBIC_ACCEL_LIMIT, CUBIC_SHIFT, MAX_AXES, POSITION_MAX
 from .textfile import parse_nested, read_text
 
 AxisName = Literal["X", "Y", "Z", "A"]  # AXIS_NAMES, as pydantic needs them
@@ -30,6 +30,9 @@ Model = TypeVar("Model", bound=BaseModel)
 # The planner lands every move exactly only while no axis moves more than
 # 3/4 step per tick (docs/PLANNER.md, "Landing"); the firmware's own limit is 1.
 MAX_STEPS_PER_TICK = 0.75
+SIGMA = 1 << CUBIC_SHIFT  # one step in a cubic segment's units
+CUBIC_JERK_LIMIT = (1 << 15) - 1  # a cubic segment's jerk field is an i16 (PROTOCOL.md §5.2)
+MIN_JERK_QUANTA = 64  # the smallest max_jerk, in units of the cubic segment's jerk (2^-31 step per tick³)
 
 
 class ConfigError(ValueError):
@@ -117,6 +120,8 @@ class AxisConfig(BaseModel):
     steps_per_mm: float = Field(gt=0, le=100_000)
     max_speed: float = Field(gt=0, description="mm/s")
     max_accel: float = Field(gt=0, le=1_000_000, description="mm/s²")
+    max_jerk: float | None = Field(default=None, gt=0, le=1e12, description="mm/s³: jerk-limited (S-curve) motion "
+                                   "(docs/PLANNER.md); absent on every axis: constant acceleration")
     travel_min: float = Field(ge=-100_000, le=100_000, description="mm")
     travel_max: float = Field(ge=-100_000, le=100_000, description="mm")
     invert: bool = False
@@ -184,6 +189,8 @@ class MachineConfig(BaseModel):
                     f"axes[{i}].max_speed = {axis.max_speed}: must be at most {limit:g} mm/s "
                     f"(3/4 step per tick at tick_hz {self.tick_hz} with {axis.steps_per_mm:g} steps/mm)"
                 )
+            if axis.max_jerk is not None:
+                self._check_cubic_range(i, axis)
         for name in self.homing_order or ():
             if name not in names:
                 problems.append(f"homing_order: {name} is not an axis ({names})")
@@ -194,6 +201,29 @@ class MachineConfig(BaseModel):
         if problems:
             raise ValueError("\n".join(problems))  # every problem at once, a line each
         return self
+
+    def _check_cubic_range(self, i: int, axis: AxisConfig) -> None:
+        """A jerk-limited plan runs as cubic segments: its jerk and acceleration must fit their fields."""
+        hz = float(self.tick_hz)
+        jerk_limit = CUBIC_JERK_LIMIT / SIGMA * hz ** 3 / axis.steps_per_mm
+        if axis.max_jerk is not None and axis.max_jerk > jerk_limit:
+            raise ValueError(f"axes[{i}].max_jerk = {axis.max_jerk:g}: must be at most {jerk_limit:g} mm/s³ "
+                             f"(a cubic segment's 16-bit jerk at tick_hz {self.tick_hz} with "
+                             f"{axis.steps_per_mm:g} steps/mm)")
+        jerk_floor = MIN_JERK_QUANTA / SIGMA * hz ** 3 / axis.steps_per_mm
+        if axis.max_jerk is not None and axis.max_jerk < jerk_floor:
+            raise ValueError(f"axes[{i}].max_jerk = {axis.max_jerk:g}: must be at least {jerk_floor:.4g} mm/s³ "
+                             f"({MIN_JERK_QUANTA} jerk quanta of a cubic segment at tick_hz {self.tick_hz} with "
+                             f"{axis.steps_per_mm:g} steps/mm, so that rounding it errs by under 1 %)")
+        accel_limit = CUBIC_ACCEL_LIMIT / SIGMA * hz * hz / axis.steps_per_mm / 2
+        if axis.max_accel > accel_limit:
+            raise ValueError(f"axes[{i}].max_accel = {axis.max_accel:g}: must be at most {accel_limit:g} mm/s² with "
+                             f"max_jerk (half a cubic segment's 24-bit acceleration at tick_hz {self.tick_hz})")
+
+    @property
+    def jerk_limited(self) -> bool:
+        """Plans are S-curves of cubic segments (some axis has max_jerk)."""
+        return any(a.max_jerk is not None for a in self.axes)
 
     @property
     def homing_axes(self) -> tuple[int, ...]:

@@ -18,6 +18,8 @@ from .gcode import parse_gcode
 from .movefile import move_program, read_move_file
 from .planner.plan import Plan, plan_program
 from .planner.program import JobError, Program
+from .planner.stream import Stream
+from .protocol.codec import payload
 from .textfile import read_text
 
 MOVE_FILE_SUFFIXES = (".json", ".yaml", ".yml")
@@ -93,6 +95,8 @@ class Job:
 
     def wire_bytes(self) -> int:
         """Bytes the job's segments take on the serial line, framing included."""
+        if isinstance(self.plan.segments, Stream):
+            return sum(segment_frame_bytes(0) - 3 + len(payload(s)) for s in self.plan.segments.segments())
         axes = self.plan.segments.numpy()["axes"].astype(np.int64)
         active = sum(int(np.sum((axes >> i) & 1)) for i in range(self.plan.segments.axis_count))
         return segment_frame_bytes(0) * len(self.plan) + 6 * active

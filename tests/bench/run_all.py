@@ -25,6 +25,8 @@ COMMANDS: dict[str, list[str]] = {
     "cubic": [sys.executable, str(BENCH / "bench_cubic_avr.py")],
     "seed002": [sys.executable, str(BENCH / "bench_seed002.py")],
     "backlash": [sys.executable, str(BENCH / "bench_backlash.py")],
+    "scurve": [sys.executable, str(BENCH / "bench_scurve.py")],
+    "wire": [sys.executable, str(BENCH / "bench_wire.py")],
 }
 
 

@@ -63,7 +63,11 @@ def test_defaults_for_cornering_and_arcs() -> None:
         ({"laser": 1}, None, "m.toml: laser: unknown key"),
         ({"spindle": {"s_max": 0}}, None, "m.toml: spindle.s_max = 0: must be greater than 0"),
         ({"spindle": {"s_min": 2000}}, None, "m.toml: spindle.s_min = 2000: must be less than s_max = 1000"),
-        ({"max_jerk": 1}, 0, "m.toml: axes[0].max_jerk: unknown key"),
+        ({"max_jerk": 1}, 0, "m.toml: axes[0].max_jerk = 1: must be at least 4.657e+04 mm/s³ (64 jerk quanta of a "
+                             "cubic segment at tick_hz 50000 with 80 steps/mm, so that rounding it errs by under 1 %)"),
+        ({"max_jerk": 1e9}, 0, "m.toml: axes[0].max_jerk = 1e+09: must be at most 2.38411e+07 mm/s³ (a cubic "
+                               "segment's 16-bit jerk at tick_hz 50000 with 80 steps/mm)"),
+        ({"max_jerk": -1}, 0, "m.toml: axes[0].max_jerk = -1: must be greater than 0"),
     ],
 )
 def test_bad_values_name_key_value_and_range(change: dict[str, Any], axis: int | None, message: str) -> None:

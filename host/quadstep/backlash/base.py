@@ -17,6 +17,7 @@ import numpy as np
 from ..cubic_model import cubic_step_ticks
 from ..engine_model import step_ticks
 from ..planner.segments import SegmentArrays
+from ..planner.stream import Stream
 from ..protocol.cubic import SIGMA, AxisState, CubicChain, CubicSegment, CubicStep, choose2
 from ..protocol.segment import D, AxisMove, Segment
 
@@ -169,7 +170,8 @@ def from_items(items: Sequence[Segment | CubicSegment], axis_count: int) -> Base
             moving[k + 1] |= mv.vn > 0
         chain.follow_quadratic(seg, totals)
     chains.append(chain.copy())
-    return BaseStream(axis_count, n, steps, accel, ~moving, list(items), chains)
+    kept = items if isinstance(items, Stream) else list(items)  # a planned stream keeps its source lines
+    return BaseStream(axis_count, n, steps, accel, ~moving, kept, chains)
 
 
 def rest_state(axis_count: int) -> list[AxisState]:

@@ -250,7 +250,8 @@ def _assemble(base: BaseStream, config: MachineConfig, band: Band, band_end: Ban
             p.start = p.at + int(inserted[k]) + anchor
     units = _units(base, blocks, seg_start)
     windows = _windows(units, placed)
-    out = Stream(base.item) if not base.chains else Stream(list(base.item), axes=base.axis_count)  # type: ignore[arg-type]
+    out = Stream(base.item) if not base.chains or isinstance(base.item, Stream) \
+        else Stream(list(base.item), axes=base.axis_count)  # type: ignore[arg-type]
     result = Compensated(out, band, band_end, added_ticks=int(inserted[-1]) + anchor)
     taken = [0] * base.axis_count  # take-up steps of the windows so far
     if anchor:

@@ -8,8 +8,9 @@ from pathlib import Path
 import numpy as np
 
 from ..backlash.band import Band
-from ..backlash.base import from_arrays
+from ..backlash.base import from_arrays, from_items
 from ..backlash.compensate import TakeUp, compensate
+from ..planner.segments import SegmentArrays
 from ..planner.timeline import Timeline, timeline
 from ..toolpath import Toolpath, toolpath
 from ._jobs import add_job_options, job_from_args, machine_config
@@ -27,7 +28,7 @@ def _stairs(t: Timeline, i: int) -> tuple[np.ndarray, np.ndarray, np.ndarray, np
     """Speed as straight pieces between boundaries, acceleration as steps."""
     time = np.column_stack([t.start, t.end]).ravel()
     speed = np.column_stack([t.speed0[:, i], t.speed1[:, i]]).ravel()
-    accel = np.repeat(t.accel[:, i], 2)
+    accel = np.repeat(t.accel[:, i], 2) if t.accel1 is None else np.column_stack([t.accel[:, i], t.accel1[:, i]]).ravel()
     return time, speed, time, accel
 
 
@@ -91,7 +92,9 @@ def run(args: argparse.Namespace) -> int:
     if len(job.plan) == 0:
         raise CliError(f"{args.job}: the job has no motion to plot")
     try:
-        takeups = compensate(from_arrays(job.plan.segments), config, Band.of(config)).takeups
+        base = from_arrays(job.plan.segments) if isinstance(job.plan.segments, SegmentArrays) \
+            else from_items(job.plan.segments, len(config.axes))
+        takeups = compensate(base, config, Band.of(config)).takeups
         draw(timeline(job.plan), list(config.axis_names), f"{args.job.name}: planned motion", args.output,
              takeups, config.tick_hz, toolpath(job.program, config.to_mm(job.plan.start)))
     except OSError as exc:

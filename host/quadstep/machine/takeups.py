@@ -53,9 +53,11 @@ class TakeUps:
             self._band = band if band is not None else Band.of(self.config)
             self._running = None
 
-    def compensate(self, segments: SegmentArrays, pauses: Sequence[tuple[int, int]] = ()) -> Compensated:
-        """`segments` with their take-ups, from the band as it stands."""
-        return compensate(from_arrays(segments), self.config, self.band, pauses=list(pauses))
+    def compensate(self, segments: SegmentArrays | Stream, pauses: Sequence[tuple[int, int]] = ()) -> Compensated:
+        """`segments` (planned: quadratic arrays, or a jerk-limited plan's cubic stream) with their take-ups, from
+        the band as it stands."""
+        base = from_arrays(segments) if isinstance(segments, SegmentArrays) else from_items(segments, segments.axis_count)
+        return compensate(base, self.config, self.band, pauses=list(pauses))
 
     def compensate_items(self, items: Sequence[Segment | CubicSegment], axis_count: int) -> Compensated:
         return compensate(from_items(items, axis_count), self.config, self.band)

@@ -6,7 +6,8 @@ followed at the junction's acceleration limit. A move under G64 P uses P as its
 deviation, one under G61 stops at its corner. A backward pass then lowers
 every junction so the machine can still stop by the end of the job (or the
 next stop), and a forward pass so each speed can be reached from the one
-before. Speeds in mm/tick.
+before: within √(v² + 2aL) at constant acceleration, within the jerk-limited ramp's reach where the
+move has a jerk limit (planner/jerk.py). Speeds in mm/tick.
 """
 
 from __future__ import annotations
@@ -14,6 +15,7 @@ from __future__ import annotations
 import math
 
 from ..config import MachineConfig
+from .jerk import reachable_speed
 from .moves import MoveTable
 from .program import SetOutputs
 
@@ -22,7 +24,7 @@ from .program import SetOutputs
 # costs no acceleration. (Shallow reversals, as on an arc's chords, take it up on the move.)
 SHARP_REVERSAL = 0.25
 
-# Ramps are planned at this fraction of each move's acceleration limit; the
+# Ramps are planned at this fraction of each move's acceleration (and jerk) limit; the
 # rest is room for rounding every phase to whole ticks (docs/PLANNER.md).
 PLAN_ACCEL_FRACTION = 0.98
 
@@ -62,14 +64,15 @@ def junction_speeds(table: MoveTable, config: MachineConfig) -> list[float]:
         if k not in stopped:
             limit[k] = _junction_speed(table, k, config, amax)
     accel = [a * PLAN_ACCEL_FRACTION for a in table.accel]
+    jerk = [j * PLAN_ACCEL_FRACTION for j in table.jerk] if table.jerk else [math.inf] * count
     # backward: every entry speed must be able to slow to the next one within the move
     for k in range(count - 1, -1, -1):
-        reachable = math.sqrt(limit[k + 1] * limit[k + 1] + 2.0 * accel[k] * table.length[k])
+        reachable = reachable_speed(limit[k + 1], table.length[k], accel[k], jerk[k])
         if reachable < limit[k]:
             limit[k] = reachable
     # forward: and be reachable from the one before
     for k in range(count):
-        reachable = math.sqrt(limit[k] * limit[k] + 2.0 * accel[k] * table.length[k])
+        reachable = reachable_speed(limit[k], table.length[k], accel[k], jerk[k])
         if reachable < limit[k + 1]:
             limit[k + 1] = reachable
     return limit

@@ -37,6 +37,7 @@ class MoveTable:
     # stops: (number of moves before it, item), in order; the machine is at rest there (at an output change
     # only without laser mode, as GRBL waits for the motion before it changes the spindle or the coolant)
     stops: list[tuple[int, Dwell | Pause | SetOutputs | ProbeMove]] = field(default_factory=list)
+    jerk: list[float] = field(default_factory=list)  # mm/tick³ along the path, inf where no axis limits it
     start: tuple[int, ...] = ()
     skipped_lines: int = 0  # moves too short to make a step
 
@@ -71,6 +72,7 @@ def build_moves(
     spm = [a.steps_per_mm for a in config.axes]
     vmax = [a.max_speed / hz for a in config.axes]
     amax = [a.max_accel / (hz * hz) for a in config.axes]
+    jmax = [a.max_jerk / hz**3 if a.max_jerk is not None else math.inf for a in config.axes]
     table = MoveTable(start=start_steps)
     current = start_steps
     for item in program.items:
@@ -86,11 +88,13 @@ def build_moves(
         length = math.sqrt(sum(x * x for x in mm))
         speed = item.feed / hz if item.feed is not None else math.inf
         accel = cap = item.accel / (hz * hz) if item.accel is not None else math.inf
+        jerk = math.inf
         for i, d in enumerate(delta):
             if d:
                 share = (abs(d) + CARRY_STEPS) / spm[i] / length
                 speed = min(speed, vmax[i] / share)
                 accel = min(accel, amax[i] / share)
+                jerk = min(jerk, jmax[i] / share)
         table.line.append(item.line)
         table.target.append(target)
         table.delta.append(delta)
@@ -101,5 +105,6 @@ def build_moves(
         table.accel_cap.append(cap)
         table.feed.append(item.feed / hz if item.feed is not None else math.inf)
         table.deviation.append(item.deviation)
+        table.jerk.append(jerk)
         current = target
     return table

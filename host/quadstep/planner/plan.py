@@ -8,15 +8,18 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..config import MachineConfig
-from ..protocol.segment import D
 from ..protocol import Outputs
+from ..protocol.cubic import SIGMA
+from ..protocol.segment import D
 from .lookahead import PLAN_ACCEL_FRACTION, junction_speeds
 from .moves import MoveTable, build_moves
 from .outputs import is_dynamic, output_message, set_at_rest
 from .profile import fit_profiles
 from .program import Dwell, JobError, OutputState, Pause, ProbeMove, Program, SetOutputs
 from .quantize import Quantizer
+from .scurve import ScurvePlanner
 from .segments import SegmentArrays
+from .stream import Stream
 
 
 @dataclass
@@ -24,7 +27,7 @@ class Plan:
     """A whole job, planned: its segments, where it starts and ends, and where it pauses."""
 
     config: MachineConfig
-    segments: SegmentArrays
+    segments: SegmentArrays | Stream  # quadratic arrays; a stream of cubic segments when jerk-limited
     start: tuple[int, ...]
     end: tuple[int, ...]
     pauses: list[tuple[int, int]] = field(default_factory=list)  # (segment index, line) before which to wait
@@ -36,6 +39,7 @@ class Plan:
     retries: int = 0  # moves whose best profile would have missed a target by rounding
     # (segment index, pauses before it, message): OUTPUTS sent before that segment (at the end: after the last)
     outputs: list[tuple[int, int, Outputs]] = field(default_factory=list)
+    peak_advance: tuple[int, ...] = ()  # jerk-limited plans: highest speed per axis, 2^-31 step per tick
 
     def __len__(self) -> int:
         return len(self.segments)
@@ -50,6 +54,8 @@ class Plan:
 
     def peak_speeds(self) -> list[float]:
         """Highest planned speed per axis, mm/s."""
+        if isinstance(self.segments, Stream):
+            return [i / SIGMA * self.config.tick_hz / axis.steps_per_mm for i, axis in zip(self.peak_advance, self.config.axes)]
         arrays = self.segments.numpy()
         if len(self) == 0:
             return [0.0] * len(self.config.axes)
@@ -70,8 +76,9 @@ def plan_program(
 
 def plan_moves(table: MoveTable, config: MachineConfig, lines: int = 0, label: str = "line") -> Plan:
     entry = junction_speeds(table, config)
-    out = SegmentArrays(len(config.axes))
-    quantizer = Quantizer(out, table.start)
+    scurve = ScurvePlanner(config, table.start, label) if config.jerk_limited else None
+    out: SegmentArrays | Stream = scurve.out if scurve is not None else SegmentArrays(len(config.axes))
+    quantizer = Quantizer(out, table.start) if scurve is None else None
     pauses: list[tuple[int, int]] = []
     move_ends = array("i")
     retries = 0
@@ -89,8 +96,10 @@ def plan_moves(table: MoveTable, config: MachineConfig, lines: int = 0, label: s
         while next_stop is not None and next_stop[0] <= before:
             item = next_stop[1]
             if isinstance(item, Dwell):
-                quantizer.dwell(round(item.seconds * config.tick_hz), item.line)
+                (scurve or quantizer).dwell(round(item.seconds * config.tick_hz), item.line)  # type: ignore[union-attr]
             elif isinstance(item, (Pause, ProbeMove)):  # a probe: the job probes there, then plans again
+                if scurve is not None:
+                    scurve.stop(item.line)
                 pauses.append((len(out), item.line))
             elif isinstance(item, SetOutputs):
                 state = item.state
@@ -102,6 +111,11 @@ def plan_moves(table: MoveTable, config: MachineConfig, lines: int = 0, label: s
         flush_stops(k)
         if state is not None and is_dynamic(state, config):
             send(output_message(state, config, table.unit[k], table.feed[k]))
+        if scurve is not None:
+            scurve.move(table, k, entry)
+            move_ends.append(len(out))
+            continue
+        assert quantizer is not None
         accel = table.accel[k]
         profiles = fit_profiles(
             table.length[k], entry[k], entry[k + 1], table.max_speed[k], accel, accel * PLAN_ACCEL_FRACTION
@@ -116,6 +130,13 @@ def plan_moves(table: MoveTable, config: MachineConfig, lines: int = 0, label: s
             raise JobError(f"{label} {table.line[k]}: no whole-tick profile lands this move exactly; lower max_speed")
         move_ends.append(len(out))
     flush_stops(len(table))
+    if scurve is not None:
+        scurve.stop(table.line[-1] if len(table) else 0)
+        return Plan(config=config, segments=out, start=table.start, end=tuple(scurve.position), pauses=pauses,
+                    moves=len(table), distance_mm=float(sum(table.length)), lines=lines,
+                    max_landing_error=scurve.max_landing >> 18, move_ends=move_ends, retries=scurve.corrections,
+                    outputs=outputs, peak_advance=tuple(scurve.peak))
+    assert quantizer is not None
     return Plan(
         config=config,
         segments=out,

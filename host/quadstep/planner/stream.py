@@ -22,7 +22,7 @@ from .segments import SegmentArrays
 class Stream:
     """Items in order: segment `ref[i]` of `base` (ref ≥ 0), or `extra[−ref[i] − 1]`."""
 
-    base: SegmentArrays | list[Segment | CubicSegment]
+    base: SegmentArrays | list[Segment | CubicSegment] | Stream
     axes: int = 0  # the axis count, for a base that is a list
     ref: array = field(default_factory=lambda: array("i"))
     extra: list[Segment | CubicSegment] = field(default_factory=list)
@@ -32,7 +32,7 @@ class Stream:
 
     @property
     def axis_count(self) -> int:
-        return self.base.axis_count if isinstance(self.base, SegmentArrays) else self.axes
+        return self.axes if isinstance(self.base, list) else self.base.axis_count
 
     def __len__(self) -> int:
         return len(self.ref)
@@ -40,7 +40,7 @@ class Stream:
     def add_base(self, index: int) -> None:
         self.ref.append(index)
         self.origin.append(index)
-        if isinstance(self.base, SegmentArrays):
+        if isinstance(self.base, (SegmentArrays, Stream)):
             self.n.append(self.base.n[index])
             self.line.append(self.base.line[index])
         else:
@@ -56,14 +56,21 @@ class Stream:
 
     def origin_of(self, i: int) -> int:
         """The base segment that item i runs, or part of it (at the end: the number of base segments)."""
-        return self.origin[i] if i < len(self) else (len(self.base) if isinstance(self.base, SegmentArrays)
-                                                     else len(self.base))
+        return self.origin[i] if i < len(self) else len(self.base)
 
     def segment(self, i: int) -> Segment | CubicSegment:
         ref = self.ref[i]
         if ref < 0:
             return self.extra[-ref - 1]
-        return self.base.segment(ref) if isinstance(self.base, SegmentArrays) else self.base[ref]
+        return self.base[ref] if isinstance(self.base, list) else self.base.segment(ref)
+
+    def __getitem__(self, i: int) -> Segment | CubicSegment:
+        if not 0 <= i < len(self):
+            raise IndexError(i)
+        return self.segment(i)
+
+    def __iter__(self) -> Iterator[Segment | CubicSegment]:
+        return self.segments()
 
     def segments(self, start: int = 0, stop: int | None = None) -> Iterator[Segment | CubicSegment]:
         for i in range(start, len(self) if stop is None else stop):
