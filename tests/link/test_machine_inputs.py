@@ -177,9 +177,10 @@ ticks = 320000
 """)
     with Link.open(emu.url) as link:
         with pytest.raises(Stopped):  # the feed hold drops what is queued and in flight
+            stream = link.generation  # whenever the hold comes, no segment after it joins the next stream
             for segment in along(0, (0, 0, 0), 10, 20):
-                link.send(segment, timeout=10)
-            link.wait_idle(timeout=30)
+                link.send(segment, timeout=10, generation=stream)
+            link.wait_idle(timeout=30, generation=stream)
         held = wait_rest(link, timeout=30)
         done = link.last_report(HoldDone)
         changes = link.input_changes

@@ -66,8 +66,7 @@ class Link:
         self._request_lock = threading.Lock()  # one immediate request at a time
         self._window = SendWindow(clock, rto, retries, self.stats)
         self._callbacks: list[ReportCallback] = []
-        # Shared with the threads; guarded by _cond.
-        self._in = Inbox(self._window, self.stats)
+        self._in = Inbox(self._window, self.stats)  # these two shared with the threads, guarded by _cond
         self._out = Outbox(self._window, self._in, self.stats, poll_interval)
         self._transport = Transport(port, self._cond, self._on_data, self._next_output, self._port_failed)
         self._transport.start()
@@ -96,7 +95,7 @@ class Link:
         with self._cond:
             self._out.urgent.append(b"\x00")  # ends any partial frame left on the line
             self._cond.notify_all()
-        ident = self.request(Identify(), IdentifyReply)
+        ident = self.identify()
         if ident.protocol_version != PROTOCOL_VERSION:
             raise ProtocolVersionError(
                 f"firmware speaks protocol version {ident.protocol_version}; "
@@ -277,11 +276,11 @@ class Link:
             self._cond.notify_all()
             return seq
 
-    def drain(self, timeout: float | None = None) -> None:
-        """Wait until the firmware has acknowledged every frame sent."""
+    def drain(self, timeout: float | None = None, generation: int | None = None) -> None:
+        """Wait until the firmware has acknowledged every frame sent (`generation`: as for send)."""
         deadline = None if timeout is None else self._clock() + timeout
         with self._cond:
-            generation = self._in.generation
+            generation = self._in.generation if generation is None else generation
             while True:
                 self._raise_failure(generation)
                 if not self._window.in_flight and self._in.refused is None:  # a refusal waits for its status
@@ -289,12 +288,12 @@ class Link:
                 if not self._wait(deadline):
                     raise LinkTimeout(f"{self._window.in_flight} frames still unacknowledged after {timeout:g} s")
 
-    def wait_idle(self, timeout: float | None = None) -> StatusReport:
-        """Wait until every frame is acknowledged and the firmware is IDLE; returns its final status."""
+    def wait_idle(self, timeout: float | None = None, generation: int | None = None) -> StatusReport:
+        """Until every frame is acknowledged and the firmware is IDLE (`generation`: as for send); its status."""
         deadline = None if timeout is None else self._clock() + timeout
         with self._cond:
-            generation = self._in.generation
-        self.drain(timeout)
+            generation = self._in.generation if generation is None else generation
+        self.drain(timeout, generation)
         while True:
             with self._cond:
                 remaining = self.poll_interval if deadline is None else max(0.0, deadline - self._clock())

@@ -109,9 +109,10 @@ def _home_axis(machine: Machine, procedure: Procedure, i: int, say: Progress) ->
         return latched
 
     def move(mm: float, feed: float) -> None:
+        stream = link.generation  # a hold from elsewhere (the feed hold button) ends the move
         for segment in machine.takeup_stream(straight(free, at(), i, mm, feed, n)):
-            link.send(segment, TIMEOUT)
-        link.wait_idle(TIMEOUT)
+            link.send(segment, TIMEOUT, stream)
+        link.wait_idle(TIMEOUT, stream)
         machine.rested()
 
     if input_status(link).is_active(which):

@@ -172,7 +172,7 @@ class Motion:
         unregister = self.link.on_report(self._on_report)
         try:
             self._stream()
-            status = self.link.wait_idle()
+            status = self.link.wait_idle(generation=self._generation)
             self._finish(MotionEnd("done", self._axes(status.position), self.done))
         except Stopped:
             self._after_stop()  # halt(), or a STOP from elsewhere
@@ -200,13 +200,13 @@ class Motion:
                 if self._halting:
                     return
                 while output is not None and output[0] <= index:  # in stream order, before the segment
-                    self.link.send(output[1])
+                    self.link.send(output[1], generation=self._generation)
                     output = next(outputs, None)
-                self.link.send(segment)
+                self.link.send(segment, generation=self._generation)  # a restart ends this motion
                 self._sent = k + 1
         with self._lock:
             while output is not None and not self._halting:
-                self.link.send(output[1])
+                self.link.send(output[1], generation=self._generation)
                 output = next(outputs, None)
 
     def _wait_for_room(self, k: int, ticks: list[int], capacity: int) -> None:

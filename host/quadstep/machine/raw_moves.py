@@ -39,9 +39,10 @@ class RawMoves:
         """`steps` (signed) along `axis`, to rest."""
         if steps == 0:
             return
+        stream = self.link.generation  # a hold from elsewhere (the feed hold button) ends the move
         for segment in self.segments(axis, steps, feed):
-            self.link.send(segment, TIMEOUT)
-        self.link.wait_idle(TIMEOUT)
+            self.link.send(segment, TIMEOUT, stream)
+        self.link.wait_idle(TIMEOUT, stream)
         self._rested()
 
     def until(self, axis: int, steps: int, which: Input, level: int, feed: float | None = None) -> int | None:
