@@ -97,6 +97,8 @@ def run(args: argparse.Namespace) -> int:
             machine.set_position(dict(enumerate(job.positions)))
         start = machine.status()
         motion = machine.send_segments(job.segments)
+        if not args.json:
+            print(f"{args.file}: sending {len(job.segments)} segments", flush=True)
         try:
             while motion.wait(0.1) is None:
                 pass
