@@ -27,6 +27,8 @@ COMMANDS: dict[str, list[str]] = {
     "backlash": [sys.executable, str(BENCH / "bench_backlash.py")],
     "scurve": [sys.executable, str(BENCH / "bench_scurve.py")],
     "wire": [sys.executable, str(BENCH / "bench_wire.py")],
+    "faults": [sys.executable, str(BENCH / "bench_faults.py")],
+    "fuzz": ["make", "-s", "-C", str(REPO), "fuzz-long"],
 }
 
 
