@@ -173,8 +173,9 @@ class MachineConfig(BaseModel):
     spindle: SpindleConfig = SpindleConfig()
     homing_order: tuple[AxisName, ...] | None = Field(default=None, description="default: Z first, then the others")
     homing_required: bool = False  # refuse jobs and jogs until the machine is homed
-    host_timeout: float = Field(default=0.5, ge=0, le=4, description="s: a host silent this long while the machine "
-                                "moves makes the firmware stop on its own (a hold, then ALARM HOST_LOST); 0: never")
+    host_timeout: float = Field(default=1.0, ge=0, le=4, description="s: a host silent this long while the machine "
+                                "moves makes the firmware stop on its own (a hold, then ALARM HOST_LOST); 0: never "
+                                "(1 s: ten keep-alives missed, more than a busy host pauses)")
 
     @model_validator(mode="after")
     def _axes_consistent(self) -> MachineConfig:
@@ -301,6 +302,9 @@ def validate(model: type[Model], data: Any, source: str, error: type[Exception],
     try:
         text = json.dumps(data, allow_nan=False)  # JSON's own types, in which strict validation takes lists as tuples
     except (TypeError, ValueError) as exc:
+        bad = _non_finite(data)
+        if bad is not None:
+            raise error(f"{source}: {bad}: must be a finite number") from None
         raise error(f"{source}: {exc} (only numbers, strings, booleans, lists and tables)") from None
     except RecursionError:
         raise error(f"{source}: nested too deep") from None
@@ -308,6 +312,18 @@ def validate(model: type[Model], data: Any, source: str, error: type[Exception],
         return model.model_validate_json(text, strict=strict)
     except ValidationError as exc:
         raise error("\n".join(f"{source}: {line}" for line in describe_validation_error(exc))) from None
+
+
+def _non_finite(data: Any, key: str = "") -> str | None:
+    """`key = value` for the first NaN or infinity in `data`, its key written as validation errors write it."""
+    if isinstance(data, float) and not math.isfinite(data):
+        return f"{key} = {data}"
+    items = data.items() if isinstance(data, dict) else enumerate(data) if isinstance(data, list) else ()
+    for name, value in items:
+        found = _non_finite(value, f"{key}[{name}]" if isinstance(name, int) else f"{key}.{name}" if key else str(name))
+        if found is not None:
+            return found
+    return None
 
 
 def parse_config(data: dict[str, Any], source: str = "config") -> MachineConfig:

@@ -51,7 +51,11 @@ def test_the_host_killed_at_full_speed_leaves_a_controlled_stop_and_an_exact_pos
     finally:
         os.kill(cli.pid, signal.SIGKILL)  # at full speed, without a word to the board
         cli.wait()
-    time.sleep(1.5)  # the watchdog (0.5 s) and the stop
+    deadline = time.monotonic() + 30
+    while not hold_ticks(events):  # the watchdog's stop (nothing is sent before it: any frame would feed it)
+        assert time.monotonic() < deadline, "the board never stopped on its own"
+        time.sleep(0.05)
+    time.sleep(0.5)  # the deceleration to rest takes 80 ms
     with Link.open(emu.url) as link:
         status = link.status()
         assert status.state == State.ALARM and status.alarm == AlarmCode.HOST_LOST
