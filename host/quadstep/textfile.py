@@ -27,11 +27,25 @@ def read_text(path: Path, error: type[Exception]) -> str:
 
 
 def parse_nested(parse: Callable[[str], Any], text: str, path: Path, error: type[Exception]) -> Any:
-    """`parse(text)` (JSON, YAML, TOML), with input nested too deep for the parser as one clear error."""
+    """`parse(text)` (JSON, YAML, TOML), with input nested too deep for the parser, or expanding to more values
+    than the file has characters (YAML aliases of aliases), as one clear error."""
     try:
-        return parse(text)
+        data = parse(text)
+        if _values(data, {}) > len(text) + 1:
+            raise error(f"{path}: its aliases expand to more values than the file has characters")
+        return data
     except RecursionError:
         raise error(f"{path}: nested too deep (lists or tables inside one another hundreds of levels down)") from None
+
+
+def _values(data: Any, counted: dict[int, int]) -> int:
+    """How many values `data` holds once every shared list or table is written out; each counted once."""
+    if not isinstance(data, (list, dict)):
+        return 1
+    if id(data) not in counted:
+        items = data.values() if isinstance(data, dict) else data
+        counted[id(data)] = 1 + sum(_values(item, counted) for item in items)
+    return counted[id(data)]
 
 
 def replace_text(path: Path, text: str) -> None:

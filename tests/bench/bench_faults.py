@@ -3,7 +3,7 @@
 and the queue run dry at full speed, with the real emulator behind the byte-level proxy (tests/helpers/byte_faults.py).
 
     python3 tests/bench/bench_faults.py [--only goodput,soak,silent,stops] [--runs R] [--moves N]
-        [--paced-moves N] [--soak-segments N] [--trials N]
+        [--paced-moves N] [--soak-segments N] [--trials N]      (--only also takes files: the bad-file corpus)
 
 Every fault damages one byte of the line (a bit flipped, the byte dropped, doubled, or a random byte inserted
 before it) at rate p per byte, in both directions, at 500,000 baud. Goodput is the rate at which the link gets
@@ -31,6 +31,7 @@ import numpy as np
 REPO = Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(REPO / "tests" / "helpers"))
 
+from bad_files import corpus, judge  # noqa: E402
 from byte_faults import FaultyLine  # noqa: E402
 from fault_jobs import engraving  # noqa: E402
 from host_helpers import read_trace  # noqa: E402
@@ -291,9 +292,23 @@ def bench_stops(config: MachineConfig) -> None:
                       list(end.position), stop.positions)
 
 
+def bench_files() -> None:
+    files = corpus()
+    verdicts: dict[str, dict[str, int]] = {}
+    with tempfile.TemporaryDirectory() as tmp:
+        for bad in files:
+            kind = bad.name.split("-")[0]
+            verdict = judge(bad, Path(tmp))[0]
+            verdicts.setdefault(kind, {"refused": 0, "accepted": 0, "traceback": 0})[verdict] += 1
+    print(f"== bad files (tests/helpers/bad_files.py): {len(files)} configurations and job files")
+    for kind, counts in verdicts.items():
+        print(f"  {kind:9} {sum(counts.values()):4} files: {counts['refused']} refused, {counts['accepted']} accepted, "
+              f"{counts['traceback']} tracebacks")
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("--only", default="goodput,soak,silent,stops")
+    parser.add_argument("--only", default="goodput,soak,silent,stops,files")
     parser.add_argument("--runs", type=int, default=2, help="free-running runs per fault rate")
     parser.add_argument("--moves", type=int, default=1000, help="moves of the free-running goodput job")
     parser.add_argument("--paced-moves", type=int, default=600, help="moves of the real-time job")
@@ -310,6 +325,8 @@ def main() -> None:
         bench_silent(args.trials)
     if "stops" in parts:
         bench_stops(config)
+    if "files" in parts:
+        bench_files()
 
 
 if __name__ == "__main__":
