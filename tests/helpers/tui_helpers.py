@@ -33,7 +33,7 @@ async def until(pilot, predicate, timeout: float = 30.0, what: str = "condition"
     deadline = time.monotonic() + timeout
     while not predicate():
         if time.monotonic() > deadline:
-            raise AssertionError(f"timed out after {timeout} s waiting for {what}")
+            raise AssertionError(f"timed out after {timeout} s waiting for {what}; the log:\n{log_text(pilot.app)}")
         await pilot.pause(0.02)
 
 
