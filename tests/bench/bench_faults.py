@@ -146,7 +146,7 @@ def pulses(job: Job) -> list[int]:
 
 def bench_soak(config: MachineConfig, segments: int) -> None:
     """`segments` segments (or a little more) at p = 1e-3, free-running, with the host's memory sampled."""
-    moves = int(segments / 1.18) + 1  # the engraving job plans about 1.18 segments a move
+    moves = segments  # the engraving job plans a little more than one segment a move
     with tempfile.TemporaryDirectory() as tmp:
         path = write_job(Path(tmp), moves, 100.0)
         emu = Emulator(free=True, axes=3, tick_hz=config.tick_hz, queue=QUEUE).start()
@@ -229,7 +229,7 @@ def describe_stop(config: MachineConfig, what: str, stop_steps: np.ndarray, moti
     fits = []
     for axis, spec in enumerate(config.axes[:2]):
         decel = fitted_decel(stop_steps, axis) * tick2 / spec.steps_per_mm
-        fits.append(f"{spec.name} {decel:.0f} mm/s² (limit {spec.max_accel:g})")
+        fits.append(f"{spec.name} {decel:.1f} mm/s² (limit {spec.max_accel:g})")
     print(f"  {what}: {len(stop_steps)} steps over {(motion_ticks - hold_tick) / config.tick_hz * 1e3:.0f} ms to rest; "
           f"fitted deceleration {', '.join(fits)}; trace = a hold at the configured decelerations: "
           f"{'yes' if exact_trace else 'NO'}; position reported {reported} "
