@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import argparse
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from pydantic import ValidationError
 
@@ -12,6 +13,10 @@ from ..jog import JogSettings
 from ..machine import Target, state_path
 from ._jobs import DEFAULT_CONFIG
 from .options import CliError, add_connection_options, target
+from .run import position_lines
+
+if TYPE_CHECKING:
+    from ..tui.session import Parting  # Textual loads only for this command
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
@@ -58,8 +63,10 @@ def run(args: argparse.Namespace) -> int:
         raise CliError(str(exc)) from None
     session = Session(where, config, settings_from(args), config_source=str(path), state_file=state_path(path),
                       config_path=path)
-    QuadstepApp(session, job_path=args.job, choose=lambda device: _target(device, args.baud)).run()
-    return 0
+    app = QuadstepApp(session, job_path=args.job, choose=lambda device: _target(device, args.baud))
+    app.run()
+    print("\n".join(parting_lines(session.parting)))
+    return 130 if app.interrupted else 0
 
 
 def _target(device: str, baud: int) -> Target:
@@ -67,3 +74,16 @@ def _target(device: str, baud: int) -> Target:
     from ..tui.port_picker import EMULATOR
 
     return Target(emulator=True) if device == EMULATOR else Target(port=device, baud=baud)
+
+
+def parting_lines(parting: Parting | None) -> list[str]:
+    """After the TUI: the line a job was stopped at (HOLD) and where the machine rests, as `quadstep run` says."""
+    if parting is None:
+        return []
+    end = parting.end
+    lines = []
+    if parting.line is not None and end is not None:
+        lines.append(f"stopped at {parting.label} {parting.line}{' (HOLD)' if end.held else ''}")
+    if end is not None and end.error:
+        lines.append(f"could not bring the machine to rest: {end.error}")
+    return lines + position_lines(parting.machine)

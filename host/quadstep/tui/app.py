@@ -6,6 +6,7 @@ import asyncio
 from collections.abc import Callable, Sequence
 
 from textual.app import App
+from textual.binding import Binding
 
 from ..machine import Target
 from .kitty import KeyboardFlags, KeyRelease, ReleaseDriver
@@ -18,6 +19,8 @@ from .style import CSS
 class QuadstepApp(App[None]):
     CSS = CSS
     ENABLE_COMMAND_PALETTE = False
+    BINDINGS = [Binding("ctrl+c", "interrupt", "stop and quit", show=False, priority=True)]
+    interrupted = False  # Ctrl-C ended it: `quadstep tui` exits 130, as the other commands do
 
     def __init__(self, session: Session, job_path: str = "", poll_interval: float | None = None,
                  ports: Sequence[PortChoice] | None = None, choose: Callable[[str], Target] | None = None) -> None:
@@ -50,6 +53,11 @@ class QuadstepApp(App[None]):
         if message.releases:
             self.machine.log_line("the terminal reports key releases (kitty keyboard protocol): a continuous jog "
                                   "stops when its key is let go")
+
+    def action_interrupt(self) -> None:
+        """Ctrl-C: as Ctrl+Q, any motion brought to rest with HOLD first (on_unmount); the command prints where."""
+        self.interrupted = True
+        self.exit()
 
     async def on_unmount(self) -> None:
         await asyncio.to_thread(self._shut_down)

@@ -19,12 +19,22 @@ from ..config import MachineConfig
 from ..emulator import Emulator
 from ..jog import Jogger, JogResult, JogSettings
 from ..link import LinkError
-from ..machine import Machine, Target, open_machine, start_emulator
+from ..machine import JobRun, Machine, MotionEnd, Target, open_machine, start_emulator
 from ..protocol import IdentifyReply, StatusReport
 
 T = TypeVar("T")
 
 LINK_HEALTH = ("retransmits", "timeouts", "errors", "decode_errors", "alarms")
+
+
+@dataclass(frozen=True)
+class Parting:
+    """Where the machine was left when the session closed: the line a job was stopped at, and the rest."""
+
+    machine: Machine
+    line: int | None  # the job's line when its hold began (None: no job ran)
+    label: str
+    end: MotionEnd | None  # how the motion running then ended (None: nothing moved)
 
 
 @dataclass(frozen=True)
@@ -70,6 +80,7 @@ class Session:
         self._pending: list[Future[Any]] = []
         self._lock = threading.Lock()
         self._last_feed_sample: tuple[int, tuple[int, ...]] | None = None
+        self.parting: Parting | None = None  # set by close()
 
     # --- connection ----------------------------------------------------------------------
 
@@ -103,14 +114,19 @@ class Session:
             machine.close(bring_to_rest=False)  # the link may be gone; close() brings motion to rest first
 
     def close(self) -> None:
-        """Bring any motion to rest, close the link and stop an emulator this session started."""
+        """Bring any motion to rest, close the link and stop an emulator this session started; `parting` says
+        where it was left."""
         self.cancel_pending()
         machine = self.machine
         if self.connected and machine is not None:
+            program = machine.program
+            job = program if isinstance(program, JobRun) else None
+            line = job.progress.line if job is not None else None
             try:
-                machine.hold("quit")
+                end = machine.hold("quit")
             except LinkError:
-                pass
+                end = None
+            self.parting = Parting(machine, line, job.label if job is not None else "line", end)
         self._commands.shutdown(wait=False, cancel_futures=True)
         self.disconnect()
         if self.emulator is not None:

@@ -1,0 +1,83 @@
+"""Ctrl-C in the TUI, as in the other commands: any motion brought to rest with HOLD, then the line a job was
+stopped at and the position printed, exit code 130; through the pilot during a job and through a real terminal."""
+
+from __future__ import annotations
+
+import os
+import pty
+import select
+import sys
+import time
+from pathlib import Path
+
+from quadstep.cli.tui import parting_lines
+from quadstep.config import MachineConfig
+from quadstep.machine import state_path
+from quadstep.tui import QuadstepApp, Session, Target
+from tui_helpers import MACHINE, until
+
+
+async def test_ctrl_c_holds_a_running_job_and_says_where(machine: MachineConfig, emulator_binary: Path,
+                                                         tmp_path: Path) -> None:
+    job = tmp_path / "long.gcode"
+    job.write_text("G21 G90\nG1 X30 F60\n")  # 30 s: Ctrl-C lands mid-move even on a loaded machine
+    session = Session(Target(emulator=True, emulator_options={"binary": emulator_binary}), machine,
+                      state_file=state_path(None))
+    app = QuadstepApp(session, job_path=str(job), poll_interval=0.05)
+    async with app.run_test(size=(100, 32)) as pilot:
+        await until(pilot, lambda: session.connected and app.machine.snapshot is not None, what="connection")
+        emulator = session.emulator
+        await pilot.press("o", "enter")
+        await until(pilot, lambda: app.machine.job is not None and app.machine.job.progress.done > 0,
+                    what="the job to move")
+        await pilot.press("ctrl+c")
+    assert app.interrupted and emulator is not None and emulator.summary is not None
+    assert emulator.summary["state"] == "IDLE" and emulator.summary["alarm"] == "NONE"  # a hold, not an underrun
+    at = int(emulator.summary["position_0"])
+    assert 0 < at < 2400
+    parting = session.parting
+    assert parting is not None and parting.end is not None and parting.end.held
+    lines = parting_lines(parting)
+    assert lines[0] == "stopped at line 2 (HOLD)"
+    assert lines[1].startswith("work (G54): X ")
+    assert lines[2].startswith(f"machine: X {at / 80:.3f} mm ({at} steps)  Y 0.000 mm (0 steps)")
+
+
+def _pump_until(fd: int, out: bytearray, pattern: bytes | None, seconds: float) -> bool:
+    deadline = time.monotonic() + seconds
+    while time.monotonic() < deadline and (pattern is None or pattern not in out):
+        if select.select([fd], [], [], 0.05)[0]:
+            try:
+                out += os.read(fd, 65536)
+            except OSError:
+                return pattern is None
+    return pattern is None or pattern in out
+
+
+def test_ctrl_c_in_a_terminal_quits_and_prints_the_position(tmp_path: Path, emulator_binary: Path) -> None:
+    config = tmp_path / "machine.toml"
+    config.write_text("tick_hz = 50000\n" + "".join(
+        "[[axes]]\n" + "".join(f"{key} = {value!r}\n" for key, value in axis.items()) for axis in MACHINE["axes"]))
+    pid, fd = pty.fork()
+    if pid == 0:  # the child: quadstep tui in a terminal
+        os.environ["TERM"] = "xterm-256color"
+        os.environ["QUADSTEP_EMULATOR"] = str(emulator_binary)
+        os.execvp(sys.executable, [sys.executable, "-m", "quadstep.cli", "tui", "--emulator", "--config", str(config)])
+    out = bytearray()
+    try:
+        assert _pump_until(fd, out, b"connected: emulator", 60), bytes(out[-2000:])
+        os.write(fd, b"\x03")  # Ctrl-C as the terminal sends it in raw mode
+        _pump_until(fd, out, None, 10)
+    finally:
+        deadline = time.monotonic() + 20
+        done, status = os.waitpid(pid, os.WNOHANG)
+        while not done and time.monotonic() < deadline:
+            time.sleep(0.05)
+            done, status = os.waitpid(pid, os.WNOHANG)
+        os.close(fd)
+        if not done:
+            os.kill(pid, 9)
+            os.waitpid(pid, 0)
+    assert done, "quadstep tui did not quit on Ctrl-C"
+    assert os.waitstatus_to_exitcode(status) == 130
+    assert b"machine: X 0.000 mm (0 steps)  Y 0.000 mm (0 steps)  Z 0.000 mm (0 steps)" in out
