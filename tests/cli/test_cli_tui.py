@@ -4,15 +4,13 @@ from __future__ import annotations
 
 import os
 import pty
-import select
 import sys
-import time
 from pathlib import Path
 
 import pytest
 
 from quadstep.cli import main
-from tui_helpers import MACHINE
+from tui_helpers import MACHINE, exit_code, read_terminal
 
 
 def test_bad_timeouts_are_refused_naming_the_option(capsys: pytest.CaptureFixture[str]) -> None:
@@ -35,17 +33,6 @@ def test_a_bad_config_is_refused_before_anything_starts(tmp_path: Path, capsys: 
     assert "axes[0].max_speed = 900.0: must be at most 468.75 mm/s" in capsys.readouterr().err
 
 
-def _pump(fd: int, seconds: float, out: bytearray, until: bytes | None = None) -> None:
-    """Read the terminal's output for `seconds`, or until `until` appears in it."""
-    end = time.monotonic() + seconds
-    while time.monotonic() < end and (until is None or until not in out):
-        if select.select([fd], [], [], 0.05)[0]:
-            try:
-                out += os.read(fd, 65536)
-            except OSError:
-                return
-
-
 def terminal_session(tmp_path: Path, emulator_binary: Path, script: list[tuple[bytes, float]],
                      *options: str) -> tuple[bytes, list[str]]:
     """`quadstep tui` in a real pseudo-terminal: write each chunk of `script` as a terminal would, wait its
@@ -66,24 +53,16 @@ def terminal_session(tmp_path: Path, emulator_binary: Path, script: list[tuple[b
                                    "--config", str(config), *options])
     out = bytearray()
     try:
-        _pump(fd, 30.0, out, until=b"connected: emulator")
+        read_terminal(fd, out, b"connected: emulator", 60)  # however loaded the machine
         for chunk, seconds in script:
             os.write(fd, chunk)
-            _pump(fd, seconds, out)
+            read_terminal(fd, out, None, seconds)
         os.write(fd, b"\x11")  # Ctrl+Q
-        _pump(fd, 5.0, out)
+        read_terminal(fd, out, None, 5.0)
     finally:
-        deadline = time.monotonic() + 10
-        done, status = os.waitpid(pid, os.WNOHANG)
-        while not done and time.monotonic() < deadline:
-            time.sleep(0.05)
-            done, status = os.waitpid(pid, os.WNOHANG)
+        code = exit_code(pid, 10)
         os.close(fd)
-        if not done:
-            os.kill(pid, 9)
-            os.waitpid(pid, 0)
-            pytest.fail("quadstep tui did not quit on Ctrl+Q")
-    assert os.waitstatus_to_exitcode(status) == 0
+    assert code == 0, "quadstep tui did not quit on Ctrl+Q"
     assert b"connected: emulator, 3 axes" in out
     return bytes(out), trace.read_text().splitlines()[1:]
 

@@ -76,3 +76,36 @@ def send_key(app, key: str, char: str | None = None) -> None:  # noqa: ANN001
     from textual import events
 
     app.post_message(events.Key(key, char))
+
+
+def read_terminal(fd: int, out: bytearray, until: bytes | None, seconds: float) -> bool:
+    """Read a terminal's output into `out` until it shows `until` (or for `seconds`); whether it did."""
+    import os
+    import select
+    import time
+
+    deadline = time.monotonic() + seconds
+    while time.monotonic() < deadline and (until is None or until not in out):
+        if select.select([fd], [], [], 0.05)[0]:
+            try:
+                out += os.read(fd, 65536)
+            except OSError:
+                break
+    return until is None or until in out
+
+
+def exit_code(pid: int, seconds: float) -> int | None:
+    """The exit code of child `pid` once it ends within `seconds`; None if it had to be killed."""
+    import os
+    import time
+
+    deadline = time.monotonic() + seconds
+    done, status = os.waitpid(pid, os.WNOHANG)
+    while not done and time.monotonic() < deadline:
+        time.sleep(0.05)
+        done, status = os.waitpid(pid, os.WNOHANG)
+    if not done:
+        os.kill(pid, 9)
+        os.waitpid(pid, 0)
+        return None
+    return os.waitstatus_to_exitcode(status)

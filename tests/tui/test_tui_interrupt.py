@@ -5,16 +5,14 @@ from __future__ import annotations
 
 import os
 import pty
-import select
 import sys
-import time
 from pathlib import Path
 
 from quadstep.cli.tui import parting_lines
 from quadstep.config import MachineConfig
 from quadstep.machine import state_path
 from quadstep.tui import QuadstepApp, Session, Target
-from tui_helpers import MACHINE, until
+from tui_helpers import MACHINE, exit_code, read_terminal, until
 
 
 async def test_ctrl_c_holds_a_running_job_and_says_where(machine: MachineConfig, emulator_binary: Path,
@@ -43,17 +41,6 @@ async def test_ctrl_c_holds_a_running_job_and_says_where(machine: MachineConfig,
     assert lines[2].startswith(f"machine: X {at / 80:.3f} mm ({at} steps)  Y 0.000 mm (0 steps)")
 
 
-def _pump_until(fd: int, out: bytearray, pattern: bytes | None, seconds: float) -> bool:
-    deadline = time.monotonic() + seconds
-    while time.monotonic() < deadline and (pattern is None or pattern not in out):
-        if select.select([fd], [], [], 0.05)[0]:
-            try:
-                out += os.read(fd, 65536)
-            except OSError:
-                return pattern is None
-    return pattern is None or pattern in out
-
-
 def test_ctrl_c_in_a_terminal_quits_and_prints_the_position(tmp_path: Path, emulator_binary: Path) -> None:
     config = tmp_path / "machine.toml"
     config.write_text("tick_hz = 50000\n" + "".join(
@@ -65,19 +52,11 @@ def test_ctrl_c_in_a_terminal_quits_and_prints_the_position(tmp_path: Path, emul
         os.execvp(sys.executable, [sys.executable, "-m", "quadstep.cli", "tui", "--emulator", "--config", str(config)])
     out = bytearray()
     try:
-        assert _pump_until(fd, out, b"connected: emulator", 60), bytes(out[-2000:])
+        assert read_terminal(fd, out, b"connected: emulator", 60), bytes(out[-2000:])
         os.write(fd, b"\x03")  # Ctrl-C as the terminal sends it in raw mode
-        _pump_until(fd, out, None, 10)
+        read_terminal(fd, out, b"(0 steps)", 20)
     finally:
-        deadline = time.monotonic() + 20
-        done, status = os.waitpid(pid, os.WNOHANG)
-        while not done and time.monotonic() < deadline:
-            time.sleep(0.05)
-            done, status = os.waitpid(pid, os.WNOHANG)
+        code = exit_code(pid, 20)
         os.close(fd)
-        if not done:
-            os.kill(pid, 9)
-            os.waitpid(pid, 0)
-    assert done, "quadstep tui did not quit on Ctrl-C"
-    assert os.waitstatus_to_exitcode(status) == 130
+    assert code == 130
     assert b"machine: X 0.000 mm (0 steps)  Y 0.000 mm (0 steps)  Z 0.000 mm (0 steps)" in out
