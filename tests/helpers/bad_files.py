@@ -37,7 +37,7 @@ SEGMENTS_OUT_OF_RANGE = {"n": [0, -1, 65536], "axis": [-1, 4, 9], "direction": [
                          "v0": [-1, 4097], "vn": [-1, 4097], "r": [-4097, 4097]}
 GCODE_LINES = ["G1 X1e999 F100", "G1 Xnan F100", "G1 Xinf F100", "G1 X--1 F100", "G1 X F100", "G1 X1 F0",
                "G1 X1 F-5", "G1 X1 X2 F100", "G2 X1 Y1 F100", "G4 P-1", "G1 X100000 F100", "G0 Y-50",
-               "G1 X1 E5 F100", "G38.2 Z-1 F10", "G1 X1 F1e999", "X1 Y1 Z1 Q5", "G99 X1", "G1 X1\x00 F100",
+               "G1 X1 E5 F100", "G1 B5 F100", "G1 X1 F1e999", "X1 Y1 Z1 Q5", "G99 X1", "G1 X1\x00 F100",
                "G20 G21 X1", "G1 X(1 F100"]
 
 
