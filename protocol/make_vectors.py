@@ -25,6 +25,7 @@ MAX_FRAME = 64
 TYPES = {
     "IDENTIFY": 0x01, "STATUS": 0x02, "STOP": 0x03, "HOLD": 0x04, "INPUTS": 0x06, "WATCHDOG": 0x07,
     "SEGMENT": 0x10, "SET_POSITION": 0x11, "CUBIC_SEGMENT": 0x12, "PROBE": 0x15, "CONFIG": 0x16, "OUTPUTS": 0x17,
+    "SEGMENTS": 0x18,
     "ACK": 0x80, "IDENTIFY_REPLY": 0x81, "STATUS_REPORT": 0x82, "ERROR": 0x83, "ALARM": 0x84, "EVENT": 0x85,
     "INPUT_STATUS": 0x86,
 }
@@ -109,6 +110,84 @@ def cubic_payload(n: int, axes: list[dict], extra_mask: int = 0) -> bytes:
     return struct.pack("<HB", n, mask) + out
 
 
+# SEGMENTS (§5.2): a record's head holds n's bits 8-9 and what follows it.
+REC_AXES, REC_START, REC_RESIDUAL, REC_CRUISE, REC_REPEAT, REC_MIRROR = 0x04, 0x08, 0x10, 0x20, 0x40, 0x80
+
+
+def varint(value: int) -> bytes:
+    """Zigzag, then 7 bits a byte, low first (two bytes at most here)."""
+    u = 2 * value if value >= 0 else -2 * value - 1
+    return bytes([u]) if u < 128 else bytes([0x80 | (u & 0x7F), u >> 7])
+
+
+def records_payload(records: list[dict]) -> bytes:
+    out, axes = bytearray(), 0
+    for rec in records:
+        if rec.get("repeat"):
+            out.append(REC_REPEAT)
+            continue
+        head = rec["n"] >> 8
+        head |= REC_AXES if "axes" in rec else 0
+        head |= REC_START if "start" in rec else 0
+        head |= REC_RESIDUAL if "residual" in rec else 0
+        head |= 0 if "change" in rec else REC_CRUISE
+        head |= REC_MIRROR if rec.get("mirror") else 0
+        out += bytes([head, rec["n"] & 0xFF])
+        if "axes" in rec:
+            axes = rec["axes"]
+            out.append(axes)
+        for j in range(bin(axes & 0x0F).count("1")):
+            for key in ("start", "residual", "change"):
+                if key in rec:
+                    out += varint(rec[key][j])
+    return bytes(out)
+
+
+def expand_from_rest(records: list[dict]) -> list[dict]:
+    """What the records mean to a freshly started firmware, as SEGMENT messages: each axis's speed and
+    residual (along +) start at 0 and follow every segment; an axis a segment does not name stops; a
+    mirrored change is relative to the axis's last change, negated."""
+    speed, rest, last = [0] * 4, [0] * 4, [0] * 4
+    out: list[dict] = []
+    n = axes = 0
+    v0, vn = [0] * 4, [0] * 4
+    for rec in records:
+        if not rec.get("repeat"):
+            n, axes = rec["n"], rec.get("axes", axes)
+        active = [a for a in range(4) if axes >> a & 1]
+        moves = []
+        for j, a in enumerate(active):
+            sign = -1 if axes >> (4 + a) & 1 else 1
+            r = sign * rest[a]
+            if not rec.get("repeat"):
+                v0[a] = speed[a] + rec.get("start", [0] * 4)[j]
+                if "residual" in rec:
+                    r = rec["residual"][j]
+                vn[a] = v0[a] + rec.get("change", [0] * 4)[j] - (last[a] if rec.get("mirror") else 0)
+            moves.append(ax(a, sign, v0[a], vn[a], r))
+        for a in range(4):
+            speed[a] = 0
+        for m in moves:
+            travel = m["r"] + n * (m["v0"] + m["vn"])
+            rest[m["axis"]] = m["direction"] * (travel - 8192 * ((travel + 4096) // 8192))
+            speed[m["axis"]] = m["vn"]
+            if m["vn"] != m["v0"]:
+                last[m["axis"]] = m["vn"] - m["v0"]
+        out.append({"n": n, "axes": moves})
+    return out
+
+
+def segments_vector(name: str, seq: int, records: list[dict]) -> None:
+    valid(name, TO_FW, {"type": "SEGMENTS", "seq": seq, "records": records})
+    VECTORS[-1]["expands_to"] = expand_from_rest(records)
+
+
+def bad_segments(name: str, records: bytes | list[dict], code: str, field: str | None = None,
+                 axis: int | None = None, axis_count: int = 4) -> None:
+    raw = records if isinstance(records, bytes) else records_payload(records)
+    bad(name, TO_FW, wire(bytes([TYPES["SEGMENTS"], 11]) + raw), code, field, axis, axis_count)
+
+
 def set_position_payload(positions: dict[int, int], extra_mask: int = 0) -> bytes:
     mask = extra_mask
     for axis in positions:
@@ -142,6 +221,8 @@ def payload(msg: dict) -> bytes:
         return segment_payload(msg["n"], msg["axes"])
     if t == "CUBIC_SEGMENT":
         return cubic_payload(msg["n"], msg["axes"])
+    if t == "SEGMENTS":
+        return records_payload(msg["records"])
     if t == "SET_POSITION":
         return set_position_payload({int(k): v for k, v in msg["positions"].items()})
     if t == "ACK":
@@ -470,7 +551,7 @@ def build() -> list[dict]:
     bad("64 decoded bytes pass framing, then bad length", TO_FW, wire(longest), "BAD_LENGTH")
 
     # Unknown types, immediate and sequenced ranges; reports sent the wrong way.
-    for t in (0x00, 0x05, 0x08, 0x0F, 0x13, 0x14, 0x18, 0x3F, 0x40, 0x7F, 0x80, 0x82, 0x85, 0x86):
+    for t in (0x00, 0x05, 0x08, 0x0F, 0x13, 0x14, 0x19, 0x3F, 0x40, 0x7F, 0x80, 0x82, 0x85, 0x86):
         bad(f"unknown type 0x{t:02x} to firmware", TO_FW, wire(bytes([t, 3])), "UNKNOWN_TYPE")
     for t in (0x01, 0x04, 0x06, 0x07, 0x10, 0x15, 0x87, 0xFF):
         bad(f"unknown type 0x{t:02x} to host", TO_HOST, wire(bytes([t, 3, 0, 0, 0, 0, 0])), "UNKNOWN_TYPE")
@@ -606,6 +687,48 @@ def build() -> list[dict]:
     bad_cubic("cubic acceleration checked before speed", 100,
               [cs(0, 2**31 - 2**16, 100000, 1, None), cs(1, 2**28, 8388000, 1, 100)], "ACCEL", 1)
     bad_cubic("cubic speed dipping below zero inside the segment", 1001, [cs(1, 1000000, -4000, 1, 8)], "SPEED", 1)
+
+    # SEGMENTS: records read against a fresh firmware's chain (every axis at rest on the ideal).
+    segments_vector("segments: a start, a chained ramp, a cruise, a repeat", 40, [
+        {"n": 500, "axes": 0x03, "start": [0, 0], "change": [300, 1200]},
+        {"n": 1022, "change": [-10, 64]},
+        {"n": 700},
+        {"repeat": True},
+        {"n": 256, "axes": 0x23, "start": [-290, -1254], "residual": [0, 17], "change": [5, 4]},
+    ])
+    segments_vector("segments: one record, three axes, negative directions", 41, [
+        {"n": 1, "axes": 0x57, "start": [4096, 1, 0], "change": [-4096, 0, 63]},
+    ])
+    segments_vector("segments: a deceleration mirroring its acceleration", 43, [
+        {"n": 300, "axes": 0x13, "change": [800, 1600]},
+        {"n": 900},
+        {"n": 300, "change": [0, 2], "mirror": True},
+        {"n": 40, "axes": 0x03, "change": [-3, 3], "mirror": True},
+    ])
+    segments_vector("segments: sixteen records", 42,
+                    [{"n": 10, "axes": 0x01, "change": [40]}] + [{"n": 10}] * 14 + [{"n": 10, "change": [-40]}])
+    bad_segments("segments without records", b"", "BAD_LENGTH")
+    bad_segments("segments, a mirrored cruise", bytes([REC_MIRROR | REC_CRUISE | REC_AXES, 10, 0x01]), "BAD_LENGTH")
+    bad_segments("segments, a repeat first", bytes([REC_REPEAT]), "BAD_LENGTH")
+    bad_segments("segments, a repeat with n", bytes([REC_AXES, 10, 1, 2, REC_REPEAT | 1]), "BAD_LENGTH")
+    bad_segments("segments, the first record without axes", bytes([0, 10, 2]), "BAD_LENGTH")
+    bad_segments("segments, a varint cut short", bytes([REC_AXES, 10, 0x01, 0x81]), "BAD_LENGTH")
+    bad_segments("segments, a three-byte varint", bytes([REC_AXES, 10, 0x01, 0x81, 0x81, 0x01]), "BAD_LENGTH")
+    bad_segments("segments, a field too many", bytes([REC_AXES, 10, 0x01, 2, 2]), "BAD_LENGTH")
+    bad_segments("segments, seventeen records", [{"n": 10, "axes": 0x01}] + [{"repeat": True}] * 16, "BAD_LENGTH")
+    bad_segments("segments, n = 0", [{"n": 0, "axes": 0x01}], "BAD_FIELD", "N")
+    bad_segments("segments, n = 1023", [{"n": 1023, "axes": 0x01}], "BAD_FIELD", "N")
+    bad_segments("segments, axis 3 of a 3-axis firmware", [{"n": 10, "axes": 0x08, "change": [4]}],
+                 "BAD_FIELD", "AXES", axis_count=3)
+    bad_segments("segments, a direction without its axis", [{"n": 10, "axes": 0x21, "change": [4]}],
+                 "BAD_FIELD", "DIRECTION")
+    bad_segments("segments, a start below zero", [{"n": 10, "axes": 0x03, "start": [0, -1]}], "BAD_FIELD", "V0", 1)
+    bad_segments("segments, an end speed past a step per tick", [{"n": 10, "axes": 0x01, "change": [4097]}],
+                 "BAD_FIELD", "VN", 0)
+    bad_segments("segments, a residual past half a step", [{"n": 10, "axes": 0x04, "residual": [4097]}],
+                 "BAD_FIELD", "RESIDUAL", 2)
+    bad_segments("segments, the second record refused: nothing runs", [
+        {"n": 10, "axes": 0x01, "change": [100]}, {"n": 10, "change": [-101]}], "BAD_FIELD", "VN", 0)
 
     # SET_POSITION content.
     frame = wire(bytes([TYPES["SET_POSITION"], 5]) + set_position_payload({3: 1}))

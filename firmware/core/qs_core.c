@@ -1,6 +1,7 @@
 #include "qs_core.h"
 #include "qs_port.h"
 #include "qs_protocol.h"
+#include "qs_segments.h"
 
 /* ---- sending ----
  * Every report is built in c->tx, after the byte that stuffing needs in
@@ -58,7 +59,7 @@ static void send_identify_reply(qs_core *c, uint8_t seq)
     id.tick_hz = c->tick_hz;
     id.capabilities = QS_CAP_QUADRATIC_SEGMENTS | QS_CAP_SET_POSITION | QS_CAP_HOLD | QS_CAP_LIMIT_INPUTS
                       | QS_CAP_PROBE_INPUT | QS_CAP_HOMING | QS_CAP_CONTROL_INPUTS
-                      | QS_CAP_CUBIC_SEGMENTS | QS_CAP_CONTROLLED_STOPS | QS_CAP_OUTPUTS;
+                      | QS_CAP_CUBIC_SEGMENTS | QS_CAP_CONTROLLED_STOPS | QS_CAP_OUTPUTS | QS_CAP_SEGMENTS;
     id.next_seq = c->next_seq;
     send_body(c, qs_msg_encode_identify_reply(tx_body(c), seq, &id));
 }
@@ -242,6 +243,47 @@ static void on_segment(qs_core *c, const qs_host_msg *m)
     qs_engine_note_prepared(e, slot);
     qs_outputs_carry(&c->outputs, slot);
     queued(c, m);
+}
+
+/* SEGMENTS: each record read against the chain the one before left,
+ * checked as a SEGMENT and prepared in the slots after the queue's head;
+ * the slots are published together once every record has passed, so the
+ * frame runs whole or not at all (a refusal's alarm drops what was
+ * prepared). */
+static QS_NOINLINE void on_segments(qs_core *c, const qs_host_msg *m)
+{
+    qs_engine *e = &c->engine;
+    qs_segments_msg run = m->as.segments;
+    qs_segment_msg s;
+    qs_fault f;
+    uint8_t head, left;
+
+    if (!may_queue(c, m))
+        return;
+    if (qs_queue_free(&e->queue) < run.count) {
+        send_ack(c, m->seq, QS_ACK_QUEUE_FULL);
+        return;
+    }
+    head = e->queue.head;
+    for (left = run.count; left; left--) {
+        qs_segment *slot = qs_queue_at(&e->queue, head);
+
+        if (qs_segments_next(&run, &e->chain, c->axis_count, &s, &f) != QS_ERR_NONE
+            || qs_msg_check_segment(&s, c->axis_count, &f) != QS_ERR_NONE
+            || beyond_positions(c, s.active, s.n, &f)) {
+            refuse_segment(c, m, &f);
+            return;
+        }
+        qs_segment_prepare(slot, &s);
+        qs_cubic_follow_quadratic(&e->chain, slot, &s);
+        qs_engine_note_prepared(e, slot);
+        qs_outputs_carry(&c->outputs, slot);
+        head = qs_queue_next(&e->queue, head);
+    }
+    qs_queue_publish_to(&e->queue, head);
+    qs_engine_wake(e);
+    c->next_seq++;
+    send_ack(c, m->seq, QS_ACK_ACCEPTED);
 }
 
 /* A cubic segment is checked against the chain as it prepares its slot,
@@ -613,6 +655,11 @@ static QS_NOINLINE void on_frame(qs_core *c, const uint8_t *body, uint8_t len)
         code = qs_msg_parse_cubic(p, plen, &m.as.cubic);
         if (code == QS_ERR_NONE && in_sequence(c, &m))
             on_cubic_segment(c, &m);
+        break;
+    case QS_TYPE_SEGMENTS:
+        code = qs_msg_parse_segments(p, plen, &m.as.segments);
+        if (code == QS_ERR_NONE && in_sequence(c, &m))
+            on_segments(c, &m);
         break;
     case QS_TYPE_SET_POSITION:
         code = qs_msg_parse_set_position(p, plen, &m.as.set_position);

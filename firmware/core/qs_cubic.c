@@ -108,6 +108,7 @@ void qs_cubic_reset(qs_cubic_chain *c)
         c->e[axis] = 0;
         c->i[axis] = 0;
         c->d[axis] = 0;
+        c->last_change[axis] = 0;
     }
     c->negative = 0;
     c->after = 0;
@@ -156,6 +157,30 @@ void qs_cubic_rest_on_ideal(qs_cubic_chain *c, uint8_t mask)
             c->e[axis] = 0;
 }
 
+uint8_t qs_cubic_quadratic_start(qs_cubic_chain *c, uint8_t axis, uint8_t negative, uint16_t *speed, int16_t *r)
+{
+    uint8_t on = 0;
+    int32_t e;
+    uint32_t i;
+
+    settle(c);
+    i = c->i[axis];
+    if (c->d[axis] == 0 && (i & 0x7FFFFUL) == 0 && i <= (uint32_t)QS_V_MAX << 19) {
+        *speed = (uint16_t)(i >> 19);
+        on |= QS_CHAIN_SPEED;
+    }
+    /* e is measured along the axis's last direction: the other way round
+     * for a segment in the other direction. */
+    e = c->e[axis];
+    if (((c->negative >> axis) & 1u) != negative)
+        e = -e;
+    if ((e & 0x3FFFFL) == 0) {
+        *r = (int16_t)(e >> 18);
+        on |= QS_CHAIN_RESIDUAL;
+    }
+    return on;
+}
+
 void qs_cubic_follow_quadratic(qs_cubic_chain *c, const qs_segment *slot, const qs_segment_msg *m)
 {
     uint8_t axis;
@@ -166,8 +191,11 @@ void qs_cubic_follow_quadratic(qs_cubic_chain *c, const qs_segment *slot, const 
     if (c->after && (c->after_active & (uint8_t)~m->active))
         settle_quadratic(c);
     c->after = slot;
-    for (axis = 0; axis < QS_AXIS_COUNT; axis++)
+    for (axis = 0; axis < QS_AXIS_COUNT; axis++) {
         c->after_vn[axis] = m->vn[axis];
+        if (m->vn[axis] != m->v0[axis]) /* both 0 for an axis m does not name */
+            c->last_change[axis] = (int16_t)(m->vn[axis] - m->v0[axis]);
+    }
     c->after_active = m->active;
     c->after_negative = m->negative;
 }

@@ -30,6 +30,9 @@ typedef struct {
     uint32_t i[QS_AXIS_COUNT]; /* I(1) of the next segment, mod 2^32 (valid: <= Sigma) */
     int32_t d[QS_AXIS_COUNT];  /* I(2) - I(1) */
     uint8_t negative;          /* bit i: axis i's direction is negative */
+    /* vn - v0 of the last quadratic segment that changed each axis's speed
+     * (SEGMENTS' MIRROR: a deceleration often undoes the acceleration before) */
+    int16_t last_change[QS_AXIS_COUNT];
     /* After a quadratic segment, its end state is worked out only when a
      * cubic one follows (quadratic streams pay for a few bytes kept): the
      * slot (its end residuals stay there until the ring comes round to it,
@@ -49,6 +52,15 @@ void qs_cubic_rest_on_ideal(qs_cubic_chain *c, uint8_t mask);
 /* After a quadratic segment (slot prepared from m): its exact end state,
  * kept to be worked out when needed. Axes it does not name stop. */
 void qs_cubic_follow_quadratic(qs_cubic_chain *c, const qs_segment *slot, const qs_segment_msg *m);
+
+/* Where the chain leaves an axis, as a quadratic segment in the direction
+ * `negative` (0 or 1) would start from it: its speed in 1/4096 step per
+ * tick and its residual in 1/8192 step, each given only where it lies on
+ * that grid (the bits QS_CHAIN_SPEED and QS_CHAIN_RESIDUAL of the result);
+ * after a cubic segment either may not. */
+#define QS_CHAIN_SPEED 0x01
+#define QS_CHAIN_RESIDUAL 0x02
+uint8_t qs_cubic_quadratic_start(qs_cubic_chain *c, uint8_t axis, uint8_t negative, uint16_t *speed, int16_t *r);
 
 /* Check m against the chain (field by field as PROTOCOL.md section 5.2 lists
  * them) and, if every axis can run it exactly, fill slot and advance the

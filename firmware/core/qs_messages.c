@@ -67,6 +67,58 @@ uint8_t qs_msg_parse_segment(const uint8_t *p, uint8_t len, qs_segment_msg *s)
     return QS_ERR_NONE;
 }
 
+/* Every record whole: a head (not MIRROR with CRUISE; REPEAT alone, never first), n's
+ * low byte, the axes byte where flagged (the first record must have one),
+ * then per active axis one varint for each of START, RESIDUAL and, unless
+ * CRUISE, vn; a varint is one byte below 0x80 or two with the second below
+ * 0x80. */
+uint8_t qs_msg_parse_segments(const uint8_t *p, uint8_t len, qs_segments_msg *s)
+{
+    const uint8_t *const end = p + len;
+    uint8_t axes = 0, count = 0;
+
+    s->next = p;
+    while (p != end) {
+        const uint8_t head = *p++;
+        uint8_t fields;
+
+        if (count == QS_SEGMENTS_MAX || (head & (QS_RECORD_MIRROR | QS_RECORD_CRUISE)) == (QS_RECORD_MIRROR | QS_RECORD_CRUISE))
+            return QS_ERR_BAD_LENGTH;
+        count++;
+        if (head & QS_RECORD_REPEAT) {
+            if (head != QS_RECORD_REPEAT || count == 1)
+                return QS_ERR_BAD_LENGTH;
+            continue;
+        }
+        if (p == end)
+            return QS_ERR_BAD_LENGTH;
+        p++; /* n's low byte */
+        if (head & QS_RECORD_AXES) {
+            if (p == end)
+                return QS_ERR_BAD_LENGTH;
+            axes = *p++;
+        } else if (count == 1) {
+            return QS_ERR_BAD_LENGTH;
+        }
+        fields = (uint8_t)(((head & QS_RECORD_START) ? 1 : 0) + ((head & QS_RECORD_RESIDUAL) ? 1 : 0)
+                           + ((head & QS_RECORD_CRUISE) ? 0 : 1));
+        fields = (uint8_t)(fields * bit_count(axes & 0x0Fu));
+        while (fields--) {
+            if (p == end)
+                return QS_ERR_BAD_LENGTH;
+            if (*p++ & 0x80u) {
+                if (p == end || (*p & 0x80u))
+                    return QS_ERR_BAD_LENGTH;
+                p++;
+            }
+        }
+    }
+    if (count == 0)
+        return QS_ERR_BAD_LENGTH;
+    s->count = count;
+    return QS_ERR_NONE;
+}
+
 uint8_t qs_msg_parse_cubic(const uint8_t *p, uint8_t len, qs_cubic_msg *c)
 {
     uint8_t axis, bit, need;

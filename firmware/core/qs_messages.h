@@ -31,6 +31,14 @@ typedef struct {
     int16_t r[QS_PROTOCOL_AXES];      /* jerk: the change of that per tick; 0 where absent */
 } qs_cubic_msg;
 
+/* SEGMENTS: 1 ... QS_SEGMENTS_MAX records of chained quadratic segments,
+ * read one by one against the chain (qs_segments.h) once the frame is
+ * taken; parsing only checks that every record is whole. */
+typedef struct {
+    const uint8_t *next; /* the next record, in the frame's body */
+    uint8_t count;       /* records */
+} qs_segments_msg;
+
 typedef struct {
     uint8_t mask;
     int32_t position[QS_PROTOCOL_AXES]; /* indexed by axis, valid where in mask */
@@ -84,6 +92,7 @@ typedef struct {
     union {
         qs_segment_msg segment;
         qs_cubic_msg cubic;
+        qs_segments_msg segments;
         qs_set_position_msg set_position;
         qs_hold_msg hold;
         qs_probe_msg probe;
@@ -107,6 +116,7 @@ typedef struct {
 uint8_t qs_msg_parse_empty(uint8_t len);
 uint8_t qs_msg_parse_cubic(const uint8_t *p, uint8_t len, qs_cubic_msg *c);
 uint8_t qs_msg_parse_segment(const uint8_t *p, uint8_t len, qs_segment_msg *s);
+uint8_t qs_msg_parse_segments(const uint8_t *p, uint8_t len, qs_segments_msg *s);
 uint8_t qs_msg_parse_set_position(const uint8_t *p, uint8_t len, qs_set_position_msg *sp);
 uint8_t qs_msg_parse_hold(const uint8_t *p, uint8_t len, qs_hold_msg *h);
 uint8_t qs_msg_parse_probe(const uint8_t *p, uint8_t len, qs_probe_msg *pr);

@@ -48,6 +48,7 @@
 #define QS_TYPE_CONFIG 0x16
 #define QS_TYPE_CUBIC_SEGMENT 0x12
 #define QS_TYPE_OUTPUTS 0x17
+#define QS_TYPE_SEGMENTS 0x18
 #define QS_TYPE_ACK 0x80
 #define QS_TYPE_IDENTIFY_REPLY 0x81
 #define QS_TYPE_STATUS_REPORT 0x82
@@ -195,6 +196,18 @@
 /* Positions (section 5.2): the firmware keeps every position within this. */
 #define QS_POSITION_MAX 2130706432L /* 2^31 - 2^24 */
 #define QS_CAP_OUTPUTS 0x0400 /* spindle, laser and coolant outputs (OUTPUTS) */
+#define QS_CAP_SEGMENTS 0x0800 /* chained quadratic segments, several to a frame (SEGMENTS) */
+
+/* SEGMENTS (section 5.2): records of chained quadratic segments. A record's
+ * head byte holds bits 8-9 of n and what follows it. */
+#define QS_SEGMENTS_MAX 16      /* records in one frame */
+#define QS_RECORD_N_HIGH 0x03   /* n's bits 8-9; its low byte follows the head */
+#define QS_RECORD_AXES 0x04     /* an axes byte follows (as SEGMENT's) */
+#define QS_RECORD_START 0x08    /* per axis: v0 less the chain's speed */
+#define QS_RECORD_RESIDUAL 0x10 /* per axis: r */
+#define QS_RECORD_CRUISE 0x20   /* vn = v0 on every axis: no vn field */
+#define QS_RECORD_REPEAT 0x40   /* the record before again, alone in its head */
+#define QS_RECORD_MIRROR 0x80   /* vn fields less the negated last change of each axis */
 
 /* OUTPUTS bits (section 5.5). */
 #define QS_OUT_ON 0x01      /* the spindle or laser output is on */

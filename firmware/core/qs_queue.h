@@ -72,6 +72,13 @@ static inline void qs_queue_publish(qs_queue *q)
     q->head = qs_queue_next(q, q->head);
 }
 
+/* Main loop: publish every slot filled up to index head at once. */
+static inline void qs_queue_publish_to(qs_queue *q, uint8_t head)
+{
+    QS_COMPILER_BARRIER(); /* the slots' contents before the new head */
+    q->head = head;
+}
+
 /* Tick: the oldest published slot (only when not empty), then release it. */
 static inline qs_segment *qs_queue_front(qs_queue *q)
 {

@@ -19,7 +19,9 @@ from .movefile import move_program, read_move_file
 from .planner.plan import Plan, plan_program
 from .planner.program import JobError, Program
 from .planner.stream import Stream
-from .protocol.codec import payload
+from .protocol.codec import encode
+from .protocol.messages import queue_slots
+from .protocol.segment_run import RunChain, next_frame, run_limit
 from .textfile import read_text
 
 MOVE_FILE_SUFFIXES = (".json", ".yaml", ".yml")
@@ -29,10 +31,8 @@ def is_move_file(path: Path) -> bool:
     return path.suffix.lower() in MOVE_FILE_SUFFIXES
 
 
-def segment_frame_bytes(active_axes: int) -> int:
-    """Bytes on the wire for one SEGMENT frame: COBS(type, seq, 3 + 6k payload, crc16) + delimiter."""
-    body = 2 + 3 + 6 * active_axes + 2
-    return body + 1 + 1  # one COBS code byte (frames are under 254 bytes) and the 0x00 delimiter
+# Segments a frame for an Uno: its queue of 14 slots, half of it in one frame (machine/motion.py).
+UNO_RUN_LIMIT = run_limit(14)
 
 
 class AxisSummary(BaseModel):
@@ -93,13 +93,17 @@ class Job:
             noun = "line" if count == 1 else "lines"
         return f"{count} {noun}"
 
-    def wire_bytes(self) -> int:
-        """Bytes the job's segments take on the serial line, framing included."""
-        if isinstance(self.plan.segments, Stream):
-            return sum(segment_frame_bytes(0) - 3 + len(payload(s)) for s in self.plan.segments.segments())
-        axes = self.plan.segments.numpy()["axes"].astype(np.int64)
-        active = sum(int(np.sum((axes >> i) & 1)) for i in range(self.plan.segments.axis_count))
-        return segment_frame_bytes(0) * len(self.plan) + 6 * active
+    def wire_bytes(self, run_limit: int = UNO_RUN_LIMIT) -> int:
+        """Bytes the job's segments take on the serial line, framing included, sent as a motion sends them
+        to a board that takes `run_limit` segments a frame (an Uno's, by default; 0: one SEGMENT a frame)."""
+        segments = self.plan.segments
+        chain = RunChain(segments.axis_count)
+        total = index = 0
+        while index < len(segments):
+            message = next_frame(segments, index, len(segments), chain, run_limit)
+            total += len(encode(message, 0))
+            index += queue_slots(message)
+        return total
 
     def summary(self) -> JobSummary:
         config = self.plan.config

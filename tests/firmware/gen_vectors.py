@@ -39,6 +39,7 @@ MESSAGE_KEYS = {
     "INPUT_STATUS": {"present", "active", "raw", "invert", "enabled", "hard_limits", "armed", "level",
                      "latches_lost"},
     "SEGMENT": {"n", "axes"},
+    "SEGMENTS": {"records"},
     "CUBIC_SEGMENT": {"n", "axes"},
     "SET_POSITION": {"positions"},
     "ACK": {"next_seq", "free", "reason", "done"},
@@ -57,7 +58,7 @@ EVENT_KEYS = {
     "INPUT": {"motion_ticks", "active", "changed", "cause", "position"},
     "PROBE_MISSED": {"motion_ticks", "position"},
 }
-VECTOR_KEYS = {"name", "direction", "frame", "message", "error", "axis_count"}
+VECTOR_KEYS = {"name", "direction", "frame", "message", "error", "axis_count", "expands_to"}
 
 
 class VectorError(Exception):
@@ -92,24 +93,34 @@ def message_fields(msg: dict, axis_count: int) -> list[str]:
     if extra:
         raise VectorError(f"unknown keys {sorted(extra)} in {kind}")
     out = [f".type = {constant('type', kind)}", f".seq = {msg['seq']}"]
+    if kind == "SEGMENTS":
+        return out  # its meaning is the vector's expands_to (segment_fields)
     if kind == "SEGMENT":
-        active = negative = 0
-        v0 = [0] * 4
-        vn = [0] * 4
-        r = [0] * 4
-        for ax in msg["axes"]:
-            i = ax["axis"]
-            active |= 1 << i
-            if ax["direction"] == -1:
-                negative |= 1 << i
-            elif ax["direction"] != 1:
-                raise VectorError(f"direction must be 1 or -1, not {ax['direction']!r}")
-            v0[i], vn[i], r[i] = ax["v0"], ax["vn"], ax["r"]
-        out.append(".host = {.segment = {.n = %d, .active = 0x%02X, .negative = 0x%02X, "
-                   ".v0 = {%s}, .vn = {%s}, .r = {%s}}}"
-                   % (msg["n"], active, negative, ", ".join(map(str, v0)),
-                      ", ".join(map(str, vn)), ", ".join(map(str, r))))
-    elif kind == "CUBIC_SEGMENT":
+        return out + [".host = {.segment = %s}" % segment_fields(msg)]
+    return out + other_message_fields(msg, kind)
+
+
+def segment_fields(msg: dict) -> str:
+    """A SEGMENT's fields as a qs_segment_msg initialiser."""
+    active = negative = 0
+    v0 = [0] * 4
+    vn = [0] * 4
+    r = [0] * 4
+    for ax in msg["axes"]:
+        i = ax["axis"]
+        active |= 1 << i
+        if ax["direction"] == -1:
+            negative |= 1 << i
+        elif ax["direction"] != 1:
+            raise VectorError(f"direction must be 1 or -1, not {ax['direction']!r}")
+        v0[i], vn[i], r[i] = ax["v0"], ax["vn"], ax["r"]
+    return ("{.n = %d, .active = 0x%02X, .negative = 0x%02X, .v0 = {%s}, .vn = {%s}, .r = {%s}}"
+            % (msg["n"], active, negative, ", ".join(map(str, v0)), ", ".join(map(str, vn)), ", ".join(map(str, r))))
+
+
+def other_message_fields(msg: dict, kind: str) -> list[str]:
+    out: list[str] = []
+    if kind == "CUBIC_SEGMENT":
         jerk = sets = negative = 0
         speed = [0] * 4
         accel = [0] * 4
@@ -219,6 +230,9 @@ def vector_entry(index: int, v: dict) -> tuple[str, str]:
               f".to_firmware = {int(v['direction'] == 'to_firmware')}",
               f".frame = vector_frame_{index}", f".frame_len = {len(frame)}",
               f".axis_count = {axis_count}"]
+    if "expands_to" in v:
+        segments = v["expands_to"]
+        fields.append(".expands_count = %d, .expands = {%s}" % (len(segments), ", ".join(map(segment_fields, segments))))
     if v["message"] is not None:
         fields += message_fields(v["message"], axis_count)
     else:

@@ -114,8 +114,8 @@ def scenario(seed: int) -> Outcome:
     while (len(firmware.executed) < segments or window.in_flight) and events < MAX_EVENTS:
         events += 1
         if host_turn:
-            while pushed < segments and window.room:
-                window.push(bytes((window.next_seq, pushed)), True)
+            while pushed < segments and window.room():
+                window.push(bytes((window.next_seq, pushed)), 1)
                 pushed += 1
             for data in window.due():
                 to_firmware(data)

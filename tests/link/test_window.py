@@ -28,8 +28,8 @@ def window(free: int = 4, base: int = 0, rto: float = 1.0, retries: int = 8) -> 
     return w, clock
 
 
-def push(w: SendWindow, count: int, is_segment: bool = True) -> list[int]:
-    return [w.push(bytes((w.next_seq,)), is_segment) for _ in range(count)]
+def push(w: SendWindow, count: int, segments: int = 1) -> list[int]:
+    return [w.push(bytes((w.next_seq,)), segments) for _ in range(count)]
 
 
 def seqs(frames: list[bytes]) -> list[int]:
@@ -57,11 +57,11 @@ def test_ten_thousand_faulty_scenarios_deliver_every_segment_exactly_once_in_ord
 def test_the_window_holds_what_the_firmware_has_room_for() -> None:
     w, _ = window(free=3, base=250)
     assert push(w, 3) == [250, 251, 252]
-    assert not w.room and w.in_flight == 3
+    assert not w.room() and w.in_flight == 3
     assert seqs(w.due()) == [250, 251, 252]
     assert w.due() == []  # written once
     assert w.on_ack(252, 2, AckReason.ACCEPTED) == 2
-    assert w.in_flight == 1 and w.room and w.holds(252) and not w.holds(251)
+    assert w.in_flight == 1 and w.room() and w.holds(252) and not w.holds(251)
 
 
 def test_sequence_numbers_wrap_past_255() -> None:
@@ -124,7 +124,7 @@ def test_a_rejected_frame_is_not_counted_as_accepted() -> None:
 
 def test_set_position_frames_take_no_queue_slot_in_the_count() -> None:
     w, _ = window(free=4)
-    push(w, 1, is_segment=False)
+    push(w, 1, segments=0)
     push(w, 1)
     w.due()
     assert w.on_ack(2, 3, AckReason.ACCEPTED) == 1
@@ -149,9 +149,9 @@ def test_a_lost_space_ack_is_repaired_by_a_status() -> None:
     push(w, 1)
     w.due()
     w.on_ack(1, 0, AckReason.ACCEPTED)
-    assert w.stalled and not w.room  # the SPACE ack that would follow is lost
+    assert w.stalled and not w.room()  # the SPACE ack that would follow is lost
     w.on_status(1, 1)
-    assert w.room and not w.stalled
+    assert w.room() and not w.stalled
 
 
 def test_resend_marks_one_frame_alone() -> None:

@@ -5,6 +5,7 @@ make exactly the steps the host's model predicts."""
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from pathlib import Path
 
 import numpy as np
@@ -38,18 +39,19 @@ def first_difference(a: np.ndarray, b: np.ndarray) -> str:
     return f"lengths {len(a)} vs {len(b)}"
 
 
-def run_both(board: str, runs: list[list[Segment]], tmp_path: Path, start_emulator) -> None:
+def run_both(board: str, runs: list[list[Segment]], tmp_path: Path, start_emulator,
+             send: Callable[[str, list[list[Segment]]], StatusReport] = stream) -> None:
     axes = AXES[board]
     expected = predict([s for run in runs for s in run], axis_count=axes)
 
     outputs = Outputs.in_dir(tmp_path, board)
     with SimAvr(outputs, board=board) as sim:
-        avr_status = stream(sim.url, runs)
+        avr_status = send(sim.url, runs)
     avr_steps = outputs.load_trace()
 
     emu_trace = tmp_path / "emu-trace.csv"
     emu = start_emulator(free=True, trace=emu_trace, axes=axes, queue=QUEUE[board])
-    emu_status = stream(emu.url, runs)
+    emu_status = send(emu.url, runs)
     emu.stop()
     emu_steps = load_trace(emu_trace)
 

@@ -21,7 +21,6 @@ from ..protocol import (
     Identify,
     IdentifyReply,
     InputChange,
-    MessageType,
     Report,
     Request,
     State,
@@ -31,6 +30,7 @@ from ..protocol import (
     encode,
 )
 from ..protocol.constants import PROTOCOL_VERSION, is_sequenced
+from ..protocol.messages import queue_slots
 from .errors import AlarmError, BoardSilent, FirmwareError, LinkError, LinkTimeout, ProtocolVersionError, Stopped
 from .outbox import Outbox
 from .reports import Inbox, Waiter
@@ -267,12 +267,13 @@ class Link:
         deadline = None if timeout is None else self._clock() + timeout
         with self._cond:
             generation = self._in.generation if generation is None else generation
-            while not self._window.room:
+            slots = queue_slots(message)
+            while not self._window.room(slots):
                 self._raise_failure(generation)
                 if not self._wait(deadline):
                     raise LinkTimeout(f"flow-control window still full after {timeout:g} s")
             self._raise_failure(generation)
-            seq = self._window.push(encode(message, self._window.next_seq), message.CODE == MessageType.SEGMENT)
+            seq = self._window.push(encode(message, self._window.next_seq), slots)
             self._cond.notify_all()
             return seq
 

@@ -33,12 +33,12 @@ GIVE_UP = 2.0  # s: a frame resent `retries` times is given up only once it has 
 
 
 class _Frame:
-    __slots__ = ("seq", "data", "is_segment", "transmissions", "pending", "first_sent", "sent_at", "order", "parked")
+    __slots__ = ("seq", "data", "segments", "transmissions", "pending", "first_sent", "sent_at", "order", "parked")
 
-    def __init__(self, seq: int, data: bytes, is_segment: bool) -> None:
+    def __init__(self, seq: int, data: bytes, segments: int) -> None:
         self.seq = seq
         self.data = data
-        self.is_segment = is_segment  # takes a queue slot; counted as accepted when acknowledged
+        self.segments = segments  # queue slots it takes; counted as accepted when acknowledged
         self.transmissions = 0
         self.pending = True
         self.first_sent = 0.0
@@ -66,6 +66,7 @@ class SendWindow:
         self.free = 0
         self.last_tx = -math.inf  # clock time of the last write
         self._frames: list[_Frame] = []
+        self._slots = 0  # queue slots the frames in the window take
         self._first_pending = 0  # every frame before this index has been written
         self._written = 0  # frames written and not yet acknowledged
         self._last_progress = 0.0  # last ACK that advanced, or first write of the frame at base
@@ -110,19 +111,21 @@ class SendWindow:
         """Frames pushed and not yet acknowledged."""
         return len(self._frames)
 
-    @property
-    def room(self) -> bool:
-        """Whether one more frame fits the flow-control window."""
-        return len(self._frames) < min(self.free, self.max_in_flight)
+    def room(self, segments: int = 1) -> bool:
+        """Whether one more frame, taking `segments` queue slots, fits the flow-control window (every frame
+        counts as at least one slot, as the firmware's free count does for a sequence of single frames)."""
+        return len(self._frames) < self.max_in_flight and self._slots + max(1, segments) <= self.free
 
     def holds(self, seq: int) -> bool:
         """Whether frame `seq` is in the window (pushed, not yet acknowledged)."""
         return (seq - self.base) & 0xFF < len(self._frames)
 
-    def push(self, data: bytes, is_segment: bool) -> int:
-        """Queue the frame `data`, encoded with seq `next_seq`; returns that seq."""
+    def push(self, data: bytes, segments: int) -> int:
+        """Queue the frame `data`, encoded with seq `next_seq`, that takes `segments` queue slots; returns
+        that seq."""
         seq = self.next_seq
-        self._frames.append(_Frame(seq, data, is_segment))
+        self._frames.append(_Frame(seq, data, segments))
+        self._slots += max(1, segments)
         return seq
 
     def resend(self, seq: int) -> None:
@@ -152,8 +155,9 @@ class SendWindow:
             # Every frame an ACK passes was accepted but the one it answers with REJECTED (which
             # comes with an ERROR and stops the stream): a frame passed only by a later ACK, its
             # own lost, was accepted too.
-            if frame.is_segment and (i < last or reason != AckReason.REJECTED):
-                accepted += 1
+            if i < last or reason != AckReason.REJECTED:
+                accepted += frame.segments
+            self._slots -= max(1, frame.segments)
         del frames[:advance]
         self._first_pending = max(0, self._first_pending - advance)
         self.base = next_seq
@@ -180,13 +184,14 @@ class SendWindow:
         stop = min(len(frames), self.max_in_flight)
         if self._first_pending >= stop:
             return []  # the usual case: everything written is still in flight
-        room = min(self.free, self.max_in_flight)  # a frame never written needs a free slot
         out: list[bytes] = []
+        slots = sum(max(1, f.segments) for f in frames[: self._first_pending])
         for i in range(self._first_pending, stop):
             frame = frames[i]
+            slots += max(1, frame.segments)
             if not frame.pending:
                 continue
-            if i >= room and not frame.transmissions:
+            if slots > self.free and not frame.transmissions:  # a frame never written needs free slots
                 stop = i
                 break
             if frame.transmissions > self.retries and now - frame.first_sent >= GIVE_UP:
@@ -253,6 +258,7 @@ class SendWindow:
 
     def _drop(self) -> None:
         self._frames.clear()
+        self._slots = 0
         self._first_pending = 0
         self._written = 0
         self._gap_handled_for = None

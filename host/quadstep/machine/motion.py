@@ -18,7 +18,11 @@ from itertools import accumulate
 from typing import Protocol
 
 from ..link import AlarmError, Link, LinkError, Stopped, hold, wait_rest
-from ..protocol import DECEL_MAX, AckReason, Capability, CubicSegment, HoldDone, InputCause, Outputs, Report, Segment
+from ..protocol import (
+    DECEL_MAX, AckReason, Capability, CubicSegment, HoldDone, IdentifyReply, InputCause, Outputs, Report, Segment,
+)
+from ..protocol.messages import queue_slots
+from ..protocol.segment_run import RunChain, next_frame, run_limit
 
 # Keep at least this many segments queued, whatever the lookahead, so the board
 # always has the next one when a segment ends.
@@ -47,6 +51,32 @@ class Rest:
     position: tuple[int, ...]
     held: bool
     hold_tick: int | None
+
+
+def board_run_limit(identity: IdentifyReply) -> int:
+    """Segments to put in one SEGMENTS frame to this board; 0 where its firmware has no SEGMENTS."""
+    return run_limit(identity.queue_capacity) if identity.capabilities & Capability.SEGMENTS else 0
+
+
+class RunSize:
+    """How many segments go in the next SEGMENTS frame: `limit` on a clean line. Once the link has had to
+    write a frame again, single SEGMENT frames for the next CALM frames: after a lost frame the board keeps
+    the SEGMENT frames behind it (selective repeat) but never SEGMENTS, and a long frame is the likeliest to
+    be damaged, so a noisy line runs as well as it did with one segment a frame."""
+
+    CALM = 32
+
+    def __init__(self, limit: int, link: Link) -> None:
+        self.limit = limit
+        self.link = link
+        self.resent = link.stats.retransmits
+        self.calm = self.CALM
+
+    def next(self) -> int:
+        resent = self.link.stats.retransmits
+        self.calm = 0 if resent != self.resent else self.calm + 1
+        self.resent = resent
+        return self.limit if self.calm >= self.CALM else min(self.limit, 1)
 
 
 def supports_hold(link: Link) -> bool:
@@ -187,12 +217,20 @@ class Motion:
         ticks = list(accumulate((self.segments.n[i] for i in range(self.first, self.last)), initial=0))
         identity = self.link.identity
         assert identity is not None
+        size = RunSize(board_run_limit(identity), self.link)
+        chain = RunChain(self.segments.axis_count)
         outputs = iter(self.outputs)
         output = next(outputs, None)
-        for index in range(self.first, self.last):
+        index = self.first
+        while index < self.last:
             k = index - self.first
-            self._wait_for_room(k, ticks, identity.queue_capacity)
-            segment = self.segments.segment(index)
+            batch = size.next()
+            end = min(self.last, index + max(1, batch))
+            if output is not None and output[0] > index:
+                end = min(end, output[0])  # an output goes out before its segment, between frames
+            message = next_frame(self.segments, index, end, chain, batch)
+            count = queue_slots(message)
+            self._wait_for_room(k + count - 1, ticks, identity.queue_capacity)
             # Checked and sent under the lock: once halt() has set _halting nothing more is
             # sent, so no segment can follow its HOLD. The room waited for above makes this
             # send return at once, so halt() never waits long for the lock.
@@ -202,8 +240,9 @@ class Motion:
                 while output is not None and output[0] <= index:  # in stream order, before the segment
                     self.link.send(output[1], generation=self._generation)
                     output = next(outputs, None)
-                self.link.send(segment, generation=self._generation)  # a restart ends this motion
-                self._sent = k + 1
+                self.link.send(message, generation=self._generation)  # a restart ends this motion
+                self._sent = k + count
+            index += count
         with self._lock:
             while output is not None and not self._halting:
                 self.link.send(output[1], generation=self._generation)

@@ -48,6 +48,7 @@ from .messages import (
 )
 from .cubic import CubicAxis, CubicSegment
 from .segment import D, MAX_AXES, N_MAX, R_MAX, AxisMove, Segment
+from .segment_run import RunChain, SegmentRecord, Segments
 from .wire import Report, Request
 
 __all__ = [
@@ -55,7 +56,7 @@ __all__ = [
     "DECEL_MAX", "DECEL_SHIFT", "Input", "InputCause", "InputChange", "Output", "Outputs", "InputStatus", "Inputs", "Probe", "ProbeMissed",
     "DecodeError", "Decoder", "ErrorCode", "ErrorReport", "Event", "EventKind", "FieldId", "Hold", "HoldDone",
     "Frame", "Identify", "IdentifyReply", "MAX_AXES", "MAX_FRAME", "Message", "MessageType", "N_MAX",
-    "PROTOCOL_VERSION", "R_MAX", "Report", "Request", "Segment", "SetPosition", "State", "Status", "StatusReport",
+    "PROTOCOL_VERSION", "R_MAX", "Report", "Request", "RunChain", "Segment", "SegmentRecord", "Segments", "SetPosition", "State", "Status", "StatusReport",
     "Stop", "POSITION_MAX", "WATCHDOG_MAX_MS", "Watchdog", "decode", "decode_body", "encode", "message_type",
     "payload",
 ]

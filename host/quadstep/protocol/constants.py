@@ -145,6 +145,7 @@ class Capability(IntFlag):
     CONTROL_INPUTS = 1 << 8
     CONTROLLED_STOPS = 1 << 9  # an underrun and a silent host end in a hold; WATCHDOG
     OUTPUTS = 1 << 10  # spindle, laser and coolant outputs (OUTPUTS)
+    SEGMENTS = 1 << 11  # chained quadratic segments, several to a frame (SEGMENTS)
 
 
 class Output(IntFlag):

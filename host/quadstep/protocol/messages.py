@@ -36,6 +36,7 @@ from .constants import (
     TypeClass,
 )
 from .cubic import CubicAxis, CubicSegment
+from .segment_run import SegmentRecord, Segments
 from .fields import (
     U8,
     U16,
@@ -366,6 +367,13 @@ def message_type(message: WireMessage) -> Any:
     raise TypeError(f"not a protocol message: {type(message).__name__}")
 
 
+def queue_slots(message: WireMessage) -> int:
+    """Queue slots the firmware gives a sequenced message: one a segment, one a record of SEGMENTS."""
+    if isinstance(message, Segments):
+        return len(message.records)
+    return 1 if isinstance(message, (Segment, CubicSegment)) else 0
+
+
 def message_from_json(fields: dict[str, Any]) -> tuple[int, WireMessage]:
     """(seq, message) from the JSON form of vectors.json: {"type": NAME, "seq": n, ...fields}."""
     data = dict(fields)
@@ -385,6 +393,6 @@ def message_from_json(fields: dict[str, Any]) -> tuple[int, WireMessage]:
 __all__ = [
     "Ack", "Alarm", "AxisMove", "Config", "CubicAxis", "CubicSegment", "ErrorReport", "Event", "EventKind", "Hold", "HoldDone", "Identify",
     "IdentifyReply", "InputChange", "InputStatus", "Inputs", "Message", "MessageType", "Outputs", "Probe", "ProbeMissed",
-    "Report", "Request", "Segment", "SetPosition", "Status", "StatusReport", "Stop", "message_from_json",
-    "message_type",
+    "Report", "Request", "Segment", "SegmentRecord", "Segments", "SetPosition", "Status", "StatusReport", "Stop", "message_from_json",
+    "message_type", "queue_slots",
 ]

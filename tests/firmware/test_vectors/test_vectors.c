@@ -9,12 +9,16 @@
 #include "qs_core.h"
 #include "qs_frame.h"
 #include "qs_messages.h"
+#include "qs_segments.h"
 #include "qs_test_support.h"
 #include "qs_vectors.h"
 #include "unity.h"
 
 static qs_core core;
 static char where[160];
+/* A SEGMENTS frame's records as segments, read while its frame is at hand. */
+static qs_segment_msg expanded[QS_SEGMENTS_MAX];
+static uint8_t expanded_count;
 
 void setUp(void)
 {
@@ -83,9 +87,34 @@ static uint8_t parse(const uint8_t *body, uint8_t len, qs_host_msg *m)
         return qs_msg_parse_set_position(p, plen, &m->as.set_position);
     case QS_TYPE_CUBIC_SEGMENT:
         return qs_msg_parse_cubic(p, plen, &m->as.cubic);
+    case QS_TYPE_SEGMENTS:
+        return qs_msg_parse_segments(p, plen, &m->as.segments);
     default:
         return QS_ERR_UNKNOWN_TYPE;
     }
+}
+
+/* Every record of a SEGMENTS frame, against the chain of a freshly started
+ * firmware that follows each, and checked as a SEGMENT. */
+static uint8_t expand_segments(qs_segments_msg *run, uint8_t axis_count, qs_fault *f)
+{
+    static qs_cubic_chain chain;
+    static qs_segment slots[QS_SEGMENTS_MAX];
+    qs_segment_msg s;
+    uint8_t code;
+
+    qs_cubic_reset(&chain);
+    for (expanded_count = 0; expanded_count < run->count; expanded_count++) {
+        code = qs_segments_next(run, &chain, axis_count, &s, f);
+        if (code == QS_ERR_NONE)
+            code = qs_msg_check_segment(&s, axis_count, f);
+        if (code != QS_ERR_NONE)
+            return code;
+        qs_segment_prepare(&slots[expanded_count], &s);
+        qs_cubic_follow_quadratic(&chain, &slots[expanded_count], &s);
+        expanded[expanded_count] = s;
+    }
+    return QS_ERR_NONE;
 }
 
 /* What decoding a host frame gives: 0 and the message, or an error. */
@@ -101,6 +130,8 @@ static uint8_t decode(const qs_vector *v, qs_host_msg *m, qs_fault *f)
     result = parse(qs_frame_body(&rx), qs_frame_body_len(&rx), m);
     if (result != QS_ERR_NONE)
         return result;
+    if (m->type == QS_TYPE_SEGMENTS)
+        return expand_segments(&m->as.segments, v->axis_count, f);
     if (m->type == QS_TYPE_SEGMENT)
         return qs_msg_check_segment(&m->as.segment, v->axis_count, f);
     if (m->type == QS_TYPE_SET_POSITION)
@@ -131,7 +162,21 @@ static void check_host_message(const qs_vector *v, const qs_host_msg *m)
 
     TEST_ASSERT_EQUAL_HEX8_MESSAGE(v->type, m->type, at(v, "type"));
     TEST_ASSERT_EQUAL_UINT8_MESSAGE(v->seq, m->seq, at(v, "seq"));
-    if (m->type == QS_TYPE_SEGMENT) {
+    if (m->type == QS_TYPE_SEGMENTS) {
+        uint8_t k;
+        TEST_ASSERT_EQUAL_UINT8_MESSAGE(v->expands_count, expanded_count, at(v, "records"));
+        for (k = 0; k < expanded_count; k++) {
+            const qs_segment_msg *e = &v->expands[k], *a = &expanded[k];
+            TEST_ASSERT_EQUAL_UINT16_MESSAGE(e->n, a->n, at(v, "record n"));
+            TEST_ASSERT_EQUAL_HEX8_MESSAGE(e->active, a->active, at(v, "record axes"));
+            TEST_ASSERT_EQUAL_HEX8_MESSAGE(e->negative, a->negative, at(v, "record directions"));
+            for (axis = 0; axis < QS_PROTOCOL_AXES; axis++) {
+                TEST_ASSERT_EQUAL_UINT16_MESSAGE(e->v0[axis], a->v0[axis], at(v, "record v0"));
+                TEST_ASSERT_EQUAL_UINT16_MESSAGE(e->vn[axis], a->vn[axis], at(v, "record vn"));
+                TEST_ASSERT_EQUAL_INT_MESSAGE(e->r[axis], a->r[axis], at(v, "record r"));
+            }
+        }
+    } else if (m->type == QS_TYPE_SEGMENT) {
         const qs_segment_msg *e = &v->host.segment, *a = &m->as.segment;
         TEST_ASSERT_EQUAL_UINT16_MESSAGE(e->n, a->n, at(v, "n"));
         TEST_ASSERT_EQUAL_HEX8_MESSAGE(e->active, a->active, at(v, "active axes"));

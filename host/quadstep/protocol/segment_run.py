@@ -1,0 +1,393 @@
+"""The SEGMENTS message: chained quadratic segments, several to a frame (PROTOCOL.md §5.2).
+
+The segment before leaves every axis at a speed and a residual, which the firmware keeps exactly (its
+chain); they are the next segment's v0 and r unless its record says otherwise. So a record carries n and
+each axis's change of speed, in variable-length integers: a chained two-axis segment is 4 bytes, a cruise
+2, the same segment again 1; a change close to the negated last one (a move's deceleration after its
+acceleration) is sent as the difference (MIRROR). A frame is read in order once it is taken (never when parked), against the
+chain its predecessors left, so a resent frame means exactly what it meant the first time.
+
+`RunChain` is the host's model of that chain, `pack` the one canonical encoding and `expand` its meaning
+(the firmware's `qs_segments_next`, tests/firmware holds the two equal through protocol/vectors.json).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from typing import Protocol
+from dataclasses import dataclass, field
+from typing import Annotated, Any
+
+from pydantic import BaseModel, ConfigDict, Field, SerializerFunctionWrapHandler, model_serializer, model_validator
+
+from .constants import D, MAX_FRAME, V_MAX, FieldId
+from .cubic import CubicSegment
+from .segment import AxisMove, Segment
+from .wire import FieldCodec, FieldFault, Request, bits, message
+
+N_HIGH = 0x03  # n's bits 8–9 in the head; its low byte follows
+AXES = 0x04  # an axes byte follows (as SEGMENT's)
+START = 0x08  # per axis: v0 less the chain's speed
+RESIDUAL = 0x10  # per axis: r
+CRUISE = 0x20  # vn = v0 on every axis: no vn field
+REPEAT = 0x40  # the record before again (n, axes, v0, vn), its residuals from the chain
+MIRROR = 0x80  # per axis: vn − v0 plus the axis's last change (a deceleration that undoes an acceleration)
+SEGMENTS_MAX = 16  # records in one frame
+RUN_LIMIT = 8  # records a host puts in one frame, at most
+PAYLOAD_MAX = MAX_FRAME - 4  # type, seq and the CRC take the rest of a frame
+VARINT_LIMIT = 1 << 13  # |value| below this: a zigzag varint of at most two bytes
+
+
+def _varint(value: int) -> bytes:
+    u = value << 1 if value >= 0 else (-value << 1) - 1
+    return bytes([u]) if u < 0x80 else bytes([u & 0x7F | 0x80, u >> 7])
+
+
+def _read_varint(payload: bytes, at: int) -> tuple[int, int] | None:
+    """(value, next offset), or None where the payload ends inside it or it runs past two bytes."""
+    if at >= len(payload):
+        return None
+    u = payload[at]
+    if u & 0x80:
+        if at + 1 >= len(payload) or payload[at + 1] & 0x80:
+            return None
+        u = u & 0x7F | payload[at + 1] << 7
+        at += 1
+    return (u >> 1) ^ -(u & 1), at + 1
+
+
+Deltas = tuple[Annotated[int, Field(gt=-VARINT_LIMIT, lt=VARINT_LIMIT)], ...]
+
+
+class SegmentRecord(BaseModel):
+    """One record as on the wire: `repeat` alone, or n with what the chain does not say."""
+
+    model_config = ConfigDict(frozen=True)
+
+    repeat: bool = False
+    n: int | None = Field(default=None, ge=0, le=1023)
+    axes: int | None = Field(default=None, ge=0, le=255, description="the axes byte; None: the record before's")
+    start: Deltas | None = Field(default=None, description="per active axis: v0 less the chain's speed")
+    residual: Deltas | None = Field(default=None, description="per active axis: r")
+    change: Deltas | None = Field(default=None, description="per active axis: vn − v0; None: a cruise")
+    mirror: bool = Field(default=False, description="change is vn − v0 plus the axis's last change")
+
+    @model_validator(mode="after")
+    def _whole(self) -> SegmentRecord:
+        if self.repeat != (self.n is None):
+            raise ValueError("a record is a repeat (alone) or has an n")
+        if self.repeat and ((self.axes, self.start, self.residual, self.change) != (None,) * 4 or self.mirror):
+            raise ValueError("a repeat carries nothing else")
+        if self.mirror and self.change is None:
+            raise ValueError("a mirrored change needs a change (not a cruise)")
+        return self
+
+    @model_serializer(mode="wrap")
+    def _only_what_is_there(self, handler: SerializerFunctionWrapHandler) -> dict[str, Any]:
+        """The fields the record carries, as protocol/vectors.json writes them."""
+        return {k: v for k, v in handler(self).items() if v is not None and v is not False}
+
+    def pack(self, active: int) -> bytes:
+        """Its bytes, `active` axes having fields (the record's own axes byte, or the one before's)."""
+        if self.repeat:
+            return bytes([REPEAT])
+        assert self.n is not None
+        head = self.n >> 8 | (AXES if self.axes is not None else 0) | (START if self.start is not None else 0)
+        head |= (RESIDUAL if self.residual is not None else 0) | (CRUISE if self.change is None else 0)
+        head |= MIRROR if self.mirror else 0
+        out = bytearray([head, self.n & 0xFF])
+        if self.axes is not None:
+            out.append(self.axes)
+        for j in range(active):
+            for values in (self.start, self.residual, self.change):
+                if values is not None:
+                    out += _varint(values[j])
+        return bytes(out)
+
+
+def _active_count(axes: int) -> int:
+    return len(bits(axes & 0x0F))
+
+
+def _parse(payload: bytes, offset: int) -> tuple[list[SegmentRecord], int] | None:
+    """Every record from `offset` to the end, or None where one is not whole (BAD_LENGTH)."""
+    records: list[SegmentRecord] = []
+    at, axes = offset, None
+    while at < len(payload):
+        head = payload[at]
+        at += 1
+        if len(records) == SEGMENTS_MAX or head & (MIRROR | CRUISE) == MIRROR | CRUISE:
+            return None
+        if head & REPEAT:
+            if head != REPEAT or not records:
+                return None
+            records.append(SegmentRecord(repeat=True))
+            continue
+        if at >= len(payload):
+            return None
+        n = (head & N_HIGH) << 8 | payload[at]
+        at += 1
+        own_axes = None
+        if head & AXES:
+            if at >= len(payload):
+                return None
+            own_axes = axes = payload[at]
+            at += 1
+        elif axes is None:
+            return None
+        lists: dict[str, list[int] | None] = {
+            name: [] if head & flag else None for name, flag in (("start", START), ("residual", RESIDUAL))}
+        lists["change"] = None if head & CRUISE else []
+        for _ in range(_active_count(axes)):
+            for name in ("start", "residual", "change"):
+                values = lists[name]
+                if values is not None:
+                    read = _read_varint(payload, at)
+                    if read is None:
+                        return None
+                    values.append(read[0])
+                    at = read[1]
+        records.append(SegmentRecord(n=n, axes=own_axes, mirror=bool(head & MIRROR),
+                                     **{k: tuple(v) if v is not None else None for k, v in lists.items()}))
+    return (records, at) if records else None
+
+
+@dataclass(frozen=True)
+class Records(FieldCodec):
+    """The records, to the end of the payload."""
+
+    def length(self, payload: bytes, offset: int) -> int | None:
+        parsed = _parse(payload, offset)
+        return None if parsed is None else parsed[1] - offset
+
+    def pack(self, value: tuple[SegmentRecord, ...]) -> bytes:
+        out, axes = bytearray(), 0
+        for record in value:
+            axes = record.axes if record.axes is not None else axes
+            out += record.pack(_active_count(axes))
+        return bytes(out)
+
+    def unpack(self, payload: bytes, offset: int, size: int) -> Any:
+        parsed = _parse(payload[: offset + size], offset)
+        assert parsed is not None
+        return tuple(parsed[0])
+
+
+@message(0x18, "SEGMENTS")
+class Segments(Request):
+    """1 … 16 chained quadratic segments (capability bit 11); each takes a queue slot, all or none."""
+
+    model_config = ConfigDict(frozen=True, extra="ignore")
+
+    records: Annotated[tuple[SegmentRecord, ...], Records()]
+
+    @classmethod
+    def check_wire(cls, raw: dict[str, Any], axis_count: int) -> None:
+        """The firmware's checks, record by record, against the chain of a freshly started firmware
+        (every axis at rest on the ideal); within a stream, against the chain reached."""
+        expand(raw["records"], RunChain.at_rest(axis_count))
+
+    def __len__(self) -> int:
+        return len(self.records)
+
+
+# --- the chain, and the records' meaning ------------------------------------------------------------------
+
+
+@dataclass
+class RunChain:
+    """Per axis, what the firmware's chain gives a quadratic segment that starts from it: the speed (1/4096
+    step per tick) and the residual along the positive direction (1/8192 step); None where the host cannot
+    know it (before the motion's first segment, after a cubic one)."""
+
+    axis_count: int
+    speed: list[int | None] = field(default_factory=list)
+    residual: list[int | None] = field(default_factory=list)
+    last_change: list[int | None] = field(default_factory=list)  # vn − v0 of the last segment that had one
+
+    def __post_init__(self) -> None:
+        if not self.speed:
+            self.forget()
+
+    @classmethod
+    def at_rest(cls, axis_count: int) -> RunChain:
+        chain = cls(axis_count)
+        chain.speed = [0] * axis_count
+        chain.residual = [0] * axis_count
+        chain.last_change = [0] * axis_count
+        return chain
+
+    def forget(self) -> None:
+        self.speed = [None] * self.axis_count
+        self.residual = [None] * self.axis_count
+        self.last_change = [None] * self.axis_count
+
+    def copy(self) -> RunChain:
+        return RunChain(self.axis_count, list(self.speed), list(self.residual), list(self.last_change))
+
+    def follow(self, segment: Segment) -> None:
+        """After a quadratic segment: named axes end at vn and their exact residual, the others stop."""
+        named = {a.axis: a for a in segment.axes}
+        for axis in range(self.axis_count):
+            move = named.get(axis)
+            if move is None:
+                self.speed[axis] = 0
+                continue
+            travel = move.r + segment.n * (move.v0 + move.vn)
+            rest = travel - 2 * D * ((travel + D) // (2 * D))
+            self.speed[axis] = move.vn
+            self.residual[axis] = move.direction * rest
+            if move.vn != move.v0:
+                self.last_change[axis] = move.vn - move.v0
+
+    def ready(self) -> bool:
+        """Whether a record can start from here (every speed known)."""
+        return all(s is not None for s in self.speed)
+
+
+def _refuse(field_id: FieldId, axis: int | None, detail: str) -> FieldFault:
+    return FieldFault(field_id, axis, detail)
+
+
+def expand(records: Sequence[SegmentRecord], chain: RunChain) -> list[Segment]:
+    """The segments the records mean, starting from `chain`, which they move on; raises FieldFault as the
+    firmware refuses (AXES, DIRECTION, V0, VN, RESIDUAL per record, then SEGMENT's own checks)."""
+    out: list[Segment] = []
+    n, axes, v0, vn = 0, 0, [0] * 4, [0] * 4
+    for record in records:
+        if not record.repeat:
+            assert record.n is not None
+            n = record.n
+            axes = record.axes if record.axes is not None else axes
+        active, negative = bits(axes & 0x0F), axes >> 4
+        if any(a >= chain.axis_count for a in active):
+            raise _refuse(FieldId.AXES, None, f"axes {active}, firmware has {chain.axis_count}")
+        if negative & ~axes & 0x0F:
+            raise _refuse(FieldId.DIRECTION, None, f"direction bit of an inactive axis (axes 0x{axes:02x})")
+        moves = []
+        for j, axis in enumerate(active):
+            sign = -1 if negative >> axis & 1 else 1
+            residual = chain.residual[axis]
+            if not record.repeat:
+                speed = chain.speed[axis]
+                if speed is None:
+                    raise _refuse(FieldId.V0, axis, "the chain's speed is not on the 1/4096 grid")
+                v0[axis] = speed + (record.start[j] if record.start is not None else 0)
+                if record.residual is not None:
+                    residual = sign * record.residual[j]
+                vn[axis] = v0[axis] + (record.change[j] if record.change is not None else 0)
+                if record.mirror:
+                    last = chain.last_change[axis]
+                    if last is None:
+                        raise _refuse(FieldId.VN, axis, "the chain's last change is not known")
+                    vn[axis] -= last
+                if not 0 <= v0[axis] <= V_MAX:
+                    raise _refuse(FieldId.V0, axis, f"v0 = {v0[axis]}, limit 0..{V_MAX}")
+                if not 0 <= vn[axis] <= V_MAX:
+                    raise _refuse(FieldId.VN, axis, f"vn = {vn[axis]}, limit 0..{V_MAX}")
+            if residual is None:
+                raise _refuse(FieldId.RESIDUAL, axis, "the chain's residual is not on the 1/8192 grid")
+            moves.append((axis, sign, v0[axis], vn[axis], sign * residual))
+        raw = {"n": n, "axes": (axes, [(a, b, r) for _, _, a, b, r in moves])}
+        Segment.check_wire(raw, chain.axis_count)
+        segment = Segment(n=n, axes=tuple(AxisMove(axis=a, direction=s, v0=a0, vn=b, r=r) for a, s, a0, b, r in moves))
+        chain.follow(segment)
+        out.append(segment)
+    return out
+
+
+def _axes_byte(segment: Segment) -> int:
+    return sum((1 << a.axis) | ((16 << a.axis) if a.direction < 0 else 0) for a in segment.axes)
+
+
+def _shape(segment: Segment) -> tuple[int, int, tuple[tuple[int, int], ...]]:
+    """What a REPEAT takes from the record before: n, the axes byte, and v0 and vn per axis."""
+    return segment.n, _axes_byte(segment), tuple((a.v0, a.vn) for a in segment.axes)
+
+
+def _record(segment: Segment, before: Segment | None, chain: RunChain) -> SegmentRecord:
+    """The canonical record of `segment` after `before` (in the same frame) from `chain`."""
+    residuals = [a.direction * chain.residual[a.axis] if chain.residual[a.axis] is not None else None
+                 for a in segment.axes]
+    chained = all(r == a.r for r, a in zip(residuals, segment.axes))
+    if before is not None and chained and _shape(before) == _shape(segment):
+        return SegmentRecord(repeat=True)
+    axes = _axes_byte(segment)
+    start = tuple(a.v0 - chain.speed[a.axis] for a in segment.axes)  # type: ignore[operator]
+    change, mirror = _change(segment, chain)
+    return SegmentRecord(
+        n=segment.n,
+        axes=axes if before is None or axes != _axes_byte(before) else None,
+        start=start if any(start) else None,
+        residual=None if chained else tuple(a.r for a in segment.axes),
+        change=change,
+        mirror=mirror,
+    )
+
+
+def _change(segment: Segment, chain: RunChain) -> tuple[tuple[int, ...] | None, bool]:
+    """The vn fields and whether they are mirrored: mirrored where that takes fewer bytes."""
+    if all(a.vn == a.v0 for a in segment.axes):
+        return None, False
+    plain = tuple(a.vn - a.v0 for a in segment.axes)
+    lasts = [chain.last_change[a.axis] for a in segment.axes]
+    if any(last is None for last in lasts):
+        return plain, False
+    mirrored = tuple(c + last for c, last in zip(plain, lasts))  # type: ignore[operator]
+    if sum(map(len, map(_varint, mirrored))) < sum(map(len, map(_varint, plain))):
+        return mirrored, True
+    return plain, False
+
+
+def pack(segments: Sequence[Segment], chain: RunChain, limit: int = SEGMENTS_MAX) -> Segments | None:
+    """As many of `segments` (from the first, at most `limit`) as one frame holds, moving `chain` on past
+    them; None when the chain cannot start a record (send the first segment as a SEGMENT, then follow it)."""
+    if not segments or not chain.ready():
+        return None
+    records: list[SegmentRecord] = []
+    size, before, axes = 0, None, 0
+    for segment in segments[: min(limit, SEGMENTS_MAX)]:
+        record = _record(segment, before, chain)
+        axes = record.axes if record.axes is not None else axes
+        length = len(record.pack(_active_count(axes)))
+        if size + length > PAYLOAD_MAX:
+            break
+        records.append(record)
+        size += length
+        chain.follow(segment)
+        before = segment
+    return Segments(records=tuple(records))
+
+
+def run_limit(queue_capacity: int) -> int:
+    """Segments a host puts in one SEGMENTS frame for a board with this queue: half of it (so the next frame
+    is taken while the other half runs), at most RUN_LIMIT."""
+    return max(1, min(RUN_LIMIT, queue_capacity // 2))
+
+
+class SegmentSource(Protocol):
+    """A plan's segments by index (planner/segments.py, planner/stream.py)."""
+
+    def segment(self, i: int) -> Segment | CubicSegment: ...
+
+
+def next_frame(source: SegmentSource, index: int, end: int, chain: RunChain, limit: int) -> Segment | CubicSegment | Segments:
+    """The frame that sends segment `index` and what follows it before `end`: quadratic segments chained into
+    SEGMENTS (at most `limit`; 0 where the firmware has no SEGMENTS) once the chain is known, else segment
+    `index` alone, as its own message (with a limit of 1 too: after a lost frame the board keeps later
+    SEGMENT frames, never SEGMENTS); `chain` moves on past what the frame sends."""
+    first = source.segment(index)
+    if isinstance(first, CubicSegment):
+        chain.forget()  # its end need not lie on the quadratic grid
+        return first
+    run = [first]
+    for i in range(index + 1, min(end, index + limit)):
+        segment = source.segment(i)
+        if not isinstance(segment, Segment):
+            break
+        run.append(segment)
+    packed = pack(run, chain, limit) if limit > 1 else None  # one alone: SEGMENT, which the board can park
+    if packed is None:
+        chain.follow(first)
+        return first
+    return packed
