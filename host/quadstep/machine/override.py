@@ -15,7 +15,7 @@ import numpy as np
 
 from ..planner.feed_override import scale_feeds
 from ..planner.plan import Boundary, Plan, plan_program
-from ..planner.program import Program
+from ..planner.program import JobError, Program
 from ..planner.segments import SegmentArrays
 from ..planner.stream import Stream
 from ..protocol.segment import D
@@ -98,12 +98,15 @@ def prepare(program: Program, running: Plan | StreamPlan, after: int, before: in
     """`running` planned again at `percent` % from the first move boundary where the new stream leaves the old
     at or after its item `after` (and before item `before`, the section's end); None when there is none."""
     base = running.base if isinstance(running, StreamPlan) else running
-    if not isinstance(base.segments, SegmentArrays):
-        return None
+    if not isinstance(base.segments, SegmentArrays) or len(base.junctions) <= base.moves:
+        return None  # a jerk-limited plan, or one not made by plan_program
     origin = running.segments.origin_of(after) if isinstance(running, StreamPlan) else after
     move = bisect_left(base.move_ends, origin) + 1
     for move in range(move, min(move + TRIES, base.moves)):
-        joined = replan_from(program, base, move, percent, label)
+        try:
+            joined = replan_from(program, base, move, percent, label)
+        except JobError:
+            continue  # no whole-tick profile from this boundary: the next one
         at = base.move_ends[move - 1]
         if not isinstance(running, StreamPlan) or restream is None:
             index, swapped = at, joined
