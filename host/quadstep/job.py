@@ -16,6 +16,7 @@ from .config import MachineConfig
 from .coordinates import WorkCoordinates
 from .gcode import parse_gcode
 from .movefile import move_program, read_move_file
+from .planner.feed_override import scale_feeds
 from .planner.plan import Plan, plan_program
 from .planner.program import JobError, Program
 from .planner.stream import Stream
@@ -72,6 +73,7 @@ class Job:
     program: Program
     plan: Plan
     coordinates: WorkCoordinates  # the work coordinates the job starts with
+    feed_override: int = 100  # % of every programmed feed the plan has (the program keeps them as written)
 
     @property
     def end_coordinates(self) -> WorkCoordinates:
@@ -159,14 +161,16 @@ def load_job(
     start_steps: tuple[int, ...] | None = None,
     skip_unsupported: bool = False,
     coordinates: WorkCoordinates | None = None,
+    feed_override: int = 100,
 ) -> Job:
-    """Read, check and plan a whole job; raises JobError naming the line (or move) at fault."""
+    """Read, check and plan a whole job (its feeds at `feed_override` %); raises JobError naming the line (or
+    move) at fault."""
     start = tuple(start_steps) if start_steps is not None else (0,) * len(config.axes)
     coordinates = coordinates if coordinates is not None else WorkCoordinates()
     program = read_program(path, config, start, skip_unsupported, coordinates)
     label = "move" if is_move_file(path) else "line"
     try:
-        plan = plan_program(program, config, start, label)
+        plan = plan_program(scale_feeds(program, feed_override), config, start, label)
     except JobError as exc:
         raise JobError(f"{path}: {exc}") from None
-    return Job(path=path, program=program, plan=plan, coordinates=coordinates)
+    return Job(path=path, program=program, plan=plan, coordinates=coordinates, feed_override=feed_override)

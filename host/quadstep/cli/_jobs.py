@@ -64,7 +64,8 @@ def stored_coordinates(args: argparse.Namespace) -> WorkCoordinates:
 def job_from_args(args: argparse.Namespace, config: MachineConfig, start: tuple[int, ...] | None = None,
                   coordinates: WorkCoordinates | None = None) -> Job:
     try:
-        return load_job(args.job, config, start, args.skip_unsupported, coordinates)
+        return load_job(args.job, config, start, args.skip_unsupported, coordinates,
+                        getattr(args, "feed_override", 100))
     except JobError as exc:
         raise CliError(str(exc)) from None
 

@@ -5,7 +5,8 @@ planned completely, and the firmware agrees with the configuration. Ctrl-C
 brings the machine to rest (HOLD) and reports the line and the exact
 position; exit code 130. A feed hold (SIGUSR1, or the board's feed hold
 button) brings it to rest and keeps the rest of the job; Enter (in a
-terminal), SIGUSR2 or the cycle start button resumes it.
+terminal), SIGUSR2 or the cycle start button resumes it. --feed-override
+PERCENT (10–200) runs every feed (not the rapids) at that share.
 """
 
 from __future__ import annotations
@@ -25,6 +26,7 @@ from rich.progress import BarColumn, Progress, TaskProgressColumn, TextColumn
 from ..config import MachineConfig
 from ..job import Job, read_program
 from ..machine import JobRun, Machine, MotionEnd
+from ..planner.feed_override import MAX_PERCENT, MIN_PERCENT, check_percent
 from ..planner.program import JobError, Pause
 from ..protocol import State, StatusReport
 from ..default_machine import DEFAULT_MACHINE_NAME
@@ -56,9 +58,20 @@ class RunResult(BaseModel):
 def register(subparsers: argparse._SubParsersAction) -> None:
     parser = subparsers.add_parser("run", help="plan and check a whole job, then stream it to the machine")
     add_job_options(parser)
+    parser.add_argument("--feed-override", type=feed_percent, default=100, metavar="PERCENT",
+                        help="run every programmed feed (G1, G2, G3; not the rapids) at PERCENT %% of itself, "
+                             f"{MIN_PERCENT}–{MAX_PERCENT} (each axis still within its max_speed); default 100")
     add_connection_options(parser)
     add_json_option(parser)
     parser.set_defaults(handler=run)
+
+
+def feed_percent(text: str) -> int:
+    try:
+        return check_percent(int(text))
+    except ValueError as exc:
+        message = str(exc) if "outside" in str(exc) else f"feed override {text!r} is not a whole number of percent"
+        raise argparse.ArgumentTypeError(message) from None
 
 
 def ask_operator(label: str, line: int, pause: Pause | None) -> bool:
@@ -108,7 +121,9 @@ def run(args: argparse.Namespace) -> int:
                 print(skipped)
             print(
                 f"{job.path}: {job.source_size}, {job.plan.moves} moves, {len(job.plan)} segments, "
-                f"{format_duration(job.plan.duration_s)} planned; every target inside the travel",
+                f"{format_duration(job.plan.duration_s)} planned"
+                f"{f' at feed override {job.feed_override} %' if job.feed_override != 100 else ''}; "
+                "every target inside the travel",
                 flush=True,
             )
         return stream(args, machine, job, status)
@@ -165,7 +180,7 @@ def _follow(run_: JobRun, job: Job, progress: Progress, show: Callable[[int], No
 
 def stream(args: argparse.Namespace, machine: Machine, job: Job, start: StatusReport) -> int:
     config, plan = machine.config, job.plan
-    run_ = machine.run_job(plan, job.program, job.label)  # streamed with its take-ups: its own segments
+    run_ = machine.run_job(plan, job.program, job.label, job.feed_override)  # with its take-ups: its own segments
     streamed = run_.plan.segments.numpy()
     ends = np.cumsum(streamed["n"], dtype=np.int64)
     lines = streamed["line"]

@@ -9,22 +9,23 @@ both run jobs this way.
 from __future__ import annotations
 
 import threading
-from bisect import bisect_left
 from collections.abc import Callable
 from dataclasses import dataclass
 from itertools import accumulate
-from typing import Protocol
 
 from ..link import Link, LinkError
 from ..coordinates import WorkCoordinates
+from ..planner.feed_override import check_percent, scale_feeds
 from ..planner.plan import Plan, plan_program
 from ..planner.program import JobError, Pause, ProbeMove, Program
-from ..planner.outputs import OFF
-from ..protocol import InputCause, InputChange, Outputs, Report
+from ..protocol import InputCause, InputChange, Report
 from .errors import MachineError
+from .standing import Restream
 from .takeups import StreamPlan
-from .motion import Motion, MotionEnd
-from .remainder import carry_changes, plan_after_pause, plan_remainder
+from .job_outputs import FEED_HOLD, stream_outputs, switch_off
+from .motion import CUT, Motion, MotionEnd, bring_to_rest
+from .override import Swap, replan_running
+from .remainder import after_pause_program, carry_changes, remainder_program
 
 
 @dataclass(frozen=True)
@@ -36,26 +37,7 @@ class JobProgress:
     paused_at: int | None  # line of the pause the job waits at
 
 
-FEED_HOLD = "feed hold"  # how a motion held to rest with the rest of the job kept ends
-
-
-class Restream(Protocol):
-    """What the machine does for a job going on after a feed hold: the band where the hold left it and the
-    position at rest (take-ups excluded), then the rest of the job with its take-ups."""
-
-    def held(self, end: MotionEnd) -> tuple[int, ...]: ...
-
-    def stream(self, plan: Plan) -> StreamPlan: ...
-
-    def at_rest(self) -> tuple[int, ...]: ...
-
-    def position(self) -> tuple[int, ...]: ...
-
-    def coordinates(self) -> WorkCoordinates: ...
-
-    def probe(self, probe: ProbeMove) -> tuple[float, ...]: ...
-
-    def adopt(self, coordinates: WorkCoordinates) -> None: ...
+LOOKAHEAD_S = 0.5  # s queued beyond the watchdog's host_timeout, at most: a lost host meets the watchdog first
 
 
 class JobRun:
@@ -63,11 +45,12 @@ class JobRun:
 
     feed_hold() (or the board's feed hold button) brings the machine to rest and keeps the rest of the job; with
     the job's `program`, resume() (or the cycle start button) plans what is left from where the machine rests and
-    goes on. Without it a feed hold ends the job, as halt() does."""
+    goes on. Without it a feed hold ends the job, as halt() does. set_feed_override() scales the feeds of what is
+    not yet sent (the plan given is planned at `feed_override` %)."""
 
     def __init__(
         self, link: Link, plan: Plan | StreamPlan, decels: tuple[int, ...], on_end: Callable[[MotionEnd], None] | None = None,
-        program: Program | None = None, label: str = "line",
+        program: Program | None = None, label: str = "line", feed_override: int = 100,
     ) -> None:
         self.link = link
         self.plan = plan
@@ -91,6 +74,12 @@ class JobRun:
         self._paused_at: int | None = None
         self._interrupted = False  # other programs ran while the job waited at its pause
         self._probing = False  # the machine probes for a G38.x of the job (not a pause: resume() has no say)
+        self._override = check_percent(feed_override)  # the feed override wanted, %
+        self._planned = self._override  # the one the plan has from the first segment not sent on
+        self._swap: Swap | None = None  # the plan to go on with where the running motion was cut
+        self._wake = threading.Event()  # for the job's thread: its motion ended, or the feed override changed
+        self._hold_pending = False  # a feed hold asked for while one motion hands over to the next
+        self.lookahead = round((plan.config.host_timeout + LOOKAHEAD_S) * plan.config.tick_hz)
         self._thread = threading.Thread(target=self._run, name="quadstep-job", daemon=True)
 
     # --- progress ----------------------------------------------------------------------------
@@ -99,12 +88,11 @@ class JobRun:
     def progress(self) -> JobProgress:
         with self._lock:
             motion, offset, paused = self._motion, self._offset, self._paused_at
-        done = offset + (motion.done if motion is not None else 0)
+        done = max(0, offset + (motion.done if motion is not None else 0))
         total = len(self.plan)
-        before = self._done_before
         line = int(self.plan.segments.line[min(done, total - 1)]) if total else 0
         left = (self._ticks[-1] - self._ticks[done]) / self.plan.config.tick_hz
-        return JobProgress(before + done, before + total, line, left, paused)
+        return JobProgress(self._done_before + done, self._done_before + total, line, left, paused)
 
     @property
     def paused_at(self) -> int | None:
@@ -121,6 +109,24 @@ class JobRun:
     @property
     def end(self) -> MotionEnd | None:
         return self._end
+
+    @property
+    def feed_override(self) -> int:
+        """The feed override, % (100: the feeds as programmed)."""
+        return self._override
+
+    def set_feed_override(self, percent: int) -> int:
+        """Scale every feed (not the rapids) of what is not yet sent by `percent` (10–200, ValueError outside):
+        the rest of the job is planned again from the first move boundary not sent and streamed in place of the
+        old without a stop (from the next pause when the section under way has no boundary left)."""
+        check_percent(percent)
+        if self.plan.config.jerk_limited and percent != self._override:
+            raise MachineError("a jerk-limited job (max_jerk) takes its feed override only as it starts "
+                               "(quadstep run --feed-override)")
+        with self._lock:
+            self._override = percent
+        self._wake.set()
+        return percent
 
     # --- control ------------------------------------------------------------------------------
 
@@ -164,6 +170,8 @@ class JobRun:
         """Bring the machine to rest (HOLD) and keep the rest of the job for resume(); False when nothing moves."""
         with self._lock:
             motion = self._motion if not self._halted else None
+            if motion is not None and motion.end is not None and motion.end.ended_by == CUT:
+                self._hold_pending = True  # the next motion takes over: held as it starts
         if motion is None or self.program is None:
             return False
         motion.halt(FEED_HOLD)
@@ -193,7 +201,7 @@ class JobRun:
             end = MotionEnd("error", (), self._offset, error=str(exc))
         finally:
             unregister()
-        end = self._switch_off(end)
+        end = switch_off(self.link, end, bool(stream_outputs(self.plan)))
         if self.settle is not None:
             end = self.settle(end)
         self._end = end
@@ -222,39 +230,22 @@ class JobRun:
         else:
             rest = tuple(self.link.status().position[: self.plan.segments.axis_count])
             planned, held_at = self.plan, self._offset  # type: ignore[assignment]
-        remainder = plan_remainder(self.program, planned, held_at, rest, self.label)  # type: ignore[arg-type]
-        return self._continue(remainder)
+        self.program = remainder_program(self.program, planned, held_at)  # type: ignore[arg-type]
+        return self._continue(plan_program(self._scaled(), planned.config, rest, self.label))
 
-    def _outputs(self) -> list[tuple[int, int, Outputs]]:
-        """The plan's OUTPUTS at the places of the stream (a take-up's segments run with the move they are in)."""
-        plan = self.plan
-        if not isinstance(plan, StreamPlan):
-            return plan.outputs
-        stream, planned = plan.segments, len(plan.base)
-        return [(bisect_left(stream.origin, index) if index < planned else len(stream), section, message)
-                for index, section, message in plan.base.outputs]
+    def _scaled(self) -> Program:
+        """The program to plan (what is left of the job) at the feed override wanted now."""
+        assert self.program is not None
+        with self._lock:
+            self._planned = self._override
+        return scale_feeds(self.program, self._planned)
 
-    def _switch_off(self, end: MotionEnd) -> MotionEnd:
-        """A job stopped before its end leaves the spindle, laser and coolant off (a feed hold keeps them)."""
-        if end.ended_by in ("done", FEED_HOLD) or not self._outputs():
-            return end
-        try:
-            self.link.send(OFF)
-            self.link.drain(timeout=2)
-        except LinkError as exc:
-            return end if end.error else MotionEnd(end.ended_by, end.position, end.segments_done, end.stop_event_ns,
-                                                   end.held, end.hold_tick, error=f"outputs not switched off: {exc}")
-        return end
 
     def _pause_at(self, line: int) -> Pause | None:
-        if self.program is None:
-            return None
-        return next((i for i in self.program.items if isinstance(i, Pause) and i.line == line), None)
+        return next((i for i in self.program.items if isinstance(i, Pause) and i.line == line), None) if self.program else None
 
     def _probe_at(self, line: int) -> ProbeMove | None:
-        if self.program is None:
-            return None
-        return next((i for i in self.program.items if isinstance(i, ProbeMove) and i.line == line), None)
+        return next((i for i in self.program.items if isinstance(i, ProbeMove) and i.line == line), None) if self.program else None
 
     def _probe(self, probe: ProbeMove) -> MotionEnd:
         """At rest before a G38.x of the program: the machine probes, then the rest of the program is read and
@@ -279,7 +270,7 @@ class JobRun:
             program.coordinates = kept
         self.program = program
         plan = self.plan.base if isinstance(self.plan, StreamPlan) else self.plan
-        return self._continue(plan_program(program, plan.config, self.restream.position(), self.label))
+        return self._continue(plan_program(self._scaled(), plan.config, self.restream.position(), self.label))
 
     def _after_pause(self, pause: Pause, before: WorkCoordinates, after: WorkCoordinates,
                      interrupted: bool) -> MotionEnd:
@@ -288,10 +279,11 @@ class JobRun:
         assert self.program is not None and self.restream is not None
         rest = self.restream.at_rest() if not interrupted else self.restream.position()
         plan = self.plan.base if isinstance(self.plan, StreamPlan) else self.plan
-        remainder = plan_after_pause(self.program, pause.line, rest, before, after, plan.config, self.label)
+        program = after_pause_program(self.program, pause.line, before, after, plan.config)
         if self.program.coordinates is not None:
             carry_changes(self.program.coordinates, before, after)
-        return self._continue(remainder)
+        self.program = program
+        return self._continue(plan_program(self._scaled(), plan.config, rest, self.label))
 
     def _continue(self, remainder: Plan) -> MotionEnd:
         streamed = self.restream.stream(remainder) if self.restream is not None else remainder
@@ -306,22 +298,67 @@ class JobRun:
             self.resume()
 
     def _sections(self) -> MotionEnd:
-        """Each stretch of segments between pauses, and a wait at each pause (at the start or the end too)."""
+        """The plan streamed; where a feed override cut it short, the plan made then from where it was cut."""
+        begin, follows = 0, None
+        while True:
+            end = self._sections_from(begin, follows)
+            if end.ended_by != CUT or self._swap is None:
+                return end
+            swap, self._swap = self._swap, None
+            with self._lock:
+                follows, halted = self._motion, self._halted
+                self.plan, self._ticks = swap.plan, list(accumulate(swap.plan.segments.n, initial=0))
+            begin = swap.index
+            if halted:  # halted as one motion handed over to the next: the board still runs the first's
+                rest = bring_to_rest(self.link, self.decels)
+                return MotionEnd(halted, rest.position[: self.plan.segments.axis_count], begin, held=rest.held,
+                                 hold_tick=rest.hold_tick)
+
+    def _stream(self, motion: Motion) -> MotionEnd:
+        """Start `motion` and wait for its end; meanwhile a changed feed override plans the rest again and cuts the
+        motion short where the new plan goes on (override.py)."""
+        motion.on_end = lambda _end: self._wake.set()
+        motion.start()
+        with self._lock:
+            hold, self._hold_pending = self._hold_pending, False
+        if hold:
+            motion.halt(FEED_HOLD)
+        while motion.end is None:
+            self._wake.wait()
+            self._wake.clear()
+            if motion.end is None and self._override != self._planned and self._swap is None and self.program:
+                running = self.restream.restream if self.restream and isinstance(self.plan, StreamPlan) else None
+                percent = self._override
+                self._swap = replan_running(self.program, self.plan, motion, percent, self.label, running, self._ticks)
+                if self._swap is not None:
+                    self._planned = percent
+                    if running is not None:
+                        self.restream.swap(self._swap.plan)  # type: ignore[union-attr, arg-type]
+        end = motion.wait()
+        assert end is not None
+        return end
+
+    def _sections_from(self, begin: int, follows: Motion | None) -> MotionEnd:
+        """Each stretch of segments between pauses, from item `begin` on (after the motion `follows`, cut there),
+        and a wait at each pause (at the start or the end too)."""
         total = len(self.plan)
         end: MotionEnd | None = None
-        first = 0
-        outputs = self._outputs()
+        first = begin
+        outputs = stream_outputs(self.plan)
         for section, (index, line) in enumerate([*self.plan.pauses, (total, None)]):
-            mine = [(at, message) for at, s, message in outputs if s == section]
+            if index < begin:
+                continue
+            mine = [(at, message) for at, s, message in outputs if s == section and at >= begin]
             if index > first or mine:
                 with self._lock:
                     if self._halted:
                         break
                     motion = Motion(self.link, self.plan.segments, self.decels, first=first, last=index,
-                                    outputs=mine)
-                    self._motion, self._offset = motion, first
-                end = motion.start().wait()
-                assert end is not None
+                                    lookahead_ticks=self.lookahead, outputs=mine, follows=follows)
+                    self._motion, self._offset, follows = motion, first, None
+                end = self._stream(motion)
+                if end.ended_by == CUT:
+                    return end  # the rest planned again: _sections goes on with it
                 with self._lock:
                     self._motion = None
                     self._offset = index if end.ended_by == "done" else first + end.segments_done
@@ -353,6 +390,9 @@ class JobRun:
                     return self._after_pause(pause, pause.coordinates, after, interrupted)
                 if after == pause.coordinates:
                     self.restream.adopt(previous)
+            if not halted and pause is not None and self.restream is not None and self._planned != self._override:
+                now = self.restream.coordinates()  # the feed override changed too late to be streamed: from here
+                return self._after_pause(pause, now, now, interrupted)
         if end is not None and not self._halted:
             return end
         status = self.link.status()  # at rest: halted at a pause, or nothing to stream

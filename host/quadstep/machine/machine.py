@@ -197,16 +197,18 @@ class Machine(Standing):
         motion = Motion(self.link, compensated.stream, self.decels, lookahead_ticks=lookahead_ticks)
         return self._begin(motion, compensated).start()  # type: ignore[return-value]
 
-    def run_job(self, plan: Plan, program: Program | None = None, label: str = "line") -> JobRun:
+    def run_job(self, plan: Plan, program: Program | None = None, label: str = "line",
+                feed_override: int = 100) -> JobRun:
         """Start a planned job now, the backlash taken up in it (pauses wait for JobRun.resume()). With the
         `program` it was planned from, a feed hold (JobRun.feed_hold, the board's button) keeps the rest of the
-        job for resume()."""
+        job for resume(), and JobRun.set_feed_override changes its feeds on the way (the plan is planned at
+        `feed_override` %, the program as written)."""
         if plan.outputs and not self.identity.capabilities & Capability.OUTPUTS:
             raise MachineError("the job sets the spindle, laser or coolant (M3/M4/M5, M7/M8/M9) and this firmware "
                                "has no outputs; --skip-unsupported runs it without them")
         compensated = self.takeups.compensate(plan.segments, plan.pauses)
         job = JobRun(self.link, StreamPlan(plan.config, compensated.stream, compensated.pauses, compensated, plan),
-                     self.decels, program=program, label=label)
+                     self.decels, program=program, label=label, feed_override=feed_override)
         job.restream = _Restream(self)
         job.busy_elsewhere = lambda: self._waiting is job
         return self._begin(job, compensated).start()  # type: ignore[return-value]

@@ -29,6 +29,7 @@ from ..protocol.segment_run import RunChain, next_frame, run_limit
 MIN_QUEUED_SEGMENTS = 2
 SPACE_WAIT = 0.005  # s between checks while the lookahead is full
 STALL_POLL = 0.25  # s without a completed segment before asking for STATUS
+CUT = "cut"  # how a motion whose stream was cut short (cut()) ends: the board still runs its last segments
 
 
 @dataclass(frozen=True)
@@ -122,6 +123,7 @@ class Motion:
         lookahead_ticks: int | None = None,
         on_end: Callable[[MotionEnd], None] | None = None,
         outputs: Sequence[tuple[int, Outputs]] = (),
+        follows: Motion | None = None,
     ) -> None:
         self.link = link
         self.on_end = on_end  # called once, in the thread that ends the motion, before wait() returns
@@ -141,6 +143,8 @@ class Motion:
         self._base_done = 0
         self._generation = 0  # the link's, when streaming began: a STOP from elsewhere changes it
         self._input_holds = 0  # holds the firmware began itself, when streaming began
+        self._follows = follows  # a motion cut short whose last segments may still be queued: counted first
+        self._cut = False  # streaming ends at `last`, moved down by cut(); the motion ends once that is sent
         self._thread = threading.Thread(target=self._run, name="quadstep-motion", daemon=True)
 
     # --- progress ------------------------------------------------------------------
@@ -161,7 +165,10 @@ class Motion:
     # --- control -------------------------------------------------------------------
 
     def start(self) -> Motion:
-        self._base_done = self.link.segments_done
+        follows = self._follows
+        # after a cut motion, the board completes its segments first: `done` counts from their end (and is
+        # negative while they run)
+        self._base_done = self.link.segments_done if follows is None else follows._base_done + follows.sent
         self._generation = self.link.generation
         self._input_holds = self.link.holds_by_input
         self._thread.start()
@@ -170,6 +177,16 @@ class Motion:
     def wait(self, timeout: float | None = None) -> MotionEnd | None:
         self._ended.wait(timeout)
         return self._end
+
+    def cut(self, index: int) -> bool:
+        """End streaming before segment `index` instead of at `last`, for what follows to be streamed in its place
+        without a stop (a feed override); False when that segment is sent already or is not before `last`. The
+        motion then ends ("cut") as soon as the segment before it is sent, without waiting for the board."""
+        with self._lock:
+            if self._halting or self._end is not None or not self.first + self._sent <= index < self.last:
+                return False
+            self.last, self._cut = index, True
+            return True
 
     def halt(self, reason: str = "stop") -> MotionEnd:
         """Bring the machine to rest now (HOLD) and end the motion; idempotent."""
@@ -202,6 +219,9 @@ class Motion:
         unregister = self.link.on_report(self._on_report)
         try:
             self._stream()
+            if self._cut:  # what follows is streamed by another motion: the board keeps moving
+                self._finish(MotionEnd(CUT, (), self._sent))
+                return
             status = self.link.wait_idle(generation=self._generation)
             self._finish(MotionEnd("done", self._axes(status.position), self.done))
         except Stopped:
@@ -235,7 +255,7 @@ class Motion:
             # sent, so no segment can follow its HOLD. The room waited for above makes this
             # send return at once, so halt() never waits long for the lock.
             with self._lock:
-                if self._halting:
+                if self._halting or index >= self.last:  # halted, or cut() ended the stream before this one
                     return
                 while output is not None and output[0] <= index:  # in stream order, before the segment
                     self.link.send(output[1], generation=self._generation)

@@ -31,13 +31,23 @@ def move_item(program: Program, config: MachineConfig, start: tuple[int, ...], m
     return len(program.items)
 
 
+def rest_of(program: Program, first: int) -> Program:
+    """`program` from its item `first` on, the outputs as they were there."""
+    outputs = [item for item in program.items[:first] if isinstance(item, SetOutputs)][-1:]
+    return replace(program, items=outputs + program.items[first:])
+
+
+def remainder_program(program: Program, plan: Plan, held_segment: int) -> Program:
+    """What is left of `program` (planned as `plan`) held during its segment `held_segment`: the interrupted move
+    again, then everything after it."""
+    move = bisect_right(plan.move_ends, held_segment)  # the first move whose segments end past the held one
+    return rest_of(program, move_item(program, plan.config, plan.start, move))
+
+
 def plan_remainder(program: Program, plan: Plan, held_segment: int, rest: tuple[int, ...], label: str) -> Plan:
     """The rest of `program` (planned as `plan`), held during its segment `held_segment`, from rest position
     `rest`: the interrupted move again, from where the machine stands, then everything after it."""
-    move = bisect_right(plan.move_ends, held_segment)  # the first move whose segments end past the held one
-    first = move_item(program, plan.config, plan.start, move)
-    outputs = [item for item in program.items[:first] if isinstance(item, SetOutputs)][-1:]  # as they were
-    return plan_program(replace(program, items=outputs + program.items[first:]), plan.config, rest, label)
+    return plan_program(remainder_program(program, plan, held_segment), plan.config, rest, label)
 
 
 def _offset(coordinates: WorkCoordinates, system: int, axis: str) -> float:
@@ -74,11 +84,17 @@ def carry_changes(coordinates: WorkCoordinates, before: WorkCoordinates, after: 
         coordinates.g92, coordinates.g92_applied = dict(after.g92), after.g92_applied
 
 
-def plan_after_pause(program: Program, line: int, rest: tuple[int, ...], before: WorkCoordinates,
-                     after: WorkCoordinates, config: MachineConfig, label: str) -> Plan:
-    """The rest of `program` after its pause at `line`, from `rest`, with the work offsets the operator set
-    there (`after`, where the program had `before`)."""
+def after_pause_program(program: Program, line: int, before: WorkCoordinates, after: WorkCoordinates,
+                        config: MachineConfig) -> Program:
+    """The rest of `program` after its pause at `line`, with the work offsets the operator set there (`after`,
+    where the program had `before`)."""
     where = next(i for i, item in enumerate(program.items) if isinstance(item, Pause) and item.line == line)
     outputs = [item for item in program.items[:where] if isinstance(item, SetOutputs)][-1:]
     items = shift_items(program.items[where + 1:], before, after, config.axis_names)
-    return plan_program(replace(program, items=outputs + items), config, rest, label)
+    return replace(program, items=outputs + items)
+
+
+def plan_after_pause(program: Program, line: int, rest: tuple[int, ...], before: WorkCoordinates,
+                     after: WorkCoordinates, config: MachineConfig, label: str) -> Plan:
+    """The rest of `program` after its pause at `line`, from `rest`, with the work offsets set there."""
+    return plan_program(after_pause_program(program, line, before, after, config), config, rest, label)

@@ -6,6 +6,7 @@ from __future__ import annotations
 import threading
 from collections.abc import Callable, Sequence
 from dataclasses import replace
+from typing import Protocol
 from pathlib import Path
 
 from ..backlash.band import BandRecord
@@ -131,6 +132,28 @@ class Standing:
                 pass  # the band is kept for the next run only where the state file can be written
 
 
+class Restream(Protocol):
+    """What the machine does for a job going on after a feed hold: the band where the hold left it and the
+    position at rest (take-ups excluded), then the rest of the job with its take-ups."""
+
+    def held(self, end: MotionEnd) -> tuple[int, ...]: ...
+
+    def stream(self, plan: Plan) -> StreamPlan: ...
+
+    def restream(self, plan: Plan, running: StreamPlan) -> StreamPlan: ...
+
+    def swap(self, streamed: StreamPlan) -> None: ...
+
+    def at_rest(self) -> tuple[int, ...]: ...
+
+    def position(self) -> tuple[int, ...]: ...
+
+    def coordinates(self) -> WorkCoordinates: ...
+
+    def probe(self, probe: ProbeMove) -> tuple[float, ...]: ...
+
+    def adopt(self, coordinates: WorkCoordinates) -> None: ...
+
 
 class _Restream:
     """A job of this machine goes on after a feed hold (machine/job.py, Restream)."""
@@ -163,6 +186,16 @@ class _Restream:
     def adopt(self, coordinates: WorkCoordinates) -> None:
         """In memory only: the state file keeps what a work zero or a completed job sets."""
         self.machine.coordinates = coordinates
+
+    def restream(self, plan: Plan, running: StreamPlan) -> StreamPlan:
+        """`plan`, which begins as `running` did, with its take-ups from the same band: what follows the part of
+        them that is the same replaces the running program's (a feed override)."""
+        band = running.compensated.band_start
+        compensated = self.machine.takeups.compensate(plan.segments, plan.pauses, band)
+        return StreamPlan(plan.config, compensated.stream, compensated.pauses, compensated, plan)
+
+    def swap(self, streamed: StreamPlan) -> None:
+        self.machine.takeups.swap(streamed.compensated)
 
     def stream(self, plan: Plan) -> StreamPlan:
         compensated = self.machine.takeups.compensate(plan.segments, plan.pauses)

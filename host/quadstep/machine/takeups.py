@@ -53,11 +53,12 @@ class TakeUps:
             self._band = band if band is not None else Band.of(self.config)
             self._running = None
 
-    def compensate(self, segments: SegmentArrays | Stream, pauses: Sequence[tuple[int, int]] = ()) -> Compensated:
+    def compensate(self, segments: SegmentArrays | Stream, pauses: Sequence[tuple[int, int]] = (),
+                   band: Band | None = None) -> Compensated:
         """`segments` (planned: quadratic arrays, or a jerk-limited plan's cubic stream) with their take-ups, from
-        the band as it stands."""
+        the band as it stands (or `band`)."""
         base = from_arrays(segments) if isinstance(segments, SegmentArrays) else from_items(segments, segments.axis_count)
-        return compensate(base, self.config, self.band, pauses=list(pauses))
+        return compensate(base, self.config, self.band if band is None else band, pauses=list(pauses))
 
     def compensate_items(self, items: Sequence[Segment | CubicSegment], axis_count: int) -> Compensated:
         return compensate(from_items(items, axis_count), self.config, self.band)
@@ -65,6 +66,12 @@ class TakeUps:
     def begin(self, compensated: Compensated, motor: Sequence[int], tick: int) -> None:
         with self._lock:
             self._running = Running(compensated, tuple(motor), tick)
+
+    def swap(self, compensated: Compensated) -> None:
+        """The running program goes on as `compensated`, which begins as it did (a job's tail planned again)."""
+        with self._lock:
+            if self._running is not None:
+                self._running = Running(compensated, self._running.motor, self._running.tick)
 
     def end(self, rest: Sequence[int], tick: int | None, done: bool) -> None:
         """The program ended: `rest` the motors, `tick` the motion tick its motion stopped at (a hold's, an

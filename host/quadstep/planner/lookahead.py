@@ -17,7 +17,7 @@ import math
 from ..config import MachineConfig
 from .jerk import reachable_speed
 from .moves import MoveTable
-from .program import SetOutputs
+from .program import JobError, SetOutputs
 
 # An axis whose backlash is taken up (docs/BACKLASH.md) and that turns around sharply at a junction — moving
 # along both moves by more than this share of the path — stops there: the take-up then runs at rest, where it
@@ -53,20 +53,25 @@ def _junction_speed(table: MoveTable, k: int, config: MachineConfig, amax: list[
     return min(cap, math.sqrt(accel * deviation * sin_half / (1.0 - sin_half)))
 
 
-def junction_speeds(table: MoveTable, config: MachineConfig) -> list[float]:
-    """Entry speed of every move, plus the exit speed of the last (always 0): len(table) + 1 values."""
+def junction_speeds(table: MoveTable, config: MachineConfig, entry: float = 0.0) -> list[float]:
+    """Entry speed of every move, plus the exit speed of the last (always 0): len(table) + 1 values.
+
+    `entry` pins the first move's entry speed (a plan that goes on from another, moving: a feed override): the
+    junctions after it are raised where it could not slow down to them otherwise. The plan it goes on from
+    slowed down from there to its stops, so the raised speeds stay under that plan's and inside the limits."""
     count = len(table)
     hz = float(config.tick_hz)
     amax = [a.max_accel / (hz * hz) for a in config.axes]
     stopped = {index for index, item in table.stops if not (isinstance(item, SetOutputs) and config.spindle.laser)}
     limit = [0.0] * (count + 1)
+    limit[0] = entry
     for k in range(1, count):
         if k not in stopped:
             limit[k] = _junction_speed(table, k, config, amax)
     accel = [a * PLAN_ACCEL_FRACTION for a in table.accel]
     jerk = [j * PLAN_ACCEL_FRACTION for j in table.jerk] if table.jerk else [math.inf] * count
     # backward: every entry speed must be able to slow to the next one within the move
-    for k in range(count - 1, -1, -1):
+    for k in range(count - 1, 0 if entry else -1, -1):
         reachable = reachable_speed(limit[k + 1], table.length[k], accel[k], jerk[k])
         if reachable < limit[k]:
             limit[k] = reachable
@@ -75,4 +80,10 @@ def junction_speeds(table: MoveTable, config: MachineConfig) -> list[float]:
         reachable = reachable_speed(limit[k], table.length[k], accel[k], jerk[k])
         if reachable < limit[k + 1]:
             limit[k + 1] = reachable
+        if entry:
+            least = math.sqrt(max(0.0, limit[k] ** 2 - 2.0 * accel[k] * table.length[k]))
+            if least > 1e-6 * limit[k] and least > limit[k + 1]:
+                if k + 1 == count or k + 1 in stopped:
+                    raise JobError(f"line {table.line[k]}: cannot slow down to the stop from the pinned speed")
+                limit[k + 1] = least
     return limit

@@ -22,6 +22,22 @@ from .segments import SegmentArrays
 from .stream import Stream
 
 
+@dataclass(frozen=True)
+class Boundary:
+    """Where a plan goes on from another without stopping (a feed override): the residual chain's ideal
+    (1/8192 step) and each axis's signed speed in the last segment there, and the path speed (mm/tick) the
+    first move is entered at, as the plan before had it."""
+
+    ideal2: tuple[int, ...]
+    exit_speed: tuple[int, ...]
+    speed: float
+
+    @property
+    def position(self) -> tuple[int, ...]:
+        """The steppers there: at a move's end the ideal is within half a step of the target."""
+        return tuple((i + D) // (2 * D) for i in self.ideal2)
+
+
 @dataclass
 class Plan:
     """A whole job, planned: its segments, where it starts and ends, and where it pauses."""
@@ -40,6 +56,7 @@ class Plan:
     # (segment index, pauses before it, message): OUTPUTS sent before that segment (at the end: after the last)
     outputs: list[tuple[int, int, Outputs]] = field(default_factory=list)
     peak_advance: tuple[int, ...] = ()  # jerk-limited plans: highest speed per axis, 2^-31 step per tick
+    junctions: array = field(default_factory=lambda: array("d"))  # each move's entry speed (mm/tick), then 0
 
     def __len__(self) -> int:
         return len(self.segments)
@@ -66,19 +83,26 @@ class Plan:
 
 
 def plan_program(
-    program: Program, config: MachineConfig, start: tuple[int, ...] | None = None, label: str = "line"
+    program: Program, config: MachineConfig, start: tuple[int, ...] | None = None, label: str = "line",
+    boundary: Boundary | None = None,
 ) -> Plan:
-    """Plan every item of `program` from stepper positions `start` (default all 0)."""
-    begin = tuple(start) if start is not None else (0,) * len(config.axes)
+    """Plan every item of `program` from stepper positions `start` (default all 0), or, moving, from a
+    `boundary` of another plan (quadratic plans only)."""
+    begin = boundary.position if boundary is not None else tuple(start) if start is not None else (0,) * len(config.axes)
     table = build_moves(program, config, begin, label)
-    return plan_moves(table, config, program.lines, label)
+    return plan_moves(table, config, program.lines, label, boundary)
 
 
-def plan_moves(table: MoveTable, config: MachineConfig, lines: int = 0, label: str = "line") -> Plan:
-    entry = junction_speeds(table, config)
+def plan_moves(table: MoveTable, config: MachineConfig, lines: int = 0, label: str = "line",
+               boundary: Boundary | None = None) -> Plan:
+    if boundary is not None and config.jerk_limited:
+        raise JobError("a jerk-limited plan goes on only from rest")
+    entry = junction_speeds(table, config, boundary.speed if boundary is not None else 0.0)
     scurve = ScurvePlanner(config, table.start, label) if config.jerk_limited else None
     out: SegmentArrays | Stream = scurve.out if scurve is not None else SegmentArrays(len(config.axes))
     quantizer = Quantizer(out, table.start) if scurve is None else None
+    if quantizer is not None and boundary is not None:  # the residual chain and the speeds go on unbroken
+        quantizer.ideal2, quantizer.exit_speed = list(boundary.ideal2), list(boundary.exit_speed)
     pauses: list[tuple[int, int]] = []
     move_ends = array("i")
     retries = 0
@@ -135,7 +159,7 @@ def plan_moves(table: MoveTable, config: MachineConfig, lines: int = 0, label: s
         return Plan(config=config, segments=out, start=table.start, end=tuple(scurve.position), pauses=pauses,
                     moves=len(table), distance_mm=float(sum(table.length)), lines=lines,
                     max_landing_error=scurve.max_landing >> 18, move_ends=move_ends, retries=scurve.corrections,
-                    outputs=outputs, peak_advance=tuple(scurve.peak))
+                    outputs=outputs, peak_advance=tuple(scurve.peak), junctions=array("d", entry))
     assert quantizer is not None
     return Plan(
         config=config,
@@ -150,4 +174,5 @@ def plan_moves(table: MoveTable, config: MachineConfig, lines: int = 0, label: s
         move_ends=move_ends,
         retries=retries,
         outputs=outputs,
+        junctions=array("d", entry),
     )

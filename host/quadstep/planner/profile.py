@@ -49,10 +49,11 @@ def fit_profiles(
     error, in steps of 5% of a tick's travel), then shortest. The caller takes the first
     whose quantised form lands every axis exactly.
     """
-    u_max = max(u_max, u_in, u_out)  # junction speeds never exceed the cap; guard rounding
+    slowing = u_in > u_max * (1.0 + 1e-9)  # entered faster than this move may go (a lowered feed override): slow down first
+    u_max = max(u_max, u_out) if slowing else max(u_max, u_in, u_out)  # guard rounding
     peak = math.sqrt(max(0.0, (2.0 * plan_accel * length + u_in * u_in + u_out * u_out) / 2.0))
-    peak = max(min(u_max, peak), u_in, u_out)
-    t_a = (peak - u_in) / plan_accel
+    peak = max(min(u_max, peak), u_out) if slowing else max(min(u_max, peak), u_in, u_out)
+    t_a = abs(peak - u_in) / plan_accel
     t_d = (peak - u_out) / plan_accel
     exact = 1e-12 * max(length, 1e-9)
     found: list[tuple[tuple[int, int, int], tuple[int, int, int], float, float]] = []

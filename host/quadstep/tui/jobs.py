@@ -15,6 +15,7 @@ from ..job import Job, is_move_file, load_job
 from ..link import LinkError
 from ..machine import JobProgress, JobRun, Machine, MachineError, MotionEnd
 from ..mdi import Console
+from ..planner.feed_override import MAX_PERCENT, MIN_PERCENT, STEP_PERCENT
 from ..planner.program import JobError
 from ..protocol import Alarm, InputCause, InputChange, Report
 from ..toolpath import toolpath
@@ -144,7 +145,8 @@ class JobKeys(Screen[None]):
         text = self.job_source[line - 1] if 0 < line <= len(self.job_source) else ""
         pause = self.job.pause if self.job is not None else None
         reason = pause.reason if pause is not None else ""
-        self.query_one(JobPanel).show(self.job_name, progress, source=text, pause=reason)
+        feed = self.job.feed_override if self.job is not None else 100
+        self.query_one(JobPanel).show(self.job_name, progress, source=text, pause=reason, feed=feed)
         if pause is not None and self._pause_shown != pause.line:
             self._pause_shown = pause.line
             self.log_line(f"line {pause.line}: {reason}. Jog, zero (x y z 0), probe (p); g goes on")
@@ -181,6 +183,26 @@ class JobKeys(Screen[None]):
         else:
             self._thread(lambda: job.feed_hold(), "quadstep-feed-hold")
             self.log_line("feed hold: Space resumes, Esc stops the job")
+        return True
+
+    def action_feed_override(self, delta: int) -> bool:
+        """- + while a job runs: its feed override 10 % lower / higher (within 10–200 %); * (delta 0) back to
+        100 %. It applies to what is not yet sent. False: no job."""
+        job = self.job
+        if job is None:
+            return False
+        percent = 100 if delta == 0 else min(MAX_PERCENT, max(MIN_PERCENT, job.feed_override + delta * STEP_PERCENT))
+        if percent == job.feed_override:
+            if delta:
+                self.log_line(f"feed override: {percent} % is the {'most' if delta > 0 else 'least'}", error=True)
+            return True
+        try:
+            job.set_feed_override(percent)
+        except (ValueError, MachineError) as exc:
+            self.log_line(f"feed override: {exc}", error=True)
+            return True
+        self.log_line(f"feed override {percent} %: from the first move not yet sent")
+        self.show_job(job.progress)
         return True
 
     def watch_reports(self, machine: Machine) -> None:

@@ -35,6 +35,7 @@ class JogKeys(Screen[None]):
         def refresh_panels(self) -> None: ...
         def _thread(self, target: Callable[[], object], name: str) -> object: ...
         def action_hold_resume(self) -> bool: ...
+        def action_feed_override(self, delta: int) -> bool: ...
 
     # --- jogging ---------------------------------------------------------------------------
 
@@ -97,6 +98,9 @@ class JogKeys(Screen[None]):
             self.refresh_panels()
 
     def action_speed(self, delta: int) -> None:
+        """- and +: the jog speed; while a job runs, its feed override instead."""
+        if self.action_feed_override(delta):
+            return
         jogger = self.session.jogger
         if jogger is not None:
             jogger.change_speed(delta)

@@ -49,6 +49,7 @@ def bindings(step_presets: int) -> list[BindingType]:
         Binding("P", "probe('38.4')", "probe off", show=False),
         Binding("b", "backlash", "backlash", show=False),
         Binding("g", "resume", "go on", show=False),
+        Binding("asterisk", "feed_override(0)", "feed 100 %", key_display="*", show=False),
         Binding("ctrl+x", "reset", "STOP now", show=False),
         Binding("ctrl+r", "reconnect", "reconnect", show=False),
         Binding("question_mark,f1", "help", "help", key_display="?"),
@@ -106,6 +107,11 @@ HELP = """\
                  probe there first)
   Space          feed hold (keeps the rest of the job), again: resume
   Esc            stop the job (HOLD)
+  - + *          while a job runs: feed override −10 % / +10 % / back to
+                 100 % (10 … 200 %; rapids keep their speed), shown on the
+                 job line. It applies to what is not yet sent: from the
+                 first move boundary after the motion queued on the board
+                 (at most host_timeout + 0.5 s: 1.5 s by default)
 
 [b]Connection[/b]
   Ctrl+R         reconnect after the link was lost
@@ -116,5 +122,5 @@ HELP = """\
 # The screen's bottom line: the main keys, within 80 columns; another while a job runs.
 KEY_LINE = ("[b]←→↑↓ PgUp/Dn[/b] jog [b]1-4 \\[ ][/b] XY/Z step [b]-+[/b] speed [b]c[/b] mode "
             "[b]Esc[/b] stop [b]:[/b] MDI [b]o[/b] job [b]?[/b] help")
-JOB_KEY_LINE = ("[b]Space[/b] hold/resume  [b]Esc[/b] stop the job  [b]g[/b] go on after a pause  "
-                "[b]v[/b] fit path  [b]?[/b] help")
+JOB_KEY_LINE = ("[b]Space[/b] hold/resume  [b]Esc[/b] stop  [b]g[/b] go on  [b]- + *[/b] feed −/+10 %, 100 %  "
+                "[b]?[/b] help")

@@ -96,7 +96,7 @@ class JogPanel(Panel):
 
 
 class JobPanel(Horizontal):
-    """The running job: file, line (and its text), progress, time left."""
+    """The running job: file, line (and its text), feed override, progress, time left."""
 
     def compose(self) -> ComposeResult:
         yield Static("no job  (o opens one, : types a line)", id="job-label")
@@ -105,7 +105,7 @@ class JobPanel(Horizontal):
         yield bar
 
     def show(self, name: str | None, progress: JobProgress | None, outcome: str = "", source: str = "",
-             pause: str = "") -> None:
+             pause: str = "", feed: int = 100) -> None:
         label = self.query_one("#job-label", Static)
         bar = self.query_one("#job-progress", ProgressBar)
         bar.display = name is not None
@@ -119,6 +119,7 @@ class JobPanel(Horizontal):
         text.append(f"{progress.line}", style="bold")
         if source:
             text.append(f" {source.strip()}", style="cyan")
+        text.append(f"  feed {feed} %", style="bold yellow" if feed != 100 else "dim")
         text.append(f"  {progress.seconds_left:.1f} s left", style="dim")
         if progress.paused_at is not None:
             text.append(f"  PAUSED at {progress.paused_at}{': ' + pause if pause else ''}: g goes on",
