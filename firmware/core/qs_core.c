@@ -250,11 +250,11 @@ static void on_segment(qs_core *c, const qs_host_msg *m)
  * the slots are published together once every record has passed, so the
  * frame runs whole or not at all (a refusal's alarm drops what was
  * prepared). */
-static QS_NOINLINE void on_segments(qs_core *c, const qs_host_msg *m)
+static QS_NOINLINE void on_segments(qs_core *c, qs_host_msg *m)
 {
     qs_engine *e = &c->engine;
     qs_segments_msg run = m->as.segments;
-    qs_segment_msg s;
+    qs_segment_msg *const s = &m->as.segment; /* each record in turn, in the message's own room (the Uno's stack) */
     qs_fault f;
     uint8_t head, left;
 
@@ -268,14 +268,14 @@ static QS_NOINLINE void on_segments(qs_core *c, const qs_host_msg *m)
     for (left = run.count; left; left--) {
         qs_segment *slot = qs_queue_at(&e->queue, head);
 
-        if (qs_segments_next(&run, &e->chain, c->axis_count, &s, &f) != QS_ERR_NONE
-            || qs_msg_check_segment(&s, c->axis_count, &f) != QS_ERR_NONE
-            || beyond_positions(c, s.active, s.n, &f)) {
+        if (qs_segments_next(&run, &e->chain, c->axis_count, s, &f) != QS_ERR_NONE
+            || qs_msg_check_segment(s, c->axis_count, &f) != QS_ERR_NONE
+            || beyond_positions(c, s->active, s->n, &f)) {
             refuse_segment(c, m, &f);
             return;
         }
-        qs_segment_prepare(slot, &s);
-        qs_cubic_follow_quadratic(&e->chain, slot, &s);
+        qs_segment_prepare(slot, s);
+        qs_cubic_follow_quadratic(&e->chain, slot, s);
         qs_engine_note_prepared(e, slot);
         qs_outputs_carry(&c->outputs, slot);
         head = qs_queue_next(&e->queue, head);
@@ -791,8 +791,8 @@ QS_NOINLINE void qs_core_poll_work(qs_core *c)
     qs_engine_retire(&c->engine);
     report_pending_inputs(c);
     /* One SPACE ack covers every segment finished since the last one. */
-    if (c->engine.segments_done != c->space_announced) {
-        c->space_announced = c->engine.segments_done;
+    if ((uint16_t)c->engine.segments_done != c->space_announced) {
+        c->space_announced = (uint16_t)c->engine.segments_done;
         send_ack(c, QS_SEQ_UNSOLICITED, QS_ACK_SPACE);
     }
     /* A hold that ends in an alarm (an underrun, a silent host) is reported

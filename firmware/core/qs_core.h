@@ -22,7 +22,7 @@ typedef struct {
     uint8_t next_seq;         /* the sequenced seq expected next */
     uint8_t axis_count;       /* as reported; at most QS_AXIS_COUNT */
     uint32_t tick_hz;         /* as reported */
-    uint32_t space_announced; /* segments_done of the last SPACE ack */
+    uint16_t space_announced; /* segments_done of the last SPACE ack, mod 65536 as the ACK carries it */
     uint8_t alarm_announced;  /* the current alarm has been reported */
     /* Selective repeat: segments that arrived after a lost frame wait,
      * parsed, in the queue slots they will take, until it comes. */
@@ -94,7 +94,7 @@ static QS_ALWAYS_INLINE void qs_core_poll(qs_core *c)
 {
     const qs_engine *e = &c->engine;
 
-    if (e->queue.retired != e->queue.tail || e->segments_done != c->space_announced
+    if (e->queue.retired != e->queue.tail || (uint16_t)e->segments_done != c->space_announced
         || (e->alarm != QS_ALARM_NONE && !c->alarm_announced) || e->hold_report || e->frozen
         || qs_engine_latch_waiting(e) || c->inputs.hold_request || e->resequence
         || (e->trigger && e->state == QS_STATE_IDLE) || qs_core_host_silent(c))

@@ -108,7 +108,6 @@ void qs_cubic_reset(qs_cubic_chain *c)
         c->e[axis] = 0;
         c->i[axis] = 0;
         c->d[axis] = 0;
-        c->last_change[axis] = 0;
     }
     c->negative = 0;
     c->after = 0;
@@ -191,11 +190,8 @@ void qs_cubic_follow_quadratic(qs_cubic_chain *c, const qs_segment *slot, const 
     if (c->after && (c->after_active & (uint8_t)~m->active))
         settle_quadratic(c);
     c->after = slot;
-    for (axis = 0; axis < QS_AXIS_COUNT; axis++) {
+    for (axis = 0; axis < QS_AXIS_COUNT; axis++)
         c->after_vn[axis] = m->vn[axis];
-        if (m->vn[axis] != m->v0[axis]) /* both 0 for an axis m does not name */
-            c->last_change[axis] = (int16_t)(m->vn[axis] - m->v0[axis]);
-    }
     c->after_active = m->active;
     c->after_negative = m->negative;
 }

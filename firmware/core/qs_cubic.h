@@ -30,9 +30,6 @@ typedef struct {
     uint32_t i[QS_AXIS_COUNT]; /* I(1) of the next segment, mod 2^32 (valid: <= Sigma) */
     int32_t d[QS_AXIS_COUNT];  /* I(2) - I(1) */
     uint8_t negative;          /* bit i: axis i's direction is negative */
-    /* vn - v0 of the last quadratic segment that changed each axis's speed
-     * (SEGMENTS' MIRROR: a deceleration often undoes the acceleration before) */
-    int16_t last_change[QS_AXIS_COUNT];
     /* After a quadratic segment, its end state is worked out only when a
      * cubic one follows (quadratic streams pay for a few bytes kept): the
      * slot (its end residuals stay there until the ring comes round to it,

@@ -72,12 +72,13 @@ uint8_t qs_msg_parse_segment(const uint8_t *p, uint8_t len, qs_segment_msg *s)
  * then per active axis one varint for each of START, RESIDUAL and, unless
  * CRUISE, vn; a varint is one byte below 0x80 or two with the second below
  * 0x80. */
-uint8_t qs_msg_parse_segments(const uint8_t *p, uint8_t len, qs_segments_msg *s)
+QS_NOINLINE uint8_t qs_msg_parse_segments(const uint8_t *p, uint8_t len, qs_segments_msg *s)
 {
     const uint8_t *const end = p + len;
     uint8_t axes = 0, count = 0;
 
     s->next = p;
+    s->last_change[0] = s->last_change[1] = s->last_change[2] = s->last_change[3] = 0;
     while (p != end) {
         const uint8_t head = *p++;
         uint8_t fields;

@@ -37,6 +37,7 @@ typedef struct {
 typedef struct {
     const uint8_t *next; /* the next record, in the frame's body */
     uint8_t count;       /* records */
+    int16_t last_change[QS_PROTOCOL_AXES]; /* per axis: vn - v0 of the frame's last record that changed it */
 } qs_segments_msg;
 
 typedef struct {

@@ -207,7 +207,7 @@
 #define QS_RECORD_RESIDUAL 0x10 /* per axis: r */
 #define QS_RECORD_CRUISE 0x20   /* vn = v0 on every axis: no vn field */
 #define QS_RECORD_REPEAT 0x40   /* the record before again, alone in its head */
-#define QS_RECORD_MIRROR 0x80   /* vn fields less the negated last change of each axis */
+#define QS_RECORD_MIRROR 0x80   /* vn fields less the negated last change in the frame */
 
 /* OUTPUTS bits (section 5.5). */
 #define QS_OUT_ON 0x01      /* the spindle or laser output is on */

@@ -1,9 +1,9 @@
 """Wire benchmark: bytes on the serial line against the G-code's own bytes, for three CAM-shaped jobs.
 
 The jobs come from tests/bench/cam_jobs.py (a 40,000-line pocket, a 16,000-line engraving, a 51,000-line
-four-axis job). Byte counts are exact (every frame as the link frames it). Also printed: what the same plans
-would take if a segment that continues the one before carried only its end speeds and runs of equal cruises
-were one cubic segment (an estimate: no such frame exists yet). Nothing is asserted.
+four-axis job). Byte counts are exact: every frame as a motion sends it to an Uno (SEGMENTS frames of up to 7
+chained segments, PROTOCOL.md §5.2), beside one SEGMENT a frame (a board without SEGMENTS, or a noisy line).
+Nothing is asserted.
 
     python3 tests/bench/bench_wire.py [--scurve]
 """
@@ -15,7 +15,6 @@ import sys
 import time
 from pathlib import Path
 
-import numpy as np
 
 REPO = Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(REPO / "host"))
@@ -27,11 +26,7 @@ from quadstep.config import MachineConfig, parse_config  # noqa: E402
 from quadstep.coordinates import WorkCoordinates  # noqa: E402
 from quadstep.gcode import parse_gcode  # noqa: E402
 from quadstep.job import Job  # noqa: E402
-from quadstep.planner.plan import Plan, plan_program  # noqa: E402
-from quadstep.planner.segments import SegmentArrays  # noqa: E402
-
-FRAME = 6  # type, seq, CRC-16, COBS code byte, delimiter
-
+from quadstep.planner.plan import plan_program  # noqa: E402
 
 def machine(names: str, jerk: float | None) -> MachineConfig:
     """A router at 400 steps/mm (A: 3200 steps per turn), at 32 kHz as the Uno."""
@@ -48,28 +43,12 @@ def machine(names: str, jerk: float | None) -> MachineConfig:
     return parse_config({"tick_hz": 32000, "axes": axes})
 
 
-def chained_estimate(plan: Plan) -> int:
-    """Bytes if continuing segments carried only vn per axis and equal cruises ran as one segment."""
-    segments = plan.segments
-    assert isinstance(segments, SegmentArrays)
-    a = segments.numpy()
-    axes, v0, vn = a["axes"].astype(np.int64), a["v0"], a["vn"]
-    k = np.array([bin(x & 15).count("1") for x in axes])
-    chained = np.zeros(len(segments), dtype=bool)
-    chained[1:] = (axes[1:] == axes[:-1]) & np.all(v0[1:] == vn[:-1], axis=1)
-    cruise = chained & np.all(v0 == vn, axis=1)
-    merged = np.zeros(len(segments), dtype=bool)
-    merged[1:] = cruise[1:] & cruise[:-1] & np.all(v0[1:] == v0[:-1], axis=1)
-    size = np.where(cruise, 3 + FRAME, np.where(chained, 3 + 2 * k + FRAME, 3 + 6 * k + FRAME))
-    return int(size[~merged].sum())
-
-
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--scurve", action="store_true", help="also plan with max_jerk (slow: minutes)")
     args = parser.parse_args()
-    print("| job | G-code | moves | planner | segments | bytes on the wire | wire / G-code |")
-    print("|---|---|---|---|---|---|---|")
+    print("| job | G-code | moves | planner | segments | bytes on the wire | wire / G-code | one SEGMENT a frame |")
+    print("|---|---|---|---|---|---|---|---|")
     for name, make in cam_jobs.JOBS.items():
         text = make()
         names = "XYZA" if name == "four_axis" else "XYZ"
@@ -81,13 +60,11 @@ def main() -> None:
             began = time.perf_counter()
             plan = plan_program(program, config)
             seconds = time.perf_counter() - began
-            wire = Job(path=Path(name), program=program, plan=plan, coordinates=WorkCoordinates()).wire_bytes()
+            job = Job(path=Path(name), program=program, plan=plan, coordinates=WorkCoordinates())
+            wire, single = job.wire_bytes(), job.wire_bytes(run_limit=0)
             kind = "S-curve" if jerk else "constant acceleration"
             print(f"| {name} | {lines:,} lines, {gcode:,} B | {plan.moves:,} | {kind} ({seconds:.0f} s) | "
-                  f"{len(plan):,} | {wire:,} | {wire / gcode:.2f} |")
-            if jerk is None:
-                estimate = chained_estimate(plan)
-                print(f"| {name} | | | chained frames (estimate) | | {estimate:,} | {estimate / gcode:.2f} |")
+                  f"{len(plan):,} | {wire:,} | {wire / gcode:.2f} | {single / gcode:.2f} |")
 
 
 if __name__ == "__main__":

@@ -38,7 +38,10 @@ def test_the_host_killed_at_full_speed_leaves_a_controlled_stop_and_an_exact_pos
     job = tmp_path / "fast.gcode"
     job.write_text(FAST)
     trace, events = tmp_path / "trace.csv", tmp_path / "events.csv"
-    emu = start_emulator(trace=trace, axes=3, tick_hz=CONFIG.tick_hz,
+    # A queue deeper than the watchdog's time (127 slots of 32 ms rapids), so the host's lookahead, not the
+    # queue, bounds what is queued: the board still has motion when the watchdog fires. (A queue that holds
+    # less than host_timeout of motion runs dry first: the same controlled stop, as UNDERRUN.)
+    emu = start_emulator(trace=trace, axes=3, tick_hz=CONFIG.tick_hz, queue=127,
                          extra_args=("--events", str(events)))
     cli = subprocess.Popen([sys.executable, "-m", "quadstep.cli", "run", str(job), "--config", str(ROUTER),
                             "--port", emu.url], stdin=subprocess.DEVNULL, stdout=subprocess.PIPE,

@@ -179,20 +179,33 @@ def quadratic_into_cubic(axis_count: int) -> list[list[Segment | CubicSegment]]:
 
 def every_message_kind(axis_count: int) -> bytes:
     """Wire bytes (no flow control needed) that exercise every path of the
-    firmware while axes move: segments, SET_POSITION (accepted at rest,
+    firmware while axes move: SEGMENT and SEGMENTS, SET_POSITION (accepted at rest,
     refused while moving), STATUS, IDENTIFY, and damaged frames of each
     framing error. For the stack's high-water mark."""
     from quadstep.protocol import Identify, SetPosition, Status, Stop, encode
     from quadstep.protocol.framing import encode_frame
 
+    from quadstep.protocol.segment_run import RunChain, pack
+
     b = ChainBuilder(axis_count)
     out = [b"\x00", encode(Identify(), 1), encode(SetPosition(positions={a: 5 * a for a in range(axis_count)}), 0)]
     b.position = [5 * a for a in range(axis_count)]
     b.ideal2 = [2 * D * p for p in b.position]
+    chain = RunChain(axis_count)
     seq = 1
     for i in range(8):
         last = i == 7
-        out.append(encode(b.segment(400, {a: (1, D // 2, 0 if last else D // 2) for a in range(axis_count)}), seq))
+        segments = [b.segment(200, {a: (1, D // 2, D // 2) for a in range(axis_count)}),
+                    b.segment(200, {a: (1, D // 2, 0 if last else D // 2) for a in range(axis_count)})]
+        # a SEGMENT, then (the chain known) a SEGMENTS frame of two records
+        frame = segments[0] if i == 0 else pack(segments, chain)
+        for segment in segments if i == 0 else ():
+            chain.follow(segment)
+        out.append(encode(frame, seq))
+        if i == 0:
+            seq += 1
+            out.append(encode(segments[1], seq))
+            chain.follow(segments[1])
         seq += 1
         out += [encode(Status(), 9), encode(Identify(), 9), encode_frame(b"\x10\x05\x01"), b"\x07" * 70 + b"\x00",
                 b"\x05\x01\x02\x03\x04\x05\x06\x00"]

@@ -248,6 +248,7 @@ class Motion:
             end = min(self.last, index + max(1, batch))
             if output is not None and output[0] > index:
                 end = min(end, output[0])  # an output goes out before its segment, between frames
+            before = chain.copy()
             message = next_frame(self.segments, index, end, chain, batch)
             count = queue_slots(message)
             self._wait_for_room(k + count - 1, ticks, identity.queue_capacity)
@@ -257,6 +258,9 @@ class Motion:
             with self._lock:
                 if self._halting or index >= self.last:  # halted, or cut() ended the stream before this one
                     return
+                if index + count > self.last:  # cut() inside this frame: make it again, shorter
+                    chain = before
+                    continue
                 while output is not None and output[0] <= index:  # in stream order, before the segment
                     self.link.send(output[1], generation=self._generation)
                     output = next(outputs, None)
@@ -269,7 +273,7 @@ class Motion:
                 output = next(outputs, None)
 
     def _wait_for_room(self, k: int, ticks: list[int], capacity: int) -> None:
-        """Until segment k fits in the board's queue and within the lookahead (or a halt)."""
+        """Until segment k (a frame's last) fits in the board's queue and within the lookahead (or a halt)."""
         last_done, since = -1, time.monotonic()
         while not self._halting:
             if self.link.generation != self._generation:

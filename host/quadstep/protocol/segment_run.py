@@ -3,8 +3,8 @@
 The segment before leaves every axis at a speed and a residual, which the firmware keeps exactly (its
 chain); they are the next segment's v0 and r unless its record says otherwise. So a record carries n and
 each axis's change of speed, in variable-length integers: a chained two-axis segment is 4 bytes, a cruise
-2, the same segment again 1; a change close to the negated last one (a move's deceleration after its
-acceleration) is sent as the difference (MIRROR). A frame is read in order once it is taken (never when parked), against the
+2, the same segment again 1; a change close to the negated last one in the frame (a move's deceleration
+after its acceleration) is sent as the difference (MIRROR). A frame is read in order once it is taken (never when parked), against the
 chain its predecessors left, so a resent frame means exactly what it meant the first time.
 
 `RunChain` is the host's model of that chain, `pack` the one canonical encoding and `expand` its meaning
@@ -31,7 +31,7 @@ START = 0x08  # per axis: v0 less the chain's speed
 RESIDUAL = 0x10  # per axis: r
 CRUISE = 0x20  # vn = v0 on every axis: no vn field
 REPEAT = 0x40  # the record before again (n, axes, v0, vn), its residuals from the chain
-MIRROR = 0x80  # per axis: vn − v0 plus the axis's last change (a deceleration that undoes an acceleration)
+MIRROR = 0x80  # per axis: vn − v0 plus the axis's last change in the frame (a deceleration undoing an acceleration)
 SEGMENTS_MAX = 16  # records in one frame
 RUN_LIMIT = 8  # records a host puts in one frame, at most
 PAYLOAD_MAX = MAX_FRAME - 4  # type, seq and the CRC take the rest of a frame
@@ -70,7 +70,7 @@ class SegmentRecord(BaseModel):
     start: Deltas | None = Field(default=None, description="per active axis: v0 less the chain's speed")
     residual: Deltas | None = Field(default=None, description="per active axis: r")
     change: Deltas | None = Field(default=None, description="per active axis: vn − v0; None: a cruise")
-    mirror: bool = Field(default=False, description="change is vn − v0 plus the axis's last change")
+    mirror: bool = Field(default=False, description="change is vn − v0 plus the axis's last change in the frame")
 
     @model_validator(mode="after")
     def _whole(self) -> SegmentRecord:
@@ -203,7 +203,6 @@ class RunChain:
     axis_count: int
     speed: list[int | None] = field(default_factory=list)
     residual: list[int | None] = field(default_factory=list)
-    last_change: list[int | None] = field(default_factory=list)  # vn − v0 of the last segment that had one
 
     def __post_init__(self) -> None:
         if not self.speed:
@@ -214,16 +213,14 @@ class RunChain:
         chain = cls(axis_count)
         chain.speed = [0] * axis_count
         chain.residual = [0] * axis_count
-        chain.last_change = [0] * axis_count
         return chain
 
     def forget(self) -> None:
         self.speed = [None] * self.axis_count
         self.residual = [None] * self.axis_count
-        self.last_change = [None] * self.axis_count
 
     def copy(self) -> RunChain:
-        return RunChain(self.axis_count, list(self.speed), list(self.residual), list(self.last_change))
+        return RunChain(self.axis_count, list(self.speed), list(self.residual))
 
     def follow(self, segment: Segment) -> None:
         """After a quadratic segment: named axes end at vn and their exact residual, the others stop."""
@@ -237,8 +234,6 @@ class RunChain:
             rest = travel - 2 * D * ((travel + D) // (2 * D))
             self.speed[axis] = move.vn
             self.residual[axis] = move.direction * rest
-            if move.vn != move.v0:
-                self.last_change[axis] = move.vn - move.v0
 
     def ready(self) -> bool:
         """Whether a record can start from here (every speed known)."""
@@ -253,7 +248,7 @@ def expand(records: Sequence[SegmentRecord], chain: RunChain) -> list[Segment]:
     """The segments the records mean, starting from `chain`, which they move on; raises FieldFault as the
     firmware refuses (AXES, DIRECTION, V0, VN, RESIDUAL per record, then SEGMENT's own checks)."""
     out: list[Segment] = []
-    n, axes, v0, vn = 0, 0, [0] * 4, [0] * 4
+    n, axes, v0, vn, last = 0, 0, [0] * 4, [0] * 4, [0] * 4
     for record in records:
         if not record.repeat:
             assert record.n is not None
@@ -277,10 +272,7 @@ def expand(records: Sequence[SegmentRecord], chain: RunChain) -> list[Segment]:
                     residual = sign * record.residual[j]
                 vn[axis] = v0[axis] + (record.change[j] if record.change is not None else 0)
                 if record.mirror:
-                    last = chain.last_change[axis]
-                    if last is None:
-                        raise _refuse(FieldId.VN, axis, "the chain's last change is not known")
-                    vn[axis] -= last
+                    vn[axis] -= last[axis]
                 if not 0 <= v0[axis] <= V_MAX:
                     raise _refuse(FieldId.V0, axis, f"v0 = {v0[axis]}, limit 0..{V_MAX}")
                 if not 0 <= vn[axis] <= V_MAX:
@@ -288,6 +280,8 @@ def expand(records: Sequence[SegmentRecord], chain: RunChain) -> list[Segment]:
             if residual is None:
                 raise _refuse(FieldId.RESIDUAL, axis, "the chain's residual is not on the 1/8192 grid")
             moves.append((axis, sign, v0[axis], vn[axis], sign * residual))
+            if vn[axis] != v0[axis]:
+                last[axis] = vn[axis] - v0[axis]
         raw = {"n": n, "axes": (axes, [(a, b, r) for _, _, a, b, r in moves])}
         Segment.check_wire(raw, chain.axis_count)
         segment = Segment(n=n, axes=tuple(AxisMove(axis=a, direction=s, v0=a0, vn=b, r=r) for a, s, a0, b, r in moves))
@@ -305,7 +299,7 @@ def _shape(segment: Segment) -> tuple[int, int, tuple[tuple[int, int], ...]]:
     return segment.n, _axes_byte(segment), tuple((a.v0, a.vn) for a in segment.axes)
 
 
-def _record(segment: Segment, before: Segment | None, chain: RunChain) -> SegmentRecord:
+def _record(segment: Segment, before: Segment | None, chain: RunChain, last: list[int]) -> SegmentRecord:
     """The canonical record of `segment` after `before` (in the same frame) from `chain`."""
     residuals = [a.direction * chain.residual[a.axis] if chain.residual[a.axis] is not None else None
                  for a in segment.axes]
@@ -314,7 +308,7 @@ def _record(segment: Segment, before: Segment | None, chain: RunChain) -> Segmen
         return SegmentRecord(repeat=True)
     axes = _axes_byte(segment)
     start = tuple(a.v0 - chain.speed[a.axis] for a in segment.axes)  # type: ignore[operator]
-    change, mirror = _change(segment, chain)
+    change, mirror = _change(segment, last)
     return SegmentRecord(
         n=segment.n,
         axes=axes if before is None or axes != _axes_byte(before) else None,
@@ -325,15 +319,13 @@ def _record(segment: Segment, before: Segment | None, chain: RunChain) -> Segmen
     )
 
 
-def _change(segment: Segment, chain: RunChain) -> tuple[tuple[int, ...] | None, bool]:
-    """The vn fields and whether they are mirrored: mirrored where that takes fewer bytes."""
+def _change(segment: Segment, last: list[int]) -> tuple[tuple[int, ...] | None, bool]:
+    """The vn fields and whether they are mirrored (against each axis's last change in the frame): mirrored
+    where that takes fewer bytes."""
     if all(a.vn == a.v0 for a in segment.axes):
         return None, False
     plain = tuple(a.vn - a.v0 for a in segment.axes)
-    lasts = [chain.last_change[a.axis] for a in segment.axes]
-    if any(last is None for last in lasts):
-        return plain, False
-    mirrored = tuple(c + last for c, last in zip(plain, lasts))  # type: ignore[operator]
+    mirrored = tuple(c + last[a.axis] for c, a in zip(plain, segment.axes))
     if sum(map(len, map(_varint, mirrored))) < sum(map(len, map(_varint, plain))):
         return mirrored, True
     return plain, False
@@ -345,9 +337,9 @@ def pack(segments: Sequence[Segment], chain: RunChain, limit: int = SEGMENTS_MAX
     if not segments or not chain.ready():
         return None
     records: list[SegmentRecord] = []
-    size, before, axes = 0, None, 0
+    size, before, axes, last = 0, None, 0, [0] * 4
     for segment in segments[: min(limit, SEGMENTS_MAX)]:
-        record = _record(segment, before, chain)
+        record = _record(segment, before, chain, last)
         axes = record.axes if record.axes is not None else axes
         length = len(record.pack(_active_count(axes)))
         if size + length > PAYLOAD_MAX:
@@ -355,6 +347,9 @@ def pack(segments: Sequence[Segment], chain: RunChain, limit: int = SEGMENTS_MAX
         records.append(record)
         size += length
         chain.follow(segment)
+        for move in segment.axes:
+            if move.vn != move.v0:
+                last[move.axis] = move.vn - move.v0
         before = segment
     return Segments(records=tuple(records))
 

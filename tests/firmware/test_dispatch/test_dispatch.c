@@ -42,6 +42,45 @@ static qs_status status(void)
     return st;
 }
 
+/* SEGMENTS: three chained records, X accelerating, cruising, stopping. */
+static void send_three_records(uint8_t seq)
+{
+    const uint8_t body[] = {QS_TYPE_SEGMENTS, seq,
+                            QS_RECORD_AXES, 100, 0x01, 0xD0, 0x0F,        /* 0 -> 1000 */
+                            QS_RECORD_CRUISE, 100,                        /* 1000 */
+                            0, 100, 0xCF, 0x0F};                          /* 1000 -> 0 */
+    tp_send(&core, body, sizeof body);
+}
+
+static void test_segments_take_a_slot_each_all_or_none(void)
+{
+    qs_ack a;
+    qs_core_configure(&core, 4, 4, QS_TICK_HZ);
+    tp_send_segment(&core, 0, 50, 0x2, 0, &to_rest);
+    tp_send_segment(&core, 1, 50, 0x2, 0, &to_rest);
+    sent();
+    send_three_records(2); /* two slots free: refused whole, seq kept */
+    a = only_ack();
+    TEST_ASSERT_EQUAL_INT(QS_ACK_QUEUE_FULL, a.reason);
+    TEST_ASSERT_EQUAL_INT(2, a.next_seq);
+    TEST_ASSERT_EQUAL_INT(2, qs_queue_count(&core.engine.queue));
+    TEST_ASSERT_EQUAL_UINT32(25, tp_ticks(&core, 50)); /* the first ends (25 steps): three free */
+    qs_core_poll(&core);
+    sent();
+    send_three_records(2);
+    a = only_ack();
+    TEST_ASSERT_EQUAL_INT(QS_ACK_ACCEPTED, a.reason);
+    TEST_ASSERT_EQUAL_INT(3, a.next_seq);
+    TEST_ASSERT_EQUAL_INT(0, a.free);
+    TEST_ASSERT_EQUAL_INT(4, qs_queue_count(&core.engine.queue));
+    /* X: 0 -> 1000 -> 1000 -> 0 over 300 ticks, 100 * (1000 + 2000 + 1000) / 8192 = 48.8 steps */
+    tp_ticks(&core, 1000);
+    qs_core_poll(&core);
+    TEST_ASSERT_EQUAL_INT(QS_STATE_IDLE, status().state);
+    TEST_ASSERT_EQUAL_INT32(49, status().position[0]);
+    TEST_ASSERT_EQUAL_INT32(50, status().position[1]);
+}
+
 static void test_identify_reports_what_the_firmware_is(void)
 {
     const uint8_t *p;
@@ -541,6 +580,7 @@ int main(void)
     RUN_TEST(test_a_gap_is_refused_and_a_duplicate_never_runs_twice);
     RUN_TEST(test_parked_segments_run_in_order_once_the_lost_one_arrives);
     RUN_TEST(test_queue_full_keeps_the_seq_and_space_reports_free_slots);
+    RUN_TEST(test_segments_take_a_slot_each_all_or_none);
     RUN_TEST(test_one_space_ack_covers_segments_finished_together);
     RUN_TEST(test_stop_halts_flushes_and_sets_next_seq);
     RUN_TEST(test_status_while_running_reads_the_steps_made_so_far);
