@@ -9,7 +9,6 @@ from __future__ import annotations
 from dataclasses import dataclass
 from pathlib import Path
 
-import numpy as np
 from pydantic import BaseModel
 
 from .config import MachineConfig
@@ -19,7 +18,6 @@ from .movefile import move_program, read_move_file
 from .planner.feed_override import scale_feeds
 from .planner.plan import Plan, plan_program
 from .planner.program import JobError, Program
-from .planner.stream import Stream
 from .protocol.codec import encode
 from .protocol.messages import queue_slots
 from .protocol.segment_run import RunChain, next_frame, run_limit

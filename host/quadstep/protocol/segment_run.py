@@ -14,9 +14,8 @@ chain its predecessors left, so a resent frame means exactly what it meant the f
 from __future__ import annotations
 
 from collections.abc import Sequence
-from typing import Protocol
 from dataclasses import dataclass, field
-from typing import Annotated, Any
+from typing import Annotated, Any, Protocol
 
 from pydantic import BaseModel, ConfigDict, Field, SerializerFunctionWrapHandler, model_serializer, model_validator
 
@@ -240,10 +239,6 @@ class RunChain:
         return all(s is not None for s in self.speed)
 
 
-def _refuse(field_id: FieldId, axis: int | None, detail: str) -> FieldFault:
-    return FieldFault(field_id, axis, detail)
-
-
 def expand(records: Sequence[SegmentRecord], chain: RunChain) -> list[Segment]:
     """The segments the records mean, starting from `chain`, which they move on; raises FieldFault as the
     firmware refuses (AXES, DIRECTION, V0, VN, RESIDUAL per record, then SEGMENT's own checks)."""
@@ -256,9 +251,9 @@ def expand(records: Sequence[SegmentRecord], chain: RunChain) -> list[Segment]:
             axes = record.axes if record.axes is not None else axes
         active, negative = bits(axes & 0x0F), axes >> 4
         if any(a >= chain.axis_count for a in active):
-            raise _refuse(FieldId.AXES, None, f"axes {active}, firmware has {chain.axis_count}")
+            raise FieldFault(FieldId.AXES, None, f"axes {active}, firmware has {chain.axis_count}")
         if negative & ~axes & 0x0F:
-            raise _refuse(FieldId.DIRECTION, None, f"direction bit of an inactive axis (axes 0x{axes:02x})")
+            raise FieldFault(FieldId.DIRECTION, None, f"direction bit of an inactive axis (axes 0x{axes:02x})")
         moves = []
         for j, axis in enumerate(active):
             sign = -1 if negative >> axis & 1 else 1
@@ -266,7 +261,7 @@ def expand(records: Sequence[SegmentRecord], chain: RunChain) -> list[Segment]:
             if not record.repeat:
                 speed = chain.speed[axis]
                 if speed is None:
-                    raise _refuse(FieldId.V0, axis, "the chain's speed is not on the 1/4096 grid")
+                    raise FieldFault(FieldId.V0, axis, "the chain's speed is not on the 1/4096 grid")
                 v0[axis] = speed + (record.start[j] if record.start is not None else 0)
                 if record.residual is not None:
                     residual = sign * record.residual[j]
@@ -274,11 +269,11 @@ def expand(records: Sequence[SegmentRecord], chain: RunChain) -> list[Segment]:
                 if record.mirror:
                     vn[axis] -= last[axis]
                 if not 0 <= v0[axis] <= V_MAX:
-                    raise _refuse(FieldId.V0, axis, f"v0 = {v0[axis]}, limit 0..{V_MAX}")
+                    raise FieldFault(FieldId.V0, axis, f"v0 = {v0[axis]}, limit 0..{V_MAX}")
                 if not 0 <= vn[axis] <= V_MAX:
-                    raise _refuse(FieldId.VN, axis, f"vn = {vn[axis]}, limit 0..{V_MAX}")
+                    raise FieldFault(FieldId.VN, axis, f"vn = {vn[axis]}, limit 0..{V_MAX}")
             if residual is None:
-                raise _refuse(FieldId.RESIDUAL, axis, "the chain's residual is not on the 1/8192 grid")
+                raise FieldFault(FieldId.RESIDUAL, axis, "the chain's residual is not on the 1/8192 grid")
             moves.append((axis, sign, v0[axis], vn[axis], sign * residual))
             if vn[axis] != v0[axis]:
                 last[axis] = vn[axis] - v0[axis]
