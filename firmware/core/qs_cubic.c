@@ -1,3 +1,5 @@
+#include <stddef.h>
+
 #include "qs_cubic.h"
 #include "qs_cubic_sums.h"
 #include "qs_protocol.h"
@@ -54,11 +56,52 @@ void qs_cubic_last(qs_cubic_terms *t)
     t->last = qs_w48_from((uint64_t)last);
 }
 
-void qs_cubic_twice(qs_cubic_terms *t)
+void qs_cubic_load(qs_cubic_terms *t, const qs_cubic_chain *c, const qs_cubic_msg *m, uint8_t axis)
 {
+    const uint8_t bit = (uint8_t)(1u << axis);
+    int32_t e = c->e[axis];
+
+    if (m->set & bit) {
+        if ((c->negative ^ m->negative) & bit)
+            e = -e;
+        t->i = m->speed[axis];
+        t->d = m->accel[axis];
+    } else {
+        t->i = c->i[axis];
+        t->d = c->d[axis];
+    }
+    t->ahead = (uint32_t)e + QS_HALF_SIGMA;
+    t->r = m->r[axis];
+}
+
+void qs_cubic_finish(qs_cubic_terms *t, qs_segment *slot, uint8_t axis, qs_cubic_ends *end)
+{
+    const uint8_t bit = (uint8_t)(1u << axis);
     const uint64_t sum = (uint64_t)t->i + t->last.lo;
     const uint64_t twice = 2 * (uint64_t)t->ahead + t->n * sum - qs_w48_value(t->c3) * (uint64_t)(int64_t)t->r;
+
     t->twice = qs_w48_from(twice);
+    /* I(n+1) = I(n) + d + (n-1)*r, within 32 bits now that I(n) is */
+    end->d[axis] = t->d + t->nr;
+    end->i[axis] = t->last.lo + (uint32_t)(end->d[axis] - t->r);
+    /* twice is 2*(e + Sigma/2 + X(n)): the steps are its bits 32 and up,
+     * the new e (plus Sigma/2) its bits 1 to 31 */
+    end->e[axis] = (int32_t)((t->twice.lo >> 1) & (QS_SIGMA - 1u)) - (int32_t)QS_HALF_SIGMA;
+    slot->total[axis] = t->twice.hi;
+    slot->c.h[axis] = t->ahead + t->i - QS_SIGMA;
+    slot->c.b[axis] = t->i + (uint32_t)t->d - QS_SIGMA;
+    slot->c.q[axis] = t->d;
+    slot->c.r[axis] = t->r;
+    slot->c.e_top[axis] = (int8_t)((t->ahead - QS_HALF_SIGMA) >> 24);
+    slot->active |= bit;
+    slot->tick_axes |= bit;
+    if (!t->r) {
+        slot->tick_axes |= (uint8_t)(bit << 4);
+        if (!t->d)
+            slot->cubic |= bit;
+    }
+    if (end->i[axis] || end->d[axis])
+        slot->ends_moving = 1;
 }
 #endif
 
@@ -180,49 +223,28 @@ static uint8_t bad_field(qs_fault *f, uint8_t field, uint8_t axis)
     return QS_ERR_BAD_FIELD;
 }
 
-/* The jerk of axis of m and its start (the chain's state, or the set's: a
- * set that turns the axis round measures the error the other way) into t. */
-static void load_start(qs_cubic_terms *t, const qs_cubic_chain *c, const qs_cubic_msg *m, uint8_t axis)
-{
-    const uint8_t bit = (uint8_t)(1u << axis);
-    int32_t e = c->e[axis];
+_Static_assert(offsetof(qs_cubic_chain, e) == 0 && offsetof(qs_cubic_chain, i) == offsetof(qs_cubic_ends, i)
+                   && offsetof(qs_cubic_chain, d) == offsetof(qs_cubic_ends, d),
+               "the chain begins as qs_cubic_ends");
 
-    if (m->set & bit) {
-        if ((c->negative ^ m->negative) & bit)
-            e = -e;
-        t->i = m->speed[axis];
-        t->d = m->accel[axis];
-    } else {
-        t->i = c->i[axis];
-        t->d = c->d[axis];
-    }
-    t->ahead = (uint32_t)e + QS_HALF_SIGMA;
-    t->r = m->r[axis];
-}
-
-/* What an axis leaves the chain. */
-typedef struct {
-    int32_t e;
-    uint32_t i;
-    int32_t d;
-} axis_end;
-
-/* One axis of a segment that passed the ACCEL checks, exactly: its start
- * state and steps into the slot, its end state into end; returns 0 if some
- * advance leaves [0, Sigma]. The advances I(k) are quadratic in k: the
- * ends, I(1) = i and last = I(n), and an extreme between them decide. */
+/* One axis of a segment, exactly: its start state and steps into the slot,
+ * its end state into end; returns 0 if its acceleration is too wide at
+ * either end (|d| < 2^23) or some advance leaves [0, Sigma]. The advances
+ * I(k) are quadratic in k: the ends, I(1) = i and last = I(n), and an
+ * extreme between them decide. */
 static QS_NOINLINE uint8_t plan_axis(qs_cubic_terms *t, const qs_cubic_chain *c, const qs_cubic_msg *m,
-                                     qs_segment *slot, uint8_t axis, axis_end *end)
+                                     qs_segment *slot, uint8_t axis, qs_cubic_ends *end)
 {
-    const uint8_t bit = (uint8_t)(1u << axis);
-    int32_t nr;
-
-    load_start(t, c, m, axis);
+    qs_cubic_load(t, c, m, axis);
+    /* |n*r| < 2^31; below 2^24 unless the end is out of range anyway */
+    t->nr = qs_usmul16(t->n, t->r);
+    if (!(accel_fits(t->d) && t->nr < (1L << 24) && t->nr > -(1L << 24) && accel_fits(t->d + t->nr)))
+        return 0;
     if (!(t->i || t->d || t->r)) {
         /* at rest, and stays there */
-        end->e = (int32_t)(t->ahead - QS_HALF_SIGMA);
-        end->i = 0;
-        end->d = 0;
+        end->e[axis] = (int32_t)(t->ahead - QS_HALF_SIGMA);
+        end->i[axis] = 0;
+        end->d[axis] = 0;
         slot->total[axis] = 0;
         return 1;
     }
@@ -235,31 +257,9 @@ static QS_NOINLINE uint8_t plan_axis(qs_cubic_terms *t, const qs_cubic_chain *c,
     } else {
         t->last = qs_w48_of(t->i); /* a steady speed */
     }
-    nr = qs_usmul16(t->n, t->r);
-    if (has_extreme(t->d, t->r, nr) && !extreme_in_range(t))
+    if (has_extreme(t->d, t->r, t->nr) && !extreme_in_range(t))
         return 0;
-    /* I(n+1) = I(n) + d + (n-1)*r, within 32 bits now that I(n) is */
-    end->d = t->d + nr;
-    end->i = t->last.lo + (uint32_t)(end->d - t->r);
-    /* twice is 2*(e + Sigma/2 + X(n)): the steps are its bits 32 and up,
-     * the new e (plus Sigma/2) its bits 1 to 31 */
-    qs_cubic_twice(t);
-    end->e = (int32_t)((t->twice.lo >> 1) & (QS_SIGMA - 1u)) - (int32_t)QS_HALF_SIGMA;
-    slot->total[axis] = t->twice.hi;
-    slot->c.h[axis] = t->ahead + t->i - QS_SIGMA;
-    slot->c.b[axis] = t->i + (uint32_t)t->d - QS_SIGMA;
-    slot->c.q[axis] = t->d;
-    slot->c.r[axis] = t->r;
-    slot->c.e_top[axis] = (int8_t)((t->ahead - QS_HALF_SIGMA) >> 24);
-    slot->active |= bit;
-    slot->tick_axes |= bit;
-    if (!t->r) {
-        slot->tick_axes |= (uint8_t)(bit << 4);
-        if (!t->d)
-            slot->cubic |= bit;
-    }
-    if (end->i || end->d)
-        slot->ends_moving = 1;
+    qs_cubic_finish(t, slot, axis, end);
     return 1;
 }
 
@@ -273,13 +273,28 @@ static uint8_t accel_ok(const qs_cubic_chain *c, const qs_cubic_msg *m, uint8_t 
     return accel_fits(d) && nr < (1L << 24) && nr > -(1L << 24) && accel_fits(d + nr);
 }
 
+/* A segment an axis of which failed (failed, the first in axis order): the
+ * field to report, field by field as the protocol lists them, each in axis
+ * order: the acceleration's width of every axis first, then the advance
+ * per tick. */
+static QS_NOINLINE uint8_t refuse(const qs_cubic_chain *c, const qs_cubic_msg *m, uint8_t axis_count, uint8_t failed,
+                                  qs_fault *f)
+{
+    uint8_t axis;
+
+    for (axis = 0; axis < axis_count; axis++)
+        if (!accel_ok(c, m, axis))
+            return bad_field(f, QS_FIELD_ACCEL, axis);
+    return bad_field(f, QS_FIELD_SPEED, failed);
+}
+
 QS_NOINLINE uint8_t qs_cubic_prepare(qs_cubic_chain *c, qs_segment *slot, const qs_cubic_msg *m, uint8_t axis_count,
                                      qs_fault *f)
 {
     qs_cubic_terms terms, *t = &terms;
     const uint16_t n = m->n;
     const uint8_t named = (uint8_t)(m->jerk | m->set);
-    axis_end end[QS_AXIS_COUNT];
+    qs_cubic_ends end;
     uint8_t axis;
 
     settle(c);
@@ -287,11 +302,6 @@ QS_NOINLINE uint8_t qs_cubic_prepare(qs_cubic_chain *c, qs_segment *slot, const 
         return bad_field(f, QS_FIELD_N, QS_AXIS_NONE);
     if (named & (uint8_t)(0xFFu << axis_count))
         return bad_field(f, QS_FIELD_AXES, QS_AXIS_NONE);
-    /* Field by field, each in axis order: the acceleration's width, then
-     * the advance per tick. */
-    for (axis = 0; axis < axis_count; axis++)
-        if (!accel_ok(c, m, axis))
-            return bad_field(f, QS_FIELD_ACCEL, axis);
     t->n = n;
     t->n_less = (uint16_t)(n - 1);
     t->c2_less = choose2((uint16_t)(n - 1));
@@ -302,14 +312,22 @@ QS_NOINLINE uint8_t qs_cubic_prepare(qs_cubic_chain *c, qs_segment *slot, const 
     slot->cubic = QS_CUBIC_KIND;
     slot->ends_moving = 0;
     for (axis = 0; axis < axis_count; axis++)
-        if (!plan_axis(t, c, m, slot, axis, &end[axis]))
-            return bad_field(f, QS_FIELD_SPEED, axis);
+        if (!plan_axis(t, c, m, slot, axis, &end))
+            return refuse(c, m, axis_count, axis, f);
 
     /* Valid: the chain moves on. */
-    for (axis = 0; axis < axis_count; axis++) {
-        c->e[axis] = end[axis].e;
-        c->i[axis] = end[axis].i;
-        c->d[axis] = end[axis].d;
+    if (axis_count == QS_AXIS_COUNT) {
+        /* word by word: the AVR's memcpy moves a byte per loop */
+        uint32_t *to = (uint32_t *)(void *)c;
+        const uint32_t *from = (const uint32_t *)(const void *)&end;
+        for (axis = 0; axis < 3 * QS_AXIS_COUNT; axis++)
+            to[axis] = from[axis];
+    } else {
+        for (axis = 0; axis < axis_count; axis++) {
+            c->e[axis] = end.e[axis];
+            c->i[axis] = end.i[axis];
+            c->d[axis] = end.d[axis];
+        }
     }
     c->negative = (uint8_t)((c->negative & ~m->set) | (m->negative & m->set));
     slot->negative = (uint8_t)(c->negative & slot->active);
