@@ -15,7 +15,7 @@ static uint32_t choose2(uint16_t n)
 }
 
 /* x / 3 for any 16-bit x, by a multiply (exact: 3 * 43691 = 2^17 + 1). */
-static uint16_t third(uint16_t x)
+static QS_ALWAYS_INLINE uint16_t third(uint16_t x)
 {
     return (uint16_t)((uint16_t)(qs_umul16(x, 43691u) >> 16) >> 1);
 }
@@ -25,6 +25,8 @@ static uint16_t third(uint16_t x)
 static QS_NOINLINE qs_w48 choose3(uint16_t n)
 {
     uint16_t a = n, b = (uint16_t)(n - 1), c = (uint16_t)(n - 2);
+    const uint16_t n3 = third(n);
+    const uint8_t rest = (uint8_t)((uint8_t)n - (uint8_t)(3 * (uint8_t)n3)); /* n mod 3: 0 ... 2 */
     qs_w48 out = qs_w48_of(0);
 
     if (n < 3)
@@ -33,17 +35,13 @@ static QS_NOINLINE qs_w48 choose3(uint16_t n)
         b >>= 1;
     else
         a >>= 1;
-    switch ((uint16_t)(n - 3 * third(n))) { /* the one of n, n-1, n-2 that 3 divides */
-    case 0:
-        a = third(a);
-        break;
-    case 1:
-        b = third(b); /* n-1, halved or not */
-        break;
-    default:
+    /* the one of n, n-1, n-2 that 3 divides (n-1 perhaps halved) */
+    if (rest == 0)
+        a = (a == n) ? n3 : (uint16_t)(n3 >> 1);
+    else if (rest == 1)
+        b = third(b);
+    else
         c = third(c);
-        break;
-    }
     qs_w48_mac(&out, qs_umul16(a, b), c);
     return out;
 }
