@@ -127,8 +127,123 @@ void qs_cubic_load(qs_cubic_terms *t, const qs_cubic_chain *c, const qs_cubic_ms
         : "r18", "r19", "r20", "r21", "r22", "r23", "r24", "r25", "r30", "r31", "memory");
 }
 
-void qs_cubic_last(qs_cubic_terms *t)
+/* The top byte of the 32-bit q (b0 ... b3, b2 and b3 upper registers) is
+ * the sign of its bits 0-23, and q is not -2^23: -2^23 < q < 2^23. Else
+ * to 9 (r25 is spoiled). */
+#define FITS(b0, b1, b2, b3, k)                                                                               \
+    "mov r25, " b2 "\n\tlsl r25\n\tsbc r25, r25\n\tcpse r25, " b3 "\n\trjmp 9f\n\t"                        \
+    "cpi " b3 ", 0xFF\n\tbrne " k "f\n\tcpi " b2 ", 0x80\n\tbrne " k "f\n\t"                                \
+    "mov r25, " b0 "\n\tor r25, " b1 "\n\tbrne " k "f\n\trjmp 9f\n" k ":\n\t"
+
+uint8_t qs_cubic_check(qs_cubic_terms *t)
 {
+    register uint8_t kind __asm__("r24");
+
+    __asm__ __volatile__(
+        /* nr = n * r: the unsigned product, less n * 2^16 for r < 0 */
+        "clr r22\n\t"
+        "ldd r26, Z+%[n]\n\t"
+        "ldd r27, Z+%[n]+1\n\t"
+        "ldd r24, Z+%[r]\n\t"
+        "ldd r25, Z+%[r]+1\n\t"
+        "mul r26, r24\n\t"
+        "movw r18, r0\n\t"
+        "mul r27, r25\n\t"
+        "movw r20, r0\n\t"
+        "mul r26, r25\n\t"
+        "add r19, r0\n\t"
+        "adc r20, r1\n\t"
+        "adc r21, r22\n\t"
+        "mul r27, r24\n\t"
+        "add r19, r0\n\t"
+        "adc r20, r1\n\t"
+        "adc r21, r22\n\t"
+        "sbrs r25, 7\n\t"
+        "rjmp 1f\n\t"
+        "sub r20, r26\n\t"
+        "sbc r21, r27\n"
+        "1:\n\t"
+        "std Z+%[nr]+0, r18\n\tstd Z+%[nr]+1, r19\n\tstd Z+%[nr]+2, r20\n\tstd Z+%[nr]+3, r21\n\t"
+        /* -2^24 < nr < 2^24 */
+        "tst r21\n\t"
+        "breq 2f\n\t"
+        "cpi r21, 0xFF\n\t"
+        "breq 3f\n\t"
+        "rjmp 9f\n"
+        "3:\n\t"
+        "mov r23, r18\n\t"
+        "or r23, r19\n\t"
+        "or r23, r20\n\t"
+        "brne 2f\n\t"
+        "rjmp 9f\n"
+        "2:\n\t"
+        /* d (r22, r23, r26, r27) fits, and so does d + nr (r18 ... r21) */
+        "ldd r22, Z+%[d]+0\n\tldd r23, Z+%[d]+1\n\tldd r26, Z+%[d]+2\n\tldd r27, Z+%[d]+3\n\t"
+        FITS("r22", "r23", "r26", "r27", "4")
+        "add r18, r22\n\tadc r19, r23\n\tadc r20, r26\n\tadc r21, r27\n\t"
+        FITS("r18", "r19", "r20", "r21", "5")
+        /* d + (n-2)*r = d + nr - 2r, the difference between I(n-1) and
+         * I(n); r in r25:r0, its sign in r1 */
+        "ldd r25, Z+%[r]\n\t"
+        "ldd r0, Z+%[r]+1\n\t"
+        "mov r1, r0\n\t"
+        "lsl r1\n\t"
+        "sbc r1, r1\n\t"
+        "sub r18, r25\n\tsbc r19, r0\n\tsbc r20, r1\n\tsbc r21, r1\n\t"
+        "sub r18, r25\n\tsbc r19, r0\n\tsbc r20, r1\n\tsbc r21, r1\n\t"
+        "ldi r24, %[valid]\n\t"
+        /* an extreme inside: d and r nonzero and of opposite signs, that
+         * difference of r's sign (and nonzero for r > 0) */
+        "mov r1, r22\n\tor r1, r23\n\tor r1, r26\n\tor r1, r27\n\t"
+        "breq 6f\n\t"
+        "mov r1, r25\n\tor r1, r0\n\t"
+        "breq 6f\n\t"
+        "mov r1, r27\n\teor r1, r0\n\t"
+        "brpl 6f\n\t"
+        "mov r1, r21\n\teor r1, r0\n\t"
+        "brmi 6f\n\t"
+        "sbrc r0, 7\n\t"
+        "rjmp 7f\n\t"
+        "mov r1, r18\n\tor r1, r19\n\tor r1, r20\n\tor r1, r21\n\t"
+        "breq 6f\n"
+        "7:\n\t"
+        "ori r24, %[extreme]\n"
+        "6:\n\t"
+        /* moving: curved if d or r is nonzero; else steady, or at rest
+         * (i = 0: done) */
+        "mov r1, r22\n\tor r1, r23\n\tor r1, r26\n\tor r1, r27\n\tor r1, r25\n\tor r1, r0\n\t"
+        "breq 6f\n\t"
+        "ori r24, %[moving] | %[curved]\n\t"
+        "rjmp 8f\n"
+        "6:\n\t"
+        "ldd r18, Z+%[i]+0\n\tldd r19, Z+%[i]+1\n\tldd r20, Z+%[i]+2\n\tldd r21, Z+%[i]+3\n\t"
+        "or r18, r19\n\tor r18, r20\n\tor r18, r21\n\t"
+        "breq 10f\n\t"
+        "ori r24, %[moving]\n"
+        "8:\n\t"
+        /* i <= Sigma */
+        "ldd r21, Z+%[i]+3\n\t"
+        "cpi r21, 0x80\n\t"
+        "brlo 10f\n\t"
+        "brne 9f\n\t"
+        "ldd r18, Z+%[i]+0\n\tldd r19, Z+%[i]+1\n\tldd r20, Z+%[i]+2\n\t"
+        "or r18, r19\n\tor r18, r20\n\t"
+        "breq 10f\n"
+        "9:\n\t"
+        "clr r24\n"
+        "10:\n\t"
+        "clr __zero_reg__"
+        : "=&r"(kind)
+        : [t] "z"(t), OPERANDS, [valid] "n"(QS_CUBIC_VALID), [moving] "n"(QS_CUBIC_MOVING),
+          [curved] "n"(QS_CUBIC_CURVED), [extreme] "n"(QS_CUBIC_EXTREME)
+        : "r18", "r19", "r20", "r21", "r22", "r23", "r25", "r26", "r27", "memory");
+    return kind;
+}
+
+uint8_t qs_cubic_last(qs_cubic_terms *t)
+{
+    register uint8_t ok __asm__("r24");
+
     __asm__ __volatile__(
         "ldd r18, Z+%[i]+0\n\t"
         "ldd r19, Z+%[i]+1\n\t"
@@ -171,10 +286,24 @@ void qs_cubic_last(qs_cubic_terms *t)
         "sbc r23, r25\n"
         "2:\n\t"
         STORE("last")
-        "clr __zero_reg__"
-        :
+        "clr __zero_reg__\n\t"
+        /* 0 <= last <= Sigma: bits 32-47 clear, and below 2^31 or Sigma */
+        "ldi r24, 0\n\t"
+        "or r22, r23\n\t"
+        "brne 3f\n\t"
+        "cpi r21, 0x80\n\t"
+        "brlo 4f\n\t"
+        "brne 3f\n\t"
+        "or r18, r19\n\t"
+        "or r18, r20\n\t"
+        "brne 3f\n"
+        "4:\n\t"
+        "ldi r24, 1\n"
+        "3:"
+        : "=&r"(ok)
         : [t] "z"(t), OPERANDS
-        : "r18", "r19", "r20", "r21", "r22", "r23", "r24", "r25", "r26", "r27", "memory");
+        : "r18", "r19", "r20", "r21", "r22", "r23", "r25", "r26", "r27", "memory");
+    return ok;
 }
 
 /* Where finish puts an axis's fields: from the slot (or end) plus the axis

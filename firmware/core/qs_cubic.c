@@ -46,82 +46,12 @@ static QS_NOINLINE qs_w48 choose3(uint16_t n)
     return out;
 }
 
-#if !defined(__AVR__)
-/* qs_cubic_sums.h in C (firmware/avr/cubic_sums.c has the AVR's). */
-void qs_cubic_last(qs_cubic_terms *t)
-{
-    const int64_t last = (int64_t)t->i + (int64_t)t->n_less * t->d + (int64_t)t->c2_less * t->r;
-    t->last = qs_w48_from((uint64_t)last);
-}
-
-void qs_cubic_load(qs_cubic_terms *t, const qs_cubic_chain *c, const qs_cubic_msg *m, uint8_t axis)
-{
-    const uint8_t bit = (uint8_t)(1u << axis);
-    int32_t e = c->e[axis];
-
-    if (m->set & bit) {
-        if ((c->negative ^ m->negative) & bit)
-            e = -e;
-        t->i = m->speed[axis];
-        t->d = m->accel[axis];
-    } else {
-        t->i = c->i[axis];
-        t->d = c->d[axis];
-    }
-    t->ahead = (uint32_t)e + QS_HALF_SIGMA;
-    t->r = m->r[axis];
-}
-
-void qs_cubic_finish(qs_cubic_terms *t, qs_segment *slot, uint8_t axis, qs_cubic_ends *end)
-{
-    const uint8_t bit = (uint8_t)(1u << axis);
-    const uint64_t sum = (uint64_t)t->i + t->last.lo;
-    const uint64_t twice = 2 * (uint64_t)t->ahead + t->n * sum - qs_w48_value(t->c3) * (uint64_t)(int64_t)t->r;
-
-    t->twice = qs_w48_from(twice);
-    /* I(n+1) = I(n) + d + (n-1)*r, within 32 bits now that I(n) is */
-    end->d[axis] = t->d + t->nr;
-    end->i[axis] = t->last.lo + (uint32_t)(end->d[axis] - t->r);
-    /* twice is 2*(e + Sigma/2 + X(n)): the steps are its bits 32 and up,
-     * the new e (plus Sigma/2) its bits 1 to 31 */
-    end->e[axis] = (int32_t)((t->twice.lo >> 1) & (QS_SIGMA - 1u)) - (int32_t)QS_HALF_SIGMA;
-    slot->total[axis] = t->twice.hi;
-    slot->c.h[axis] = t->ahead + t->i - QS_SIGMA;
-    slot->c.b[axis] = t->i + (uint32_t)t->d - QS_SIGMA;
-    slot->c.q[axis] = t->d;
-    slot->c.r[axis] = t->r;
-    slot->c.e_top[axis] = (int8_t)((t->ahead - QS_HALF_SIGMA) >> 24);
-    slot->active |= bit;
-    slot->tick_axes |= bit;
-    if (!t->r) {
-        slot->tick_axes |= (uint8_t)(bit << 4);
-        if (!t->d)
-            slot->cubic |= bit;
-    }
-    if (end->i[axis] || end->d[axis])
-        slot->ends_moving = 1;
-}
-#endif
-
-/* 0 <= x <= Sigma for a signed 48-bit x. */
-static uint8_t in_range(qs_w48 x)
-{
-    return x.hi == 0 && x.lo <= QS_SIGMA;
-}
-
 /* -2^23 < q < 2^23 */
 static uint8_t accel_fits(int32_t q)
 {
-    return (uint32_t)((uint32_t)q + (uint32_t)(QS_CUBIC_ACCEL_LIMIT - 1)) < (uint32_t)(2 * QS_CUBIC_ACCEL_LIMIT - 1);
+    return q > -QS_CUBIC_ACCEL_LIMIT && q < QS_CUBIC_ACCEL_LIMIT;
 }
 
-/* Whether I's differences d + (k-1)*r change sign before k = n, so that
- * I(k) has an extreme inside the segment (the ends are checked apart). */
-static QS_ALWAYS_INLINE uint8_t has_extreme(int32_t d, int16_t r, int32_t nr)
-{
-    const int32_t last_difference = d + nr - 2 * (int32_t)r; /* d + (n-2)*r: between I(n-1) and I(n) */
-    return (r > 0 && d < 0 && last_difference > 0) || (r < 0 && d > 0 && last_difference < 0);
-}
 
 /* Whether that extreme is in [0, Sigma] too. Found by a division. */
 static QS_NOINLINE uint8_t extreme_in_range(const qs_cubic_terms *t)
@@ -137,8 +67,7 @@ static QS_NOINLINE uint8_t extreme_in_range(const qs_cubic_terms *t)
     /* I(k) = i + (k-1)*d + C(k-1, 2)*r: last's sum with k in place of n */
     at.n_less = (uint16_t)(k - 1);
     at.c2_less = choose2((uint16_t)(k - 1));
-    qs_cubic_last(&at);
-    return in_range(at.last);
+    return qs_cubic_last(&at);
 }
 
 void qs_cubic_reset(qs_cubic_chain *c)
@@ -233,12 +162,13 @@ _Static_assert(offsetof(qs_cubic_chain, e) == 0 && offsetof(qs_cubic_chain, i) =
 static QS_NOINLINE uint8_t plan_axis(qs_cubic_terms *t, const qs_cubic_chain *c, const qs_cubic_msg *m,
                                      qs_segment *slot, uint8_t axis, qs_cubic_ends *end)
 {
+    uint8_t kind;
+
     qs_cubic_load(t, c, m, axis);
-    /* |n*r| < 2^31; below 2^24 unless the end is out of range anyway */
-    t->nr = qs_usmul16(t->n, t->r);
-    if (!(accel_fits(t->d) && t->nr < (1L << 24) && t->nr > -(1L << 24) && accel_fits(t->d + t->nr)))
+    kind = qs_cubic_check(t);
+    if (!kind)
         return 0;
-    if (!(t->i || t->d || t->r)) {
+    if (!(kind & QS_CUBIC_MOVING)) {
         /* at rest, and stays there */
         end->e[axis] = (int32_t)(t->ahead - QS_HALF_SIGMA);
         end->i[axis] = 0;
@@ -246,16 +176,13 @@ static QS_NOINLINE uint8_t plan_axis(qs_cubic_terms *t, const qs_cubic_chain *c,
         slot->total[axis] = 0;
         return 1;
     }
-    if (t->i > QS_SIGMA)
-        return 0;
-    if (t->d || t->r) {
-        qs_cubic_last(t);
-        if (!in_range(t->last))
+    if (kind & QS_CUBIC_CURVED) {
+        if (!qs_cubic_last(t))
             return 0;
     } else {
         t->last = qs_w48_of(t->i); /* a steady speed */
     }
-    if (has_extreme(t->d, t->r, t->nr) && !extreme_in_range(t))
+    if ((kind & QS_CUBIC_EXTREME) && !extreme_in_range(t))
         return 0;
     qs_cubic_finish(t, slot, axis, end);
     return 1;

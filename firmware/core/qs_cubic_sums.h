@@ -54,8 +54,17 @@ typedef struct {
  * and ahead. */
 void qs_cubic_load(qs_cubic_terms *t, const qs_cubic_chain *c, const qs_cubic_msg *m, uint8_t axis);
 
-/* last, from the axis and the counts. */
-void qs_cubic_last(qs_cubic_terms *t);
+/* What qs_cubic_check finds (0: the axis fails; else these bits). */
+#define QS_CUBIC_VALID 1   /* its acceleration fits (|d| < 2^23 at both ends), 0 <= i <= Sigma */
+#define QS_CUBIC_MOVING 2  /* not at rest (i, d or r nonzero) */
+#define QS_CUBIC_CURVED 4  /* d or r nonzero: last is needed */
+#define QS_CUBIC_EXTREME 8 /* I(k) has an extreme inside the segment, to be checked too */
+
+/* nr, and the checks of the axis that need no wide sum. */
+uint8_t qs_cubic_check(qs_cubic_terms *t);
+
+/* last, from the axis and the counts; returns whether 0 <= last <= Sigma. */
+uint8_t qs_cubic_last(qs_cubic_terms *t);
 
 /* For an axis that passed every check (0 <= i, last <= Sigma; nr set):
  * twice, then from it and the terms the axis's fields of the slot (its
