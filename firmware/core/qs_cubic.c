@@ -159,7 +159,7 @@ _Static_assert(offsetof(qs_cubic_chain, e) == 0 && offsetof(qs_cubic_chain, i) =
  * either end (|d| < 2^23) or some advance leaves [0, Sigma]. The advances
  * I(k) are quadratic in k: the ends, I(1) = i and last = I(n), and an
  * extreme between them decide. */
-static QS_NOINLINE uint8_t plan_axis(qs_cubic_terms *t, const qs_cubic_chain *c, const qs_cubic_msg *m,
+static QS_ALWAYS_INLINE uint8_t plan_axis(qs_cubic_terms *t, const qs_cubic_chain *c, const qs_cubic_msg *m,
                                      qs_segment *slot, uint8_t axis, qs_cubic_ends *end)
 {
     uint8_t kind;

@@ -1,7 +1,7 @@
 /* qs_cubic_sums.h in C: the host build's (the emulator's, the tests'), and
  * the reference for the AVR's (firmware/avr/cubic_sums.c), which the
  * simavr tests check against this, built for the AVR under other names
- * with QS_CUBIC_SUMS_IN_C (tests/simavr/avr/cubic_sums_check.c). */
+ * with QS_CUBIC_SUMS_IN_C (tests/simavr/avr/forms_check.c). */
 #include "qs_cubic_sums.h"
 #include "qs_protocol.h"
 

@@ -1,9 +1,14 @@
-/* The AVR's cubic sums (firmware/avr/cubic_sums.c) against their C forms
- * (firmware/core/qs_cubic_sums.c, built here for the AVR as ref_*), on
- * pseudo-random axes weighted to the edges of every check: the widths of
- * d, n*r and d + n*r, i around Sigma, the signs that make an extreme, at
- * rest. Run in simavr (test_avr_cubic_sums.py); prints one line:
+/* The AVR's written-out forms of core functions against their C forms:
+ * - the cubic sums (firmware/avr/cubic_sums.c; firmware/core/qs_cubic_sums.c
+ *   built here for the AVR as ref_*), on pseudo-random axes weighted to the
+ *   edges of every check: the widths of d, n*r and d + n*r, i around Sigma,
+ *   the signs that make an extreme, at rest;
+ * - the receive loop's copy (firmware/avr/frame_rx.h; qs_frame_rx_copy),
+ *   on random runs of bytes with delimiters among them, into frames empty,
+ *   part-filled and full, clean or marked too long or overrun.
+ * Run in simavr (test_avr_forms.py); prints two lines:
  *     cubic-sums trials T checked C mismatches M [first: ...]
+ *     rx-copy runs R mismatches M [first: ...]
  * then stops the CPU. */
 #include <avr/interrupt.h>
 #include <avr/io.h>
@@ -11,10 +16,15 @@
 #include <stdint.h>
 #include <string.h>
 
+#include "frame_rx.h"
 #include "qs_cubic_sums.h"
+#include "qs_frame.h"
 
 #ifndef TRIALS
 #define TRIALS 6000u
+#endif
+#ifndef RX_RUNS
+#define RX_RUNS 20000u
 #endif
 
 void ref_load(qs_cubic_terms *t, const qs_cubic_chain *c, const qs_cubic_msg *m, uint8_t axis);
@@ -225,6 +235,45 @@ int main(void)
     put_u32(TRIALS);
     put_text(" checked ");
     put_u32(checked);
+    put_text(" mismatches ");
+    put_u32(mismatches);
+    put('\n');
+
+    mismatches = 0;
+    put_text("rx-copy");
+    for (trial = 0; trial < RX_RUNS; trial++) {
+        static qs_frame_rx rx_a, rx_b;
+        static uint8_t run[40];
+        const uint8_t len = (uint8_t)(rnd() % (sizeof run + 1));
+        uint8_t k, taken_a, taken_b;
+
+        for (k = 0; k < sizeof rx_a; k++)
+            ((uint8_t *)&rx_a)[k] = (uint8_t)rnd();
+        switch (rnd() & 3) {
+        case 0:
+            rx_a.len = 0;
+            break;
+        case 1:
+            rx_a.len = (uint8_t)(QS_FRAME_WIRE_MAX - (rnd() & 3));
+            break;
+        default:
+            rx_a.len = (uint8_t)(rnd() % (QS_FRAME_WIRE_MAX + 1));
+            break;
+        }
+        rx_a.too_long = (rnd() & 3) == 0;
+        rx_a.overrun = (rnd() & 3) == 0;
+        for (k = 0; k < len; k++)
+            run[k] = (rnd() & 3) == 0 ? 0 : (uint8_t)rnd();
+        rx_b = rx_a;
+        taken_a = qs_frame_rx_copy(&rx_a, run, len);
+        taken_b = frame_rx_copy(&rx_b, run, len);
+        if (taken_a != taken_b)
+            mismatch("taken", trial, &taken_a, &taken_b, 1);
+        else if (memcmp(&rx_a, &rx_b, sizeof rx_a) != 0)
+            mismatch("frame", trial, &rx_a, &rx_b, sizeof rx_a);
+    }
+    put_text(" runs ");
+    put_u32(RX_RUNS);
     put_text(" mismatches ");
     put_u32(mismatches);
     put('\n');
