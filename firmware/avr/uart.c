@@ -85,8 +85,11 @@ uint8_t uart_rx_run(const uint8_t **bytes)
     uint8_t count;
 
     count = (uint8_t)((uint8_t)(head - tail) & UART_RX_MASK);
-    if (count > QS_UART_RX_RING - tail) { /* it wraps: up to the ring's end */
-        count = (uint8_t)(QS_UART_RX_RING - tail);
+    /* It wraps: up to the ring's end. In 8 bits: the slots after tail's to
+     * the end, 0 ... 255 (the ring may have 256). */
+    const uint8_t after = (uint8_t)(QS_UART_RX_RING - 1u - tail);
+    if (count && (uint8_t)(count - 1u) > after) {
+        count = (uint8_t)(after + 1u);
     }
     if (marks != rx_marks_taken) {
         /* A loss is marked somewhere ahead: the run ends before the first

@@ -46,6 +46,26 @@ static QS_NOINLINE qs_w48 choose3(uint16_t n)
     return out;
 }
 
+/* The segment's counts for every axis's sums: n - 1, C(n-1, 2) and
+ * C(n, 3). Of n, n-1, n-2 the one that 3 divides is 3 * (n/3 rounded
+ * down), so 2 * C(n, 3) is n/3 times the other two (one multiply for
+ * C(n-1, 2) serves when 3 divides n). n = 1 and 2 give 0 throughout. */
+static QS_NOINLINE void segment_counts(qs_cubic_terms *t, uint16_t n)
+{
+    const uint16_t less = (uint16_t)(n - 1), less2 = (uint16_t)(n - 2);
+    const uint32_t both = qs_umul16(less, less2); /* (n-1)(n-2): 0 for n < 3 */
+    const uint16_t n3 = third(n);
+    const uint8_t rest = (uint8_t)((uint8_t)n - (uint8_t)(3 * (uint8_t)n3)); /* n mod 3 */
+    qs_w48 twice_c3 = qs_w48_of(0);
+
+    t->n = n;
+    t->n_less = less;
+    t->c2_less = both >> 1;
+    qs_w48_mac(&twice_c3, rest == 0 ? both : qs_umul16(n, rest == 1 ? less2 : less), n3);
+    t->c3.lo = (twice_c3.lo >> 1) | ((uint32_t)twice_c3.hi << 31);
+    t->c3.hi = (uint16_t)(twice_c3.hi >> 1);
+}
+
 /* -2^23 < q < 2^23 */
 static uint8_t accel_fits(int32_t q)
 {
@@ -227,10 +247,7 @@ QS_NOINLINE uint8_t qs_cubic_prepare(qs_cubic_chain *c, qs_segment *slot, const 
         return bad_field(f, QS_FIELD_N, QS_AXIS_NONE);
     if (named & (uint8_t)(0xFFu << axis_count))
         return bad_field(f, QS_FIELD_AXES, QS_AXIS_NONE);
-    t->n = n;
-    t->n_less = (uint16_t)(n - 1);
-    t->c2_less = choose2((uint16_t)(n - 1));
-    t->c3 = choose3(n);
+    segment_counts(t, n);
     slot->n = n;
     slot->active = 0;
     slot->tick_axes = 0;
