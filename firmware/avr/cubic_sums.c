@@ -1,10 +1,12 @@
-/* The wide sums of qs_cubic_sums.h written out for the AVR: the 48-bit
- * sum in r18..r23, the factors' bytes loaded one at a time, each 8 x 8-bit
- * product (mul: r1:r0) added in with its carry run to the top (r24 holds
- * zero). A signed factor's top byte is multiplied as unsigned and the
- * difference, the other factor shifted, taken off after. The host build
- * has the same sums in C (firmware/core/qs_cubic.c); the simavr tests hold
- * the board's steps and positions to the host's model. */
+/* qs_cubic_sums.h written out for the AVR: an axis's start, its checks,
+ * and the wide sums with what they leave in the slot and the chain. The
+ * 48-bit sums in r18..r23, the factors' bytes loaded one at a time, each
+ * 8 x 8-bit product (mul: r1:r0) added in with its carry run to the top
+ * (r24 holds zero). A signed factor's top byte is multiplied as unsigned
+ * and the difference, the other factor shifted, taken off after. The host
+ * build has the same in C (firmware/core/qs_cubic_sums.c), which
+ * tests/simavr/test_avr_forms.py holds these to byte for byte; the simavr
+ * step tests hold the board's steps and positions to the host's model. */
 #include <stddef.h>
 
 #include "qs_cubic_sums.h"

@@ -11,9 +11,11 @@
  * per tick is out of range last still shows it (|last| < 2^47 whatever the
  * fields). i and I(n) are at most Sigma when twice is asked for.
  *
- * The firmware core has the portable version; on the AVR, firmware/avr
- * has it written out with the 8 x 8-bit multiplier, which avr-gcc 5.4
- * does not use well for sums wider than 32 bits. */
+ * firmware/core/qs_cubic_sums.c has the portable versions of these
+ * functions (the host build's, and the reference); on the AVR,
+ * firmware/avr/cubic_sums.c has them written out with the 8 x 8-bit
+ * multiplier, which avr-gcc 5.4 does not use well for sums wider than 32
+ * bits (tests/simavr/test_avr_forms.py holds the two together). */
 #ifndef QS_CUBIC_SUMS_H
 #define QS_CUBIC_SUMS_H
 
