@@ -5,6 +5,7 @@
 
 #include "board.h"
 #include "firmware.h"
+#include "frame_rx.h"
 #include "inputs_tick.h"
 #include "outputs.h"
 #include "pins.h"
@@ -34,7 +35,7 @@ static void receive(void)
             continue;
         }
         while (count) {
-            const uint8_t taken = qs_core_rx_copy(&core, bytes, count);
+            const uint8_t taken = frame_rx_copy(&core.rx, bytes, count); /* qs_core_rx_copy, written out */
             if (taken == count) {
                 uart_rx_release(taken);
                 break;

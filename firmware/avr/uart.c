@@ -85,8 +85,11 @@ uint8_t uart_rx_run(const uint8_t **bytes)
     uint8_t count;
 
     count = (uint8_t)((uint8_t)(head - tail) & UART_RX_MASK);
-    if (count > QS_UART_RX_RING - tail) { /* it wraps: up to the ring's end */
-        count = (uint8_t)(QS_UART_RX_RING - tail);
+    /* It wraps: up to the ring's end. In 8 bits: the slots after tail's to
+     * the end, 0 ... 255 (the ring may have 256). */
+    const uint8_t after = (uint8_t)(QS_UART_RX_RING - 1u - tail);
+    if (count && (uint8_t)(count - 1u) > after) {
+        count = (uint8_t)(after + 1u);
     }
     if (marks != rx_marks_taken) {
         /* A loss is marked somewhere ahead: the run ends before the first
@@ -114,9 +117,25 @@ void uart_write(const uint8_t *bytes, uint8_t len)
             room = len;
         }
         len = (uint8_t)(len - room);
-        while (room--) {
-            uart_tx_ring[head] = *bytes++;
-            head = (uint8_t)((head + 1u) & UART_TX_MASK);
+        if (room) {
+            /* 11 cycles a byte: a walking pointer, back to the ring's
+             * start when head wraps */
+            volatile uint8_t *to = &uart_tx_ring[head];
+            __asm__ __volatile__(
+                "1:\n\t"
+                "ld __tmp_reg__, X+\n\t"
+                "st Z+, __tmp_reg__\n\t"
+                "subi %[head], 0xFF\n\t"
+                "andi %[head], %[mask]\n\t"
+                "brne 2f\n\t"
+                "ldi r30, lo8(%[ring])\n\t"
+                "ldi r31, hi8(%[ring])\n"
+                "2:\n\t"
+                "dec %[room]\n\t"
+                "brne 1b"
+                : "+x"(bytes), "+z"(to), [head] "+d"(head), [room] "+r"(room)
+                : [mask] "M"(UART_TX_MASK), [ring] "i"(uart_tx_ring)
+                : "memory");
         }
         uart_tx_head = head;
         uart_tx_pending = 1; /* after head: the service may just have cleared it */

@@ -22,15 +22,17 @@ QS_NOINLINE uint8_t qs_cobs_decode(uint8_t *buf, uint8_t len)
  * distance to the next zero, or to the end. */
 void qs_cobs_stuff(uint8_t *buf, uint8_t len)
 {
-    uint8_t code_at = 0, i;
+    /* pointers, not indices: the AVR walks them with ld X+ */
+    uint8_t *code = buf, *p = buf + 1;
+    const uint8_t *const end = buf + len + 1;
 
-    for (i = 1; i <= len; i++) {
-        if (buf[i] == 0) {
-            buf[code_at] = (uint8_t)(i - code_at);
-            code_at = i;
+    for (; p != end; p++) {
+        if (*p == 0) {
+            *code = (uint8_t)(p - code);
+            code = p;
         }
     }
-    buf[code_at] = (uint8_t)(len + 1 - code_at);
+    *code = (uint8_t)(end - code);
 }
 
 uint8_t qs_cobs_encode(const uint8_t *in, uint8_t len, uint8_t *out)

@@ -1,3 +1,5 @@
+#include <stddef.h>
+
 #include "qs_cubic.h"
 #include "qs_cubic_sums.h"
 #include "qs_protocol.h"
@@ -13,7 +15,7 @@ static uint32_t choose2(uint16_t n)
 }
 
 /* x / 3 for any 16-bit x, by a multiply (exact: 3 * 43691 = 2^17 + 1). */
-static uint16_t third(uint16_t x)
+static QS_ALWAYS_INLINE uint16_t third(uint16_t x)
 {
     return (uint16_t)((uint16_t)(qs_umul16(x, 43691u) >> 16) >> 1);
 }
@@ -23,6 +25,8 @@ static uint16_t third(uint16_t x)
 static QS_NOINLINE qs_w48 choose3(uint16_t n)
 {
     uint16_t a = n, b = (uint16_t)(n - 1), c = (uint16_t)(n - 2);
+    const uint16_t n3 = third(n);
+    const uint8_t rest = (uint8_t)((uint8_t)n - (uint8_t)(3 * (uint8_t)n3)); /* n mod 3: 0 ... 2 */
     qs_w48 out = qs_w48_of(0);
 
     if (n < 3)
@@ -31,56 +35,43 @@ static QS_NOINLINE qs_w48 choose3(uint16_t n)
         b >>= 1;
     else
         a >>= 1;
-    switch ((uint16_t)(n - 3 * third(n))) { /* the one of n, n-1, n-2 that 3 divides */
-    case 0:
-        a = third(a);
-        break;
-    case 1:
-        b = third(b); /* n-1, halved or not */
-        break;
-    default:
+    /* the one of n, n-1, n-2 that 3 divides (n-1 perhaps halved) */
+    if (rest == 0)
+        a = (a == n) ? n3 : (uint16_t)(n3 >> 1);
+    else if (rest == 1)
+        b = third(b);
+    else
         c = third(c);
-        break;
-    }
     qs_w48_mac(&out, qs_umul16(a, b), c);
     return out;
 }
 
-#if !defined(__AVR__)
-/* qs_cubic_sums.h in C (firmware/avr/cubic_sums.c has the AVR's). */
-void qs_cubic_last(qs_cubic_terms *t)
+/* The segment's counts for every axis's sums: n - 1, C(n-1, 2) and
+ * C(n, 3). Of n, n-1, n-2 the one that 3 divides is 3 * (n/3 rounded
+ * down), so 2 * C(n, 3) is n/3 times the other two (one multiply for
+ * C(n-1, 2) serves when 3 divides n). n = 1 and 2 give 0 throughout. */
+static QS_NOINLINE void segment_counts(qs_cubic_terms *t, uint16_t n)
 {
-    const int64_t last = (int64_t)t->i + (int64_t)t->n_less * t->d + (int64_t)t->c2_less * t->r;
-    t->last = qs_w48_from((uint64_t)last);
-}
+    const uint16_t less = (uint16_t)(n - 1), less2 = (uint16_t)(n - 2);
+    const uint32_t both = qs_umul16(less, less2); /* (n-1)(n-2): 0 for n < 3 */
+    const uint16_t n3 = third(n);
+    const uint8_t rest = (uint8_t)((uint8_t)n - (uint8_t)(3 * (uint8_t)n3)); /* n mod 3 */
+    qs_w48 twice_c3 = qs_w48_of(0);
 
-void qs_cubic_twice(qs_cubic_terms *t)
-{
-    const uint64_t sum = (uint64_t)t->i + t->last.lo;
-    const uint64_t twice = 2 * (uint64_t)t->ahead + t->n * sum - qs_w48_value(t->c3) * (uint64_t)(int64_t)t->r;
-    t->twice = qs_w48_from(twice);
-}
-#endif
-
-/* 0 <= x <= Sigma for a signed 48-bit x. */
-static uint8_t in_range(qs_w48 x)
-{
-    return x.hi == 0 && x.lo <= QS_SIGMA;
+    t->n = n;
+    t->n_less = less;
+    t->c2_less = both >> 1;
+    qs_w48_mac(&twice_c3, rest == 0 ? both : qs_umul16(n, rest == 1 ? less2 : less), n3);
+    t->c3.lo = (twice_c3.lo >> 1) | ((uint32_t)twice_c3.hi << 31);
+    t->c3.hi = (uint16_t)(twice_c3.hi >> 1);
 }
 
 /* -2^23 < q < 2^23 */
 static uint8_t accel_fits(int32_t q)
 {
-    return (uint32_t)((uint32_t)q + (uint32_t)(QS_CUBIC_ACCEL_LIMIT - 1)) < (uint32_t)(2 * QS_CUBIC_ACCEL_LIMIT - 1);
+    return q > -QS_CUBIC_ACCEL_LIMIT && q < QS_CUBIC_ACCEL_LIMIT;
 }
 
-/* Whether I's differences d + (k-1)*r change sign before k = n, so that
- * I(k) has an extreme inside the segment (the ends are checked apart). */
-static QS_ALWAYS_INLINE uint8_t has_extreme(int32_t d, int16_t r, int32_t nr)
-{
-    const int32_t last_difference = d + nr - 2 * (int32_t)r; /* d + (n-2)*r: between I(n-1) and I(n) */
-    return (r > 0 && d < 0 && last_difference > 0) || (r < 0 && d > 0 && last_difference < 0);
-}
 
 /* Whether that extreme is in [0, Sigma] too. Found by a division. */
 static QS_NOINLINE uint8_t extreme_in_range(const qs_cubic_terms *t)
@@ -96,8 +87,7 @@ static QS_NOINLINE uint8_t extreme_in_range(const qs_cubic_terms *t)
     /* I(k) = i + (k-1)*d + C(k-1, 2)*r: last's sum with k in place of n */
     at.n_less = (uint16_t)(k - 1);
     at.c2_less = choose2((uint16_t)(k - 1));
-    qs_cubic_last(&at);
-    return in_range(at.last);
+    return qs_cubic_last(&at);
 }
 
 void qs_cubic_reset(qs_cubic_chain *c)
@@ -204,86 +194,41 @@ static uint8_t bad_field(qs_fault *f, uint8_t field, uint8_t axis)
     return QS_ERR_BAD_FIELD;
 }
 
-/* The jerk of axis of m and its start (the chain's state, or the set's: a
- * set that turns the axis round measures the error the other way) into t. */
-static void load_start(qs_cubic_terms *t, const qs_cubic_chain *c, const qs_cubic_msg *m, uint8_t axis)
+_Static_assert(offsetof(qs_cubic_chain, e) == 0 && offsetof(qs_cubic_chain, i) == offsetof(qs_cubic_ends, i)
+                   && offsetof(qs_cubic_chain, d) == offsetof(qs_cubic_ends, d),
+               "the chain begins as qs_cubic_ends");
+
+/* One axis of a segment, exactly: its start state and steps into the slot,
+ * its end state into end; returns 0 if its acceleration is too wide at
+ * either end (|d| < 2^23) or some advance leaves [0, Sigma]. The advances
+ * I(k) are quadratic in k: the ends, I(1) = i and last = I(n), and an
+ * extreme between them decide. */
+static QS_ALWAYS_INLINE uint8_t plan_axis(qs_cubic_terms *t, const qs_cubic_chain *c, const qs_cubic_msg *m,
+                                     qs_segment *slot, uint8_t axis, qs_cubic_ends *end)
 {
-    const uint8_t bit = (uint8_t)(1u << axis);
-    int32_t e = c->e[axis];
+    uint8_t kind;
 
-    if (m->set & bit) {
-        if ((c->negative ^ m->negative) & bit)
-            e = -e;
-        t->i = m->speed[axis];
-        t->d = m->accel[axis];
-    } else {
-        t->i = c->i[axis];
-        t->d = c->d[axis];
-    }
-    t->ahead = (uint32_t)e + QS_HALF_SIGMA;
-    t->r = m->r[axis];
-}
-
-/* What an axis leaves the chain. */
-typedef struct {
-    int32_t e;
-    uint32_t i;
-    int32_t d;
-} axis_end;
-
-/* One axis of a segment that passed the ACCEL checks, exactly: its start
- * state and steps into the slot, its end state into end; returns 0 if some
- * advance leaves [0, Sigma]. The advances I(k) are quadratic in k: the
- * ends, I(1) = i and last = I(n), and an extreme between them decide. */
-static QS_NOINLINE uint8_t plan_axis(qs_cubic_terms *t, const qs_cubic_chain *c, const qs_cubic_msg *m,
-                                     qs_segment *slot, uint8_t axis, axis_end *end)
-{
-    const uint8_t bit = (uint8_t)(1u << axis);
-    int32_t nr;
-
-    load_start(t, c, m, axis);
-    if (!(t->i || t->d || t->r)) {
+    qs_cubic_load(t, c, m, axis);
+    kind = qs_cubic_check(t);
+    if (!kind)
+        return 0;
+    if (!(kind & QS_CUBIC_MOVING)) {
         /* at rest, and stays there */
-        end->e = (int32_t)(t->ahead - QS_HALF_SIGMA);
-        end->i = 0;
-        end->d = 0;
+        end->e[axis] = (int32_t)(t->ahead - QS_HALF_SIGMA);
+        end->i[axis] = 0;
+        end->d[axis] = 0;
         slot->total[axis] = 0;
         return 1;
     }
-    if (t->i > QS_SIGMA)
-        return 0;
-    if (t->d || t->r) {
-        qs_cubic_last(t);
-        if (!in_range(t->last))
+    if (kind & QS_CUBIC_CURVED) {
+        if (!qs_cubic_last(t))
             return 0;
     } else {
         t->last = qs_w48_of(t->i); /* a steady speed */
     }
-    nr = qs_usmul16(t->n, t->r);
-    if (has_extreme(t->d, t->r, nr) && !extreme_in_range(t))
+    if ((kind & QS_CUBIC_EXTREME) && !extreme_in_range(t))
         return 0;
-    /* I(n+1) = I(n) + d + (n-1)*r, within 32 bits now that I(n) is */
-    end->d = t->d + nr;
-    end->i = t->last.lo + (uint32_t)(end->d - t->r);
-    /* twice is 2*(e + Sigma/2 + X(n)): the steps are its bits 32 and up,
-     * the new e (plus Sigma/2) its bits 1 to 31 */
-    qs_cubic_twice(t);
-    end->e = (int32_t)((t->twice.lo >> 1) & (QS_SIGMA - 1u)) - (int32_t)QS_HALF_SIGMA;
-    slot->total[axis] = t->twice.hi;
-    slot->c.h[axis] = t->ahead + t->i - QS_SIGMA;
-    slot->c.b[axis] = t->i + (uint32_t)t->d - QS_SIGMA;
-    slot->c.q[axis] = t->d;
-    slot->c.r[axis] = t->r;
-    slot->c.e_top[axis] = (int8_t)((t->ahead - QS_HALF_SIGMA) >> 24);
-    slot->active |= bit;
-    slot->tick_axes |= bit;
-    if (!t->r) {
-        slot->tick_axes |= (uint8_t)(bit << 4);
-        if (!t->d)
-            slot->cubic |= bit;
-    }
-    if (end->i || end->d)
-        slot->ends_moving = 1;
+    qs_cubic_finish(t, slot, axis, end);
     return 1;
 }
 
@@ -297,13 +242,28 @@ static uint8_t accel_ok(const qs_cubic_chain *c, const qs_cubic_msg *m, uint8_t 
     return accel_fits(d) && nr < (1L << 24) && nr > -(1L << 24) && accel_fits(d + nr);
 }
 
+/* A segment an axis of which failed (failed, the first in axis order): the
+ * field to report, field by field as the protocol lists them, each in axis
+ * order: the acceleration's width of every axis first, then the advance
+ * per tick. */
+static QS_NOINLINE uint8_t refuse(const qs_cubic_chain *c, const qs_cubic_msg *m, uint8_t axis_count, uint8_t failed,
+                                  qs_fault *f)
+{
+    uint8_t axis;
+
+    for (axis = 0; axis < axis_count; axis++)
+        if (!accel_ok(c, m, axis))
+            return bad_field(f, QS_FIELD_ACCEL, axis);
+    return bad_field(f, QS_FIELD_SPEED, failed);
+}
+
 QS_NOINLINE uint8_t qs_cubic_prepare(qs_cubic_chain *c, qs_segment *slot, const qs_cubic_msg *m, uint8_t axis_count,
                                      qs_fault *f)
 {
     qs_cubic_terms terms, *t = &terms;
     const uint16_t n = m->n;
     const uint8_t named = (uint8_t)(m->jerk | m->set);
-    axis_end end[QS_AXIS_COUNT];
+    qs_cubic_ends end;
     uint8_t axis;
 
     settle(c);
@@ -311,29 +271,29 @@ QS_NOINLINE uint8_t qs_cubic_prepare(qs_cubic_chain *c, qs_segment *slot, const 
         return bad_field(f, QS_FIELD_N, QS_AXIS_NONE);
     if (named & (uint8_t)(0xFFu << axis_count))
         return bad_field(f, QS_FIELD_AXES, QS_AXIS_NONE);
-    /* Field by field, each in axis order: the acceleration's width, then
-     * the advance per tick. */
-    for (axis = 0; axis < axis_count; axis++)
-        if (!accel_ok(c, m, axis))
-            return bad_field(f, QS_FIELD_ACCEL, axis);
-    t->n = n;
-    t->n_less = (uint16_t)(n - 1);
-    t->c2_less = choose2((uint16_t)(n - 1));
-    t->c3 = choose3(n);
+    segment_counts(t, n);
     slot->n = n;
     slot->active = 0;
     slot->tick_axes = 0;
     slot->cubic = QS_CUBIC_KIND;
     slot->ends_moving = 0;
     for (axis = 0; axis < axis_count; axis++)
-        if (!plan_axis(t, c, m, slot, axis, &end[axis]))
-            return bad_field(f, QS_FIELD_SPEED, axis);
+        if (!plan_axis(t, c, m, slot, axis, &end))
+            return refuse(c, m, axis_count, axis, f);
 
     /* Valid: the chain moves on. */
-    for (axis = 0; axis < axis_count; axis++) {
-        c->e[axis] = end[axis].e;
-        c->i[axis] = end[axis].i;
-        c->d[axis] = end[axis].d;
+    if (axis_count == QS_AXIS_COUNT) {
+        /* word by word: the AVR's memcpy moves a byte per loop */
+        uint32_t *to = (uint32_t *)(void *)c;
+        const uint32_t *from = (const uint32_t *)(const void *)&end;
+        for (axis = 0; axis < 3 * QS_AXIS_COUNT; axis++)
+            to[axis] = from[axis];
+    } else {
+        for (axis = 0; axis < axis_count; axis++) {
+            c->e[axis] = end.e[axis];
+            c->i[axis] = end.i[axis];
+            c->d[axis] = end.d[axis];
+        }
     }
     c->negative = (uint8_t)((c->negative & ~m->set) | (m->negative & m->set));
     slot->negative = (uint8_t)(c->negative & slot->active);

@@ -233,18 +233,20 @@ void qs_engine_retire_slots(qs_engine *e)
             note_hold_done(e);
         } else {
             /* A whole segment: its step totals, no closed form needed (a
-             * walking bit: the AVR shifts by a variable count in a loop). */
+             * walking bit and walking pointers: the AVR shifts by a
+             * variable count in a loop and indexes with a multiply). */
             uint8_t bit = 1;
-            for (axis = 0; axis < QS_AXIS_COUNT; axis++, bit = (uint8_t)(bit << 1)) {
+            int32_t *base = e->base, *pending = e->pending;
+            const uint16_t *total = s->total;
+            for (axis = 0; axis < QS_AXIS_COUNT; axis++, bit = (uint8_t)(bit << 1), base++, pending++, total++) {
+                int32_t steps;
                 if (!(s->active & bit))
                     continue;
-                if (s->negative & bit) {
-                    e->base[axis] -= s->total[axis];
-                    e->pending[axis] += s->total[axis];
-                } else {
-                    e->base[axis] += s->total[axis];
-                    e->pending[axis] -= s->total[axis];
-                }
+                steps = *total;
+                if (s->negative & bit)
+                    steps = -steps;
+                *base += steps;
+                *pending -= steps;
             }
             e->completed_ticks += s->n;
             e->segments_done++;
@@ -737,14 +739,16 @@ void qs_engine_underrun_in_tick(qs_engine *e)
 uint8_t qs_engine_room_for(const qs_engine *e, uint8_t active, uint16_t n, uint8_t *axis)
 {
     uint8_t a, bit;
+    const int32_t *base = e->base, *pending = e->pending;
+    const int32_t most = QS_POSITION_MAX - (int32_t)n; /* a segment moves a position at most n */
 
-    /* a walking bit: the AVR shifts by a variable count in a loop */
-    for (a = 0, bit = 1; a < QS_AXIS_COUNT; a++, bit = (uint8_t)(bit << 1)) {
+    /* a walking bit and walking pointers (see qs_engine_retire_slots) */
+    for (a = 0, bit = 1; a < QS_AXIS_COUNT; a++, bit = (uint8_t)(bit << 1), base++, pending++) {
         int32_t ahead;
         if (!(active & bit))
             continue;
-        ahead = e->base[a] + e->pending[a]; /* where the queue leaves it; a segment moves it at most n */
-        if (ahead > QS_POSITION_MAX - (int32_t)n || ahead < (int32_t)n - QS_POSITION_MAX) {
+        ahead = *base + *pending; /* where the queue leaves it */
+        if (ahead > most || ahead < -most) {
             *axis = a;
             return 0;
         }
@@ -755,13 +759,16 @@ uint8_t qs_engine_room_for(const qs_engine *e, uint8_t active, uint16_t n, uint8
 void qs_engine_note_prepared(qs_engine *e, const qs_segment *s)
 {
     uint8_t axis, bit;
+    int32_t *pending = e->pending;
+    const uint16_t *total = s->total;
 
-    for (axis = 0, bit = 1; axis < QS_AXIS_COUNT; axis++, bit = (uint8_t)(bit << 1)) {
+    for (axis = 0, bit = 1; axis < QS_AXIS_COUNT; axis++, bit = (uint8_t)(bit << 1), pending++, total++) {
+        int32_t steps;
         if (!(s->active & bit))
             continue;
+        steps = *total;
         if (s->negative & bit)
-            e->pending[axis] -= s->total[axis];
-        else
-            e->pending[axis] += s->total[axis];
+            steps = -steps;
+        *pending += steps;
     }
 }

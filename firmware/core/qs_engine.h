@@ -223,7 +223,9 @@ void qs_engine_free_latch(qs_engine *e);
 
 static QS_ALWAYS_INLINE uint8_t qs_engine_latch_waiting(const qs_engine *e)
 {
-    return e->latches.entry[e->latches.oldest].state != QS_LATCH_FREE;
+    /* a ring of one (the Uno's) has its oldest entry at 0 always: no index
+     * to multiply out on every look of the main loop */
+    return e->latches.entry[QS_LATCH_RING == 1 ? 0 : e->latches.oldest].state != QS_LATCH_FREE;
 }
 
 /* Speed numerator of an axis of the running segment times 2n (see

@@ -56,22 +56,29 @@ static inline void qs_frame_rx_store(qs_frame_rx *rx, uint8_t byte)
  * one loop, no call per byte. */
 static inline uint8_t qs_frame_rx_copy(qs_frame_rx *rx, const uint8_t *bytes, uint8_t len)
 {
-    uint8_t n = rx->len, taken;
+    /* pointers, not indices: the AVR walks them with ld X+ and st Z+ */
+    const uint8_t *from = bytes;
+    const uint8_t *const stop = bytes + len;
+    uint8_t *to = rx->buf + rx->len;
+    const uint8_t *const full = rx->buf + QS_FRAME_WIRE_MAX;
 
-    for (taken = 0; taken < len; taken++) {
-        const uint8_t byte = bytes[taken];
+    while (from != stop) {
+        const uint8_t byte = *from;
         if (byte == 0) {
-            if (n == 0 && !rx->too_long && !rx->overrun)
+            if (to == rx->buf && !rx->too_long && !rx->overrun) {
+                from++;
                 continue;
+            }
             break;
         }
-        if (n < QS_FRAME_WIRE_MAX)
-            rx->buf[n++] = byte;
+        from++;
+        if (to != full)
+            *to++ = byte;
         else
             rx->too_long = 1;
     }
-    rx->len = n;
-    return taken;
+    rx->len = (uint8_t)(to - rx->buf);
+    return (uint8_t)(from - bytes);
 }
 
 /* Feed one wire byte. Returns QS_FRAME_NOTHING, QS_FRAME_READY (the body,
