@@ -22,6 +22,7 @@ POWER, REFERENCE = 60000, 4000
 # simavr moves a pin when the instruction running at the timer's match ends: an edge comes up to 3 cycles late
 # (call, ret and reti take 4), so a pulse is within 3 cycles of its exact length.
 EDGE_SLACK = 3
+SAMPLE_SLACK = 12  # ticks: the ramp's start from its first step, and a frame's work before the main loop samples
 
 
 def ratio(num: int, den: int) -> int:
@@ -116,8 +117,9 @@ def test_direction_and_coolant_follow_the_message(run: tuple) -> None:
 
 def test_laser_power_follows_the_ramp(run: tuple) -> None:
     """Each period's duty is the exact level (qs_outputs_level) at a moment within a period of it: the main loop
-    samples the level once per period, just after the overflow; the chip applies the new OCR2A at the next
-    period, simavr at once, so the sample is of the period before or of this one."""
+    samples the level once per period, after the overflow (as soon as the frame it may be reading is done); the
+    chip applies the new OCR2A at the next period, simavr at once, so the sample is of the period before or of
+    this one."""
     _, edges, steps = run
     start = _ramp_start(steps)
     # whole periods inside the ramp up (simavr applies a new OCR2A at once, not at the period's end as the chip
@@ -127,8 +129,10 @@ def test_laser_power_follows_the_ramp(run: tuple) -> None:
     checked = 0
     for rise, fall in ramp:
         ocr = (fall - rise) // 64 - 1
-        t_lo = max(0, (rise - PERIOD - start) // TICK - 4)  # the ramp's start is known to a few ticks
-        t_hi = min(RAMP_N, (rise + PERIOD - start) // TICK + 4)
+        # the ramp's start is known to a few ticks, and the main loop takes its sample after the overflow once it
+        # is done with what it was doing: a frame's work, up to about 5,000 cycles (10 ticks)
+        t_lo = max(0, (rise - PERIOD - start) // TICK - SAMPLE_SLACK)
+        t_hi = min(RAMP_N, (rise + PERIOD - start) // TICK + SAMPLE_SLACK)
         if t_hi <= 0:
             continue
         low, high = ramp_duty(t_lo) >> 8, ramp_duty(t_hi) >> 8

@@ -30,6 +30,10 @@ from .errors import AlarmError, FirmwareError, LinkError
 from .stats import LinkStats
 from .window import SendWindow
 
+# ERRORs about a frame damaged on the wire (PROTOCOL.md §2): nothing in it could be trusted, not even its seq.
+FRAMING_ERRORS = frozenset({ErrorCode.FRAME_TOO_LONG, ErrorCode.FRAME_TOO_SHORT, ErrorCode.BAD_COBS,
+                            ErrorCode.BAD_CRC, ErrorCode.RX_OVERRUN})
+
 
 @dataclass
 class Waiter:
@@ -158,6 +162,9 @@ class Inbox:
         waiter = self.waiter
         if waiter is not None and error.frame_type == waiter.request_type and error.frame_seq == waiter.seq:
             waiter.error = error
+            return
+        if error.code in FRAMING_ERRORS and not self.stopping:
+            self.window.on_damaged()
             return
         if self.window.holds(error.frame_seq) and is_sequenced(error.frame_type) and not self.stopping:
             if error.code in (ErrorCode.BUSY, ErrorCode.ALARM_ACTIVE):

@@ -170,6 +170,15 @@ class SendWindow:
             self._go_back(parked_too=False)
         return accepted
 
+    def on_damaged(self) -> None:
+        """The firmware got a frame it could not read (a framing ERROR: which frame, it cannot say). Any frame
+        written and not yet acknowledged may be the one: write them again now, as for a GAP (once per
+        next_seq), not at the timeout — with several segments a frame, one lost frame is often the last one
+        in flight, and no GAP would come."""
+        if self._written and self._gap_handled_for != self.base:
+            self._gap_handled_for = self.base
+            self._go_back(parked_too=False)
+
     # --- writing ---------------------------------------------------------------------------------
 
     def due(self) -> list[bytes]:

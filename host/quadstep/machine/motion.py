@@ -60,21 +60,29 @@ def board_run_limit(identity: IdentifyReply) -> int:
 
 
 class RunSize:
-    """How many segments go in the next SEGMENTS frame: `limit` on a clean line. Once the link has had to
-    write a frame again, single SEGMENT frames for the next CALM frames: after a lost frame the board keeps
-    the SEGMENT frames behind it (selective repeat) but never SEGMENTS, and a long frame is the likeliest to
-    be damaged, so a noisy line runs as well as it did with one segment a frame."""
+    """How many segments go in the next SEGMENTS frame: `limit` on a clean line. With less than `floor` ticks
+    queued (at a start, or behind) the motion sends one segment a frame, each as soon as it is made. Once the
+    link has had to write a frame again (or a frame was damaged either way), single SEGMENT frames for the
+    next CALM frames: after a lost frame the board keeps the SEGMENT frames behind it (selective repeat) but
+    never SEGMENTS, and a long frame is the likeliest to be damaged, so a noisy line runs as well as it did
+    with one segment a frame."""
 
     CALM = 32
 
-    def __init__(self, limit: int, link: Link) -> None:
+    def __init__(self, limit: int, link: Link, tick_hz: int) -> None:
         self.limit = limit
         self.link = link
-        self.resent = link.stats.retransmits
+        self.floor = tick_hz // 20  # 50 ms: with less queued, one segment a frame, out at once
+        self.resent = self._trouble()
         self.calm = self.CALM
 
+    def _trouble(self) -> int:
+        """Signs of a noisy line so far: frames written again, ERRORs from the board, reports we could not read."""
+        stats = self.link.stats
+        return stats.retransmits + stats.errors + stats.decode_errors
+
     def next(self) -> int:
-        resent = self.link.stats.retransmits
+        resent = self._trouble()
         self.calm = 0 if resent != self.resent else self.calm + 1
         self.resent = resent
         return self.limit if self.calm >= self.CALM else min(self.limit, 1)
@@ -237,15 +245,18 @@ class Motion:
         ticks = list(accumulate((self.segments.n[i] for i in range(self.first, self.last)), initial=0))
         identity = self.link.identity
         assert identity is not None
-        size = RunSize(board_run_limit(identity), self.link)
+        size = RunSize(board_run_limit(identity), self.link, identity.tick_hz)
         chain = RunChain(self.segments.axis_count)
         outputs = iter(self.outputs)
         output = next(outputs, None)
         index = self.first
         while index < self.last:
             k = index - self.first
-            batch = size.next()
+            batch = size.next() if self._queued_ticks(k, ticks) >= size.floor else min(size.next(), 1)
             end = min(self.last, index + max(1, batch))
+            while (self.lookahead_ticks and end - index > 1
+                   and ticks[end - self.first] - ticks[k] > self.lookahead_ticks // 2):
+                end -= 1  # a frame of at most half the lookahead: the board keeps the other half queued
             if output is not None and output[0] > index:
                 end = min(end, output[0])  # an output goes out before its segment, between frames
             before = chain.copy()
@@ -271,6 +282,10 @@ class Motion:
             while output is not None and not self._halting:
                 self.link.send(output[1], generation=self._generation)
                 output = next(outputs, None)
+
+    def _queued_ticks(self, k: int, ticks: list[int]) -> int:
+        """Ticks of motion sent and not yet finished (the running segment's whole), before segment k."""
+        return ticks[k] - ticks[max(0, min(self.done, k))]
 
     def _wait_for_room(self, k: int, ticks: list[int], capacity: int) -> None:
         """Until segment k (a frame's last) fits in the board's queue and within the lookahead (or a halt)."""
