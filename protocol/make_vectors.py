@@ -25,7 +25,7 @@ MAX_FRAME = 64
 TYPES = {
     "IDENTIFY": 0x01, "STATUS": 0x02, "STOP": 0x03, "HOLD": 0x04, "INPUTS": 0x06, "WATCHDOG": 0x07,
     "SEGMENT": 0x10, "SET_POSITION": 0x11, "CUBIC_SEGMENT": 0x12, "PROBE": 0x15, "CONFIG": 0x16, "OUTPUTS": 0x17,
-    "SEGMENTS": 0x18,
+    "SEGMENTS": 0x18, "CUBIC_SEGMENTS": 0x19,
     "ACK": 0x80, "IDENTIFY_REPLY": 0x81, "STATUS_REPORT": 0x82, "ERROR": 0x83, "ALARM": 0x84, "EVENT": 0x85,
     "INPUT_STATUS": 0x86,
 }
@@ -37,7 +37,8 @@ ERROR_CODES = {
 }
 FIELDS = {"N": 1, "AXES": 2, "DIRECTION": 3, "V0": 4, "VN": 5, "RESIDUAL": 6, "DECEL": 7, "INPUT": 8, "LEVEL": 9,
           "INPUTS": 10, "HARD_LIMITS": 11,
-          "SPEED": 12, "ACCEL": 13, "POSITION": 14, "TIMEOUT": 15, "OUTPUTS": 16, "REFERENCE": 17}
+          "SPEED": 12, "ACCEL": 13, "POSITION": 14, "TIMEOUT": 15, "OUTPUTS": 16, "REFERENCE": 17,
+          "JERK": 18}
 POSITION_MAX = 2**31 - 2**24  # the firmware keeps every position within ±this (§5.2)
 WATCHDOG_MAX_MS = 4000
 ALARMS = {"UNDERRUN": 1, "REJECTED_SEGMENT": 2, "HARD_LIMIT": 3, "HOST_LOST": 4, "E_STOP": 5}
@@ -188,6 +189,79 @@ def bad_segments(name: str, records: bytes | list[dict], code: str, field: str |
     bad(name, TO_FW, wire(bytes([TYPES["SEGMENTS"], 11]) + raw), code, field, axis, axis_count)
 
 
+# CUBIC_SEGMENTS (§5.2): a record is its jerk codes (2 bits an axis), n·4 + flags, the sets where flagged (each
+# set axis's speed change and, flagged, acceleration), then the given jerks; every number a varint (zigzag where
+# signed), 7 bits a byte, low first.
+C_SETS, C_ACCEL = 0x01, 0x02
+C_NONE, C_GIVEN, C_NEGATE, C_SAME = 0, 1, 2, 3
+
+
+def uvarint(u: int) -> bytes:
+    out = b""
+    while u >= 128:
+        out += bytes([0x80 | (u & 0x7F)])
+        u >>= 7
+    return out + bytes([u])
+
+
+def zigzag(value: int) -> int:
+    return 2 * value if value >= 0 else -2 * value - 1
+
+
+def cubic_records_payload(records: list[dict]) -> bytes:
+    out = bytearray()
+    for rec in records:
+        out.append(sum(code << 2 * axis for axis, code in enumerate(rec["codes"])))
+        out += uvarint(4 * rec["n"] + (C_SETS if "sets" in rec else 0) + (C_ACCEL if "accels" in rec else 0))
+        if "sets" in rec:
+            out.append(rec["sets"])
+            for k, change in enumerate(rec.get("speeds", [])):
+                out += uvarint(zigzag(change))
+                if "accels" in rec:
+                    out += uvarint(zigzag(rec["accels"][k]))
+        for jerk in rec.get("jerks", []):
+            out += uvarint(zigzag(jerk))
+    return bytes(out)
+
+
+def cubic_expand_from_rest(records: list[dict]) -> list[dict]:
+    """What the records mean to a freshly started firmware, as CUBIC_SEGMENT messages: each axis's advance
+    per tick I and its change d start at 0, direction +; a set replaces all three (its speed is the change
+    plus I, or minus I when it reverses the axis); a NEGATE or SAME jerk is the axis's last jerk in the frame
+    negated or again; after each segment I += n·d + C(n, 2)·r and d += n·r."""
+    i, d, negative, last = [0] * 4, [0] * 4, [False] * 4, [0] * 4
+    out: list[dict] = []
+    for rec in records:
+        n, sets, axes = rec["n"], rec.get("sets", 0), {}
+        for k, a in enumerate(a for a in range(4) if sets >> a & 1):
+            reverse = bool(sets >> (4 + a) & 1)
+            speed = (i[a] if reverse == negative[a] else -i[a]) + rec["speeds"][k]
+            accel = rec["accels"][k] if "accels" in rec else 0
+            axes[a] = {"axis": a, "speed": speed, "accel": accel, "direction": -1 if reverse else 1}
+            i[a], d[a], negative[a] = speed, accel, reverse
+        given, r = iter(rec.get("jerks", [])), [0] * 4
+        for a, code in enumerate(rec["codes"]):
+            if code != C_NONE:
+                r[a] = last[a] = next(given) if code == C_GIVEN else -last[a] if code == C_NEGATE else last[a]
+                axes.setdefault(a, {"axis": a})["jerk"] = r[a]
+        for a in range(4):
+            i[a] += n * d[a] + n * (n - 1) // 2 * r[a]
+            d[a] += n * r[a]
+        out.append({"n": n, "axes": [axes[a] for a in sorted(axes)]})
+    return out
+
+
+def cubic_segments_vector(name: str, seq: int, records: list[dict]) -> None:
+    valid(name, TO_FW, {"type": "CUBIC_SEGMENTS", "seq": seq, "records": records})
+    VECTORS[-1]["expands_to"] = cubic_expand_from_rest(records)
+
+
+def bad_cubic_segments(name: str, records: bytes | list[dict], code: str, field: str | None = None,
+                       axis: int | None = None, axis_count: int = 4) -> None:
+    raw = records if isinstance(records, bytes) else cubic_records_payload(records)
+    bad(name, TO_FW, wire(bytes([TYPES["CUBIC_SEGMENTS"], 12]) + raw), code, field, axis, axis_count)
+
+
 def set_position_payload(positions: dict[int, int], extra_mask: int = 0) -> bytes:
     mask = extra_mask
     for axis in positions:
@@ -223,6 +297,8 @@ def payload(msg: dict) -> bytes:
         return cubic_payload(msg["n"], msg["axes"])
     if t == "SEGMENTS":
         return records_payload(msg["records"])
+    if t == "CUBIC_SEGMENTS":
+        return cubic_records_payload(msg["records"])
     if t == "SET_POSITION":
         return set_position_payload({int(k): v for k, v in msg["positions"].items()})
     if t == "ACK":
@@ -551,7 +627,7 @@ def build() -> list[dict]:
     bad("64 decoded bytes pass framing, then bad length", TO_FW, wire(longest), "BAD_LENGTH")
 
     # Unknown types, immediate and sequenced ranges; reports sent the wrong way.
-    for t in (0x00, 0x05, 0x08, 0x0F, 0x13, 0x14, 0x19, 0x3F, 0x40, 0x7F, 0x80, 0x82, 0x85, 0x86):
+    for t in (0x00, 0x05, 0x08, 0x0F, 0x13, 0x14, 0x1A, 0x3F, 0x40, 0x7F, 0x80, 0x82, 0x85, 0x86):
         bad(f"unknown type 0x{t:02x} to firmware", TO_FW, wire(bytes([t, 3])), "UNKNOWN_TYPE")
     for t in (0x01, 0x04, 0x06, 0x07, 0x10, 0x15, 0x87, 0xFF):
         bad(f"unknown type 0x{t:02x} to host", TO_HOST, wire(bytes([t, 3, 0, 0, 0, 0, 0])), "UNKNOWN_TYPE")
@@ -729,6 +805,66 @@ def build() -> list[dict]:
                  "BAD_FIELD", "RESIDUAL", 2)
     bad_segments("segments, the second record refused: nothing runs", [
         {"n": 10, "axes": 0x01, "change": [100]}, {"n": 10, "change": [-101]}], "BAD_FIELD", "VN", 0)
+
+    # CUBIC_SEGMENTS: records read against a fresh firmware's chain (every axis at rest on the ideal).
+    none = [C_NONE] * 4
+    cubic_segments_vector("cubic segments: a jerk-limited move's seven phases", 44, [
+        {"n": 200, "codes": [C_GIVEN, C_GIVEN, C_GIVEN, C_NONE], "jerks": [30, 60, 5], "sets": 0x44, "speeds": [0]},
+        {"n": 100, "codes": none},
+        {"n": 200, "codes": [C_NEGATE, C_NEGATE, C_NEGATE, C_NONE]},
+        {"n": 1000, "codes": none},
+        {"n": 200, "codes": [C_SAME, C_SAME, C_SAME, C_NONE]},
+        {"n": 100, "codes": none},
+        {"n": 200, "codes": [C_NEGATE, C_NEGATE, C_NEGATE, C_NONE]},
+    ])
+    cubic_segments_vector("cubic segments: sets as changes with accelerations, a reversal, four axes", 45, [
+        {"n": 10, "codes": none, "sets": 0xAF, "speeds": [1000000, 2000000, 0, 2**30], "accels": [100, -50, 0, 0]},
+        {"n": 3, "codes": [C_NONE, C_NONE, C_NONE, C_GIVEN], "jerks": [-1], "sets": 0x33,
+         "speeds": [1001000 + 5000, -500000]},
+        {"n": 65535, "codes": none, "sets": 0xBF, "speeds": [-5000, -1499500, 0, -(2**30) + 3]},
+    ])
+    cubic_segments_vector("cubic segments: sixteen records", 46,
+                          [{"n": 10, "codes": [C_GIVEN, 0, 0, 0], "jerks": [5]}]
+                          + [{"n": 10, "codes": [C_SAME, 0, 0, 0]}] * 14 + [{"n": 10, "codes": [C_NEGATE, 0, 0, 0]}])
+    bad_cubic_segments("cubic segments without records", b"", "BAD_LENGTH")
+    bad_cubic_segments("cubic segments, n cut short", bytes([0, 0x80]), "BAD_LENGTH")
+    bad_cubic_segments("cubic segments, n in four bytes", bytes([0, 0x80, 0x80, 0x80, 0x01]), "BAD_LENGTH")
+    bad_cubic_segments("cubic segments, the sets byte missing", bytes([0, 4 * 10 + C_SETS]), "BAD_LENGTH")
+    bad_cubic_segments("cubic segments, a speed past 32 bits", bytes([0, 4 * 10 + C_SETS, 0x01, 0x80, 0x80, 0x80, 0x80,
+                                                                      0x10]), "BAD_LENGTH")
+    bad_cubic_segments("cubic segments, an acceleration missing", bytes([0, 4 * 10 + C_SETS + C_ACCEL, 0x01, 0x02]),
+                       "BAD_LENGTH")
+    bad_cubic_segments("cubic segments, a given jerk missing", bytes([C_GIVEN, 4 * 10]), "BAD_LENGTH")
+    bad_cubic_segments("cubic segments, a jerk in four bytes", bytes([C_GIVEN, 4 * 10, 0x80, 0x80, 0x80, 0x01]),
+                       "BAD_LENGTH")
+    bad_cubic_segments("cubic segments, seventeen records", [{"n": 10, "codes": none}] * 17, "BAD_LENGTH")
+    bad_cubic_segments("cubic segments, n = 0", [{"n": 0, "codes": none}], "BAD_FIELD", "N")
+    bad_cubic_segments("cubic segments, n = 65536", [{"n": 65536, "codes": none}], "BAD_FIELD", "N")
+    bad_cubic_segments("cubic segments, a jerk on axis 3 of a 3-axis firmware",
+                       [{"n": 10, "codes": [0, 0, 0, C_GIVEN], "jerks": [1]}], "BAD_FIELD", "AXES", axis_count=3)
+    bad_cubic_segments("cubic segments, a set on axis 3 of a 3-axis firmware",
+                       [{"n": 10, "codes": none, "sets": 0x08, "speeds": [0]}], "BAD_FIELD", "AXES", axis_count=3)
+    bad_cubic_segments("cubic segments, a direction without its set",
+                       [{"n": 10, "codes": none, "sets": 0x21, "speeds": [0]}], "BAD_FIELD", "DIRECTION")
+    bad_cubic_segments("cubic segments, a set speed below zero",
+                       [{"n": 10, "codes": none, "sets": 0x01, "speeds": [-1]}], "BAD_FIELD", "SPEED", 0)
+    bad_cubic_segments("cubic segments, a set speed of a whole step per tick", [
+        {"n": 1, "codes": none, "sets": 0x02, "speeds": [2**30]},
+        {"n": 1, "codes": none, "sets": 0x02, "speeds": [2**30]}], "BAD_FIELD", "SPEED", 1)
+    bad_cubic_segments("cubic segments, a reversal short of the speed it reverses", [
+        {"n": 1, "codes": none, "sets": 0x01, "speeds": [1000]},
+        {"n": 1, "codes": none, "sets": 0x11, "speeds": [999]}], "BAD_FIELD", "SPEED", 0)
+    bad_cubic_segments("cubic segments, a jerk past 16 bits",
+                       [{"n": 10, "codes": [0, C_GIVEN, 0, 0], "jerks": [40000]}], "BAD_FIELD", "JERK", 1)
+    bad_cubic_segments("cubic segments, a negated jerk past 16 bits", [
+        {"n": 1, "codes": [C_GIVEN, 0, 0, 0], "jerks": [-32768], "sets": 0x01, "speeds": [2**30]},
+        {"n": 1, "codes": [C_NEGATE, 0, 0, 0]}], "BAD_FIELD", "JERK", 0)
+    bad_cubic_segments("cubic segments, an acceleration past 24 bits",
+                       [{"n": 10, "codes": none, "sets": 0x04, "speeds": [2**28], "accels": [2**23]}],
+                       "BAD_FIELD", "ACCEL", 2)
+    bad_cubic_segments("cubic segments, the second record refused: nothing runs", [
+        {"n": 10, "codes": [C_GIVEN, 0, 0, 0], "jerks": [3]},
+        {"n": 10, "codes": [0, C_GIVEN, 0, 0], "jerks": [-3]}], "BAD_FIELD", "SPEED", 1)
 
     # SET_POSITION content.
     frame = wire(bytes([TYPES["SET_POSITION"], 5]) + set_position_payload({3: 1}))

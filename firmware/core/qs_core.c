@@ -1,6 +1,7 @@
 #include "qs_core.h"
 #include "qs_port.h"
 #include "qs_protocol.h"
+#include "qs_cubic_records.h"
 #include "qs_segments.h"
 
 /* ---- sending ----
@@ -59,7 +60,8 @@ static void send_identify_reply(qs_core *c, uint8_t seq)
     id.tick_hz = c->tick_hz;
     id.capabilities = QS_CAP_QUADRATIC_SEGMENTS | QS_CAP_SET_POSITION | QS_CAP_HOLD | QS_CAP_LIMIT_INPUTS
                       | QS_CAP_PROBE_INPUT | QS_CAP_HOMING | QS_CAP_CONTROL_INPUTS
-                      | QS_CAP_CUBIC_SEGMENTS | QS_CAP_CONTROLLED_STOPS | QS_CAP_OUTPUTS | QS_CAP_SEGMENTS;
+                      | QS_CAP_CUBIC_SEGMENTS | QS_CAP_CONTROLLED_STOPS | QS_CAP_OUTPUTS | QS_CAP_SEGMENTS
+                      | QS_CAP_CUBIC_RUNS;
     id.next_seq = c->next_seq;
     send_body(c, qs_msg_encode_identify_reply(tx_body(c), seq, &id));
 }
@@ -245,16 +247,14 @@ static void on_segment(qs_core *c, const qs_host_msg *m)
     queued(c, m);
 }
 
-/* SEGMENTS: each record read against the chain the one before left,
- * checked as a SEGMENT and prepared in the slots after the queue's head;
- * the slots are published together once every record has passed, so the
- * frame runs whole or not at all (a refusal's alarm drops what was
- * prepared). */
-static QS_NOINLINE void on_segments(qs_core *c, qs_host_msg *m)
+/* SEGMENTS and CUBIC_SEGMENTS: all or none. Each record is read against
+ * the chain, checked and prepared into the next free slot in turn (which
+ * moves the chain on); the slots are published together after the last,
+ * so a refused record runs nothing of the frame. */
+static QS_NOINLINE void on_segments(qs_core *c, qs_host_msg *m, uint8_t cubic)
 {
     qs_engine *e = &c->engine;
-    qs_segments_msg run = m->as.segments;
-    qs_segment_msg *const s = &m->as.segment; /* each record in turn, in the message's own room (the Uno's stack) */
+    qs_segments_msg run = m->as.segments; /* each record in turn goes to the message's own room (the Uno's stack) */
     qs_fault f;
     uint8_t head, left;
 
@@ -267,15 +267,29 @@ static QS_NOINLINE void on_segments(qs_core *c, qs_host_msg *m)
     head = e->queue.head;
     for (left = run.count; left; left--) {
         qs_segment *slot = qs_queue_at(&e->queue, head);
+        uint8_t refused;
 
-        if (qs_segments_next(&run, &e->chain, c->axis_count, s, &f) != QS_ERR_NONE
-            || qs_msg_check_segment(s, c->axis_count, &f) != QS_ERR_NONE
-            || beyond_positions(c, s->active, s->n, &f)) {
+        if (cubic) {
+            qs_cubic_msg *const s = &m->as.cubic;
+
+            refused = qs_cubic_records_next(&run, &e->chain, c->axis_count, s, &f) != QS_ERR_NONE
+                      || qs_cubic_prepare(&e->chain, slot, s, c->axis_count, &f) != QS_ERR_NONE
+                      || beyond_positions(c, (uint8_t)((1u << c->axis_count) - 1u), s->n, &f);
+        } else {
+            qs_segment_msg *const s = &m->as.segment;
+
+            refused = qs_segments_next(&run, &e->chain, c->axis_count, s, &f) != QS_ERR_NONE
+                      || qs_msg_check_segment(s, c->axis_count, &f) != QS_ERR_NONE
+                      || beyond_positions(c, s->active, s->n, &f);
+            if (!refused) {
+                qs_segment_prepare(slot, s);
+                qs_cubic_follow_quadratic(&e->chain, slot, s);
+            }
+        }
+        if (refused) {
             refuse_segment(c, m, &f);
             return;
         }
-        qs_segment_prepare(slot, s);
-        qs_cubic_follow_quadratic(&e->chain, slot, s);
         qs_engine_note_prepared(e, slot);
         qs_outputs_carry(&c->outputs, slot);
         head = qs_queue_next(&e->queue, head);
@@ -659,7 +673,12 @@ static QS_NOINLINE void on_frame(qs_core *c, const uint8_t *body, uint8_t len)
     case QS_TYPE_SEGMENTS:
         code = qs_msg_parse_segments(p, plen, &m.as.segments);
         if (code == QS_ERR_NONE && in_sequence(c, &m))
-            on_segments(c, &m);
+            on_segments(c, &m, 0);
+        break;
+    case QS_TYPE_CUBIC_SEGMENTS:
+        code = qs_msg_parse_cubic_segments(p, plen, &m.as.segments);
+        if (code == QS_ERR_NONE && in_sequence(c, &m))
+            on_segments(c, &m, 1);
         break;
     case QS_TYPE_SET_POSITION:
         code = qs_msg_parse_set_position(p, plen, &m.as.set_position);

@@ -136,6 +136,13 @@ static QS_ALWAYS_INLINE void settle(qs_cubic_chain *c)
         settle_quadratic(c);
 }
 
+uint32_t qs_cubic_speed(qs_cubic_chain *c, uint8_t axis, uint8_t *negative)
+{
+    settle(c);
+    *negative = (uint8_t)((c->negative >> axis) & 1u);
+    return c->i[axis];
+}
+
 void qs_cubic_rest_on_ideal(qs_cubic_chain *c, uint8_t mask)
 {
     uint8_t axis;

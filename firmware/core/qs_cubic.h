@@ -59,6 +59,10 @@ void qs_cubic_follow_quadratic(qs_cubic_chain *c, const qs_segment *slot, const 
 #define QS_CHAIN_RESIDUAL 0x02
 uint8_t qs_cubic_quadratic_start(qs_cubic_chain *c, uint8_t axis, uint8_t negative, uint16_t *speed, int16_t *r);
 
+/* The chain's I for an axis (mod 2^32: valid while <= Sigma) and its
+ * direction (1: negative). */
+uint32_t qs_cubic_speed(qs_cubic_chain *c, uint8_t axis, uint8_t *negative);
+
 /* Check m against the chain (field by field as PROTOCOL.md section 5.2 lists
  * them) and, if every axis can run it exactly, fill slot and advance the
  * chain. Returns QS_ERR_NONE, or QS_ERR_BAD_FIELD with f filled in and

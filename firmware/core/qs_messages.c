@@ -78,7 +78,7 @@ QS_NOINLINE uint8_t qs_msg_parse_segments(const uint8_t *p, uint8_t len, qs_segm
     uint8_t axes = 0, count = 0;
 
     s->next = p;
-    s->last_change[0] = s->last_change[1] = s->last_change[2] = s->last_change[3] = 0;
+    s->last[0] = s->last[1] = s->last[2] = s->last[3] = 0;
     while (p != end) {
         const uint8_t head = *p++;
         uint8_t fields;
@@ -113,6 +113,62 @@ QS_NOINLINE uint8_t qs_msg_parse_segments(const uint8_t *p, uint8_t len, qs_segm
                 p++;
             }
         }
+    }
+    if (count == 0)
+        return QS_ERR_BAD_LENGTH;
+    s->count = count;
+    return QS_ERR_NONE;
+}
+
+/* Past a varint of at most `most` bytes ending before end, or 0. */
+static const uint8_t *skip_varint(const uint8_t *p, const uint8_t *end, uint8_t most)
+{
+    while (p != end && most--)
+        if (!(*p++ & 0x80u))
+            return p;
+    return 0;
+}
+
+/* Every cubic record whole: its jerks byte, n*4 + flags in at most 3 bytes,
+ * the sets byte where flagged, per set axis a speed (at most 5 bytes, the
+ * fifth below 0x10: under 2^32 in all) and, with ACCEL, an acceleration
+ * (at most 4), then per axis whose jerk is given a varint (at most 3). */
+QS_NOINLINE uint8_t qs_msg_parse_cubic_segments(const uint8_t *p, uint8_t len, qs_segments_msg *s)
+{
+    const uint8_t *const end = p + len;
+    uint8_t count = 0;
+
+    s->next = p;
+    s->last[0] = s->last[1] = s->last[2] = s->last[3] = 0;
+    while (p != end) {
+        uint8_t jerks = *p++, flags, fields;
+
+        if (count == QS_SEGMENTS_MAX)
+            return QS_ERR_BAD_LENGTH;
+        count++;
+        if (p == end)
+            return QS_ERR_BAD_LENGTH;
+        flags = *p;
+        p = skip_varint(p, end, 3);
+        if (!p)
+            return QS_ERR_BAD_LENGTH;
+        if (flags & QS_CUBIC_RECORD_SETS) {
+            if (p == end)
+                return QS_ERR_BAD_LENGTH;
+            fields = bit_count(*p++ & 0x0Fu);
+            while (fields--) {
+                const uint8_t *speed = p;
+
+                p = skip_varint(p, end, 5);
+                if (!p || (p - speed == 5 && p[-1] > 0x0Fu))
+                    return QS_ERR_BAD_LENGTH;
+                if ((flags & QS_CUBIC_RECORD_ACCEL) && !(p = skip_varint(p, end, 4)))
+                    return QS_ERR_BAD_LENGTH;
+            }
+        }
+        for (fields = 0; fields < QS_PROTOCOL_AXES; fields++, jerks >>= 2)
+            if ((jerks & 3u) == QS_CUBIC_JERK_GIVEN && !(p = skip_varint(p, end, 3)))
+                return QS_ERR_BAD_LENGTH;
     }
     if (count == 0)
         return QS_ERR_BAD_LENGTH;

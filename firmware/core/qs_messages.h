@@ -31,13 +31,16 @@ typedef struct {
     int16_t r[QS_PROTOCOL_AXES];      /* jerk: the change of that per tick; 0 where absent */
 } qs_cubic_msg;
 
-/* SEGMENTS: 1 ... QS_SEGMENTS_MAX records of chained quadratic segments,
- * read one by one against the chain (qs_segments.h) once the frame is
- * taken; parsing only checks that every record is whole. */
+/* SEGMENTS and CUBIC_SEGMENTS: 1 ... QS_SEGMENTS_MAX records of chained
+ * segments, read one by one against the chain (qs_segments.h,
+ * qs_cubic_records.h) once the frame is taken; parsing only checks that
+ * every record is whole. */
 typedef struct {
     const uint8_t *next; /* the next record, in the frame's body */
     uint8_t count;       /* records */
-    int16_t last_change[QS_PROTOCOL_AXES]; /* per axis: vn - v0 of the frame's last record that changed it */
+    /* per axis, from the frame's records so far: SEGMENTS, vn - v0 of the
+     * last that changed it; CUBIC_SEGMENTS, the last jerk it was given */
+    int16_t last[QS_PROTOCOL_AXES];
 } qs_segments_msg;
 
 typedef struct {
@@ -118,6 +121,7 @@ uint8_t qs_msg_parse_empty(uint8_t len);
 uint8_t qs_msg_parse_cubic(const uint8_t *p, uint8_t len, qs_cubic_msg *c);
 uint8_t qs_msg_parse_segment(const uint8_t *p, uint8_t len, qs_segment_msg *s);
 uint8_t qs_msg_parse_segments(const uint8_t *p, uint8_t len, qs_segments_msg *s);
+uint8_t qs_msg_parse_cubic_segments(const uint8_t *p, uint8_t len, qs_segments_msg *s);
 uint8_t qs_msg_parse_set_position(const uint8_t *p, uint8_t len, qs_set_position_msg *sp);
 uint8_t qs_msg_parse_hold(const uint8_t *p, uint8_t len, qs_hold_msg *h);
 uint8_t qs_msg_parse_probe(const uint8_t *p, uint8_t len, qs_probe_msg *pr);

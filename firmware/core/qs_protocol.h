@@ -49,6 +49,7 @@
 #define QS_TYPE_CUBIC_SEGMENT 0x12
 #define QS_TYPE_OUTPUTS 0x17
 #define QS_TYPE_SEGMENTS 0x18
+#define QS_TYPE_CUBIC_SEGMENTS 0x19
 #define QS_TYPE_ACK 0x80
 #define QS_TYPE_IDENTIFY_REPLY 0x81
 #define QS_TYPE_STATUS_REPORT 0x82
@@ -131,6 +132,7 @@
 #define QS_FIELD_TIMEOUT 15 /* WATCHDOG: a timeout above QS_WATCHDOG_MAX_MS */
 #define QS_FIELD_OUTPUTS 16 /* OUTPUTS: a bit no output has */
 #define QS_FIELD_REFERENCE 17 /* OUTPUTS: a power following no axis, or a speed outside 1 ... 4096 */
+#define QS_FIELD_JERK 18 /* CUBIC_SEGMENTS: a jerk outside 16 bits */
 #define QS_AXIS_NONE 0xFF
 
 /* ALARM codes. */
@@ -197,6 +199,7 @@
 #define QS_POSITION_MAX 2130706432L /* 2^31 - 2^24 */
 #define QS_CAP_OUTPUTS 0x0400 /* spindle, laser and coolant outputs (OUTPUTS) */
 #define QS_CAP_SEGMENTS 0x0800 /* chained quadratic segments, several to a frame (SEGMENTS) */
+#define QS_CAP_CUBIC_RUNS 0x1000 /* chained cubic segments, several to a frame (CUBIC_SEGMENTS) */
 
 /* SEGMENTS (section 5.2): records of chained quadratic segments. A record's
  * head byte holds bits 8-9 of n and what follows it. */
@@ -208,6 +211,16 @@
 #define QS_RECORD_CRUISE 0x20   /* vn = v0 on every axis: no vn field */
 #define QS_RECORD_REPEAT 0x40   /* the record before again, alone in its head */
 #define QS_RECORD_MIRROR 0x80   /* vn fields less the negated last change in the frame */
+
+/* CUBIC_SEGMENTS (section 5.2): records of chained cubic segments. A record
+ * is a jerks byte (2 bits per axis, axis 0 lowest), a varint n*4 + flags,
+ * the sets where flagged, then a varint per axis whose jerk is given. */
+#define QS_CUBIC_JERK_NONE 0   /* no jerk */
+#define QS_CUBIC_JERK_GIVEN 1  /* a zigzag varint follows */
+#define QS_CUBIC_JERK_NEGATE 2 /* minus the axis's last jerk in the frame */
+#define QS_CUBIC_JERK_SAME 3   /* the axis's last jerk in the frame */
+#define QS_CUBIC_RECORD_SETS 0x01  /* a sets byte follows: bits 0-3 axes set, 4-7 their directions */
+#define QS_CUBIC_RECORD_ACCEL 0x02 /* each set axis has an acceleration after its speed */
 
 /* OUTPUTS bits (section 5.5). */
 #define QS_OUT_ON 0x01      /* the spindle or laser output is on */

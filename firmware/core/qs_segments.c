@@ -69,7 +69,7 @@ uint8_t qs_segments_next(qs_segments_msg *run, qs_cubic_chain *chain, uint8_t ax
             if (!(head & QS_RECORD_CRUISE))
                 vn = (int16_t)(vn + signed_varint(&p));
             if (head & QS_RECORD_MIRROR)
-                vn = (int16_t)(vn - run->last_change[axis]);
+                vn = (int16_t)(vn - run->last[axis]);
             if (v0 < 0 || v0 > QS_V_MAX)
                 return bad_field(f, QS_FIELD_V0, axis);
             if (vn < 0 || vn > QS_V_MAX)
@@ -77,7 +77,7 @@ uint8_t qs_segments_next(qs_segments_msg *run, qs_cubic_chain *chain, uint8_t ax
             s->v0[axis] = (uint16_t)v0;
             s->vn[axis] = (uint16_t)vn;
             if (vn != v0)
-                run->last_change[axis] = (int16_t)(vn - v0);
+                run->last[axis] = (int16_t)(vn - v0);
         }
         if (!(known & QS_CHAIN_RESIDUAL))
             return bad_field(f, QS_FIELD_RESIDUAL, axis);

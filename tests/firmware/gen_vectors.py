@@ -40,6 +40,7 @@ MESSAGE_KEYS = {
                      "latches_lost"},
     "SEGMENT": {"n", "axes"},
     "SEGMENTS": {"records"},
+    "CUBIC_SEGMENTS": {"records"},
     "CUBIC_SEGMENT": {"n", "axes"},
     "SET_POSITION": {"positions"},
     "ACK": {"next_seq", "free", "reason", "done"},
@@ -93,8 +94,8 @@ def message_fields(msg: dict, axis_count: int) -> list[str]:
     if extra:
         raise VectorError(f"unknown keys {sorted(extra)} in {kind}")
     out = [f".type = {constant('type', kind)}", f".seq = {msg['seq']}"]
-    if kind == "SEGMENTS":
-        return out  # its meaning is the vector's expands_to (segment_fields)
+    if kind in ("SEGMENTS", "CUBIC_SEGMENTS"):
+        return out  # its meaning is the vector's expands_to (segment_fields, cubic_fields)
     if kind == "SEGMENT":
         return out + [".host = {.segment = %s}" % segment_fields(msg)]
     return out + other_message_fields(msg, kind)
@@ -118,27 +119,31 @@ def segment_fields(msg: dict) -> str:
             % (msg["n"], active, negative, ", ".join(map(str, v0)), ", ".join(map(str, vn)), ", ".join(map(str, r))))
 
 
+def cubic_fields(msg: dict) -> str:
+    """A CUBIC_SEGMENT's fields as a qs_cubic_msg initialiser."""
+    jerk = sets = negative = 0
+    speed = [0] * 4
+    accel = [0] * 4
+    r = [0] * 4
+    for ax in msg["axes"]:
+        i = ax["axis"]
+        if "speed" in ax:
+            sets |= 1 << i
+            speed[i], accel[i] = ax["speed"], ax.get("accel", 0)
+            if ax.get("direction", 1) == -1:
+                negative |= 1 << i
+        if "jerk" in ax:
+            jerk |= 1 << i
+            r[i] = ax["jerk"]
+    return ("{.n = %d, .jerk = 0x%02X, .set = 0x%02X, .negative = 0x%02X, .speed = {%s}, .accel = {%s}, .r = {%s}}"
+            % (msg["n"], jerk, sets, negative, ", ".join(f"{v}UL" for v in speed),
+               ", ".join(f"{v}L" for v in accel), ", ".join(map(str, r))))
+
+
 def other_message_fields(msg: dict, kind: str) -> list[str]:
     out: list[str] = []
     if kind == "CUBIC_SEGMENT":
-        jerk = sets = negative = 0
-        speed = [0] * 4
-        accel = [0] * 4
-        r = [0] * 4
-        for ax in msg["axes"]:
-            i = ax["axis"]
-            if "speed" in ax:
-                sets |= 1 << i
-                speed[i], accel[i] = ax["speed"], ax.get("accel", 0)
-                if ax.get("direction", 1) == -1:
-                    negative |= 1 << i
-            if "jerk" in ax:
-                jerk |= 1 << i
-                r[i] = ax["jerk"]
-        out.append(".host = {.cubic = {.n = %d, .jerk = 0x%02X, .set = 0x%02X, .negative = 0x%02X, "
-                   ".speed = {%s}, .accel = {%s}, .r = {%s}}}"
-                   % (msg["n"], jerk, sets, negative, ", ".join(f"{v}UL" for v in speed),
-                      ", ".join(f"{v}L" for v in accel), ", ".join(map(str, r))))
+        out.append(".host = {.cubic = %s}" % cubic_fields(msg))
     elif kind == "SET_POSITION":
         mask = 0
         pos = [0] * 4
@@ -232,7 +237,10 @@ def vector_entry(index: int, v: dict) -> tuple[str, str]:
               f".axis_count = {axis_count}"]
     if "expands_to" in v:
         segments = v["expands_to"]
-        fields.append(".expands_count = %d, .expands = {%s}" % (len(segments), ", ".join(map(segment_fields, segments))))
+        if v["message"]["type"] == "CUBIC_SEGMENTS":
+            fields.append(".expands_count = %d, .cubic_expands = {%s}" % (len(segments), ", ".join(map(cubic_fields, segments))))
+        else:
+            fields.append(".expands_count = %d, .expands = {%s}" % (len(segments), ", ".join(map(segment_fields, segments))))
     if v["message"] is not None:
         fields += message_fields(v["message"], axis_count)
     else:

@@ -25,9 +25,10 @@ typedef struct {
         qs_watchdog_msg watchdog;
         qs_outputs_msg outputs;
     } host;
-    /* SEGMENTS: what its records mean to a freshly started firmware. */
+    /* SEGMENTS and CUBIC_SEGMENTS: what its records mean to a freshly started firmware. */
     uint8_t expands_count;
     qs_segment_msg expands[QS_SEGMENTS_MAX];
+    qs_cubic_msg cubic_expands[QS_SEGMENTS_MAX];
     qs_input_status input_status;
     qs_ack ack;
     qs_identity identity;

@@ -114,17 +114,21 @@ def test_packed_frames_read_back_as_the_stream(stream: list[Segment], limit: int
     assert axes <= 4
 
 
-def test_after_a_cubic_segment_the_next_frame_states_everything() -> None:
+@pytest.mark.parametrize("cubic_runs", [True, False])
+def test_after_a_cubic_segment_the_next_frame_states_everything(cubic_runs: bool) -> None:
+    """A cubic segment goes in CUBIC_SEGMENTS where the board has it (the quadratic segments before told the
+    host every axis's speed), else alone; either way the quadratic grid is unknown after it."""
     quad = Segment(n=100, axes=(AxisMove(axis=0, direction=1, v0=100, vn=100, r=0),))
     stream: list[Segment | CubicSegment] = [quad, quad, CubicSegment(n=50), quad, quad]
     chain = RunChain(3)
     kinds = []
     index = 0
     while index < len(stream):
-        message = next_frame(Source(stream), index, len(stream), chain, 8)
+        message = next_frame(Source(stream), index, len(stream), chain, 8, cubic_runs)
         kinds.append(type(message).__name__)
         index += queue_slots(message)
-    assert kinds == ["Segment", "Segments", "CubicSegment", "Segment", "Segments"]
+    cubic = "CubicSegments" if cubic_runs else "CubicSegment"
+    assert kinds == ["Segment", "Segments", cubic, "Segment", "Segments"]
 
 
 def test_a_chained_cruise_is_two_bytes_and_a_repeat_one() -> None:

@@ -247,6 +247,7 @@ class Motion:
         assert identity is not None
         size = RunSize(board_run_limit(identity), self.link, identity.tick_hz)
         chain = RunChain(self.segments.axis_count)
+        cubic_runs = bool(identity.capabilities & Capability.CUBIC_RUNS)
         outputs = iter(self.outputs)
         output = next(outputs, None)
         index = self.first
@@ -260,9 +261,9 @@ class Motion:
             if output is not None and output[0] > index:
                 end = min(end, output[0])  # an output goes out before its segment, between frames
             before = chain.copy()
-            message = next_frame(self.segments, index, end, chain, batch)
+            message = next_frame(self.segments, index, end, chain, batch, cubic_runs)
             count = queue_slots(message)
-            self._wait_for_room(k + count - 1, ticks, identity.queue_capacity)
+            self._wait_for_room(k, k + count - 1, ticks, identity.queue_capacity)
             # Checked and sent under the lock: once halt() has set _halting nothing more is
             # sent, so no segment can follow its HOLD. The room waited for above makes this
             # send return at once, so halt() never waits long for the lock.
@@ -287,8 +288,10 @@ class Motion:
         """Ticks of motion sent and not yet finished (the running segment's whole), before segment k."""
         return ticks[k] - ticks[max(0, min(self.done, k))]
 
-    def _wait_for_room(self, k: int, ticks: list[int], capacity: int) -> None:
-        """Until segment k (a frame's last) fits in the board's queue and within the lookahead (or a halt)."""
+    def _wait_for_room(self, first: int, k: int, ticks: list[int], capacity: int) -> None:
+        """Until a frame's segments `first` … `k` fit in the board's queue and within the lookahead, or the
+        board holds fewer than MIN_QUEUED_SEGMENTS before them (a segment longer than the lookahead is
+        running), or a halt."""
         last_done, since = -1, time.monotonic()
         while not self._halting:
             if self.link.generation != self._generation:
@@ -297,7 +300,7 @@ class Motion:
             queued = k - done
             if queued < capacity and (
                 self.lookahead_ticks is None
-                or queued < MIN_QUEUED_SEGMENTS
+                or first - done < MIN_QUEUED_SEGMENTS
                 or ticks[k] - ticks[done] < self.lookahead_ticks
             ):
                 return

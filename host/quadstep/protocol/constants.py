@@ -110,6 +110,7 @@ class FieldId(IntEnum):
     TIMEOUT = 15
     OUTPUTS = 16
     REFERENCE = 17
+    JERK = 18
 
 
 class AlarmCode(IntEnum):
@@ -146,6 +147,7 @@ class Capability(IntFlag):
     CONTROLLED_STOPS = 1 << 9  # an underrun and a silent host end in a hold; WATCHDOG
     OUTPUTS = 1 << 10  # spindle, laser and coolant outputs (OUTPUTS)
     SEGMENTS = 1 << 11  # chained quadratic segments, several to a frame (SEGMENTS)
+    CUBIC_RUNS = 1 << 12  # chained cubic segments, several to a frame (CUBIC_SEGMENTS)
 
 
 class Output(IntFlag):

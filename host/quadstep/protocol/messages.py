@@ -36,6 +36,7 @@ from .constants import (
     TypeClass,
 )
 from .cubic import CubicAxis, CubicSegment
+from .cubic_run import CubicRecord, CubicSegments
 from .segment_run import SegmentRecord, Segments
 from .fields import (
     U8,
@@ -368,8 +369,9 @@ def message_type(message: WireMessage) -> Any:
 
 
 def queue_slots(message: WireMessage) -> int:
-    """Queue slots the firmware gives a sequenced message: one a segment, one a record of SEGMENTS."""
-    if isinstance(message, Segments):
+    """Queue slots the firmware gives a sequenced message: one a segment, one a record of SEGMENTS and
+    CUBIC_SEGMENTS."""
+    if isinstance(message, (Segments, CubicSegments)):
         return len(message.records)
     return 1 if isinstance(message, (Segment, CubicSegment)) else 0
 
@@ -393,6 +395,6 @@ def message_from_json(fields: dict[str, Any]) -> tuple[int, WireMessage]:
 __all__ = [
     "Ack", "Alarm", "AxisMove", "Config", "CubicAxis", "CubicSegment", "ErrorReport", "Event", "EventKind", "Hold", "HoldDone", "Identify",
     "IdentifyReply", "InputChange", "InputStatus", "Inputs", "Message", "MessageType", "Outputs", "Probe", "ProbeMissed",
-    "Report", "Request", "Segment", "SegmentRecord", "Segments", "SetPosition", "Status", "StatusReport", "Stop", "message_from_json",
+    "CubicRecord", "CubicSegments", "Report", "Request", "Segment", "SegmentRecord", "Segments", "SetPosition", "Status", "StatusReport", "Stop", "message_from_json",
     "message_type", "queue_slots",
 ]

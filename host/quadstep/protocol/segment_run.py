@@ -21,6 +21,8 @@ from pydantic import BaseModel, ConfigDict, Field, SerializerFunctionWrapHandler
 
 from .constants import D, MAX_FRAME, V_MAX, FieldId
 from .cubic import CubicSegment
+from .cubic_run import CubicSegments, SpeedChain
+from .cubic_run import pack as cubic_pack
 from .segment import AxisMove, Segment
 from .wire import FieldCodec, FieldFault, Request, bits, message
 
@@ -197,32 +199,40 @@ class Segments(Request):
 class RunChain:
     """Per axis, what the firmware's chain gives a quadratic segment that starts from it: the speed (1/4096
     step per tick) and the residual along the positive direction (1/8192 step); None where the host cannot
-    know it (before the motion's first segment, after a cubic one)."""
+    know it (before the motion's first segment, after a cubic one). `speeds` is what it gives a cubic
+    record's sets (CUBIC_SEGMENTS)."""
 
     axis_count: int
     speed: list[int | None] = field(default_factory=list)
     residual: list[int | None] = field(default_factory=list)
+    speeds: SpeedChain | None = None
 
     def __post_init__(self) -> None:
         if not self.speed:
             self.forget()
+        if self.speeds is None:
+            self.speeds = SpeedChain(self.axis_count)
 
     @classmethod
     def at_rest(cls, axis_count: int) -> RunChain:
-        chain = cls(axis_count)
+        chain = cls(axis_count, speeds=SpeedChain.at_rest(axis_count))
         chain.speed = [0] * axis_count
         chain.residual = [0] * axis_count
         return chain
 
     def forget(self) -> None:
+        """The quadratic grid: after a cubic segment its end need not lie on it."""
         self.speed = [None] * self.axis_count
         self.residual = [None] * self.axis_count
 
     def copy(self) -> RunChain:
-        return RunChain(self.axis_count, list(self.speed), list(self.residual))
+        assert self.speeds is not None
+        return RunChain(self.axis_count, list(self.speed), list(self.residual), self.speeds.copy())
 
     def follow(self, segment: Segment) -> None:
         """After a quadratic segment: named axes end at vn and their exact residual, the others stop."""
+        assert self.speeds is not None
+        self.speeds.follow(segment)
         named = {a.axis: a for a in segment.axes}
         for axis in range(self.axis_count):
             move = named.get(axis)
@@ -233,6 +243,11 @@ class RunChain:
             rest = travel - 2 * D * ((travel + D) // (2 * D))
             self.speed[axis] = move.vn
             self.residual[axis] = move.direction * rest
+
+    def follow_cubic(self, segment: CubicSegment) -> None:
+        assert self.speeds is not None
+        self.speeds.follow(segment)
+        self.forget()
 
     def ready(self) -> bool:
         """Whether a record can start from here (every speed known)."""
@@ -361,22 +376,30 @@ class SegmentSource(Protocol):
     def segment(self, i: int) -> Segment | CubicSegment: ...
 
 
-def next_frame(source: SegmentSource, index: int, end: int, chain: RunChain, limit: int) -> Segment | CubicSegment | Segments:
-    """The frame that sends segment `index` and what follows it before `end`: quadratic segments chained into
-    SEGMENTS (at most `limit`; 0 where the firmware has no SEGMENTS) once the chain is known, else segment
-    `index` alone, as its own message (with a limit of 1 too: after a lost frame the board keeps later
-    SEGMENT frames, never SEGMENTS); `chain` moves on past what the frame sends."""
+def next_frame(source: SegmentSource, index: int, end: int, chain: RunChain, limit: int,
+               cubic_runs: bool = True) -> Segment | CubicSegment | Segments | CubicSegments:
+    """The frame that sends segment `index` and what follows it before `end`: segments of its kind chained
+    into SEGMENTS or CUBIC_SEGMENTS (at most `limit`; 0 where the firmware has no SEGMENTS, and cubic ones
+    only with `cubic_runs`) once the chain is known, else segment `index` alone, as its own message (with a
+    limit of 1 too: after a lost frame the board keeps later single-segment frames, never a run);
+    `chain` moves on past what the frame sends."""
     first = source.segment(index)
-    if isinstance(first, CubicSegment):
-        chain.forget()  # its end need not lie on the quadratic grid
-        return first
+    kind = type(first)
     run = [first]
     for i in range(index + 1, min(end, index + limit)):
         segment = source.segment(i)
-        if not isinstance(segment, Segment):
+        if type(segment) is not kind:
             break
         run.append(segment)
-    packed = pack(run, chain, limit) if limit > 1 else None  # one alone: SEGMENT, which the board can park
+    if isinstance(first, CubicSegment):
+        assert chain.speeds is not None
+        cubic = cubic_pack(run, chain.speeds, limit) if limit > 1 and cubic_runs else None  # type: ignore[arg-type]
+        if cubic is None:
+            chain.follow_cubic(first)
+            return first
+        chain.forget()
+        return cubic
+    packed = pack(run, chain, limit) if limit > 1 else None  # type: ignore[arg-type]
     if packed is None:
         chain.follow(first)
         return first

@@ -100,8 +100,8 @@ static void test_identify_reports_what_the_firmware_is(void)
     TEST_ASSERT_EQUAL_INT(12, p[7]);
     TEST_ASSERT_EQUAL_INT(1022, tp_u16(p + 8));
     TEST_ASSERT_EQUAL_UINT32(40000, tp_u32(p + 10));
-    /* quadratic, set position, hold; limit, probe and control inputs, homing; cubic; controlled stops; outputs; chained segments (SEGMENTS) */
-    TEST_ASSERT_EQUAL_HEX16(0x0FF7, tp_u16(p + 14));
+    /* quadratic, set position, hold; limit, probe and control inputs, homing; cubic; controlled stops; outputs; chained segments (SEGMENTS, CUBIC_SEGMENTS) */
+    TEST_ASSERT_EQUAL_HEX16(0x1FF7, tp_u16(p + 14));
     TEST_ASSERT_EQUAL_INT(9, p[16]);
 }
 

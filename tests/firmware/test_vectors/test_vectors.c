@@ -9,6 +9,7 @@
 #include "qs_core.h"
 #include "qs_frame.h"
 #include "qs_messages.h"
+#include "qs_cubic_records.h"
 #include "qs_segments.h"
 #include "qs_test_support.h"
 #include "qs_vectors.h"
@@ -16,8 +17,10 @@
 
 static qs_core core;
 static char where[160];
-/* A SEGMENTS frame's records as segments, read while its frame is at hand. */
+/* A SEGMENTS or CUBIC_SEGMENTS frame's records as segments, read while its
+ * frame is at hand. */
 static qs_segment_msg expanded[QS_SEGMENTS_MAX];
+static qs_cubic_msg cubic_expanded[QS_SEGMENTS_MAX];
 static uint8_t expanded_count;
 
 void setUp(void)
@@ -89,6 +92,8 @@ static uint8_t parse(const uint8_t *body, uint8_t len, qs_host_msg *m)
         return qs_msg_parse_cubic(p, plen, &m->as.cubic);
     case QS_TYPE_SEGMENTS:
         return qs_msg_parse_segments(p, plen, &m->as.segments);
+    case QS_TYPE_CUBIC_SEGMENTS:
+        return qs_msg_parse_cubic_segments(p, plen, &m->as.segments);
     default:
         return QS_ERR_UNKNOWN_TYPE;
     }
@@ -117,6 +122,27 @@ static uint8_t expand_segments(qs_segments_msg *run, uint8_t axis_count, qs_faul
     return QS_ERR_NONE;
 }
 
+/* Every record of a CUBIC_SEGMENTS frame, against the chain of a freshly
+ * started firmware that each moves on, and checked as a CUBIC_SEGMENT. */
+static uint8_t expand_cubic_segments(qs_segments_msg *run, uint8_t axis_count, qs_fault *f)
+{
+    static qs_cubic_chain chain;
+    static qs_segment slot;
+    uint8_t code;
+
+    qs_cubic_reset(&chain);
+    for (expanded_count = 0; expanded_count < run->count; expanded_count++) {
+        qs_cubic_msg *s = &cubic_expanded[expanded_count];
+
+        code = qs_cubic_records_next(run, &chain, axis_count, s, f);
+        if (code == QS_ERR_NONE)
+            code = qs_cubic_prepare(&chain, &slot, s, axis_count, f);
+        if (code != QS_ERR_NONE)
+            return code;
+    }
+    return QS_ERR_NONE;
+}
+
 /* What decoding a host frame gives: 0 and the message, or an error. */
 static uint8_t decode(const qs_vector *v, qs_host_msg *m, qs_fault *f)
 {
@@ -132,6 +158,8 @@ static uint8_t decode(const qs_vector *v, qs_host_msg *m, qs_fault *f)
         return result;
     if (m->type == QS_TYPE_SEGMENTS)
         return expand_segments(&m->as.segments, v->axis_count, f);
+    if (m->type == QS_TYPE_CUBIC_SEGMENTS)
+        return expand_cubic_segments(&m->as.segments, v->axis_count, f);
     if (m->type == QS_TYPE_SEGMENT)
         return qs_msg_check_segment(&m->as.segment, v->axis_count, f);
     if (m->type == QS_TYPE_SET_POSITION)
@@ -154,6 +182,21 @@ static uint8_t decode(const qs_vector *v, qs_host_msg *m, qs_fault *f)
     if (m->type == QS_TYPE_OUTPUTS)
         return qs_msg_check_outputs(&m->as.outputs, v->axis_count, f);
     return QS_ERR_NONE;
+}
+
+static void check_cubic(const qs_vector *v, const qs_cubic_msg *e, const qs_cubic_msg *a)
+{
+    uint8_t axis;
+
+    TEST_ASSERT_EQUAL_UINT16_MESSAGE(e->n, a->n, at(v, "n"));
+    TEST_ASSERT_EQUAL_HEX8_MESSAGE(e->jerk, a->jerk, at(v, "jerk axes"));
+    TEST_ASSERT_EQUAL_HEX8_MESSAGE(e->set, a->set, at(v, "set axes"));
+    TEST_ASSERT_EQUAL_HEX8_MESSAGE(e->negative, a->negative, at(v, "directions"));
+    for (axis = 0; axis < QS_PROTOCOL_AXES; axis++) {
+        TEST_ASSERT_EQUAL_UINT32_MESSAGE(e->speed[axis], a->speed[axis], at(v, "speed"));
+        TEST_ASSERT_EQUAL_INT_MESSAGE(e->accel[axis], a->accel[axis], at(v, "accel"));
+        TEST_ASSERT_EQUAL_INT_MESSAGE(e->r[axis], a->r[axis], at(v, "jerk"));
+    }
 }
 
 static void check_host_message(const qs_vector *v, const qs_host_msg *m)
@@ -186,17 +229,13 @@ static void check_host_message(const qs_vector *v, const qs_host_msg *m)
             TEST_ASSERT_EQUAL_UINT16_MESSAGE(e->vn[axis], a->vn[axis], at(v, "vn"));
             TEST_ASSERT_EQUAL_INT_MESSAGE(e->r[axis], a->r[axis], at(v, "r"));
         }
+    } else if (m->type == QS_TYPE_CUBIC_SEGMENTS) {
+        uint8_t k;
+        TEST_ASSERT_EQUAL_UINT8_MESSAGE(v->expands_count, expanded_count, at(v, "records"));
+        for (k = 0; k < expanded_count; k++)
+            check_cubic(v, &v->cubic_expands[k], &cubic_expanded[k]);
     } else if (m->type == QS_TYPE_CUBIC_SEGMENT) {
-        const qs_cubic_msg *e = &v->host.cubic, *a = &m->as.cubic;
-        TEST_ASSERT_EQUAL_UINT16_MESSAGE(e->n, a->n, at(v, "n"));
-        TEST_ASSERT_EQUAL_HEX8_MESSAGE(e->jerk, a->jerk, at(v, "jerk axes"));
-        TEST_ASSERT_EQUAL_HEX8_MESSAGE(e->set, a->set, at(v, "set axes"));
-        TEST_ASSERT_EQUAL_HEX8_MESSAGE(e->negative, a->negative, at(v, "directions"));
-        for (axis = 0; axis < QS_PROTOCOL_AXES; axis++) {
-            TEST_ASSERT_EQUAL_UINT32_MESSAGE(e->speed[axis], a->speed[axis], at(v, "speed"));
-            TEST_ASSERT_EQUAL_INT_MESSAGE(e->accel[axis], a->accel[axis], at(v, "accel"));
-            TEST_ASSERT_EQUAL_INT_MESSAGE(e->r[axis], a->r[axis], at(v, "jerk"));
-        }
+        check_cubic(v, &v->host.cubic, &m->as.cubic);
     } else if (m->type == QS_TYPE_SET_POSITION) {
         const qs_set_position_msg *e = &v->host.set_position, *a = &m->as.set_position;
         TEST_ASSERT_EQUAL_HEX8_MESSAGE(e->mask, a->mask, at(v, "mask"));
