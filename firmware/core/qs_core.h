@@ -14,6 +14,17 @@
 #include "qs_port.h"
 #include "qs_outputs.h"
 
+/* The longest report, STATUS_REPORT with every axis, as it goes on the wire:
+ * the code byte stuffing needs, type and seq, the payload, CRC, delimiter. */
+#define QS_TX_WIRE (1 + 2 + QS_LEN_STATUS_REPORT_HEAD + QS_LEN_STATUS_REPORT_AXIS * QS_AXIS_COUNT + 2 + 1)
+_Static_assert(QS_LEN_INPUT_HEAD + QS_LEN_INPUT_AXIS * QS_AXIS_COUNT <= QS_TX_WIRE - 6
+                   && QS_LEN_HOLD_DONE_HEAD + QS_LEN_HOLD_DONE_AXIS * QS_AXIS_COUNT <= QS_TX_WIRE - 6
+                   && QS_LEN_ALARM_HEAD + QS_LEN_ALARM_AXIS * QS_AXIS_COUNT <= QS_TX_WIRE - 6
+                   && QS_LEN_PROBE_MISSED_HEAD + QS_LEN_PROBE_MISSED_AXIS * QS_AXIS_COUNT <= QS_TX_WIRE - 6
+                   && QS_LEN_IDENTIFY_REPLY <= QS_TX_WIRE - 6 && QS_LEN_INPUT_STATUS <= QS_TX_WIRE - 6
+                   && QS_LEN_ACK <= QS_TX_WIRE - 6 && QS_LEN_ERROR <= QS_TX_WIRE - 6,
+               "every report fits the transmit buffer");
+
 typedef struct {
     qs_engine engine;
     qs_inputs inputs;         /* the target sets the inputs it has (qs_inputs_init) */
@@ -32,7 +43,7 @@ typedef struct {
     uint16_t watchdog;        /* WATCHDOG: silence that stops motion, in port clock counts; 0 off */
     uint16_t heard;           /* port clock at the last good frame */
     qs_outputs outputs;       /* the OUTPUTS settings: segments queued from now on carry the latest */
-    uint8_t tx[QS_MAX_WIRE];  /* the report being sent, built and sealed in place */
+    uint8_t tx[QS_TX_WIRE];   /* the report being sent, built and sealed in place */
 } qs_core;
 
 void qs_core_init(qs_core *c);

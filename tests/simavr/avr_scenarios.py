@@ -181,18 +181,31 @@ def every_message_kind(axis_count: int) -> bytes:
     """Wire bytes (no flow control needed) that exercise every path of the
     firmware while axes move: SEGMENT and SEGMENTS, SET_POSITION (accepted at rest,
     refused while moving), STATUS, IDENTIFY, and damaged frames of each
-    framing error. For the stack's high-water mark."""
+    framing error, and a ramp move as CUBIC_SEGMENT and CUBIC_SEGMENTS. For the stack's high-water mark."""
     from quadstep.protocol import Identify, SetPosition, Status, Stop, encode
     from quadstep.protocol.framing import encode_frame
 
+    from quadstep.protocol.cubic_run import SpeedChain
+    from quadstep.protocol.cubic_run import pack as cubic_pack
     from quadstep.protocol.segment_run import RunChain, pack
 
     b = ChainBuilder(axis_count)
     out = [b"\x00", encode(Identify(), 1), encode(SetPosition(positions={a: 5 * a for a in range(axis_count)}), 0)]
     b.position = [5 * a for a in range(axis_count)]
     b.ideal2 = [2 * D * p for p in b.position]
+    # a ramp move of cubic segments from rest (long enough that the frames after it arrive while it runs): a
+    # CUBIC_SEGMENT, then a CUBIC_SEGMENTS frame that sets axis 0 to the state it has
+    jerk, n = 10, 2000
+    speeds = SpeedChain.at_rest(axis_count)
+    first = CubicSegment(n=n, axes=tuple(CubicAxis(axis=a, jerk=jerk) for a in range(axis_count)))
+    speeds.follow(first)
+    ramp = [CubicSegment(n=n, axes=(CubicAxis(axis=0, speed=speeds.i[0], accel=speeds.d[0], jerk=-jerk),)
+                         + tuple(CubicAxis(axis=a, jerk=-jerk) for a in range(1, axis_count))),
+            CubicSegment(n=n, axes=tuple(CubicAxis(axis=a, jerk=-jerk) for a in range(axis_count))),
+            CubicSegment(n=n, axes=tuple(CubicAxis(axis=a, jerk=jerk) for a in range(axis_count)))]
+    out += [encode(first, 1), encode(cubic_pack(ramp, speeds), 2)]  # type: ignore[arg-type]
     chain = RunChain(axis_count)
-    seq = 1
+    seq = 3
     for i in range(8):
         last = i == 7
         segments = [b.segment(200, {a: (1, D // 2, D // 2) for a in range(axis_count)}),

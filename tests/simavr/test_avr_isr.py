@@ -11,7 +11,7 @@ import pytest
 import avr_scenarios
 from avr_sim import Outputs, run_feed, run_input
 from quadstep.engine_model import predict
-from quadstep.protocol import encode
+from quadstep.protocol import Ack, AckReason, Decoder, Frame, encode
 from quadstep.protocol.cubic import CubicSegment
 
 # The step interrupt's goals on the Uno at 32 kHz (docs/AVR.md, docs/CUBIC.md): three quadratic axes stepping
@@ -89,6 +89,10 @@ def test_stack_stays_clear_of_static_data(avr_build: None, tmp_path: Path) -> No
     through the firmware as the axes move leaves a margin above .data/.bss."""
     stats = run_input(avr_scenarios.every_message_kind(3), Outputs.in_dir(tmp_path), tmp_path / "replies.bin")
     assert stats["motion"]["steps"] != [0, 0, 0], "the axes must move while the messages go through"
+    acks = [f.message for f in Decoder("to_host", axis_count=3).feed((tmp_path / "replies.bin").read_bytes())
+            if isinstance(f, Frame) and isinstance(f.message, Ack)]
+    # the cubic ramp's CUBIC_SEGMENT (seq 1) and CUBIC_SEGMENTS (seq 2) and the first quadratic ones are taken
+    assert [(a.next_seq, a.reason) for a in acks[:4]] == [(n, AckReason.ACCEPTED) for n in (1, 2, 3, 4)]
     stack = stats["stack"]
     assert 0 < stack["max_bytes"] < 512
     assert stack["deepest"] - stack["static_end"] >= 128, stack

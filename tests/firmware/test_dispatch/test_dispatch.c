@@ -81,6 +81,62 @@ static void test_segments_take_a_slot_each_all_or_none(void)
     TEST_ASSERT_EQUAL_INT32(50, status().position[1]);
 }
 
+/* CUBIC_SEGMENTS: a ramp move on X, 100 ticks a phase, jerks +J, -J, -J, +J
+ * (J = 20000: given, then negated, the same, negated). */
+static void send_ramp_records(uint8_t seq)
+{
+    const uint8_t body[] = {QS_TYPE_CUBIC_SEGMENTS, seq,
+                            QS_CUBIC_JERK_GIVEN, 0x90, 0x03, 0xC0, 0xB8, 0x02,
+                            QS_CUBIC_JERK_NEGATE, 0x90, 0x03,
+                            QS_CUBIC_JERK_SAME, 0x90, 0x03,
+                            QS_CUBIC_JERK_NEGATE, 0x90, 0x03};
+    tp_send(&core, body, sizeof body);
+}
+
+static void test_cubic_records_take_a_slot_each_all_or_none(void)
+{
+    qs_ack a;
+    qs_core_configure(&core, 4, 4, QS_TICK_HZ);
+    tp_send_segment(&core, 0, 50, 0x2, 0, &to_rest);
+    sent();
+    send_ramp_records(1); /* three slots free: refused whole, seq kept */
+    a = only_ack();
+    TEST_ASSERT_EQUAL_INT(QS_ACK_QUEUE_FULL, a.reason);
+    TEST_ASSERT_EQUAL_INT(1, a.next_seq);
+    TEST_ASSERT_EQUAL_INT(1, qs_queue_count(&core.engine.queue));
+    tp_ticks(&core, 60);
+    qs_core_poll(&core);
+    sent();
+    send_ramp_records(1);
+    a = only_ack();
+    TEST_ASSERT_EQUAL_INT(QS_ACK_ACCEPTED, a.reason);
+    TEST_ASSERT_EQUAL_INT(2, a.next_seq);
+    TEST_ASSERT_EQUAL_INT(4, qs_queue_count(&core.engine.queue));
+    tp_ticks(&core, 1000);
+    qs_core_poll(&core);
+    TEST_ASSERT_EQUAL_INT(QS_STATE_IDLE, status().state);
+    TEST_ASSERT_EQUAL_INT32(19, status().position[0]); /* cubic_model.py's steps for this ramp */
+}
+
+static void test_a_refused_cubic_record_runs_nothing_of_its_frame(void)
+{
+    const uint8_t body[] = {QS_TYPE_CUBIC_SEGMENTS, 0,
+                            QS_CUBIC_JERK_GIVEN, 0xC0, 0x0C, 0xC0, 0xB8, 0x02, /* X: 400 ticks at jerk 20000, some 99 steps */
+                            QS_CUBIC_JERK_GIVEN << 2, 0x0C, 0x05};            /* Y: 3 ticks at jerk -3 from rest */
+    uint16_t n = 0;
+    tp_send(&core, body, sizeof body);
+    n = sent();
+    TEST_ASSERT_TRUE(n >= 2);
+    TEST_ASSERT_EQUAL_HEX8(QS_TYPE_ERROR, reports[0].type);
+    TEST_ASSERT_EQUAL_INT(QS_ERR_BAD_FIELD, reports[0].payload[0]);
+    TEST_ASSERT_EQUAL_INT(QS_FIELD_SPEED, reports[0].payload[3]);
+    TEST_ASSERT_EQUAL_INT(1, reports[0].payload[4]);
+    TEST_ASSERT_EQUAL_INT(QS_STATE_ALARM, status().state);
+    TEST_ASSERT_EQUAL_INT(0, qs_queue_count(&core.engine.queue));
+    tp_ticks(&core, 1000);
+    TEST_ASSERT_EQUAL_INT32(0, status().position[0]);
+}
+
 static void test_identify_reports_what_the_firmware_is(void)
 {
     const uint8_t *p;
@@ -581,6 +637,8 @@ int main(void)
     RUN_TEST(test_parked_segments_run_in_order_once_the_lost_one_arrives);
     RUN_TEST(test_queue_full_keeps_the_seq_and_space_reports_free_slots);
     RUN_TEST(test_segments_take_a_slot_each_all_or_none);
+    RUN_TEST(test_cubic_records_take_a_slot_each_all_or_none);
+    RUN_TEST(test_a_refused_cubic_record_runs_nothing_of_its_frame);
     RUN_TEST(test_one_space_ack_covers_segments_finished_together);
     RUN_TEST(test_stop_halts_flushes_and_sets_next_seq);
     RUN_TEST(test_status_while_running_reads_the_steps_made_so_far);
