@@ -70,6 +70,7 @@ def test_scurve_jobs_run_exactly_as_predicted(job: str, start_emulator, tmp_path
     assert result["completed"] and result["exact"]
     assert result["positions_steps"] == list(plan.end) == [0, 0, 0]
     assert result["motion_ticks"] == plan.duration_ticks
+    assert result["link"]["frames_sent"] < len(plan) / 2  # cubic segments go several to a CUBIC_SEGMENTS frame
     summary = emu.stop()
     expected = predict(plan.segments.segments(), list(plan.start), axis_count=3)
     steps = read_trace(trace)
