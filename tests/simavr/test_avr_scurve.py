@@ -5,6 +5,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
+from test_avr_segments import send_packed
 from test_avr_steps import run_both
 
 from quadstep.config import parse_config
@@ -20,7 +21,7 @@ G0 X0 Y0 Z0
 """
 
 
-def test_uno_runs_an_scurve_job_as_predicted(avr_build: None, tmp_path: Path, start_emulator) -> None:
+def scurve_segments() -> list:
     config = parse_config({
         "tick_hz": 32000,
         "axes": [{"name": n, "steps_per_mm": 400, "max_speed": 40, "max_accel": 800, "max_jerk": 40000,
@@ -30,4 +31,13 @@ def test_uno_runs_an_scurve_job_as_predicted(avr_build: None, tmp_path: Path, st
     plan = plan_program(program, config)
     segments = list(plan.segments.segments())
     assert len(segments) > 40 and plan.end == (0, 0, 0)
-    run_both("uno", [segments], tmp_path, start_emulator)
+    return segments
+
+
+def test_uno_runs_an_scurve_job_as_predicted(avr_build: None, tmp_path: Path, start_emulator) -> None:
+    run_both("uno", [scurve_segments()], tmp_path, start_emulator)
+
+
+def test_uno_runs_an_scurve_job_sent_as_cubic_segments_runs(avr_build: None, tmp_path: Path, start_emulator) -> None:
+    """The same job as a motion sends it: its cubic segments several to a CUBIC_SEGMENTS frame."""
+    run_both("uno", [scurve_segments()], tmp_path, start_emulator, send=send_packed)

@@ -1,4 +1,5 @@
-"""SEGMENTS on the board: the same streams sent as chained records, several to a frame (PROTOCOL.md §5.2), make
+"""SEGMENTS and CUBIC_SEGMENTS on the board: the same streams sent as chained records, several to a frame
+(PROTOCOL.md §5.2), make
 exactly the steps of the emulator and of the host's prediction on the real AVR firmware in simavr, and take
 far fewer bytes than one SEGMENT a frame."""
 
@@ -11,6 +12,7 @@ import pytest
 import avr_scenarios
 from quadstep.link import Link
 from quadstep.protocol import Capability, Segment, StatusReport, encode
+from quadstep.protocol.cubic_run import CubicSegments
 from quadstep.protocol.messages import queue_slots
 from quadstep.protocol.segment_run import RunChain, Segments, next_frame, run_limit
 from test_avr_steps import AXES, run_both
@@ -41,7 +43,7 @@ def send_packed(url: str, runs: list[list[Segment]]) -> StatusReport:
         assert identity is not None and identity.capabilities & Capability.SEGMENTS
         for run in runs:
             sent = frames(run, run_limit(identity.queue_capacity))
-            assert any(isinstance(m, Segments) and len(m) > 1 for m in sent)
+            assert any(isinstance(m, (Segments, CubicSegments)) and len(m) > 1 for m in sent)
             for message in sent:
                 link.send(message, timeout=60)
             status = link.wait_idle(timeout=120)
