@@ -22,6 +22,8 @@ import avr_scenarios  # noqa: E402
 import avr_sim  # noqa: E402
 from quadstep.protocol import encode  # noqa: E402
 from quadstep.protocol.cubic import CubicAxis, CubicSegment  # noqa: E402
+from quadstep.protocol.cubic_run import CubicSegments, SpeedChain, pack  # noqa: E402
+from quadstep.protocol.segment_run import run_limit  # noqa: E402
 
 F_CPU = avr_sim.F_CPU
 SIGMA = 1 << 31
@@ -40,14 +42,26 @@ def steady_stream(n: int, count: int, accel: int) -> list[CubicSegment]:
     return segs
 
 
-def feed(segs: list[CubicSegment], name: str, seconds: float, dwell: bool = False) -> dict:
-    """Run segs flow-controlled; with dwell, after a segment that moves nothing for 1022 ticks, so that the
-    queue is full before the motion starts (as a host starts a job) and the ticks measured serve no bytes
-    but the acks'."""
+def in_runs(segs: list[CubicSegment], limit: int) -> list[CubicSegment | CubicSegments]:
+    """The segments as a motion sends them to an Uno: CUBIC_SEGMENTS frames of up to `limit` records."""
+    chain, out, index = SpeedChain.at_rest(3), [], 0
+    while index < len(segs):
+        frame = pack(segs[index:], chain, limit)
+        assert frame is not None
+        out.append(frame)
+        index += len(frame)
+    return out
+
+
+def feed(segs: list[CubicSegment], name: str, seconds: float, dwell: bool = False, runs: int = 0) -> dict:
+    """Run segs flow-controlled (with `runs`, in CUBIC_SEGMENTS frames of that many records); with dwell,
+    after a segment that moves nothing for 1022 ticks, so that the queue is full before the motion starts
+    (as a host starts a job) and the ticks measured serve no bytes but the acks'."""
     WORK.mkdir(parents=True, exist_ok=True)
     if dwell:
         segs = [CubicSegment(n=1022), *segs]
-    frames = b"".join(encode(s, i & 0xFF) for i, s in enumerate(segs))
+    messages = in_runs(segs, runs) if runs else segs
+    frames = b"".join(encode(s, i & 0xFF) for i, s in enumerate(messages))
     path = WORK / f"{name}.feed"
     path.write_bytes(frames)
     stats = WORK / f"{name}.json"
@@ -63,9 +77,10 @@ def clean(st: dict) -> bool:
             and m["ticks_missed"] == 0)
 
 
-def main_loop_cycles(st: dict) -> float:
+def main_loop_cycles(st: dict, segments: int | None = None) -> float:
+    """Main-loop cycles per frame, or per segment of `segments`."""
     isr = st["isr"]["timer"]
-    return (st["cycles"] - st["sleep_cycles"] - isr["count"] * isr["mean"]) / st["feed"]["frames"]
+    return (st["cycles"] - st["sleep_cycles"] - isr["count"] * isr["mean"]) / (segments or st["feed"]["frames"])
 
 
 def main() -> None:
@@ -89,24 +104,34 @@ def main() -> None:
         print(f"  {name:>24} {b3['count']:>7} {b3['mean']:>7.1f} {b3['max']:>5}   all ticks: mean {isr['mean']:.1f}, "
               f"max {isr['max']}; main loop per segment {main_loop_cycles(st):,.0f}")
     seconds = 0.2 if args.quick else 0.5
+    limit = run_limit(avr_sim.avr_define("QS_QUEUE_CAPACITY"))
+    for runs, how in ((0, "one CUBIC_SEGMENT a frame"), (limit, f"CUBIC_SEGMENTS of {limit} records")):
+        shortest(tick_hz, seconds, runs, how)
+
+
+def shortest(tick_hz: int, seconds: float, runs: int, how: str) -> None:
+    """The shortest cubic segment the board takes cleanly with three axes in jerk phases, by bisection."""
+    def count(n: int) -> int:
+        return max(20, int(seconds * tick_hz / n))
+
     lo, hi = 16, 4000  # lo fails, hi passes (checked)
-    st = feed(jerk_stream(hi, max(20, int(seconds * tick_hz / hi))), "rate", seconds * 3 + 0.3)
+    st = feed(jerk_stream(hi, count(hi)), "rate", seconds * 3 + 0.3, runs=runs)
     if not clean(st):
-        print("  even 4000-tick cubic segments are not taken cleanly")
+        print(f"  {how}: even 4000-tick cubic segments are not taken cleanly")
         return
     best = st
     while hi - lo > 4:
         mid = (lo + hi) // 2
-        st = feed(jerk_stream(mid, max(20, int(seconds * tick_hz / mid))), "rate", seconds * 3 + 0.3)
+        st = feed(jerk_stream(mid, count(mid)), "rate", seconds * 3 + 0.3, runs=runs)
         if clean(st):
             hi, best = mid, st
         else:
             lo = mid
     isr = best["isr"]["timer"]
-    print(f"  shortest cubic segment taken with 3 axes in jerk phases: {hi} ticks = {tick_hz / hi:,.0f} segments/s "
-          f"(step interrupt mean {isr['mean']:.0f}, max {isr['max']}; main loop {main_loop_cycles(best):,.0f} cycles "
-          f"per segment)")
-
+    per_segment = main_loop_cycles(best, len(jerk_stream(hi, count(hi))))
+    print(f"  {how}: shortest cubic segment taken with 3 axes in jerk phases {hi} ticks = "
+          f"{tick_hz / hi:,.0f} segments/s (step interrupt mean {isr['mean']:.0f}, max {isr['max']}; main loop "
+          f"{per_segment:,.0f} cycles per segment)")
 
 if __name__ == "__main__":
     main()

@@ -121,7 +121,7 @@ def jerk_phases(n: int, count: int, axes: int = 3) -> list[CubicSegment]:
     falls back, the speed swings a little): every axis steps nearly every tick, in jerk phases, the
     costliest cubic tick."""
     sigma = 1 << 31
-    r = max(1, int(0.02 * sigma / (n * n)))
+    r = min(32767, max(1, int(0.02 * sigma / (n * n))))  # the jerk field's limit for the shortest segments
     start = CubicSegment(n=n, axes=tuple(CubicAxis(axis=a, speed=int(0.9 * sigma), jerk=r) for a in range(axes)))
     pattern = (-r, -r, r, r)
     segs = [start]

@@ -6,6 +6,7 @@
 #include <string.h>
 
 #include "qs_frame.h"
+#include "qs_messages.h"
 #include "qs_protocol.h"
 
 #define MAX_IN_FLIGHT 127
@@ -14,6 +15,7 @@ typedef struct {
     size_t offset; /* into bytes */
     uint8_t len;   /* wire bytes, delimiter included */
     uint8_t seq;
+    uint8_t slots; /* queue slots it takes: its records in SEGMENTS and CUBIC_SEGMENTS, else 1 */
 } feed_frame;
 
 struct sim_feed {
@@ -23,6 +25,7 @@ struct sim_feed {
     feed_frame *frames;
     size_t count;
     size_t next_to_send;
+    size_t first_unacked; /* frames from here to next_to_send are in flight */
     int session;      /* IDENTIFY_REPLY seen */
     uint8_t next_seq; /* from the latest reply */
     uint8_t free;
@@ -69,7 +72,13 @@ static int load_frames(sim_feed *f, const char *path)
             fprintf(stderr, "%s: byte %zu: not a well-formed sequenced frame\n", path, start);
             return -1;
         }
-        f->frames[f->count++] = (feed_frame){start, (uint8_t)(i + 1 - start), body[1]};
+        qs_segments_msg run = {0};
+        const uint8_t plen = (uint8_t)(qs_frame_body_len(&rx) - 2);
+        if (body[0] == QS_TYPE_SEGMENTS)
+            qs_msg_parse_segments(body + 2, plen, &run);
+        else if (body[0] == QS_TYPE_CUBIC_SEGMENTS)
+            qs_msg_parse_cubic_segments(body + 2, plen, &run);
+        f->frames[f->count++] = (feed_frame){start, (uint8_t)(i + 1 - start), body[1], run.count ? run.count : 1};
         start = i + 1;
     }
     if (start != len || f->count == 0) {
@@ -106,13 +115,17 @@ void sim_feed_start(sim_feed *f)
     sim_wire_send(f->wire, wire, (size_t)len + 1);
 }
 
-/* Send every frame the window allows: seqs next_seq .. next_seq + free - 1. */
+/* Send every frame the window allows: from next_seq on, frames whose slots
+ * together fit in free. */
 static void pump(sim_feed *f)
 {
     while (f->session && f->next_to_send < f->count) {
         const feed_frame *fr = &f->frames[f->next_to_send];
         const uint8_t ahead = (uint8_t)(fr->seq - f->next_seq);
-        if (ahead >= f->free || ahead >= MAX_IN_FLIGHT) {
+        unsigned slots = fr->slots;
+        for (size_t i = f->first_unacked; i < f->next_to_send; i++)
+            slots += f->frames[i].slots;
+        if (slots > f->free || ahead >= MAX_IN_FLIGHT) {
             return;
         }
         sim_wire_send(f->wire, f->bytes + fr->offset, fr->len);
@@ -125,6 +138,10 @@ static void on_ack(sim_feed *f, const uint8_t *p)
 {
     f->next_seq = p[0];
     f->free = p[1];
+    /* frames before next_seq are taken (seqs compared mod 256, in order) */
+    while (f->first_unacked < f->next_to_send
+           && (uint8_t)(f->next_seq - f->frames[f->first_unacked].seq - 1) < MAX_IN_FLIGHT)
+        f->first_unacked++;
     switch (p[2]) {
     case QS_ACK_ACCEPTED:
         if (f->stats.accepted++ == 0) {
