@@ -5,6 +5,8 @@ from __future__ import annotations
 
 from pathlib import Path
 
+import pytest
+
 from test_avr_segments import send_packed
 from test_avr_steps import run_both
 
@@ -38,6 +40,8 @@ def test_uno_runs_an_scurve_job_as_predicted(avr_build: None, tmp_path: Path, st
     run_both("uno", [scurve_segments()], tmp_path, start_emulator)
 
 
-def test_uno_runs_an_scurve_job_sent_as_cubic_segments_runs(avr_build: None, tmp_path: Path, start_emulator) -> None:
+@pytest.mark.parametrize("board", ["uno", "mega"])
+def test_an_scurve_job_sent_in_cubic_segments_frames_runs_as_predicted(board: str, avr_build: None, tmp_path: Path,
+                                                                       start_emulator) -> None:
     """The same job as a motion sends it: its cubic segments several to a CUBIC_SEGMENTS frame."""
-    run_both("uno", [scurve_segments()], tmp_path, start_emulator, send=send_packed)
+    run_both(board, [scurve_segments()], tmp_path, start_emulator, send=send_packed)
