@@ -193,14 +193,6 @@ void qs_cubic_follow_quadratic(qs_cubic_chain *c, const qs_segment *slot, const 
     c->after_negative = m->negative;
 }
 
-static uint8_t bad_field(qs_fault *f, uint8_t field, uint8_t axis)
-{
-    f->code = QS_ERR_BAD_FIELD;
-    f->field = field;
-    f->axis = axis;
-    return QS_ERR_BAD_FIELD;
-}
-
 _Static_assert(offsetof(qs_cubic_chain, e) == 0 && offsetof(qs_cubic_chain, i) == offsetof(qs_cubic_ends, i)
                    && offsetof(qs_cubic_chain, d) == offsetof(qs_cubic_ends, d),
                "the chain begins as qs_cubic_ends");
@@ -260,8 +252,8 @@ static QS_NOINLINE uint8_t refuse(const qs_cubic_chain *c, const qs_cubic_msg *m
 
     for (axis = 0; axis < axis_count; axis++)
         if (!accel_ok(c, m, axis))
-            return bad_field(f, QS_FIELD_ACCEL, axis);
-    return bad_field(f, QS_FIELD_SPEED, failed);
+            return qs_msg_bad_field(f, QS_FIELD_ACCEL, axis);
+    return qs_msg_bad_field(f, QS_FIELD_SPEED, failed);
 }
 
 QS_NOINLINE uint8_t qs_cubic_prepare(qs_cubic_chain *c, qs_segment *slot, const qs_cubic_msg *m, uint8_t axis_count,
@@ -275,9 +267,9 @@ QS_NOINLINE uint8_t qs_cubic_prepare(qs_cubic_chain *c, qs_segment *slot, const 
 
     settle(c);
     if (n < 1)
-        return bad_field(f, QS_FIELD_N, QS_AXIS_NONE);
+        return qs_msg_bad_field(f, QS_FIELD_N, QS_AXIS_NONE);
     if (named & (uint8_t)(0xFFu << axis_count))
-        return bad_field(f, QS_FIELD_AXES, QS_AXIS_NONE);
+        return qs_msg_bad_field(f, QS_FIELD_AXES, QS_AXIS_NONE);
     segment_counts(t, n);
     slot->n = n;
     slot->active = 0;

@@ -24,14 +24,6 @@ static int32_t signed_varint(const uint8_t **at)
     return (int32_t)((u >> 1) ^ (uint32_t)-(int32_t)(u & 1u));
 }
 
-static uint8_t bad_field(qs_fault *f, uint8_t field, uint8_t axis)
-{
-    f->code = QS_ERR_BAD_FIELD;
-    f->field = field;
-    f->axis = axis;
-    return QS_ERR_BAD_FIELD;
-}
-
 uint8_t qs_cubic_records_next(qs_segments_msg *run, qs_cubic_chain *chain, uint8_t axis_count, qs_cubic_msg *m,
                               qs_fault *f)
 {
@@ -41,7 +33,7 @@ uint8_t qs_cubic_records_next(qs_segments_msg *run, qs_cubic_chain *chain, uint8
     uint8_t sets = 0, named = 0, axis, bit, code;
 
     if (head < 4 || head >> 2 > QS_CUBIC_N_MAX)
-        return bad_field(f, QS_FIELD_N, QS_AXIS_NONE);
+        return qs_msg_bad_field(f, QS_FIELD_N, QS_AXIS_NONE);
     m->n = (uint16_t)(head >> 2);
     if (head & QS_CUBIC_RECORD_SETS)
         sets = *p++;
@@ -53,9 +45,9 @@ uint8_t qs_cubic_records_next(qs_segments_msg *run, qs_cubic_chain *chain, uint8
     m->negative = (uint8_t)(sets >> 4);
     /* the chain has no state for an axis the firmware lacks */
     if ((named | m->set) >> axis_count)
-        return bad_field(f, QS_FIELD_AXES, QS_AXIS_NONE);
+        return qs_msg_bad_field(f, QS_FIELD_AXES, QS_AXIS_NONE);
     if (m->negative & (uint8_t)~m->set)
-        return bad_field(f, QS_FIELD_DIRECTION, QS_AXIS_NONE);
+        return qs_msg_bad_field(f, QS_FIELD_DIRECTION, QS_AXIS_NONE);
     for (axis = 0, bit = 1; axis < QS_PROTOCOL_AXES; axis++, bit = (uint8_t)(bit << 1)) {
         m->speed[axis] = 0;
         m->accel[axis] = 0;
@@ -67,23 +59,23 @@ uint8_t qs_cubic_records_next(qs_segments_msg *run, qs_cubic_chain *chain, uint8
 
             base = qs_cubic_speed(chain, axis, &negative);
             if (base > QS_SIGMA)
-                return bad_field(f, QS_FIELD_SPEED, axis);
+                return qs_msg_bad_field(f, QS_FIELD_SPEED, axis);
             if (negative != ((m->negative & bit) ? 1u : 0u)) {
                 /* reversed: change - base */
                 if (change < 0 || (uint32_t)change < base)
-                    return bad_field(f, QS_FIELD_SPEED, axis);
+                    return qs_msg_bad_field(f, QS_FIELD_SPEED, axis);
                 base = (uint32_t)change - base;
             } else if (change < 0) {
                 const uint32_t less = 0u - (uint32_t)change;
 
                 if (base < less)
-                    return bad_field(f, QS_FIELD_SPEED, axis);
+                    return qs_msg_bad_field(f, QS_FIELD_SPEED, axis);
                 base -= less;
             } else {
                 base += (uint32_t)change;
             }
             if (base >= QS_SIGMA)
-                return bad_field(f, QS_FIELD_SPEED, axis);
+                return qs_msg_bad_field(f, QS_FIELD_SPEED, axis);
             m->speed[axis] = base;
             if (head & QS_CUBIC_RECORD_ACCEL)
                 m->accel[axis] = signed_varint(&p);
@@ -106,7 +98,7 @@ uint8_t qs_cubic_records_next(qs_segments_msg *run, qs_cubic_chain *chain, uint8
             break;
         }
         if (r < -32768L || r > 32767L)
-            return bad_field(f, QS_FIELD_JERK, axis);
+            return qs_msg_bad_field(f, QS_FIELD_JERK, axis);
         if (code & 3u)
             run->last[axis] = (int16_t)r;
         m->r[axis] = (int16_t)r;

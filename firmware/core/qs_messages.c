@@ -280,7 +280,7 @@ uint8_t qs_msg_parse_outputs(const uint8_t *p, uint8_t len, qs_outputs_msg *o)
     return QS_ERR_NONE;
 }
 
-static uint8_t bad_field(qs_fault *f, uint8_t field, uint8_t axis)
+uint8_t qs_msg_bad_field(qs_fault *f, uint8_t field, uint8_t axis)
 {
     f->code = QS_ERR_BAD_FIELD;
     f->field = field;
@@ -310,13 +310,13 @@ static uint8_t name_bad_field(const qs_segment_msg *s, qs_fault *f)
 
     for (axis = 0; axis < QS_PROTOCOL_AXES; axis++)
         if ((s->active & (1u << axis)) && s->v0[axis] > QS_V_MAX)
-            return bad_field(f, QS_FIELD_V0, axis);
+            return qs_msg_bad_field(f, QS_FIELD_V0, axis);
     for (axis = 0; axis < QS_PROTOCOL_AXES; axis++)
         if ((s->active & (1u << axis)) && s->vn[axis] > QS_V_MAX)
-            return bad_field(f, QS_FIELD_VN, axis);
+            return qs_msg_bad_field(f, QS_FIELD_VN, axis);
     for (axis = 0; axis < QS_PROTOCOL_AXES; axis++)
         if ((s->active & (1u << axis)) && !axis_fields_valid(s->v0[axis], s->vn[axis], s->r[axis]))
-            return bad_field(f, QS_FIELD_RESIDUAL, axis);
+            return qs_msg_bad_field(f, QS_FIELD_RESIDUAL, axis);
     return QS_ERR_NONE; /* not reached: some axis was invalid */
 }
 
@@ -325,11 +325,11 @@ QS_NOINLINE uint8_t qs_msg_check_segment(const qs_segment_msg *s, uint8_t axis_c
     uint8_t axis, bit;
 
     if (s->n < 1 || s->n > QS_N_MAX)
-        return bad_field(f, QS_FIELD_N, QS_AXIS_NONE);
+        return qs_msg_bad_field(f, QS_FIELD_N, QS_AXIS_NONE);
     if (s->active & axes_beyond(axis_count))
-        return bad_field(f, QS_FIELD_AXES, QS_AXIS_NONE);
+        return qs_msg_bad_field(f, QS_FIELD_AXES, QS_AXIS_NONE);
     if (s->negative & (uint8_t)~s->active)
-        return bad_field(f, QS_FIELD_DIRECTION, QS_AXIS_NONE);
+        return qs_msg_bad_field(f, QS_FIELD_DIRECTION, QS_AXIS_NONE);
     /* One pass for the usual case, a valid segment (a walking bit, as in
      * parse_segment). */
     for (axis = 0, bit = 1; axis < QS_PROTOCOL_AXES; axis++, bit = (uint8_t)(bit << 1))
@@ -344,10 +344,10 @@ uint8_t qs_msg_check_set_position(const qs_set_position_msg *p, uint8_t axis_cou
     uint8_t axis;
 
     if (p->mask & axes_beyond(axis_count))
-        return bad_field(f, QS_FIELD_AXES, QS_AXIS_NONE);
+        return qs_msg_bad_field(f, QS_FIELD_AXES, QS_AXIS_NONE);
     for (axis = 0; axis < QS_PROTOCOL_AXES; axis++)
         if ((p->mask & (1u << axis)) && (p->position[axis] > QS_POSITION_MAX || p->position[axis] < -QS_POSITION_MAX))
-            return bad_field(f, QS_FIELD_POSITION, axis);
+            return qs_msg_bad_field(f, QS_FIELD_POSITION, axis);
     f->code = QS_ERR_NONE;
     return QS_ERR_NONE;
 }
@@ -363,7 +363,7 @@ uint8_t qs_msg_parse_watchdog(const uint8_t *p, uint8_t len, qs_watchdog_msg *w)
 uint8_t qs_msg_check_watchdog(const qs_watchdog_msg *w, qs_fault *f)
 {
     if (w->timeout_ms > QS_WATCHDOG_MAX_MS)
-        return bad_field(f, QS_FIELD_TIMEOUT, QS_AXIS_NONE);
+        return qs_msg_bad_field(f, QS_FIELD_TIMEOUT, QS_AXIS_NONE);
     f->code = QS_ERR_NONE;
     return QS_ERR_NONE;
 }
@@ -377,7 +377,7 @@ uint8_t qs_msg_check_hold(const qs_hold_msg *h, uint8_t axis_count, qs_fault *f)
     for (axis = 0; axis < QS_PROTOCOL_AXES; axis++) {
         uint16_t d = h->decel[axis];
         if (axis < axis_count ? (d < 1 || d > QS_DECEL_MAX) : d != 0)
-            return bad_field(f, QS_FIELD_DECEL, axis);
+            return qs_msg_bad_field(f, QS_FIELD_DECEL, axis);
     }
     f->code = QS_ERR_NONE;
     return QS_ERR_NONE;
@@ -388,9 +388,9 @@ uint8_t qs_msg_check_hold(const qs_hold_msg *h, uint8_t axis_count, qs_fault *f)
 uint8_t qs_msg_check_probe(const qs_probe_msg *pr, uint8_t axis_count, uint16_t present, qs_fault *f)
 {
     if (pr->input > QS_INPUT_PROBE || !((present >> pr->input) & 1u))
-        return bad_field(f, QS_FIELD_INPUT, QS_AXIS_NONE);
+        return qs_msg_bad_field(f, QS_FIELD_INPUT, QS_AXIS_NONE);
     if (pr->level > 1)
-        return bad_field(f, QS_FIELD_LEVEL, QS_AXIS_NONE);
+        return qs_msg_bad_field(f, QS_FIELD_LEVEL, QS_AXIS_NONE);
     return qs_msg_check_hold(&pr->hold, axis_count, f);
 }
 
@@ -401,9 +401,9 @@ uint8_t qs_msg_check_config(const qs_config_msg *cf, uint8_t axis_count, qs_faul
     const uint16_t beyond = (uint16_t)~((1u << QS_WIRE_INPUTS) - 1u);
 
     if ((cf->invert | cf->enabled) & beyond)
-        return bad_field(f, QS_FIELD_INPUTS, QS_AXIS_NONE);
+        return qs_msg_bad_field(f, QS_FIELD_INPUTS, QS_AXIS_NONE);
     if (cf->hard_limits > 1)
-        return bad_field(f, QS_FIELD_HARD_LIMITS, QS_AXIS_NONE);
+        return qs_msg_bad_field(f, QS_FIELD_HARD_LIMITS, QS_AXIS_NONE);
     return qs_msg_check_hold(&cf->hold, axis_count, f);
 }
 
@@ -412,14 +412,14 @@ uint8_t qs_msg_check_config(const qs_config_msg *cf, uint8_t axis_count, qs_faul
 uint8_t qs_msg_check_outputs(const qs_outputs_msg *o, uint8_t axis_count, qs_fault *f)
 {
     if (o->outputs & (uint8_t)~QS_OUT_BITS)
-        return bad_field(f, QS_FIELD_OUTPUTS, QS_AXIS_NONE);
+        return qs_msg_bad_field(f, QS_FIELD_OUTPUTS, QS_AXIS_NONE);
     if (o->outputs & QS_OUT_DYNAMIC) {
         if (o->axis >= axis_count)
-            return bad_field(f, QS_FIELD_REFERENCE, o->axis);
+            return qs_msg_bad_field(f, QS_FIELD_REFERENCE, o->axis);
         if (o->speed == 0 || o->speed > QS_D)
-            return bad_field(f, QS_FIELD_REFERENCE, o->axis);
+            return qs_msg_bad_field(f, QS_FIELD_REFERENCE, o->axis);
     } else if (o->axis != 0 || o->speed != 0) {
-        return bad_field(f, QS_FIELD_REFERENCE, QS_AXIS_NONE);
+        return qs_msg_bad_field(f, QS_FIELD_REFERENCE, QS_AXIS_NONE);
     }
     return QS_ERR_NONE;
 }

@@ -129,6 +129,9 @@ uint8_t qs_msg_parse_config(const uint8_t *p, uint8_t len, qs_config_msg *cf);
 uint8_t qs_msg_parse_watchdog(const uint8_t *p, uint8_t len, qs_watchdog_msg *w);
 uint8_t qs_msg_parse_outputs(const uint8_t *p, uint8_t len, qs_outputs_msg *o);
 
+/* f filled in for BAD_FIELD of field (QS_FIELD_*) and axis; returns QS_ERR_BAD_FIELD. */
+uint8_t qs_msg_bad_field(qs_fault *f, uint8_t field, uint8_t axis);
+
 /* Content checks in the order of section 5.2. Return QS_ERR_NONE or
  * QS_ERR_BAD_FIELD with f filled in. */
 uint8_t qs_msg_check_segment(const qs_segment_msg *s, uint8_t axis_count, qs_fault *f);

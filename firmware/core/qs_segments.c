@@ -16,14 +16,6 @@ static int16_t signed_varint(const uint8_t **at)
     return (int16_t)((u >> 1) ^ (uint16_t)-(int16_t)(u & 1u));
 }
 
-static uint8_t bad_field(qs_fault *f, uint8_t field, uint8_t axis)
-{
-    f->code = QS_ERR_BAD_FIELD;
-    f->field = field;
-    f->axis = axis;
-    return QS_ERR_BAD_FIELD;
-}
-
 uint8_t qs_segments_next(qs_segments_msg *run, qs_cubic_chain *chain, uint8_t axis_count, qs_segment_msg *s,
                          qs_fault *f)
 {
@@ -41,9 +33,9 @@ uint8_t qs_segments_next(qs_segments_msg *run, qs_cubic_chain *chain, uint8_t ax
     }
     /* the chain has no state for an axis the firmware lacks */
     if (s->active >> axis_count)
-        return bad_field(f, QS_FIELD_AXES, QS_AXIS_NONE);
+        return qs_msg_bad_field(f, QS_FIELD_AXES, QS_AXIS_NONE);
     if (s->negative & (uint8_t)~s->active)
-        return bad_field(f, QS_FIELD_DIRECTION, QS_AXIS_NONE);
+        return qs_msg_bad_field(f, QS_FIELD_DIRECTION, QS_AXIS_NONE);
     for (axis = 0, bit = 1; axis < QS_PROTOCOL_AXES; axis++, bit = (uint8_t)(bit << 1)) {
         uint16_t speed = 0;
         int16_t residual = 0, v0, vn;
@@ -57,7 +49,7 @@ uint8_t qs_segments_next(qs_segments_msg *run, qs_cubic_chain *chain, uint8_t ax
         known = qs_cubic_quadratic_start(chain, axis, (s->negative & bit) ? 1 : 0, &speed, &residual);
         if (head != QS_RECORD_REPEAT) {
             if (!(known & QS_CHAIN_SPEED))
-                return bad_field(f, QS_FIELD_V0, axis);
+                return qs_msg_bad_field(f, QS_FIELD_V0, axis);
             v0 = (int16_t)speed;
             if (head & QS_RECORD_START)
                 v0 = (int16_t)(v0 + signed_varint(&p));
@@ -71,16 +63,16 @@ uint8_t qs_segments_next(qs_segments_msg *run, qs_cubic_chain *chain, uint8_t ax
             if (head & QS_RECORD_MIRROR)
                 vn = (int16_t)(vn - run->last[axis]);
             if (v0 < 0 || v0 > QS_V_MAX)
-                return bad_field(f, QS_FIELD_V0, axis);
+                return qs_msg_bad_field(f, QS_FIELD_V0, axis);
             if (vn < 0 || vn > QS_V_MAX)
-                return bad_field(f, QS_FIELD_VN, axis);
+                return qs_msg_bad_field(f, QS_FIELD_VN, axis);
             s->v0[axis] = (uint16_t)v0;
             s->vn[axis] = (uint16_t)vn;
             if (vn != v0)
                 run->last[axis] = (int16_t)(vn - v0);
         }
         if (!(known & QS_CHAIN_RESIDUAL))
-            return bad_field(f, QS_FIELD_RESIDUAL, axis);
+            return qs_msg_bad_field(f, QS_FIELD_RESIDUAL, axis);
         s->r[axis] = residual;
     }
     run->next = p;

@@ -20,7 +20,8 @@ from .planner.plan import Plan, plan_program
 from .planner.program import JobError, Program
 from .protocol.codec import encode
 from .protocol.messages import queue_slots
-from .protocol.segment_run import RunChain, next_frame, run_limit
+from .protocol.frames import next_frame, run_limit
+from .protocol.segment_run import RunChain
 from .textfile import read_text
 
 MOVE_FILE_SUFFIXES = (".json", ".yaml", ".yml")

@@ -23,7 +23,7 @@ import avr_sim  # noqa: E402
 from quadstep.protocol import encode  # noqa: E402
 from quadstep.protocol.cubic import CubicAxis, CubicSegment  # noqa: E402
 from quadstep.protocol.cubic_run import CubicSegments, SpeedChain, pack  # noqa: E402
-from quadstep.protocol.segment_run import run_limit  # noqa: E402
+from quadstep.protocol.frames import run_limit  # noqa: E402
 
 F_CPU = avr_sim.F_CPU
 SIGMA = 1 << 31

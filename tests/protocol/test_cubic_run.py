@@ -16,9 +16,11 @@ from quadstep.protocol import MAX_FRAME, AxisMove, CubicAxis, CubicSegment, Segm
 from quadstep.protocol.codec import decode
 from quadstep.protocol.cubic import SIGMA, CubicChain, CubicRefused
 from quadstep.protocol.cubic_run import CubicSegments, SpeedChain, expand, pack
-from quadstep.protocol.framing import check_block
+from quadstep.protocol.frames import next_frame
 from quadstep.protocol.messages import queue_slots
-from quadstep.protocol.segment_run import RunChain, next_frame
+from quadstep.protocol.segment_run import RunChain
+
+from frame_helpers import ListSource, read_frame
 
 REPO = Path(__file__).resolve().parents[2]
 VECTORS = [v for v in json.loads((REPO / "protocol" / "vectors.json").read_text())["vectors"]
@@ -31,24 +33,6 @@ def meaning(segment: CubicSegment) -> tuple:
     axes = tuple((a.axis, (a.speed, a.accel, a.direction) if a.speed is not None else None, a.jerk or 0)
                  for a in segment.axes if a.speed is not None or a.jerk)
     return segment.n, axes
-
-
-def read(frame: bytes) -> CubicSegment | CubicSegments | Segment:
-    """A frame's message as the firmware parses it, before its content is checked against any chain."""
-    body = check_block(frame[:-1])
-    assert isinstance(body, bytes)
-    cls = {CubicSegments.CODE: CubicSegments, CubicSegment.CODE: CubicSegment}.get(body[0], Segment)
-    raw = cls.layout().unpack(body[2:])
-    assert raw is not None
-    return cls.from_wire(raw)
-
-
-class Source:
-    def __init__(self, segments: list[Segment | CubicSegment]) -> None:
-        self.items = segments
-
-    def segment(self, i: int) -> Segment | CubicSegment:
-        return self.items[i]
 
 
 def test_there_are_cubic_segments_vectors() -> None:
@@ -109,10 +93,10 @@ def test_packed_frames_read_back_as_the_stream(stream: list[Segment | CubicSegme
     runs = 0
     while index < len(stream):
         before = board.copy()
-        message = next_frame(Source(stream), index, len(stream), chain, limit)
+        message = next_frame(ListSource(stream), index, len(stream), chain, limit)
         frame = encode(message, index & 0xFF)
         assert len(frame) <= MAX_FRAME + 2  # COBS code byte and delimiter
-        got = read(frame)
+        got = read_frame(frame)
         if isinstance(got, CubicSegments):
             runs += 1
             assert 1 <= len(got) <= limit
@@ -134,10 +118,10 @@ def test_a_set_that_cannot_start_from_the_chain_goes_alone() -> None:
     change: the segment goes as a CUBIC_SEGMENT, and the runs start once the chain is known."""
     ramp = [CubicSegment(n=100, axes=(CubicAxis(axis=0, speed=1000, jerk=5),)), CubicSegment(n=100, axes=(CubicAxis(axis=0, jerk=-5),))]
     chain = RunChain(2)
-    first = next_frame(Source(list(ramp)), 0, 2, chain, 8)
+    first = next_frame(ListSource(list(ramp)), 0, 2, chain, 8)
     assert isinstance(first, CubicSegment)
     assert chain.speeds is not None and chain.speeds.i[1] is None and chain.speeds.i[0] == 1000 + 100 * 0 + 4950 * 5
-    assert isinstance(next_frame(Source(list(ramp)), 1, 2, chain, 8), CubicSegments)
+    assert isinstance(next_frame(ListSource(list(ramp)), 1, 2, chain, 8), CubicSegments)
 
 
 def test_a_seven_phase_move_takes_a_few_bytes_a_phase() -> None:

@@ -13,32 +13,16 @@ from hypothesis import strategies as st
 
 from quadstep.protocol import MAX_FRAME, AxisMove, CubicSegment, Segment, encode
 from quadstep.protocol.codec import decode
-from quadstep.protocol.framing import check_block
+from quadstep.protocol.frames import next_frame
 from quadstep.protocol.messages import queue_slots
-from quadstep.protocol.segment_run import RunChain, SegmentRecord, Segments, expand, next_frame, pack
+from quadstep.protocol.segment_run import RunChain, SegmentRecord, Segments, expand, pack
 from quadstep.protocol.wire import FieldFault
+
+from frame_helpers import ListSource, read_frame
 
 REPO = Path(__file__).resolve().parents[2]
 VECTORS = [v for v in json.loads((REPO / "protocol" / "vectors.json").read_text())["vectors"]
            if v["message"] is not None and v["message"]["type"] == "SEGMENTS"]
-
-
-def read(frame: bytes) -> Segment | CubicSegment | Segments:
-    """A frame's message as the firmware parses it, before its content is checked against any chain."""
-    body = check_block(frame[:-1])
-    assert isinstance(body, bytes)
-    cls = Segments if body[0] == Segments.CODE else Segment if body[0] == Segment.CODE else CubicSegment
-    raw = cls.layout().unpack(body[2:])
-    assert raw is not None
-    return cls.from_wire(raw)
-
-
-class Source:
-    def __init__(self, segments: list[Segment | CubicSegment]) -> None:
-        self.items = segments
-
-    def segment(self, i: int) -> Segment | CubicSegment:
-        return self.items[i]
 
 
 def test_there_are_segments_vectors() -> None:
@@ -98,10 +82,10 @@ def test_packed_frames_read_back_as_the_stream(stream: list[Segment], limit: int
     chain, board, index = RunChain(4), RunChain.at_rest(4), 0
     while index < len(stream):
         before = board.copy()
-        message = next_frame(Source(stream), index, len(stream), chain, limit)
+        message = next_frame(ListSource(stream), index, len(stream), chain, limit)
         frame = encode(message, index & 0xFF)
         assert len(frame) <= MAX_FRAME + 2  # COBS code byte and delimiter
-        got = read(frame)
+        got = read_frame(frame)
         if isinstance(got, Segments):
             assert 1 <= len(got) <= limit
             meant = expand(got.records, board)
@@ -124,7 +108,7 @@ def test_after_a_cubic_segment_the_next_frame_states_everything(cubic_runs: bool
     kinds = []
     index = 0
     while index < len(stream):
-        message = next_frame(Source(stream), index, len(stream), chain, 8, cubic_runs)
+        message = next_frame(ListSource(stream), index, len(stream), chain, 8, cubic_runs)
         kinds.append(type(message).__name__)
         index += queue_slots(message)
     cubic = "CubicSegments" if cubic_runs else "CubicSegment"

@@ -14,7 +14,8 @@ from quadstep.link import Link
 from quadstep.protocol import Capability, Segment, StatusReport, encode
 from quadstep.protocol.cubic_run import CubicSegments
 from quadstep.protocol.messages import queue_slots
-from quadstep.protocol.segment_run import RunChain, Segments, next_frame, run_limit
+from quadstep.protocol.frames import next_frame, run_limit
+from quadstep.protocol.segment_run import RunChain, Segments
 from test_avr_steps import AXES, run_both
 
 

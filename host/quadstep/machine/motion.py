@@ -22,7 +22,8 @@ from ..protocol import (
     DECEL_MAX, AckReason, Capability, CubicSegment, HoldDone, IdentifyReply, InputCause, Outputs, Report, Segment,
 )
 from ..protocol.messages import queue_slots
-from ..protocol.segment_run import RunChain, next_frame, run_limit
+from ..protocol.frames import next_frame, run_limit
+from ..protocol.segment_run import RunChain
 
 # Keep at least this many segments queued, whatever the lookahead, so the board
 # always has the next one when a segment ends.

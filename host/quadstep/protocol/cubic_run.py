@@ -23,7 +23,7 @@ from pydantic import BaseModel, ConfigDict, Field, SerializerFunctionWrapHandler
 from .constants import CUBIC_N_MAX, MAX_AXES, MAX_FRAME, FieldId
 from .cubic import SIGMA, CubicAxis, CubicChain, CubicRefused, CubicSegment, choose2
 from .segment import Segment
-from .wire import FieldCodec, FieldFault, Request, bits, message
+from .wire import FieldFault, RecordsField, Request, bits, message
 
 NONE, GIVEN, NEGATE, SAME = 0, 1, 2, 3  # an axis's jerk code
 SETS = 0x01  # in n's varint: a sets byte follows (bits 0–3 axes set, 4–7 their directions)
@@ -155,20 +155,14 @@ def _parse(payload: bytes, offset: int) -> tuple[list[CubicRecord], int] | None:
 
 
 @dataclass(frozen=True)
-class Records(FieldCodec):
+class Records(RecordsField):
     """The records, to the end of the payload."""
 
-    def length(self, payload: bytes, offset: int) -> int | None:
-        parsed = _parse(payload, offset)
-        return None if parsed is None else parsed[1] - offset
+    def parse(self, payload: bytes, offset: int) -> tuple[list[Any], int] | None:
+        return _parse(payload, offset)  # type: ignore[return-value]
 
     def pack(self, value: tuple[CubicRecord, ...]) -> bytes:
         return b"".join(record.pack() for record in value)
-
-    def unpack(self, payload: bytes, offset: int, size: int) -> Any:
-        parsed = _parse(payload[: offset + size], offset)
-        assert parsed is not None
-        return tuple(parsed[0])
 
 
 @message(0x19, "CUBIC_SEGMENTS")

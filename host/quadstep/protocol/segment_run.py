@@ -15,16 +15,15 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from dataclasses import dataclass, field
-from typing import Annotated, Any, Protocol
+from typing import Annotated, Any
 
 from pydantic import BaseModel, ConfigDict, Field, SerializerFunctionWrapHandler, model_serializer, model_validator
 
 from .constants import D, MAX_FRAME, V_MAX, FieldId
 from .cubic import CubicSegment
-from .cubic_run import CubicSegments, SpeedChain
-from .cubic_run import pack as cubic_pack
+from .cubic_run import SpeedChain
 from .segment import AxisMove, Segment
-from .wire import FieldCodec, FieldFault, Request, bits, message
+from .wire import FieldFault, RecordsField, Request, bits, message
 
 N_HIGH = 0x03  # n's bits 8–9 in the head; its low byte follows
 AXES = 0x04  # an axes byte follows (as SEGMENT's)
@@ -154,12 +153,11 @@ def _parse(payload: bytes, offset: int) -> tuple[list[SegmentRecord], int] | Non
 
 
 @dataclass(frozen=True)
-class Records(FieldCodec):
+class Records(RecordsField):
     """The records, to the end of the payload."""
 
-    def length(self, payload: bytes, offset: int) -> int | None:
-        parsed = _parse(payload, offset)
-        return None if parsed is None else parsed[1] - offset
+    def parse(self, payload: bytes, offset: int) -> tuple[list[Any], int] | None:
+        return _parse(payload, offset)
 
     def pack(self, value: tuple[SegmentRecord, ...]) -> bytes:
         out, axes = bytearray(), 0
@@ -167,11 +165,6 @@ class Records(FieldCodec):
             axes = record.axes if record.axes is not None else axes
             out += record.pack(_active_count(axes))
         return bytes(out)
-
-    def unpack(self, payload: bytes, offset: int, size: int) -> Any:
-        parsed = _parse(payload[: offset + size], offset)
-        assert parsed is not None
-        return tuple(parsed[0])
 
 
 @message(0x18, "SEGMENTS")
@@ -362,45 +355,3 @@ def pack(segments: Sequence[Segment], chain: RunChain, limit: int = SEGMENTS_MAX
                 last[move.axis] = move.vn - move.v0
         before = segment
     return Segments(records=tuple(records))
-
-
-def run_limit(queue_capacity: int) -> int:
-    """Segments a host puts in one SEGMENTS frame for a board with this queue: half of it (so the next frame
-    is taken while the other half runs), at most RUN_LIMIT."""
-    return max(1, min(RUN_LIMIT, queue_capacity // 2))
-
-
-class SegmentSource(Protocol):
-    """A plan's segments by index (planner/segments.py, planner/stream.py)."""
-
-    def segment(self, i: int) -> Segment | CubicSegment: ...
-
-
-def next_frame(source: SegmentSource, index: int, end: int, chain: RunChain, limit: int,
-               cubic_runs: bool = True) -> Segment | CubicSegment | Segments | CubicSegments:
-    """The frame that sends segment `index` and what follows it before `end`: segments of its kind chained
-    into SEGMENTS or CUBIC_SEGMENTS (at most `limit`; 0 where the firmware has no SEGMENTS, and cubic ones
-    only with `cubic_runs`) once the chain is known, else segment `index` alone, as its own message (with a
-    limit of 1 too: after a lost frame the board keeps later single-segment frames, never a run);
-    `chain` moves on past what the frame sends."""
-    first = source.segment(index)
-    kind = type(first)
-    run = [first]
-    for i in range(index + 1, min(end, index + limit)):
-        segment = source.segment(i)
-        if type(segment) is not kind:
-            break
-        run.append(segment)
-    if isinstance(first, CubicSegment):
-        assert chain.speeds is not None
-        cubic = cubic_pack(run, chain.speeds, limit) if limit > 1 and cubic_runs else None  # type: ignore[arg-type]
-        if cubic is None:
-            chain.follow_cubic(first)
-            return first
-        chain.forget()
-        return cubic
-    packed = pack(run, chain, limit) if limit > 1 else None  # type: ignore[arg-type]
-    if packed is None:
-        chain.follow(first)
-        return first
-    return packed

@@ -58,6 +58,23 @@ class FieldCodec:
         return raw
 
 
+class RecordsField(FieldCodec):
+    """Records to the end of the payload (SEGMENTS, CUBIC_SEGMENTS): `parse` reads them all, or says None
+    where one is not whole (BAD_LENGTH)."""
+
+    def parse(self, payload: bytes, offset: int) -> tuple[list[Any], int] | None:
+        raise NotImplementedError
+
+    def length(self, payload: bytes, offset: int) -> int | None:
+        parsed = self.parse(payload, offset)
+        return None if parsed is None else parsed[1] - offset
+
+    def unpack(self, payload: bytes, offset: int, size: int) -> Any:
+        parsed = self.parse(payload[: offset + size], offset)
+        assert parsed is not None
+        return tuple(parsed[0])
+
+
 @dataclass(frozen=True)
 class Int(FieldCodec):
     """A little-endian integer (struct code B H I b h i), or `count` of them; `none` is the wire value of None."""

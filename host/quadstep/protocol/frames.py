@@ -1,0 +1,54 @@
+"""Which frame sends the next segments of a plan: chained in SEGMENTS or CUBIC_SEGMENTS where the board has them
+and the chain is known, else one segment alone (PROTOCOL.md §5.2)."""
+
+from __future__ import annotations
+
+from typing import Protocol
+
+from .cubic import CubicSegment
+from .cubic_run import CubicSegments
+from .cubic_run import pack as cubic_pack
+from .segment import Segment
+from .segment_run import RUN_LIMIT, RunChain, Segments, pack
+
+
+def run_limit(queue_capacity: int) -> int:
+    """Segments a host puts in one SEGMENTS frame for a board with this queue: half of it (so the next frame
+    is taken while the other half runs), at most RUN_LIMIT."""
+    return max(1, min(RUN_LIMIT, queue_capacity // 2))
+
+
+class SegmentSource(Protocol):
+    """A plan's segments by index (planner/segments.py, planner/stream.py)."""
+
+    def segment(self, i: int) -> Segment | CubicSegment: ...
+
+
+def next_frame(source: SegmentSource, index: int, end: int, chain: RunChain, limit: int,
+               cubic_runs: bool = True) -> Segment | CubicSegment | Segments | CubicSegments:
+    """The frame that sends segment `index` and what follows it before `end`: segments of its kind chained
+    into SEGMENTS or CUBIC_SEGMENTS (at most `limit`; 0 where the firmware has no SEGMENTS, and cubic ones
+    only with `cubic_runs`) once the chain is known, else segment `index` alone, as its own message (with a
+    limit of 1 too: after a lost frame the board keeps later single-segment frames, never a run);
+    `chain` moves on past what the frame sends."""
+    first = source.segment(index)
+    kind = type(first)
+    run = [first]
+    for i in range(index + 1, min(end, index + limit)):
+        segment = source.segment(i)
+        if type(segment) is not kind:
+            break
+        run.append(segment)
+    if isinstance(first, CubicSegment):
+        assert chain.speeds is not None
+        cubic = cubic_pack(run, chain.speeds, limit) if limit > 1 and cubic_runs else None  # type: ignore[arg-type]
+        if cubic is None:
+            chain.follow_cubic(first)
+            return first
+        chain.forget()
+        return cubic
+    packed = pack(run, chain, limit) if limit > 1 else None  # type: ignore[arg-type]
+    if packed is None:
+        chain.follow(first)
+        return first
+    return packed
