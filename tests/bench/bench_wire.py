@@ -1,8 +1,9 @@
 """Wire benchmark: bytes on the serial line against the G-code's own bytes, for three CAM-shaped jobs.
 
 The jobs come from tests/bench/cam_jobs.py (a 40,000-line pocket, a 16,000-line engraving, a 51,000-line
-four-axis job). Byte counts are exact: every frame as a motion sends it to an Uno (SEGMENTS frames of up to 7
-chained segments, PROTOCOL.md §5.2), beside one SEGMENT a frame (a board without SEGMENTS, or a noisy line).
+four-axis job). Byte counts are exact: every frame as a motion sends it to an Uno (SEGMENTS or, with --scurve,
+CUBIC_SEGMENTS frames of up to 7 chained segments, PROTOCOL.md §5.2), beside one segment a frame (a board
+without them, or a noisy line).
 Nothing is asserted.
 
     python3 tests/bench/bench_wire.py [--scurve]
@@ -47,7 +48,7 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--scurve", action="store_true", help="also plan with max_jerk (slow: minutes)")
     args = parser.parse_args()
-    print("| job | G-code | moves | planner | segments | bytes on the wire | wire / G-code | one SEGMENT a frame |")
+    print("| job | G-code | moves | planner | segments | bytes on the wire | wire / G-code | one segment a frame |")
     print("|---|---|---|---|---|---|---|---|")
     for name, make in cam_jobs.JOBS.items():
         text = make()
