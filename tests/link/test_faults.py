@@ -21,7 +21,7 @@ from quadstep.engine_model import predict
 from quadstep.job import load_job
 from quadstep.link import BoardSilent, Link
 from quadstep.machine import Machine
-from quadstep.protocol import D, N_MAX, AxisMove, Segment
+from quadstep.protocol import D, N_MAX, AxisMove, CubicSegment, Segment
 
 REPO = Path(__file__).resolve().parents[2]
 
@@ -41,11 +41,14 @@ def run_through(line_p: float, emu, config: MachineConfig, job_path: Path, seed:
     return job, end, stats, line
 
 
+@pytest.mark.parametrize("jerk", [None, 20000.0], ids=["constant acceleration", "S-curve"])
 def test_one_percent_of_the_bytes_damaged_both_ways_changes_nothing(start_emulator, router: MachineConfig,
-                                                                     tmp_path: Path) -> None:
+                                                                     tmp_path: Path, jerk: float | None) -> None:
     """A real-time job (150 moves, about 2.5 s) through a line that flips, drops, doubles and inserts 1 % of the bytes
     in each direction: it completes, the step trace is the fault-free prediction tick for tick, and every segment
-    ran exactly once."""
+    ran exactly once; with max_jerk too (cubic segments, one a frame while the line is noisy)."""
+    if jerk is not None:
+        router = router.model_copy(update={"axes": [a.model_copy(update={"max_jerk": jerk}) for a in router.axes]})
     path = tmp_path / "job.gcode"
     path.write_text(engraving(150, size=10.0))
     trace = tmp_path / "trace.csv"
@@ -54,6 +57,8 @@ def test_one_percent_of_the_bytes_damaged_both_ways_changes_nothing(start_emulat
     assert end is not None and end.ended_by == "done", end
     summary = emu.stop()
     assert line.faults > 20 and stats["retransmits"] > 0
+    if jerk is not None:
+        assert all(isinstance(s, CubicSegment) for s in job.plan.segments.segments(1))
     assert summary["segments_done"] == len(job.plan)
     assert summary["motion_ticks"] == job.plan.duration_ticks
     assert [summary[f"position_{a}"] for a in range(3)] == list(job.plan.end)
