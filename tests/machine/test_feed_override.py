@@ -69,6 +69,29 @@ def run_with_override(start_emulator, tmp_path: Path, config: MachineConfig, gco
     return plan, run, read_trace(trace)
 
 
+def test_overrides_in_quick_succession_on_a_deep_queue_end_exactly(start_emulator, tmp_path: Path) -> None:
+    """Override after override while a 127-slot queue holds the job's whole lookahead: each continuation begins
+    while the segments of the one it follows still run (its count of segments done is negative), and the job
+    still ends done, on its last target, as the stream sent predicts."""
+    trace = tmp_path / "trace.csv"
+    emu = start_emulator(trace=trace, axes=3, tick_hz=CONFIG.tick_hz, queue=127)
+    with Link.open(emu.url) as link:
+        machine = Machine(link, CONFIG)
+        program = parse_gcode(ZIGZAG, CONFIG.axis_names, CONFIG.to_mm(machine.position), CONFIG.arc_tolerance)
+        plan = plan_program(program, CONFIG, machine.position)
+        run = machine.run_job(plan, program)
+        wait_until(lambda: run.progress.line >= 2)
+        for percent in (*range(90, 210, 10), 100):
+            assert run.set_feed_override(percent) == percent
+            time.sleep(0.05)
+        end = run.wait(120)
+        assert end is not None and end.ended_by == "done", end
+        assert machine.position == plan.end
+    emu.stop()
+    predicted = predict(list(run.plan.segments.segments()), axis_count=3)
+    assert np.array_equal(read_trace(trace), predicted.steps)
+
+
 @pytest.mark.parametrize("percent", [50, 150])
 def test_an_override_mid_job_changes_the_cruise_of_what_is_not_sent_and_lands_exactly(
         start_emulator, tmp_path: Path, percent: int) -> None:

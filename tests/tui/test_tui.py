@@ -16,9 +16,11 @@ from tui_helpers import FAST_RELEASE, HELD_UNTIL_STOPPED, hold_key, log_text, re
 
 def make_app(
     machine: MachineConfig, emulator_binary: Path, *, free: bool, settings: JogSettings | None = None,
-    events: Path | None = None, job_path: str = "",
+    events: Path | None = None, job_path: str = "", queue: int | None = None,
 ) -> QuadstepApp:
     options: dict[str, object] = {"free": free, "binary": emulator_binary}
+    if queue is not None:
+        options["queue"] = queue
     if events is not None:
         options["extra_args"] = ("--events", str(events))
     session = Session(Target(emulator=True, emulator_options=options), machine, settings,

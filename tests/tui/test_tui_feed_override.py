@@ -20,7 +20,9 @@ async def test_the_feed_override_keys_change_a_running_job(machine: MachineConfi
                                                            tmp_path: Path) -> None:
     job = tmp_path / "steps.gcode"
     job.write_text("G21 G90 F300\n" + "".join(f"G1 X{4 * k} Y{k % 2}\n" for k in range(1, 11)))  # 5 mm/s
-    app = make_app(machine, emulator_binary, free=False, job_path=str(job))
+    # real time, with the job's whole lookahead (1.5 s) queued: a test machine deep into a full run has paused
+    # this process for a third of a second (a garbage collection), more than 32 slots of 20 ms hold
+    app = make_app(machine, emulator_binary, free=False, job_path=str(job), queue=127)
     async with app.run_test(size=(80, 24)) as pilot:
         await connected(pilot, app)
         await pilot.press("minus")  # no job: the jog speed, not a feed override

@@ -239,6 +239,9 @@ class Motion:
             self._finish(self._after_alarm(exc))
         except LinkError as exc:
             self._finish(MotionEnd("error", (), self.done, error=str(exc)))
+        except Exception as exc:  # a fault of this program: end the motion (the board stops at its queue's end)
+            self._finish(MotionEnd("error", (), self.done, error=f"streaming failed: {exc!r}"))
+            raise
         finally:
             unregister()
 
@@ -297,12 +300,12 @@ class Motion:
         while not self._halting:
             if self.link.generation != self._generation:
                 raise Stopped("the stream was restarted (STOP) while this motion waited for room")
-            done = self.done
+            done = self.done  # negative while the motion this one follows (a cut) still runs its last segments
             queued = k - done
             if queued < capacity and (
                 self.lookahead_ticks is None
                 or first - done < MIN_QUEUED_SEGMENTS
-                or ticks[k] - ticks[done] < self.lookahead_ticks
+                or ticks[k] - ticks[max(0, done)] < self.lookahead_ticks
             ):
                 return
             now = time.monotonic()
