@@ -14,7 +14,7 @@ from quadstep.config import load_config
 from quadstep.engine_model import predict, predict_hold
 from quadstep.job import load_job
 from quadstep.link import Link
-from quadstep.machine import Machine
+from quadstep.machine import JobState, Machine
 from quadstep.machine.remainder import plan_remainder
 from quadstep.machine.units import hold_decels
 from quadstep.protocol import HoldDone, Input, InputCause, InputChange
@@ -60,10 +60,14 @@ def test_a_feed_hold_keeps_the_job_and_resume_finishes_it_exactly(start_emulator
         hold = link.last_report(HoldDone)
         assert machine.report_count(HoldDone) == seen + 1 and hold is not None
         assert run.paused_at is not None and run.wait(0.3) is None  # held, not ended
+        assert run.state is JobState.HELD and run.progress.state is JobState.HELD
         assert run.resume()
+        assert not run.resume()  # resumed already: nothing waits
         end = run.wait(30)
         assert end is not None and end.ended_by == "done", end
         assert machine.position == job.plan.end
+        assert run.states.history == [JobState.STREAMING, JobState.HELD, JobState.RESUMING,
+                                      JobState.STREAMING, JobState.DONE]
     emu.stop()
     check_trace(trace, job.plan, hold, job.program)
 

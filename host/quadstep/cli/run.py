@@ -31,6 +31,8 @@ from ..planner.program import JobError, Pause
 from ..protocol import State, StatusReport
 from ..default_machine import DEFAULT_MACHINE_NAME
 from ..machine import state_path
+from ..machine.journal import Journal
+from .resume import job_journal, resumed_job
 from ._jobs import add_job_options, config_path, format_duration, job_from_args, machine_config, skipped_text, work_text
 from .options import CliError, add_connection_options, add_json_option, connect
 
@@ -52,6 +54,7 @@ class RunResult(BaseModel):
     positions_work_mm: list[float]
     planned_steps: list[int]
     exact: bool
+    starvations: int  # times the board ran dry, braked to rest and the job went on
     link: dict[str, int]
 
 
@@ -61,6 +64,10 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     parser.add_argument("--feed-override", type=feed_percent, default=100, metavar="PERCENT",
                         help="run every programmed feed (G1, G2, G3; not the rapids) at PERCENT %% of itself, "
                              f"{MIN_PERCENT}–{MAX_PERCENT} (each axis still within its max_speed); default 100")
+    parser.add_argument("--resume", action="store_true",
+                        help="go on with JOB where it stopped before its end (a crash, a killed host, a dropped "
+                             "port, Ctrl-C, an alarm that kept the position): the move under way again from "
+                             "where the machine stands, then the rest")
     add_connection_options(parser)
     add_json_option(parser)
     parser.set_defaults(handler=run)
@@ -112,9 +119,13 @@ def run(args: argparse.Namespace) -> int:
         raise CliError(str(exc)) from None
     with connect(args, config, config_name, state_path(config_path(args))) as machine:
         status = machine.status()
-        if status.state != State.IDLE or status.queue_fill:
+        journal = job_journal(args, machine, path)
+        if args.resume:
+            job, status = resumed_job(args, machine, config, status)
+        elif status.state != State.IDLE or status.queue_fill:
             raise CliError(f"the firmware is {status.state.name}, not IDLE; nothing was sent")
-        job = job_from_args(args, config, machine.position, machine.coordinates)
+        else:
+            job = job_from_args(args, config, machine.position, machine.coordinates)
         if not args.json:
             skipped = skipped_text(job)
             if skipped:
@@ -126,7 +137,7 @@ def run(args: argparse.Namespace) -> int:
                 "every target inside the travel",
                 flush=True,
             )
-        return stream(args, machine, job, status)
+        return stream(args, machine, job, status, journal)
 
 
 def follow(run_: JobRun, job: Job, progress: Progress, show: Callable[[int], None]) -> tuple[MotionEnd, bool]:
@@ -144,11 +155,16 @@ def follow(run_: JobRun, job: Job, progress: Progress, show: Callable[[int], Non
 
 def _follow(run_: JobRun, job: Job, progress: Progress, show: Callable[[int], None],
             asked: list[str]) -> tuple[MotionEnd, bool]:
-    prompted = False
+    prompted, starvations = False, 0
     try:
         while True:
             end = run_.wait(PROGRESS_INTERVAL)
-            show(run_.progress.done)
+            now = run_.progress
+            show(now.done)
+            if now.starvations > starvations:
+                starvations = now.starvations
+                print(f"the board ran dry near {job.label} {now.line} (the computer fell behind): "
+                      "braked to rest, starved, going on", file=sys.stderr, flush=True)
             if end is not None:
                 return end, False
             while asked:
@@ -178,9 +194,10 @@ def _follow(run_: JobRun, job: Job, progress: Progress, show: Callable[[int], No
         return run_.halt("interrupt"), True
 
 
-def stream(args: argparse.Namespace, machine: Machine, job: Job, start: StatusReport) -> int:
+def stream(args: argparse.Namespace, machine: Machine, job: Job, start: StatusReport,
+           journal: Journal | None = None) -> int:
     config, plan = machine.config, job.plan
-    run_ = machine.run_job(plan, job.program, job.label, job.feed_override)  # with its take-ups: its own segments
+    run_ = machine.run_job(plan, job.program, job.label, job.feed_override, journal)  # with its take-ups
     streamed = run_.plan.segments.numpy()
     ends = np.cumsum(streamed["n"], dtype=np.int64)
     lines = streamed["line"]
@@ -234,6 +251,7 @@ def stream(args: argparse.Namespace, machine: Machine, job: Job, start: StatusRe
         positions_work_mm=list(machine.work_position),
         planned_steps=list(plan.end),
         exact=exact,
+        starvations=run_.progress.starvations,
         link=machine.stats.as_dict(),
     )
     if args.json:
@@ -247,6 +265,8 @@ def stream(args: argparse.Namespace, machine: Machine, job: Job, start: StatusRe
         else:
             how = " (HOLD)" if end.held else ""
             print(f"stopped at {job.label} {stopped_line}{how}")
+            if journal is not None:
+                print(f"quadstep run {args.job} --resume goes on from there")
         print("\n".join(position_lines(machine)))
         if completed:
             print("every axis is exactly where the job put it" if exact else

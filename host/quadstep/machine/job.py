@@ -1,31 +1,39 @@
-"""A planned job on its way to the board: streamed from a thread of its own, paused, halted.
+"""A planned job on its way to the board, run by a thread of its own through the states of job_state.py.
 
-The plan is streamed section by section: an M0 (or a move file's pause) ends
-a section at rest, and the job waits there until resume(). halt() brings the
-machine to rest with HOLD. Machine.run_job starts one; the CLI and the TUI
-both run jobs this way.
+The plan is streamed section by section: an M0 (or a move file's pause) ends a section at rest, and the job
+waits there (PAUSED) until resume(). A feed hold brings it to rest (HELD) until resume(); a board that ran dry
+brakes to rest by itself (STARVED) and the job goes on at once. In each case what is left is planned again
+from where the machine rests (RESUMING). A feed override plans the rest again while the board keeps moving
+(OVERRIDING), a G38.x of the program hands the machine to the probe (PROBING). halt() brings the machine to
+rest with HOLD and ends the job (STOPPED). Machine.run_job starts one; the CLI and the TUI both run jobs this way.
 """
 
 from __future__ import annotations
 
 import threading
+from bisect import bisect_left
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from itertools import accumulate
 
-from ..link import Link, LinkError
 from ..coordinates import WorkCoordinates
+from ..link import Link, LinkError
 from ..planner.feed_override import check_percent, scale_feeds
 from ..planner.plan import Plan, plan_program
 from ..planner.program import JobError, Pause, ProbeMove, Program
 from ..protocol import InputCause, InputChange, Report
 from .errors import MachineError
-from .standing import Restream
-from .takeups import StreamPlan
 from .job_outputs import FEED_HOLD, stream_outputs, switch_off
-from .motion import CUT, Motion, MotionEnd, bring_to_rest
+from .job_state import JobState, JobStates
+from .journal import Journal
+from .motion import CUT, STARVED, Motion, MotionEnd, bring_to_rest
 from .override import Swap, replan_running
 from .remainder import after_pause_program, carry_changes, remainder_program
+from .standing import Restream
+from .takeups import StreamPlan
+
+LOOKAHEAD_S = 0.5  # s queued beyond the watchdog's host_timeout: a lost host meets the watchdog first
+AT_REST = (FEED_HOLD, STARVED)  # motion ends after which the rest of the job is planned again from rest
 
 
 @dataclass(frozen=True)
@@ -34,77 +42,100 @@ class JobProgress:
     total: int
     line: int  # source line (or move) being executed
     seconds_left: float
-    paused_at: int | None  # line of the pause the job waits at
+    paused_at: int | None  # line of the pause or feed hold the job waits at
+    state: JobState = JobState.STREAMING
+    starvations: int = 0  # times the board ran dry and the job went on
 
 
-LOOKAHEAD_S = 0.5  # s queued beyond the watchdog's host_timeout, at most: a lost host meets the watchdog first
+def stream_move_ends(plan: Plan | StreamPlan) -> list[int]:
+    """Where each move of the plan ends in the stream the board counts (take-ups included)."""
+    if not isinstance(plan, StreamPlan):
+        return list(plan.move_ends)
+    origin = plan.segments.origin
+    return [bisect_left(origin, end) for end in plan.base.move_ends]
+
+
+def final_state(end: MotionEnd) -> JobState:
+    if end.ended_by == "done":
+        return JobState.DONE
+    return JobState.FAILED if end.ended_by in ("error", STARVED) else JobState.STOPPED
 
 
 class JobRun:
     """One planned job on one link: start() it, then wait(), resume() after a pause or a feed hold, or halt().
 
-    feed_hold() (or the board's feed hold button) brings the machine to rest and keeps the rest of the job; with
-    the job's `program`, resume() (or the cycle start button) plans what is left from where the machine rests and
-    goes on. Without it a feed hold ends the job, as halt() does. set_feed_override() scales the feeds of what is
-    not yet sent (the plan given is planned at `feed_override` %)."""
+    With the job's `program` (and a machine's `restream`), a feed hold or a board that ran dry keeps the rest of
+    the job, and set_feed_override() scales the feeds of what is not yet sent (the plan given is planned at
+    `feed_override` %). Without it a feed hold or running dry ends the job, as halt() does."""
 
     def __init__(
-        self, link: Link, plan: Plan | StreamPlan, decels: tuple[int, ...], on_end: Callable[[MotionEnd], None] | None = None,
+        self, link: Link, plan: Plan | StreamPlan, decels: tuple[int, ...], *,
         program: Program | None = None, label: str = "line", feed_override: int = 100,
+        restream: Restream | None = None, busy_elsewhere: Callable[[], bool] | None = None,
+        journal: Journal | None = None,
     ) -> None:
         self.link = link
         self.plan = plan
         self.program = program
         self.label = label
         self.decels = decels
-        self.held = False  # waiting after a feed hold (paused_at names the line)
-        self._done_before = 0  # segments of the job run before the plan now streamed (after a feed hold)
-        self.on_end = on_end  # called once, in the job's thread, before wait() returns
-        self.settle: Callable[[MotionEnd], MotionEnd] | None = None  # the machine's view of the end, before that
-        self.restream: Restream | None = None  # the machine's, to go on after a feed hold with its take-ups
-        self.busy_elsewhere: Callable[[], bool] | None = None  # the machine's: another program runs at a pause
+        self.restream = restream  # the machine's: positions, take-ups and probing for a job that goes on
+        self.busy_elsewhere = busy_elsewhere  # the machine's: another program runs at a pause
+        self.journal = journal  # where each leg of the job is kept for `run --resume`
+        self.on_end: Callable[[MotionEnd], None] | None = None  # called once, in the job's thread
+        self.settle: Callable[[MotionEnd], MotionEnd] | None = None  # the machine's view of the end
+        self.states = JobStates(on_change=self._note_state)
+        self.lookahead = round((plan.config.host_timeout + LOOKAHEAD_S) * plan.config.tick_hz)
         self._ticks = list(accumulate(plan.segments.n, initial=0))
+        self._done_before = 0  # segments of the job run before the plan now streamed (a re-plan)
         self._lock = threading.Lock()
         self._resume = threading.Event()
         self._ended = threading.Event()
         self._end: MotionEnd | None = None
-        self._halted: str | None = None
+        self._halted: str | None = None  # the reason halt() was given
         self._motion: Motion | None = None
         self._offset = 0  # segments of the sections before the current one
-        self._paused_at: int | None = None
         self._interrupted = False  # other programs ran while the job waited at its pause
-        self._probing = False  # the machine probes for a G38.x of the job (not a pause: resume() has no say)
         self._override = check_percent(feed_override)  # the feed override wanted, %
         self._planned = self._override  # the one the plan has from the first segment not sent on
         self._swap: Swap | None = None  # the plan to go on with where the running motion was cut
-        self._wake = threading.Event()  # for the job's thread: its motion ended, or the feed override changed
+        self._wake = threading.Event()  # the motion ended, or the feed override changed
         self._hold_pending = False  # a feed hold asked for while one motion hands over to the next
-        self.lookahead = round((plan.config.host_timeout + LOOKAHEAD_S) * plan.config.tick_hz)
         self._thread = threading.Thread(target=self._run, name="quadstep-job", daemon=True)
 
-    # --- progress ----------------------------------------------------------------------------
+    # --- what the job is doing ---------------------------------------------------------------
+
+    @property
+    def state(self) -> JobState:
+        return self.states.state
 
     @property
     def progress(self) -> JobProgress:
         with self._lock:
-            motion, offset, paused = self._motion, self._offset, self._paused_at
+            motion, offset = self._motion, self._offset
+        state, line_at = self.states.snapshot()
         done = max(0, offset + (motion.done if motion is not None else 0))
         total = len(self.plan)
         line = int(self.plan.segments.line[min(done, total - 1)]) if total else 0
         left = (self._ticks[-1] - self._ticks[done]) / self.plan.config.tick_hz
-        return JobProgress(self._done_before + done, self._done_before + total, line, left, paused)
+        return JobProgress(self._done_before + done, self._done_before + total, line, left, line_at,
+                           state, self.states.starvations)
+
+    @property
+    def held(self) -> bool:
+        """At rest after a feed hold, waiting for resume()."""
+        return self.state is JobState.HELD
 
     @property
     def paused_at(self) -> int | None:
-        """The line of the pause the job waits at, if it does."""
-        with self._lock:
-            return self._paused_at
+        """The line of the pause or feed hold the job waits at, if it does."""
+        return self.states.line
 
     @property
     def pause(self) -> Pause | None:
         """What the job waits at, when it waits at an M0 or a tool change (M6: `tool`) of its program."""
-        line = self.paused_at
-        return None if line is None or self.held else self._pause_at(line)
+        state, line = self.states.snapshot()
+        return self._item_at(Pause, line) if state is JobState.PAUSED and line is not None else None
 
     @property
     def end(self) -> MotionEnd | None:
@@ -114,6 +145,24 @@ class JobRun:
     def feed_override(self) -> int:
         """The feed override, % (100: the feeds as programmed)."""
         return self._override
+
+    @property
+    def gives_way(self) -> bool:
+        """Waiting at a pause of its program (M0, a tool change) or probing for it on a machine: jogs, probing
+        and work zeros may run meanwhile, and the job goes on from where they leave the machine."""
+        return (self.state in (JobState.PAUSED, JobState.PROBING) and self.restream is not None
+                and self.program is not None and not self._halted)
+
+    # --- control ------------------------------------------------------------------------------
+
+    def start(self) -> JobRun:
+        self._thread.start()
+        return self
+
+    def wait(self, timeout: float | None = None) -> MotionEnd | None:
+        """How the job ended (`done`, the reason given to halt(), `reset`, or `error`); None on timeout."""
+        self._ended.wait(timeout)
+        return self._end
 
     def set_feed_override(self, percent: int) -> int:
         """Scale every feed (not the rapids) of what is not yet sent by `percent` (10–200, ValueError outside):
@@ -128,25 +177,6 @@ class JobRun:
         self._wake.set()
         return percent
 
-    # --- control ------------------------------------------------------------------------------
-
-    def start(self) -> JobRun:
-        self._thread.start()
-        return self
-
-    def wait(self, timeout: float | None = None) -> MotionEnd | None:
-        """How the job ended (`done`, the reason given to halt(), `reset`, or `error`); None on timeout."""
-        self._ended.wait(timeout)
-        return self._end
-
-    @property
-    def gives_way(self) -> bool:
-        """Waiting at a pause of its program (M0, a tool change) on a machine: jogs, probing and work zeros may
-        run meanwhile, and the job goes on from where they leave the machine."""
-        with self._lock:
-            return (self._probing or (self._paused_at is not None and not self.held)) \
-                and self.restream is not None and self.program is not None and not self._halted
-
     def interrupt(self) -> None:
         """Another program is about to run while the job waits (the machine calls this, gives_way being true):
         the machine takes the job's place and band at the pause as where it stands."""
@@ -156,13 +186,12 @@ class JobRun:
             self.restream.at_rest()
 
     def resume(self) -> bool:
-        """Go on after a pause; False when the job is not paused, or another program runs meanwhile."""
+        """Go on after a pause or a feed hold; False when the job waits at neither, or another program runs."""
         if self.busy_elsewhere is not None and self.busy_elsewhere():
             return False
-        with self._lock:
-            if self._paused_at is None:
-                return False
-            self._paused_at = None
+        if not (self.states.leave(JobState.PAUSED, JobState.RESUMING)
+                or self.states.leave(JobState.HELD, JobState.RESUMING)):
+            return False
         self._resume.set()
         return True
 
@@ -194,9 +223,10 @@ class JobRun:
     def _run(self) -> None:
         unregister = self.link.on_report(self._on_report)
         try:
+            self._begin_leg()
             end = self._sections()
-            while end.ended_by == FEED_HOLD and self.program is not None and not self._halted:
-                end = self._after_feed_hold(end)
+            while end.ended_by in AT_REST and self.program is not None and not self._halted:
+                end = self._after_rest(end)
         except (LinkError, JobError, MachineError) as exc:
             end = MotionEnd("error", (), self._offset, error=str(exc))
         finally:
@@ -205,33 +235,37 @@ class JobRun:
         if self.settle is not None:
             end = self.settle(end)
         self._end = end
+        self.states.enter(final_state(end))
         if self.on_end is not None:
             self.on_end(end)
         self._ended.set()
 
-    def _after_feed_hold(self, held: MotionEnd) -> MotionEnd:
-        """At rest after a feed hold: wait for resume(), then plan what is left from here and stream it."""
-        total = len(self.plan)
-        at = min(self._offset, total - 1)
+    def _after_rest(self, rest: MotionEnd) -> MotionEnd:
+        """At rest after a feed hold (wait for resume()) or after the board ran dry (go on at once): plan what is
+        left from here and stream it."""
+        at = min(self._offset, len(self.plan) - 1)
+        if rest.ended_by == STARVED:
+            self.states.enter(JobState.STARVED)
+            self.states.enter(JobState.RESUMING)
+        else:
+            self.states.enter(JobState.HELD, int(self.plan.segments.line[at]))
+            self._resume.wait()
+            self._resume.clear()
         with self._lock:
-            self.held, self._paused_at = True, int(self.plan.segments.line[at])
-        self._resume.wait()
-        self._resume.clear()
-        with self._lock:
-            self.held, self._paused_at = False, None
             if self._halted:
-                return MotionEnd(self._halted, held.position, self._done_before + self._offset, held=True,
-                                 hold_tick=held.hold_tick)
+                return replace(rest, ended_by=self._halted, segments_done=self._done_before + self._offset)
         assert self.program is not None
-        if self.restream is not None and isinstance(self.plan, StreamPlan):  # the machine's positions and take-ups
-            rest = self.restream.held(held)
+        if self.restream is not None and isinstance(self.plan, StreamPlan):  # the machine's take-ups
+            here = self.restream.held(rest)
             planned = self.plan.base
             held_at = self.plan.segments.origin_of(self._offset)
+        elif isinstance(self.plan, Plan):
+            here = tuple(self.link.status().position[: self.plan.segments.axis_count])
+            planned, held_at = self.plan, self._offset
         else:
-            rest = tuple(self.link.status().position[: self.plan.segments.axis_count])
-            planned, held_at = self.plan, self._offset  # type: ignore[assignment]
-        self.program = remainder_program(self.program, planned, held_at)  # type: ignore[arg-type]
-        return self._continue(plan_program(self._scaled(), planned.config, rest, self.label))
+            raise JobError("a job with take-ups goes on only on its machine")
+        self.program = remainder_program(self.program, planned, held_at)
+        return self._continue(plan_program(self._scaled(), planned.config, here, self.label))
 
     def _scaled(self) -> Program:
         """The program to plan (what is left of the job) at the feed override wanted now."""
@@ -240,12 +274,9 @@ class JobRun:
             self._planned = self._override
         return scale_feeds(self.program, self._planned)
 
-
-    def _pause_at(self, line: int) -> Pause | None:
-        return next((i for i in self.program.items if isinstance(i, Pause) and i.line == line), None) if self.program else None
-
-    def _probe_at(self, line: int) -> ProbeMove | None:
-        return next((i for i in self.program.items if isinstance(i, ProbeMove) and i.line == line), None) if self.program else None
+    def _item_at(self, kind: type, line: int) -> Pause | ProbeMove | None:
+        items = self.program.items if self.program is not None else ()
+        return next((i for i in items if isinstance(i, kind) and i.line == line), None)
 
     def _probe(self, probe: ProbeMove) -> MotionEnd:
         """At rest before a G38.x of the program: the machine probes, then the rest of the program is read and
@@ -256,12 +287,9 @@ class JobRun:
         with self._lock:
             if self._halted:
                 return MotionEnd(self._halted, self.restream.position(), self._offset)
-            self._probing = True  # the probe runs as the machine's program meanwhile
-        try:
-            rest_mm = self.restream.probe(probe)
-        finally:
-            with self._lock:
-                self._probing = False
+        self.states.enter(JobState.PROBING)  # the probe runs as the machine's program meanwhile
+        rest_mm = self.restream.probe(probe)
+        self.states.enter(JobState.RESUMING)
         program = probe.resume(rest_mm)
         kept = self.program.coordinates  # the caller's: what the job leaves, as the rest read again says
         if kept is not None and program.coordinates is not None:
@@ -289,8 +317,26 @@ class JobRun:
         streamed = self.restream.stream(remainder) if self.restream is not None else remainder
         with self._lock:
             self._done_before += self._offset
-            self.plan, self._ticks, self._offset = streamed, list(accumulate(streamed.segments.n, initial=0)), 0
+            self.plan, self._offset = streamed, 0
+            self._ticks = list(accumulate(streamed.segments.n, initial=0))
+        self._begin_leg()
         return self._sections()
+
+    def _begin_leg(self) -> None:
+        """The plan now streamed is kept in the journal with the board's count of segments (at rest)."""
+        if self.journal is not None and self.program is not None:
+            base = self.plan.base if isinstance(self.plan, StreamPlan) else self.plan
+            self.journal.begin_leg(self.program, base.start, stream_move_ends(self.plan), len(self.plan),
+                                   self.link.segments_done, self._planned)
+
+    def _note_state(self, state: JobState) -> None:
+        """The journal says where the job waits (a pause is offered again on resume) and forgets a done job."""
+        if self.journal is None:
+            return
+        if state is JobState.DONE:
+            self.journal.finish()
+        elif state is JobState.PAUSED or self.journal.waiting_at is not None or state.final:
+            self.journal.state(state.value, self.states.line)
 
     def _on_report(self, report: Report) -> None:
         """The board's cycle start button resumes a held job (in the reader thread: only an event is set)."""
@@ -311,13 +357,15 @@ class JobRun:
             begin = swap.index
             if halted:  # halted as one motion handed over to the next: the board still runs the first's
                 rest = bring_to_rest(self.link, self.decels)
-                return MotionEnd(halted, rest.position[: self.plan.segments.axis_count], begin, held=rest.held,
-                                 hold_tick=rest.hold_tick)
+                return MotionEnd(halted, rest.position[: self.plan.segments.axis_count], begin,
+                                 held=rest.held, hold_tick=rest.hold_tick)
 
     def _stream(self, motion: Motion) -> MotionEnd:
-        """Start `motion` and wait for its end; meanwhile a changed feed override plans the rest again and cuts the
-        motion short where the new plan goes on (override.py)."""
+        """Start `motion` and wait for its end; meanwhile a changed feed override plans the rest again and cuts
+        the motion short where the new plan goes on (override.py)."""
         motion.on_end = lambda _end: self._wake.set()
+        if self.state is not JobState.STREAMING:
+            self.states.enter(JobState.STREAMING)
         motion.start()
         with self._lock:
             hold, self._hold_pending = self._hold_pending, False
@@ -326,17 +374,32 @@ class JobRun:
         while motion.end is None:
             self._wake.wait()
             self._wake.clear()
-            if motion.end is None and self._override != self._planned and self._swap is None and self.program:
-                running = self.restream.restream if self.restream and isinstance(self.plan, StreamPlan) else None
-                percent = self._override
-                self._swap = replan_running(self.program, self.plan, motion, percent, self.label, running, self._ticks)
-                if self._swap is not None:
-                    self._planned = percent
-                    if running is not None:
-                        self.restream.swap(self._swap.plan)  # type: ignore[union-attr, arg-type]
+            if motion.end is None and self._override != self._planned and self._swap is None:
+                self._override_running(motion)
         end = motion.wait()
         assert end is not None
         return end
+
+    def _override_running(self, motion: Motion) -> None:
+        """The feed override changed while `motion` streams: plan the rest again (OVERRIDING) and have the new
+        plan swapped in where the motion is cut."""
+        if self.program is None:
+            return
+        self.states.enter(JobState.OVERRIDING)
+        running = self.restream if self.restream and isinstance(self.plan, StreamPlan) else None
+        percent = self._override
+        self._swap = replan_running(self.program, self.plan, motion, percent, self.label,
+                                    running.restream if running else None, self._ticks)
+        if self._swap is not None:
+            self._planned = percent
+            if running is not None:
+                assert isinstance(self._swap.plan, StreamPlan)
+                running.swap(self._swap.plan)
+            if self.journal is not None:
+                plan = self._swap.plan
+                self.journal.replan(stream_move_ends(plan), len(plan), percent)
+        if self.state is JobState.OVERRIDING:
+            self.states.enter(JobState.STREAMING)
 
     def _sections_from(self, begin: int, follows: Motion | None) -> MotionEnd:
         """Each stretch of segments between pauses, from item `begin` on (after the motion `follows`, cut there),
@@ -363,38 +426,51 @@ class JobRun:
                     self._motion = None
                     self._offset = index if end.ended_by == "done" else first + end.segments_done
                 if end.ended_by != "done":
-                    return end  # a feed hold among them: the caller plans what is left
+                    return end  # a feed hold or running dry among them: the caller plans what is left
                 first = index
             if line is None:
                 break
-            probe = self._probe_at(line)
-            if probe is not None:
+            probe = self._item_at(ProbeMove, line)
+            if isinstance(probe, ProbeMove):
                 return self._probe(probe)
-            pause = self._pause_at(line)
-            with self._lock:
-                if self._halted:
-                    break
-                self._paused_at, self._interrupted = line, False
-            offered = pause is not None and pause.coordinates is not None and self.restream is not None
-            if offered:  # the program's coordinates there, for a zero set at the pause (not kept unless one is)
-                previous = self.restream.coordinates()
-                self.restream.adopt(pause.coordinates.model_copy(deep=True))
-            self._resume.wait()
-            self._resume.clear()
-            with self._lock:
-                self._paused_at = None
-                interrupted, halted = self._interrupted, self._halted
-            if offered:
-                after = self.restream.coordinates()
-                if not halted and (interrupted or after != pause.coordinates):
-                    return self._after_pause(pause, pause.coordinates, after, interrupted)
-                if after == pause.coordinates:
-                    self.restream.adopt(previous)
-            if not halted and pause is not None and self.restream is not None and self._planned != self._override:
-                now = self.restream.coordinates()  # the feed override changed too late to be streamed: from here
-                return self._after_pause(pause, now, now, interrupted)
+            gone_on = self._wait_at_pause(line)
+            if gone_on is not None:
+                return gone_on
         if end is not None and not self._halted:
             return end
         status = self.link.status()  # at rest: halted at a pause, or nothing to stream
         position = tuple(status.position[: self.plan.segments.axis_count])
         return MotionEnd(self._halted or "done", position, self._offset)
+
+    def _wait_at_pause(self, line: int) -> MotionEnd | None:
+        """PAUSED at the pause of `line` until resume() or halt(); where the operator moved the machine or
+        changed the work offsets meanwhile, the rest planned again from there (its end returned), else None:
+        the next section follows as planned."""
+        pause = self._item_at(Pause, line)
+        assert pause is None or isinstance(pause, Pause)
+        with self._lock:
+            if self._halted:
+                return None
+            self._interrupted = False
+        self.states.enter(JobState.PAUSED, line)
+        offered = pause is not None and pause.coordinates is not None and self.restream is not None
+        previous = self.restream.coordinates() if offered and self.restream else None
+        if offered and self.restream is not None and pause is not None and pause.coordinates is not None:
+            # the program's coordinates there, for a zero set at the pause (not kept unless one is)
+            self.restream.adopt(pause.coordinates.model_copy(deep=True))
+        self._resume.wait()
+        self._resume.clear()
+        with self._lock:
+            interrupted, halted = self._interrupted, self._halted
+        if offered and pause is not None and pause.coordinates is not None and self.restream is not None:
+            after = self.restream.coordinates()
+            if not halted and (interrupted or after != pause.coordinates):
+                return self._after_pause(pause, pause.coordinates, after, interrupted)
+            if after == pause.coordinates and previous is not None:
+                self.restream.adopt(previous)
+        if halted or pause is None or self.restream is None:
+            return None
+        if self._planned != self._override:  # the feed override changed too late to be streamed: from here
+            now = self.restream.coordinates()
+            return self._after_pause(pause, now, now, interrupted)
+        return None

@@ -36,6 +36,7 @@ from .agreement import check_agreement
 from .errors import MachineError
 from .inputs import config_message
 from .job import JobRun
+from .journal import Journal
 from .motion import Motion, MotionEnd
 from .state import read_state, save_state
 from .standing import Standing, _Restream
@@ -198,19 +199,19 @@ class Machine(Standing):
         return self._begin(motion, compensated).start()  # type: ignore[return-value]
 
     def run_job(self, plan: Plan, program: Program | None = None, label: str = "line",
-                feed_override: int = 100) -> JobRun:
+                feed_override: int = 100, journal: Journal | None = None) -> JobRun:
         """Start a planned job now, the backlash taken up in it (pauses wait for JobRun.resume()). With the
         `program` it was planned from, a feed hold (JobRun.feed_hold, the board's button) keeps the rest of the
         job for resume(), and JobRun.set_feed_override changes its feeds on the way (the plan is planned at
-        `feed_override` %, the program as written)."""
+        `feed_override` %, the program as written); a `journal` keeps each leg of it for `run --resume`."""
         if plan.outputs and not self.identity.capabilities & Capability.OUTPUTS:
             raise MachineError("the job sets the spindle, laser or coolant (M3/M4/M5, M7/M8/M9) and this firmware "
                                "has no outputs; --skip-unsupported runs it without them")
         compensated = self.takeups.compensate(plan.segments, plan.pauses)
-        job = JobRun(self.link, StreamPlan(plan.config, compensated.stream, compensated.pauses, compensated, plan),
-                     self.decels, program=program, label=label, feed_override=feed_override)
-        job.restream = _Restream(self)
-        job.busy_elsewhere = lambda: self._waiting is job
+        streamed = StreamPlan(plan.config, compensated.stream, compensated.pauses, compensated, plan)
+        job = JobRun(self.link, streamed, self.decels, program=program, label=label,
+                     feed_override=feed_override, restream=_Restream(self),
+                     busy_elsewhere=lambda: self._waiting is job, journal=journal)
         return self._begin(job, compensated).start()  # type: ignore[return-value]
 
     def send_segments(self, segments: Sequence[Segment]) -> Motion:

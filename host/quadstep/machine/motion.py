@@ -30,6 +30,7 @@ from ..protocol.segment_run import RunChain
 MIN_QUEUED_SEGMENTS = 2
 SPACE_WAIT = 0.005  # s between checks while the lookahead is full
 STALL_POLL = 0.25  # s without a completed segment before asking for STATUS
+STARVED = "starved"  # how a motion ends when the board ran dry and braked to rest by itself
 CUT = "cut"  # how a motion whose stream was cut short (cut()) ends: the board still runs its last segments
 
 

@@ -9,11 +9,14 @@ from textual.widgets import ProgressBar, RichLog, Static
 
 from ..config import MachineConfig
 from ..jog import JogMode, Jogger
-from ..machine import JobProgress
+from ..machine import JobProgress, JobState
 from ..protocol import IdentifyReply, State
 from .session import Snapshot
 
 STATE_STYLE = {State.IDLE: "green", State.RUNNING: "cyan", State.HOLDING: "yellow", State.ALARM: "bold red"}
+# A job's states that the board's own state does not tell (the board is IDLE while a job waits).
+JOB_SHOWN = {JobState.PAUSED: "PAUSED", JobState.HELD: "FEED HOLD", JobState.STARVED: "STARVED",
+             JobState.PROBING: "PROBING", JobState.RESUMING: "RESUMING"}
 
 
 class Panel(Static):
@@ -51,7 +54,8 @@ class PositionPanel(Panel):
 class MachinePanel(Panel):
     """State, alarm, queue fill, feed and link health."""
 
-    def show(self, identity: IdentifyReply | None, snapshot: Snapshot | None, lost: str | None) -> None:
+    def show(self, identity: IdentifyReply | None, snapshot: Snapshot | None, lost: str | None,
+             job: JobState | None = None) -> None:
         text = Text("state ", style="dim")
         if lost is not None:
             text.append("DISCONNECTED", style="bold white on red")
@@ -59,7 +63,10 @@ class MachinePanel(Panel):
             text.append("connecting…", style="yellow")
         else:
             st = snapshot.status
-            text.append(st.state.name, style=STATE_STYLE.get(st.state, ""))
+            if job in JOB_SHOWN and st.state != State.ALARM:
+                text.append(f"{JOB_SHOWN[job]} (job)", style="bold yellow")
+            else:
+                text.append(st.state.name, style=STATE_STYLE.get(st.state, ""))
             if st.alarm:
                 text.append(f" {st.alarm.name}", style="bold red")
             health = snapshot.link
@@ -121,9 +128,13 @@ class JobPanel(Horizontal):
             text.append(f" {source.strip()}", style="cyan")
         text.append(f"  feed {feed} %", style="bold yellow" if feed != 100 else "dim")
         text.append(f"  {progress.seconds_left:.1f} s left", style="dim")
-        if progress.paused_at is not None:
+        if progress.state is JobState.HELD:
+            text.append(f"  FEED HOLD at {progress.paused_at}: Space goes on", style="yellow")
+        elif progress.paused_at is not None:
             text.append(f"  PAUSED at {progress.paused_at}{': ' + pause if pause else ''}: g goes on",
                         style="yellow")
+        elif progress.state is JobState.STARVED or progress.starvations:
+            text.append(f"  ran dry {progress.starvations}×, went on", style="yellow")
         label.update(text)
         bar.update(total=max(progress.total, 1), progress=progress.done)
 

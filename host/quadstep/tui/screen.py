@@ -111,7 +111,8 @@ class MachineScreen(JobKeys, JogKeys):
         snapshot = self.snapshot if session.connected else None
         if session.config is not None:
             self.query_one(PositionPanel).show(session.config, snapshot)
-        self.query_one(MachinePanel).show(session.identity, self.snapshot, session.lost)
+        job = self.job.state if self.job is not None else None
+        self.query_one(MachinePanel).show(session.identity, self.snapshot, session.lost, job)
         self.query_one(JogPanel).show(session.jogger if session.connected else None)
         origin = None
         if snapshot is not None:
