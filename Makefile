@@ -1,14 +1,19 @@
 # quadstep build: the emulator and firmware tests (gcc), the AVR firmware
 # (avr-gcc) and the simavr harness. `make demo` and `make test` are the two
-# commands in the README; both set up everything they need first.
+# commands in the README; both set up everything they need first. The Python
+# side runs in a virtual environment of its own, $(VENV), made from $(PYTHON)
+# (Debian's own python by default, which pip may not install into: PEP 668).
 
 BUILD ?= build
-PYTHON ?= python3
+PYTHON ?= $(if $(wildcard /usr/bin/python3),/usr/bin/python3,python3)
+VENV := $(BUILD)/venv
+VENV_PYTHON := $(VENV)/bin/python
+VENV_INSTALLED := $(VENV)/.installed
 SUDO := $(shell [ "$$(id -u)" = 0 ] || echo sudo)
 APT_PACKAGES := gcc make pkg-config gcc-avr avr-libc binutils-avr simavr libsimavr-dev libelf-dev \
-	clang libclang-rt-14-dev avrdude
+	clang libclang-rt-14-dev avrdude python3-venv
 
-.PHONY: all setup setup-apt setup-python demo test test-firmware test-python bench clean
+.PHONY: all setup setup-apt setup-python demo test test-fast test-firmware test-python bench clean
 
 all: emulator firmware
 
@@ -20,28 +25,42 @@ include tests/fuzz/fuzz.mk
 
 setup: setup-apt setup-python
 
-# Debian packages, installed only when a tool is missing.
+# Debian packages, installed only when a tool is missing. Debian's python
+# makes a virtual environment only with python3-venv (ensurepip and the pip wheel).
 setup-apt:
 	@if ! command -v avr-gcc >/dev/null || ! command -v gcc >/dev/null || ! command -v clang >/dev/null \
 	    || ! command -v avrdude >/dev/null \
+	    || ! $(PYTHON) -c 'import ensurepip, venv; ensurepip.version()' >/dev/null 2>&1 \
 	    || ! pkg-config --exists simavr 2>/dev/null || [ ! -e /usr/include/libelf.h ]; then \
 	  $(SUDO) apt-get update -qq && \
 	  DEBIAN_FRONTEND=noninteractive $(SUDO) apt-get install -y -qq $(APT_PACKAGES); \
 	fi
 
-setup-python:
-	$(PYTHON) -m pip install -q -e '.[test]'
+setup-python: $(VENV_INSTALLED)
+
+# A half-made environment is removed, so that the next run makes it again.
+$(VENV_PYTHON): | setup-apt
+	$(PYTHON) -m venv $(VENV) || { rm -rf $(VENV); exit 1; }
+
+# The package (editable) and its test tools; again only when pyproject.toml changes.
+$(VENV_INSTALLED): pyproject.toml | $(VENV_PYTHON)
+	$(VENV_PYTHON) -m pip install -q --disable-pip-version-check -e '.[test]'
+	@touch $@
 
 demo: setup emulator
-	$(PYTHON) -m quadstep.cli run examples/demo.gcode --config examples/router-uno.toml --emulator
+	$(VENV_PYTHON) -m quadstep.cli run examples/demo.gcode --config examples/router-uno.toml --emulator
 
 test: setup all harness test-firmware fuzz-short test-python
 
-test-python:
-	$(PYTHON) -m pytest -q
+test-python: setup-python
+	$(VENV_PYTHON) -m pytest -q
+
+# The Python tests that start no emulator and no simavr (tests/conftest.py marks the others).
+test-fast: setup-python
+	$(VENV_PYTHON) -m pytest -q -m 'not emulator'
 
 bench: setup all harness
-	$(PYTHON) tests/bench/run_all.py
+	$(VENV_PYTHON) tests/bench/run_all.py
 
 clean:
 	rm -rf $(BUILD)

@@ -19,6 +19,16 @@ from quadstep.link import Link
 from tui_helpers import MACHINE
 
 REPO = Path(__file__).resolve().parents[1]
+# A test that asks for one of these, or lives in tests/simavr, starts an emulator or simavr.
+PROCESS_FIXTURES = frozenset({"emulator_binary", "avr_build"})
+
+
+def pytest_collection_modifyitems(items: list[pytest.Item]) -> None:
+    """Mark `emulator` every test that starts a board process, so `-m 'not emulator'` runs the others."""
+    for item in items:
+        fixtures = set(getattr(item, "fixturenames", ()))
+        if fixtures & PROCESS_FIXTURES or item.path.is_relative_to(REPO / "tests" / "simavr"):
+            item.add_marker(pytest.mark.emulator)
 
 
 @pytest.fixture(autouse=True)

@@ -54,4 +54,4 @@ $(SAN_OUT)/quadstep-emu: $(NATIVE_CORE_SOURCES) $(NATIVE_EMU_SOURCES) $(wildcard
 
 test-sanitize: setup all harness $(SAN_OUT)/quadstep-emu
 	QUADSTEP_EMULATOR=$(abspath $(SAN_OUT)/quadstep-emu) ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 \
-	  UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 $(PYTHON) -m pytest -q
+	  UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 $(VENV_PYTHON) -m pytest -q
