@@ -28,6 +28,7 @@ COMMANDS: dict[str, list[str]] = {
     "scurve": [sys.executable, str(BENCH / "bench_scurve.py")],
     "wire": [sys.executable, str(BENCH / "bench_wire.py")],
     "faults": [sys.executable, str(BENCH / "bench_faults.py")],
+    "busy": [sys.executable, str(BENCH / "bench_busy_host.py")],
     "fuzz": ["make", "-s", "-C", str(REPO), "fuzz-long"],
 }
 
