@@ -31,6 +31,7 @@ from ..protocol import (
 )
 from ..protocol.constants import PROTOCOL_VERSION, is_sequenced
 from ..protocol.messages import queue_slots
+from .port_open import open_port
 from .errors import AlarmError, BoardSilent, FirmwareError, LinkError, LinkTimeout, ProtocolVersionError, Stopped
 from .outbox import Outbox
 from .reports import Inbox, Waiter
@@ -78,7 +79,7 @@ class Link:
              request_timeout: float = 0.5, connect: bool = True) -> Link:
         """Open `url` (a device such as /dev/ttyACM0 or /dev/pts/N, or socket://host:port) and connect."""
         try:
-            port = serial.serial_for_url(url, baudrate=baudrate, timeout=0.05, write_timeout=10)
+            port = open_port(url, baudrate)
         except (serial.SerialException, OSError, ValueError) as exc:
             raise LinkError(f"cannot open {url}: {exc}") from exc
         link = cls(port, rto=rto, retries=retries, request_timeout=request_timeout)
