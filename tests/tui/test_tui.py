@@ -275,3 +275,27 @@ async def test_a_job_runs_in_the_work_coordinates_the_zero_keys_set(
         await shown(pilot, app, (560, 80, 0))  # work X5 Y0 is machine X 7, Y 1
         kept = load_state(app.session.state_file)  # type: ignore[arg-type]
         assert kept.offsets[1] == {"X": 7.0}  # the job's G10 L20 P2 X0 is kept: it completed
+
+
+async def test_a_job_stopped_at_its_pause_resumes_with_r(machine: MachineConfig, emulator_binary: Path,
+                                                          tmp_path: Path) -> None:
+    job = tmp_path / "pause.gcode"
+    job.write_text("G1 X5 F1200\nM0\nG1 X10\n")
+    app = make_app(machine, emulator_binary, free=True, job_path=str(job))
+    async with app.run_test(size=(100, 32)) as pilot:
+        await connected(pilot, app)
+        await pilot.press("o", "enter")
+        await until(pilot, lambda: app.machine.job is not None and app.machine.job.progress.paused_at == 2,
+                    what="the pause at line 2")
+        await pilot.press("escape")
+        await until(pilot, lambda: "pause.gcode: stopped" in log_text(app), what="the stop")
+        await pilot.press("R")
+        await until(pilot, lambda: "resuming" in log_text(app), what="the resume")
+        await until(pilot, lambda: app.machine.job is not None and app.machine.job.progress.paused_at == 2,
+                    what="the pause offered again")
+        assert positions(app) == (400, 0, 0)
+        await pilot.press("g")
+        await until(pilot, lambda: "pause.gcode: done" in log_text(app), what="the job to finish")
+        assert positions(app) == (800, 0, 0)
+        await pilot.press("R")
+        await until(pilot, lambda: "no stopped job is kept" in log_text(app), what="nothing left to resume")

@@ -17,6 +17,7 @@ import signal
 import sys
 import time
 from collections.abc import Callable
+from typing import TypeVar
 
 import numpy as np
 from pydantic import BaseModel
@@ -25,18 +26,19 @@ from rich.progress import BarColumn, Progress, TaskProgressColumn, TextColumn
 
 from ..config import MachineConfig
 from ..job import Job, read_program
-from ..machine import JobRun, Machine, MotionEnd
+from ..machine import JobRun, Machine, MachineError, MotionEnd
 from ..planner.feed_override import MAX_PERCENT, MIN_PERCENT, check_percent
 from ..planner.program import JobError, Pause
 from ..protocol import State, StatusReport
 from ..default_machine import DEFAULT_MACHINE_NAME
 from ..machine import state_path
 from ..machine.journal import Journal
-from .resume import job_journal, resumed_job
+from ..machine.resume import job_journal, resume_job
 from ._jobs import add_job_options, config_path, format_duration, job_from_args, machine_config, skipped_text, work_text
 from .options import CliError, add_connection_options, add_json_option, connect
 
 PROGRESS_INTERVAL = 0.1  # s between progress updates
+T = TypeVar("T")
 
 
 class RunResult(BaseModel):
@@ -71,6 +73,14 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     add_connection_options(parser)
     add_json_option(parser)
     parser.set_defaults(handler=run)
+
+
+def machine_call(function: Callable[..., T], *args: object) -> T:
+    """`function(*args)`, a MachineError as the command's error line."""
+    try:
+        return function(*args)
+    except MachineError as exc:
+        raise CliError(str(exc)) from None
 
 
 def feed_percent(text: str) -> int:
@@ -119,9 +129,10 @@ def run(args: argparse.Namespace) -> int:
         raise CliError(str(exc)) from None
     with connect(args, config, config_name, state_path(config_path(args))) as machine:
         status = machine.status()
-        journal = job_journal(args, machine, path)
+        journal = machine_call(job_journal, machine, args.job, args.skip_unsupported)
         if args.resume:
-            job, status = resumed_job(args, machine, config, status)
+            job, status, said = machine_call(resume_job, machine, args.job)
+            print("\n".join(said), flush=True)
         elif status.state != State.IDLE or status.queue_fill:
             raise CliError(f"the firmware is {status.state.name}, not IDLE; nothing was sent")
         else:

@@ -335,7 +335,9 @@ class JobRun:
             return
         if state is JobState.DONE:
             self.journal.finish()
-        elif state is JobState.PAUSED or self.journal.waiting_at is not None or state.final:
+        elif state.final:  # stopped at a pause: the pause is offered again on resume
+            self.journal.state(state.value, self.journal.waiting_at)
+        elif state is JobState.PAUSED or self.journal.waiting_at is not None:
             self.journal.state(state.value, self.states.line)
 
     def _on_report(self, report: Report) -> None:

@@ -14,6 +14,7 @@ from textual.widgets import Static
 from ..job import Job, is_move_file, load_job
 from ..link import LinkError
 from ..machine import JobProgress, JobRun, Machine, MachineError, MotionEnd
+from ..machine.resume import job_journal, kept_job, resume_job
 from ..mdi import Console
 from ..planner.feed_override import MAX_PERCENT, MIN_PERCENT, STEP_PERCENT
 from ..planner.program import JobError
@@ -74,7 +75,42 @@ class JobKeys(Screen[None]):
         def plan(start: tuple[int, ...]) -> Job:
             return load_job(path, machine.config, start, coordinates=machine.coordinates)
 
-        self._thread(lambda: self._job_worker(machine, path.name, plan, source_lines(path)), "quadstep-job")
+        self._thread(lambda: self._job_worker(machine, path.name, plan, source_lines(path), path),
+                     "quadstep-job")
+
+    def offer_kept_job(self, machine: Machine) -> None:
+        """On connect: a job that stopped before its end is named, with the key that goes on with it."""
+        try:
+            kept = kept_job(machine)
+        except MachineError as exc:
+            self.log_line(str(exc), error=True)
+            return
+        if kept is not None:
+            self.log_line(f"{Path(kept.job.path).name} stopped before its end ({kept.state}): R resumes it "
+                          "from where motion stopped")
+
+    def action_resume_kept(self) -> None:
+        machine = self._machine_free("resume")
+        if machine is None or self._jogger_ready("resume") is None:
+            return
+        try:
+            kept = kept_job(machine)
+        except MachineError as exc:
+            self.log_line(str(exc), error=True)
+            return
+        if kept is None:
+            self.log_line("resume: no stopped job is kept for this machine", error=True)
+            return
+        path = Path(kept.job.path)
+
+        def plan(_start: tuple[int, ...]) -> Job:
+            job, _, said = resume_job(machine, path)
+            for line in said:
+                self.post_message(Note(line))
+            return job
+
+        self._thread(lambda: self._job_worker(machine, path.name, plan, source_lines(path), path),
+                     "quadstep-job")
 
     def action_console(self) -> None:
         """`:` gives the keys to the console line (Esc gives them back)."""
@@ -105,7 +141,7 @@ class JobKeys(Screen[None]):
         return machine
 
     def _job_worker(self, machine: Machine, name: str, plan: Callable[[tuple[int, ...]], Job],
-                    source: list[str]) -> None:
+                    source: list[str], job_file: Path | None = None) -> None:
         try:
             start = machine.sync()
             job = plan(start)
@@ -116,7 +152,8 @@ class JobKeys(Screen[None]):
             if len(job.plan) == 0:
                 raise JobError(f"{job.path}: no move leaves the current position")
             path = toolpath(job.program, machine.config.to_mm(start)) if name != "MDI" else None
-            run = machine.run_job(job.plan, job.program, job.label)
+            journal = job_journal(machine, job_file) if job_file is not None else None
+            run = machine.run_job(job.plan, job.program, job.label, journal=journal)
         except (JobError, LinkError, MachineError) as exc:
             self.post_message(Note(f"{name if name == 'MDI' else 'job'} not started: {exc}", error=True))
             return

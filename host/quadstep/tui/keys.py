@@ -49,6 +49,7 @@ def bindings(step_presets: int) -> list[BindingType]:
         Binding("P", "probe('38.4')", "probe off", show=False),
         Binding("b", "backlash", "backlash", show=False),
         Binding("g", "resume", "go on", show=False),
+        Binding("R", "resume_kept", "resume the stopped job", show=False),
         Binding("asterisk", "feed_override(0)", "feed 100 %", key_display="*", show=False),
         Binding("ctrl+x", "reset", "STOP now", show=False),
         Binding("ctrl+r", "reconnect", "reconnect", show=False),
@@ -106,6 +107,8 @@ HELP = """\
   g              go on after a pause (M0, or a tool change: jog, zero,
                  probe there first)
   Space          feed hold (keeps the rest of the job), again: resume
+  R              resume the job that stopped before its end (the host
+                 crashed or quit, the port dropped): offered on connect
   Esc            stop the job (HOLD)
   - + *          while a job runs: feed override −10 % / +10 % / back to
                  100 % (10 … 200 %; rapids keep their speed), shown on the

@@ -155,6 +155,7 @@ class MachineScreen(JobKeys, JogKeys):
                       f"queue {ident.queue_capacity}{given}")
         if self.session.machine is not None:
             self.watch_reports(self.session.machine)
+            self.offer_kept_job(self.session.machine)
         self._start_polling()
         self.refresh_panels()
 
