@@ -7,6 +7,7 @@ import json
 
 from ..toolpath import Box, toolpath
 
+from ._jobs import approach_text
 from ._jobs import add_job_options, format_duration, job_from_args, machine_config, skipped_text, stored_coordinates
 from .options import add_json_option
 
@@ -51,6 +52,8 @@ def run(args: argparse.Namespace) -> int:
     skipped = skipped_text(job)
     if skipped:
         print(skipped)
+    if job.approach is not None:
+        print(approach_text(job))
     return 0
 
 

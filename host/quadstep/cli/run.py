@@ -31,6 +31,7 @@ from ..planner.program import JobError, Pause
 from ..protocol import State, StatusReport
 from ..default_machine import DEFAULT_MACHINE_NAME
 from ..machine import state_path
+from ._jobs import approach_text
 from ._jobs import add_job_options, config_path, format_duration, job_from_args, machine_config, skipped_text, work_text
 from .options import CliError, add_connection_options, add_json_option, connect
 
@@ -126,6 +127,8 @@ def run(args: argparse.Namespace) -> int:
                 "every target inside the travel",
                 flush=True,
             )
+            if job.approach is not None:
+                print(approach_text(job), flush=True)
         return stream(args, machine, job, status)
 
 
