@@ -194,13 +194,13 @@ def describe(approach: Approach, config: MachineConfig, label: str = "line") -> 
         parts.append(f"Z up to {approach.lift:.3f} mm (machine)")
     if "over" in approach.moves:
         where = " ".join(f"{n} {x:.3f}" for n, x in zip(names, work) if n != "Z")
-        parts.append(f"{where}{system} at rapid")
+        parts.append(f"{where} mm{system} at rapid")
     outputs = _outputs_text(approach, config)
     last = approach.moves[-1] if approach.moves else None
     if last in ("down", "up"):
         feed = approach.feed if last == "down" else None
         speed = "rapid" if feed is None else f"F{feed * 60:g} mm/min"
-        z = f"Z {last} to {work[names.index('Z')]:.3f}{system} at {speed}"
+        z = f"Z {last} to {work[names.index('Z')]:.3f} mm{system} at {speed}"
         parts += [z, *outputs] if config.spindle.laser else [*outputs, z]
     else:
         parts += outputs
