@@ -74,7 +74,7 @@ class Job:
     plan: Plan
     coordinates: WorkCoordinates  # the work coordinates the job starts with
     feed_override: int = 100  # % of every programmed feed the plan has (the program keeps them as written)
-    approach: Approach | None = None  # started at a line (--from-line): how the machine gets there
+    approach: Approach | None = None  # started at a line (--from-line): how it gets there
 
     @property
     def end_coordinates(self) -> WorkCoordinates:
@@ -165,9 +165,9 @@ def load_job(
     feed_override: int = 100,
     from_line: int | None = None,
 ) -> Job:
-    """Read, check and plan a whole job (its feeds at `feed_override` %), or — `from_line` — the job from that
-    line on after an approach from `start_steps` (planner/approach.py); raises JobError naming the line (or move)
-    at fault."""
+    """Read, check and plan a whole job (its feeds at `feed_override` %), or — `from_line` — the
+    job from that line on after an approach from `start_steps` (planner/approach.py); raises
+    JobError naming the line (or move) at fault."""
     start = tuple(start_steps) if start_steps is not None else (0,) * len(config.axes)
     coordinates = coordinates if coordinates is not None else WorkCoordinates()
     program = read_program(path, config, start, skip_unsupported, coordinates)
@@ -181,5 +181,5 @@ def load_job(
         plan = plan_program(scale_feeds(program, feed_override), config, start, label)
     except JobError as exc:
         raise JobError(f"{path}: {exc}") from None
-    return Job(path=path, program=program, plan=plan, coordinates=coordinates, feed_override=feed_override,
-               approach=approach)
+    return Job(path=path, program=program, plan=plan, coordinates=coordinates,
+               feed_override=feed_override, approach=approach)

@@ -30,9 +30,10 @@ def add_job_options(parser: argparse.ArgumentParser) -> None:
     )
     parser.add_argument(
         "--from-line", type=line_number, metavar="N",
-        help="start the job at line N (a move file: its move N), in the modes, offsets, feed and outputs the "
-             "lines before it leave: Z up to safe_z (default the top of its travel), over to where line N begins "
-             "at rapid, the spindle and coolant as there (then [spindle] spin_up_s), Z down at the feed there",
+        help="start the job at line N (a move file: its move N), in the modes, offsets, feed and "
+             "outputs the lines before it leave: Z up to safe_z (default the top of its travel), "
+             "over to where line N begins at rapid, the spindle and coolant as there (then "
+             "[spindle] spin_up_s), Z down at the feed there",
     )
 
 
