@@ -107,6 +107,9 @@ def test_the_run_says_how_it_gets_to_the_line(start_emulator, tmp_path: Path,
                            capsys)
     from_origin = APPROACH.replace("Z up to 0.000 mm (machine), ", "")  # Z is at the top already
     assert code == 0 and out.splitlines()[-1] == from_origin
+    code, out, _ = run_cli(["check", str(job), "--config", str(ROUTER), "--from-line", "14",
+                            "--json"], capsys)
+    assert code == 0 and json.loads(out)["approach"] == from_origin
 
 
 def test_a_line_past_the_end_moves_nothing(start_emulator, tmp_path: Path, capsys: Capture) -> None:

@@ -110,6 +110,7 @@ def test_the_approach_lifts_travels_restores_the_outputs_and_plunges() -> None:
     assert down.target == begin
     assert approach.moves == ("lift", "over", "down")
     rest = program_from(whole, item_at_line(whole, 14), config, AT)
+    assert rest.items[:5] == [lift, over, outputs, wait, down]  # the program's first items
     plan = plan_program(rest, config, config.to_steps(AT))
     assert plan.end == plan_program(whole, config).end
     assert plan.duration_s > 2.5  # the spin-up's dwell is in it

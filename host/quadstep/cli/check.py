@@ -29,6 +29,8 @@ def run(args: argparse.Namespace) -> int:
         data = summary.model_dump()
         data["bounds"] = {kind: _box_json(names, box) for kind, box in
                           (("work", path.work_box), ("machine", path.machine_box))}
+        if job.approach is not None:
+            data["approach"] = approach_text(job)
         print(json.dumps(data))
         return 0
     print(
