@@ -11,6 +11,7 @@ import json
 import math
 import re
 import sys
+from collections.abc import Sequence
 from pathlib import Path
 from typing import Any, Literal, TypeVar
 
@@ -97,6 +98,9 @@ class SpindleConfig(BaseModel):
     s_min: float = Field(default=0.0, ge=0, description="S below this runs at it (GRBL's $31); S0 is off")
     laser: bool = Field(default=False, description="M3 constant power, M4 power following the speed, G0 off "
                                                    "(GRBL's $32); false: M3 clockwise, M4 counter-clockwise")
+    spin_up_s: float = Field(default=0.0, ge=0, le=60,
+                             description="s to wait after the spindle is turned on before a job "
+                                         "started at a line plunges (--from-line); 0: none")
 
     @model_validator(mode="after")
     def _range_in_order(self) -> SpindleConfig:
@@ -173,6 +177,9 @@ class MachineConfig(BaseModel):
     spindle: SpindleConfig = SpindleConfig()
     homing_order: tuple[AxisName, ...] | None = Field(default=None, description="default: Z first, then the others")
     homing_required: bool = False  # refuse jobs and jogs until the machine is homed
+    safe_z: float | None = Field(default=None,
+                                 description="machine mm, the Z height a job started at a line "
+                                             "travels at (--from-line); default: the top of Z's travel")
     host_timeout: float = Field(default=1.0, ge=0, le=4, description="s: a host silent this long while the machine "
                                 "moves makes the firmware stop on its own (a hold, then ALARM HOST_LOST); 0: never "
                                 "(1 s: ten keep-alives missed, more than a busy host pauses)")
@@ -199,9 +206,30 @@ class MachineConfig(BaseModel):
                 problems.append(f"homing_order: axis {name} has no [axes.homing]")
         if self.homing_required and not any(a.homing for a in self.axes):
             problems.append("homing_required = true: no axis has [axes.homing]")
+        problems += self._safe_z_problems(names)
         if problems:
             raise ValueError("\n".join(problems))  # every problem at once, a line each
         return self
+
+    def _safe_z_problems(self, names: Sequence[str]) -> list[str]:
+        if self.safe_z is None:
+            return []
+        if "Z" not in names:
+            return [f"safe_z = {self.safe_z:g}: the machine has no Z axis ({names})"]
+        z = self.axes[names.index("Z")]
+        if not z.travel_min <= self.safe_z <= z.travel_max:
+            return [f"safe_z = {self.safe_z:g}: must be within Z's travel "
+                    f"{z.travel_min:g} … {z.travel_max:g} mm"]
+        return []
+
+    @property
+    def clearance_z(self) -> float | None:
+        """The machine Z a job started at a line travels at: safe_z, else the top of Z's travel
+        (None: the machine has no Z)."""
+        names = self.axis_names
+        if "Z" not in names:
+            return None
+        return self.safe_z if self.safe_z is not None else self.axes[names.index("Z")].travel_max
 
     def _check_cubic_range(self, i: int, axis: AxisConfig) -> None:
         """A jerk-limited plan runs as cubic segments: its jerk and acceleration must fit their fields."""

@@ -15,6 +15,7 @@ from .config import MachineConfig
 from .coordinates import WorkCoordinates
 from .gcode import parse_gcode
 from .movefile import move_program, read_move_file
+from .planner.approach import Approach, approach_to, item_at_line, with_approach
 from .planner.feed_override import scale_feeds
 from .planner.plan import Plan, plan_program
 from .planner.program import JobError, Program
@@ -73,6 +74,7 @@ class Job:
     plan: Plan
     coordinates: WorkCoordinates  # the work coordinates the job starts with
     feed_override: int = 100  # % of every programmed feed the plan has (the program keeps them as written)
+    approach: Approach | None = None  # started at a line (--from-line): how it gets there
 
     @property
     def end_coordinates(self) -> WorkCoordinates:
@@ -161,15 +163,23 @@ def load_job(
     skip_unsupported: bool = False,
     coordinates: WorkCoordinates | None = None,
     feed_override: int = 100,
+    from_line: int | None = None,
 ) -> Job:
-    """Read, check and plan a whole job (its feeds at `feed_override` %); raises JobError naming the line (or
-    move) at fault."""
+    """Read, check and plan a whole job (its feeds at `feed_override` %), or — `from_line` — the
+    job from that line on after an approach from `start_steps` (planner/approach.py); raises
+    JobError naming the line (or move) at fault."""
     start = tuple(start_steps) if start_steps is not None else (0,) * len(config.axes)
     coordinates = coordinates if coordinates is not None else WorkCoordinates()
     program = read_program(path, config, start, skip_unsupported, coordinates)
     label = "move" if is_move_file(path) else "line"
+    approach = None
     try:
+        if from_line is not None:
+            first = item_at_line(program, from_line, label)
+            approach = approach_to(program, first, config, config.to_mm(start), label=label)
+            program = with_approach(program, approach)
         plan = plan_program(scale_feeds(program, feed_override), config, start, label)
     except JobError as exc:
         raise JobError(f"{path}: {exc}") from None
-    return Job(path=path, program=program, plan=plan, coordinates=coordinates, feed_override=feed_override)
+    return Job(path=path, program=program, plan=plan, coordinates=coordinates,
+               feed_override=feed_override, approach=approach)

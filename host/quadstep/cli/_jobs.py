@@ -11,6 +11,7 @@ from ..coordinates import WorkCoordinates
 from ..default_machine import DEFAULT_MACHINE_NAME, default_machine
 from ..job import Job, load_job
 from ..machine import StateError, load_state, state_path
+from ..planner.approach import describe
 from ..planner.program import JobError
 from .options import CliError
 
@@ -27,6 +28,23 @@ def add_job_options(parser: argparse.ArgumentParser) -> None:
         action="store_true",
         help="skip spindle, coolant and tool words (M3 M4 M5 M6 M7 M8 M9, S, T) instead of refusing the job",
     )
+    parser.add_argument(
+        "--from-line", type=line_number, metavar="N",
+        help="start the job at line N (a move file: its move N), in the modes, offsets, feed and "
+             "outputs the lines before it leave: Z up to safe_z (default the top of its travel), "
+             "over to where line N begins at rapid, the spindle and coolant as there (then "
+             "[spindle] spin_up_s), Z down at the feed there",
+    )
+
+
+def line_number(text: str) -> int:
+    try:
+        number = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"line {text!r} is not a whole number") from None
+    if number < 1:
+        raise argparse.ArgumentTypeError(f"line {number}: lines are counted from 1")
+    return number
 
 
 def machine_config(args: argparse.Namespace) -> MachineConfig:
@@ -65,7 +83,7 @@ def job_from_args(args: argparse.Namespace, config: MachineConfig, start: tuple[
                   coordinates: WorkCoordinates | None = None) -> Job:
     try:
         return load_job(args.job, config, start, args.skip_unsupported, coordinates,
-                        getattr(args, "feed_override", 100))
+                        getattr(args, "feed_override", 100), getattr(args, "from_line", None))
     except JobError as exc:
         raise CliError(str(exc)) from None
 
@@ -86,3 +104,10 @@ def skipped_text(job: Job) -> str | None:
         return None
     words = ", ".join(f"line {line}: {word}" for line, word in skipped)
     return f"skipped {len(skipped)} unsupported word{'s' if len(skipped) != 1 else ''}: {words}"
+
+
+def approach_text(job: Job) -> str | None:
+    """What a job started at a line does first (--from-line), or None."""
+    if job.approach is None:
+        return None
+    return describe(job.approach, job.plan.config, job.label)

@@ -7,6 +7,7 @@ import json
 
 from ..toolpath import Box, toolpath
 
+from ._jobs import approach_text
 from ._jobs import add_job_options, format_duration, job_from_args, machine_config, skipped_text, stored_coordinates
 from .options import add_json_option
 
@@ -28,6 +29,8 @@ def run(args: argparse.Namespace) -> int:
         data = summary.model_dump()
         data["bounds"] = {kind: _box_json(names, box) for kind, box in
                           (("work", path.work_box), ("machine", path.machine_box))}
+        if job.approach is not None:
+            data["approach"] = approach_text(job)
         print(json.dumps(data))
         return 0
     print(
@@ -51,6 +54,8 @@ def run(args: argparse.Namespace) -> int:
     skipped = skipped_text(job)
     if skipped:
         print(skipped)
+    if job.approach is not None:
+        print(approach_text(job))
     return 0
 
 

@@ -34,6 +34,7 @@ from ..default_machine import DEFAULT_MACHINE_NAME
 from ..machine import state_path
 from ..machine.journal import Journal
 from ..machine.resume import job_journal, resume_job
+from ._jobs import approach_text
 from ._jobs import add_job_options, config_path, format_duration, job_from_args, machine_config, skipped_text, work_text
 from .options import CliError, add_connection_options, add_json_option, connect
 
@@ -148,6 +149,8 @@ def run(args: argparse.Namespace) -> int:
                 "every target inside the travel",
                 flush=True,
             )
+            if job.approach is not None:
+                print(approach_text(job), flush=True)
         return stream(args, machine, job, status, journal)
 
 
