@@ -69,22 +69,33 @@ def test_the_rest_keeps_the_outputs_and_waits_again_at_the_pause(tmp_path: Path)
     job, journal, read = kept(tmp_path)
     ends = stream_move_ends(job.plan)
     at = CONFIG.to_steps((20.0, 5.0, 0.0))  # stopped at the end of the G1 X20, in the arc's first piece
-    rest = rest_to_resume(read, job.program, CONFIG, (2**32 - 3 + ends[1] + 1) % 2**32, at)
+    rest, approach = rest_to_resume(read, job.program, CONFIG, (2**32 - 3 + ends[1] + 1) % 2**32, at)
+    assert approach is None
     assert isinstance(rest.items[0], SetOutputs) and rest.items[0].state.spindle == 3  # M3 again first
     assert rest.items[1:] == job.program.items[job.program.items.index(rest.items[1]):]
     journal.state("paused", 6)
     read = read_journal(journal.path)
     assert read is not None and read.waiting_at == 6
-    rest = rest_to_resume(read, job.program, CONFIG, 0, at)
+    rest, _ = rest_to_resume(read, job.program, CONFIG, 0, at)
     assert isinstance(rest.items[1], Pause) and rest.items[1].line == 6
 
 
-def test_a_machine_moved_since_the_stop_is_refused(tmp_path: Path) -> None:
+def test_a_machine_moved_since_the_stop_is_refused_unless_homed_then_approached(tmp_path: Path) -> None:
     job, _, read = kept(tmp_path)
     ends = stream_move_ends(job.plan)
-    far = CONFIG.to_steps((200.0, 5.0, 0.0))
+    home = CONFIG.to_steps((200.0, 5.0, 0.0))
+    done = (2**32 - 3 + ends[2] + 1) % 2**32  # in the arc's second chord
     with pytest.raises(JournalError, match="moved since the job stopped"):
-        rest_to_resume(read, job.program, CONFIG, (2**32 - 3 + ends[1] + 1) % 2**32, far)
+        rest_to_resume(read, job.program, CONFIG, done, home)
+    rest, approach = rest_to_resume(read, job.program, CONFIG, done, home, homed=True)
+    assert approach is not None and approach.startswith("starting at line 5: ")
+    item = resume_item(read, job.program, CONFIG, done)
+    moves = [i for i in job.program.items if isinstance(i, LinearMove)]
+    interrupted = moves.index(job.program.items[item])
+    assert interrupted == 3  # the arc's second chord: ends[2] passed
+    assert rest.items[-(len(job.program.items) - item):] == job.program.items[item:]  # as written after
+    over = [i for i in rest.items[:len(rest.items) - (len(job.program.items) - item)] if isinstance(i, LinearMove)]
+    assert CONFIG.to_steps(over[-1].target) == CONFIG.to_steps(moves[2].target)  # down onto the chord's start
 
 
 def test_a_done_job_leaves_no_journal(tmp_path: Path) -> None:

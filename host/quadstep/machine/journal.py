@@ -15,6 +15,7 @@ from __future__ import annotations
 import hashlib
 import json
 from bisect import bisect_right
+from dataclasses import replace
 from collections.abc import Sequence
 from pathlib import Path
 from typing import Annotated, Literal
@@ -25,6 +26,7 @@ from ..config import MachineConfig, validate
 from ..coordinates import WorkCoordinates
 from ..planner.program import Dwell, Item, LinearMove, OutputState, Pause, ProbeMove, Program, SetOutputs
 from ..textfile import read_text, replace_text
+from ..planner.approach import approach_to, describe, with_approach
 from .remainder import move_item, rest_of
 
 COUNTER = 2**32  # the board's segments_done wraps here
@@ -269,23 +271,39 @@ def stood_on_move(config: MachineConfig, begin: Sequence[int], end: Sequence[int
 
 
 def rest_to_resume(journal: JournalFile, fresh: Program, config: MachineConfig, board_done: int,
-                   position: Sequence[int]) -> Program:
-    """What is left of the job: the move under way when it stopped again (from `position`, where the machine
-    stands), then everything after it, the outputs as they were there. A machine moved since the stop (jogged,
-    homed) is refused: it would cut a new path to the move's target."""
+                   position: Sequence[int], homed: bool = False) -> tuple[Program, str | None]:
+    """What is left of the job, and what the machine does first (None: nothing but going on). Where the machine
+    stands where the stop left it: the move under way again from there, then everything after it, the outputs
+    as they were (and the spindle's spin-up wait). Where it was moved since (homed after a hard limit, jogged):
+    a safe approach first (Z up, over, the outputs, Z down at feed) to where that move began — only on a homed
+    machine; otherwise refused, as a new path to the move's target could cut anything."""
     program = leg_program(journal, fresh)
     item = resume_item(journal, program, config, board_done)
     begin = move_start(program, config, journal.leg.start, item)
     moves = [i for i in program.items[item:] if isinstance(i, LinearMove)]
-    if moves and journal.waiting_at is None:  # (at a pause the operator may have jogged: planned from there)
-        end = config.to_steps(moves[0].target)
-        if not stood_on_move(config, begin, end, position):
-            names = config.axis_names
-            raise JournalError(
-                f"the machine was moved since the job stopped: it stands at "
-                f"{_mm(config, names, position)}, and the move under way ran from {_mm(config, names, begin)} "
-                f"to {_mm(config, names, end)}; put it back, or start the file at a line (--from-line N)")
-    return rest_of(program, item)
+    moved = bool(moves) and journal.waiting_at is None and not stood_on_move(
+        config, begin, config.to_steps(moves[0].target), position)
+    if not moved:
+        return with_spin_up(rest_of(program, item), config), None
+    names = config.axis_names
+    if not homed:
+        raise JournalError(
+            f"the machine was moved since the job stopped: it stands at {_mm(config, names, position)}, and "
+            f"the move under way began at {_mm(config, names, begin)}; home it (quadstep home) and resume to "
+            "approach that point safely, or start the file at a line (--from-line N)")
+    start = config.to_mm(list(journal.leg.start))
+    approach = approach_to(program, item, config, config.to_mm(list(position)), start, journal.job.label)
+    return with_approach(program, approach), describe(approach, config, journal.job.label)
+
+
+def with_spin_up(program: Program, config: MachineConfig) -> Program:
+    """A spindle switched on again (the outputs as they were) gets its spin-up wait before the first move."""
+    first = program.items[0] if program.items else None
+    spinning = (isinstance(first, SetOutputs) and not config.spindle.laser and first.state.spindle != 5
+                and config.spindle.power(first.state.speed) > 0)
+    if not spinning or config.spindle.spin_up_s <= 0 or first is None:
+        return program
+    return replace(program, items=[first, Dwell(first.line, config.spindle.spin_up_s), *program.items[1:]])
 
 
 def _mm(config: MachineConfig, names: Sequence[str], steps: Sequence[int]) -> str:

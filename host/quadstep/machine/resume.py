@@ -89,13 +89,17 @@ def resume_job(machine: Machine, job: Path) -> tuple[Job, StatusReport, list[str
     config, leg = machine.config, journal.leg
     try:
         fresh = read_program(job, config, leg.start, journal.job.skip_unsupported, machine.coordinates)
-        rest = rest_to_resume(journal, fresh, config, status.segments_done, machine.position)
+        rest, approach = rest_to_resume(journal, fresh, config, status.segments_done, machine.position,
+                                        machine.homed)
         plan = plan_program(scale_feeds(rest, leg.percent), config, machine.position, journal.job.label)
     except (JobError, JournalError) as exc:
         raise MachineError(f"cannot resume {job}: {exc}") from None
+    if approach is not None:
+        say.append(approach)
     first = next((item.line for item in rest.items if isinstance(item, LinearMove)), None)
     where = f"{journal.job.label} {first}" if first is not None else "its end"
-    say.append(f"resuming {job} at {where} ({journal.state} when it stopped): the move under way again from "
-               "where the machine stands, then the rest")
+    how = "from a safe approach" if approach is not None else "from where the machine stands"
+    say.insert(len(say) - (approach is not None), f"resuming {job} at {where} ({journal.state} when it "
+               f"stopped): the move under way again {how}, then the rest")
     coordinates = machine.coordinates.model_copy(deep=True)
     return Job(path=job, program=rest, plan=plan, coordinates=coordinates, feed_override=leg.percent), status, say
