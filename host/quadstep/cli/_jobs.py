@@ -12,9 +12,7 @@ from ..default_machine import DEFAULT_MACHINE_NAME, default_machine
 from ..job import Job, load_job
 from ..machine import StateError, load_state, state_path
 from ..planner.program import JobError
-from .options import CliError
-
-DEFAULT_CONFIG = Path("quadstep.toml")
+from .options import DEFAULT_CONFIG, CliError, config_path  # noqa: F401  (the commands import them from here)
 
 
 def add_job_options(parser: argparse.ArgumentParser) -> None:
@@ -44,13 +42,6 @@ def machine_config(args: argparse.Namespace) -> MachineConfig:
         return load_config(path)
     except ConfigError as exc:
         raise CliError(str(exc)) from None
-
-
-def config_path(args: argparse.Namespace) -> Path | None:
-    """The configuration file the job commands read (None: the default machine, there being none)."""
-    if args.config is not None:
-        return args.config
-    return DEFAULT_CONFIG if DEFAULT_CONFIG.exists() else None
 
 
 def stored_coordinates(args: argparse.Namespace) -> WorkCoordinates:
