@@ -12,7 +12,8 @@ from ..default_machine import DEFAULT_MACHINE_NAME, default_machine
 from ..job import Job, load_job
 from ..machine import StateError, load_state, state_path
 from ..planner.program import JobError
-from .options import DEFAULT_CONFIG, CliError, config_path  # noqa: F401  (the commands import them from here)
+# DEFAULT_CONFIG and config_path live in options.py (connect needs them); commands find them here
+from .options import DEFAULT_CONFIG, CliError, config_path  # noqa: F401
 
 
 def add_job_options(parser: argparse.ArgumentParser) -> None:

@@ -79,13 +79,14 @@ def config_path(args: argparse.Namespace) -> Path | None:
 
 def connect(args: argparse.Namespace, config: MachineConfig | None = None, source: str = "",
             state_file: Path | None = None) -> Machine:
-    """The connected Machine the arguments ask for (a context manager); an emulator started for it ticks
-    and has the axes that `config` says. With a configuration, the machine's state is kept in its state
-    file (`state_file`, else the configuration's: machine/state.py), held by this process alone; what
-    connecting found of it (a board reset since the last command) goes to stderr."""
+    """The connected Machine the arguments ask for (a context manager); an emulator started for it
+    ticks and has the axes that `config` says. With a configuration, the machine's state is kept in
+    its state file (`state_file`, else the configuration's: machine/state.py), held by this process
+    alone; what connecting found of it (a board reset since the last command) goes to stderr."""
     if config is not None and state_file is None:
         state_file = state_path(config_path(args))
-    machine = open_machine(target(args), config, source=source or "the configuration", state_file=state_file)
+    machine = open_machine(target(args), config, source=source or "the configuration",
+                           state_file=state_file)
     if machine.notice is not None:
         print(machine.notice, file=sys.stderr, flush=True)
     return machine

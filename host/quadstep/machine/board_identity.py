@@ -1,10 +1,12 @@
-"""Which boot of a board the host talks to: the state file's work is valid only for the boot it was written on.
+"""Which boot of a board the host talks to: the state file's work holds only for the boot it was
+written on.
 
-A board's step counts (and so machine zero, and where each carriage sits in its backlash) start anew at each
-reset. A firmware that reports a boot id (a number it makes at each reset, in IDENTIFY) tells a reset
-directly; without it, continuity does: a board's motion clock only grows, so a clock below the one the state
-recorded means the board was reset since (a reset board that has since run longer than the recorded clock
-goes unnoticed, as does a clock past its 32 bits: about 37 hours of motion at 32 kHz).
+A board's step counts (and so machine zero, and where each carriage sits in its backlash) start anew
+at each reset. A firmware that reports a boot id (a number it makes at each reset, in IDENTIFY)
+tells a reset directly; without one, continuity does: a board's motion clock only grows, so a clock
+below the one the state recorded means the board was reset since (a reset board that has since run
+longer than the recorded clock goes unnoticed, as does a clock past its 32 bits: 37 hours of motion
+at 32 kHz).
 """
 
 from __future__ import annotations

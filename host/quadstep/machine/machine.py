@@ -262,8 +262,8 @@ class Machine(Standing):
             pass  # the link is gone already
         finally:
             try:
-                if bring_to_rest:
-                    self.status()  # the board's clock and counts as they are left, for the next command
+                if bring_to_rest:  # the board's clock and counts as left, for the next command
+                    self.status()
             except LinkError:
                 pass
             self._keep_state()

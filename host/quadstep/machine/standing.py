@@ -1,6 +1,6 @@
 """Where a machine stands: the board's step counts, the backlash's band, and the positions shown without the
-take-ups (docs/BACKLASH.md) — at rest, while a program runs, at a latch — and whether it is homed; all of it
-kept in the state file (state.py) each time it changes, with the board it belongs to."""
+take-ups (docs/BACKLASH.md) — at rest, while a program runs, at a latch — and whether it is
+homed; all of it kept in the state file (state.py) at each change, with the board it belongs to."""
 
 from __future__ import annotations
 
@@ -38,19 +38,19 @@ class Standing:
     _homed: bool
     _position_lost: bool
     _state_lock: threading.Lock  # one write of the state file at a time
-    new_board: bool  # the board cannot be the one the state file was written for (an emulator started anew)
+    new_board: bool  # cannot be the board the state file was written for (an emulator started anew)
     notice: str | None  # what opening the machine found of the kept state, for the user
     identity: IdentifyReply  # the Machine's
     axis_count: int
     program: object | None  # the program running (machine.Program)
     coordinates: WorkCoordinates  # in force (a job running changes them as it goes)
-    _stored_coordinates: WorkCoordinates  # as a work zero or a completed job left them: what the file keeps
+    _stored_coordinates: WorkCoordinates  # as a work zero or a completed job left them: kept
     adopt_coordinates: Callable[[WorkCoordinates], None]
     _refuse_if_busy: Callable[[str], None]
 
     @property
     def homed(self) -> bool:
-        """Machine zero is known (found by homing since the board's last reset, and not lost since)."""
+        """Machine zero is known: found by homing since the board's last reset, not lost since."""
         return self._homed
 
     @property
@@ -65,7 +65,7 @@ class Standing:
         self._keep_state()
 
     def lose_position(self) -> None:
-        """A hard limit or the abort button: machine zero is lost until the machine is homed again."""
+        """A hard limit or the abort button: machine zero is lost until the machine is homed."""
         self._homed, self._position_lost = False, True
         self._keep_state()
 
@@ -159,7 +159,7 @@ class Standing:
         self._keep_state()
 
     def _carry_over(self, kept: StateFile, status: StatusReport) -> None:
-        """At connect, at rest: take what the state file keeps for this board, and record the board."""
+        """At connect, at rest: take what the state file keeps for this board; record the board."""
         carried = carry_over(kept, self.takeups.config, self.identity, status, self.new_board)
         self.coordinates = self._stored_coordinates = carried.coordinates
         self.takeups.reset(carried.band)
@@ -168,14 +168,16 @@ class Standing:
         self._keep_state(strict=True)
 
     def _keep_state(self, strict: bool = False) -> None:
-        """Replace the state file with what the machine knows now. `strict`: a failure is a MachineError (a
-        write the user asked for); otherwise it is let go (the state folder was found writable at connect)."""
+        """Replace the state file with what the machine knows now. `strict`: a failure is a
+        MachineError (a write the user asked for); otherwise it is let go (the state folder was
+        found writable at connect)."""
         if self.state_file is None:
             return
         with self._lock:
             motor, ticks = self._motor, self._ticks
         band = self.takeups.band
-        state = StateFile(coordinates=self._stored_coordinates, homed=self._homed, position_lost=self._position_lost,
+        state = StateFile(coordinates=self._stored_coordinates, homed=self._homed,
+                          position_lost=self._position_lost,
                           band=BandRecord.of(band, motor) if band.active else None,
                           board=board_mark(self.identity, ticks, motor))
         try:

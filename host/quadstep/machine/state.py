@@ -1,9 +1,10 @@
-"""The state file: what the host knows of one machine beyond the board's step counts, kept across commands.
+"""The state file: what the host knows of one machine beyond the board's step counts, kept across
+commands.
 
-That is the work coordinates, where each carriage sits in its backlash (the band), whether the machine is
-homed (or lost its position to a hard limit or the abort button), and the board it all belongs to: its boot id
-where the firmware reports one, its motion clock and step counts when the file was written
-(machine/board_identity.py tells a board reset since then; machine/carry_over.py what is kept for it).
+That is the work coordinates, where each carriage sits in its backlash (the band), whether the
+machine is homed (or lost its position to a hard limit or the abort button), and the board it all
+belongs to: its boot id where the firmware reports one, its motion clock and step counts when the
+file was written (board_identity.py tells a board reset since then; carry_over.py what is kept).
 
 One file per machine configuration, at
 
@@ -13,8 +14,8 @@ where the digits come from the configuration file's absolute path (two files
 of one name in different folders are two machines), and `default.json` for
 the generic configuration. It is replaced whole and atomically (written
 beside it, flushed to disk, renamed over it), so a crash leaves the old file
-or the new one, never half of either. A lock file beside it (machine/state_lock.py)
-lets one process at a time hold the machine.
+or the new one, never half of either. A lock file beside it (state_lock.py) lets
+one process at a time hold the machine.
 """
 
 from __future__ import annotations
@@ -45,7 +46,7 @@ class BoardMark(BaseModel):
 
     model_config = ConfigDict(extra="forbid")
 
-    boot_id: int | None = None  # what the board made at its last reset (None: its firmware reports none)
+    boot_id: int | None = None  # made by the board at its last reset (None: its firmware has none)
     motion_ticks: int  # its motion clock (at most): a clock that went back since means a reset
     position: list[int]  # its step counts
 
@@ -93,7 +94,8 @@ def load_state(path: Path) -> WorkCoordinates:
 
 def write_state(path: Path, state: StateFile) -> None:
     """Replace `path`, atomically, with `state` (in the current version)."""
-    replace_text(path, state.model_copy(update={"version": VERSION}).model_dump_json(indent=1) + "\n")
+    text = state.model_copy(update={"version": VERSION}).model_dump_json(indent=1)
+    replace_text(path, text + "\n")
 
 
 def save_state(path: Path, coordinates: WorkCoordinates) -> None:

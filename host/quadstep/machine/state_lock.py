@@ -1,7 +1,7 @@
-"""One process at a time holds a machine: an exclusive lock (flock) on a lock file beside its state file, held
-while the Machine is open. The kernel releases it when the process ends, however it ends, so a crash never
-leaves a machine locked. Taking it also finds, before anything connects or moves, a state folder where the
-state cannot be written."""
+"""One process at a time holds a machine: an exclusive lock (flock) on a lock file beside its state
+file, held while the Machine is open. The kernel releases it when the process ends, however it ends,
+so a crash never leaves a machine locked. Taking it also finds, before anything connects or moves, a
+state folder where the state cannot be written."""
 
 from __future__ import annotations
 
@@ -18,7 +18,7 @@ class MachineBusy(MachineError):
 
 
 class StateLock:
-    """The lock on one machine's state; release() (or the process's end) lets the next one take it."""
+    """The lock on one machine's state; release() (or the process's end) lets the next take it."""
 
     def __init__(self, path: Path, fd: int) -> None:
         self.path = path
@@ -26,12 +26,14 @@ class StateLock:
 
     @classmethod
     def acquire(cls, state_file: Path, label: str) -> StateLock:
-        """Take the lock of the machine whose state is `state_file` (`label` names it in messages); raises
-        MachineBusy when another process holds it, MachineError when its folder cannot keep the state."""
+        """Take the lock of the machine whose state is `state_file` (`label` names it in messages);
+        raises MachineBusy when another process holds it, MachineError when its folder cannot keep
+        the state."""
         path = state_file.with_name(state_file.name + ".lock")
         try:
             path.parent.mkdir(parents=True, exist_ok=True)
-            fd = os.open(path, os.O_RDWR | os.O_CREAT, 0o644)  # not inherited by an emulator started later
+            # not inherited by the processes started later (an emulator that outlives a crash)
+            fd = os.open(path, os.O_RDWR | os.O_CREAT, 0o644)
         except OSError as exc:
             raise _unwritable(path.parent, exc) from None
         try:
@@ -70,15 +72,16 @@ def _holder(fd: int) -> int | None:
 
 
 def _check_writable(state_file: Path) -> None:
-    """The state is replaced by a file written beside it and renamed over it: the folder must take new files,
-    and the state file, if there, must be a file."""
+    """The state is replaced by a file written beside it and renamed over it: the folder must take
+    new files, and the state file, if there, must be a file."""
     if state_file.exists() and not state_file.is_file():
         raise MachineError(f"cannot keep the machine's state in {state_file}: not a file")
-    fd, probe = tempfile.mkstemp(dir=state_file.parent, prefix=f".{state_file.name}.", suffix=".tmp")
+    fd, probe = tempfile.mkstemp(dir=state_file.parent, prefix=f".{state_file.name}.",
+                                 suffix=".tmp")
     os.close(fd)
     os.unlink(probe)
 
 
 def _unwritable(folder: Path, exc: OSError) -> MachineError:
-    return MachineError(f"cannot keep the machine's state in {folder}: {exc.strerror or exc}; make it writable "
-                        "or set XDG_STATE_HOME to a folder that is")
+    return MachineError(f"cannot keep the machine's state in {folder}: {exc.strerror or exc}; "
+                        "make it writable or set XDG_STATE_HOME to a folder that is")

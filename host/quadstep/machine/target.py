@@ -6,7 +6,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from ..config import MachineConfig
+from ..config import DEFAULT_CONFIG_NAME, MachineConfig
 from ..default_machine import default_machine
 from ..emulator import Emulator
 from ..link import DEFAULT_BAUD, Link
@@ -47,10 +47,11 @@ def open_machine(
     emulator: Emulator | None = None, state_file: Path | None = None,
 ) -> Machine:
     """Connect to `target`. For an emulator target, `emulator` is a running one to use (its owner stops
-    it); without it one is started, and the machine stops it when closed. `state_file` keeps the machine's
-    state (machine.state.state_path gives the usual one); the machine holds its lock (state_lock.py) until
-    closed, taken before anything connects."""
-    lock = StateLock.acquire(state_file, source) if state_file is not None else None
+    it); without it one is started, and the machine stops it when closed. `state_file` keeps the
+    machine's state (machine.state.state_path gives the usual one); the machine holds its lock
+    (state_lock.py), taken before anything connects, until closed."""
+    label = source if config is not None else DEFAULT_CONFIG_NAME
+    lock = StateLock.acquire(state_file, label) if state_file is not None else None
     started = None
     try:
         if target.emulator and emulator is None:
