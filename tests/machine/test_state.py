@@ -34,8 +34,18 @@ def test_what_is_saved_is_read_back(tmp_path: Path) -> None:
     path = tmp_path / "deep" / "state.json"
     save_state(path, coords)
     assert load_state(path) == coords
-    assert json.loads(path.read_text())["version"] == 1
+    assert json.loads(path.read_text())["version"] == 2
     assert [p.name for p in path.parent.iterdir()] == ["state.json"]  # no temporary file left
+
+
+def test_a_version_1_file_is_read_and_rewritten_as_version_2(tmp_path: Path) -> None:
+    path = tmp_path / "state.json"
+    path.write_text('{"version": 1, "coordinates": {"system": 2}}')
+    assert load_state(path).name == "G55"
+    coords = load_state(path)
+    coords.set_offset(2, "X", 1.5)
+    save_state(path, coords)
+    assert json.loads(path.read_text())["version"] == 2 and load_state(path) == coords
 
 
 def test_a_crash_while_saving_leaves_the_old_file_whole(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
@@ -62,7 +72,7 @@ def test_a_crash_while_saving_leaves_the_old_file_whole(tmp_path: Path, monkeypa
     [
         ("{", "not valid JSON"),
         ('{"version": 1, "coordinates": {"system": 7}}', "coordinates.system = 7: must be at most 6"),
-        ('{"version": 2}', "version = 2: must be one of"),
+        ('{"version": 3}', "version = 3: must be one of"),
     ],
 )
 def test_a_bad_file_is_an_error_naming_it(tmp_path: Path, content: str, message: str) -> None:

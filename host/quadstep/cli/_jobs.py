@@ -13,9 +13,8 @@ from ..job import Job, load_job
 from ..machine import StateError, load_state, state_path
 from ..planner.approach import describe
 from ..planner.program import JobError
-from .options import CliError
-
-DEFAULT_CONFIG = Path("quadstep.toml")
+# DEFAULT_CONFIG and config_path live in options.py (connect needs them); commands find them here
+from .options import DEFAULT_CONFIG, CliError, config_path  # noqa: F401
 
 
 def add_job_options(parser: argparse.ArgumentParser) -> None:
@@ -62,13 +61,6 @@ def machine_config(args: argparse.Namespace) -> MachineConfig:
         return load_config(path)
     except ConfigError as exc:
         raise CliError(str(exc)) from None
-
-
-def config_path(args: argparse.Namespace) -> Path | None:
-    """The configuration file the job commands read (None: the default machine, there being none)."""
-    if args.config is not None:
-        return args.config
-    return DEFAULT_CONFIG if DEFAULT_CONFIG.exists() else None
 
 
 def stored_coordinates(args: argparse.Namespace) -> WorkCoordinates:

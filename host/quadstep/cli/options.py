@@ -3,11 +3,15 @@
 from __future__ import annotations
 
 import argparse
+import sys
 from pathlib import Path
 
 from ..config import MachineConfig
 from ..link import DEFAULT_BAUD, PortError, auto_port
-from ..machine import Machine, Target, open_machine
+from ..machine import Machine, Target, open_machine, state_path
+
+
+DEFAULT_CONFIG = Path("quadstep.toml")
 
 
 class CliError(Exception):
@@ -66,8 +70,23 @@ def target(args: argparse.Namespace) -> Target:
     return Target(port=args.port, emulator=emulator, baud=args.baud, emulator_options=options)
 
 
+def config_path(args: argparse.Namespace) -> Path | None:
+    """The configuration file the commands read (None: the default machine, there being none)."""
+    if args.config is not None:
+        return args.config
+    return DEFAULT_CONFIG if DEFAULT_CONFIG.exists() else None
+
+
 def connect(args: argparse.Namespace, config: MachineConfig | None = None, source: str = "",
             state_file: Path | None = None) -> Machine:
-    """The connected Machine the arguments ask for (a context manager); an emulator started for it ticks
-    and has the axes that `config` says; `state_file` keeps its work coordinates."""
-    return open_machine(target(args), config, source=source or "the configuration", state_file=state_file)
+    """The connected Machine the arguments ask for (a context manager); an emulator started for it
+    ticks and has the axes that `config` says. With a configuration, the machine's state is kept in
+    its state file (`state_file`, else the configuration's: machine/state.py), held by this process
+    alone; what connecting found of it (a board reset since the last command) goes to stderr."""
+    if config is not None and state_file is None:
+        state_file = state_path(config_path(args))
+    machine = open_machine(target(args), config, source=source or "the configuration",
+                           state_file=state_file)
+    if machine.notice is not None:
+        print(machine.notice, file=sys.stderr, flush=True)
+    return machine

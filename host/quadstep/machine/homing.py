@@ -75,8 +75,7 @@ def home(machine: Machine, axes: Sequence[str] | None = None, on_progress: Progr
     with machine.procedure("home") as procedure:
         for i in order:
             results.append(_home_axis(machine, procedure, i, say))
-    machine.homed = len(order) == len([a for a in config.axes if a.homing is not None])
-    machine.position_lost = machine.position_lost and not machine.homed
+    machine.set_homed(len(order) == len([a for a in config.axes if a.homing is not None]))
     return results
 
 

@@ -9,9 +9,10 @@ The stop rule: `hold()` is the user's stop, a controlled deceleration to
 rest (HOLD) after which the exact position is known; `emergency_stop()` is
 the immediate STOP, for the emergency key only. Positions are the board's
 step counts, exact; mm are derived from them through the configuration.
-Work coordinates (G54–G59, G92, G28/G30: quadstep.coordinates) are kept in
-the state file (state.py) when the machine has one; the soft limits are
-always machine coordinates.
+Work coordinates (G54–G59, G92, G28/G30: quadstep.coordinates), the backlash's
+band and whether the machine is homed are kept in the state file (state.py)
+when the machine has one, for the same boot of the board (carry_over.py); the
+soft limits are always machine coordinates.
 """
 
 from __future__ import annotations
@@ -38,7 +39,8 @@ from .inputs import config_message
 from .job import JobRun
 from .journal import Journal
 from .motion import Motion, MotionEnd
-from .state import read_state, save_state
+from .state import StateFile, read_state
+from .state_lock import StateLock
 from .standing import Standing, _Restream
 from .takeups import StreamPlan, TakeUps
 from .units import hold_decels
@@ -89,6 +91,7 @@ class Machine(Standing):
         source: str = "the configuration",
         emulator: PortProcess | None = None,
         state_file: Path | None = None,
+        state_lock: StateLock | None = None,
     ) -> None:
         identity = link.identity
         if identity is None:
@@ -99,27 +102,29 @@ class Machine(Standing):
         check_agreement(identity, self.config, source if config is not None else DEFAULT_CONFIG_NAME)
         self.emulator = emulator  # an emulator this machine started, stopped by close()
         self.decels = hold_decels(self.config)  # HOLD decelerations: each axis's max_accel
-        self.state_file = state_file  # where the work coordinates are kept (None: in memory only)
-        kept = read_state(state_file) if state_file is not None else None
-        self.coordinates = kept.coordinates if kept is not None else WorkCoordinates()
-        self._kept_band = kept.band if kept is not None else None
+        self.state_file = state_file  # where the state is kept (None: in memory only)
+        self.state_lock = state_lock  # held while open (open_machine takes it), released by close()
+        kept = read_state(state_file) if state_file is not None else StateFile()
+        self.coordinates = self._stored_coordinates = kept.coordinates
+        self.new_board = emulator is not None
+        self.notice: str | None = None
+        self._state_lock = threading.Lock()
+        self._ticks = 0
         self.takeups = TakeUps(self.config)  # the backlash: take-ups in every program, positions without them
         self._lock = threading.Lock()
         self._running: Program | None = None
         self._waiting: JobRun | None = None  # a job waiting at a pause while another program runs
         self._motor: tuple[int, ...] = ()  # the board's step counts where it last stood still
         # Machine zero is known once homed; a hard limit or the abort button loses it (as GRBL's alarm).
-        self.homed = False
-        self.position_lost = False
+        self._homed = False
+        self._position_lost = False
         link.on_report(self._watch_alarms)
         if identity.capabilities & Capability.LIMIT_INPUTS and link.status().state in (State.IDLE, State.ALARM):
             link.send(config_message(self.config, identity.axis_count))
             link.drain(timeout=5)
         if identity.capabilities & Capability.CONTROLLED_STOPS:  # the link keeps it fed while anything moves
             link.request(Watchdog(timeout_ms=round(self.config.host_timeout * 1000)), StatusReport)
-        self.sync()
-        if self._kept_band is not None:
-            self.takeups.reset(self._kept_band.restore(self.config, self._motor))
+        self._carry_over(kept, self.status())
 
     # --- what the machine is and where it stands ----------------------------------------------
 
@@ -155,9 +160,8 @@ class Machine(Standing):
 
     def adopt_coordinates(self, coordinates: WorkCoordinates) -> None:
         """Take the work coordinates a job left (or any others) and keep them in the state file."""
-        if self.state_file is not None:
-            save_state(self.state_file, coordinates)
-        self.coordinates = coordinates
+        self.coordinates = self._stored_coordinates = coordinates
+        self._keep_state(strict=True)
 
     @property
     def stats(self) -> LinkStats:
@@ -183,6 +187,7 @@ class Machine(Standing):
             with self._lock:
                 if self._running is None:
                     self._motor = tuple(status.position[: self.axis_count])
+                    self._ticks = max(self._ticks, status.motion_ticks)
         return status
 
     def sync(self) -> tuple[int, ...]:
@@ -257,10 +262,17 @@ class Machine(Standing):
         except LinkError:
             pass  # the link is gone already
         finally:
-            self._keep_band()
+            try:
+                if bring_to_rest:  # the board's clock and counts as left, for the next command
+                    self.status()
+            except LinkError:
+                pass
+            self._keep_state()
             self.link.close()
             if self.emulator is not None:
                 self.emulator.stop()
+            if self.state_lock is not None:
+                self.state_lock.release()
 
     def __enter__(self) -> Machine:
         return self
@@ -296,8 +308,7 @@ class Machine(Standing):
 
     def _watch_alarms(self, report: Report) -> None:
         if isinstance(report, Alarm) and report.code in (AlarmCode.HARD_LIMIT, AlarmCode.E_STOP):
-            self.homed = False
-            self.position_lost = True
+            self.lose_position()
 
     def _claim(self, program: Program) -> None:
         self._interrupt_waiting()

@@ -1,5 +1,6 @@
 """Where a machine stands: the board's step counts, the backlash's band, and the positions shown without the
-take-ups (docs/BACKLASH.md) — at rest, while a program runs, at a latch — kept in the state file."""
+take-ups (docs/BACKLASH.md) — at rest, while a program runs, at a latch — and whether it is
+homed; all of it kept in the state file (state.py) at each change, with the board it belongs to."""
 
 from __future__ import annotations
 
@@ -16,9 +17,12 @@ from ..planner.plan import Plan
 from ..planner.program import ProbeMove
 from ..planner.segments import SegmentArrays
 from ..protocol import CubicSegment, IdentifyReply, Segment, SetPosition, StatusReport
+from .board_identity import board_mark
+from .carry_over import carry_over
+from .errors import MachineError
 from .motion import MotionEnd
 from .probing import probe as run_probe
-from .state import save_state
+from .state import StateFile, write_state
 from .takeups import StreamPlan, TakeUps
 
 
@@ -30,12 +34,40 @@ class Standing:
     state_file: Path | None
     _lock: threading.Lock
     _motor: tuple[int, ...]
+    _ticks: int  # the board's motion clock (at least) where it last stood still
+    _homed: bool
+    _position_lost: bool
+    _state_lock: threading.Lock  # one write of the state file at a time
+    new_board: bool  # cannot be the board the state file was written for (an emulator started anew)
+    notice: str | None  # what opening the machine found of the kept state, for the user
     identity: IdentifyReply  # the Machine's
     axis_count: int
     program: object | None  # the program running (machine.Program)
-    coordinates: WorkCoordinates
+    coordinates: WorkCoordinates  # in force (a job running changes them as it goes)
+    _stored_coordinates: WorkCoordinates  # as a work zero or a completed job left them: kept
     adopt_coordinates: Callable[[WorkCoordinates], None]
     _refuse_if_busy: Callable[[str], None]
+
+    @property
+    def homed(self) -> bool:
+        """Machine zero is known: found by homing since the board's last reset, not lost since."""
+        return self._homed
+
+    @property
+    def position_lost(self) -> bool:
+        """A hard limit or the abort button (or a reset) lost machine zero since it was found."""
+        return self._position_lost
+
+    def set_homed(self, homed: bool) -> None:
+        """Homing ended: machine zero found on every axis that homes (or not)."""
+        self._homed = homed
+        self._position_lost = self._position_lost and not homed
+        self._keep_state()
+
+    def lose_position(self) -> None:
+        """A hard limit or the abort button: machine zero is lost until the machine is homed."""
+        self._homed, self._position_lost = False, True
+        self._keep_state()
 
     @property
     def position(self) -> tuple[int, ...]:
@@ -67,7 +99,7 @@ class Standing:
         status = self.link.status()
         with self._lock:
             self._motor = tuple(status.position[: self.axis_count])
-        self._keep_band()
+        self._keep_state()
         return self.position
 
     def takeup_stream(self, segments: Sequence[Segment]) -> list[Segment | CubicSegment]:
@@ -121,15 +153,40 @@ class Standing:
     def _rest(self, motor: Sequence[int], tick: int | None, done: bool) -> None:
         with self._lock:
             self._motor = tuple(motor[: self.axis_count])
+            if tick is not None:
+                self._ticks = max(self._ticks, tick)
         self.takeups.end(motor, tick, done)
-        self._keep_band()
+        self._keep_state()
 
-    def _keep_band(self) -> None:
-        if self.state_file is not None and self.takeups.active:
-            try:
-                save_state(self.state_file, band=BandRecord.of(self.takeups.band, self.motor_position))
-            except OSError:
-                pass  # the band is kept for the next run only where the state file can be written
+    def _carry_over(self, kept: StateFile, status: StatusReport) -> None:
+        """At connect, at rest: take what the state file keeps for this board; record the board."""
+        carried = carry_over(kept, self.takeups.config, self.identity, status, self.new_board)
+        self.coordinates = self._stored_coordinates = carried.coordinates
+        self.takeups.reset(carried.band)
+        self._homed, self._position_lost = carried.homed, carried.position_lost
+        self.notice = carried.notice
+        self._keep_state(strict=True)
+
+    def _keep_state(self, strict: bool = False) -> None:
+        """Replace the state file with what the machine knows now. `strict`: a failure is a
+        MachineError (a write the user asked for); otherwise it is let go (the state folder was
+        found writable at connect)."""
+        if self.state_file is None:
+            return
+        with self._lock:
+            motor, ticks = self._motor, self._ticks
+        band = self.takeups.band
+        state = StateFile(coordinates=self._stored_coordinates, homed=self._homed,
+                          position_lost=self._position_lost,
+                          band=BandRecord.of(band, motor) if band.active else None,
+                          board=board_mark(self.identity, ticks, motor))
+        try:
+            with self._state_lock:
+                write_state(self.state_file, state)
+        except OSError as exc:
+            if strict:
+                raise MachineError(f"cannot write the machine's state to {self.state_file}: "
+                                   f"{exc.strerror or exc}") from None
 
 
 class Restream(Protocol):

@@ -1,4 +1,10 @@
-"""The state file: the work coordinates of one machine, kept across runs.
+"""The state file: what the host knows of one machine beyond the board's step counts, kept across
+commands.
+
+That is the work coordinates, where each carriage sits in its backlash (the band), whether the
+machine is homed (or lost its position to a hard limit or the abort button), and the board it all
+belongs to: its boot id where the firmware reports one, its motion clock and step counts when the
+file was written (board_identity.py tells a board reset since then; carry_over.py what is kept).
 
 One file per machine configuration, at
 
@@ -8,7 +14,8 @@ where the digits come from the configuration file's absolute path (two files
 of one name in different folders are two machines), and `default.json` for
 the generic configuration. It is replaced whole and atomically (written
 beside it, flushed to disk, renamed over it), so a crash leaves the old file
-or the new one, never half of either.
+or the new one, never half of either. A lock file beside it (state_lock.py) lets
+one process at a time hold the machine.
 """
 
 from __future__ import annotations
@@ -31,12 +38,28 @@ class StateError(ValueError):
     """A state file that cannot be read; the message names the file and the problem."""
 
 
+VERSION = 2  # version 1 files (coordinates and band only) are read as they are
+
+
+class BoardMark(BaseModel):
+    """The board the state belongs to, as it stood when the state was written."""
+
+    model_config = ConfigDict(extra="forbid")
+
+    boot_id: int | None = None  # made by the board at its last reset (None: its firmware has none)
+    motion_ticks: int  # its motion clock (at most): a clock that went back since means a reset
+    position: list[int]  # its step counts
+
+
 class StateFile(BaseModel):
     model_config = ConfigDict(extra="forbid")
 
-    version: Literal[1] = 1
+    version: Literal[1, 2] = VERSION
     coordinates: WorkCoordinates = WorkCoordinates()
     band: BandRecord | None = None  # where each carriage sits in its backlash (backlash/band.py)
+    homed: bool = False  # machine zero found (quadstep home) on this board since its last reset
+    position_lost: bool = False  # a hard limit or the abort button lost it since
+    board: BoardMark | None = None
 
 
 def state_dir() -> Path:
@@ -69,9 +92,12 @@ def load_state(path: Path) -> WorkCoordinates:
     return read_state(path).coordinates
 
 
-def save_state(path: Path, coordinates: WorkCoordinates | None = None, band: BandRecord | None = None) -> None:
-    """Replace `path`, atomically, with these coordinates and band (either one not given: the one kept)."""
-    kept = read_state(path) if coordinates is None or band is None else StateFile()
-    state = StateFile(coordinates=coordinates if coordinates is not None else kept.coordinates,
-                      band=band if band is not None else kept.band)
-    replace_text(path, state.model_dump_json(indent=1) + "\n")
+def write_state(path: Path, state: StateFile) -> None:
+    """Replace `path`, atomically, with `state` (in the current version)."""
+    text = state.model_copy(update={"version": VERSION}).model_dump_json(indent=1)
+    replace_text(path, text + "\n")
+
+
+def save_state(path: Path, coordinates: WorkCoordinates) -> None:
+    """Replace the work coordinates kept in `path`, atomically, keeping the rest."""
+    write_state(path, read_state(path).model_copy(update={"coordinates": coordinates}))

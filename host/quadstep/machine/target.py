@@ -6,11 +6,12 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from ..config import MachineConfig
+from ..config import DEFAULT_CONFIG_NAME, MachineConfig
 from ..default_machine import default_machine
 from ..emulator import Emulator
 from ..link import DEFAULT_BAUD, Link
 from .machine import Machine
+from .state_lock import StateLock
 
 
 @dataclass(frozen=True)
@@ -46,20 +47,26 @@ def open_machine(
     emulator: Emulator | None = None, state_file: Path | None = None,
 ) -> Machine:
     """Connect to `target`. For an emulator target, `emulator` is a running one to use (its owner stops
-    it); without it one is started, and the machine stops it when closed. `state_file` keeps the work
-    coordinates (machine.state.state_path gives the usual one)."""
+    it); without it one is started, and the machine stops it when closed. `state_file` keeps the
+    machine's state (machine.state.state_path gives the usual one); the machine holds its lock
+    (state_lock.py), taken before anything connects, until closed."""
+    label = source if config is not None else DEFAULT_CONFIG_NAME
+    lock = StateLock.acquire(state_file, label) if state_file is not None else None
     started = None
-    if target.emulator and emulator is None:
-        emulator = started = start_emulator(target, config)
-    url = emulator.url if target.emulator and emulator is not None else str(target.port)
     try:
+        if target.emulator and emulator is None:
+            emulator = started = start_emulator(target, config)
+        url = emulator.url if target.emulator and emulator is not None else str(target.port)
         link = Link.open(url, target.baud)
         try:
-            return Machine(link, config, source=source, emulator=started, state_file=state_file)
+            return Machine(link, config, source=source, emulator=started, state_file=state_file,
+                           state_lock=lock)
         except BaseException:
             link.close()
             raise
     except BaseException:
         if started is not None:
             started.stop()
+        if lock is not None:
+            lock.release()
         raise

@@ -154,6 +154,8 @@ class MachineScreen(JobKeys, JogKeys):
         self.log_line(f"connected: {_board_name(ident.board)}, {ident.axis_count} axes, "
                       f"queue {ident.queue_capacity}{given}")
         if self.session.machine is not None:
+            if self.session.machine.notice is not None:  # what it found of the kept state
+                self.log_line(self.session.machine.notice)
             self.watch_reports(self.session.machine)
             self.offer_kept_job(self.session.machine)
         self._start_polling()
