@@ -9,7 +9,7 @@ import pytest
 
 from quadstep.config import load_config
 from quadstep.job import load_job
-from quadstep.machine.job import stream_move_ends
+from quadstep.machine.job_legs import stream_move_ends
 from quadstep.machine.journal import (
     Journal, JournalError, JobIdentity, file_digest, item_of, journal_path, read_journal, record_of,
     rest_to_resume, resume_item,

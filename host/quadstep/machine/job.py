@@ -11,7 +11,6 @@ rest with HOLD and ends the job (STOPPED). Machine.run_job starts one; the CLI a
 from __future__ import annotations
 
 import threading
-from bisect import bisect_left
 from collections.abc import Callable
 from dataclasses import dataclass, replace
 from itertools import accumulate
@@ -28,7 +27,7 @@ from .job_state import JobState, JobStates
 from .journal import Journal
 from .motion import CUT, STARVED, Motion, MotionEnd, bring_to_rest
 from .override import Swap, replan_running
-from .remainder import after_pause_program, carry_changes, remainder_program
+from .job_legs import base_plan, rest_after_pause, rest_after_probe, rest_after_stop, stream_move_ends
 from .standing import Restream
 from .takeups import StreamPlan
 
@@ -45,14 +44,6 @@ class JobProgress:
     paused_at: int | None  # line of the pause or feed hold the job waits at
     state: JobState = JobState.STREAMING
     starvations: int = 0  # times the board ran dry and the job went on
-
-
-def stream_move_ends(plan: Plan | StreamPlan) -> list[int]:
-    """Where each move of the plan ends in the stream the board counts (take-ups included)."""
-    if not isinstance(plan, StreamPlan):
-        return list(plan.move_ends)
-    origin = plan.segments.origin
-    return [bisect_left(origin, end) for end in plan.base.move_ends]
 
 
 def final_state(end: MotionEnd) -> JobState:
@@ -255,17 +246,12 @@ class JobRun:
             if self._halted:
                 return replace(rest, ended_by=self._halted, segments_done=self._done_before + self._offset)
         assert self.program is not None
-        if self.restream is not None and isinstance(self.plan, StreamPlan):  # the machine's take-ups
+        if self.restream is not None:  # the machine's positions, the band where the stop left it
             here = self.restream.held(rest)
-            planned = self.plan.base
-            held_at = self.plan.segments.origin_of(self._offset)
-        elif isinstance(self.plan, Plan):
-            here = tuple(self.link.status().position[: self.plan.segments.axis_count])
-            planned, held_at = self.plan, self._offset
         else:
-            raise JobError("a job with take-ups goes on only on its machine")
-        self.program = remainder_program(self.program, planned, held_at)
-        return self._continue(plan_program(self._scaled(), planned.config, here, self.label))
+            here = tuple(self.link.status().position[: self.plan.segments.axis_count])
+        self.program = rest_after_stop(self.program, self.plan, self._offset)
+        return self._next_leg(here)
 
     def _scaled(self) -> Program:
         """The program to plan (what is left of the job) at the feed override wanted now."""
@@ -290,30 +276,21 @@ class JobRun:
         self.states.enter(JobState.PROBING)  # the probe runs as the machine's program meanwhile
         rest_mm = self.restream.probe(probe)
         self.states.enter(JobState.RESUMING)
-        program = probe.resume(rest_mm)
-        kept = self.program.coordinates  # the caller's: what the job leaves, as the rest read again says
-        if kept is not None and program.coordinates is not None:
-            for name in type(kept).model_fields:
-                setattr(kept, name, getattr(program.coordinates, name))
-            program.coordinates = kept
-        self.program = program
-        plan = self.plan.base if isinstance(self.plan, StreamPlan) else self.plan
-        return self._continue(plan_program(self._scaled(), plan.config, self.restream.position(), self.label))
+        self.program = rest_after_probe(self.program, probe, rest_mm)
+        return self._next_leg(self.restream.position())
 
     def _after_pause(self, pause: Pause, before: WorkCoordinates, after: WorkCoordinates,
                      interrupted: bool) -> MotionEnd:
         """The operator jogged, probed or set a work zero at the pause: the rest of the program from where the
         machine stands, in the work offsets as they are now."""
         assert self.program is not None and self.restream is not None
-        rest = self.restream.at_rest() if not interrupted else self.restream.position()
-        plan = self.plan.base if isinstance(self.plan, StreamPlan) else self.plan
-        program = after_pause_program(self.program, pause.line, before, after, plan.config)
-        if self.program.coordinates is not None:
-            carry_changes(self.program.coordinates, before, after)
-        self.program = program
-        return self._continue(plan_program(self._scaled(), plan.config, rest, self.label))
+        here = self.restream.at_rest() if not interrupted else self.restream.position()
+        self.program = rest_after_pause(self.program, pause, before, after, base_plan(self.plan).config)
+        return self._next_leg(here)
 
-    def _continue(self, remainder: Plan) -> MotionEnd:
+    def _next_leg(self, here: tuple[int, ...]) -> MotionEnd:
+        """What is left of the program planned from `here` and streamed (its take-ups by the machine's)."""
+        remainder = plan_program(self._scaled(), base_plan(self.plan).config, here, self.label)
         streamed = self.restream.stream(remainder) if self.restream is not None else remainder
         with self._lock:
             self._done_before += self._offset
@@ -325,7 +302,7 @@ class JobRun:
     def _begin_leg(self) -> None:
         """The plan now streamed is kept in the journal with the board's count of segments (at rest)."""
         if self.journal is not None and self.program is not None:
-            base = self.plan.base if isinstance(self.plan, StreamPlan) else self.plan
+            base = base_plan(self.plan)
             self.journal.begin_leg(self.program, base.start, stream_move_ends(self.plan), len(self.plan),
                                    self.link.segments_done, self._planned)
 
