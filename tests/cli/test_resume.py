@@ -9,6 +9,7 @@ import subprocess
 import time
 from pathlib import Path
 
+from byte_faults import FaultyLine
 from cli_helpers import cli_process
 
 from quadstep.config import load_config
@@ -93,3 +94,21 @@ def test_nothing_to_resume_and_a_changed_file_are_refused(start_emulator, tmp_pa
     code, _, err = resume(emu.url, job)
     assert code != 0 and "changed since the job stopped" in err
     assert tuple(board_at_rest(emu.url).position[:3]) == CONFIG.to_steps((10.0, 5.0, 0.0))  # nothing moved
+
+
+def test_a_job_whose_port_dropped_goes_on_through_the_port_plugged_in_again(start_emulator) -> None:
+    emu = start_emulator(axes=3, tick_hz=CONFIG.tick_hz)
+    line = FaultyLine(emu.url, 0.0)  # a clean cable, pulled below
+    process = cli_process("run", str(DEMO), "--config", str(ROUTER), "--port", line.port)
+    assert process.stdout is not None
+    assert process.stdout.readline().startswith(f"{DEMO}: 39 lines, ")
+    time.sleep(2.5)
+    line.close()  # the host's port goes dead under it
+    out, err = process.communicate(timeout=60)
+    assert process.returncode == 1 and "--resume goes on" in err, err
+    with FaultyLine(emu.url, 0.0) as again:  # plugged in again (a new port, as USB may give)
+        stopped = board_at_rest(again.port)
+        assert 0 < stopped.segments_done < len(load_job(DEMO, CONFIG).plan)
+        code, out, err = resume(again.port, DEMO)
+        assert code == 0, err
+        assert out.splitlines()[-1] == "every axis is exactly where the job put it"

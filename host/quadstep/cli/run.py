@@ -243,7 +243,8 @@ def stream(args: argparse.Namespace, machine: Machine, job: Job, start: StatusRe
     with progress:
         end, interrupted = follow(run_, job, progress, show)
     if end.error:
-        raise CliError(end.error)
+        resume = f"; once the board answers, quadstep run {args.job} --resume goes on" if journal else ""
+        raise CliError(end.error + resume)
     final = machine.status()
     done = run_.progress.done
     completed = end.ended_by == "done" and done >= len(run_.plan)
