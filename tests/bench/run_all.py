@@ -29,6 +29,7 @@ COMMANDS: dict[str, list[str]] = {
     "wire": [sys.executable, str(BENCH / "bench_wire.py")],
     "faults": [sys.executable, str(BENCH / "bench_faults.py")],
     "busy": [sys.executable, str(BENCH / "bench_busy_host.py")],
+    "resume": [sys.executable, str(BENCH / "bench_resume.py")],
     "fuzz": ["make", "-s", "-C", str(REPO), "fuzz-long"],
 }
 
