@@ -15,7 +15,7 @@ from __future__ import annotations
 from collections import deque
 
 from ..protocol import Status, encode
-from .errors import BoardSilent, LinkTimeout
+from .errors import BoardSilent, LinkTimeout, known_text
 from .reports import Inbox
 from .stats import LinkStats
 from .window import SendWindow
@@ -115,4 +115,4 @@ class Outbox:
         return (f"the board has not answered for {now - self._heard_at():.1f} s (is it powered, connected, "
                 f"running?): the last frame it confirmed was seq {(window.base - 1) & 0xFF}; "
                 f"{inbox.done_total} segments done, {max(0, inbox.expected_done - inbox.done_total)} more accepted, "
-                f"{window.in_flight} frames unacknowledged")
+                f"{window.in_flight} frames unacknowledged" + known_text(inbox.last_status, inbox.last_alarm()))

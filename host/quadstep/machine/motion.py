@@ -19,7 +19,8 @@ from typing import Protocol
 
 from ..link import AlarmError, Link, LinkError, Stopped, hold, wait_rest
 from ..protocol import (
-    DECEL_MAX, AckReason, Capability, CubicSegment, HoldDone, IdentifyReply, InputCause, Outputs, Report, Segment,
+    DECEL_MAX, AckReason, Alarm, Capability, CubicSegment, HoldDone, IdentifyReply, InputCause, Outputs, Report,
+    Segment, State, StatusReport,
 )
 from ..protocol.messages import queue_slots
 from ..protocol.frames import next_frame, run_limit
@@ -105,6 +106,12 @@ def bring_to_rest(link: Link, decels: Sequence[int]) -> Rest:
         return Rest(tuple(done.position), True, done.hold_tick)
     status = link.stop()
     return Rest(tuple(status.position), False, None)
+
+
+def check_status(status: StatusReport) -> None:
+    """A status taken while a motion waits for the board: an ALARM flushed its queue, so no room will come."""
+    if status.state == State.ALARM and status.alarm is not None:
+        raise AlarmError(Alarm(code=status.alarm, motion_ticks=status.motion_ticks, position=status.position))
 
 
 class Segments(Protocol):
@@ -300,6 +307,7 @@ class Motion:
         while not self._halting:
             if self.link.generation != self._generation:
                 raise Stopped("the stream was restarted (STOP) while this motion waited for room")
+            self.link.check(self._generation)  # an alarm, a reset or a silent board: no room will come
             done = self.done  # negative while the motion this one follows (a cut) still runs its last segments
             queued = k - done
             if queued < capacity and (
@@ -312,7 +320,7 @@ class Motion:
             if done != last_done:
                 last_done, since = done, now
             elif now - since > STALL_POLL:
-                self.link.status()  # a SPACE ack lost on the wire: the status carries the count
+                check_status(self.link.status())  # a SPACE ack lost on the wire: the status carries the count
                 since = now
             self._space.wait(SPACE_WAIT)
             self._space.clear()
