@@ -42,7 +42,7 @@ def test_a_board_reset_mid_job_ends_the_run_naming_the_reset(start_emulator, tmp
         start_emulator(axes=3, tick_hz=TICK_HZ, extra_args=tcp)  # the same board, afresh
         out, err = process.communicate(timeout=60)
     assert process.returncode == 1, err
-    assert relay.reconnects == 1
+    assert relay.reconnects >= 1  # (twice when it reached the old board once more as that one shut down)
     assert "quadstep run: error: the board was reset: segments done went back from " in err
     assert "last position known before: [" in err
 

@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from ..protocol import Alarm, ErrorReport, StatusReport
+from ..protocol import Alarm, ErrorReport, State, StatusReport
 
 
 HEARD_BYTES = 512  # bytes kept from before the board identified itself, to name another firmware
@@ -45,6 +45,13 @@ class BoardReset(LinkError):
             f"counts from {list(after.position)} now (last position known before: {list(before.position)} steps); "
             "home the machine or set its position before going on"
         )
+
+
+def status_alarm(status: StatusReport) -> AlarmError | None:
+    """The alarm a status shows (its report may have been lost): the board halted, its queue flushed."""
+    if status.state != State.ALARM or status.alarm is None:
+        return None
+    return AlarmError(Alarm(code=status.alarm, motion_ticks=status.motion_ticks, position=status.position))
 
 
 def known_text(status: StatusReport | None, alarm: Alarm | None) -> str:
@@ -98,5 +105,5 @@ class AlarmError(LinkError):
 
 
 __all__ = ["AlarmError", "BoardReset", "BoardSilent", "FirmwareError", "LinkError", "LinkTimeout", "ProtocolVersionError",
-           "Stopped", "known_text"]
+           "Stopped", "known_text", "status_alarm"]
 

@@ -18,9 +18,9 @@ from itertools import accumulate
 from typing import Protocol
 
 from ..link import AlarmError, Link, LinkError, Stopped, hold, wait_rest
+from ..link.errors import status_alarm
 from ..protocol import (
-    DECEL_MAX, AckReason, Alarm, Capability, CubicSegment, HoldDone, IdentifyReply, InputCause, Outputs, Report,
-    Segment, State, StatusReport,
+    DECEL_MAX, AckReason, Capability, CubicSegment, HoldDone, IdentifyReply, InputCause, Outputs, Report, Segment,
 )
 from ..protocol.messages import queue_slots
 from ..protocol.frames import next_frame, run_limit
@@ -106,12 +106,6 @@ def bring_to_rest(link: Link, decels: Sequence[int]) -> Rest:
         return Rest(tuple(done.position), True, done.hold_tick)
     status = link.stop()
     return Rest(tuple(status.position), False, None)
-
-
-def check_status(status: StatusReport) -> None:
-    """A status taken while a motion waits for the board: an ALARM flushed its queue, so no room will come."""
-    if status.state == State.ALARM and status.alarm is not None:
-        raise AlarmError(Alarm(code=status.alarm, motion_ticks=status.motion_ticks, position=status.position))
 
 
 class Segments(Protocol):
@@ -320,7 +314,9 @@ class Motion:
             if done != last_done:
                 last_done, since = done, now
             elif now - since > STALL_POLL:
-                check_status(self.link.status())  # a SPACE ack lost on the wire: the status carries the count
+                alarm = status_alarm(self.link.status())  # a SPACE ack lost: the status carries the count
+                if alarm is not None:  # the alarm flushed the queue: no room will come
+                    raise alarm
                 since = now
             self._space.wait(SPACE_WAIT)
             self._space.clear()
