@@ -2,18 +2,25 @@
 
 Both print `PORT <url>` on stdout once the port is open, run until SIGTERM,
 and then print a summary on stderr: the emulator one JSON object on one line,
-the simavr harness `key=value` lines.
+the simavr harness `key=value` lines. The child never outlives the program
+that started it, however that ends (SIGKILL included): on Linux it gets
+SIGTERM when its parent goes (PR_SET_PDEATHSIG).
 """
 
 from __future__ import annotations
 
+import ctypes
+import ctypes.util
 import json
 import os
 import select
 import signal
 import subprocess
+import sys
 import tempfile
+import threading
 import time
+from collections.abc import Callable
 from collections.abc import Sequence
 from typing import TYPE_CHECKING, Any
 
@@ -58,6 +65,25 @@ def read_line(fd: int, timeout: float) -> str:
     return data.decode(errors="replace")
 
 
+PR_SET_PDEATHSIG = 1  # linux/prctl.h
+
+
+def die_with_parent() -> Callable[[], None] | None:
+    """A preexec function that makes the child get SIGTERM once the thread that forked it ends (None off
+    Linux). libc is loaded here, in the parent: the child, between fork and exec, only makes two calls."""
+    if not sys.platform.startswith("linux"):
+        return None
+    libc = ctypes.CDLL(ctypes.util.find_library("c") or "libc.so.6", use_errno=True)
+    parent = os.getpid()
+
+    def preexec() -> None:
+        libc.prctl(PR_SET_PDEATHSIG, signal.SIGTERM, 0, 0, 0)
+        if os.getppid() != parent:  # the parent went before the prctl: no signal will come
+            os._exit(1)
+
+    return preexec
+
+
 class PortProcess:
     """`args` run as a child serving a port; use as a context manager. `.url` is its serial port."""
 
@@ -72,13 +98,42 @@ class PortProcess:
         self._proc: subprocess.Popen[bytes] | None = None
         self._stderr = tempfile.TemporaryFile()
         self._stderr_text: str | None = None  # kept once the child has ended
+        self._released = threading.Event()  # the keeper thread (the child's parent for PR_SET_PDEATHSIG) may end
 
     def start(self) -> Self:
+        """Start the child from a thread that lives until stop() (or the program's end): the parent-death
+        signal follows the thread that forked, and the thread calling start() may end long before."""
+        started, released = threading.Event(), threading.Event()
+        self._released = released
+        failed: list[BaseException] = []
+
+        def keep() -> None:
+            try:
+                self._spawn()
+            except BaseException as exc:  # handed to start()
+                failed.append(exc)
+            started.set()
+            released.wait()
+
+        threading.Thread(target=keep, name="quadstep-port-process", daemon=True).start()
+        started.wait()
+        if failed:
+            self._released.set()
+            raise failed[0]
+        try:
+            return self._await_port()
+        except BaseException:
+            self.stop()  # interrupted while it started: it must not be left running
+            raise
+
+    def _spawn(self) -> None:
         # A session of its own: the terminal's Ctrl-C (SIGINT to the foreground process group) reaches the
         # program that started the child, which then stops the machine through it; never the child itself.
         self._proc = subprocess.Popen(self.args, stdout=subprocess.PIPE, stderr=self._stderr, stdin=subprocess.DEVNULL,
-                                      start_new_session=True)
-        assert self._proc.stdout is not None
+                                      start_new_session=True, preexec_fn=die_with_parent())
+
+    def _await_port(self) -> Self:
+        assert self._proc is not None and self._proc.stdout is not None
         line = read_line(self._proc.stdout.fileno(), START_TIMEOUT)
         if not line.startswith("PORT "):
             self.stop()
@@ -105,6 +160,7 @@ class PortProcess:
     def stop(self) -> dict[str, Any]:
         """SIGTERM, wait, and return the exit summary (also kept in .summary); output files are then complete."""
         if self._proc is None:
+            self._released.set()
             return self.summary or {}
         if self._proc.poll() is None:
             self._proc.send_signal(signal.SIGTERM)
@@ -117,6 +173,7 @@ class PortProcess:
         if self._proc.stdout is not None:
             self._proc.stdout.close()
         self._proc = None
+        self._released.set()
         self._stderr_text = self.stderr_text()
         self._stderr.close()
         self.summary = parse_summary(self._stderr_text)

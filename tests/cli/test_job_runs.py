@@ -18,7 +18,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from cli_helpers import cli_process
+from cli_helpers import cli_process, wait_for_child
 from quadstep.cli import main
 from quadstep.config import load_config
 from quadstep.coordinates import WorkCoordinates
@@ -123,15 +123,6 @@ def test_a_different_tick_rate_is_refused(start_emulator, tmp_path: Path, capsys
         "set tick_hz = 50000 in the configuration\n"
     )
     assert status_of(emu.url).segments_done == 0
-
-
-def wait_for_child(process: subprocess.Popen[str], timeout: float = 60.0) -> None:
-    """Until the command has started a process of its own (the emulator), however loaded the machine."""
-    children = Path(f"/proc/{process.pid}/task/{process.pid}/children")
-    deadline = time.monotonic() + timeout
-    while not children.read_text().split():
-        assert process.poll() is None and time.monotonic() < deadline, "the command started no emulator"
-        time.sleep(0.05)
 
 
 def ctrl_c(process: subprocess.Popen[str]) -> None:

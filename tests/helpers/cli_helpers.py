@@ -5,6 +5,7 @@ from __future__ import annotations
 import os
 import subprocess
 import sys
+import time
 from pathlib import Path
 
 REPO = Path(__file__).resolve().parents[2]
@@ -22,3 +23,23 @@ def cli_process(*args: str, stdin: int | None = None, env: dict[str, str] | None
         stdin=stdin, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, cwd=REPO, env=env,
         start_new_session=True,
     )
+
+
+def child_pids(pid: int) -> list[int]:
+    """The processes `pid` started, whichever of its threads started them."""
+    pids = []
+    for task in Path(f"/proc/{pid}/task").glob("*"):
+        try:
+            pids += [int(p) for p in (task / "children").read_text().split()]
+        except OSError:
+            pass  # the thread ended meanwhile
+    return pids
+
+
+def wait_for_child(process: subprocess.Popen[str], timeout: float = 60.0) -> int:
+    """Until the command has started a process of its own (the emulator), however loaded the machine; its pid."""
+    deadline = time.monotonic() + timeout
+    while not (children := child_pids(process.pid)):
+        assert process.poll() is None and time.monotonic() < deadline, "the command started no emulator"
+        time.sleep(0.05)
+    return children[0]

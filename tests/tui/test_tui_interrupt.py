@@ -5,8 +5,11 @@ from __future__ import annotations
 
 import os
 import pty
+import signal
 import sys
 from pathlib import Path
+
+import pytest
 
 from quadstep.cli.tui import parting_lines
 from quadstep.config import MachineConfig
@@ -41,7 +44,10 @@ async def test_ctrl_c_holds_a_running_job_and_says_where(machine: MachineConfig,
     assert lines[2].startswith(f"machine: X {at / 80:.3f} mm ({at} steps)  Y 0.000 mm (0 steps)")
 
 
-def test_ctrl_c_in_a_terminal_quits_and_prints_the_position(tmp_path: Path, emulator_binary: Path) -> None:
+@pytest.mark.parametrize("stop", ["ctrl-c", "SIGTERM", "SIGHUP"])
+def test_a_stop_in_a_terminal_quits_and_prints_the_position(tmp_path: Path, emulator_binary: Path,
+                                                            stop: str) -> None:
+    """Ctrl-C, and SIGTERM or SIGHUP (the terminal closed) likewise."""
     config = tmp_path / "machine.toml"
     config.write_text("tick_hz = 50000\n" + "".join(
         "[[axes]]\n" + "".join(f"{key} = {value!r}\n" for key, value in axis.items()) for axis in MACHINE["axes"]))
@@ -53,7 +59,10 @@ def test_ctrl_c_in_a_terminal_quits_and_prints_the_position(tmp_path: Path, emul
     out = bytearray()
     try:
         assert read_terminal(fd, out, b"connected: emulator", 60), bytes(out[-2000:])
-        os.write(fd, b"\x03")  # Ctrl-C as the terminal sends it in raw mode
+        if stop == "ctrl-c":
+            os.write(fd, b"\x03")  # Ctrl-C as the terminal sends it in raw mode
+        else:
+            os.kill(pid, getattr(signal, stop))
         read_terminal(fd, out, b"(0 steps)", 20)
     finally:
         code = exit_code(pid, 20)

@@ -10,19 +10,14 @@ from __future__ import annotations
 
 import argparse
 import importlib
+import os
 import pkgutil
 from importlib import metadata
 import sys
 from collections.abc import Sequence
 
-from pydantic import ValidationError
-
 from .. import __version__
-from ..config import describe_validation_error
-from ..emulator import EmulatorError
-from ..link import LinkError
-from ..machine import MachineError, StateError
-from .options import CliError
+from ._stops import INTERRUPTED, stop_signals_as_interrupt, why
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -48,19 +43,30 @@ def version() -> str:
 
 
 def main(argv: Sequence[str] | None = None) -> int:
-    parser = build_parser()
-    args = parser.parse_args(argv)
+    """Run a command. Ctrl-C, SIGTERM and SIGHUP at any moment, loading included, are a controlled stop: one
+    line and exit code 130 (a command that moves the machine brings it to rest first and says where)."""
+    name = "quadstep"
     try:
-        return int(args.handler(args))
-    except CliError as exc:
-        print(f"quadstep {args.command}: error: {exc}", file=sys.stderr)
-        return 1
-    except ValidationError as exc:
-        print(f"quadstep {args.command}: error: {'; '.join(describe_validation_error(exc))}", file=sys.stderr)
-        return 1
-    except (LinkError, MachineError, StateError, EmulatorError) as exc:
-        print(f"quadstep {args.command}: error: {exc}", file=sys.stderr)
-        return 1
-    except KeyboardInterrupt:
-        print(f"quadstep {args.command}: interrupted", file=sys.stderr)
-        return 130
+        with stop_signals_as_interrupt():
+            args = build_parser().parse_args(argv)
+            name = f"quadstep {args.command}"
+            from ._errors import run_command  # the package's errors, loaded with the commands
+
+            code = run_command(args)
+            sys.stdout.flush()  # a closed pipe (`| head`) shows here, not at the interpreter's exit
+            return code
+    except KeyboardInterrupt as exc:
+        print(f"{name}: interrupted{why(exc)}", file=sys.stderr)
+        return INTERRUPTED
+    except BrokenPipeError:
+        quiet_stdout()
+        return 141  # as a shell reports a command ended by SIGPIPE
+
+
+def quiet_stdout() -> None:
+    """Whoever read stdout has gone: what is still buffered goes nowhere, without a second error at exit."""
+    try:
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, sys.stdout.fileno())
+    except (OSError, ValueError):
+        pass  # stdout is no file (captured in-process)

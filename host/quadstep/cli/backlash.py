@@ -13,6 +13,7 @@ from pathlib import Path
 
 from ..config import ConfigError
 from ._jobs import config_path, machine_config
+from ._stops import interrupted
 from .options import CliError, add_connection_options, add_json_option, connect
 
 
@@ -71,9 +72,12 @@ def run(args: argparse.Namespace) -> int:
     say = (lambda text: None) if args.json else (lambda text: print(text, file=sys.stderr, flush=True))
     try:
         with connect(args, config, str(config_path(args) or "the default machine")) as machine:
-            if args.backlash_command == "calibrate-switch":
-                return _calibrate(args, machine, name, say)
-            result = _measure(args, machine, name, say)
+            try:
+                if args.backlash_command == "calibrate-switch":
+                    return _calibrate(args, machine, name, say)
+                result = _measure(args, machine, name, say)
+            except KeyboardInterrupt as exc:  # Ctrl-C, SIGTERM, SIGHUP
+                return interrupted(args, machine, exc)
     except MeasureError as exc:
         raise CliError(str(exc)) from None
     if args.json:

@@ -9,6 +9,7 @@ from pathlib import Path
 
 from ..machine.homing import home
 from ._jobs import machine_config
+from ._stops import interrupted
 from .options import add_connection_options, add_json_option, connect
 
 
@@ -30,7 +31,10 @@ def run(args: argparse.Namespace) -> int:
             print(text, file=sys.stderr, flush=True)
 
     with connect(args, config, str(args.config or "quadstep.toml")) as machine:
-        results = home(machine, args.axes or None, progress)
+        try:
+            results = home(machine, args.axes or None, progress)
+        except KeyboardInterrupt as exc:  # Ctrl-C, SIGTERM, SIGHUP
+            return interrupted(args, machine, exc)
         position = machine.position_mm
     if args.json:
         print(json.dumps({"axes": [r.__dict__ for r in results], "position_mm": list(position)}))

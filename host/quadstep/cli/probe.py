@@ -9,6 +9,7 @@ from pathlib import Path
 
 from ..machine.probing import CODES, probe
 from ._jobs import machine_config
+from ._stops import interrupted
 from .options import CliError, add_connection_options, add_json_option, connect
 
 
@@ -37,7 +38,10 @@ def run(args: argparse.Namespace) -> int:
                 target[config.axis_names.index(name.upper())] = float(value)
             except ValueError:
                 raise CliError(f"{word!r}: {value!r} is not a number of mm") from None
-        result = probe(machine, args.mode, target, args.feed)
+        try:
+            result = probe(machine, args.mode, target, args.feed)
+        except KeyboardInterrupt as exc:  # Ctrl-C, SIGTERM, SIGHUP
+            return interrupted(args, machine, exc)
     if args.json:
         print(json.dumps(result.__dict__))
     else:

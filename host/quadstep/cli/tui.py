@@ -3,7 +3,12 @@
 from __future__ import annotations
 
 import argparse
+import signal
+import threading
+from collections.abc import Iterator
+from contextlib import contextmanager
 from pathlib import Path
+from types import FrameType
 from typing import TYPE_CHECKING
 
 from pydantic import ValidationError
@@ -12,10 +17,12 @@ from ..config import ConfigError, describe_validation_error, load_config
 from ..jog import JogSettings
 from ..machine import Target, state_path
 from ._jobs import DEFAULT_CONFIG
+from ._stops import STOP_SIGNALS
 from .options import CliError, add_connection_options, target
 from .run import position_lines
 
 if TYPE_CHECKING:
+    from ..tui import QuadstepApp
     from ..tui.session import Parting  # Textual loads only for this command
 
 
@@ -64,9 +71,28 @@ def run(args: argparse.Namespace) -> int:
     session = Session(where, config, settings_from(args), config_source=str(path), state_file=state_path(path),
                       config_path=path)
     app = QuadstepApp(session, job_path=args.job, choose=lambda device: _target(device, args.baud))
-    app.run()
+    with stops_as_ctrl_c(app):
+        app.run()
     print("\n".join(parting_lines(session.parting)))
     return 130 if app.interrupted else 0
+
+
+@contextmanager
+def stops_as_ctrl_c(app: QuadstepApp) -> Iterator[None]:
+    """SIGTERM and SIGHUP quit the TUI as Ctrl-C does (motion brought to rest first, exit 130). The handler runs
+    in the main thread, inside the app's event loop: a thread of its own hands the request to the app."""
+    def handler(number: int, frame: FrameType | None) -> None:
+        threading.Thread(target=lambda: app.call_from_thread(app.action_interrupt), daemon=True).start()
+
+    previous = {sig: signal.getsignal(sig) for sig in STOP_SIGNALS}
+    for sig, old in previous.items():
+        if old is not signal.SIG_IGN:
+            signal.signal(sig, handler)
+    try:
+        yield
+    finally:
+        for sig, old in previous.items():
+            signal.signal(sig, old)
 
 
 def _target(device: str, baud: int) -> Target:

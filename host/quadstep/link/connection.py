@@ -17,22 +17,14 @@ from typing import TypeVar
 import serial
 
 from ..protocol import (
-    Alarm,
-    Identify,
-    IdentifyReply,
-    InputChange,
-    Report,
-    Request,
-    State,
-    Status,
-    StatusReport,
-    Stop,
-    encode,
+    Alarm, Identify, IdentifyReply, InputChange, Report, Request, State, Status, StatusReport, Stop, encode,
 )
 from ..protocol.constants import PROTOCOL_VERSION, is_sequenced
 from ..protocol.messages import queue_slots
+from .errors import (
+    AlarmError, BoardSilent, FirmwareError, LinkError, LinkTimeout, ProtocolVersionError, Stopped, known_text,
+)
 from .port_open import open_port
-from .errors import AlarmError, BoardSilent, FirmwareError, LinkError, LinkTimeout, ProtocolVersionError, Stopped
 from .outbox import Outbox
 from .reports import Inbox, Waiter
 from .stats import LinkStats
@@ -251,6 +243,7 @@ class Link:
                 raise LinkTimeout(
                     f"no answer to {message.NAME} after {self.retries} tries of {self.request_timeout:g} s "
                     f"(is the board connected, running quadstep firmware, at this baud rate?)"
+                    + known_text(self._in.last_status, self._in.last_alarm())
                 )
             finally:
                 self._in.waiter = None
@@ -321,6 +314,11 @@ class Link:
                     f"firmware still {status.state.name} with {status.queue_fill} segments queued after {timeout:g} s"
                 )
 
+    def check(self, generation: int) -> None:
+        """Raise the link's failure (an alarm, a reset, a silent board), or Stopped after a restart."""
+        with self._cond:
+            self._raise_failure(generation)
+
     def wait_report(self, cls: type[R], after: int, generation: int, timeout: float | None) -> R | None:
         """Until report number `after` + 1 of class `cls` (report_count) arrives: returns the latest one,
         or None after `timeout`. Raises the link's failure, or Stopped once the stream is restarted."""
@@ -350,7 +348,7 @@ class Link:
 
     def _wait(self, deadline: float | None) -> bool:
         if deadline is None:
-            self._cond.wait()
+            self._cond.wait(self.poll_interval)  # woken by any change; the slice only bounds a missed one
             return True
         remaining = deadline - self._clock()
         return remaining > 0 and (self._cond.wait(remaining) or self._clock() < deadline)

@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from ..protocol import Alarm, ErrorReport
+from ..protocol import Alarm, ErrorReport, State, StatusReport
 
 
 HEARD_BYTES = 512  # bytes kept from before the board identified itself, to name another firmware
@@ -31,6 +31,38 @@ class LinkTimeout(LinkError):
 
 class BoardSilent(LinkTimeout):
     """Nothing came back from the board for too long while it owed an answer; the link is closed."""
+
+
+class BoardReset(LinkError):
+    """The board started afresh (reset button, power, a USB re-enumeration): its queue, its alarm and its step
+    counts are gone; the host cannot know where the machine stands."""
+
+    def __init__(self, done_before: int, before: StatusReport, after: StatusReport) -> None:
+        self.before, self.after = before, after
+        super().__init__(
+            f"the board was reset: segments done went back from {done_before} to {after.segments_done}, "
+            f"motion ticks from {before.motion_ticks} to {after.motion_ticks}; what was queued is lost and it "
+            f"counts from {list(after.position)} now (last position known before: {list(before.position)} steps); "
+            "home the machine or set its position before going on"
+        )
+
+
+def status_alarm(status: StatusReport) -> AlarmError | None:
+    """The alarm a status shows (its report may have been lost): the board halted, its queue flushed."""
+    if status.state != State.ALARM or status.alarm is None:
+        return None
+    return AlarmError(Alarm(code=status.alarm, motion_ticks=status.motion_ticks, position=status.position))
+
+
+def known_text(status: StatusReport | None, alarm: Alarm | None) -> str:
+    """What the host last knew of the board, for an error about a board that stopped answering."""
+    parts = []
+    if status is not None:
+        parts.append(f"last known state {status.state.name}, position {list(status.position)} steps, "
+                     f"{status.segments_done} segments done")
+    if alarm is not None:
+        parts.append(f"last alarm {alarm.code.name} at positions {list(alarm.position)}")
+    return f" ({'; '.join(parts)})" if parts else ""
 
 
 class ProtocolVersionError(LinkError):
@@ -72,5 +104,6 @@ class AlarmError(LinkError):
         )
 
 
-__all__ = ["AlarmError", "BoardSilent", "FirmwareError", "LinkError", "LinkTimeout", "ProtocolVersionError", "Stopped"]
+__all__ = ["AlarmError", "BoardReset", "BoardSilent", "FirmwareError", "LinkError", "LinkTimeout", "ProtocolVersionError",
+           "Stopped", "known_text", "status_alarm"]
 

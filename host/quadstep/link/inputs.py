@@ -26,7 +26,7 @@ from ..protocol import (
     StatusReport,
 )
 from .connection import Link
-from .errors import LinkTimeout, Stopped
+from .errors import LinkTimeout, Stopped, status_alarm
 
 
 def input_status(link: Link) -> InputStatus:
@@ -66,6 +66,9 @@ def until_input(link: Link, probe: Probe, segments: Iterable[Segment],
             if link.holds_by_input == triggers:
                 raise  # a STOP or HOLD from elsewhere
             continue  # the edge came while waiting: wait for its hold
+        alarm = status_alarm(link.status())  # a board gone silent does not answer; an alarm's report may be lost
+        if alarm is not None:
+            raise alarm
         if deadline is not None and time.monotonic() >= deadline:
             raise LinkTimeout(f"the motion after PROBE {probe.input.name} did not end within {timeout:g} s")
     wait_rest(link, timeout)

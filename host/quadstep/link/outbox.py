@@ -15,7 +15,7 @@ from __future__ import annotations
 from collections import deque
 
 from ..protocol import Status, encode
-from .errors import BoardSilent, LinkTimeout
+from .errors import BoardSilent, LinkTimeout, known_text
 from .reports import Inbox
 from .stats import LinkStats
 from .window import SendWindow
@@ -37,6 +37,10 @@ class Outbox:
         self.request_seq = 0x40
         self.last_poll = 0.0
         self.last_write = 0.0
+        # When the board last began to owe an answer: a line quiet while nothing was owed (a job paused at
+        # a prompt) is not a silent board, so the silence counts from here or from the last frame back.
+        self.owed_since = 0.0
+        self.owing = False
 
     def next_request_seq(self) -> int:
         self.request_seq = (self.request_seq + 1) & 0xFF
@@ -59,7 +63,11 @@ class Outbox:
             for data in frames:
                 out += data
             self.stats.frames_sent += len(frames)
-            if self._outstanding() and now - inbox.last_frame_at >= self.silence:
+            if not self._outstanding():
+                self.owing = False
+            elif not self.owing:
+                self.owing, self.owed_since = True, now
+            if self._outstanding() and now - self._heard_at() >= self.silence:
                 inbox.fail(BoardSilent(self._silence_text(now)))
             elif inbox.want_status or self._stalled(now) or (not out and self._keepalive_due(now)):
                 inbox.want_status = False
@@ -78,7 +86,7 @@ class Outbox:
         if deadline is not None:
             waits.append(deadline - now)
         if self._outstanding():
-            waits += [self.last_write + KEEPALIVE - now, self.inbox.last_frame_at + self.silence - now]
+            waits += [self.last_write + KEEPALIVE - now, self._heard_at() + self.silence - now]
         if self._stall_possible():
             waits.append(max(self.inbox.last_frame_at, self.last_poll) + STALL_POLL - now)
         return max(0.001, min(waits))
@@ -87,6 +95,10 @@ class Outbox:
         """Something the board owes an answer for: a frame unacknowledged, or a segment not yet finished."""
         return self.inbox.queue_capacity is not None and (
             self.window.in_flight > 0 or self.inbox.expected_done > self.inbox.done_total)
+
+    def _heard_at(self) -> float:
+        """Where the silence counts from: the last good frame, or when the board began to owe one."""
+        return max(self.inbox.last_frame_at, self.owed_since if self.owing else 0.0)
 
     def _keepalive_due(self, now: float) -> bool:
         return self._outstanding() and now - self.last_write >= KEEPALIVE
@@ -100,7 +112,7 @@ class Outbox:
 
     def _silence_text(self, now: float) -> str:
         inbox, window = self.inbox, self.window
-        return (f"the board has not answered for {now - inbox.last_frame_at:.1f} s (is it powered, connected, "
+        return (f"the board has not answered for {now - self._heard_at():.1f} s (is it powered, connected, "
                 f"running?): the last frame it confirmed was seq {(window.base - 1) & 0xFF}; "
                 f"{inbox.done_total} segments done, {max(0, inbox.expected_done - inbox.done_total)} more accepted, "
-                f"{window.in_flight} frames unacknowledged")
+                f"{window.in_flight} frames unacknowledged" + known_text(inbox.last_status, inbox.last_alarm()))

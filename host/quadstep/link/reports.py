@@ -26,7 +26,7 @@ from ..protocol import (
     StatusReport,
 )
 from ..protocol.constants import is_sequenced
-from .errors import AlarmError, FirmwareError, LinkError
+from .errors import AlarmError, BoardReset, FirmwareError, LinkError
 from .stats import LinkStats
 from .window import SendWindow
 
@@ -66,6 +66,7 @@ class Inbox:
         self.last_frame_at = 0.0  # clock time of the last good frame received
         self.want_status = False  # the writer sends a STATUS: something needs explaining
         self.refused: ErrorReport | None = None  # BUSY or ALARM_ACTIVE for a frame of ours, until a status explains it
+        self.last_status: StatusReport | None = None  # the board's latest STATUS_REPORT (or answer to STOP, HOLD)
 
     def receive(self, data: bytes, now: float) -> list[Report]:
         """Decode and apply what the reader read at `now`; returns the reports that on_report callbacks want."""
@@ -80,6 +81,10 @@ class Inbox:
             if self.apply(item):
                 notify.append(item.message)  # type: ignore[arg-type]
         return notify
+
+    def last_alarm(self) -> Alarm | None:
+        alarm = self.latest.get(Alarm)
+        return alarm if isinstance(alarm, Alarm) else None
 
     def fail(self, failure: LinkError) -> None:
         if self.failure is None:
@@ -119,12 +124,25 @@ class Inbox:
         if waiter is not None and frame.seq == waiter.seq and m.CODE == waiter.reply_type:
             waiter.reply = m  # type: ignore[assignment]
         if isinstance(m, StatusReport):
+            self._check_reset(m)
+            self.last_status = m
             self.done_total = m.segments_done
             self.done16 = m.segments_done & 0xFFFF
             if not self.stopping and self.queue_capacity is not None:  # repairs a lost SPACE ack
                 self.expected_done += self.window.on_status(m.next_seq, self.queue_capacity - m.queue_fill)
                 self._explain(m)
         return False
+
+    def _check_reset(self, status: StatusReport) -> None:
+        """The board's segments_done and motion_ticks only grow (motion_ticks wraps after 2^32 ticks): one
+        that went back is a board reset, which fails the link whatever else it was doing."""
+        last = self.last_status
+        if last is None:
+            return
+        ticks_back = (status.motion_ticks - last.motion_ticks) & 0xFFFFFFFF >= 1 << 31
+        if status.segments_done < max(self.done_total, last.segments_done) or ticks_back:
+            if not isinstance(self.failure, BoardReset):
+                self.failure = BoardReset(max(self.done_total, last.segments_done), last, status)
 
     def _explain(self, status: StatusReport) -> None:
         """A status while streaming: an alarm whose report was lost, or what a refusal was about."""

@@ -18,6 +18,7 @@ from itertools import accumulate
 from typing import Protocol
 
 from ..link import AlarmError, Link, LinkError, Stopped, hold, wait_rest
+from ..link.errors import status_alarm
 from ..protocol import (
     DECEL_MAX, AckReason, Capability, CubicSegment, HoldDone, IdentifyReply, InputCause, Outputs, Report, Segment,
 )
@@ -301,6 +302,7 @@ class Motion:
         while not self._halting:
             if self.link.generation != self._generation:
                 raise Stopped("the stream was restarted (STOP) while this motion waited for room")
+            self.link.check(self._generation)  # an alarm, a reset or a silent board: no room will come
             done = self.done  # negative while the motion this one follows (a cut) still runs its last segments
             queued = k - done
             if queued < capacity and (
@@ -313,7 +315,9 @@ class Motion:
             if done != last_done:
                 last_done, since = done, now
             elif now - since > STALL_POLL:
-                self.link.status()  # a SPACE ack lost on the wire: the status carries the count
+                alarm = status_alarm(self.link.status())  # a SPACE ack lost: the status carries the count
+                if alarm is not None:  # the alarm flushed the queue: no room will come
+                    raise alarm
                 since = now
             self._space.wait(SPACE_WAIT)
             self._space.clear()

@@ -15,7 +15,7 @@ from dataclasses import dataclass
 from typing import Protocol
 
 from ..config import MachineConfig
-from ..link import Link, input_status, until_input
+from ..link import Link, hold, input_status, until_input
 from ..planner.plan import plan_program
 from ..planner.program import LinearMove, Program
 from ..protocol import MAX_AXES, CubicSegment, Input, InputChange, Probe, Segment
@@ -85,3 +85,10 @@ def probe(machine: ProbingMachine, code: str, target_mm: Sequence[float], feed: 
     steps = steps or rest
     machine_mm = config.to_mm(steps)
     return ProbeResult(code, found, steps, machine_mm, tuple(m - o for m, o in zip(machine_mm, offset)))
+
+
+def hold_to_rest(machine: ProbingMachine) -> tuple[int, ...]:
+    """The user's stop after a procedure was interrupted (Ctrl-C): HOLD, so that an axis decelerates to rest
+    now instead of running out its queue; returns where it rests (take-ups excluded)."""
+    done = hold(machine.link, machine.decels)
+    return machine.rested(done.hold_tick)

@@ -1,0 +1,28 @@
+"""A command run, its expected failures each turned into one line on stderr and exit code 1."""
+
+from __future__ import annotations
+
+import argparse
+import sys
+
+from pydantic import ValidationError
+
+from ..config import describe_validation_error
+from ..emulator import EmulatorError
+from ..link import LinkError
+from ..machine import MachineError, StateError
+from .options import CliError
+
+
+def run_command(args: argparse.Namespace) -> int:
+    try:
+        return int(args.handler(args))
+    except CliError as exc:
+        print(f"quadstep {args.command}: error: {exc}", file=sys.stderr)
+        return 1
+    except ValidationError as exc:
+        print(f"quadstep {args.command}: error: {'; '.join(describe_validation_error(exc))}", file=sys.stderr)
+        return 1
+    except (LinkError, MachineError, StateError, EmulatorError) as exc:
+        print(f"quadstep {args.command}: error: {exc}", file=sys.stderr)
+        return 1
