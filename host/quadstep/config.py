@@ -22,7 +22,7 @@ else:  # the same parser, as a package, before Python 3.11
     import tomli as tomllib
 
 from .protocol.constants import AXIS_NAMES, CUBIC_ACCEL_LIMIT, CUBIC_SHIFT, MAX_AXES, POSITION_MAX
-from .textfile import parse_nested, read_text
+from .textfile import SETTINGS_MAX_BYTES, parse_nested, read_text
 
 AxisName = Literal["X", "Y", "Z", "A"]  # AXIS_NAMES, as pydantic needs them
 Model = TypeVar("Model", bound=BaseModel)
@@ -348,7 +348,7 @@ DEFAULT_CONFIG_NAME = "default configuration"
 
 def load_config(path: Path) -> MachineConfig:
     """Read and validate a machine configuration file."""
-    text = read_text(path, ConfigError)
+    text = read_text(path, ConfigError, SETTINGS_MAX_BYTES)
     try:
         data = parse_nested(tomllib.loads, text, path, ConfigError)
     except tomllib.TOMLDecodeError as exc:

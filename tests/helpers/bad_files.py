@@ -127,6 +127,10 @@ def _json_files(stem: str, good: dict, out_of_range: dict[str, list[int]]) -> It
     yield BadFile(f"{stem}-list.json", b"[]")
     yield BadFile(f"{stem}-empty.json", b"")
     yield BadFile(f"{stem}-deep.json", ("[" * 1000 + "]" * 1000).encode())
+    yield BadFile(f"{stem}-deeper.json", ('{"a": ' * 100_000 + "1" + "}" * 100_000).encode())
+    key = next(iter(good))
+    twice = text.replace("{", "{" + json.dumps(key) + ": " + json.dumps(good[key]) + ", ", 1)
+    yield BadFile(f"{stem}-key-twice.json", twice.encode())
 
 
 def _get(data: object, path: tuple) -> object:
@@ -147,6 +151,8 @@ def bad_jobs() -> Iterator[BadFile]:
         f"{b}: &{b} [*{a}, *{a}, *{a}, *{a}, *{a}, *{a}, *{a}, *{a}, *{a}]\n" for a, b in zip("abcdefgh", "bcdefghi"))
     yield BadFile("moves-aliases.yaml", (laughs + "moves: *i\n").encode())
     yield BadFile("moves-tabs.yaml", b"moves:\n\t- dwell: 1\n")
+    yield BadFile("moves-key-twice.yaml", b"moves:\n  - dwell: 1\nmoves:\n  - dwell: 2\n")
+    yield BadFile("moves-field-twice.yaml", b"moves:\n  - {to: {X: 1}, feed: 1, feed: 2}\n")
     for i, line in enumerate(GCODE_LINES):
         yield BadFile(f"gcode-{i + 1:02d}.gcode", f"G21 G90\nG0 X10 Y10\n{line}\nG0 X0 Y0\n".encode())
     yield BadFile("gcode-latin-1.gcode", "(Fräse)\nG0 X1\n".encode("latin-1"))
