@@ -24,7 +24,7 @@ import yaml
 from pydantic import BaseModel, ConfigDict, Field, model_validator
 
 from .config import AxisName, validate
-from .planner.program import Dwell, JobError, LinearMove, Pause, Program
+from .planner.program import MAX_DWELL_S, Dwell, JobError, LinearMove, Pause, Program
 from .textfile import DuplicateKeyError, parse_nested, read_text, strict_json
 
 Coordinates = dict[AxisName, float]
@@ -41,7 +41,7 @@ class Move(BaseModel):
     rapid_by: Coordinates | None = None
     feed: Annotated[float, Field(gt=0)] | None = None
     accel: Annotated[float, Field(gt=0)] | None = None
-    dwell: Annotated[float, Field(ge=0, le=3600)] | None = None
+    dwell: Annotated[float, Field(ge=0, le=MAX_DWELL_S)] | None = None
     pause: Literal[True] | None = None
 
     @model_validator(mode="after")
