@@ -21,8 +21,8 @@ if sys.version_info >= (3, 11):
 else:  # the same parser, as a package, before Python 3.11
     import tomli as tomllib
 
-from .protocol.constants import (AXIS_NAMES, CUBIC_ACCEL_LIMIT, CUBIC_SHIFT, DECEL_SHIFT, MAX_AXES, POSITION_MAX,
-                                 SPEED_SHIFT)
+from .protocol.constants import (AXIS_NAMES, CUBIC_ACCEL_LIMIT, CUBIC_SHIFT, DECEL_SHIFT, MAX_AXES,
+                                 POSITION_MAX, SPEED_SHIFT)
 from .textfile import SETTINGS_MAX_BYTES, parse_nested, read_text
 
 AxisName = Literal["X", "Y", "Z", "A"]  # AXIS_NAMES, as pydantic needs them
@@ -142,16 +142,17 @@ class AxisConfig(BaseModel):
     @model_validator(mode="after")
     def _consistent(self) -> AxisConfig:
         if self.steps_per_mm < MIN_STEPS_PER_MM:  # every other rule divides by it
-            raise ValueError(f"steps_per_mm = {self.steps_per_mm:g}: must be at least {MIN_STEPS_PER_MM:g} "
-                             "(a 1 mm move makes at least one step)")
+            raise ValueError(f"steps_per_mm = {self.steps_per_mm:g}: must be at least "
+                             f"{MIN_STEPS_PER_MM:g} (a 1 mm move makes at least one step)")
         problems = []
         if self.backlash is not None and self.backlash.accel is not None and self.backlash.accel > self.max_accel:
             problems.append(f"backlash.accel = {self.backlash.accel}: must be at most max_accel = {self.max_accel}")
         if self.travel_max <= self.travel_min:
             problems.append(f"travel_max = {self.travel_max}: must be greater than travel_min = {self.travel_min}")
         elif (self.travel_max - self.travel_min) * self.steps_per_mm < 1:
+            step = 1 / self.steps_per_mm
             problems.append(f"travel_max = {self.travel_max:g}: must be at least one step "
-                            f"({1 / self.steps_per_mm:g} mm) beyond travel_min = {self.travel_min:g}")
+                            f"({step:g} mm) beyond travel_min = {self.travel_min:g}")
         reach = POSITION_MAX / self.steps_per_mm  # the firmware keeps step positions within ±POSITION_MAX
         for key, value in (("travel_min", self.travel_min), ("travel_max", self.travel_max)):
             if abs(value) > reach:
@@ -215,16 +216,18 @@ class MachineConfig(BaseModel):
         return self
 
     def _floors(self, i: int, axis: AxisConfig) -> list[str]:
-        """Speeds of at least a segment's finest speed, accelerations at least a HOLD's gentlest deceleration
-        (a hold could not brake more gently): a problem line for each that is below."""
+        """Speeds of at least a segment's finest speed, accelerations at least a HOLD's gentlest
+        deceleration (a hold could not brake more gently): a problem line for each below."""
         hz, spm = float(self.tick_hz), axis.steps_per_mm
         where = f"at tick_hz {self.tick_hz} with {spm:g} steps/mm"
-        speed = (SPEED_QUANTUM * hz / spm, "mm/s", f"1/4096 step per tick, a segment's finest speed, {where}")
-        accel = (DECEL_QUANTUM * hz * hz / spm, "mm/s²", f"2^-24 step per tick², a hold's gentlest deceleration, "
-                                                         f"{where}")
+        speed = (SPEED_QUANTUM * hz / spm, "mm/s",
+                 f"1/4096 step per tick, a segment's finest speed, {where}")
+        accel = (DECEL_QUANTUM * hz * hz / spm, "mm/s²",
+                 f"2^-24 step per tick², a hold's gentlest deceleration, {where}")
         values = [("max_speed", axis.max_speed, speed), ("max_accel", axis.max_accel, accel)]
         if axis.homing is not None:
-            values += [("homing.seek", axis.homing.seek, speed), ("homing.locate", axis.homing.locate, speed)]
+            values += [("homing.seek", axis.homing.seek, speed),
+                       ("homing.locate", axis.homing.locate, speed)]
         if axis.backlash is not None and axis.backlash.accel is not None:
             values.append(("backlash.accel", axis.backlash.accel, accel))
         return [f"axes[{i}].{key} = {value:g}: must be at least {least:.4g} {unit} ({why})"

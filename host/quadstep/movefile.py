@@ -67,14 +67,15 @@ class MoveFile(BaseModel):
 
 
 class _UniqueKeyLoader(yaml.SafeLoader):
-    """YAML's safe loader, except that a key given twice in one mapping is refused (not the last one kept)."""
+    """YAML's safe loader, except that a key given twice in one mapping is refused (not the last
+    one kept)."""
 
     def construct_mapping(self, node: yaml.MappingNode, deep: bool = False) -> dict[Any, Any]:
         seen: set[str] = set()
         for key, _ in node.value:
             if isinstance(key, yaml.ScalarNode) and key.value in seen:
-                raise DuplicateKeyError(f"line {key.start_mark.line + 1}: key {key.value!r} is given twice in "
-                                        "one mapping (which one is meant?)")
+                raise DuplicateKeyError(f"line {key.start_mark.line + 1}: key {key.value!r} is "
+                                        "given twice in one mapping (which one is meant?)")
             seen.add(key.value if isinstance(key, yaml.ScalarNode) else "")
         return super().construct_mapping(node, deep)
 

@@ -68,36 +68,50 @@ def test_defaults_for_cornering_and_arcs() -> None:
         ({"max_jerk": 1e9}, 0, "m.toml: axes[0].max_jerk = 1e+09: must be at most 2.38411e+07 mm/s³ (a cubic "
                                "segment's 16-bit jerk at tick_hz 50000 with 80 steps/mm)"),
         ({"max_jerk": -1}, 0, "m.toml: axes[0].max_jerk = -1: must be greater than 0"),
-        ({"max_jerk": 5e-324}, 0, "m.toml: axes[0].max_jerk = 4.94066e-324: must be at least 4.657e+04 mm/s³ (64 "
-                                  "jerk quanta of a cubic segment at tick_hz 50000 with 80 steps/mm, so that rounding "
-                                  "it errs by under 1 %)"),
-        # scales that would silently move nothing, or plan without end
-        ({"steps_per_mm": 5e-324}, 0, "m.toml: axes[0].steps_per_mm = 4.94066e-324: must be at least 1 (a 1 mm "
-                                      "move makes at least one step)"),
-        ({"steps_per_mm": 0.4}, 0, "m.toml: axes[0].steps_per_mm = 0.4: must be at least 1 (a 1 mm move makes at "
-                                   "least one step)"),
-        ({"travel_max": 0.01}, 1, "m.toml: axes[1].travel_max = 0.01: must be at least one step (0.0125 mm) "
-                                  "beyond travel_min = 0"),
-        ({"max_speed": 1e-300}, 0, "m.toml: axes[0].max_speed = 1e-300: must be at least 0.1526 mm/s (1/4096 "
-                                   "step per tick, a segment's finest speed, at tick_hz 50000 with 80 steps/mm)"),
-        ({"max_accel": 5e-324}, 1, "m.toml: axes[1].max_accel = 4.94066e-324: must be at least 1.863 mm/s² "
-                                   "(2^-24 step per tick², a hold's gentlest deceleration, at tick_hz 50000 with "
-                                   "80 steps/mm)"),
-        ({"homing": {"seek": 1e-9}}, 0, "m.toml: axes[0].homing.seek = 1e-09: must be at least 0.1526 mm/s (1/4096 "
-                                        "step per tick, a segment's finest speed, at tick_hz 50000 with 80 steps/mm)"),
-        ({"backlash": {"mm": 0.1, "accel": 1}}, 0, "m.toml: axes[0].backlash.accel = 1: must be at least 1.863 "
-                                                   "mm/s² (2^-24 step per tick², a hold's gentlest deceleration, "
-                                                   "at tick_hz 50000 with 80 steps/mm)"),
     ],
 )
 def test_bad_values_name_key_value_and_range(change: dict[str, Any], axis: int | None, message: str) -> None:
     assert bad(change, axis) == message
 
 
+SPEED_FLOOR = ("1/4096 step per tick, a segment's finest speed, at tick_hz 50000 with 80 "
+               "steps/mm")
+ACCEL_FLOOR = ("2^-24 step per tick², a hold's gentlest deceleration, at tick_hz 50000 with 80 "
+               "steps/mm")
+
+
+@pytest.mark.parametrize(
+    ("change", "axis", "message"),
+    [  # scales that would silently move nothing, or plan without end
+        ({"max_jerk": 5e-324}, 0, "axes[0].max_jerk = 4.94066e-324: must be at least 4.657e+04 "
+                                  "mm/s³ (64 jerk quanta of a cubic segment at tick_hz 50000 with "
+                                  "80 steps/mm, so that rounding it errs by under 1 %)"),
+        ({"steps_per_mm": 5e-324}, 0, "axes[0].steps_per_mm = 4.94066e-324: must be at least 1 "
+                                      "(a 1 mm move makes at least one step)"),
+        ({"steps_per_mm": 0.4}, 0, "axes[0].steps_per_mm = 0.4: must be at least 1 (a 1 mm move "
+                                   "makes at least one step)"),
+        ({"travel_max": 0.01}, 1, "axes[1].travel_max = 0.01: must be at least one step "
+                                  "(0.0125 mm) beyond travel_min = 0"),
+        ({"max_speed": 1e-300}, 0, f"axes[0].max_speed = 1e-300: must be at least 0.1526 mm/s "
+                                   f"({SPEED_FLOOR})"),
+        ({"max_accel": 5e-324}, 1, f"axes[1].max_accel = 4.94066e-324: must be at least 1.863 "
+                                   f"mm/s² ({ACCEL_FLOOR})"),
+        ({"homing": {"seek": 1e-9}}, 0, f"axes[0].homing.seek = 1e-09: must be at least 0.1526 "
+                                        f"mm/s ({SPEED_FLOOR})"),
+        ({"backlash": {"mm": 0.1, "accel": 1}}, 0, f"axes[0].backlash.accel = 1: must be at least "
+                                                   f"1.863 mm/s² ({ACCEL_FLOOR})"),
+    ],
+)
+def test_scales_below_what_the_machine_can_do_are_refused(change: dict[str, Any], axis: int,
+                                                          message: str) -> None:
+    assert bad(change, axis) == f"m.toml: {message}"
+
+
 def test_the_floors_themselves_are_allowed() -> None:
     """One speed quantum and one deceleration quantum are the least values: allowed, exactly."""
     data = copy.deepcopy(GOOD)
-    data["axes"][0].update(steps_per_mm=1, max_speed=50000 / 4096, max_accel=50000**2 / 2**24, travel_max=1)
+    data["axes"][0].update(steps_per_mm=1, max_speed=50000 / 4096, max_accel=50000**2 / 2**24,
+                           travel_max=1)
     assert parse_config(data).axes[0].max_speed == 50000 / 4096
 
 

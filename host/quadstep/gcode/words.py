@@ -70,8 +70,8 @@ def split_words(text: str, line: int) -> list[Word]:
             number = match.group(1)
             value = float(number)
             if not math.isfinite(value):  # hundreds of digits
-                raise GcodeError(line, i + 1, f"'{c}{number[:12]}…': a number of {len(number)} digits is too large "
-                                              "to be represented")
+                raise GcodeError(line, i + 1, f"'{c}{number[:12]}…': a number of {len(number)} "
+                                              "digits is too large to be represented")
             words.append(Word(c.upper(), number, value, i + 1))
             i = match.end()
         else:

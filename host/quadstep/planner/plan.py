@@ -98,7 +98,7 @@ def plan_moves(table: MoveTable, config: MachineConfig, lines: int = 0, label: s
                boundary: Boundary | None = None) -> Plan:
     if boundary is not None and config.jerk_limited:
         raise JobError("a jerk-limited plan goes on only from rest")
-    check_duration(table, config, label)  # every move at its top speed: cheap, before the look-ahead
+    check_duration(table, config, label)  # each move at its top speed, before the look-ahead
     entry = junction_speeds(table, config, boundary.speed if boundary is not None else 0.0)
     check_duration(table, config, label, entry)  # with its ramps: before anything is planned
     scurve = ScurvePlanner(config, table.start, label) if config.jerk_limited else None

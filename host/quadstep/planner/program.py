@@ -15,7 +15,7 @@ from dataclasses import dataclass, field
 from ..coordinates import WorkCoordinates
 
 
-MAX_DWELL_S = 3600.0  # an hour: a longer wait is an M0 pause, which waits for the operator without a limit
+MAX_DWELL_S = 3600.0  # an hour; M0 waits for the operator as long as it takes
 
 
 class JobError(ValueError):
