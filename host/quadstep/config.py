@@ -363,10 +363,11 @@ def parse_config(data: dict[str, Any], source: str = "config") -> MachineConfig:
 def default_config(tick_hz: int, axis_count: int) -> MachineConfig:
     """A configuration for a board nothing is known about: 80 steps/mm, ±1000 mm, gentle limits."""
     speed = min(100.0, math.floor(MAX_STEPS_PER_TICK * tick_hz / 80))
+    accel = max(500, math.ceil(DECEL_QUANTUM * tick_hz * tick_hz / 80))  # fast ticks: a hold's least
     return parse_config({
         "tick_hz": tick_hz,
         "axes": [
-            {"name": AXIS_NAMES[i], "steps_per_mm": 80, "max_speed": speed, "max_accel": 500,
+            {"name": AXIS_NAMES[i], "steps_per_mm": 80, "max_speed": speed, "max_accel": accel,
              "travel_min": -1000, "travel_max": 1000}
             for i in range(axis_count)
         ],

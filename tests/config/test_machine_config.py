@@ -9,7 +9,7 @@ from typing import Any
 
 import pytest
 
-from quadstep.config import ConfigError, load_config, parse_config
+from quadstep.config import ConfigError, default_config, load_config, parse_config
 
 REPO = Path(__file__).resolve().parents[2]
 EXAMPLE = REPO / "examples" / "router-uno.toml"
@@ -169,3 +169,10 @@ def test_axis_names_are_the_protocols() -> None:
     from quadstep.protocol import AXIS_NAMES
 
     assert get_args(AxisName) == AXIS_NAMES
+
+
+@pytest.mark.parametrize("tick_hz", [1000, 32000, 50000, 1_000_000])
+def test_the_configuration_for_an_unknown_board_loads_at_every_tick_rate(tick_hz: int) -> None:
+    """Its acceleration is at least what a hold can brake (746 mm/s² at 1 MHz and 80 steps/mm)."""
+    axis = default_config(tick_hz, 4).axes[0]
+    assert axis.max_accel >= 500 and axis.max_accel * 80 >= tick_hz**2 / 2**24
