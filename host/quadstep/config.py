@@ -22,8 +22,9 @@ if sys.version_info >= (3, 11):
 else:  # the same parser, as a package, before Python 3.11
     import tomli as tomllib
 
-from .protocol.constants import AXIS_NAMES, CUBIC_ACCEL_LIMIT, CUBIC_SHIFT, MAX_AXES, POSITION_MAX
-from .textfile import parse_nested, read_text
+from .protocol.constants import (AXIS_NAMES, CUBIC_ACCEL_LIMIT, CUBIC_SHIFT, DECEL_SHIFT, MAX_AXES,
+                                 POSITION_MAX, SPEED_SHIFT)
+from .textfile import SETTINGS_MAX_BYTES, parse_nested, read_text
 
 AxisName = Literal["X", "Y", "Z", "A"]  # AXIS_NAMES, as pydantic needs them
 Model = TypeVar("Model", bound=BaseModel)
@@ -34,6 +35,9 @@ MAX_STEPS_PER_TICK = 0.75
 SIGMA = 1 << CUBIC_SHIFT  # one step in a cubic segment's units
 CUBIC_JERK_LIMIT = (1 << 15) - 1  # a cubic segment's jerk field is an i16 (PROTOCOL.md §5.2)
 MIN_JERK_QUANTA = 64  # the smallest max_jerk, in units of the cubic segment's jerk (2^-31 step per tick³)
+MIN_STEPS_PER_MM = 1.0  # below it a 1 mm move may round to no step at all
+SPEED_QUANTUM = 1 / (1 << SPEED_SHIFT)  # a segment's finest speed, step per tick
+DECEL_QUANTUM = 1 / (1 << DECEL_SHIFT)  # a HOLD's gentlest deceleration, step per tick²
 
 
 class ConfigError(ValueError):
@@ -141,11 +145,18 @@ class AxisConfig(BaseModel):
 
     @model_validator(mode="after")
     def _consistent(self) -> AxisConfig:
+        if self.steps_per_mm < MIN_STEPS_PER_MM:  # every other rule divides by it
+            raise ValueError(f"steps_per_mm = {self.steps_per_mm:g}: must be at least "
+                             f"{MIN_STEPS_PER_MM:g} (a 1 mm move makes at least one step)")
         problems = []
         if self.backlash is not None and self.backlash.accel is not None and self.backlash.accel > self.max_accel:
             problems.append(f"backlash.accel = {self.backlash.accel}: must be at most max_accel = {self.max_accel}")
         if self.travel_max <= self.travel_min:
             problems.append(f"travel_max = {self.travel_max}: must be greater than travel_min = {self.travel_min}")
+        elif (self.travel_max - self.travel_min) * self.steps_per_mm < 1:
+            step = 1 / self.steps_per_mm
+            problems.append(f"travel_max = {self.travel_max:g}: must be at least one step "
+                            f"({step:g} mm) beyond travel_min = {self.travel_min:g}")
         reach = POSITION_MAX / self.steps_per_mm  # the firmware keeps step positions within ±POSITION_MAX
         for key, value in (("travel_min", self.travel_min), ("travel_max", self.travel_max)):
             if abs(value) > reach:
@@ -197,6 +208,7 @@ class MachineConfig(BaseModel):
                     f"axes[{i}].max_speed = {axis.max_speed}: must be at most {limit:g} mm/s "
                     f"(3/4 step per tick at tick_hz {self.tick_hz} with {axis.steps_per_mm:g} steps/mm)"
                 )
+            problems += self._floors(i, axis)
             if axis.max_jerk is not None:
                 self._check_cubic_range(i, axis)
         for name in self.homing_order or ():
@@ -230,6 +242,24 @@ class MachineConfig(BaseModel):
         if "Z" not in names:
             return None
         return self.safe_z if self.safe_z is not None else self.axes[names.index("Z")].travel_max
+
+    def _floors(self, i: int, axis: AxisConfig) -> list[str]:
+        """Speeds of at least a segment's finest speed, accelerations at least a HOLD's gentlest
+        deceleration (a hold could not brake more gently): a problem line for each below."""
+        hz, spm = float(self.tick_hz), axis.steps_per_mm
+        where = f"at tick_hz {self.tick_hz} with {spm:g} steps/mm"
+        speed = (SPEED_QUANTUM * hz / spm, "mm/s",
+                 f"1/4096 step per tick, a segment's finest speed, {where}")
+        accel = (DECEL_QUANTUM * hz * hz / spm, "mm/s²",
+                 f"2^-24 step per tick², a hold's gentlest deceleration, {where}")
+        values = [("max_speed", axis.max_speed, speed), ("max_accel", axis.max_accel, accel)]
+        if axis.homing is not None:
+            values += [("homing.seek", axis.homing.seek, speed),
+                       ("homing.locate", axis.homing.locate, speed)]
+        if axis.backlash is not None and axis.backlash.accel is not None:
+            values.append(("backlash.accel", axis.backlash.accel, accel))
+        return [f"axes[{i}].{key} = {value:g}: must be at least {least:.4g} {unit} ({why})"
+                for key, value, (least, unit, why) in values if value < least]
 
     def _check_cubic_range(self, i: int, axis: AxisConfig) -> None:
         """A jerk-limited plan runs as cubic segments: its jerk and acceleration must fit their fields."""
@@ -361,10 +391,11 @@ def parse_config(data: dict[str, Any], source: str = "config") -> MachineConfig:
 def default_config(tick_hz: int, axis_count: int) -> MachineConfig:
     """A configuration for a board nothing is known about: 80 steps/mm, ±1000 mm, gentle limits."""
     speed = min(100.0, math.floor(MAX_STEPS_PER_TICK * tick_hz / 80))
+    accel = max(500, math.ceil(DECEL_QUANTUM * tick_hz * tick_hz / 80))  # fast ticks: a hold's least
     return parse_config({
         "tick_hz": tick_hz,
         "axes": [
-            {"name": AXIS_NAMES[i], "steps_per_mm": 80, "max_speed": speed, "max_accel": 500,
+            {"name": AXIS_NAMES[i], "steps_per_mm": 80, "max_speed": speed, "max_accel": accel,
              "travel_min": -1000, "travel_max": 1000}
             for i in range(axis_count)
         ],
@@ -376,7 +407,7 @@ DEFAULT_CONFIG_NAME = "default configuration"
 
 def load_config(path: Path) -> MachineConfig:
     """Read and validate a machine configuration file."""
-    text = read_text(path, ConfigError)
+    text = read_text(path, ConfigError, SETTINGS_MAX_BYTES)
     try:
         data = parse_nested(tomllib.loads, text, path, ConfigError)
     except tomllib.TOMLDecodeError as exc:

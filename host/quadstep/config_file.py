@@ -13,7 +13,7 @@ import tomlkit
 from tomlkit.items import AoT, Table
 
 from .config import ConfigError, MachineConfig, parse_config
-from .textfile import read_text, replace_text
+from .textfile import SETTINGS_MAX_BYTES, read_text, replace_text
 
 
 def _axis_table(document: tomlkit.TOMLDocument, name: str, path: Path) -> Table:
@@ -34,7 +34,7 @@ def new_table_ends_file(document: tomlkit.TOMLDocument, table: Table) -> bool:
 def set_backlash(path: Path, axis: str, **values: float) -> tuple[MachineConfig, Path]:
     """Set keys of axis `axis`'s [axes.backlash] (mm, switch_hysteresis, ...) in the file at `path`; returns
     the configuration as now written and where the old file was kept."""
-    text = read_text(path, ConfigError)
+    text = read_text(path, ConfigError, SETTINGS_MAX_BYTES)
     try:
         document = tomlkit.parse(text)
     except tomlkit.exceptions.ParseError as exc:

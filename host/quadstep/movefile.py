@@ -24,8 +24,8 @@ import yaml
 from pydantic import BaseModel, ConfigDict, Field, model_validator
 
 from .config import AxisName, validate
-from .planner.program import Dwell, JobError, LinearMove, Pause, Program
-from .textfile import parse_nested, read_text
+from .planner.program import MAX_DWELL_S, Dwell, JobError, LinearMove, Pause, Program
+from .textfile import DuplicateKeyError, parse_nested, read_text, strict_json
 
 Coordinates = dict[AxisName, float]
 
@@ -41,7 +41,7 @@ class Move(BaseModel):
     rapid_by: Coordinates | None = None
     feed: Annotated[float, Field(gt=0)] | None = None
     accel: Annotated[float, Field(gt=0)] | None = None
-    dwell: Annotated[float, Field(ge=0, le=3600)] | None = None
+    dwell: Annotated[float, Field(ge=0, le=MAX_DWELL_S)] | None = None
     pause: Literal[True] | None = None
 
     @model_validator(mode="after")
@@ -66,11 +66,29 @@ class MoveFile(BaseModel):
     moves: list[Move] = Field(min_length=1)
 
 
+class _UniqueKeyLoader(yaml.SafeLoader):
+    """YAML's safe loader, except that a key given twice in one mapping is refused (not the last
+    one kept)."""
+
+    def construct_mapping(self, node: yaml.MappingNode, deep: bool = False) -> dict[Any, Any]:
+        seen: set[str] = set()
+        for key, _ in node.value:
+            if isinstance(key, yaml.ScalarNode) and key.value in seen:
+                raise DuplicateKeyError(f"line {key.start_mark.line + 1}: key {key.value!r} is "
+                                        "given twice in one mapping (which one is meant?)")
+            seen.add(key.value if isinstance(key, yaml.ScalarNode) else "")
+        return super().construct_mapping(node, deep)
+
+
+def _strict_yaml(text: str) -> Any:
+    return yaml.load(text, Loader=_UniqueKeyLoader)  # noqa: S506 - a safe loader
+
+
 def read_move_file(path: Path) -> MoveFile:
     """Load and validate; errors name the move index and field."""
     text = read_text(path, JobError)
     try:
-        parse = yaml.safe_load if path.suffix.lower() in (".yaml", ".yml") else json.loads
+        parse = _strict_yaml if path.suffix.lower() in (".yaml", ".yml") else strict_json
         data: Any = parse_nested(parse, text, path, JobError)
     except (yaml.YAMLError, json.JSONDecodeError) as exc:
         kind = "YAML" if path.suffix.lower() in (".yaml", ".yml") else "JSON"

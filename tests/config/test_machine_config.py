@@ -9,7 +9,7 @@ from typing import Any
 
 import pytest
 
-from quadstep.config import ConfigError, load_config, parse_config
+from quadstep.config import ConfigError, default_config, load_config, parse_config
 
 REPO = Path(__file__).resolve().parents[2]
 EXAMPLE = REPO / "examples" / "router-uno.toml"
@@ -74,6 +74,47 @@ def test_bad_values_name_key_value_and_range(change: dict[str, Any], axis: int |
     assert bad(change, axis) == message
 
 
+SPEED_FLOOR = ("1/4096 step per tick, a segment's finest speed, at tick_hz 50000 with 80 "
+               "steps/mm")
+ACCEL_FLOOR = ("2^-24 step per tick², a hold's gentlest deceleration, at tick_hz 50000 with 80 "
+               "steps/mm")
+
+
+@pytest.mark.parametrize(
+    ("change", "axis", "message"),
+    [  # scales that would silently move nothing, or plan without end
+        ({"max_jerk": 5e-324}, 0, "axes[0].max_jerk = 4.94066e-324: must be at least 4.657e+04 "
+                                  "mm/s³ (64 jerk quanta of a cubic segment at tick_hz 50000 with "
+                                  "80 steps/mm, so that rounding it errs by under 1 %)"),
+        ({"steps_per_mm": 5e-324}, 0, "axes[0].steps_per_mm = 4.94066e-324: must be at least 1 "
+                                      "(a 1 mm move makes at least one step)"),
+        ({"steps_per_mm": 0.4}, 0, "axes[0].steps_per_mm = 0.4: must be at least 1 (a 1 mm move "
+                                   "makes at least one step)"),
+        ({"travel_max": 0.01}, 1, "axes[1].travel_max = 0.01: must be at least one step "
+                                  "(0.0125 mm) beyond travel_min = 0"),
+        ({"max_speed": 1e-300}, 0, f"axes[0].max_speed = 1e-300: must be at least 0.1526 mm/s "
+                                   f"({SPEED_FLOOR})"),
+        ({"max_accel": 5e-324}, 1, f"axes[1].max_accel = 4.94066e-324: must be at least 1.863 "
+                                   f"mm/s² ({ACCEL_FLOOR})"),
+        ({"homing": {"seek": 1e-9}}, 0, f"axes[0].homing.seek = 1e-09: must be at least 0.1526 "
+                                        f"mm/s ({SPEED_FLOOR})"),
+        ({"backlash": {"mm": 0.1, "accel": 1}}, 0, f"axes[0].backlash.accel = 1: must be at least "
+                                                   f"1.863 mm/s² ({ACCEL_FLOOR})"),
+    ],
+)
+def test_scales_below_what_the_machine_can_do_are_refused(change: dict[str, Any], axis: int,
+                                                          message: str) -> None:
+    assert bad(change, axis) == f"m.toml: {message}"
+
+
+def test_the_floors_themselves_are_allowed() -> None:
+    """One speed quantum and one deceleration quantum are the least values: allowed, exactly."""
+    data = copy.deepcopy(GOOD)
+    data["axes"][0].update(steps_per_mm=1, max_speed=50000 / 4096, max_accel=50000**2 / 2**24,
+                           travel_max=1)
+    assert parse_config(data).axes[0].max_speed == 50000 / 4096
+
+
 def test_missing_and_duplicate_axes() -> None:
     data = copy.deepcopy(GOOD)
     del data["axes"][0]["travel_min"]
@@ -128,3 +169,10 @@ def test_axis_names_are_the_protocols() -> None:
     from quadstep.protocol import AXIS_NAMES
 
     assert get_args(AxisName) == AXIS_NAMES
+
+
+@pytest.mark.parametrize("tick_hz", [1000, 32000, 50000, 1_000_000])
+def test_the_configuration_for_an_unknown_board_loads_at_every_tick_rate(tick_hz: int) -> None:
+    """Its acceleration is at least what a hold can brake (746 mm/s² at 1 MHz and 80 steps/mm)."""
+    axis = default_config(tick_hz, 4).axes[0]
+    assert axis.max_accel >= 500 and axis.max_accel * 80 >= tick_hz**2 / 2**24

@@ -264,6 +264,15 @@ def test_skip_unsupported_does_not_skip_unknown_words() -> None:
         ("G4", "line 1, column 1: G4 needs P (seconds)"),
         ("G4 P-1", "line 1, column 4: 'P-1': the dwell must be at least 0 seconds"),
         ("G4 P1 X1", "line 1, column 7: 'X1': G4 takes no axis words"),
+        ("G4 P3600.001", "line 1, column 4: 'P3600.001': a dwell may last at most 3600 s (an "
+                         "hour; M0 waits for the operator as long as it takes)"),
+        ("G1 X" + "9" * 400 + " F60", "line 1, column 4: 'X999999999999…': a number of 400 digits "
+                                      "is too large to be represented"),
+        ("G1 X1 F" + "9" * 309, "line 1, column 7: 'F999999999999…': a number of 309 digits is too "
+                                "large to be represented"),
+        ("G1 F60\nG2 X0 Y0 I-100000000000000", "line 2, column 1: G2 of radius 1e+14 mm would be "
+                                                "more than 100000 chords at arc_tolerance "
+                                                "0.002 mm"),
         ("G1 X1 F60 P2", "line 1, column 11: 'P2' is only used with G4, G10 and G64"),
         ("G92", "line 1, column 1: G92 needs at least one axis word"),
         ("G1 X1 F60 I5", "line 1, column 11: 'I5' is only used with G2/G3"),

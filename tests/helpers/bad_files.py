@@ -38,7 +38,8 @@ SEGMENTS_OUT_OF_RANGE = {"n": [0, -1, 65536], "axis": [-1, 4, 9], "direction": [
 GCODE_LINES = ["G1 X1e999 F100", "G1 Xnan F100", "G1 Xinf F100", "G1 X--1 F100", "G1 X F100", "G1 X1 F0",
                "G1 X1 F-5", "G1 X1 X2 F100", "G2 X1 Y1 F100", "G4 P-1", "G1 X100000 F100", "G0 Y-50",
                "G1 X1 E5 F100", "G1 B5 F100", "G1 X1 F1e999", "X1 Y1 Z1 Q5", "G99 X1", "G1 X1\x00 F100",
-               "G20 G21 X1", "G1 X(1 F100"]
+               "G20 G21 X1", "G1 X(1 F100", "G1 X20 F0.0000000001", "G4 P3601",
+               "G1 X" + "9" * 400 + " F100", "G2 X10 Y10 I-100000000000000 F100"]
 
 
 @dataclass(frozen=True)
@@ -84,6 +85,11 @@ def bad_configs() -> Iterator[BadFile]:
     yield _toml("empty", "")
     yield _toml("no-axes", "tick_hz = 32000\n")
     yield _toml("deep", "x = " + "[" * 600 + "]" * 600 + "\n")
+    for key, value in (("steps_per_mm", "5e-324"), ("max_speed", "1e-300"), ("max_accel", "5e-324"),
+                       ("travel_max", "0.001"), ("locate", "1e-9")):
+        changed = re.sub(rf"^{key} = [^#\n]*", f"{key} = {value} ", "\n".join(lines), count=1,
+                         flags=re.M)
+        yield _toml(f"{key}-{value}", changed)
     yield BadFile("config-latin-1.toml", "# Fräse\ntick_hz = 32000\n".encode("latin-1"))
     yield BadFile("config-binary.toml", bytes(range(256)))
 
@@ -127,6 +133,10 @@ def _json_files(stem: str, good: dict, out_of_range: dict[str, list[int]]) -> It
     yield BadFile(f"{stem}-list.json", b"[]")
     yield BadFile(f"{stem}-empty.json", b"")
     yield BadFile(f"{stem}-deep.json", ("[" * 1000 + "]" * 1000).encode())
+    yield BadFile(f"{stem}-deeper.json", ('{"a": ' * 100_000 + "1" + "}" * 100_000).encode())
+    key = next(iter(good))
+    twice = text.replace("{", "{" + json.dumps(key) + ": " + json.dumps(good[key]) + ", ", 1)
+    yield BadFile(f"{stem}-key-twice.json", twice.encode())
 
 
 def _get(data: object, path: tuple) -> object:
@@ -140,16 +150,21 @@ def _first_number(data: object) -> object:
 
 
 def bad_jobs() -> Iterator[BadFile]:
-    yield from _json_files("moves", MOVES, {"feed": [0, -1], "accel": [0, -5], "dwell": [-1, 3601]})
+    yield from _json_files("moves", MOVES, {"feed": [0, -1, 1e-300], "accel": [0, -5, 1e-300],
+                                            "dwell": [-1, 3601]})
     yield from _json_files("segments", SEGMENTS, SEGMENTS_OUT_OF_RANGE)
     yield BadFile("moves-deep.yaml", ("a:\n" + "".join("  " * i + "- \n" for i in range(1000))).encode())
     laughs = "a: &a [x, x, x, x, x, x, x, x, x]\n" + "".join(
         f"{b}: &{b} [*{a}, *{a}, *{a}, *{a}, *{a}, *{a}, *{a}, *{a}, *{a}]\n" for a, b in zip("abcdefgh", "bcdefghi"))
     yield BadFile("moves-aliases.yaml", (laughs + "moves: *i\n").encode())
     yield BadFile("moves-tabs.yaml", b"moves:\n\t- dwell: 1\n")
+    yield BadFile("moves-key-twice.yaml", b"moves:\n  - dwell: 1\nmoves:\n  - dwell: 2\n")
+    yield BadFile("moves-field-twice.yaml", b"moves:\n  - {to: {X: 1}, feed: 1, feed: 2}\n")
     for i, line in enumerate(GCODE_LINES):
         yield BadFile(f"gcode-{i + 1:02d}.gcode", f"G21 G90\nG0 X10 Y10\n{line}\nG0 X0 Y0\n".encode())
     yield BadFile("gcode-latin-1.gcode", "(Fräse)\nG0 X1\n".encode("latin-1"))
+    yield BadFile("gcode-dwells.gcode", b"G4 P3600\n" * 10_000)
+    yield BadFile("moves-dwells.json", json.dumps({"moves": [{"dwell": 3600}] * 10_000}).encode())
 
 
 def corpus() -> list[BadFile]:

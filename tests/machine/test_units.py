@@ -25,8 +25,10 @@ def test_hold_decel_is_max_accel_in_2_to_the_minus_24_step_per_tick_squared(mach
 def test_hold_decel_never_brakes_harder_than_max_accel_and_stays_in_the_protocol_range() -> None:
     hard = axis_config(steps_per_mm=1000, max_speed=30, max_accel=100_000).axes[0]
     assert hold_decel(hard, 50000) == DECEL_MAX
-    gentle = axis_config(max_accel=0.001).axes[0]
+    gentle = axis_config(max_accel=50000**2 / 2**24 / 80).axes[0]  # the least max_accel allowed
     assert hold_decel(gentle, 50000) == 1
+    with pytest.raises(ValueError, match="a hold's gentlest deceleration"):
+        axis_config(max_accel=0.001)
     for accel in (10.0, 77.7, 500.0, 3000.0):
         axis = axis_config(max_accel=accel).axes[0]
         units = hold_decel(axis, 50000)

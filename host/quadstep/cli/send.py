@@ -14,7 +14,7 @@ from pydantic import BaseModel, ConfigDict, Field, model_validator
 from ..config import validate
 from ..protocol import AXIS_NAMES, IdentifyReply, Segment
 from ..protocol.fields import I32
-from ..textfile import parse_nested, read_text
+from ..textfile import parse_nested, read_text, strict_json
 from .options import CliError, add_connection_options, add_json_option, connect
 
 
@@ -58,7 +58,7 @@ def load(path: Path) -> SegmentsFile:
     """Read and validate the whole file; every problem names its place, the limit and the value."""
     text = read_text(path, CliError)
     try:
-        data = parse_nested(json.loads, text, path, CliError)
+        data = parse_nested(strict_json, text, path, CliError)
     except json.JSONDecodeError as exc:
         if GCODE_LINE.search(text):
             raise CliError(f"{path} is G-code: `quadstep run {path}` runs it (send streams a JSON file of raw "

@@ -5,12 +5,20 @@ from __future__ import annotations
 import math
 
 
+# A full circle of 100 m radius needs 15 708 chords at 0.002 mm; an arc needing more than this is
+# refused (a radius of thousands of kilometres, which would be written out as millions of moves).
+MAX_ARC_CHORDS = 100_000
+
+
 def chord_count(radius: float, sweep: float, tolerance: float) -> int:
-    """Chords needed so no chord strays more than `tolerance` from the arc (sagitta rule)."""
+    """Chords needed so no chord strays more than `tolerance` from the arc (sagitta rule); more than
+    MAX_ARC_CHORDS is counted as MAX_ARC_CHORDS + 1."""
     if radius <= tolerance:
         max_angle = math.pi / 2
     else:
-        max_angle = 2.0 * math.acos(1.0 - tolerance / radius)
+        max_angle = 2.0 * math.acos(1.0 - tolerance / radius)  # 0 once tolerance / radius is tiny
+    if max_angle <= 0.0 or abs(sweep) / max_angle > MAX_ARC_CHORDS:
+        return MAX_ARC_CHORDS + 1
     return max(1, math.ceil(abs(sweep) / max_angle - 1e-9))
 
 

@@ -25,9 +25,10 @@ from collections.abc import Sequence
 from dataclasses import replace
 
 from ..coordinates import WorkCoordinates
-from ..planner.program import Dwell, LinearMove, OutputState, Pause, Program, SetOutputs
+from ..planner.program import (MAX_DWELL_S, Dwell, LinearMove, OutputState, Pause, Program,
+                               SetOutputs)
 from . import offsets
-from .arcs import chord_count, radius_center, sweep_angle
+from .arcs import MAX_ARC_CHORDS, chord_count, radius_center, sweep_angle
 from .lines import PROBING, Line, code, sort_words, whole
 from .probing import probe_move
 from .words import GcodeError, Word, split_words
@@ -207,6 +208,10 @@ class GcodeInterpreter:
             raise GcodeError(line, first.column, f"'{first.text}': G4 takes no axis words")
         if pause.value < 0:
             raise GcodeError(line, pause.column, f"'{pause.text}': the dwell must be at least 0 seconds")
+        if pause.value > MAX_DWELL_S:
+            raise GcodeError(line, pause.column, f"'{pause.text}': a dwell may last at most "
+                             f"{MAX_DWELL_S:g} s (an hour; M0 waits for the operator as long as "
+                             "it takes)")
         self.program.items.append(Dwell(line, pause.value))
 
     def _return(self, g: Word, which: int, axes: dict[str, Word], line: int) -> None:
@@ -315,6 +320,10 @@ class GcodeInterpreter:
             raise GcodeError(line, where.column, f"{name} has radius 0")
         sweep = sweep_angle(start, end, center, clockwise)
         chords = chord_count(radius, sweep, self.arc_tolerance)
+        if chords > MAX_ARC_CHORDS:
+            raise GcodeError(line, where.column, f"{name} of radius {radius:.6g} mm would be more "
+                             f"than {MAX_ARC_CHORDS} chords at arc_tolerance "
+                             f"{self.arc_tolerance:g} mm")
         angle0 = math.atan2(start[1] - center[1], start[0] - center[0])
         begin = list(self.position)
         offset, system = self._offsets(False)

@@ -9,6 +9,7 @@ printer's extruder (E) — is named as such.
 
 from __future__ import annotations
 
+import math
 import re
 from dataclasses import dataclass
 
@@ -67,7 +68,11 @@ def split_words(text: str, line: int) -> list[Word]:
             if match is None:
                 raise GcodeError(line, i + 1, f"'{c}' has no number after it")
             number = match.group(1)
-            words.append(Word(c.upper(), number, float(number), i + 1))
+            value = float(number)
+            if not math.isfinite(value):  # hundreds of digits
+                raise GcodeError(line, i + 1, f"'{c}{number[:12]}…': a number of {len(number)} "
+                                              "digits is too large to be represented")
+            words.append(Word(c.upper(), number, value, i + 1))
             i = match.end()
         else:
             raise GcodeError(line, i + 1, f"unexpected character {c!r}")

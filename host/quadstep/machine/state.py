@@ -31,7 +31,7 @@ from pydantic import BaseModel, ConfigDict
 from ..backlash.band import BandRecord
 from ..config import validate
 from ..coordinates import WorkCoordinates
-from ..textfile import read_text, replace_text
+from ..textfile import SETTINGS_MAX_BYTES, parse_nested, read_text, replace_text, strict_json
 
 
 class StateError(ValueError):
@@ -79,9 +79,9 @@ def read_state(path: Path) -> StateFile:
     """What `path` keeps; nothing (all zero, G54) when there is no file yet."""
     if not path.exists():
         return StateFile()
-    text = read_text(path, StateError)
+    text = read_text(path, StateError, SETTINGS_MAX_BYTES)
     try:
-        data = json.loads(text)
+        data = parse_nested(strict_json, text, path, StateError)
     except json.JSONDecodeError as exc:
         raise StateError(f"{path}: not valid JSON: {exc}") from None
     return validate(StateFile, data, str(path), StateError)

@@ -11,6 +11,7 @@ from ..config import MachineConfig
 from ..protocol import Outputs
 from ..protocol.cubic import SIGMA
 from ..protocol.segment import D
+from .limits import check_duration
 from .lookahead import PLAN_ACCEL_FRACTION, junction_speeds
 from .moves import MoveTable, build_moves
 from .outputs import is_dynamic, output_message, set_at_rest
@@ -97,7 +98,9 @@ def plan_moves(table: MoveTable, config: MachineConfig, lines: int = 0, label: s
                boundary: Boundary | None = None) -> Plan:
     if boundary is not None and config.jerk_limited:
         raise JobError("a jerk-limited plan goes on only from rest")
+    check_duration(table, config, label)  # each move at its top speed, before the look-ahead
     entry = junction_speeds(table, config, boundary.speed if boundary is not None else 0.0)
+    check_duration(table, config, label, entry)  # with its ramps: before anything is planned
     scurve = ScurvePlanner(config, table.start, label) if config.jerk_limited else None
     out: SegmentArrays | Stream = scurve.out if scurve is not None else SegmentArrays(len(config.axes))
     quantizer = Quantizer(out, table.start) if scurve is None else None

@@ -15,6 +15,9 @@ from dataclasses import dataclass, field
 from ..coordinates import WorkCoordinates
 
 
+MAX_DWELL_S = 3600.0  # an hour; M0 waits for the operator as long as it takes
+
+
 class JobError(ValueError):
     """A job that cannot run; the message names the line (or move) and what is wrong."""
 
