@@ -35,7 +35,7 @@ def test_info_json(emulator_binary: Path, capsys: pytest.CaptureFixture[str], mo
     out = json.loads(capsys.readouterr().out)
     # the emulator started without a configuration is the default machine: examples/router-uno.toml's
     default = load_config(REPO / "examples" / "router-uno.toml")
-    assert out["identify"]["protocol_version"] == 1 and out["identify"]["axis_count"] == len(default.axes) == 3
+    assert out["identify"]["protocol_version"] == 2 and out["identify"]["axis_count"] == len(default.axes) == 3
     assert out["identify"]["tick_hz"] == default.tick_hz == 32000
     assert out["status"]["state"] == "IDLE" and out["status"]["position"] == [0, 0, 0]
 

@@ -54,7 +54,7 @@ def assert_trace_is_prediction(trace: Path, segments: list[Segment], positions: 
 
 def test_identify_reports_the_emulator(free_link: Link) -> None:
     ident = free_link.identify()
-    assert (ident.protocol_version, ident.board, ident.axis_count) == (1, 0, 4)
+    assert (ident.protocol_version, ident.board, ident.axis_count) == (2, 0, 4)
     assert (ident.queue_capacity, ident.speed_shift, ident.n_max, ident.tick_hz) == (32, 12, 1022, 50000)
     assert ident.capabilities & 0b11 == 0b11
     status = free_link.status()

@@ -240,9 +240,15 @@ class Link:
                     self._out.urgent.append(data)
                     self._cond.notify_all()
                     self._cond.wait_for(lambda: waiter.reply is not None or waiter.error is not None
-                                        or self._transport.closed, timeout=self.request_timeout)
+                                        or waiter.unreadable is not None or self._transport.closed,
+                                        timeout=self.request_timeout)
                     if waiter.error is not None:
                         raise FirmwareError(waiter.error)
+                    if waiter.unreadable is not None:
+                        raise ProtocolVersionError(
+                            f"the firmware's answer to {message.NAME} does not decode ({waiter.unreadable}): "
+                            f"it speaks another protocol version than this host's {PROTOCOL_VERSION}"
+                        )
                     if waiter.reply is not None:
                         return waiter.reply  # type: ignore[return-value]
                     self.stats.timeouts += 1

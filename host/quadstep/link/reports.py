@@ -44,6 +44,7 @@ class Waiter:
     reply_type: int
     reply: Report | None = None
     error: ErrorReport | None = None
+    unreadable: str | None = None  # an answer this host cannot decode: another protocol version's layout
 
 
 class Inbox:
@@ -74,6 +75,9 @@ class Inbox:
         for item in self.decoder.feed(data):
             if isinstance(item, DecodeError):
                 self.stats.decode_errors += 1
+                waiter = self.waiter
+                if waiter is not None and (item.frame_type, item.frame_seq) == (waiter.reply_type, waiter.seq):
+                    waiter.unreadable = item.detail
                 continue
             self.last_frame_at = now
             self.stats.frames_received += 1

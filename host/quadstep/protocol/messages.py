@@ -215,6 +215,7 @@ class IdentifyReply(Report):
     tick_hz: U32
     capabilities: U16
     next_seq: U8
+    boot_id: U16  # new at each reset: a board reset since (its positions lost) shows another
 
     @property
     def firmware_version(self) -> str:
