@@ -403,8 +403,9 @@ static void on_hold(qs_core *c, const qs_host_msg *m)
         return;
     }
     /* After an underrun's stop the host takes the job up again with HOLD:
-     * at rest, a HOLD at IDLE (its HOLD_DONE repeats the starvation's).
-     * STARVED is left only here and by STOP, never by the tick. */
+     * at rest, a HOLD at IDLE (its HOLD_DONE repeats the starvation's);
+     * during the stop, it ends IDLE. STARVED is left only here and by
+     * STOP, never by the tick. */
     qs_engine_end_starved(&c->engine);
     /* Unless an alarm was raised meanwhile, which the answer then shows. */
     qs_engine_hold(&c->engine, m->as.hold.decel);

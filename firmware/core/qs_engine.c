@@ -744,6 +744,7 @@ void qs_engine_end_starved(qs_engine *e)
 
     if (e->state == QS_STATE_STARVED)
         e->state = QS_STATE_IDLE;
+    e->hold_starves = 0; /* an underrun's stop still under way ends IDLE, as the HOLD's own */
     qs_port_unlock(saved);
 }
 

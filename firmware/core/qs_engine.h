@@ -198,8 +198,9 @@ _Static_assert(QS_TRIGGER_TICKS <= QS_TRIGGER_WAIT, "a window's length fits its 
  * ending so too. */
 void qs_engine_underrun_in_tick(qs_engine *e);
 
-/* STARVED becomes IDLE (the host's HOLD takes the motion up again); any
- * other state stays. Main loop. */
+/* STARVED becomes IDLE (the host's HOLD takes the motion up again), and an
+ * underrun's stop still under way will end IDLE; any other state stays.
+ * Main loop. */
 void qs_engine_end_starved(qs_engine *e);
 
 /* ---- main loop ---- */

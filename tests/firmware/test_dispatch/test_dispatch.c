@@ -473,6 +473,27 @@ static void test_hold_in_starved_returns_to_idle_with_the_hold_done_repeat(void)
     TEST_ASSERT_EQUAL_INT32((int32_t)steps + 5, status().position[0]);
 }
 
+/* A HOLD during the underrun's stop answers for it: the stop ends IDLE. */
+static void test_hold_during_the_underrun_stop_ends_idle(void)
+{
+    uint8_t body[2 + QS_LEN_HOLD] = {QS_TYPE_HOLD, 30, 1, 0, 1, 0, 1, 0, 1, 0};
+    uint8_t axis;
+    for (axis = 0; axis < QS_AXIS_COUNT; axis++)
+        core.engine.stop_decel[axis] = 8191;
+    tp_send_segment(&core, 0, 10, 0x1, 0, &cruise);
+    tp_ticks(&core, 12);
+    sent();
+    TEST_ASSERT_EQUAL_INT(QS_STATE_HOLDING, status().state);
+    tp_send(&core, body, sizeof body);
+    TEST_ASSERT_EQUAL_INT(1, sent());
+    TEST_ASSERT_EQUAL_INT(QS_STATE_HOLDING, reports[0].payload[0]);
+    tp_ticks(&core, 5000);
+    qs_core_poll(&core);
+    TEST_ASSERT_EQUAL_INT(10, hold_done_of(&reports[sent() - 1]).hold_tick);
+    TEST_ASSERT_EQUAL_INT(QS_STATE_IDLE, status().state);
+    TEST_ASSERT_EQUAL_INT(30, status().next_seq);
+}
+
 /* STOP in STARVED: IDLE at once, positions kept. */
 static void test_stop_in_starved_returns_to_idle(void)
 {
@@ -752,6 +773,7 @@ int main(void)
     RUN_TEST(test_an_underrun_ends_starved_and_refuses_motion);
     RUN_TEST(test_hold_in_starved_returns_to_idle_with_the_hold_done_repeat);
     RUN_TEST(test_stop_in_starved_returns_to_idle);
+    RUN_TEST(test_hold_during_the_underrun_stop_ends_idle);
     RUN_TEST(test_an_underrun_with_nothing_to_decelerate_ends_starved);
     RUN_TEST(test_a_silent_host_stops_the_motion_under_control);
     RUN_TEST(test_positions_cannot_wrap);
