@@ -166,6 +166,12 @@ class Link:
         with self._cond:
             return self._in.held_by_input
 
+    @property
+    def starvations(self) -> int:
+        """Underruns the firmware stopped at (STARVED) while streaming so far (each restarted the stream)."""
+        with self._cond:
+            return self._in.starvations
+
     def report_count(self, cls: type[Report]) -> int:
         """How many unsolicited reports of class `cls` arrived so far."""
         with self._cond:
