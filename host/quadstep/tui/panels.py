@@ -13,7 +13,8 @@ from ..machine import JobProgress
 from ..protocol import IdentifyReply, State
 from .session import Snapshot
 
-STATE_STYLE = {State.IDLE: "green", State.RUNNING: "cyan", State.HOLDING: "yellow", State.ALARM: "bold red"}
+STATE_STYLE = {State.IDLE: "green", State.RUNNING: "cyan", State.HOLDING: "yellow", State.ALARM: "bold red",
+               State.STARVED: "yellow"}
 
 
 class Panel(Static):
