@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import random
 import struct
+import subprocess
 import threading
 import time
 from pathlib import Path
@@ -181,6 +182,16 @@ def test_invalid_segment_is_refused_with_its_field_and_raises_an_alarm(free_emul
         raw.write(encode(Stop(), 77))
         stopped = raw.collect(1)[0].message
         assert stopped.state == State.IDLE and stopped.alarm is None and stopped.next_seq == 77
+
+
+def test_the_boot_id_is_random_unless_given(start_emulator, emulator_binary: Path) -> None:
+    emu = start_emulator(extra_args=("--boot-id", "4660"))
+    with Link.open(emu.url) as link:
+        assert link.identify().boot_id == 4660
+    emu.stop()
+    refused = subprocess.run([str(emulator_binary), "--boot-id", "65536"], capture_output=True, text=True, timeout=10)
+    assert refused.returncode == 2
+    assert "--boot-id must be a whole number from 0 to 65535, got '65536'" in refused.stderr
 
 
 def test_underrun_holds_then_starves_with_exact_positions_and_hold_takes_it_up(start_emulator, tmp_path: Path) -> None:
