@@ -44,7 +44,7 @@ def test_info_text(emulator_binary: Path, capsys: pytest.CaptureFixture[str], mo
     monkeypatch.setenv("QUADSTEP_EMULATOR", str(emulator_binary))
     assert main(["info", "--emulator"]) == 0
     out = capsys.readouterr().out
-    assert "on EMULATOR, protocol 1" in out and "32000 Hz" in out and "X 0  Y 0  Z 0\n" in out
+    assert "on EMULATOR, protocol 2" in out and "32000 Hz" in out and "X 0  Y 0  Z 0\n" in out
 
 
 def test_send_example(emulator_binary: Path, capsys: pytest.CaptureFixture[str], monkeypatch: pytest.MonkeyPatch,

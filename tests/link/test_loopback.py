@@ -209,7 +209,7 @@ def test_underrun_holds_then_starves_with_exact_positions_and_hold_takes_it_up(s
         link.send(ends_moving)
         with pytest.raises(Stopped):
             link.wait_idle(timeout=10)
-        assert link.starvations == 1
+        assert link.stats.starvations == 1
         status = link.status()
         assert status.state == State.STARVED and status.alarm is None
         assert list(status.position) == expected.positions and status.motion_ticks == expected.motion_ticks > 800
@@ -219,7 +219,7 @@ def test_underrun_holds_then_starves_with_exact_positions_and_hold_takes_it_up(s
         with pytest.raises(FirmwareError) as caught:
             link.drain(timeout=10)
         assert caught.value.report.code == ErrorCode.BUSY
-        assert link.status().state == State.STARVED and link.starvations == 1
+        assert link.status().state == State.STARVED and link.stats.starvations == 1
         done = hold(link, [100])
         assert (done.hold_tick, done.motion_ticks) == (800, expected.motion_ticks)  # the stop's, repeated
         assert list(done.position) == expected.positions

@@ -31,7 +31,7 @@ from ..protocol import (
 )
 from ..protocol.constants import PROTOCOL_VERSION, is_sequenced
 from ..protocol.messages import queue_slots
-from .errors import AlarmError, BoardSilent, FirmwareError, LinkError, LinkTimeout, ProtocolVersionError, Stopped
+from .errors import AlarmError, BoardSilent, LinkError, LinkTimeout, ProtocolVersionError, Stopped
 from .outbox import Outbox
 from .reports import Inbox, Waiter
 from .stats import LinkStats
@@ -166,12 +166,6 @@ class Link:
         with self._cond:
             return self._in.held_by_input
 
-    @property
-    def starvations(self) -> int:
-        """Underruns the firmware stopped at (STARVED) while streaming so far (each restarted the stream)."""
-        with self._cond:
-            return self._in.starvations
-
     def report_count(self, cls: type[Report]) -> int:
         """How many unsolicited reports of class `cls` arrived so far."""
         with self._cond:
@@ -245,16 +239,9 @@ class Link:
                     self._raise_if_closed()
                     self._out.urgent.append(data)
                     self._cond.notify_all()
-                    self._cond.wait_for(lambda: waiter.reply is not None or waiter.error is not None
-                                        or waiter.unreadable is not None or self._transport.closed,
+                    self._cond.wait_for(lambda: waiter.answered or self._transport.closed,
                                         timeout=self.request_timeout)
-                    if waiter.error is not None:
-                        raise FirmwareError(waiter.error)
-                    if waiter.unreadable is not None:
-                        raise ProtocolVersionError(
-                            f"the firmware's answer to {message.NAME} does not decode ({waiter.unreadable}): "
-                            f"it speaks another protocol version than this host's {PROTOCOL_VERSION}"
-                        )
+                    waiter.raise_refusal(message.NAME)
                     if waiter.reply is not None:
                         return waiter.reply  # type: ignore[return-value]
                     self.stats.timeouts += 1

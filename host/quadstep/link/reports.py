@@ -25,8 +25,8 @@ from ..protocol import (
     State,
     StatusReport,
 )
-from ..protocol.constants import is_sequenced
-from .errors import AlarmError, FirmwareError, LinkError
+from ..protocol.constants import PROTOCOL_VERSION, is_sequenced
+from .errors import AlarmError, FirmwareError, LinkError, ProtocolVersionError
 from .stats import LinkStats
 from .window import SendWindow
 
@@ -46,6 +46,18 @@ class Waiter:
     error: ErrorReport | None = None
     unreadable: str | None = None  # an answer this host cannot decode: another protocol version's layout
 
+    @property
+    def answered(self) -> bool:
+        return self.reply is not None or self.error is not None or self.unreadable is not None
+
+    def raise_refusal(self, name: str) -> None:
+        """An ERROR for the request, or an answer this host cannot decode (another protocol version's)."""
+        if self.error is not None:
+            raise FirmwareError(self.error)
+        if self.unreadable is not None:
+            raise ProtocolVersionError(f"the firmware's answer to {name} does not decode ({self.unreadable}): "
+                                       f"it speaks another protocol version than this host's {PROTOCOL_VERSION}")
+
 
 class Inbox:
     def __init__(self, window: SendWindow, stats: LinkStats) -> None:
@@ -64,7 +76,6 @@ class Inbox:
         self.counts: defaultdict[type, int] = defaultdict(int)
         self.input_changes: deque[InputChange] = deque(maxlen=256)  # the latest EVENT INPUT reports
         self.held_by_input = 0  # holds the firmware began itself (a PROBE's edge, the feed hold button)
-        self.starvations = 0  # underruns the firmware stopped at (STARVED seen while streaming)
         self.starved = False  # the latest status said STARVED
         self.last_frame_at = 0.0  # clock time of the last good frame received
         self.want_status = False  # the writer sends a STATUS: something needs explaining
@@ -160,7 +171,7 @@ class Inbox:
         self.generation += 1
         self.window.restart()
         self.refused = None  # the BUSY refusals were this stop's
-        self.starvations += 1
+        self.stats.starvations += 1
 
     def _on_ack(self, ack: Ack, seq: int) -> None:
         self.done_total += (ack.done - self.done16) & 0xFFFF

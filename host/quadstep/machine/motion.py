@@ -182,7 +182,7 @@ class Motion:
         self._base_done = self.link.segments_done if follows is None else follows._base_done + follows.sent
         self._generation = self.link.generation
         self._input_holds = self.link.holds_by_input
-        self._starvations = self.link.starvations
+        self._starvations = self.link.stats.starvations
         self._thread.start()
         return self
 
@@ -327,7 +327,7 @@ class Motion:
             if self._halting is not None:
                 return
         try:
-            if self.link.starvations != self._starvations:
+            if self.link.stats.starvations != self._starvations:
                 self._after_starvation()
                 return
             holding = [c.cause for c in self.link.input_changes if c.cause in (InputCause.FEED_HOLD, InputCause.TRIGGER)]

@@ -60,16 +60,7 @@ from .fields import (
 from .outputs import Outputs
 from .segment import AxisMove, Segment
 from .wire import (
-    FieldFault,
-    Int,
-    Report,
-    Request,
-    WireMessage,
-    bits,
-    declared_event_kinds,
-    declared_messages,
-    event_kind,
-    message,
+    FieldFault, Int, Report, Request, WireMessage, bits, declared_event_kinds, declared_messages, event_kind, message,
 )
 
 # --- host → firmware ----------------------------------------------------------
