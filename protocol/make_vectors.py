@@ -19,7 +19,7 @@ import sys
 from pathlib import Path
 
 OUTPUT = Path(__file__).with_name("vectors.json")
-PROTOCOL_VERSION = 1
+PROTOCOL_VERSION = 2
 MAX_FRAME = 64
 
 TYPES = {
@@ -42,7 +42,7 @@ FIELDS = {"N": 1, "AXES": 2, "DIRECTION": 3, "V0": 4, "VN": 5, "RESIDUAL": 6, "D
 POSITION_MAX = 2**31 - 2**24  # the firmware keeps every position within ±this (§5.2)
 WATCHDOG_MAX_MS = 4000
 ALARMS = {"UNDERRUN": 1, "REJECTED_SEGMENT": 2, "HARD_LIMIT": 3, "HOST_LOST": 4, "E_STOP": 5}
-STATES = {"IDLE": 0, "RUNNING": 1, "ALARM": 2, "HOLDING": 3}
+STATES = {"IDLE": 0, "RUNNING": 1, "ALARM": 2, "HOLDING": 3, "STARVED": 4}
 EVENT_KINDS = {"HOLD_DONE": 1, "INPUT": 2, "PROBE_MISSED": 3}
 INPUTS = {"LIMIT_0": 0, "LIMIT_1": 1, "LIMIT_2": 2, "LIMIT_3": 3, "LIMIT_MAX_0": 4, "LIMIT_MAX_1": 5,
           "LIMIT_MAX_2": 6, "LIMIT_MAX_3": 7, "PROBE": 8, "ABORT": 9, "FEED_HOLD": 10, "CYCLE_START": 11}
@@ -271,7 +271,7 @@ def set_position_payload(positions: dict[int, int], extra_mask: int = 0) -> byte
 
 
 IDENTIFY_FIELDS = ["protocol_version", "fw_major", "fw_minor", "fw_patch", "board", "axis_count",
-                   "queue_capacity", "speed_shift", "n_max", "tick_hz", "capabilities", "next_seq"]
+                   "queue_capacity", "speed_shift", "n_max", "tick_hz", "capabilities", "next_seq", "boot_id"]
 STATUS_FIELDS = ["state", "alarm", "queue_fill", "next_seq", "segments_done", "motion_ticks",
                  "rx_overrun", "bad_frame", "bad_crc", "seq_gap", "seq_dup", "rejected"]
 
@@ -304,7 +304,7 @@ def payload(msg: dict) -> bytes:
     if t == "ACK":
         return struct.pack("<BBBH", msg["next_seq"], msg["free"], ACK_REASONS[msg["reason"]], msg["done"])
     if t == "IDENTIFY_REPLY":
-        return struct.pack("<BBBBBBBBHIHB", *(msg[f] for f in IDENTIFY_FIELDS))
+        return struct.pack("<BBBBBBBBHIHBH", *(msg[f] for f in IDENTIFY_FIELDS))
     if t == "STATUS_REPORT":
         values = [msg[f] for f in STATUS_FIELDS]
         values[0] = STATES[values[0]]
@@ -517,13 +517,13 @@ def build() -> list[dict]:
     valid("ack, zero bytes everywhere", TO_HOST,
           {"type": "ACK", "seq": 0, "next_seq": 0, "free": 0, "reason": "ACCEPTED", "done": 0})
     valid("identify reply, emulator", TO_HOST,
-          {"type": "IDENTIFY_REPLY", "seq": 1, "protocol_version": 1, "fw_major": 0, "fw_minor": 1, "fw_patch": 0,
+          {"type": "IDENTIFY_REPLY", "seq": 1, "protocol_version": 2, "fw_major": 0, "fw_minor": 1, "fw_patch": 0,
            "board": 0, "axis_count": 4, "queue_capacity": 32, "speed_shift": 12, "n_max": 1022,
-           "tick_hz": 50000, "capabilities": 7, "next_seq": 0})
+           "tick_hz": 50000, "capabilities": 7, "next_seq": 0, "boot_id": 0})
     valid("identify reply, uno", TO_HOST,
-          {"type": "IDENTIFY_REPLY", "seq": 0xFF, "protocol_version": 1, "fw_major": 1, "fw_minor": 2,
+          {"type": "IDENTIFY_REPLY", "seq": 0xFF, "protocol_version": 2, "fw_major": 1, "fw_minor": 2,
            "fw_patch": 3, "board": 1, "axis_count": 3, "queue_capacity": 16, "speed_shift": 12, "n_max": 1022,
-           "tick_hz": 40000, "capabilities": 0x0003, "next_seq": 0xAB})
+           "tick_hz": 40000, "capabilities": 0x2003, "next_seq": 0xAB, "boot_id": 0xBEEF})
     status_common = {"queue_fill": 5, "next_seq": 17, "segments_done": 2**32 - 1, "motion_ticks": 123456789,
                      "rx_overrun": 0, "bad_frame": 1, "bad_crc": 2, "seq_gap": 3, "seq_dup": 4, "rejected": 65535}
     valid("status report, 3 axes, running", TO_HOST,
@@ -539,6 +539,9 @@ def build() -> list[dict]:
     valid("status report, 4 axes, holding", TO_HOST,
           {"type": "STATUS_REPORT", "seq": 201, "state": "HOLDING", "alarm": None, **status_common,
            "position": [7, -7, 70000, -70000]}, 4)
+    valid("status report, 2 axes, starved", TO_HOST,
+          {"type": "STATUS_REPORT", "seq": 9, "state": "STARVED", "alarm": None, **status_common,
+           "position": [-123456, 654321]}, 2)
     for code in ("FRAME_TOO_LONG", "FRAME_TOO_SHORT", "BAD_COBS", "BAD_CRC", "RX_OVERRUN"):
         valid(f"error {code.lower()}", TO_HOST,
               {"type": "ERROR", "seq": 0xFF, "code": code, "frame_type": 0xFF, "frame_seq": 0xFF,
@@ -649,6 +652,8 @@ def build() -> list[dict]:
     bad("ack 4 bytes", TO_HOST, wire(bytes([0x80, 0, 1, 2, 0, 0])), "BAD_LENGTH")
     bad("ack 6 bytes", TO_HOST, wire(bytes([0x80, 0, 1, 2, 0, 0, 0, 0])), "BAD_LENGTH")
     bad("identify reply 16 bytes", TO_HOST, wire(bytes([0x81, 0]) + bytes(range(1, 17))), "BAD_LENGTH")
+    bad("identify reply 17 bytes (version 1's layout)", TO_HOST, wire(bytes([0x81, 0]) + bytes(range(1, 18))),
+        "BAD_LENGTH")
     bad("status report without positions", TO_HOST, wire(bytes([0x82, 0]) + bytes(24)), "BAD_LENGTH")
     bad("status report, 5 axes", TO_HOST, wire(bytes([0x82, 0]) + bytes(44)), "BAD_LENGTH")
     bad("status report, partial position", TO_HOST, wire(bytes([0x82, 0]) + bytes(30)), "BAD_LENGTH")

@@ -4,6 +4,7 @@
 #include <avr/sleep.h>
 
 #include "board.h"
+#include "boot_id.h"
 #include "firmware.h"
 #include "frame_rx.h"
 #include "inputs_tick.h"
@@ -54,6 +55,7 @@ int main(void)
     pins_init();
     outputs_init();
     qs_core_init(&core);
+    core.boot_id = boot_id_next();
     qs_inputs_init(&core.inputs, QS_INPUTS_PRESENT);
     inputs_changed(); /* the power-up state: switches already closed are a state, not an edge */
     uart_init();

@@ -61,8 +61,9 @@ static void send_identify_reply(qs_core *c, uint8_t seq)
     id.capabilities = QS_CAP_QUADRATIC_SEGMENTS | QS_CAP_SET_POSITION | QS_CAP_HOLD | QS_CAP_LIMIT_INPUTS
                       | QS_CAP_PROBE_INPUT | QS_CAP_HOMING | QS_CAP_CONTROL_INPUTS
                       | QS_CAP_CUBIC_SEGMENTS | QS_CAP_CONTROLLED_STOPS | QS_CAP_OUTPUTS | QS_CAP_SEGMENTS
-                      | QS_CAP_CUBIC_RUNS;
+                      | QS_CAP_CUBIC_RUNS | QS_CAP_STARVATION_PAUSES;
     id.next_seq = c->next_seq;
+    id.boot_id = c->boot_id;
     send_body(c, qs_msg_encode_identify_reply(tx_body(c), seq, &id));
 }
 
@@ -180,9 +181,11 @@ static uint8_t may_queue(qs_core *c, const qs_host_msg *m)
         reject(c, m, &f);
         return 0;
     }
-    if (c->engine.state == QS_STATE_HOLDING) {
+    if (c->engine.state == QS_STATE_HOLDING || c->engine.state == QS_STATE_STARVED) {
         /* The host learns of the hold's end from HOLD_DONE: a segment sent
-         * before that was planned for motion the hold discarded. */
+         * before that was planned for motion the hold discarded, and must
+         * not start from rest. After an underrun's stop (STARVED) a HOLD
+         * takes the board to IDLE first. */
         fault(&f, QS_ERR_BUSY);
         reject(c, m, &f);
         return 0;
@@ -399,6 +402,11 @@ static void on_hold(qs_core *c, const qs_host_msg *m)
         refuse_immediate(c, m, &f);
         return;
     }
+    /* After an underrun's stop the host takes the job up again with HOLD:
+     * at rest, a HOLD at IDLE (its HOLD_DONE repeats the starvation's);
+     * during the stop, it ends IDLE. STARVED is left only here and by
+     * STOP, never by the tick. */
+    qs_engine_end_starved(&c->engine);
     /* Unless an alarm was raised meanwhile, which the answer then shows. */
     qs_engine_hold(&c->engine, m->as.hold.decel);
     c->next_seq = m->seq;
@@ -469,7 +477,7 @@ static void on_probe(qs_core *c, const qs_host_msg *m)
     send_ack(c, m->seq, QS_ACK_ACCEPTED);
 }
 
-/* CONFIG: not while moving. */
+/* CONFIG: not while moving, nor while a motion is paused (STARVED). */
 static void on_config(qs_core *c, const qs_host_msg *m)
 {
     const qs_config_msg *cf = &m->as.config;
@@ -479,7 +487,8 @@ static void on_config(qs_core *c, const qs_host_msg *m)
         reject(c, m, &f);
         return;
     }
-    if (c->engine.state == QS_STATE_RUNNING || c->engine.state == QS_STATE_HOLDING) {
+    if (c->engine.state == QS_STATE_RUNNING || c->engine.state == QS_STATE_HOLDING
+        || c->engine.state == QS_STATE_STARVED) {
         fault(&f, QS_ERR_BUSY);
         reject(c, m, &f);
         return;
@@ -719,6 +728,7 @@ void qs_core_init(qs_core *c)
     c->parked = 0;
     c->parked_seq = 0;
     c->parked_head = 0;
+    c->boot_id = 0;
     qs_outputs_off(&c->outputs);
 }
 
@@ -814,8 +824,8 @@ QS_NOINLINE void qs_core_poll_work(qs_core *c)
         c->space_announced = (uint16_t)c->engine.segments_done;
         send_ack(c, QS_SEQ_UNSOLICITED, QS_ACK_SPACE);
     }
-    /* A hold that ends in an alarm (an underrun, a silent host) is reported
-     * first: HOLD_DONE says when it began and where it rests. */
+    /* A hold that ends in an alarm (a silent host) is reported first:
+     * HOLD_DONE says when it began and where it rests. */
     report_pending_hold(c);
     if (c->engine.alarm != QS_ALARM_NONE && !c->alarm_announced)
         send_alarm(c);

@@ -30,6 +30,7 @@ void qs_engine_init(qs_engine *e, uint8_t queue_capacity)
     e->hold_end_tick = 0;
     e->hold_report = 0;
     e->hold_alarm = QS_ALARM_NONE;
+    e->hold_starves = 0;
     e->holds_begun = 0;
     for (axis = 0; axis < QS_AXIS_COUNT; axis++)
         e->stop_decel[axis] = QS_DEFAULT_STOP_DECEL;
@@ -226,10 +227,14 @@ void qs_engine_retire_slots(qs_engine *e)
                 e->held_by_tick = 0;
             }
             fold_held(e);
-            /* A hold the firmware began for a fault ends in its alarm. */
+            /* A hold the firmware began for a fault ends in its alarm; an
+             * underrun's, paused (STARVED) until the host takes it up. */
             e->alarm = e->hold_alarm;
-            e->state = e->hold_alarm ? QS_STATE_ALARM : QS_STATE_IDLE;
+            e->state = e->hold_alarm    ? QS_STATE_ALARM
+                       : e->hold_starves ? QS_STATE_STARVED
+                                         : QS_STATE_IDLE;
             e->hold_alarm = QS_ALARM_NONE;
+            e->hold_starves = 0;
             note_hold_done(e);
         } else {
             /* A whole segment: its step totals, no closed form needed (a
@@ -288,6 +293,7 @@ static void flush(qs_engine *e)
     qs_queue_drop(&e->queue);
     e->kept = 0;
     e->hold_alarm = QS_ALARM_NONE;
+    e->hold_starves = 0;
     for (axis = 0; axis < QS_AXIS_COUNT; axis++)
         e->pending[axis] = 0;
 }
@@ -716,22 +722,30 @@ void qs_engine_underrun_in_tick(qs_engine *e)
     moving = qs_hold_begin(&e->hold, s, 1);
     e->holds_begun++;
     e->trigger = 0;
-    if (!moving) {
-        /* Nothing would move one tick on: the segment's end is the rest. */
-        e->kept = 0;
-        qs_queue_release(&e->queue);
-        e->alarm = QS_ALARM_UNDERRUN;
-        e->state = QS_STATE_ALARM;
-        return;
-    }
     e->kept = 0;
-    e->left = 1; /* nonzero while a slot is held: the hold releases it */
     e->state = QS_STATE_HOLDING;
     e->held = s;
     e->held_t0 = s->n;
     e->held_by_tick = 1;
-    e->hold_alarm = QS_ALARM_UNDERRUN; /* segments arriving meanwhile are BUSY, then ALARM_ACTIVE */
+    e->hold_starves = 1; /* segments arriving meanwhile, and until a HOLD, are BUSY */
+    if (!moving) {
+        /* Nothing would move one tick on: a hold of no ticks at the
+         * segment's end, its slot given back at once to be folded. */
+        qs_queue_release(&e->queue);
+        return;
+    }
+    e->left = 1; /* nonzero while a slot is held: the hold releases it */
     e->hold.moving = moving;
+}
+
+void qs_engine_end_starved(qs_engine *e)
+{
+    uint8_t saved = qs_port_lock(); /* an input's alarm from the tick wins */
+
+    if (e->state == QS_STATE_STARVED)
+        e->state = QS_STATE_IDLE;
+    e->hold_starves = 0; /* an underrun's stop still under way ends IDLE, as the HOLD's own */
+    qs_port_unlock(saved);
 }
 
 /* ---- positions ---- */

@@ -47,7 +47,8 @@ typedef struct {
     uint32_t hold_tick;      /* motion tick at which the deceleration began */
     uint32_t hold_end_tick;  /* motion tick at which the last hold ended */
     uint8_t hold_report;     /* a hold has ended and is not yet reported */
-    uint8_t hold_alarm;      /* the alarm the running hold ends in (an underrun, a silent host), or 0 */
+    uint8_t hold_alarm;      /* the alarm the running hold ends in (a silent host), or 0 */
+    uint8_t hold_starves;    /* the running hold is an underrun's: it ends in STARVED */
     uint8_t holds_begun;     /* holds begun so far (mod 256), for the emulator's event log */
     /* Inputs (qs_inputs.h) act on the engine from the tick: */
     qs_latch_ring latches;   /* exact positions at input edges */
@@ -192,10 +193,15 @@ _Static_assert(QS_TRIGGER_TICKS <= QS_TRIGGER_WAIT, "a window's length fits its 
 
 /* The queue ran dry after a segment that ends moving (in the tick, out of
  * line: QS_ENGINE_UNDERRUN): every moving axis decelerates from where it
- * ended, at stop_decel, and the hold
- * ends in ALARM UNDERRUN; if nothing would move, the alarm is raised at
- * once. */
+ * ended, at stop_decel, and the hold ends in STARVED, with its HOLD_DONE;
+ * if nothing would move, it is a hold of no ticks at the segment's end,
+ * ending so too. */
 void qs_engine_underrun_in_tick(qs_engine *e);
+
+/* STARVED becomes IDLE (the host's HOLD takes the motion up again), and an
+ * underrun's stop still under way will end IDLE; any other state stays.
+ * Main loop. */
+void qs_engine_end_starved(qs_engine *e);
 
 /* ---- main loop ---- */
 

@@ -161,6 +161,7 @@ typedef struct {
     uint32_t tick_hz;
     uint16_t capabilities;
     uint8_t next_seq;
+    uint16_t boot_id; /* made at each reset: a host tells a board reset since it last asked */
 } qs_identity;
 
 /* The STATUS_REPORT counters; each saturates at 65535. */

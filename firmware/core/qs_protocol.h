@@ -1,11 +1,11 @@
-/* Wire protocol constants (protocol/PROTOCOL.md, version 1).
+/* Wire protocol constants (protocol/PROTOCOL.md, version 2).
  * tests/protocol/test_protocol_c_header.py parses this file and holds every
  * number here equal to the host's (host/quadstep/protocol/): names are
  * QS_<TABLE>_<NAME>, payload lengths QS_LEN_<MESSAGE>[_HEAD|_AXIS]. */
 #ifndef QS_PROTOCOL_H
 #define QS_PROTOCOL_H
 
-#define QS_PROTOCOL_VERSION 1
+#define QS_PROTOCOL_VERSION 2
 
 /* Fixed-point step model (section 1, 5.2; docs/FIXED_POINT.md). */
 #define QS_SPEED_SHIFT 12
@@ -73,7 +73,7 @@
 #define QS_LEN_SET_POSITION_HEAD 1
 #define QS_LEN_SET_POSITION_AXIS 4
 #define QS_LEN_ACK 5
-#define QS_LEN_IDENTIFY_REPLY 17
+#define QS_LEN_IDENTIFY_REPLY 19
 #define QS_LEN_STATUS_REPORT_HEAD 24
 #define QS_LEN_STATUS_REPORT_AXIS 4
 #define QS_LEN_ERROR 5
@@ -137,7 +137,7 @@
 
 /* ALARM codes. */
 #define QS_ALARM_NONE 0
-#define QS_ALARM_UNDERRUN 1
+#define QS_ALARM_UNDERRUN 1 /* no longer raised: an underrun ends STARVED */
 #define QS_ALARM_REJECTED_SEGMENT 2
 #define QS_ALARM_HARD_LIMIT 3
 #define QS_ALARM_HOST_LOST 4  /* the host went silent while moving (WATCHDOG) */
@@ -148,6 +148,7 @@
 #define QS_STATE_RUNNING 1
 #define QS_STATE_ALARM 2
 #define QS_STATE_HOLDING 3 /* decelerating to rest after a HOLD */
+#define QS_STATE_STARVED 4 /* at rest after an underrun's stop: motion refused until HOLD or STOP */
 
 /* EVENT kinds. */
 #define QS_EVENT_HOLD_DONE 1
@@ -200,6 +201,7 @@
 #define QS_CAP_OUTPUTS 0x0400 /* spindle, laser and coolant outputs (OUTPUTS) */
 #define QS_CAP_SEGMENTS 0x0800 /* chained quadratic segments, several to a frame (SEGMENTS) */
 #define QS_CAP_CUBIC_RUNS 0x1000 /* chained cubic segments, several to a frame (CUBIC_SEGMENTS) */
+#define QS_CAP_STARVATION_PAUSES 0x2000 /* an underrun ends in STARVED, not in an alarm */
 
 /* SEGMENTS (section 5.2): records of chained quadratic segments. A record's
  * head byte holds bits 8-9 of n and what follows it. */

@@ -10,7 +10,7 @@
 static const char usage[] =
     "usage: quadstep-emu [--pty | --tcp PORT] [--free] [--tick-hz N] [--axes N]\n"
     "                    [--queue N] [--trace FILE] [--outputs FILE] [--events FILE]\n"
-    "                    [--machine FILE.toml] [--limit-pins 1|2]\n"
+    "                    [--machine FILE.toml] [--limit-pins 1|2] [--boot-id N]\n"
     "                    [--hold-at TICK:DECEL[,DECEL...]] [--drop-rx-frame K]...\n"
     "                    [--corrupt-rx-frame K]... [--drop-tx-frame K]...\n"
     "See firmware/native/README.md.\n";
@@ -175,6 +175,11 @@ int emu_options_parse(emu_options *o, int argc, char **argv)
             if (!number(opt, arg, 1, 2, &v))
                 return 0;
             o->limit_pins = (uint8_t)v;
+        } else if (strcmp(opt, "--boot-id") == 0) {
+            if (!number(opt, arg, 0, 65535, &v))
+                return 0;
+            o->boot_id_set = 1;
+            o->boot_id = (uint16_t)v;
         } else if (strcmp(opt, "--hold-at") == 0) {
             if (!hold_at(o, opt, arg, &hold_count))
                 return 0;

@@ -23,6 +23,8 @@ typedef struct {
     const char *outputs_path; /* NULL: no output trace */
     const char *machine_path; /* NULL: a perfect machine with nothing wired to the inputs */
     uint8_t limit_pins;   /* per axis: 2 (a min and a max input) or 1 (shared, as the Uno) */
+    int boot_id_set;      /* --boot-id given; else the boot id is random */
+    uint16_t boot_id;
     /* --hold-at: inject a HOLD when this motion tick is reached (tests). */
     int hold_at_set;
     uint32_t hold_at_tick;

@@ -9,6 +9,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
+#include <unistd.h>
 
 #include "emu_events.h"
 #include "emu_faults.h"
@@ -67,10 +68,24 @@ static uint64_t now_ns(void)
     return (uint64_t)ts.tv_sec * 1000000000ull + (uint64_t)ts.tv_nsec;
 }
 
+/* A board makes a new boot id at each reset; the emulator a random one at
+ * each start (--boot-id N for tests). */
+static uint16_t random_boot_id(void)
+{
+    uint16_t id = 0;
+    FILE *f = fopen("/dev/urandom", "rb");
+
+    if (!f || fread(&id, sizeof id, 1, f) != 1)
+        id = (uint16_t)(now_ns() ^ (uint64_t)getpid());
+    if (f)
+        fclose(f);
+    return id;
+}
+
 static const char *state_name(uint8_t state)
 {
-    static const char *const names[] = {"IDLE", "RUNNING", "ALARM", "HOLDING"};
-    return state < 4 ? names[state] : "?";
+    static const char *const names[] = {"IDLE", "RUNNING", "ALARM", "HOLDING", "STARVED"};
+    return state < 5 ? names[state] : "?";
 }
 
 static const char *alarm_name(uint8_t alarm)
@@ -391,6 +406,7 @@ int main(int argc, char **argv)
 
     qs_core_init(&m->core);
     qs_core_configure(&m->core, m->opts.axes, m->opts.queue, m->opts.tick_hz);
+    m->core.boot_id = m->opts.boot_id_set ? m->opts.boot_id : random_boot_id();
     {
         /* The inputs of a board with these axes: a min and a max limit per
          * axis, or one shared (--limit-pins 1), the probe and the buttons. */

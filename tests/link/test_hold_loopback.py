@@ -18,6 +18,8 @@ from quadstep.link import AlarmError, FirmwareError, Link, Stopped, hold, hold_a
 from quadstep.protocol import (
     D,
     DECEL_MAX,
+    POSITION_MAX,
+    AlarmCode,
     N_MAX,
     AxisMove,
     Capability,
@@ -187,16 +189,27 @@ def test_the_firmware_refuses_a_bad_hold_and_the_job_goes_on(start_emulator) -> 
 
 
 def test_hold_in_alarm_raises_the_alarm(free_link: Link) -> None:
-    segment = Segment(n=100, axes=(AxisMove(axis=0, direction=1, v0=D, vn=D, r=0),))
-    free_link.send(segment)
-    with pytest.raises(AlarmError):
-        free_link.wait_idle(10)  # the underrun, once its controlled stop is at rest
-    stop = predict_underrun([segment], [256] * 4, axis_count=4)  # the firmware's stop deceleration before CONFIG
+    free_link.send(SetPosition(positions={0: POSITION_MAX}))
+    free_link.send(Segment(n=100, axes=(AxisMove(axis=0, direction=1, v0=D, vn=0, r=0),)))  # past POSITION_MAX
+    with pytest.raises((AlarmError, FirmwareError)):
+        free_link.wait_idle(10)
     with pytest.raises(AlarmError) as caught:
         hold(free_link, [100])
-    assert caught.value.alarm.motion_ticks == stop.motion_ticks > 100
-    assert list(caught.value.alarm.position) == stop.positions
+    assert caught.value.alarm.code == AlarmCode.REJECTED_SEGMENT
+    assert caught.value.alarm.position[0] == POSITION_MAX
     assert free_link.stop().state == State.IDLE
+
+
+def test_hold_at_a_starved_board_takes_it_up_with_the_stop_repeated(free_link: Link) -> None:
+    segment = Segment(n=100, axes=(AxisMove(axis=0, direction=1, v0=D, vn=D, r=0),))
+    free_link.send(segment)
+    with pytest.raises(Stopped):
+        free_link.wait_idle(10)  # the underrun, once its controlled stop is at rest: STARVED
+    stop = predict_underrun([segment], [256] * 4, axis_count=4)  # the firmware's stop deceleration before CONFIG
+    done = hold(free_link, [100])
+    assert (done.hold_tick, done.motion_ticks) == (100, stop.motion_ticks) and stop.motion_ticks > 100
+    assert list(done.position) == stop.positions
+    assert free_link.status().state == State.IDLE
 
 
 def test_stop_during_a_long_hold_stops_at_once(start_emulator, tmp_path: Path) -> None:

@@ -8,14 +8,16 @@ answer IDENTIFY the way one would.
 from __future__ import annotations
 
 import os
+import struct
 import threading
 import tty
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 
 import pytest
 
 from quadstep.link import Link, LinkError, LinkTimeout, ProtocolVersionError
 from quadstep.protocol import Decoder, Frame, Identify, IdentifyReply, encode
+from quadstep.protocol.framing import encode_frame
 
 
 @pytest.fixture
@@ -39,31 +41,52 @@ def test_silent_line_times_out_with_a_clear_message(pty: tuple[int, str]) -> Non
     assert len({f.seq for f in frames if isinstance(f, Frame)}) == 1  # resends of one request
 
 
+def _answer_identify(master: int, stop: threading.Event, reply: Callable[[int], bytes]) -> None:
+    """A firmware that answers IDENTIFY with reply(seq) and nothing else."""
+    decoder = Decoder("to_firmware")
+    while not stop.is_set():
+        try:
+            data = os.read(master, 256)
+        except OSError:
+            return
+        for item in decoder.feed(data):
+            if isinstance(item, Frame) and isinstance(item.message, Identify):
+                os.write(master, reply(item.seq))
+
+
 def test_unknown_protocol_version_is_refused_naming_both(pty: tuple[int, str]) -> None:
     master, path = pty
     stop = threading.Event()
-
-    def firmware_of_version_2() -> None:
-        decoder = Decoder("to_firmware")
-        while not stop.is_set():
-            try:
-                data = os.read(master, 256)
-            except OSError:
-                return
-            for item in decoder.feed(data):
-                if isinstance(item, Frame) and isinstance(item.message, Identify):
-                    reply = IdentifyReply(
-                        protocol_version=2, fw_major=9, fw_minor=0, fw_patch=0, board=0, axis_count=4,
-                        queue_capacity=8, speed_shift=12, n_max=1022, tick_hz=50000, capabilities=3,
-                        next_seq=0,
-                    )
-                    os.write(master, encode(reply, item.seq))
-
-    responder = threading.Thread(target=firmware_of_version_2, daemon=True)
+    reply = IdentifyReply(
+        protocol_version=3, fw_major=9, fw_minor=0, fw_patch=0, board=0, axis_count=4,
+        queue_capacity=8, speed_shift=12, n_max=1022, tick_hz=50000, capabilities=3,
+        next_seq=0, boot_id=7,
+    )
+    responder = threading.Thread(target=_answer_identify, args=(master, stop, lambda seq: encode(reply, seq)),
+                                 daemon=True)
     responder.start()
     try:
-        with pytest.raises(ProtocolVersionError, match="protocol version 2; this host speaks version 1"):
+        with pytest.raises(ProtocolVersionError, match="protocol version 3; this host speaks version 2"):
             Link.open(path, request_timeout=0.5)
+    finally:
+        stop.set()
+
+
+def test_a_version_1_board_is_named_as_another_protocol_version(pty: tuple[int, str]) -> None:
+    """Version 1's IDENTIFY_REPLY had 17 bytes (no boot_id): it does not decode, and says why at once."""
+    master, path = pty
+    stop = threading.Event()
+    payload = struct.pack("<BBBBBBBBHIHB", 1, 0, 1, 0, 0, 4, 32, 12, 1022, 50000, 3, 0)
+
+    def version_1(seq: int) -> bytes:
+        return encode_frame(bytes([0x81, seq]) + payload)
+
+    responder = threading.Thread(target=_answer_identify, args=(master, stop, version_1), daemon=True)
+    responder.start()
+    try:
+        match = "17-byte payload.*another protocol version than this host's 2"
+        with pytest.raises(ProtocolVersionError, match=match):
+            Link.open(path, request_timeout=5.0, retries=1)
     finally:
         stop.set()
 

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import random
 import struct
+import subprocess
 import threading
 import time
 from pathlib import Path
@@ -14,7 +15,7 @@ from host_helpers import RawPort, random_segments, read_trace
 
 from quadstep.emulator import Emulator
 from quadstep.engine_model import predict, predict_underrun
-from quadstep.link import AlarmError, FirmwareError, Link, Stopped
+from quadstep.link import AlarmError, FirmwareError, Link, Stopped, hold
 from quadstep.protocol import (
     D,
     Ack,
@@ -54,7 +55,7 @@ def assert_trace_is_prediction(trace: Path, segments: list[Segment], positions: 
 
 def test_identify_reports_the_emulator(free_link: Link) -> None:
     ident = free_link.identify()
-    assert (ident.protocol_version, ident.board, ident.axis_count) == (1, 0, 4)
+    assert (ident.protocol_version, ident.board, ident.axis_count) == (2, 0, 4)
     assert (ident.queue_capacity, ident.speed_shift, ident.n_max, ident.tick_hz) == (32, 12, 1022, 50000)
     assert ident.capabilities & 0b11 == 0b11
     status = free_link.status()
@@ -183,9 +184,20 @@ def test_invalid_segment_is_refused_with_its_field_and_raises_an_alarm(free_emul
         assert stopped.state == State.IDLE and stopped.alarm is None and stopped.next_seq == 77
 
 
-def test_underrun_holds_then_alarms_with_exact_positions_and_stop_clears_it(start_emulator, tmp_path: Path) -> None:
+def test_the_boot_id_is_random_unless_given(start_emulator, emulator_binary: Path) -> None:
+    emu = start_emulator(extra_args=("--boot-id", "4660"))
+    with Link.open(emu.url) as link:
+        assert link.identify().boot_id == 4660
+    emu.stop()
+    refused = subprocess.run([str(emulator_binary), "--boot-id", "65536"], capture_output=True, text=True, timeout=10)
+    assert refused.returncode == 2
+    assert "--boot-id must be a whole number from 0 to 65535, got '65536'" in refused.stderr
+
+
+def test_underrun_holds_then_starves_with_exact_positions_and_hold_takes_it_up(start_emulator, tmp_path: Path) -> None:
     """The queue runs dry at speed: a controlled stop from where the segment ended, at the firmware's stop
-    deceleration (256 before any CONFIG), every step as predicted, then ALARM UNDERRUN with the rest positions."""
+    deceleration (256 before any CONFIG), every step as predicted, then STARVED (no alarm) at the rest
+    positions: the link restarts the stream, segments are refused BUSY, and a HOLD takes the board up again."""
     emu = start_emulator(trace=tmp_path / "trace.csv")
     ends_moving = Segment(
         n=800, axes=(AxisMove(axis=0, direction=1, v0=2000, vn=3000, r=0), AxisMove(axis=3, direction=-1, v0=100, vn=90, r=-7))
@@ -195,18 +207,23 @@ def test_underrun_holds_then_alarms_with_exact_positions_and_stop_clears_it(star
     with Link.open(emu.url) as link:
         link.on_report(lambda report: alarms.append(report) if isinstance(report, Alarm) else None)
         link.send(ends_moving)
-        with pytest.raises(AlarmError, match="UNDERRUN") as caught:
+        with pytest.raises(Stopped):
             link.wait_idle(timeout=10)
-        assert caught.value.alarm.code == AlarmCode.UNDERRUN
-        assert list(caught.value.alarm.position) == expected.positions
-        assert caught.value.alarm.motion_ticks == expected.motion_ticks > 800
-        assert link.last_report(HoldDone).hold_tick == 800  # type: ignore[union-attr]
-        assert alarms == [caught.value.alarm] and link.last_alarm == caught.value.alarm
-        with pytest.raises(AlarmError):
-            link.send(ends_moving)
-        stopped = link.stop()
-        assert stopped.state == State.IDLE and stopped.alarm is None
-        assert list(stopped.position) == expected.positions
+        assert link.stats.starvations == 1
+        status = link.status()
+        assert status.state == State.STARVED and status.alarm is None
+        assert list(status.position) == expected.positions and status.motion_ticks == expected.motion_ticks > 800
+        starved = link.last_report(HoldDone)
+        assert starved is not None and starved.hold_tick == 800 and list(starved.position) == expected.positions
+        link.send(ends_moving)  # planned for motion the stop discarded: refused, nothing runs
+        with pytest.raises(FirmwareError) as caught:
+            link.drain(timeout=10)
+        assert caught.value.report.code == ErrorCode.BUSY
+        assert link.status().state == State.STARVED and link.stats.starvations == 1
+        done = hold(link, [100])
+        assert (done.hold_tick, done.motion_ticks) == (800, expected.motion_ticks)  # the stop's, repeated
+        assert list(done.position) == expected.positions
+        assert link.status().state == State.IDLE and alarms == []
         at_rest = Segment(n=50, axes=(AxisMove(axis=1, direction=1, v0=4096, vn=0, r=0),))
         final = stream(link, [at_rest])
     after = predict([at_rest], expected.positions, start_tick=expected.motion_ticks)

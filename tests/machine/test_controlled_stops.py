@@ -20,6 +20,7 @@ from quadstep.engine_model import predict, predict_hold, predict_underrun
 from quadstep.job import load_job
 from quadstep.link import Link
 from quadstep.machine import Machine
+from quadstep.machine.motion import STARVED
 from quadstep.machine.units import hold_decels
 from quadstep.protocol import AlarmCode, HoldDone, State
 
@@ -79,7 +80,8 @@ def test_the_host_killed_at_full_speed_leaves_a_controlled_stop_and_an_exact_pos
 
 def test_an_underrun_at_full_speed_brakes_at_the_configured_deceleration(start_emulator, tmp_path: Path) -> None:
     """The stream stops halfway through a rapid (the host stops sending): the firmware brakes from the last
-    segment's end at the machine's decelerations, then ALARM UNDERRUN with the exact rest position."""
+    segment's end at the machine's decelerations and rests STARVED, no alarm, at the exact position; the motion
+    ends "starved" at once with that stop's hold_tick, and its HOLD leaves the board IDLE for what comes next."""
     job = tmp_path / "fast.gcode"
     job.write_text(FAST)
     trace = tmp_path / "trace.csv"
@@ -88,15 +90,27 @@ def test_an_underrun_at_full_speed_brakes_at_the_configured_deceleration(start_e
     segments = list(plan.segments.segments())
     ticks = np.cumsum([s.n for s in segments])
     half = int(np.searchsorted(ticks, ticks[-1] // 4))  # mid-rapid, at full speed
+    stop = predict_underrun(segments[:half], hold_decels(CONFIG), axis_count=3)
     with Link.open(emu.url) as link:
         machine = Machine(link, CONFIG)
-        end = machine.send_segments(segments[:half]).wait()
+        end = machine.send_segments(segments[:half]).wait(timeout=60)
         done = link.last_report(HoldDone)
-    assert end is not None and end.ended_by == "error" and "UNDERRUN" in (end.error or "")
+        assert end is not None and end.ended_by == STARVED and end.error is None
+        assert end.held and end.hold_tick == ticks[half - 1] and end.segments_done == half
+        assert done is not None and done.hold_tick == ticks[half - 1] and list(done.position[:3]) == stop.positions
+        assert list(end.position) == stop.positions == list(machine.position)
+        status = link.status()
+        assert status.state == State.IDLE and status.alarm is None  # the motion's HOLD took it up again
+        assert list(status.position[:3]) == stop.positions
+        expected = np.concatenate([predict(segments[:half], axis_count=3).steps, stop.steps])
+        assert np.array_equal(read_trace(trace), expected)  # the trace is written out at rest
+        assert len(stop.steps) > 100
+        # A new motion runs from there: a short move, from rest to rest.
+        short = tmp_path / "short.gcode"
+        short.write_text("G21 G91\nG0 X2 Y1\n")
+        step = list(load_job(short, CONFIG, (0, 0, 0)).plan.segments.segments())
+        again = machine.send_segments(step).wait(timeout=60)
+        moved = predict(step, axis_count=3).positions
+        assert again is not None and again.ended_by == "done" and again.segments_done == len(step)
+        assert list(again.position) == [a + b for a, b in zip(stop.positions, moved)] != stop.positions
     emu.stop()
-    stop = predict_underrun(segments[:half], hold_decels(CONFIG), axis_count=3)
-    assert done is not None and done.hold_tick == ticks[half - 1] and list(done.position[:3]) == stop.positions
-    assert list(end.position) == stop.positions == list(machine.position)
-    expected = np.concatenate([predict(segments[:half], axis_count=3).steps, stop.steps])
-    assert np.array_equal(read_trace(trace), expected)
-    assert len(stop.steps) > 100

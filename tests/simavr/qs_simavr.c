@@ -358,14 +358,14 @@ static void write_stats(const harness *h, const char *path)
         const sim_feed_stats fs = sim_feed_get_stats(h->feed);
         fprintf(f, ",\n\"feed\": {\"frames\": %llu, \"sent\": %llu, \"accepted\": %llu, \"rejected\": %llu, "
                    "\"gap\": %llu, \"duplicate\": %llu, \"queue_full\": %llu, \"space\": %llu, "
-                   "\"alarms\": %llu, \"errors\": %llu, \"bad_replies\": %llu, "
+                   "\"alarms\": %llu, \"holds\": %llu, \"errors\": %llu, \"bad_replies\": %llu, "
                    "\"first_accept_cycle\": %llu, \"last_accept_cycle\": %llu, "
                    "\"first_alarm_cycle\": %llu, \"first_alarm_code\": %u}",
                 (unsigned long long)fs.frames, (unsigned long long)fs.sent,
                 (unsigned long long)fs.accepted, (unsigned long long)fs.rejected,
                 (unsigned long long)fs.gap, (unsigned long long)fs.duplicate,
                 (unsigned long long)fs.queue_full, (unsigned long long)fs.space,
-                (unsigned long long)fs.alarms, (unsigned long long)fs.errors,
+                (unsigned long long)fs.alarms, (unsigned long long)fs.holds, (unsigned long long)fs.errors,
                 (unsigned long long)fs.bad_replies, (unsigned long long)fs.first_accept_cycle,
                 (unsigned long long)fs.last_accept_cycle, (unsigned long long)fs.first_alarm_cycle,
                 fs.first_alarm_code);

@@ -193,6 +193,8 @@ void sim_feed_board_byte(sim_feed *f, uint8_t byte)
             f->stats.first_alarm_cycle = f->avr->cycle;
             f->stats.first_alarm_code = p[0];
         }
+    } else if (body[0] == QS_TYPE_EVENT && len > 2 && p[0] == QS_EVENT_HOLD_DONE) {
+        f->stats.holds++;
     } else if (body[0] == QS_TYPE_ERROR) {
         f->stats.errors++;
     } else {

@@ -23,6 +23,7 @@ typedef struct {
     uint64_t queue_full;
     uint64_t space;
     uint64_t alarms;
+    uint64_t holds;       /* EVENT HOLD_DONE: a stop the board made itself (the queue ran dry: STARVED) */
     uint64_t errors;
     uint64_t bad_replies;
     uint64_t first_accept_cycle;

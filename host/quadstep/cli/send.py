@@ -70,7 +70,7 @@ def load(path: Path) -> SegmentsFile:
     if moving:
         raise CliError(
             f"{path}: segments[{len(job.segments) - 1}]: the last segment must end at rest, "
-            f"but axis {moving[0]} ends at vn > 0 (the firmware would stop with an UNDERRUN alarm)"
+            f"but axis {moving[0]} ends at vn > 0 (the firmware would brake to rest on its own: STARVED)"
         )
     return job
 

@@ -22,7 +22,7 @@ from ..protocol import (
 from ..protocol.constants import PROTOCOL_VERSION, is_sequenced
 from ..protocol.messages import queue_slots
 from .errors import (
-    AlarmError, BoardSilent, FirmwareError, LinkError, LinkTimeout, ProtocolVersionError, Stopped, known_text,
+    AlarmError, BoardSilent, LinkError, LinkTimeout, ProtocolVersionError, Stopped, known_text,
 )
 from .port_open import open_port
 from .outbox import Outbox
@@ -232,10 +232,9 @@ class Link:
                     self._raise_if_closed()
                     self._out.urgent.append(data)
                     self._cond.notify_all()
-                    self._cond.wait_for(lambda: waiter.reply is not None or waiter.error is not None
-                                        or self._transport.closed, timeout=self.request_timeout)
-                    if waiter.error is not None:
-                        raise FirmwareError(waiter.error)
+                    self._cond.wait_for(lambda: waiter.answered or self._transport.closed,
+                                        timeout=self.request_timeout)
+                    waiter.raise_refusal(message.NAME)
                     if waiter.reply is not None:
                         return waiter.reply  # type: ignore[return-value]
                     self.stats.timeouts += 1

@@ -25,8 +25,8 @@ from ..protocol import (
     State,
     StatusReport,
 )
-from ..protocol.constants import is_sequenced
-from .errors import AlarmError, BoardReset, FirmwareError, LinkError
+from ..protocol.constants import PROTOCOL_VERSION, is_sequenced
+from .errors import AlarmError, BoardReset, FirmwareError, LinkError, ProtocolVersionError
 from .stats import LinkStats
 from .window import SendWindow
 
@@ -44,6 +44,19 @@ class Waiter:
     reply_type: int
     reply: Report | None = None
     error: ErrorReport | None = None
+    unreadable: str | None = None  # an answer this host cannot decode: another protocol version's layout
+
+    @property
+    def answered(self) -> bool:
+        return self.reply is not None or self.error is not None or self.unreadable is not None
+
+    def raise_refusal(self, name: str) -> None:
+        """An ERROR for the request, or an answer this host cannot decode (another protocol version's)."""
+        if self.error is not None:
+            raise FirmwareError(self.error)
+        if self.unreadable is not None:
+            raise ProtocolVersionError(f"the firmware's answer to {name} does not decode ({self.unreadable}): "
+                                       f"it speaks another protocol version than this host's {PROTOCOL_VERSION}")
 
 
 class Inbox:
@@ -63,6 +76,7 @@ class Inbox:
         self.counts: defaultdict[type, int] = defaultdict(int)
         self.input_changes: deque[InputChange] = deque(maxlen=256)  # the latest EVENT INPUT reports
         self.held_by_input = 0  # holds the firmware began itself (a PROBE's edge, the feed hold button)
+        self.starved = False  # the latest status said STARVED
         self.last_frame_at = 0.0  # clock time of the last good frame received
         self.want_status = False  # the writer sends a STATUS: something needs explaining
         self.refused: ErrorReport | None = None  # BUSY or ALARM_ACTIVE for a frame of ours, until a status explains it
@@ -75,6 +89,9 @@ class Inbox:
         for item in self.decoder.feed(data):
             if isinstance(item, DecodeError):
                 self.stats.decode_errors += 1
+                waiter = self.waiter
+                if waiter is not None and (item.frame_type, item.frame_seq) == (waiter.reply_type, waiter.seq):
+                    waiter.unreadable = item.detail
                 continue
             self.last_frame_at = now
             self.stats.frames_received += 1
@@ -128,6 +145,9 @@ class Inbox:
             self.last_status = m
             self.done_total = m.segments_done
             self.done16 = m.segments_done & 0xFFFF
+            starved, self.starved = self.starved, m.state == State.STARVED
+            if self.starved and not starved and not self.stopping:
+                self._starved()
             if not self.stopping and self.queue_capacity is not None:  # repairs a lost SPACE ack
                 self.expected_done += self.window.on_status(m.next_seq, self.queue_capacity - m.queue_fill)
                 self._explain(m)
@@ -153,7 +173,7 @@ class Inbox:
             self.fail(AlarmError(Alarm(code=status.alarm, motion_ticks=status.motion_ticks, position=status.position)))
         elif self.refused is not None and status.state != State.HOLDING:
             self.fail(FirmwareError(self.refused))
-        # HOLDING without a HOLD from here: a stop the firmware began itself (an underrun); its alarm follows.
+        # HOLDING without a HOLD from here: a stop the firmware began itself (an underrun); STARVED follows.
 
     def _held_by_input(self) -> None:
         """The firmware began a hold itself, at an input (a PROBE's edge, the feed hold button): what is queued
@@ -162,6 +182,14 @@ class Inbox:
         self.generation += 1
         self.window.restart()
         self.held_by_input += 1
+
+    def _starved(self) -> None:
+        """The queue ran dry while moving and the firmware stopped (STARVED): it refuses every segment until a
+        HOLD (or STOP), so the stream restarts as at a hold; whoever streams takes it up with HOLD."""
+        self.generation += 1
+        self.window.restart()
+        self.refused = None  # the BUSY refusals were this stop's
+        self.stats.starvations += 1
 
     def _on_ack(self, ack: Ack, seq: int) -> None:
         self.done_total += (ack.done - self.done16) & 0xFFFF

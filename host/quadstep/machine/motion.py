@@ -33,13 +33,15 @@ SPACE_WAIT = 0.005  # s between checks while the lookahead is full
 STALL_POLL = 0.25  # s without a completed segment before asking for STATUS
 STARVED = "starved"  # how a motion ends when the board ran dry and braked to rest by itself
 CUT = "cut"  # how a motion whose stream was cut short (cut()) ends: the board still runs its last segments
+STARVED = "starved"  # how a motion ends whose queue ran dry while moving: the board stopped it (a hold), and
+# the motion took it out of STARVED with HOLD, so it is IDLE at the end's position
 
 
 @dataclass(frozen=True)
 class MotionEnd:
     """How a motion ended and where the machine rests."""
 
-    ended_by: str  # "done", "error", "reset" (a STOP from elsewhere), or the reason given to halt()
+    ended_by: str  # "done", "error", "reset" (a STOP from elsewhere), STARVED, or the reason given to halt()
     position: tuple[int, ...]  # step positions at rest
     segments_done: int  # segments of this motion the board completed (before any hold)
     stop_event_ns: int | None = None  # time.monotonic_ns() when halt() was called
@@ -182,6 +184,7 @@ class Motion:
         self._base_done = self.link.segments_done if follows is None else follows._base_done + follows.sent
         self._generation = self.link.generation
         self._input_holds = self.link.holds_by_input
+        self._starvations = self.link.stats.starvations
         self._thread.start()
         return self
 
@@ -329,6 +332,9 @@ class Motion:
             if self._halting is not None:
                 return
         try:
+            if self.link.stats.starvations != self._starvations:
+                self._after_starvation()
+                return
             holding = [c.cause for c in self.link.input_changes if c.cause in (InputCause.FEED_HOLD, InputCause.TRIGGER)]
             if self.link.holds_by_input != self._input_holds and holding and holding[-1] == InputCause.FEED_HOLD:
                 status = wait_rest(self.link)
@@ -341,6 +347,12 @@ class Motion:
             self._finish(MotionEnd("error", (), self.done, error=str(exc)))
             return
         self._finish(MotionEnd("reset", position, self.done))
+
+    def _after_starvation(self) -> None:
+        """The queue ran dry while moving: the board stopped under control and refuses segments until a HOLD.
+        The HOLD takes it to IDLE and repeats the stop's HOLD_DONE: its hold_tick and exact rest position."""
+        rest = bring_to_rest(self.link, self.decels)
+        self._finish(MotionEnd(STARVED, self._axes(rest.position), self.done, held=True, hold_tick=rest.hold_tick))
 
     def _after_alarm(self, exc: AlarmError) -> MotionEnd:
         """The board halted on an alarm (positions exact); clear it so the machine can go on."""

@@ -6,7 +6,7 @@ from __future__ import annotations
 
 from enum import IntEnum, IntFlag
 
-PROTOCOL_VERSION = 1
+PROTOCOL_VERSION = 2
 SPEED_SHIFT = 12
 D = 1 << SPEED_SHIFT  # speed denominator: a speed v means v/D steps per tick
 V_MAX = D  # one step per tick
@@ -126,6 +126,7 @@ class State(IntEnum):
     RUNNING = 1
     ALARM = 2
     HOLDING = 3
+    STARVED = 4  # at rest after an underrun's stop: motion refused until HOLD or STOP
 
 
 class Board(IntEnum):
@@ -148,6 +149,7 @@ class Capability(IntFlag):
     OUTPUTS = 1 << 10  # spindle, laser and coolant outputs (OUTPUTS)
     SEGMENTS = 1 << 11  # chained quadratic segments, several to a frame (SEGMENTS)
     CUBIC_RUNS = 1 << 12  # chained cubic segments, several to a frame (CUBIC_SEGMENTS)
+    STARVATION_PAUSES = 1 << 13  # an underrun ends in STARVED, not in an alarm
 
 
 class Output(IntFlag):

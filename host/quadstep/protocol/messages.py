@@ -60,16 +60,7 @@ from .fields import (
 from .outputs import Outputs
 from .segment import AxisMove, Segment
 from .wire import (
-    FieldFault,
-    Int,
-    Report,
-    Request,
-    WireMessage,
-    bits,
-    declared_event_kinds,
-    declared_messages,
-    event_kind,
-    message,
+    FieldFault, Int, Report, Request, WireMessage, bits, declared_event_kinds, declared_messages, event_kind, message,
 )
 
 # --- host → firmware ----------------------------------------------------------
@@ -215,6 +206,7 @@ class IdentifyReply(Report):
     tick_hz: U32
     capabilities: U16
     next_seq: U8
+    boot_id: U16  # new at each reset: a board reset since (its positions lost) shows another
 
     @property
     def firmware_version(self) -> str:

@@ -243,7 +243,7 @@ class JobKeys(Screen[None]):
         return True
 
     def watch_reports(self, machine: Machine) -> None:
-        """Alarms (E_STOP, HARD_LIMIT, UNDERRUN, HOST_LOST) and the board's buttons, in the log."""
+        """Alarms (E_STOP, HARD_LIMIT, HOST_LOST) and the board's buttons, in the log."""
         def note(report: Report) -> None:
             if isinstance(report, Alarm):
                 self.post_message(Note(f"ALARM {report.code.name} at steps {list(report.position)}; "

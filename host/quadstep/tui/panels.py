@@ -13,7 +13,8 @@ from ..machine import JobProgress, JobState
 from ..protocol import IdentifyReply, State
 from .session import Snapshot
 
-STATE_STYLE = {State.IDLE: "green", State.RUNNING: "cyan", State.HOLDING: "yellow", State.ALARM: "bold red"}
+STATE_STYLE = {State.IDLE: "green", State.RUNNING: "cyan", State.HOLDING: "yellow", State.ALARM: "bold red",
+               State.STARVED: "yellow"}
 # A job's states that the board's own state does not tell (the board is IDLE while a job waits).
 JOB_SHOWN = {JobState.PAUSED: "PAUSED", JobState.HELD: "FEED HOLD", JobState.STARVED: "STARVED",
              JobState.PROBING: "PROBING", JobState.RESUMING: "RESUMING"}

@@ -42,6 +42,24 @@ static qs_status status(void)
     return st;
 }
 
+/* An EVENT HOLD_DONE: hold_tick, motion_ticks and axis 0's position. */
+typedef struct {
+    uint32_t hold_tick, motion_ticks;
+    int32_t position;
+} hold_done;
+
+static hold_done hold_done_of(const tp_report *r)
+{
+    hold_done ev;
+    TEST_ASSERT_EQUAL_HEX8(QS_TYPE_EVENT, r->type);
+    TEST_ASSERT_EQUAL_UINT8(QS_SEQ_UNSOLICITED, r->seq);
+    TEST_ASSERT_EQUAL_INT(QS_EVENT_HOLD_DONE, r->payload[0]);
+    ev.hold_tick = tp_u32(r->payload + 1);
+    ev.motion_ticks = tp_u32(r->payload + 5);
+    ev.position = (int32_t)tp_u32(r->payload + 9);
+    return ev;
+}
+
 /* SEGMENTS: three chained records, X accelerating, cruising, stopping. */
 static void send_three_records(uint8_t seq)
 {
@@ -142,13 +160,14 @@ static void test_identify_reports_what_the_firmware_is(void)
     const uint8_t *p;
     qs_core_configure(&core, 3, 12, 40000);
     core.next_seq = 9;
+    core.boot_id = 0xBEEF;
     tp_send_simple(&core, QS_TYPE_IDENTIFY, 200);
     TEST_ASSERT_EQUAL_INT(1, sent());
     TEST_ASSERT_EQUAL_HEX8(QS_TYPE_IDENTIFY_REPLY, reports[0].type);
     TEST_ASSERT_EQUAL_UINT8(200, reports[0].seq);
     TEST_ASSERT_EQUAL_INT(QS_LEN_IDENTIFY_REPLY, reports[0].len);
     p = reports[0].payload;
-    TEST_ASSERT_EQUAL_INT(1, p[0]);
+    TEST_ASSERT_EQUAL_INT(2, p[0]);
     TEST_ASSERT_EQUAL_INT(QS_FW_MAJOR, p[1]);
     TEST_ASSERT_EQUAL_INT(QS_BOARD, p[4]);
     TEST_ASSERT_EQUAL_INT(3, p[5]);
@@ -156,8 +175,11 @@ static void test_identify_reports_what_the_firmware_is(void)
     TEST_ASSERT_EQUAL_INT(12, p[7]);
     TEST_ASSERT_EQUAL_INT(1022, tp_u16(p + 8));
     TEST_ASSERT_EQUAL_UINT32(40000, tp_u32(p + 10));
-    /* quadratic, set position, hold; limit, probe and control inputs, homing; cubic; controlled stops; outputs; chained segments (SEGMENTS, CUBIC_SEGMENTS) */
-    TEST_ASSERT_EQUAL_HEX16(0x1FF7, tp_u16(p + 14));
+    /* quadratic, set position, hold; limit, probe and control inputs, homing; cubic; controlled stops;
+     * outputs; chained segments (SEGMENTS, CUBIC_SEGMENTS); starvation pauses */
+    TEST_ASSERT_EQUAL_HEX16(0x3FF7, tp_u16(p + 14));
+    TEST_ASSERT_EQUAL_INT(9, p[16]);
+    TEST_ASSERT_EQUAL_HEX16(0xBEEF, tp_u16(p + 17));
     TEST_ASSERT_EQUAL_INT(9, p[16]);
 }
 
@@ -344,14 +366,14 @@ static void test_status_while_running_reads_the_steps_made_so_far(void)
     TEST_ASSERT_EQUAL_INT(QS_STATE_RUNNING, status().state);
 }
 
-/* The queue runs dry at full speed: the next tick begins a hold from the
- * last segment's end at the configured decelerations; at rest HOLD_DONE
- * (hold_tick 10) and then ALARM UNDERRUN with the exact rest positions. */
-static void test_underrun_holds_to_rest_then_alarms_with_exact_positions(void)
+/* The queue runs dry at full speed and the board rests STARVED: returns
+ * the steps made and the ticks the hold took. The next tick begins a hold
+ * from the last segment's end at the configured decelerations; at rest
+ * HOLD_DONE (hold_tick 10) with the exact rest positions, and no alarm. */
+static uint32_t starve(uint32_t *hold_ticks)
 {
-    const uint8_t *p;
     uint32_t steps, ticks = 0, hold_steps;
-    qs_ack a;
+    hold_done ev;
     uint8_t axis;
     for (axis = 0; axis < QS_AXIS_COUNT; axis++)
         core.engine.stop_decel[axis] = 8191;
@@ -371,37 +393,143 @@ static void test_underrun_holds_to_rest_then_alarms_with_exact_positions(void)
     TEST_ASSERT_TRUE(hold_steps > 950 && hold_steps < 1100);
     steps = 10 + hold_steps;
     qs_core_poll(&core);
-    TEST_ASSERT_EQUAL_INT(3, sent());
+    TEST_ASSERT_EQUAL_INT(2, sent());
     TEST_ASSERT_EQUAL_INT(QS_ACK_SPACE, tp_ack(&reports[0]).reason);
     TEST_ASSERT_EQUAL_HEX8(QS_TYPE_EVENT, reports[1].type);
-    TEST_ASSERT_EQUAL_INT(QS_EVENT_HOLD_DONE, reports[1].payload[0]);
-    TEST_ASSERT_EQUAL_UINT32(10, tp_u32(reports[1].payload + 1));
-    TEST_ASSERT_EQUAL_HEX8(QS_TYPE_ALARM, reports[2].type);
-    TEST_ASSERT_EQUAL_UINT8(QS_SEQ_UNSOLICITED, reports[2].seq);
-    TEST_ASSERT_EQUAL_INT(QS_LEN_ALARM_HEAD + QS_LEN_ALARM_AXIS * 4, reports[2].len);
-    p = reports[2].payload;
-    TEST_ASSERT_EQUAL_INT(QS_ALARM_UNDERRUN, p[0]);
-    TEST_ASSERT_EQUAL_UINT32(11 + ticks, tp_u32(p + 1));
-    TEST_ASSERT_EQUAL_INT32((int32_t)steps, (int32_t)tp_u32(p + 5));
+    ev = hold_done_of(&reports[1]);
+    TEST_ASSERT_EQUAL_UINT32(10, ev.hold_tick);
+    TEST_ASSERT_EQUAL_UINT32(11 + ticks, ev.motion_ticks);
+    TEST_ASSERT_EQUAL_INT32((int32_t)steps, ev.position);
     TEST_ASSERT_EQUAL_INT32((int32_t)steps, status().position[0]);
-    TEST_ASSERT_EQUAL_INT(QS_STATE_ALARM, status().state);
+    TEST_ASSERT_EQUAL_INT(QS_STATE_STARVED, status().state);
+    TEST_ASSERT_EQUAL_INT(QS_ALARM_NONE, status().alarm);
+    TEST_ASSERT_EQUAL_INT(1, status().next_seq);
     qs_core_poll(&core);
-    TEST_ASSERT_EQUAL_INT(0, sent()); /* reported once */
-    /* Segments are refused until STOP. */
+    TEST_ASSERT_EQUAL_INT(0, sent()); /* reported once, no ALARM */
+    *hold_ticks = ticks;
+    return steps;
+}
+
+/* STARVED refuses what would take a slot or move, BUSY, consumed, and
+ * runs nothing; so SET_POSITION, PROBE and CONFIG. The watchdog stays
+ * quiet: nothing moves. */
+static void test_an_underrun_ends_starved_and_refuses_motion(void)
+{
+    const uint8_t watchdog[] = {QS_TYPE_WATCHDOG, 0x40, 100, 0};
+    const uint8_t set_position[] = {QS_TYPE_SET_POSITION, 2, 0x1, 0, 0, 0, 0};
+    uint32_t ticks, steps = starve(&ticks);
+    qs_ack a;
+
+    tp_send(&core, watchdog, sizeof watchdog);
+    sent();
     tp_send_segment(&core, 1, 10, 0x1, 0, &to_rest);
     TEST_ASSERT_EQUAL_INT(2, sent());
-    TEST_ASSERT_EQUAL_INT(QS_ERR_ALARM_ACTIVE, tp_error(&reports[0]).code);
+    TEST_ASSERT_EQUAL_INT(QS_ERR_BUSY, tp_error(&reports[0]).code);
     a = tp_ack(&reports[1]);
     TEST_ASSERT_EQUAL_INT(QS_ACK_REJECTED, a.reason);
     TEST_ASSERT_EQUAL_INT(2, a.next_seq);
+    tp_send(&core, set_position, sizeof set_position);
+    TEST_ASSERT_EQUAL_INT(2, sent());
+    TEST_ASSERT_EQUAL_INT(QS_ERR_BUSY, tp_error(&reports[0]).code);
     TEST_ASSERT_EQUAL_INT(0, status().queue_fill);
-    tp_send_simple(&core, QS_TYPE_STOP, 2);
+    test_clock = (uint16_t)(test_clock + 60000u); /* far past the watchdog's timeout */
+    TEST_ASSERT_EQUAL_UINT32(0, tp_ticks(&core, 1000));
+    qs_core_poll(&core);
+    TEST_ASSERT_EQUAL_INT(0, sent());
+    TEST_ASSERT_EQUAL_INT(QS_STATE_STARVED, status().state);
+    TEST_ASSERT_EQUAL_INT(QS_ALARM_NONE, status().alarm);
+    TEST_ASSERT_EQUAL_INT32((int32_t)steps, status().position[0]);
+    TEST_ASSERT_EQUAL_UINT32(11 + ticks, status().motion_ticks);
+    TEST_ASSERT_EQUAL_UINT32(1, status().segments_done);
+}
+
+/* HOLD takes a starved board up again: IDLE, next_seq the HOLD's seq, the
+ * answer and then the starvation's HOLD_DONE repeated; a segment runs. */
+static void test_hold_in_starved_returns_to_idle_with_the_hold_done_repeat(void)
+{
+    uint8_t body[2 + QS_LEN_HOLD] = {QS_TYPE_HOLD, 77, 1, 0, 1, 0, 1, 0, 1, 0};
+    uint32_t ticks, steps = starve(&ticks);
+    hold_done ev;
+
+    tp_send_segment(&core, 1, 10, 0x1, 0, &to_rest); /* in flight: refused */
     sent();
+    tp_send(&core, body, sizeof body);
+    TEST_ASSERT_EQUAL_INT(2, sent());
+    TEST_ASSERT_EQUAL_HEX8(QS_TYPE_STATUS_REPORT, reports[0].type);
+    TEST_ASSERT_EQUAL_UINT8(77, reports[0].seq);
+    TEST_ASSERT_EQUAL_INT(QS_STATE_IDLE, reports[0].payload[0]);
+    TEST_ASSERT_EQUAL_INT(77, reports[0].payload[3]);
+    ev = hold_done_of(&reports[1]);
+    TEST_ASSERT_EQUAL_UINT32(10, ev.hold_tick);
+    TEST_ASSERT_EQUAL_UINT32(11 + ticks, ev.motion_ticks);
+    TEST_ASSERT_EQUAL_INT32((int32_t)steps, ev.position);
     TEST_ASSERT_EQUAL_INT(QS_STATE_IDLE, status().state);
+    tp_send_segment(&core, 76, 10, 0x1, 0, &to_rest); /* sent before the HOLD: a duplicate */
+    TEST_ASSERT_EQUAL_INT(QS_ACK_DUPLICATE, only_ack().reason);
+    tp_send_segment(&core, 77, 10, 0x1, 0, &to_rest);
+    TEST_ASSERT_EQUAL_INT(QS_ACK_ACCEPTED, only_ack().reason);
+    TEST_ASSERT_EQUAL_INT(QS_STATE_RUNNING, status().state);
+    TEST_ASSERT_EQUAL_UINT32(5, tp_ticks(&core, 10));
+    TEST_ASSERT_EQUAL_INT32((int32_t)steps + 5, status().position[0]);
+}
+
+/* A HOLD during the underrun's stop answers for it: the stop ends IDLE. */
+static void test_hold_during_the_underrun_stop_ends_idle(void)
+{
+    uint8_t body[2 + QS_LEN_HOLD] = {QS_TYPE_HOLD, 30, 1, 0, 1, 0, 1, 0, 1, 0};
+    uint8_t axis;
+    for (axis = 0; axis < QS_AXIS_COUNT; axis++)
+        core.engine.stop_decel[axis] = 8191;
+    tp_send_segment(&core, 0, 10, 0x1, 0, &cruise);
+    tp_ticks(&core, 12);
+    sent();
+    TEST_ASSERT_EQUAL_INT(QS_STATE_HOLDING, status().state);
+    tp_send(&core, body, sizeof body);
+    TEST_ASSERT_EQUAL_INT(1, sent());
+    TEST_ASSERT_EQUAL_INT(QS_STATE_HOLDING, reports[0].payload[0]);
+    tp_ticks(&core, 5000);
+    qs_core_poll(&core);
+    TEST_ASSERT_EQUAL_INT(10, hold_done_of(&reports[sent() - 1]).hold_tick);
+    TEST_ASSERT_EQUAL_INT(QS_STATE_IDLE, status().state);
+    TEST_ASSERT_EQUAL_INT(30, status().next_seq);
+}
+
+/* STOP in STARVED: IDLE at once, positions kept. */
+static void test_stop_in_starved_returns_to_idle(void)
+{
+    uint32_t ticks, steps = starve(&ticks);
+
+    tp_send_simple(&core, QS_TYPE_STOP, 2);
+    TEST_ASSERT_EQUAL_INT(1, sent());
+    TEST_ASSERT_EQUAL_HEX8(QS_TYPE_STATUS_REPORT, reports[0].type);
+    TEST_ASSERT_EQUAL_INT(QS_STATE_IDLE, reports[0].payload[0]);
     TEST_ASSERT_EQUAL_INT(QS_ALARM_NONE, status().alarm);
     TEST_ASSERT_EQUAL_INT32((int32_t)steps, status().position[0]);
     tp_send_segment(&core, 2, 10, 0x1, 0, &to_rest);
     TEST_ASSERT_EQUAL_INT(QS_ACK_ACCEPTED, only_ack().reason);
+}
+
+/* A segment that ends moving too slowly for the hold's scale (a cubic one
+ * creeping at 100 * 2^-31 step a tick): the underrun's hold has no ticks,
+ * and still ends STARVED with its HOLD_DONE at the segment's end. */
+static void test_an_underrun_with_nothing_to_decelerate_ends_starved(void)
+{
+    const uint8_t creep[] = {QS_TYPE_CUBIC_SEGMENT, 0, 20, 0, 0x10, 100, 0, 0, 0, 0, 0, 0};
+    hold_done ev;
+
+    tp_send(&core, creep, sizeof creep);
+    TEST_ASSERT_EQUAL_INT(QS_ACK_ACCEPTED, only_ack().reason);
+    TEST_ASSERT_EQUAL_UINT32(0, tp_ticks(&core, 21));
+    qs_core_poll(&core);
+    TEST_ASSERT_EQUAL_INT(2, sent());
+    TEST_ASSERT_EQUAL_INT(QS_ACK_SPACE, tp_ack(&reports[0]).reason);
+    ev = hold_done_of(&reports[1]);
+    TEST_ASSERT_EQUAL_UINT32(20, ev.hold_tick);
+    TEST_ASSERT_EQUAL_UINT32(20, ev.motion_ticks);
+    TEST_ASSERT_EQUAL_INT32(0, ev.position);
+    TEST_ASSERT_EQUAL_INT(QS_STATE_STARVED, status().state);
+    TEST_ASSERT_EQUAL_INT(QS_ALARM_NONE, status().alarm);
+    TEST_ASSERT_EQUAL_UINT32(1, status().segments_done);
 }
 
 /* WATCHDOG: while moving, no good frame for the timeout stops at
@@ -642,7 +770,11 @@ int main(void)
     RUN_TEST(test_one_space_ack_covers_segments_finished_together);
     RUN_TEST(test_stop_halts_flushes_and_sets_next_seq);
     RUN_TEST(test_status_while_running_reads_the_steps_made_so_far);
-    RUN_TEST(test_underrun_holds_to_rest_then_alarms_with_exact_positions);
+    RUN_TEST(test_an_underrun_ends_starved_and_refuses_motion);
+    RUN_TEST(test_hold_in_starved_returns_to_idle_with_the_hold_done_repeat);
+    RUN_TEST(test_stop_in_starved_returns_to_idle);
+    RUN_TEST(test_hold_during_the_underrun_stop_ends_idle);
+    RUN_TEST(test_an_underrun_with_nothing_to_decelerate_ends_starved);
     RUN_TEST(test_a_silent_host_stops_the_motion_under_control);
     RUN_TEST(test_positions_cannot_wrap);
     RUN_TEST(test_a_segment_ending_at_rest_returns_to_idle);

@@ -236,8 +236,8 @@ static void test_queued_segments_run_back_to_back_with_their_own_direction(void)
         qs_engine_tick(&engine);
         qs_engine_retire(&engine);
     }
-    TEST_ASSERT_EQUAL_INT(QS_STATE_ALARM, engine.state);
-    TEST_ASSERT_EQUAL_INT(QS_ALARM_UNDERRUN, engine.alarm);
+    TEST_ASSERT_EQUAL_INT(QS_STATE_STARVED, engine.state);
+    TEST_ASSERT_EQUAL_INT(QS_ALARM_NONE, engine.alarm);
 }
 
 /* Every n, and every extreme of speed and residual: no per-tick value, not

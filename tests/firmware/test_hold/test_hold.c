@@ -483,8 +483,10 @@ static void test_hold_at_boundaries_and_in_every_state(void)
 /* The queue runs dry after random segments that end moving, from any
  * state: the tick that would have begun the next segment begins a hold
  * from where the last one ended at the underrun decelerations, every tick
- * of it the closed form at t0 = n; at rest the alarm is UNDERRUN with the
- * exact positions. A segment that arrives in time goes on as usual. */
+ * of it the closed form at t0 = n; at rest the engine is STARVED (no
+ * alarm) with the exact positions and a HOLD_DONE to report, also when
+ * nothing would move one tick on. A segment that arrives in time goes on
+ * as usual. */
 static void test_an_underrun_holds_from_the_end_of_the_last_segment(void)
 {
     int i;
@@ -523,14 +525,16 @@ static void test_an_underrun_holds_from_the_end_of_the_last_segment(void)
             TEST_ASSERT_EQUAL_INT(4, engine.left);
             continue;
         }
-        if (run_hold_from(&m, m.n, decel, made, 1) == 0) {
-            /* Nothing would move one tick on: the alarm at once. */
-            TEST_ASSERT_EQUAL_INT(QS_STATE_ALARM, engine.state);
-        }
+        run_hold_from(&m, m.n, decel, made, 1);
+        TEST_ASSERT_EQUAL_INT(QS_STATE_HOLDING, engine.state); /* until the main loop folds it */
+        TEST_ASSERT_EQUAL_HEX8(0, qs_engine_tick(&engine));
         qs_engine_retire(&engine);
+        TEST_ASSERT_TRUE(engine.hold_report);
         qs_engine_read(&engine, &v);
-        TEST_ASSERT_EQUAL_INT(QS_STATE_ALARM, v.state);
-        TEST_ASSERT_EQUAL_INT(QS_ALARM_UNDERRUN, v.alarm);
+        TEST_ASSERT_EQUAL_INT(QS_STATE_STARVED, v.state);
+        TEST_ASSERT_EQUAL_INT(QS_ALARM_NONE, v.alarm);
+        TEST_ASSERT_EQUAL_INT(0, v.queue_fill);
+        TEST_ASSERT_EQUAL_HEX8(0, qs_engine_tick(&engine)); /* nothing moves while starved */
         TEST_ASSERT_EQUAL_UINT32(1, v.segments_done);
         for (axis = 0; axis < QS_AXIS_COUNT; axis++)
             TEST_ASSERT_EQUAL_INT32(made[axis], v.position[axis]);

@@ -250,12 +250,21 @@ static void test_refused_holds_change_nothing(void)
     TEST_ASSERT_EQUAL_INT(QS_STATE_HOLDING, status().state); /* the underrun's hold */
     tp_ticks(&core, 70000);
     qs_core_poll(&core);
-    TEST_ASSERT_EQUAL_INT(QS_STATE_ALARM, status().state); /* then its alarm */
+    TEST_ASSERT_EQUAL_INT(QS_STATE_STARVED, status().state); /* then paused */
     sent();
-    send_hold(62, 10, 10, 10, 0);
+    send_hold(62, 10, 8192, 10, 0); /* a bad HOLD leaves it so */
+    TEST_ASSERT_EQUAL_INT(1, sent());
+    TEST_ASSERT_EQUAL_INT(QS_ERR_BAD_FIELD, tp_error(&reports[0]).code);
+    TEST_ASSERT_EQUAL_INT(QS_STATE_STARVED, status().state);
+    TEST_ASSERT_EQUAL_INT(2, status().next_seq);
+    tp_send_simple(&core, QS_TYPE_STOP, 3);
+    tp_send_segment(&core, 3, 0, 0x1, 0, &cruise); /* n = 0: ALARM REJECTED_SEGMENT */
+    sent();
+    send_hold(63, 10, 10, 10, 0); /* in ALARM: refused */
     TEST_ASSERT_EQUAL_INT(1, sent());
     TEST_ASSERT_EQUAL_INT(QS_ERR_ALARM_ACTIVE, tp_error(&reports[0]).code);
-    TEST_ASSERT_EQUAL_INT(2, status().next_seq);
+    TEST_ASSERT_EQUAL_INT(4, status().next_seq);
+    TEST_ASSERT_EQUAL_INT(QS_STATE_ALARM, status().state);
 }
 
 /* A hold finds the queue run dry while moving: it holds from where the

@@ -182,13 +182,29 @@ static void test_stop_and_alarms_turn_everything_off(void)
     tp_send_segment(&core, 8, 10, 0x01, 0, &cruise); /* ends moving with nothing behind: an underrun */
     {
         uint32_t ticks = 0;
-        while (core.engine.state != QS_STATE_ALARM && ticks++ < 200000)
-            run(1); /* the underrun's hold to rest, then the alarm */
+        while (core.engine.state != QS_STATE_STARVED && ticks++ < 200000)
+            run(1); /* the underrun's hold to rest: paused, no alarm */
     }
+    TEST_ASSERT_EQUAL_INT(QS_STATE_STARVED, core.engine.state);
+    TEST_ASSERT_EQUAL_INT(QS_OUT_ON | QS_OUT_MIST, level().pins); /* as after any hold */
+    tp_clear_sent();
+    send_outputs(9, QS_OUT_ON, 1000, 0, 0); /* refused while starved, consumed */
+    {
+        uint16_t count = tp_take_reports(reports, TP_MAX_REPORTS);
+        TEST_ASSERT_EQUAL_INT(2, count);
+        TEST_ASSERT_EQUAL_INT(QS_ERR_BUSY, tp_error(&reports[0]).code);
+        TEST_ASSERT_EQUAL_INT(QS_ACK_REJECTED, tp_ack(&reports[1]).reason);
+    }
+    TEST_ASSERT_EQUAL_INT(QS_OUT_ON | QS_OUT_MIST, level().pins);
+
+    stop[1] = 10;
+    tp_send(&core, stop, sizeof stop);
+    send_outputs(10, QS_OUT_ON | QS_OUT_MIST, 1000, 0, 0);
+    tp_send_segment(&core, 11, 0, 0x01, 0, &cruise); /* n = 0: refused, ALARM REJECTED_SEGMENT */
     TEST_ASSERT_EQUAL_INT(QS_STATE_ALARM, core.engine.state);
     TEST_ASSERT_EQUAL_INT(0, level().pins);
     tp_clear_sent();
-    send_outputs(9, QS_OUT_ON, 1000, 0, 0); /* refused in ALARM, consumed */
+    send_outputs(12, QS_OUT_ON, 1000, 0, 0); /* refused in ALARM, consumed */
     {
         uint16_t count = tp_take_reports(reports, TP_MAX_REPORTS);
         TEST_ASSERT_EQUAL_INT(2, count);
