@@ -15,18 +15,16 @@ import argparse
 import select
 import signal
 import sys
-import time
 from collections.abc import Callable
 from typing import TypeVar
 
-import numpy as np
 from pydantic import BaseModel
 from rich.console import Console
 from rich.progress import BarColumn, Progress, TaskProgressColumn, TextColumn
 
 from ..config import MachineConfig
 from ..job import Job, read_program
-from ..machine import JobRun, Machine, MachineError, MotionEnd
+from ..machine import JobProgress, JobRun, Machine, MachineError, MotionEnd
 from ..planner.feed_override import MAX_PERCENT, MIN_PERCENT, check_percent
 from ..planner.program import JobError, Pause
 from ..protocol import State, StatusReport
@@ -154,7 +152,8 @@ def run(args: argparse.Namespace) -> int:
         return stream(args, machine, job, status, journal)
 
 
-def follow(run_: JobRun, job: Job, progress: Progress, show: Callable[[int], None]) -> tuple[MotionEnd, bool]:
+def follow(run_: JobRun, job: Job, progress: Progress,
+           show: Callable[[JobProgress], None]) -> tuple[MotionEnd, bool]:
     """Wait for the job in this (the main) thread, so that Ctrl-C lands here and nowhere in the link:
     then HOLD. SIGUSR1 is a feed hold, SIGUSR2 resumes. Returns how the job ended and whether Ctrl-C ended it."""
     asked: list[str] = []
@@ -167,14 +166,14 @@ def follow(run_: JobRun, job: Job, progress: Progress, show: Callable[[int], Non
             signal.signal(sig, handler)
 
 
-def _follow(run_: JobRun, job: Job, progress: Progress, show: Callable[[int], None],
+def _follow(run_: JobRun, job: Job, progress: Progress, show: Callable[[JobProgress], None],
             asked: list[str]) -> tuple[MotionEnd, bool]:
     prompted, starvations = False, 0
     try:
         while True:
             end = run_.wait(PROGRESS_INTERVAL)
             now = run_.progress
-            show(now.done)
+            show(now)
             if now.starvations > starvations:
                 starvations = now.starvations
                 print(f"the board ran dry near {job.label} {now.line} (the computer fell behind): "
@@ -212,10 +211,6 @@ def stream(args: argparse.Namespace, machine: Machine, job: Job, start: StatusRe
            journal: Journal | None = None) -> int:
     config, plan = machine.config, job.plan
     run_ = machine.run_job(plan, job.program, job.label, job.feed_override, journal)  # with its take-ups
-    streamed = run_.plan.segments.numpy()
-    ends = np.cumsum(streamed["n"], dtype=np.int64)
-    lines = streamed["line"]
-    total_ticks = int(ends[-1]) if len(ends) else 0
     console = Console(stderr=True)
     progress = Progress(
         TextColumn("{task.description}"),
@@ -225,20 +220,14 @@ def stream(args: argparse.Namespace, machine: Machine, job: Job, start: StatusRe
         console=console,
         disable=args.json or not console.is_terminal,
     )
-    task = progress.add_task(
-        f"{job.label} 0/{job.program.lines}", total=max(total_ticks, 1), left=format_duration(plan.duration_s)
-    )
-    last_shown = [0.0]
+    total = max(plan.duration_s, 1e-9)
+    task = progress.add_task(f"{job.label} 0/{job.program.lines}", total=total,
+                             left=format_duration(plan.duration_s))
 
-    def show(done: int) -> None:
-        now = time.monotonic()
-        if now - last_shown[0] < PROGRESS_INTERVAL:
-            return
-        last_shown[0] = now
-        ticks = int(ends[done - 1]) if done else 0
-        line = int(lines[min(done, len(lines) - 1)]) if len(lines) else 0
-        left = format_duration((total_ticks - ticks) / config.tick_hz)
-        progress.update(task, completed=ticks, description=f"{job.label} {line}/{job.program.lines}", left=left)
+    def show(now: JobProgress) -> None:
+        """The job's own progress: the line it runs, the time its plan has left (planned again after a stop)."""
+        progress.update(task, completed=max(0.0, total - now.seconds_left), left=format_duration(now.seconds_left),
+                        description=f"{job.label} {now.line}/{job.program.lines}")
 
     with progress:
         end, interrupted = follow(run_, job, progress, show)
