@@ -23,7 +23,8 @@ from typing import Annotated, Any, Literal
 import yaml
 from pydantic import BaseModel, ConfigDict, Field, model_validator
 
-from .config import AxisName, validate
+from .config import AxisName
+from .validation import validate
 from .planner.program import MAX_DWELL_S, Dwell, JobError, LinearMove, Pause, Program
 from .textfile import DuplicateKeyError, parse_nested, read_text, strict_json
 

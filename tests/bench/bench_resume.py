@@ -52,7 +52,7 @@ def at_rest(url: str) -> tuple[int, ...]:
     with Link.open(url) as link:
         while True:
             status = link.status()
-            if status.state in (State.IDLE, State.ALARM) and status.queue_fill == 0:
+            if status.state in (State.IDLE, State.ALARM, State.STARVED) and status.queue_fill == 0:
                 return tuple(status.position[:3])
             time.sleep(0.05)
 

@@ -29,7 +29,7 @@ def board_at_rest(url: str, timeout: float = 30.0) -> StatusReport:
     with Link.open(url) as link:
         while True:
             status = link.status()
-            if status.state in (State.IDLE, State.ALARM) and status.queue_fill == 0:
+            if status.state in (State.IDLE, State.ALARM, State.STARVED) and status.queue_fill == 0:
                 return status
             assert time.monotonic() < deadline, f"the board still moves: {status}"
             time.sleep(0.05)
@@ -56,7 +56,7 @@ def test_a_job_whose_host_was_killed_goes_on_from_where_it_stopped(start_emulato
     assert list(state_home.glob("quadstep/*.job.json"))  # the journal kept it
     code, out, err = resume(emu.url, DEMO)
     assert code == 0, err
-    assert "resuming" in out and "with its position kept" in out
+    assert f"resuming {DEMO} at line " in out  # the board ran dry or its watchdog stopped it: either kept the position
     assert out.splitlines()[-1] == "every axis is exactly where the job put it"
     assert tuple(board_at_rest(emu.url).position[:3]) == whole.end
     assert not list(state_home.glob("quadstep/*.job.json"))  # done: nothing left to resume

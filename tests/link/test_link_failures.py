@@ -12,8 +12,8 @@ import pytest
 from host_helpers import random_segments
 
 from quadstep.engine_model import predict
-from quadstep.link import AlarmError, BoardSilent, Link, LinkError, LinkTimeout
-from quadstep.protocol import AxisMove, Segment, State
+from quadstep.link import AlarmError, BoardSilent, FirmwareError, Link, LinkError, LinkTimeout
+from quadstep.protocol import D, POSITION_MAX, AxisMove, Segment, SetPosition, State
 
 SEGMENT = Segment(n=100, axes=(AxisMove(axis=0, direction=1, v0=4096, vn=0, r=0),))
 
@@ -88,8 +88,9 @@ async def test_usable_from_asyncio_threads_while_another_thread_streams(start_em
 def test_an_unanswered_request_names_the_last_position_and_alarm_known(start_emulator) -> None:
     emu = start_emulator(free=True)
     with Link.open(emu.url, request_timeout=0.05) as link:
-        link.send(Segment(n=100, axes=(AxisMove(axis=1, direction=1, v0=4096, vn=4096, r=0),)))  # no stop: UNDERRUN
-        with pytest.raises(AlarmError):
+        link.send(SetPosition(positions={1: POSITION_MAX}))
+        link.send(Segment(n=100, axes=(AxisMove(axis=1, direction=1, v0=D, vn=0, r=0),)))  # past POSITION_MAX
+        with pytest.raises((AlarmError, FirmwareError)):
             link.wait_idle(timeout=10)
         at = list(link.status().position)  # the board halted there, in ALARM
         os.kill(emu.pid, signal.SIGSTOP)
@@ -100,5 +101,5 @@ def test_an_unanswered_request_names_the_last_position_and_alarm_known(start_emu
             os.kill(emu.pid, signal.SIGCONT)
     text = str(raised.value)
     assert text.startswith("no answer to STATUS after 8 tries of 0.05 s")
-    assert f"(last known state ALARM, position {at} steps, 1 segments done" in text
-    assert f"; last alarm UNDERRUN at positions {at})" in text
+    assert f"(last known state ALARM, position {at} steps, 0 segments done" in text
+    assert f"; last alarm REJECTED_SEGMENT at positions {at})" in text

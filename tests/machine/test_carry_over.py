@@ -20,17 +20,10 @@ CONFIG = backlash_config((0.1, 0.05, 0.0))
 MOTOR = (4000, -120, 7)
 
 
-class BootingIdentity(IdentifyReply):
-    """IDENTIFY from a firmware that reports a boot id."""
-
-    boot_id: int
-
-
-def identity(boot: int | None = None) -> IdentifyReply:
-    fields = dict(protocol_version=1, fw_major=1, fw_minor=0, fw_patch=0, board=0, axis_count=3,
-                  queue_capacity=32, speed_shift=12, n_max=1022, tick_hz=CONFIG.tick_hz,
-                  capabilities=0, next_seq=0)
-    return IdentifyReply(**fields) if boot is None else BootingIdentity(boot_id=boot, **fields)
+def identity(boot: int = 0) -> IdentifyReply:
+    return IdentifyReply(protocol_version=2, fw_major=1, fw_minor=0, fw_patch=0, board=0, axis_count=3,
+                         queue_capacity=32, speed_shift=12, n_max=1022, tick_hz=CONFIG.tick_hz,
+                         capabilities=0, next_seq=0, boot_id=boot)
 
 
 def status(ticks: int, motor: tuple[int, ...] = MOTOR) -> StatusReport:
@@ -46,24 +39,24 @@ def kept(boot: int | None, ticks: int = 50_000) -> StateFile:
     coordinates = WorkCoordinates()
     coordinates.set_offset(1, "X", 12.5)
     return StateFile(coordinates=coordinates, homed=True, band=BandRecord.of(band, MOTOR),
-                     board=board_mark(identity(boot), ticks, MOTOR))
+                     board=board_mark(identity(boot or 0), ticks, MOTOR).model_copy(update={"boot_id": boot}))
 
 
-def test_the_boot_id_is_read_where_the_firmware_reports_one() -> None:
-    assert boot_id(identity()) is None and boot_id(identity(513)) == 513
+def test_the_boot_id_is_the_firmware_s() -> None:
+    assert boot_id(identity(513)) == 513
 
 
 @pytest.mark.parametrize(("recorded", "now", "ticks", "reset"), [
-    (None, None, 50_000, False),  # no boot ids: the clock as recorded
-    (None, None, 90_000, False),  # ran on since
-    (None, None, 49_999, True),  # went back: reset
+    (None, 0, 50_000, False),  # recorded without a boot id: the clock as recorded
+    (None, 0, 90_000, False),  # ran on since
+    (None, 0, 49_999, True),  # went back: reset
     (7, 7, 10, False),  # same boot id: whatever the clock says
     (7, 8, 90_000, True),  # another boot id: reset, however long it ran since
     (None, 8, 90_000, False),  # recorded without one: the clock decides
     (None, 8, 0, True),
 ])
 def test_a_reset_is_told_by_the_boot_id_else_by_the_motion_clock(
-        recorded: int | None, now: int | None, ticks: int, reset: bool) -> None:
+        recorded: int | None, now: int, ticks: int, reset: bool) -> None:
     mark = kept(recorded).board
     assert mark is not None and was_reset(mark, identity(now), status(ticks)) is reset
 

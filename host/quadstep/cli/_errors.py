@@ -7,7 +7,7 @@ import sys
 
 from pydantic import ValidationError
 
-from ..config import describe_validation_error
+from ..validation import describe_validation_error
 from ..emulator import EmulatorError
 from ..link import LinkError
 from ..machine import MachineError, StateError

@@ -269,9 +269,9 @@ def stream(args: argparse.Namespace, machine: Machine, job: Job, start: StatusRe
         else:
             how = " (HOLD)" if end.held else ""
             print(f"stopped at {job.label} {stopped_line}{how}")
-            if journal is not None:
-                print(f"quadstep run {args.job} --resume goes on from there")
         print("\n".join(position_lines(machine)))
+        if not completed and journal is not None:
+            print(f"quadstep run {args.job} --resume goes on from there")
         if completed:
             print("every axis is exactly where the job put it" if exact else
                   f"position differs from the plan: {positions_text(config, list(plan.end))}")

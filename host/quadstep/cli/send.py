@@ -11,7 +11,7 @@ from typing import Any
 
 from pydantic import BaseModel, ConfigDict, Field, model_validator
 
-from ..config import validate
+from ..validation import validate
 from ..protocol import AXIS_NAMES, IdentifyReply, Segment
 from ..protocol.fields import I32
 from ..textfile import parse_nested, read_text, strict_json

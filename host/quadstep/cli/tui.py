@@ -13,7 +13,8 @@ from typing import TYPE_CHECKING
 
 from pydantic import ValidationError
 
-from ..config import ConfigError, describe_validation_error, load_config
+from ..config import ConfigError, load_config
+from ..validation import describe_validation_error
 from ..jog import JogSettings
 from ..machine import Target, state_path
 from ._jobs import DEFAULT_CONFIG

@@ -10,12 +10,12 @@ one. The CLI, the TUI and jogging use it and nothing below it.
 from .errors import MachineError
 from .job import JobProgress, JobRun
 from .job_state import JobState
-from .machine import Machine, Program
+from .machine import Machine, Running
 from .motion import Motion, MotionEnd
 from .state import StateError, load_state, save_state, state_path
 from .target import Target, open_machine, start_emulator
 
 __all__ = [
-    "JobProgress", "JobRun", "JobState", "Machine", "MachineError", "Motion", "MotionEnd", "Program", "StateError", "Target",
+    "JobProgress", "JobRun", "JobState", "Machine", "MachineError", "Motion", "MotionEnd", "Running", "StateError", "Target",
     "load_state", "open_machine", "save_state", "start_emulator", "state_path",
 ]

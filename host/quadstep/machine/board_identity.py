@@ -2,11 +2,10 @@
 written on.
 
 A board's step counts (and so machine zero, and where each carriage sits in its backlash) start anew
-at each reset. A firmware that reports a boot id (a number it makes at each reset, in IDENTIFY)
-tells a reset directly; without one, continuity does: a board's motion clock only grows, so a clock
-below the one the state recorded means the board was reset since (a reset board that has since run
-longer than the recorded clock goes unnoticed, as does a clock past its 32 bits: 37 hours of motion
-at 32 kHz).
+at each reset. The firmware makes a boot id at each reset and reports it in IDENTIFY_REPLY, which
+tells a reset directly. A state file written before boot ids (version 1) has none: there continuity
+decides: a board's motion clock only grows, so a clock below the one the state recorded means the
+board was reset since.
 """
 
 from __future__ import annotations
@@ -15,10 +14,9 @@ from ..protocol import IdentifyReply, StatusReport
 from .state import BoardMark
 
 
-def boot_id(identity: IdentifyReply) -> int | None:
-    """The board's boot id, where its firmware reports one."""
-    value = getattr(identity, "boot_id", None)
-    return value if isinstance(value, int) else None
+def boot_id(identity: IdentifyReply) -> int:
+    """The board's boot id."""
+    return identity.boot_id
 
 
 def board_mark(identity: IdentifyReply, motion_ticks: int, position: tuple[int, ...]) -> BoardMark:
@@ -28,7 +26,6 @@ def board_mark(identity: IdentifyReply, motion_ticks: int, position: tuple[int, 
 
 def was_reset(mark: BoardMark, identity: IdentifyReply, status: StatusReport) -> bool:
     """Whether the board was reset since `mark` was recorded."""
-    now = boot_id(identity)
-    if now is not None and mark.boot_id is not None:
-        return now != mark.boot_id
+    if mark.boot_id is not None:
+        return boot_id(identity) != mark.boot_id
     return status.motion_ticks < mark.motion_ticks

@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import threading
 from collections.abc import Callable
-from dataclasses import dataclass, replace
+from dataclasses import replace
 from itertools import accumulate
 
 from ..coordinates import WorkCoordinates
@@ -23,27 +23,18 @@ from ..planner.program import JobError, Pause, ProbeMove, Program
 from ..protocol import InputCause, InputChange, Report
 from .errors import MachineError
 from .job_outputs import FEED_HOLD, stream_outputs, switch_off
-from .job_state import JobState, JobStates
+from .job_state import JobProgress, JobState, JobStates
 from .journal import Journal
 from .motion import CUT, STARVED, Motion, MotionEnd, bring_to_rest
 from .override import Swap, replan_running
-from .job_legs import base_plan, rest_after_pause, rest_after_probe, rest_after_stop, stream_move_ends
+from .job_legs import (
+    PauseOffer, base_plan, rest_after_pause, rest_after_probe, rest_after_stop, stream_move_ends,
+)
 from .standing import Restream
 from .takeups import StreamPlan
 
 LOOKAHEAD_S = 0.5  # s queued beyond the watchdog's host_timeout: a lost host meets the watchdog first
 AT_REST = (FEED_HOLD, STARVED)  # motion ends after which the rest of the job is planned again from rest
-
-
-@dataclass(frozen=True)
-class JobProgress:
-    done: int  # segments completed
-    total: int
-    line: int  # source line (or move) being executed
-    seconds_left: float
-    paused_at: int | None  # line of the pause or feed hold the job waits at
-    state: JobState = JobState.STREAMING
-    starvations: int = 0  # times the board ran dry and the job went on
 
 
 def final_state(end: MotionEnd) -> JobState:
@@ -307,15 +298,8 @@ class JobRun:
                                    self.link.segments_done, self._planned)
 
     def _note_state(self, state: JobState) -> None:
-        """The journal says where the job waits (a pause is offered again on resume) and forgets a done job."""
-        if self.journal is None:
-            return
-        if state is JobState.DONE:
-            self.journal.finish()
-        elif state.final:  # stopped at a pause: the pause is offered again on resume
-            self.journal.state(state.value, self.journal.waiting_at)
-        elif state is JobState.PAUSED or self.journal.waiting_at is not None:
-            self.journal.state(state.value, self.states.line)
+        if self.journal is not None:
+            self.journal.note(state, self.states.line)
 
     def _on_report(self, report: Report) -> None:
         """The board's cycle start button resumes a held job (in the reader thread: only an event is set)."""
@@ -432,24 +416,17 @@ class JobRun:
                 return None
             self._interrupted = False
         self.states.enter(JobState.PAUSED, line)
-        offered = pause is not None and pause.coordinates is not None and self.restream is not None
-        previous = self.restream.coordinates() if offered and self.restream else None
-        if offered and self.restream is not None and pause is not None and pause.coordinates is not None:
-            # the program's coordinates there, for a zero set at the pause (not kept unless one is)
-            self.restream.adopt(pause.coordinates.model_copy(deep=True))
+        restream = self.restream
+        program = pause.coordinates if pause is not None else None
+        offer = PauseOffer(program, restream) if program is not None and restream is not None else None
         self._resume.wait()
         self._resume.clear()
         with self._lock:
             interrupted, halted = self._interrupted, self._halted
-        if offered and pause is not None and pause.coordinates is not None and self.restream is not None:
-            after = self.restream.coordinates()
-            if not halted and (interrupted or after != pause.coordinates):
-                return self._after_pause(pause, pause.coordinates, after, interrupted)
-            if after == pause.coordinates and previous is not None:
-                self.restream.adopt(previous)
-        if halted or pause is None or self.restream is None:
+        after = offer.settle(interrupted, halted) if offer is not None else None
+        if after is not None and pause is not None and program is not None:
+            return self._after_pause(pause, program, after, interrupted)
+        if halted or pause is None or restream is None or self._planned == self._override:
             return None
-        if self._planned != self._override:  # the feed override changed too late to be streamed: from here
-            now = self.restream.coordinates()
-            return self._after_pause(pause, now, now, interrupted)
-        return None
+        now = restream.coordinates()  # the feed override changed too late to be streamed: from here
+        return self._after_pause(pause, now, now, interrupted)

@@ -13,6 +13,7 @@ from ..coordinates import WorkCoordinates
 from ..planner.plan import Plan
 from ..planner.program import Pause, ProbeMove, Program
 from .remainder import after_pause_program, carry_changes, remainder_program
+from .standing import Restream
 from .takeups import StreamPlan
 
 
@@ -56,3 +57,24 @@ def rest_after_pause(program: Program, pause: Pause, before: WorkCoordinates, af
     if program.coordinates is not None:
         carry_changes(program.coordinates, before, after)
     return rest
+
+
+class PauseOffer:
+    """At a pause of the program the machine works in the program's work coordinates there, so that a zero the
+    operator sets at the pause lands in them; where nothing changes, the machine's own come back."""
+
+    def __init__(self, program: WorkCoordinates, restream: Restream) -> None:
+        self.program = program
+        self.restream = restream
+        self.previous = restream.coordinates()
+        restream.adopt(program.model_copy(deep=True))  # in memory only: kept where a zero is set
+
+    def settle(self, interrupted: bool, halted: bool) -> WorkCoordinates | None:
+        """As the job goes on (or is halted): the coordinates the operator left where the rest must be planned
+        again in them (they changed, or another program moved the machine), else None."""
+        after = self.restream.coordinates()
+        if not halted and (interrupted or after != self.program):
+            return after
+        if after == self.program:
+            self.restream.adopt(self.previous)
+        return None

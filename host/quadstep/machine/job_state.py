@@ -18,6 +18,7 @@ from __future__ import annotations
 
 import threading
 from collections.abc import Callable
+from dataclasses import dataclass
 from enum import Enum
 
 
@@ -78,6 +79,19 @@ TRANSITIONS: dict[JobState, frozenset[JobState]] = {
 }
 # From any state not final: the user's stop, or an error.
 ALWAYS = frozenset({S.STOPPED, S.FAILED})
+
+
+@dataclass(frozen=True)
+class JobProgress:
+    """Where a job is, as the CLI and the TUI show it."""
+
+    done: int  # segments completed
+    total: int
+    line: int  # source line (or move) being executed
+    seconds_left: float
+    paused_at: int | None  # line of the pause or feed hold the job waits at
+    state: JobState = JobState.STREAMING
+    starvations: int = 0  # times the board ran dry and the job went on
 
 
 class TransitionError(RuntimeError):

@@ -22,11 +22,13 @@ from typing import Annotated, Literal
 
 from pydantic import BaseModel, ConfigDict, Field
 
-from ..config import MachineConfig, validate
+from ..config import MachineConfig
+from ..validation import validate
 from ..coordinates import WorkCoordinates
 from ..planner.program import Dwell, Item, LinearMove, OutputState, Pause, ProbeMove, Program, SetOutputs
 from ..textfile import read_text, replace_text
 from ..planner.approach import approach_to, describe, with_approach
+from .job_state import JobState
 from .remainder import move_item, rest_of
 
 COUNTER = 2**32  # the board's segments_done wraps here
@@ -141,7 +143,7 @@ class JournalFile(BaseModel):
 
     version: Literal[1] = 1
     job: JobIdentity
-    boot_id: int | None = None  # the board's, where it says (a reset board lost its position)
+    boot_id: int | None = None  # the board's boot id (another one: it was reset, its position lost)
     state: str = "streaming"  # the job's state at the last write (job_state.JobState values)
     waiting_at: int | None = None  # the line of the pause the job waited at
     leg: JournalLeg
@@ -163,7 +165,7 @@ def journal_path(state_file: Path) -> Path:
 class Journal:
     """Writes the journal of one job as it runs (JobRun calls it; every write replaces the file whole)."""
 
-    def __init__(self, path: Path, job: JobIdentity, boot_id: int | None = None) -> None:
+    def __init__(self, path: Path, job: JobIdentity, boot_id: int) -> None:
         self.path = path
         self.job = job
         self.boot_id = boot_id
@@ -206,6 +208,16 @@ class Journal:
     def finish(self) -> None:
         """The job completed: nothing to resume."""
         self.path.unlink(missing_ok=True)
+
+    def note(self, state: JobState, line: int | None) -> None:
+        """The job went to `state` (waiting at `line`): where it waits is kept (a pause is offered again on
+        resume, also when the job was stopped there); a done job leaves nothing to resume."""
+        if state is JobState.DONE:
+            self.finish()
+        elif state.final:
+            self.state(state.value, self.waiting_at)
+        elif state is JobState.PAUSED or self.waiting_at is not None:
+            self.state(state.value, line)
 
     def _write(self) -> None:
         assert self._file is not None

@@ -38,7 +38,7 @@ from .errors import MachineError
 from .inputs import config_message
 from .job import JobRun
 from .journal import Journal
-from .motion import Motion, MotionEnd
+from .motion import Motion, MotionEnd, bring_to_rest
 from .state import StateFile, read_state
 from .state_lock import StateLock
 from .standing import Standing, _Restream
@@ -77,7 +77,7 @@ class Procedure:
         self.machine._release(self)
 
 
-Program = Motion | JobRun | Procedure
+Running = Motion | JobRun | Procedure  # what the machine runs, one at a time
 
 
 class Machine(Standing):
@@ -112,13 +112,15 @@ class Machine(Standing):
         self._ticks = 0
         self.takeups = TakeUps(self.config)  # the backlash: take-ups in every program, positions without them
         self._lock = threading.Lock()
-        self._running: Program | None = None
+        self._running: Running | None = None
         self._waiting: JobRun | None = None  # a job waiting at a pause while another program runs
         self._motor: tuple[int, ...] = ()  # the board's step counts where it last stood still
         # Machine zero is known once homed; a hard limit or the abort button loses it (as GRBL's alarm).
         self._homed = False
         self._position_lost = False
         link.on_report(self._watch_alarms)
+        if link.status().state == State.STARVED:  # left dry by a host gone (a killed job): take it up
+            bring_to_rest(link, self.decels)
         if identity.capabilities & Capability.LIMIT_INPUTS and link.status().state in (State.IDLE, State.ALARM):
             link.send(config_message(self.config, identity.axis_count))
             link.drain(timeout=5)
@@ -175,7 +177,7 @@ class Machine(Standing):
             return self._running is not None
 
     @property
-    def program(self) -> Program | None:
+    def program(self) -> Running | None:
         """The program running, if one is."""
         with self._lock:
             return self._running
@@ -288,7 +290,7 @@ class Machine(Standing):
         if running is not None and not (isinstance(running, JobRun) and running.gives_way):
             raise MachineError(f"cannot {what}: a program is running (stop it first)")
 
-    def _take(self, program: Program) -> None:
+    def _take(self, program: Running) -> None:
         """Under the lock: `program` runs now. A job waiting at a pause gives way to it, and runs again after."""
         running = self._running
         if running is not None:
@@ -297,7 +299,7 @@ class Machine(Standing):
             self._waiting = running
         self._running = program
 
-    def _free(self, program: Program) -> None:
+    def _free(self, program: Running) -> None:
         """Under the lock: `program` ended; a job that gave way to it is the one running again."""
         if self._running is program:
             self._running, self._waiting = self._waiting, None
@@ -310,12 +312,12 @@ class Machine(Standing):
         if isinstance(report, Alarm) and report.code in (AlarmCode.HARD_LIMIT, AlarmCode.E_STOP):
             self.lose_position()
 
-    def _claim(self, program: Program) -> None:
+    def _claim(self, program: Running) -> None:
         self._interrupt_waiting()
         with self._lock:
             self._take(program)
 
-    def _release(self, program: Program) -> None:
+    def _release(self, program: Running) -> None:
         with self._lock:
             self._free(program)
             waiting = self._running is not None
@@ -329,8 +331,8 @@ class Machine(Standing):
         if isinstance(running, JobRun) and running.gives_way:
             running.interrupt()
 
-    def _begin(self, program: Program, compensated: Compensated | None = None,
-               raw: Sequence[Segment] | None = None) -> Program:
+    def _begin(self, program: Running, compensated: Compensated | None = None,
+               raw: Sequence[Segment] | None = None) -> Running:
         if self.config.homing_required and not self.homed:
             raise MachineError("homing_required = true in the configuration: home the machine first "
                                "(quadstep home, or the TUI's H)")
@@ -344,7 +346,7 @@ class Machine(Standing):
         program.on_end = lambda end: self._ended(program, end)
         return program
 
-    def _ended(self, program: Program, end: MotionEnd) -> None:
+    def _ended(self, program: Running, end: MotionEnd) -> None:
         """In the program's thread, before its waiters wake (after _settle): the machine is free again."""
         with self._lock:
             self._free(program)

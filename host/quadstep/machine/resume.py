@@ -28,7 +28,7 @@ def job_journal(machine: Machine, job: Path, skip_unsupported: bool = False) -> 
         return None
     identity = JobIdentity(path=str(job.resolve()), sha256=file_digest(job),
                            label="move" if is_move_file(job) else "line", skip_unsupported=skip_unsupported)
-    journal = Journal(journal_path(machine.state_file), identity, getattr(machine.identity, "boot_id", None))
+    journal = Journal(journal_path(machine.state_file), identity, machine.identity.boot_id)
     try:
         journal.check_writable()
     except OSError as exc:
@@ -64,8 +64,7 @@ def at_rest_with_position(machine: Machine, journal: JournalFile, status: Status
                           say: list[str]) -> StatusReport:
     """The board as the stop left it: cleared of an alarm that kept the position (STOP), refused where the
     position was lost (a hard limit, the abort button, a reset)."""
-    boot = getattr(machine.identity, "boot_id", None)
-    if journal.boot_id is not None and boot is not None and boot != journal.boot_id:
+    if journal.boot_id is not None and machine.identity.boot_id != journal.boot_id:
         raise MachineError("the board was reset since the job stopped, and where it stopped was lost with it; "
                            "home the machine, then start the file at a line: quadstep run JOB --from-line N")
     if status.state == State.ALARM:

@@ -42,7 +42,7 @@ class Standing:
     notice: str | None  # what opening the machine found of the kept state, for the user
     identity: IdentifyReply  # the Machine's
     axis_count: int
-    program: object | None  # the program running (machine.Program)
+    program: object | None  # the program running (machine.Running)
     coordinates: WorkCoordinates  # in force (a job running changes them as it goes)
     _stored_coordinates: WorkCoordinates  # as a work zero or a completed job left them: kept
     adopt_coordinates: Callable[[WorkCoordinates], None]

@@ -29,7 +29,7 @@ from typing import Literal
 from pydantic import BaseModel, ConfigDict
 
 from ..backlash.band import BandRecord
-from ..config import validate
+from ..validation import validate
 from ..coordinates import WorkCoordinates
 from ..textfile import SETTINGS_MAX_BYTES, parse_nested, read_text, replace_text, strict_json
 
