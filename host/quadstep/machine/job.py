@@ -93,15 +93,15 @@ class JobRun:
 
     @property
     def progress(self) -> JobProgress:
-        with self._lock:
-            motion, offset = self._motion, self._offset
+        with self._lock:  # one leg's plan, ticks and counts (a re-plan swaps them together)
+            motion, offset, plan = self._motion, self._offset, self.plan
+            ticks, before = self._ticks, self._done_before
         state, line_at = self.states.snapshot()
-        done = max(0, offset + (motion.done if motion is not None else 0))
-        total = len(self.plan)
-        line = int(self.plan.segments.line[min(done, total - 1)]) if total else 0
-        left = (self._ticks[-1] - self._ticks[done]) / self.plan.config.tick_hz
-        return JobProgress(self._done_before + done, self._done_before + total, line, left, line_at,
-                           state, self.states.starvations)
+        total = len(plan)
+        done = min(total, max(0, offset + (motion.done if motion is not None else 0)))
+        line = int(plan.segments.line[min(done, total - 1)]) if total else 0
+        left = (ticks[-1] - ticks[done]) / plan.config.tick_hz
+        return JobProgress(before + done, before + total, line, left, line_at, state, self.states.starvations)
 
     @property
     def held(self) -> bool:
