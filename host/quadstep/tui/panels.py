@@ -56,7 +56,7 @@ class MachinePanel(Panel):
     """State, alarm, queue fill, feed and link health."""
 
     def show(self, identity: IdentifyReply | None, snapshot: Snapshot | None, lost: str | None,
-             job: JobState | None = None) -> None:
+             job: JobState | None = None, position_lost: bool = False) -> None:
         text = Text("state ", style="dim")
         if lost is not None:
             text.append("DISCONNECTED", style="bold white on red")
@@ -70,6 +70,8 @@ class MachinePanel(Panel):
                 text.append(st.state.name, style=STATE_STYLE.get(st.state, ""))
             if st.alarm:
                 text.append(f" {st.alarm.name}", style="bold red")
+            elif position_lost:  # a hard limit or the abort button: cleared, but machine zero is gone
+                text.append(" position lost: h homes", style="bold red")
             health = snapshot.link
             bad = health["retransmits"] or health["errors"] or health["decode_errors"] or health["timeouts"]
             text.append("\nqueue ", style="dim")

@@ -112,7 +112,8 @@ class MachineScreen(JobKeys, JogKeys):
         if session.config is not None:
             self.query_one(PositionPanel).show(session.config, snapshot)
         job = self.job.state if self.job is not None else None
-        self.query_one(MachinePanel).show(session.identity, self.snapshot, session.lost, job)
+        lost = session.machine is not None and session.machine.position_lost
+        self.query_one(MachinePanel).show(session.identity, self.snapshot, session.lost, job, lost)
         self.query_one(JogPanel).show(session.jogger if session.connected else None)
         origin = None
         if snapshot is not None:
