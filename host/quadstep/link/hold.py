@@ -75,7 +75,7 @@ def hold_async(link: Link, decels: Sequence[int], timeout: float | None = None) 
 
 def _alarm_error(link: Link) -> LinkError:
     alarm = link.last_alarm
-    return AlarmError(alarm) if alarm is not None else LinkError("firmware is in ALARM; stop() clears it")
+    return AlarmError(alarm) if alarm is not None else LinkError("firmware is in ALARM; a STOP clears it (Ctrl+X in the TUI)")
 
 
 def _wait_hold_done(link: Link, message: Hold, seen: int, generation: int, timeout: float | None) -> HoldDone:
