@@ -14,6 +14,7 @@ import threading
 from collections.abc import Callable
 from dataclasses import replace
 from itertools import accumulate
+from typing import TypeVar
 
 from ..coordinates import WorkCoordinates
 from ..link import Link, LinkError
@@ -33,6 +34,7 @@ from .job_legs import (
 from .standing import Restream
 from .takeups import StreamPlan
 
+PauseOrProbe = TypeVar("PauseOrProbe", Pause, ProbeMove)
 LOOKAHEAD_S = 0.5  # s queued beyond the watchdog's host_timeout: a lost host meets the watchdog first
 AT_REST = (FEED_HOLD, STARVED)  # motion ends after which the rest of the job is planned again from rest
 
@@ -251,9 +253,12 @@ class JobRun:
             self._planned = self._override
         return scale_feeds(self.program, self._planned)
 
-    def _item_at(self, kind: type, line: int) -> Pause | ProbeMove | None:
-        items = self.program.items if self.program is not None else ()
-        return next((i for i in items if isinstance(i, kind) and i.line == line), None)
+    def _item_at(self, kind: type[PauseOrProbe], line: int) -> PauseOrProbe | None:
+        """The program's pause (or probe) at `line`."""
+        for item in self.program.items if self.program is not None else ():
+            if isinstance(item, kind) and item.line == line:
+                return item
+        return None
 
     def _probe(self, probe: ProbeMove) -> MotionEnd:
         """At rest before a G38.x of the program: the machine probes, then the rest of the program is read and
@@ -394,7 +399,7 @@ class JobRun:
             if line is None:
                 break
             probe = self._item_at(ProbeMove, line)
-            if isinstance(probe, ProbeMove):
+            if probe is not None:
                 return self._probe(probe)
             gone_on = self._wait_at_pause(line)
             if gone_on is not None:
@@ -410,7 +415,6 @@ class JobRun:
         changed the work offsets meanwhile, the rest planned again from there (its end returned), else None:
         the next section follows as planned."""
         pause = self._item_at(Pause, line)
-        assert pause is None or isinstance(pause, Pause)
         with self._lock:
             if self._halted:
                 return None
@@ -423,7 +427,7 @@ class JobRun:
         self._resume.clear()
         with self._lock:
             interrupted, halted = self._interrupted, self._halted
-        after = offer.settle(interrupted, halted) if offer is not None else None
+        after = offer.settle(interrupted, halted is not None) if offer is not None else None
         if after is not None and pause is not None and program is not None:
             return self._after_pause(pause, program, after, interrupted)
         if halted or pause is None or restream is None or self._planned == self._override:
