@@ -6,8 +6,14 @@ the moves sized from the configured backlash and the travel."""
 from __future__ import annotations
 
 import pytest
-
-from quadstep.backlash.dial import MIN_MOVE_MM, DialError, DialPlan, from_jog_back, from_reading, plan
+from quadstep.backlash.dial import (
+    MIN_MOVE_MM,
+    DialError,
+    DialPlan,
+    from_jog_back,
+    from_reading,
+    plan,
+)
 from quadstep.config import AxisConfig, BacklashConfig
 
 
