@@ -1,7 +1,7 @@
-"""The dial-indicator measurement's moves and arithmetic (machine/dial.py) on the emulator's simulated machine,
-the indicator read from the carriage in its trace: with backlash 0 … 1.2 mm on Z, its carriage last moved
-away from the indicator, every result is within a step of the truth or refused with the reason; a longer
-move then measures what a short one refused."""
+"""The dial-indicator measurement's moves and arithmetic (machine/dial.py) on the emulator's
+simulated machine, the indicator read from the carriage in its trace: with backlash 0 … 1.2 mm on Z,
+its carriage last moved away from the indicator, every result is within a step of the truth or
+refused with the reason; a longer move then measures what a short one refused."""
 
 from __future__ import annotations
 
@@ -23,7 +23,8 @@ TRUTHS_MM = (0.0, 0.0033, 0.2219, 0.5, 1.2)
 
 
 class Indicator:
-    """A dial indicator against Z's carriage, read from the emulator's trace (flushed whenever it rests)."""
+    """A dial indicator against Z's carriage, read from the emulator's trace (flushed whenever it
+    rests)."""
 
     def __init__(self, trace: Path, start: float) -> None:
         self.trace, self.start = trace, start
@@ -55,8 +56,8 @@ def z_axis(
     config: MachineConfig | None = None,
     last: int = -1,
 ) -> Iterator[tuple[Machine, Indicator]]:
-    """Z with `truth_mm` of backlash, its carriage last moved in `last` (−1: away from an indicator on its +
-    side, so trailing the motor on the + side of its band), at 0."""
+    """Z with `truth_mm` of backlash, its carriage last moved in `last` (−1: away from an indicator
+    on its + side, so trailing the motor on the + side of its band), at 0."""
     b = truth_mm * STEPS_PER_MM
     sim = tmp_path / "dial.toml"
     sim.write_text(
@@ -74,8 +75,9 @@ def z_axis(
 
 
 def by_jogging(dial: DialMeasurement, indicator: Indicator) -> DialResult:
-    """The user: preload, zero, jog back in large steps to get close, then one step at a time; a needle that
-    moves within a large step is refused, so again, the large steps stopping short of it."""
+    """The user: preload, zero, jog back in large steps to get close, then one step at a time; a
+    needle that moves within a large step is refused, so again, the large steps stopping short of
+    it."""
     dial.preload()
     indicator.zeroed()
     large = dial.plan.jog_steps(dial.jog_mm)
@@ -168,8 +170,8 @@ def test_the_moves_are_twice_the_configured_backlash_and_within_the_travel(
 def test_a_preload_shorter_than_the_backlash_is_refused_not_reported_as_the_backlash(
     start_emulator: StartEmulator, tmp_path: Path
 ) -> None:
-    """0.2 mm moves on 0.2219 mm of backlash, the carriage last moved away: both methods used to give 0.2000
-    mm, the preload itself."""
+    """0.2 mm moves on 0.2219 mm of backlash, the carriage last moved away: both methods used to
+    give 0.2000 mm, the preload itself."""
     with z_axis(start_emulator, tmp_path, 0.2219) as (machine, indicator):
         dial = DialMeasurement(machine, "Z", move_mm=0.2)
         jogged, read = measured(dial, indicator)

@@ -1,8 +1,9 @@
-"""The limit-switch measurement on the emulator's simulated machine, its hysteresis calibrated exactly: within
-a step of the truth for backlash 0 … 1 mm and hysteresis 4 … 10 steps (−1 exactly only where both of the
-switch's points fall exactly on motor steps, which no count of steps can tell apart); zero backlash gives 0,
-not −1 step; a result negative beyond the rounding, tries that spread more than a step (a bounce longer than
-the debounce) and a bounce that trips the hard limit are refused with the reason."""
+"""The limit-switch measurement on the emulator's simulated machine, its hysteresis calibrated
+exactly: within a step of the truth for backlash 0 … 1 mm and hysteresis 4 … 10 steps (−1 exactly
+only where both of the switch's points fall exactly on motor steps, which no count of steps can tell
+apart); zero backlash gives 0, not −1 step; a result negative beyond the rounding, tries that spread
+more than a step (a bounce longer than the debounce) and a bounce that trips the hard limit are
+refused with the reason."""
 
 from __future__ import annotations
 

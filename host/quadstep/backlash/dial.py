@@ -1,19 +1,22 @@
-"""A dial indicator's reading of the backlash, for machines without a probe (the TUI's wizard; docs/BACKLASH.md).
+"""A dial indicator's reading of the backlash, for machines without a probe (the TUI's wizard;
+docs/BACKLASH.md).
 
 The indicator rests against the carriage, preloaded by a move toward it and zeroed there. Either:
 
-- **jog back** one motor step at a time: the first steps turn the motor through the band and leave the
-  carriage (and the needle) where it is; the step that first moves the needle is the first past the band,
-  so the band is the steps before it;
-- **move back by d** and read the indicator: the carriage came back by d − B, so B = d − the reading.
+- **jog back** one motor step at a time: the first steps turn the motor through the band and leave
+  the carriage (and the needle) where it is; the step that first moves the needle is the first past
+  the band, so the band is the steps before it;
+- **move back by d** and read the indicator: the carriage came back by d − B, so B = d − the
+  reading.
 
-Both are the carriage's own motion, so no switch or probe hysteresis enters; the indicator's resolution and
-the least needle motion the eye sees add to the jog-back result.
+Both are the carriage's own motion, so no switch or probe hysteresis enters; the indicator's
+resolution and the least needle motion the eye sees add to the jog-back result.
 
-Both need moves longer than the backlash: a preload shorter than it leaves the carriage where it was (the
-take-up never finishes, and either way the result is the preload itself), a move back shorter than it never
-moves the carriage (the reading is 0, the result the move itself). So the moves are at least twice the
-configured backlash and at least `MIN_MOVE_MM`, and a result that shows either is refused with the reason.
+Both need moves longer than the backlash: a preload shorter than it leaves the carriage where it was
+(the take-up never finishes, and either way the result is the preload itself), a move back shorter
+than it never moves the carriage (the reading is 0, the result the move itself). So the moves are at
+least twice the configured backlash and at least `MIN_MOVE_MM`, and a result that shows either is
+refused with the reason.
 """
 
 from __future__ import annotations
@@ -32,8 +35,8 @@ JOG_MM = 0.01  # the larger jog back (one key), besides single steps
 
 
 class DialError(ValueError):
-    """A reading that cannot be a backlash, or a result that cannot be trusted (names the value, its limit
-    and what to do)."""
+    """A reading that cannot be a backlash, or a result that cannot be trusted (names the value, its
+    limit and what to do)."""
 
 
 @dataclass(frozen=True)
@@ -44,7 +47,8 @@ class DialResult:
 
 @dataclass(frozen=True)
 class DialPlan:
-    """The wizard's moves for one axis: the preload and the move back (the same length), in mm and steps."""
+    """The wizard's moves for one axis: the preload and the move back (the same length), in mm and
+    steps."""
 
     move_mm: float
     steps_per_mm: float
@@ -58,8 +62,8 @@ class DialPlan:
 
 
 def plan(axis: AxisConfig, move_mm: float | None = None) -> DialPlan:
-    """The moves for `axis`: `move_mm`, or by default the larger of `MIN_MOVE_MM` and twice its configured
-    backlash; refused beyond a quarter of its travel."""
+    """The moves for `axis`: `move_mm`, or by default the larger of `MIN_MOVE_MM` and twice its
+    configured backlash; refused beyond a quarter of its travel."""
     configured = axis.backlash.mm if axis.backlash is not None else 0.0
     move = max(MIN_MOVE_MM, MOVE_FACTOR * configured) if move_mm is None else move_mm
     if move <= 0:
@@ -77,8 +81,9 @@ def _within_preload(steps: float, move: DialPlan, what: str) -> None:
     indicator's side of the band."""
     if steps >= move.move_steps - 1 - 1e-9:
         raise DialError(
-            f"{what}: the result, {steps:g} steps, is the preload ({move.move_steps} steps, {move.move_mm:g} mm) "
-            "within a step: the preload never took up the backlash, so the carriage never pressed the "
+            f"{what}: the result, {steps:g} steps, is the preload ({move.move_steps} steps, "
+            f"{move.move_mm:g} mm) within a step: the preload never took up the backlash, so the "
+            "carriage never pressed the "
             "indicator: refused; preload further (a longer move) and measure again"
         )
 
@@ -91,7 +96,7 @@ def from_jog_back(
     if steps_until_moved < 1:
         raise DialError(f"steps until the needle moved = {steps_until_moved}: must be at least 1")
     steps = steps_until_moved - 1
-    if move is not None:  # the least it can be is already the preload: refused whatever the jog's size
+    if move is not None:  # its least is the preload already: refused, whatever the jog's size
         _within_preload(steps_until_moved - last_jog, move, "jog back")
     if last_jog > 1:
         raise DialError(
@@ -104,8 +109,8 @@ def from_jog_back(
 def from_reading(
     distance_mm: float, reading_mm: float, steps_per_mm: float, move: DialPlan | None = None
 ) -> DialResult:
-    """Moved back by `distance_mm` from the zeroed, preloaded indicator, which then read `reading_mm` (its
-    magnitude: how far the carriage came back); `move` the preload it followed."""
+    """Moved back by `distance_mm` from the zeroed, preloaded indicator, which then read
+    `reading_mm` (its magnitude: how far the carriage came back); `move` the preload it followed."""
     reading = abs(reading_mm)
     if distance_mm <= 0:
         raise DialError(f"distance = {distance_mm:g} mm: must be more than 0")
@@ -116,7 +121,8 @@ def from_reading(
     if reading == 0:
         raise DialError(
             f"reading = 0 mm after moving back {distance_mm:g} mm: the carriage never moved (the "
-            "backlash is at least the move): refused; move further (a longer move) and measure again"
+            "backlash is at least the move): refused; move further (a longer move) and measure "
+            "again"
         )
     mm = distance_mm - reading
     if move is not None:

@@ -9,13 +9,13 @@ the first e − B steps of the back-off move the motor inside the band, not the 
 found by doubling, then halving (a test that misses needs a new touch; one that hits does not).
 
 **Switch**: approach until the switch closes, reverse until it opens, approach again: each interval between
-two edges is the backlash plus the switch's own hysteresis, rounded up by 0 … 2 steps (0 only when both
-edges fall exactly on a motor step). The hysteresis, calibrated once (`switch_hysteresis`, from a backlash
-known by the probe), is subtracted.
+two edges is the backlash plus the switch's own hysteresis, rounded up by 0 … 2 steps (0 only when
+both edges fall exactly on a motor step). The hysteresis, calibrated once (`switch_hysteresis`,
+from a backlash known by the probe), is subtracted.
 
-Both run k tries and refuse a result whose tries spread more than a bound or more than one step (latches are
-exact: a wider spread is a bounce or a loose part, and the mean is no longer within a step), and one that is
-negative beyond the rounding (−1 step); a negative result within it is 0.
+Both run k tries and refuse a result whose tries spread more than a bound or more than one step
+(latches are exact: a wider spread is a bounce or a loose part, and the mean is no longer within a
+step), and one that is negative beyond the rounding (−1 step); a negative result within it is 0.
 """
 
 from __future__ import annotations
@@ -38,7 +38,7 @@ Progress = Callable[[str], None]
 # Per axis, the probe's default corner: the direction toward the face measured, and the axis that tests the
 # neighbouring face (toward +): the −X, −Y corner of a block for X and Y, a plate's −X edge for Z.
 PROBE_SETUP = {"X": (1, "Y"), "Y": (1, "X"), "Z": (-1, "X"), "A": (1, "X")}
-ROUNDING = 1.0  # steps: each method's result is within this of the backlash, so no try may spread more
+ROUNDING = 1.0  # steps: a result is within this of the backlash, so no try may spread more
 
 
 class MeasureError(MachineError):
@@ -70,11 +70,17 @@ class Measurement:
             return (f"the result is {self.negative_steps:g} steps, negative beyond the rounding "
                     f"(−{ROUNDING:g} step): {cause}")
         if self.spread_mm > self.bound_mm + 1e-12:
-            return f"the tries spread {self.spread_mm:.4f} mm, more than --max-spread {self.bound_mm:g} mm"
+            return (
+                f"the tries spread {self.spread_mm:.4f} mm, more than --max-spread "
+                f"{self.bound_mm:g} mm"
+            )
         if self.spread_steps > ROUNDING + 1e-9:
-            why = " (a bouncing switch: raise [inputs] debounce_ms)" if self.method == "switch" else ""
-            return (f"the tries spread {self.spread_steps:g} steps, more than {ROUNDING:g} step: a latch "
-                    f"came late{why}")
+            bounce = " (a bouncing switch: raise [inputs] debounce_ms)"
+            why = bounce if self.method == "switch" else ""
+            return (
+                f"the tries spread {self.spread_steps:g} steps, more than {ROUNDING:g} step: a "
+                f"latch came late{why}"
+            )
         return ""
 
     @property
@@ -91,15 +97,17 @@ class Measurement:
 
 
 def _result(axis: AxisConfig, method: str, tries: list[float], bound_mm: float, **extra: float | None) -> Measurement:
-    """The mean and spread of the tries; a negative mean is 0 (a backlash is not below 0) and kept to judge
-    whether it is within the rounding."""
+    """The mean and spread of the tries; a negative mean is 0 (a backlash is not below 0) and kept
+    to judge whether it is within the rounding."""
     spm = axis.steps_per_mm
     mean = statistics.fmean(tries)
     spread = max(tries) - min(tries)
     negative = min(mean, 0.0)
     mean = max(mean, 0.0)
-    return Measurement(axis.name, method, tries, mean, mean / spm, spread, spread / spm, bound_mm, **extra,
-                       negative_steps=negative)
+    return Measurement(
+        axis.name, method, tries, mean, mean / spm, spread, spread / spm, bound_mm, **extra,
+        negative_steps=negative,
+    )
 
 
 def _axis(machine: Machine, name: str) -> int:
@@ -214,13 +222,15 @@ def switch_sums(machine: Machine, a: int, end: str, tries: int, search: float, f
 
 
 def bounced(machine: Machine, which: Input, exc: AlarmError) -> str:
-    """A hard limit during a switch measurement: the switch closed again after its opening was accepted, which
-    is a contact bouncing for longer than the debounce."""
+    """A hard limit during a switch measurement: the switch closed again after its opening was
+    accepted, which is a contact bouncing for longer than the debounce."""
     debounce = machine.config.inputs.debounce_ms
-    return (f"the switch bounced ({which.name} closed again after its edge was accepted, at positions "
-            f"{list(exc.alarm.position)}): its bounce lasts longer than [inputs] debounce_ms = {debounce:g} ms; "
-            "raise debounce_ms (a few ms) and measure again. The board is in ALARM HARD_LIMIT: STOP "
-            "(Ctrl+X in the TUI) clears it")
+    return (
+        f"the switch bounced ({which.name} closed again after its edge was accepted, at positions "
+        f"{list(exc.alarm.position)}): its bounce lasts longer than [inputs] debounce_ms = "
+        f"{debounce:g} ms; raise debounce_ms (a few ms) and measure again. The board is in ALARM "
+        "HARD_LIMIT: STOP (Ctrl+X in the TUI) clears it"
+    )
 
 
 def measure_with_switch(machine: Machine, name: str, *, end: str | None = None, tries: int = 5, search: float = 5.0,

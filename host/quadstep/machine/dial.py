@@ -1,6 +1,6 @@
-"""The dial-indicator measurement's moves and bookkeeping on one axis (backlash/dial.py has the arithmetic):
-the preload toward the indicator, jogs back by single or larger steps, the move back for a reading. The TUI's
-wizard runs these in a worker thread and shows what to do between them."""
+"""The dial-indicator measurement's moves and bookkeeping on one axis (backlash/dial.py has the
+arithmetic): the preload toward the indicator, jogs back by single or larger steps, the move back
+for a reading. The TUI's wizard runs these in a worker thread and shows what to do between them."""
 
 from __future__ import annotations
 
@@ -20,7 +20,8 @@ FEED = 2.0  # mm/s
 
 
 class DialMeasurement:
-    """One axis measured against a dial indicator on its `side` (+1: the axis's + side: preload +, back −)."""
+    """One axis measured against a dial indicator on its `side` (+1: the axis's + side: preload +,
+    back −)."""
 
     def __init__(
         self,
@@ -53,7 +54,7 @@ class DialMeasurement:
             RawMoves(self.machine, self.feed).move(self.index, motor)
 
     def preload(self) -> None:
-        """Toward the indicator by the whole move: beyond the backlash, so the carriage presses it."""
+        """Toward the indicator by the whole move: past the backlash, so the carriage presses it."""
         self._move(self.plan.move_steps)
         self.count = self.last_jog = 0
 

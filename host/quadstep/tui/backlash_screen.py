@@ -35,14 +35,18 @@ METHODS = ("probe", "switch")
 
 
 def placement(axis: str, method: str) -> str:
-    """Where to put the probe (or the axis) before measuring, with the defaults the screen measures with."""
+    """Where to put the probe (or the axis) before measuring, for the screen's defaults."""
     if method == "switch":
-        return (f"{axis} within 5 mm of its homing end's limit switch, off it; the switch's hysteresis "
-                "calibrated (quadstep backlash calibrate-switch)")
+        return (
+            f"{axis} within 5 mm of its homing end's limit switch, off it; the switch's "
+            "hysteresis calibrated (quadstep backlash calibrate-switch)"
+        )
     toward, test = PROBE_SETUP[axis]
     face = f"{'−' if toward > 0 else '+'}{axis}"
-    return (f"put the probe less than 10 mm outside the target's {face} face and less than 3 mm inside "
-            f"its −{test} edge (the corner of those two faces; docs/BACKLASH.md)")
+    return (
+        f"put the probe less than 10 mm outside the target's {face} face and less than 3 mm "
+        f"inside its −{test} edge (the corner of those two faces; docs/BACKLASH.md)"
+    )
 
 
 class Tried(Message):
@@ -179,16 +183,20 @@ class BacklashScreen(ModalScreen[None]):
             self.say(f"backlash {self.axis}: {message.error}", True)
             return
         value = f"{result.mm:.4f} mm"
-        rest = (f" ({result.steps:g} steps), spread {result.spread_steps:g} steps ({result.spread_mm:.4f} mm) "
-                f"over {len(result.tries)} tries")
+        rest = (
+            f" ({result.steps:g} steps), spread {result.spread_steps:g} steps "
+            f"({result.spread_mm:.4f} mm) over {len(result.tries)} tries"
+        )
         if result.accepted:
             self.result = result
             after = "\nw: write it to the configuration (asks first)"
             marked = after
         else:
             after = f"\nrefused: {result.refused} (check the setup, then measure again)"
-            marked = f"\n[b]refused[/b]: {escape(result.refused)} (check the setup, then measure again)"
-        self.lines.append(f"{result.axis} backlash: {value}{rest}{after}")  # plain, for scripts and tests
+            marked = (
+                f"\n[b]refused[/b]: {escape(result.refused)} (check the setup, then measure again)"
+            )
+        self.lines.append(f"{result.axis} backlash: {value}{rest}{after}")  # plain, for scripts
         self.query_one("#backlash-result", Static).update(
             f"{result.axis} backlash: [b]{value}[/b]{escape(rest)}{marked}")
 

@@ -1,10 +1,11 @@
 """The dial-indicator wizard: a guided backlash measurement for machines without a probe (backlash/dial.py).
 
 Set the indicator against the carriage, preload it (p moves the axis toward it), zero it, then either jog back
-(one motor step, or a larger step to get close) until the needle moves, or move back by the same distance and
-type the reading; the screen says what to do at each step, computes the backlash, refuses a result it cannot
-trust with the reason, and writes it after a confirm. The moves (machine/dial.py) are longer than the
-backlash: at least twice the configured one and at least backlash/dial.py's minimum; + and − change them.
+(one motor step, or a larger step to get close) until the needle moves, or move back by the same
+distance and type the reading; the screen says what to do at each step, computes the backlash,
+refuses a result it cannot trust with the reason, and writes it after a confirm. The moves
+(machine/dial.py) are longer than the backlash: at least twice the configured one and at least
+backlash/dial.py's minimum; + and − change them.
 """
 
 from __future__ import annotations
@@ -56,7 +57,7 @@ class DialWizard(ModalScreen[None]):
         self.axis = axis
         self.jog_mm = jog_mm  # the larger jog back (k)
         config = session.config
-        self.move_mm = MIN_MOVE_MM  # the preload and the move back; sized from the configuration below
+        self.move_mm = MIN_MOVE_MM  # the preload and the move back; from the configuration below
         if config is not None and axis in config.axis_names:
             try:
                 self.move_mm = plan(config.axes[config.axis_names.index(axis)]).move_mm
@@ -93,16 +94,16 @@ class DialWizard(ModalScreen[None]):
         back = "−" if self.side > 0 else "+"
         count = self.measurement.count if self.measurement is not None else 0
         text = {
-            "place": f"1. Put the indicator against the carriage on its {side} side, square to {self.axis}, "
-                     f"with {move:g} mm of its travel free.\n"
-                     f"2. Press p: {self.axis} moves {move:g} mm {side} into it (the preload: longer than the "
-                     "backlash; + − change it).",
+            "place": f"1. Put the indicator against the carriage on its {side} side, square to "
+            f"{self.axis}, with {move:g} mm of its travel free.\n"
+            f"2. Press p: {self.axis} moves {move:g} mm {side} into it (the preload: longer than "
+            "the backlash; + − change it).",
             "zero": "3. Zero the indicator, then press Enter.",
             "back": f"4. Press j (or ←) to move {self.axis} {back} one motor step, k (shift+←) for "
-                    f"{self.jog_mm:g} mm to get close; press Enter as soon as the needle moves (in a k step: "
-                    f"refused, repeat with j).   steps so far: [b]{count}[/b]",
-            "moved": f"4. {self.axis} moved {move:g} mm {back}. Type the indicator's reading (mm) and press "
-                     "Enter.",
+            f"{self.jog_mm:g} mm to get close; press Enter as soon as the needle moves (in a k "
+            f"step: refused, repeat with j).   steps so far: [b]{count}[/b]",
+            "moved": f"4. {self.axis} moved {move:g} mm {back}. Type the indicator's reading (mm) "
+            "and press Enter.",
             "done": "w: write the result to the configuration (asks first)   p: again   Esc: close",
         }[self.stage]
         self.query_one("#dial-step", Static).update(text)
@@ -170,7 +171,9 @@ class DialWizard(ModalScreen[None]):
             self.say("not connected", True)
             return
         try:
-            self.measurement = DialMeasurement(machine, self.axis, self.side, self.move_mm, self.jog_mm)
+            self.measurement = DialMeasurement(
+                machine, self.axis, self.side, self.move_mm, self.jog_mm
+            )
         except DialError as exc:
             self.say(str(exc), True)
             return
