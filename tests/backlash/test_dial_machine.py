@@ -179,3 +179,23 @@ def test_a_preload_shorter_than_the_backlash_is_refused_not_reported_as_the_back
             isinstance(jogged, str) and "is the preload (80 steps, 0.2 mm) within a step" in jogged
         ), jogged
         assert isinstance(read, str) and "refused" in read, read
+
+
+def test_jogging_back_past_the_preload_is_overdue(
+    start_emulator: StartEmulator, tmp_path: Path
+) -> None:
+    """A 0.1 mm preload on 1.2 mm of backlash, the carriage last moved toward the indicator: the
+    needle moves only 480 steps back, so a step past the preload's it is overdue (the wizard says
+    so)."""
+    with z_axis(start_emulator, tmp_path, 1.2, last=1) as (machine, indicator):
+        dial = DialMeasurement(machine, "Z", move_mm=0.1)
+        dial.preload()
+        indicator.zeroed()
+        while dial.count + 4 <= dial.plan.move_steps:
+            dial.jog(large=True)
+        dial.jog()
+        assert (
+            dial.count == 41 and not dial.overdue
+        )  # this step can still be the first past the band
+        dial.jog()
+        assert dial.overdue and not indicator.moved()

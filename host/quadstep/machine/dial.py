@@ -65,6 +65,12 @@ class DialMeasurement:
         self.count += steps
         self.last_jog = steps
 
+    @property
+    def overdue(self) -> bool:
+        """Jogged back past the preload and then a step: the needle must have moved by now, if the
+        preload took the backlash up and the indicator touches the carriage."""
+        return self.count > self.plan.move_steps + 1
+
     def move_back(self) -> None:
         """Back by the whole move, for a reading."""
         self._move(-self.plan.move_steps)

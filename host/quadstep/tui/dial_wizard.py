@@ -143,6 +143,13 @@ class DialWizard(ModalScreen[None]):
         self.moving = False
         if message.error:
             self.say(f"dial indicator: {message.error}", True)
+        elif self.stage == "back" and self.measurement is not None and self.measurement.overdue:
+            self.say(
+                f"jogged back {self.measurement.count} steps, more than the preload: the needle should "
+                "have moved; the backlash is more than the move (+, then p) or the indicator does not "
+                "touch the carriage",
+                True,
+            )
         self._show()
 
     # --- keys ------------------------------------------------------------------------------
