@@ -14,6 +14,7 @@ from quadstep.tui import QuadstepApp, Session, Target
 from quadstep.tui.backlash_screen import BacklashScreen
 from quadstep.tui.confirm import ConfirmScreen
 from quadstep.tui.dial_wizard import DialWizard
+from textual.widgets import Static
 from tui_helpers import until
 
 REPO = Path(__file__).resolve().parents[2]
@@ -37,6 +38,11 @@ def on_screen(screen, selector: str) -> bool:  # noqa: ANN001
     return region.height > 0 and region.bottom <= SIZE[1] and region.right <= SIZE[0]
 
 
+def shown(screen, selector: str) -> str:  # noqa: ANN001
+    """A Static's text as drawn (markup applied)."""
+    return str(screen.query_one(selector, Static).render())
+
+
 async def confirm(pilot, app, answer: str) -> None:  # noqa: ANN001
     await pilot.press("w")
     await until(pilot, lambda: isinstance(app.screen, ConfirmScreen), what="the question")
@@ -52,6 +58,8 @@ async def test_the_probe_measures_x_and_the_result_is_written_only_after_yes(tmp
         await pilot.press("b")
         screen = app.screen
         assert isinstance(screen, BacklashScreen) and on_screen(screen, "#backlash-setup")
+        where = "put the probe less than 10 mm outside the target's −X face and less than 3 mm "
+        assert where + "inside its −Y edge" in " ".join(shown(screen, "#backlash-setup").split())
         await pilot.press("minus", "minus", "minus")  # 2 tries
         await pilot.press("enter")
         await until(pilot, lambda: screen.result is not None or not screen.running, 60, "the measurement")
@@ -64,6 +72,9 @@ async def test_the_probe_measures_x_and_the_result_is_written_only_after_yes(tmp
         assert path.read_text() == before and not path.with_name("machine.toml.bak").exists()
         await confirm(pilot, app, "y")
         assert load_config(path).axes[0].backlash.mm == round(screen.result.mm, 4)
+        drawn = shown(screen, "#backlash-tries") + shown(screen, "#backlash-result")
+        assert "[b]" not in drawn and drawn.count("X backlash:") == 1, drawn  # once, as drawn
+        assert "wrote X backlash.mm" in drawn, drawn
         assert path.with_name("machine.toml.bak").read_text() == before
         assert app.session.config_given.axes[0].backlash.mm == round(screen.result.mm, 4)  # for the next connection
 
@@ -97,23 +108,28 @@ async def test_the_dial_wizard_computes_from_jogs_and_readings(tmp_path: Path, e
         assert isinstance(wizard, DialWizard) and on_screen(wizard, "#dial-step")
         machine = app.session.machine
         start = machine.position[0]
-        await pilot.press("p")  # the preload: 0.2 mm toward the indicator
+        await pilot.press("p")  # the preload: 1 mm toward the indicator (the least move)
         await until(pilot, lambda: wizard.stage == "zero" and not wizard.moving, 20, f"the preload {wizard.lines}")
-        assert machine.position[0] == start + 80
+        assert machine.position[0] == start + 400
         await pilot.press("enter")
         assert wizard.stage == "back"
-        for _ in range(5):  # the needle moves on the fifth step back
-            await pilot.press("j")
+        for key in ("k", "j"):  # 0.01 mm (4 steps) to get close, then one: the needle moves on 5
+            await pilot.press(key)
             await until(pilot, lambda: not wizard.moving, 20, "a step back")
-        assert machine.position[0] == start + 75
+        assert machine.position[0] == start + 395
         await pilot.press("enter")
         assert wizard.result is not None and wizard.result.steps == 4 and wizard.result.mm == 0.01
-        await pilot.press("t", "p")  # again, moving back 0.5 mm and reading the indicator
+        await pilot.press("p", "enter", "k")  # the needle moves in a large step: refused
+        await until(pilot, lambda: wizard.stage == "back" and not wizard.moving, 20, "a large step")
+        await pilot.press("enter")
+        assert wizard.result is None
+        assert "the needle moved during a jog of 4 steps" in wizard.lines[-1], wizard.lines
+        await pilot.press("t", "p")  # again, moving back 1 mm and reading the indicator
         await until(pilot, lambda: wizard.stage == "zero" and not wizard.moving, 20, "the preload")
         await pilot.press("enter")
         await until(pilot, lambda: wizard.stage == "moved" and not wizard.moving, 20, "the move back")
         assert on_screen(wizard, "#dial-reading")
-        await pilot.press("0", ".", "4", "5", "enter")
+        await pilot.press("0", ".", "9", "5", "enter")
         assert abs(wizard.result.mm - 0.05) < 1e-12 and abs(wizard.result.steps - 20) < 1e-9
         before = path.read_text()
         await confirm(pilot, app, "n")

@@ -61,7 +61,9 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from ..machine.backlash import MeasureError  # here: every command's parser is built at each start
+    from ..machine.backlash import (
+        MeasureError,  # here: every command's parser is built at each start
+    )
 
     config = machine_config(args)
     name = args.axis.upper()
@@ -86,15 +88,14 @@ def run(args: argparse.Namespace) -> int:
         print(f"{name} backlash: {result.mm:.4f} mm ({result.steps:g} steps, {result.whole_steps} whole), spread "
               f"{result.spread_steps:g} steps ({result.spread_mm:.4f} mm) over {len(result.tries)} tries")
     if not result.accepted:
-        print(f"refused: the tries spread {result.spread_mm:.4f} mm, more than --max-spread {result.bound_mm:g} mm",
-              file=sys.stderr)
+        print(f"refused: {result.refused}", file=sys.stderr)
         return 1
     if args.write:
         _write(args, name, f"backlash.mm = {result.mm:.4f}", mm=result.mm)
     return 0
 
 
-def _measure(args: argparse.Namespace, machine, name: str, say):  # noqa: ANN001, ANN202
+def _measure(args: argparse.Namespace, machine, name: str, say):
     from ..machine.backlash import PROBE_SETUP, measure_with_probe, measure_with_switch
 
     if args.method == "switch":
@@ -108,7 +109,7 @@ def _measure(args: argparse.Namespace, machine, name: str, say):  # noqa: ANN001
                               max_spread=args.max_spread, on_progress=say)
 
 
-def _calibrate(args: argparse.Namespace, machine, name: str, say) -> int:  # noqa: ANN001
+def _calibrate(args: argparse.Namespace, machine, name: str, say) -> int:
     from ..machine.backlash import calibrate_switch
 
     axis = machine.config.axes[machine.config.axis_names.index(name)]

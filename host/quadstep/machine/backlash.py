@@ -9,10 +9,13 @@ the first e − B steps of the back-off move the motor inside the band, not the 
 found by doubling, then halving (a test that misses needs a new touch; one that hits does not).
 
 **Switch**: approach until the switch closes, reverse until it opens, approach again: each interval between
-two edges is the backlash plus the switch's own hysteresis (rounded up by 0 … 2 steps). The hysteresis,
-calibrated once (`switch_hysteresis`, from a backlash known by the probe), is subtracted.
+two edges is the backlash plus the switch's own hysteresis, rounded up by 0 … 2 steps (0 only when
+both edges fall exactly on a motor step). The hysteresis, calibrated once (`switch_hysteresis`,
+from a backlash known by the probe), is subtracted.
 
-Both run k tries and refuse a result whose tries spread more than a bound.
+Both run k tries and refuse a result whose tries spread more than a bound or more than one step
+(latches are exact: a wider spread is a bounce or a loose part, and the mean is no longer within a
+step), and one that is negative beyond the rounding (−1 step); a negative result within it is 0.
 """
 
 from __future__ import annotations
@@ -22,8 +25,8 @@ from collections.abc import Callable
 from dataclasses import asdict, dataclass
 
 from ..config import AxisConfig
-from ..link import input_status
-from ..protocol import Input
+from ..link import AlarmError, input_status
+from ..protocol import AlarmCode, Input
 from .errors import MachineError
 from .inputs import switch_input
 from .machine import Machine
@@ -35,6 +38,7 @@ Progress = Callable[[str], None]
 # Per axis, the probe's default corner: the direction toward the face measured, and the axis that tests the
 # neighbouring face (toward +): the −X, −Y corner of a block for X and Y, a plate's −X edge for Z.
 PROBE_SETUP = {"X": (1, "Y"), "Y": (1, "X"), "Z": (-1, "X"), "A": (1, "X")}
+ROUNDING = 1.0  # steps: a result is within this of the backlash, so no try may spread more
 
 
 class MeasureError(MachineError):
@@ -55,24 +59,55 @@ class Measurement:
     bound_mm: float  # the largest spread accepted
     sum_steps: float | None = None  # switch: backlash + hysteresis, before the hysteresis is taken off
     hysteresis_mm: float | None = None  # switch: the calibrated hysteresis taken off
+    negative_steps: float = 0.0  # the mean when it came out below 0 (then steps and mm are 0)
+
+    @property
+    def refused(self) -> str:
+        """Why the result cannot be trusted ("" when it can)."""
+        if self.negative_steps < -ROUNDING - 1e-9:
+            cause = ("the calibrated switch_hysteresis is too large: calibrate it again"
+                     if self.method == "switch" else "check the setup")
+            return (f"the result is {self.negative_steps:g} steps, negative beyond the rounding "
+                    f"(−{ROUNDING:g} step): {cause}")
+        if self.spread_mm > self.bound_mm + 1e-12:
+            return (
+                f"the tries spread {self.spread_mm:.4f} mm, more than --max-spread "
+                f"{self.bound_mm:g} mm"
+            )
+        if self.spread_steps > ROUNDING + 1e-9:
+            bounce = " (a bouncing switch: raise [inputs] debounce_ms)"
+            why = bounce if self.method == "switch" else ""
+            return (
+                f"the tries spread {self.spread_steps:g} steps, more than {ROUNDING:g} step: a "
+                f"latch came late{why}"
+            )
+        return ""
 
     @property
     def accepted(self) -> bool:
-        return self.spread_mm <= self.bound_mm + 1e-12
+        return not self.refused
 
     @property
     def whole_steps(self) -> int:
         return max(0, round(self.steps))
 
     def as_dict(self) -> dict[str, object]:
-        return {**asdict(self), "accepted": self.accepted, "whole_steps": self.whole_steps}
+        return {**asdict(self), "accepted": self.accepted, "refused": self.refused,
+                "whole_steps": self.whole_steps}
 
 
 def _result(axis: AxisConfig, method: str, tries: list[float], bound_mm: float, **extra: float | None) -> Measurement:
+    """The mean and spread of the tries; a negative mean is 0 (a backlash is not below 0) and kept
+    to judge whether it is within the rounding."""
     spm = axis.steps_per_mm
     mean = statistics.fmean(tries)
     spread = max(tries) - min(tries)
-    return Measurement(axis.name, method, tries, mean, mean / spm, spread, spread / spm, bound_mm, **extra)
+    negative = min(mean, 0.0)
+    mean = max(mean, 0.0)
+    return Measurement(
+        axis.name, method, tries, mean, mean / spm, spread, spread / spm, bound_mm, **extra,
+        negative_steps=negative,
+    )
 
 
 def _axis(machine: Machine, name: str) -> int:
@@ -167,17 +202,35 @@ def switch_sums(machine: Machine, a: int, end: str, tries: int, search: float, f
                                    f"{search:g} mm ({which.name})")
             return latched
 
-        if input_status(machine.link).is_active(which):
+        try:
+            if input_status(machine.link).is_active(which):
+                edge(0, -s)
+            edges = [edge(1, s)]
+            for k in range(tries):
+                edges += [edge(0, -s), edge(1, s)]
+                first, second = abs(edges[-2] - edges[-3]), abs(edges[-1] - edges[-2])
+                # Each interval is the sum rounded up by 0 … 2 steps: the middle of that range.
+                sums.append((first + second) / 2 - 1)
+                say(f"{axis.name}: try {k + 1}/{tries}: backlash + hysteresis {sums[-1]:g} steps")
             edge(0, -s)
-        edges = [edge(1, s)]
-        for k in range(tries):
-            edges += [edge(0, -s), edge(1, s)]
-            first, second = abs(edges[-2] - edges[-3]), abs(edges[-1] - edges[-2])
-            sums.append((first + second) / 2 - 1)  # each interval is the sum rounded up by 0 … 2 steps
-            say(f"{axis.name}: try {k + 1}/{tries}: backlash + hysteresis {sums[-1]:g} steps")
-        edge(0, -s)
-        moves.move(a, -s * reach // 10)  # off the switch
+            moves.move(a, -s * reach // 10)  # off the switch
+        except AlarmError as exc:
+            if exc.alarm.code != AlarmCode.HARD_LIMIT:
+                raise
+            raise MeasureError(bounced(machine, which, exc)) from None
     return sums
+
+
+def bounced(machine: Machine, which: Input, exc: AlarmError) -> str:
+    """A hard limit during a switch measurement: the switch closed again after its opening was
+    accepted, which is a contact bouncing for longer than the debounce."""
+    debounce = machine.config.inputs.debounce_ms
+    return (
+        f"the switch bounced ({which.name} closed again after its edge was accepted, at positions "
+        f"{list(exc.alarm.position)}): its bounce lasts longer than [inputs] debounce_ms = "
+        f"{debounce:g} ms; raise debounce_ms (a few ms) and measure again. The board is in ALARM "
+        "HARD_LIMIT: STOP (Ctrl+X in the TUI) clears it"
+    )
 
 
 def measure_with_switch(machine: Machine, name: str, *, end: str | None = None, tries: int = 5, search: float = 5.0,

@@ -8,10 +8,11 @@ The measurement runs in a worker thread (machine/backlash.py) and reports back w
 from __future__ import annotations
 
 import threading
+from typing import ClassVar
 
 from rich.markup import escape
 from textual.app import ComposeResult
-from textual.binding import Binding
+from textual.binding import Binding, BindingType
 from textual.containers import Vertical
 from textual.message import Message
 from textual.screen import ModalScreen
@@ -20,12 +21,32 @@ from textual.widgets import Footer, Static
 from ..config import MachineConfig
 from ..link import LinkError
 from ..machine import MachineError
-from ..machine.backlash import PROBE_SETUP, Measurement, measure_with_probe, measure_with_switch
+from ..machine.backlash import (
+    PROBE_SETUP,
+    Measurement,
+    measure_with_probe,
+    measure_with_switch,
+)
 from .confirm import ask_to_write
 from .dial_wizard import DialWizard
 from .session import Session
 
 METHODS = ("probe", "switch")
+
+
+def placement(axis: str, method: str) -> str:
+    """Where to put the probe (or the axis) before measuring, for the screen's defaults."""
+    if method == "switch":
+        return (
+            f"{axis} within 5 mm of its homing end's limit switch, off it; the switch's "
+            "hysteresis calibrated (quadstep backlash calibrate-switch)"
+        )
+    toward, test = PROBE_SETUP[axis]
+    face = f"{'−' if toward > 0 else '+'}{axis}"
+    return (
+        f"put the probe less than 10 mm outside the target's {face} face and less than 3 mm "
+        f"inside its −{test} edge (the corner of those two faces; docs/BACKLASH.md)"
+    )
 
 
 class Tried(Message):
@@ -42,7 +63,7 @@ class Measured(Message):
 
 
 class BacklashScreen(ModalScreen[None]):
-    BINDINGS = [
+    BINDINGS: ClassVar[list[BindingType]] = [
         Binding("x", "axis('X')", "X"),
         Binding("y", "axis('Y')", "Y"),
         Binding("z", "axis('Z')", "Z"),
@@ -65,7 +86,8 @@ class BacklashScreen(ModalScreen[None]):
         self.tries = 5
         self.running = False
         self.result: Measurement | None = None
-        self.lines: list[str] = []  # every line shown under the tries, for scripts and tests
+        self.lines: list[str] = []  # every line said, the result's too, for scripts and tests
+        self.shown: list[str] = []  # the lines under the tries (the result has its own place)
 
     def compose(self) -> ComposeResult:
         with Vertical(id="backlash"):
@@ -80,16 +102,16 @@ class BacklashScreen(ModalScreen[None]):
     # --- what it shows ---------------------------------------------------------------------
 
     def _show_setup(self) -> None:
-        where = {"probe": "the probe at a corner of the target (docs/BACKLASH.md)",
-                 "switch": "the limit switch, less its calibrated hysteresis"}[self.method]
         self.query_one("#backlash-setup", Static).update(
-            f"[b]Backlash[/b]  axis [b]{self.axis}[/b] (x y z)   method [b]{self.method}[/b] (m): {where}\n"
+            f"[b]Backlash[/b]  axis [b]{self.axis}[/b] (x y z)   method [b]{self.method}[/b] (m): "
+            f"{escape(placement(self.axis, self.method))}\n"
             f"tries [b]{self.tries}[/b] (- +)   refused when they spread more than {self.max_spread:g} mm\n"
             "Enter: measure   w: write the result   d: dial indicator   Esc: close")
 
     def say(self, text: str, error: bool = False) -> None:
         self.lines.append(text)
-        shown = "\n".join(escape(line) for line in self.lines[-10:])
+        self.shown.append(text)
+        shown = "\n".join(escape(line) for line in self.shown[-10:])
         self.query_one("#backlash-tries", Static).update(shown)
         if error:
             self.notify(text, severity="error")
@@ -121,7 +143,7 @@ class BacklashScreen(ModalScreen[None]):
             self.say("not connected", True)
             return
         self.running, self.result = True, None
-        self.lines = []
+        self.lines, self.shown = [], []
         self.query_one("#backlash-result", Static).update("")
         self.say(f"measuring {self.axis} with the {self.method}, {self.tries} tries…")
         axis, method, tries = self.axis, self.method, self.tries
@@ -131,7 +153,10 @@ class BacklashScreen(ModalScreen[None]):
     def _measure(self, axis: str, method: str, tries: int) -> None:
         machine = self.session.machine
         assert machine is not None
-        progress = lambda text: self.post_message(Tried(text))  # noqa: E731
+
+        def progress(text: str) -> None:
+            self.post_message(Tried(text))
+
         try:
             if method == "switch":
                 result = measure_with_switch(machine, axis, tries=tries, max_spread=self.max_spread,
@@ -157,16 +182,23 @@ class BacklashScreen(ModalScreen[None]):
         if result is None:
             self.say(f"backlash {self.axis}: {message.error}", True)
             return
-        text = (f"{result.axis} backlash: [b]{result.mm:.4f} mm[/b] ({result.steps:g} steps), spread "
-                f"{result.spread_steps:g} steps ({result.spread_mm:.4f} mm) over {len(result.tries)} tries")
+        value = f"{result.mm:.4f} mm"
+        rest = (
+            f" ({result.steps:g} steps), spread {result.spread_steps:g} steps "
+            f"({result.spread_mm:.4f} mm) over {len(result.tries)} tries"
+        )
         if result.accepted:
             self.result = result
-            text += "\nw: write it to the configuration (asks first)"
+            after = "\nw: write it to the configuration (asks first)"
+            marked = after
         else:
-            text += (f"\n[b]refused[/b]: the tries spread {result.spread_mm:.4f} mm, more than "
-                     f"{result.bound_mm:g} mm (check the target and the switch, then measure again)")
-        self.lines.append(text)
-        self.query_one("#backlash-result", Static).update(text)
+            after = f"\nrefused: {result.refused} (check the setup, then measure again)"
+            marked = (
+                f"\n[b]refused[/b]: {escape(result.refused)} (check the setup, then measure again)"
+            )
+        self.lines.append(f"{result.axis} backlash: {value}{rest}{after}")  # plain, for scripts
+        self.query_one("#backlash-result", Static).update(
+            f"{result.axis} backlash: [b]{value}[/b]{escape(rest)}{marked}")
 
     def action_write(self) -> None:
         if self.running or self.result is None:

@@ -1,34 +1,34 @@
 """The dial-indicator wizard: a guided backlash measurement for machines without a probe (backlash/dial.py).
 
 Set the indicator against the carriage, preload it (p moves the axis toward it), zero it, then either jog back
-one motor step at a time until the needle moves, or move back by a distance and type the reading; the screen
-says what to do at each step, computes the backlash and writes it after a confirm.
+(one motor step, or a larger step to get close) until the needle moves, or move back by the same
+distance and type the reading; the screen says what to do at each step, computes the backlash,
+refuses a result it cannot trust with the reason, and writes it after a confirm. The moves
+(machine/dial.py) are longer than the backlash: at least twice the configured one and at least
+backlash/dial.py's minimum; + and − change them.
 """
 
 from __future__ import annotations
 
 import threading
+from collections.abc import Callable
+from typing import ClassVar
 
 from rich.markup import escape
 from textual.app import ComposeResult
-from textual.binding import Binding
+from textual.binding import Binding, BindingType
 from textual.containers import Vertical
 from textual.message import Message
 from textual.screen import ModalScreen
 from textual.widgets import Footer, Input, Static
 
-from ..backlash.dial import DialError, DialResult, from_jog_back, from_reading
+from ..backlash.dial import JOG_MM, MIN_MOVE_MM, DialError, DialResult, plan
 from ..config import MachineConfig
 from ..link import LinkError
 from ..machine import MachineError
-from ..machine.raw_moves import RawMoves
-from ..machine.units import step_direction
+from ..machine.dial import DialMeasurement
 from .confirm import ask_to_write
 from .session import Session
-
-PRELOAD_MM = 0.2  # toward the indicator, so that it rests preloaded against the carriage
-DISTANCE_MM = 0.5  # the move back, for a reading
-FEED = 2.0  # mm/s
 
 
 class Moved(Message):
@@ -38,24 +38,35 @@ class Moved(Message):
 
 
 class DialWizard(ModalScreen[None]):
-    BINDINGS = [
+    BINDINGS: ClassVar[list[BindingType]] = [
         Binding("t", "mode", "jog back / reading"),
         Binding("f", "flip", "indicator side"),
         Binding("p", "preload", "preload"),
         Binding("j,left", "jog", "one step back"),
+        Binding("k,shift+left", "jog(True)", "larger step back"),
+        Binding("plus,equals_sign", "resize(2)", "longer move", key_display="+"),
+        Binding("minus", "resize(0.5)", "shorter move", key_display="-"),
         Binding("enter", "next", "next"),
         Binding("w", "write", "write"),
         Binding("escape", "close", "close"),
     ]
 
-    def __init__(self, session: Session, axis: str) -> None:
+    def __init__(self, session: Session, axis: str, jog_mm: float = JOG_MM) -> None:
         super().__init__()
         self.session = session
         self.axis = axis
+        self.jog_mm = jog_mm  # the larger jog back (k)
+        config = session.config
+        self.move_mm = MIN_MOVE_MM  # the preload and the move back; from the configuration below
+        if config is not None and axis in config.axis_names:
+            try:
+                self.move_mm = plan(config.axes[config.axis_names.index(axis)]).move_mm
+            except DialError:
+                pass  # a short travel: said when the wizard moves
+        self.measurement: DialMeasurement | None = None
         self.mode = "jog"  # or "reading"
         self.side = 1  # the indicator on the axis's + side: preload +, back −
         self.stage = "place"  # place → zero → back (jog) / moved (reading) → done
-        self.count = 0  # steps jogged back
         self.moving = False
         self.result: DialResult | None = None
         self.lines: list[str] = []
@@ -75,18 +86,24 @@ class DialWizard(ModalScreen[None]):
 
     def _show(self) -> None:
         side = "+" if self.side > 0 else "−"
+        move = self.move_mm
         self.query_one("#dial-title", Static).update(
             f"[b]Dial indicator[/b]  axis [b]{self.axis}[/b], indicator on its {side} side (f)   "
-            f"method [b]{'jog back' if self.mode == 'jog' else f'move back {DISTANCE_MM:g} mm'}[/b] (t)")
+            f"method [b]{'jog back' if self.mode == 'jog' else 'move back and read'}[/b] (t)   "
+            f"move [b]{move:g} mm[/b] (+ −)")
         back = "−" if self.side > 0 else "+"
+        count = self.measurement.count if self.measurement is not None else 0
         text = {
-            "place": f"1. Put the indicator against the carriage on its {side} side, square to {self.axis}.\n"
-                     f"2. Press p: {self.axis} moves {PRELOAD_MM:g} mm {side} into it (the preload).",
+            "place": f"1. Put the indicator against the carriage on its {side} side, square to "
+            f"{self.axis}, with {move:g} mm of its travel free.\n"
+            f"2. Press p: {self.axis} moves {move:g} mm {side} into it (the preload: longer than "
+            "the backlash; + − change it).",
             "zero": "3. Zero the indicator, then press Enter.",
-            "back": f"4. Press j (or ←) to move {self.axis} {back} one motor step; press Enter as soon as the "
-                    f"needle moves.   steps so far: [b]{self.count}[/b]",
-            "moved": f"4. {self.axis} moved {DISTANCE_MM:g} mm {back}. Type the indicator's reading (mm) and press "
-                     "Enter.",
+            "back": f"4. Press j (or ←) to move {self.axis} {back} one motor step, k (shift+←) for "
+            f"{self.jog_mm:g} mm to get close; press Enter as soon as the needle moves (in a k "
+            f"step: refused, repeat with j).   steps so far: [b]{count}[/b]",
+            "moved": f"4. {self.axis} moved {move:g} mm {back}. Type the indicator's reading (mm) "
+            "and press Enter.",
             "done": "w: write the result to the configuration (asks first)   p: again   Esc: close",
         }[self.stage]
         self.query_one("#dial-step", Static).update(text)
@@ -105,23 +122,16 @@ class DialWizard(ModalScreen[None]):
 
     # --- motion ----------------------------------------------------------------------------
 
-    def _move(self, mm: float | None, steps: int = 0) -> None:
-        """Move the axis by `mm` (or `steps` motor steps) toward the indicator (+) or away (−), in a thread."""
-        machine = self.session.machine
-        if machine is None or not self.session.connected:
-            self.say("not connected", True)
+    def _run(self, step: Callable[[DialMeasurement], None]) -> None:
+        """Run one of the measurement's moves in a thread."""
+        measurement = self.measurement
+        if measurement is None:
             return
-        config = machine.config
-        a = config.axis_names.index(self.axis)
-        axis = config.axes[a]
-        count = steps if mm is None else round(mm * axis.steps_per_mm)
-        motor = step_direction(axis, self.side) * count
         self.moving = True
 
         def run() -> None:
             try:
-                with machine.procedure("dial indicator"):
-                    RawMoves(machine, FEED).move(a, motor)
+                step(measurement)
             except (LinkError, MachineError) as exc:
                 self.post_message(Moved(str(exc)))
             else:
@@ -133,12 +143,14 @@ class DialWizard(ModalScreen[None]):
         self.moving = False
         if message.error:
             self.say(f"dial indicator: {message.error}", True)
+        elif self.stage == "back" and self.measurement is not None and self.measurement.overdue:
+            self.say(
+                f"jogged back {self.measurement.count} steps, more than the preload: the needle should "
+                "have moved; the backlash is more than the move (+, then p) or the indicator does not "
+                "touch the carriage",
+                True,
+            )
         self._show()
-
-    def _steps_per_mm(self) -> float:
-        config = self.session.config
-        assert config is not None
-        return config.axes[config.axis_names.index(self.axis)].steps_per_mm
 
     # --- keys ------------------------------------------------------------------------------
 
@@ -152,17 +164,33 @@ class DialWizard(ModalScreen[None]):
             self.side = -self.side
             self._show()
 
+    def action_resize(self, factor: float) -> None:
+        if self.moving or self.stage not in ("place", "done"):
+            return
+        self.move_mm = max(MIN_MOVE_MM, self.move_mm * factor)
+        self._show()
+
     def action_preload(self) -> None:
         if self.moving or self.stage not in ("place", "done"):
             return
-        self.stage, self.count, self.result = "zero", 0, None
-        self._move(PRELOAD_MM)
+        machine = self.session.machine
+        if machine is None or not self.session.connected:
+            self.say("not connected", True)
+            return
+        try:
+            self.measurement = DialMeasurement(
+                machine, self.axis, self.side, self.move_mm, self.jog_mm
+            )
+        except DialError as exc:
+            self.say(str(exc), True)
+            return
+        self.stage, self.result = "zero", None
+        self._run(DialMeasurement.preload)
 
-    def action_jog(self) -> None:
+    def action_jog(self, large: bool = False) -> None:
         if self.moving or self.stage != "back":
             return
-        self.count += 1
-        self._move(None, -1)
+        self._run(lambda measurement: measurement.jog(large))
 
     def action_next(self) -> None:
         if self.moving:
@@ -173,28 +201,31 @@ class DialWizard(ModalScreen[None]):
                 self._show()
             else:
                 self.stage = "moved"
-                self._move(-DISTANCE_MM)
-        elif self.stage == "back":
-            if self.count == 0:
+                self._run(DialMeasurement.move_back)
+        elif self.stage == "back" and self.measurement is not None:
+            if self.measurement.count == 0:
                 self.say("jog back first (j): the step that moves the needle counts", True)
                 return
-            self._done(lambda: from_jog_back(self.count, self._steps_per_mm()))
+            self._done(self.measurement.jogged)
 
     def on_input_submitted(self, event: Input.Submitted) -> None:
-        if self.stage != "moved" or self.moving:
+        measurement = self.measurement
+        if self.stage != "moved" or self.moving or measurement is None:
             return
         try:
             reading = float(event.value.strip().replace(",", "."))
         except ValueError:
             self.say(f"reading {event.value!r}: not a number (mm)", True)
             return
-        self._done(lambda: from_reading(DISTANCE_MM, reading, self._steps_per_mm()))
+        self._done(lambda: measurement.read(reading))
 
-    def _done(self, compute) -> None:  # noqa: ANN001
+    def _done(self, compute: Callable[[], DialResult]) -> None:
         try:
             self.result = compute()
         except DialError as exc:
-            self.say(str(exc), True)
+            self.stage = "done"  # refused: p measures again
+            self.say(f"{self.axis}: {exc}", True)
+            self._show()
             return
         self.stage = "done"
         self.say(f"{self.axis} backlash: {self.result.mm:.4f} mm ({self.result.steps:g} steps)")
