@@ -67,6 +67,7 @@
         if (!uart_tx_pending && !(PCIFR & QS_INPUT_FLAGS) && !(TIFR1 & _BV(OCF1A))) {                         \
             TIFR1 = _BV(OCF1B);                                                                               \
             TIMSK1 = _BV(OCIE1B);                                                                             \
+            step_timer_woke = 1; /* the main loop looks once more */                                          \
         }                                                                                                     \
     } while (0)
 
@@ -90,6 +91,8 @@ _Static_assert(CYCLES_PER_US * (QS_STEP_PULSE_US) <= 64, "QS_STEP_PULSE_US at mo
  * a second look at the end of the tick splits the gap (uart.c refuses more). */
 #define UART_LOOKS_TWICE ((QS_BAUD) / 10UL > (QS_TICK_HZ))
 
+
+volatile uint8_t step_timer_woke;
 
 void step_timer_init(void)
 {
@@ -176,11 +179,12 @@ ISR(TIMER1_COMPB_vect, ISR_NAKED)
         "out %[tifr], r24\n\t"
         "ldi r24, %[ocie_a]\n\t"
         "sts %[timsk], r24\n\t"
+        "sts %[woke], r24\n\t" /* nonzero: the main loop looks */
         "pop r24\n\t"
         "jmp " STRINGIFY(TIMER1_COMPA_vect)
         :
         : [pcifr] "I"(_SFR_IO_ADDR(PCIFR)), [limit_pcif] "I"(QS_LIMIT_PCIF),
           [control_pcif] "I"(QS_CONTROL_PCIF), [ucsra] "n"(_SFR_MEM_ADDR(UCSR0A)), [rxc] "I"(RXC0),
           [ocf_a] "M"(_BV(OCF1A)), [tifr] "I"(_SFR_IO_ADDR(TIFR1)), [ocie_a] "M"(_BV(OCIE1A)),
-          [timsk] "n"(_SFR_MEM_ADDR(TIMSK1)));
+          [timsk] "n"(_SFR_MEM_ADDR(TIMSK1)), [woke] "i"(&step_timer_woke));
 }

@@ -22,4 +22,15 @@ static inline __attribute__((always_inline)) void step_timer_wake(void)
     }
 }
 
+/* Set by the tick when it begins to rest or runs whole from the resting
+ * tick: there may be work for the main loop. The main loop clears it before
+ * it looks. */
+extern volatile uint8_t step_timer_woke;
+
+/* Whether the resting tick runs the ticks. */
+static inline __attribute__((always_inline)) uint8_t step_timer_resting(void)
+{
+    return TIMSK1 & _BV(OCIE1B);
+}
+
 #endif
