@@ -26,7 +26,8 @@ sys.path.insert(0, str(REPO / "tests" / "simavr"))
 
 import avr_scenarios  # noqa: E402
 import avr_sim  # noqa: E402
-from quadstep.protocol import AxisMove, Config, Hold, Identify, Segment, Status, encode  # noqa: E402
+from quadstep.protocol import (  # noqa: E402
+    AxisMove, Config, Hold, Identify, Segment, Status, encode)
 from quadstep.protocol.segment import D, N_MAX  # noqa: E402
 
 F_CPU = avr_sim.F_CPU
@@ -188,22 +189,26 @@ def hold_begin(v: Variant) -> tuple[int, int, int]:
 
 
 def at_rest(v: Variant, seconds: float, debounce: int | None = None) -> dict:
-    """Nothing queued for `seconds`; with `debounce`, every input debounced that many ticks (a CONFIG) and the
-    cycle start button, pressed at power-up, released a third of the way in: one window of `debounce` ticks."""
+    """Nothing queued for `seconds`; with `debounce`, every input debounced that many ticks (a
+    CONFIG) and the cycle start button, pressed at power-up, released a third of the way in: one
+    window of `debounce` ticks."""
     name = "rest" if debounce is None else f"rest-debounce{debounce}"
     args = [*avr_sim.harness("uno", v.elf), "--output", str(v.build / f"{name}-replies.bin"),
             "--max-cycles", str(int(seconds * F_CPU))]
     frames = b""
     if debounce is not None:
-        frames = encode(Config(invert=0, enabled=0x0FFF, hard_limits=0, debounce=(debounce,) * 12,
-                               hold_decel=(3000, 3000, 3000, 0)), 0)
+        config = Config(invert=0, enabled=0x0FFF, hard_limits=0, debounce=(debounce,) * 12,
+                        hold_decel=(3000, 3000, 3000, 0))
+        frames = encode(config, 0)
         machine = v.build / f"{name}.toml"
         machine.write_text(f'[[press]]\ninput = "cycle_start"\nat_tick = 0\n'
                            f'ticks = {int(seconds * v.tick_hz / 3)}\n')
         args += ["--machine", str(machine)]
     (v.build / f"{name}.input").write_bytes(frames)
-    out = avr_sim.Outputs(v.build / f"{name}-trace.csv", v.build / f"{name}-edges.csv", v.build / f"{name}.json")
-    subprocess.run([*args, "--input", str(v.build / f"{name}.input"), *out.args()], capture_output=True, check=True)
+    out = avr_sim.Outputs(v.build / f"{name}-trace.csv", v.build / f"{name}-edges.csv",
+                          v.build / f"{name}.json")
+    subprocess.run([*args, "--input", str(v.build / f"{name}.input"), *out.args()],
+                   capture_output=True, check=True)
     return out.load_stats()
 
 
@@ -211,15 +216,19 @@ def print_at_rest(v: Variant, seconds: float) -> None:
     st = at_rest(v, seconds)
     cycles, isr = st["cycles"], st["isr"]["timer"]
     awake = cycles - st["sleep_cycles"]
-    print(f"\nat rest (nothing queued, no hold, no input debounced), {seconds:g} s at {v.tick_hz} Hz:")
-    print(f"  step interrupt {isr['total'] * F_CPU / cycles:,.0f} cycles/s = {100 * isr['total'] / cycles:.1f} % "
-          f"of the CPU ({isr['count']} ticks, {isr['min']} cycles each but the first); awake in all "
-          f"{100 * awake / cycles:.1f} % (main loop {100 * (awake - isr['total']) / cycles:.1f} %)")
+    print(f"\nat rest (nothing queued, no hold, no input debounced), {seconds:g} s at "
+          f"{v.tick_hz} Hz:")
+    print(f"  step interrupt {isr['total'] * F_CPU / cycles:,.0f} cycles/s = "
+          f"{100 * isr['total'] / cycles:.1f} % of the CPU ({isr['count']} ticks, {isr['min']} "
+          f"cycles each but the first); awake in all {100 * awake / cycles:.1f} % "
+          f"(main loop {100 * (awake - isr['total']) / cycles:.1f} %)")
     window = 200
     quick, slow = at_rest(v, seconds, debounce=0), at_rest(v, seconds, debounce=window)
-    per_tick = isr["min"] + (slow["isr"]["timer"]["total"] - quick["isr"]["timer"]["total"]) / (window - 1)
-    print(f"  with a debounce in progress: {per_tick:.0f} cycles a tick = {100 * per_tick / st['tick_cycles']:.0f} % "
-          f"of the CPU while its window is open (the whole tick and the inputs' rare path, every tick)")
+    extra = slow["isr"]["timer"]["total"] - quick["isr"]["timer"]["total"]
+    per_tick = isr["min"] + extra / (window - 1)
+    print(f"  with a debounce in progress: {per_tick:.0f} cycles a tick = "
+          f"{100 * per_tick / st['tick_cycles']:.0f} % of the CPU while its window is open "
+          "(the whole tick and the inputs' rare path, every tick)")
 
 
 def sizes() -> dict[str, tuple[int, int]]:

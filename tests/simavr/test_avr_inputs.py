@@ -151,9 +151,9 @@ def test_a_trigger_loses_no_tick(avr_build: None, tmp_path: Path, axes: int) -> 
 
 
 def test_sampling_the_inputs_costs_the_tick_three_cycles(avr_build: None, tmp_path: Path) -> None:
-    """From the per-instruction profile: the sample (`in` PCIFR, `cpse`) runs in every whole tick interrupt (the
-    one that runs motion; at rest a shorter one stands in, test_avr_rest.py) and costs exactly 3 cycles in each
-    that saw no change."""
+    """From the per-instruction profile: the sample (`in` PCIFR, `cpse`) runs in every whole
+    tick interrupt (at rest a shorter one stands in: test_avr_rest.py) and costs exactly 3
+    cycles in each that saw no change."""
     listing = subprocess.run(["avr-objdump", "-d", str(elf_path("uno"))], capture_output=True, text=True,
                              check=True).stdout
     vector = listing[listing.index("<__vector_11>:"):]
@@ -170,6 +170,6 @@ def test_sampling_the_inputs_costs_the_tick_three_cycles(avr_build: None, tmp_pa
     cycles = {int(row.split(",")[0], 16): int(row.split(",")[2]) for row in profile.read_text().splitlines()[1:]}
     whole_ticks = cycles[entry] // 2
     assert whole_ticks > 3000
-    started = cycles[addresses[0]]  # `in`: one cycle, every whole tick (the run may stop inside the last one)
+    started = cycles[addresses[0]]  # `in`: one cycle a whole tick (the run may end inside one)
     assert whole_ticks - started in (0, 1)
     assert cycles[addresses[1]] == 2 * started  # `cpse` skipping the jump: two
