@@ -65,6 +65,7 @@ int main(void)
     sei();
 
     for (;;) {
+        step_timer_woke = 0; /* before looking: a tick from now on sets it again */
         receive();
         qs_core_poll(&core); /* a few compares unless the tick left work */
         outputs_poll();      /* a flag test, but once per PWM period */
@@ -74,10 +75,16 @@ int main(void)
          * unnoticed; `sei` takes effect only after `sleep`. */
         cli();
         if (!uart_rx_ready()) {
-            sleep_enable();
-            sei();
-            sleep_cpu();
-            sleep_disable();
+            /* At rest the resting ticks wake the loop for nothing: it sleeps
+             * on until a whole tick ran (a byte, an input, the rest's end)
+             * or the outputs' period came round. */
+            do {
+                sleep_enable();
+                sei();
+                sleep_cpu();
+                sleep_disable();
+                cli();
+            } while (step_timer_resting() && !step_timer_woke && !(TIFR2 & _BV(TOV2)));
         }
         sei();
     }

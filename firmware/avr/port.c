@@ -3,6 +3,7 @@
 #include <avr/io.h>
 
 #include "qs_port.h"
+#include "step_timer.h"
 #include "uart.h"
 
 void qs_port_send(const uint8_t *bytes, uint8_t len)
@@ -11,7 +12,7 @@ void qs_port_send(const uint8_t *bytes, uint8_t len)
 }
 
 /* The step tick is the firmware's only interrupt (it also serves the
- * USART), so holding it off is clearing the global interrupt flag: one
+ * USART; at rest compare B stands in for it: step_timer.c), so holding it off is clearing the global interrupt flag: one
  * cycle, and a tick that falls due meanwhile runs as soon as the section
  * ends. Sections must stay well under a tick. The memory clobbers (in cli()
  * and here) keep the compiler from moving the core's shared-data accesses
@@ -40,6 +41,11 @@ uint16_t qs_port_clock(void)
         low = TCNT0; /* after the wrap */
     }
     return (uint16_t)((uint16_t)clock_high << 8 | low);
+}
+
+void qs_port_tick_wake(void)
+{
+    step_timer_wake();
 }
 
 uint8_t qs_port_lock(void)

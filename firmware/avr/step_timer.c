@@ -55,6 +55,22 @@
 #define QS_ENGINE_UNDECIDED() HOLD_PULSE()
 #endif
 
+/* At rest: in a tick that finds the engine with nothing to do, with no
+ * byte left to send and no input changed or being debounced, hand the next
+ * ticks to compare B (the resting tick, below). Its flag is stale (set at
+ * every match while A ran): cleared first. Not if the next match has come
+ * already (this tick ran long, as one that takes an input's latch can): A's
+ * flag holds it, and A serves it. The rest ends in the resting tick (a byte
+ * received, an input changed) or by step_timer_wake. */
+#define QS_ENGINE_RESTING()                                                                                   \
+    do {                                                                                                      \
+        if (!uart_tx_pending && !(PCIFR & QS_INPUT_FLAGS) && !(TIFR1 & _BV(OCF1A))) {                         \
+            TIFR1 = _BV(OCF1B);                                                                               \
+            TIMSK1 = _BV(OCIE1B);                                                                             \
+            step_timer_woke = 1; /* the main loop looks once more */                                          \
+        }                                                                                                     \
+    } while (0)
+
 /* axis_tick.h first: it puts the AVR's own per-axis decisions in place of
  * the core's (the QS_*_AXIS_TICK hooks of qs_engine_tick.h). */
 #include "axis_tick.h"
@@ -76,13 +92,16 @@ _Static_assert(CYCLES_PER_US * (QS_STEP_PULSE_US) <= 64, "QS_STEP_PULSE_US at mo
 #define UART_LOOKS_TWICE ((QS_BAUD) / 10UL > (QS_TICK_HZ))
 
 
+volatile uint8_t step_timer_woke;
+
 void step_timer_init(void)
 {
     TCCR1A = 0;
     TCCR1B = 0;
     TCNT1 = 0;
     OCR1A = (uint16_t)(TICK_CYCLES - 1UL);
-    TIFR1 = _BV(OCF1A);
+    OCR1B = (uint16_t)(TICK_CYCLES - 1UL); /* the resting tick: the same matches */
+    TIFR1 = _BV(OCF1A) | _BV(OCF1B);
     TIMSK1 = _BV(OCIE1A);
     TCCR1B = _BV(WGM12) | _BV(CS10); /* CTC on OCR1A, clock undivided */
 }
@@ -127,4 +146,45 @@ ISR(TIMER1_COMPA_vect)
 #if UART_LOOKS_TWICE
     uart_service();
 #endif
+}
+
+#define STRINGIFY_(x) #x
+#define STRINGIFY(x) STRINGIFY_(x)
+
+/* The resting tick (compare B, while nothing moves): the whole tick would
+ * find nothing to do unless an input's pin-change flag is up or a byte has
+ * been received. Then it hands the ticks back to compare A and runs the
+ * whole tick now, for this very match, so that a byte or an input is seen
+ * at the same tick as without the rest. Otherwise it returns: 23 cycles
+ * with the interrupt's entry and exit. SREG is untouched: skips, loads and
+ * stores only. The whole tick's ISR is entered by a jump, with this
+ * interrupt's return address on the stack, and ends in its own RETI. */
+ISR(TIMER1_COMPB_vect, ISR_NAKED)
+{
+    __asm__ __volatile__(
+        "sbic %[pcifr], %[limit_pcif]\n\t"
+        "rjmp 1f\n\t"
+        "sbic %[pcifr], %[control_pcif]\n\t"
+        "rjmp 1f\n\t"
+        "push r24\n\t"
+        "lds r24, %[ucsra]\n\t"
+        "sbrc r24, %[rxc]\n\t"
+        "rjmp 2f\n\t"
+        "pop r24\n\t"
+        "reti\n"
+        "1:\n\t"
+        "push r24\n"
+        "2:\n\t"
+        "ldi r24, %[ocf_a]\n\t" /* A's flag is stale: this match is served now */
+        "out %[tifr], r24\n\t"
+        "ldi r24, %[ocie_a]\n\t"
+        "sts %[timsk], r24\n\t"
+        "sts %[woke], r24\n\t" /* nonzero: the main loop looks */
+        "pop r24\n\t"
+        "jmp " STRINGIFY(TIMER1_COMPA_vect)
+        :
+        : [pcifr] "I"(_SFR_IO_ADDR(PCIFR)), [limit_pcif] "I"(QS_LIMIT_PCIF),
+          [control_pcif] "I"(QS_CONTROL_PCIF), [ucsra] "n"(_SFR_MEM_ADDR(UCSR0A)), [rxc] "I"(RXC0),
+          [ocf_a] "M"(_BV(OCF1A)), [tifr] "I"(_SFR_IO_ADDR(TIFR1)), [ocie_a] "M"(_BV(OCIE1A)),
+          [timsk] "n"(_SFR_MEM_ADDR(TIMSK1)), [woke] "i"(&step_timer_woke));
 }

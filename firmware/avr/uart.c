@@ -4,6 +4,8 @@
 #include <avr/interrupt.h>
 #include <avr/io.h>
 
+#include "step_timer.h"
+
 #ifndef QS_BAUD
 #define QS_BAUD 500000UL
 #endif
@@ -138,7 +140,15 @@ void uart_write(const uint8_t *bytes, uint8_t len)
                 : "memory");
         }
         uart_tx_head = head;
-        uart_tx_pending = 1; /* after head: the service may just have cleared it */
+        {
+            /* after head: the service may just have cleared it; and a
+             * resting tick wakes to send (locked: no resting tick between) */
+            const uint8_t saved = SREG;
+            cli();
+            uart_tx_pending = 1;
+            step_timer_wake();
+            SREG = saved;
+        }
         /* A full ring waits here for the tick to send, a byte per tick. */
     }
 }

@@ -277,9 +277,14 @@ static uint8_t lock_retired(qs_engine *e)
 void qs_engine_wake(qs_engine *e)
 {
     /* The tick changes state only while RUNNING, so IDLE cannot change
-     * under us here. */
-    if (e->state == QS_STATE_IDLE)
+     * under us here; the lock keeps a resting tick from falling between
+     * the two (the segment would begin a tick late). */
+    if (e->state == QS_STATE_IDLE) {
+        uint8_t saved = qs_port_lock();
         e->state = QS_STATE_RUNNING;
+        qs_port_tick_wake();
+        qs_port_unlock(saved);
+    }
 }
 
 /* Drop the running slot and everything queued, unretired (with the tick

@@ -191,6 +191,13 @@ static QS_ALWAYS_INLINE uint8_t qs_engine_cubic_tick(qs_engine *e)
 #define QS_ENGINE_UNDECIDED()
 #endif
 
+/* A target may let its tick rest while nothing moves: this runs in the
+ * ticks that find the engine with nothing to do (not RUNNING, no hold
+ * moving), and only in those; qs_port_tick_wake ends the rest. */
+#ifndef QS_ENGINE_RESTING
+#define QS_ENGINE_RESTING()
+#endif
+
 static QS_ALWAYS_INLINE uint8_t qs_engine_tick(qs_engine *e)
 {
     qs_segment *s;
@@ -201,6 +208,7 @@ static QS_ALWAYS_INLINE uint8_t qs_engine_tick(qs_engine *e)
         if (e->slow_path != QS_PATH_CUBIC) {
             /* An underrun begins a hold in place of the next segment. */
             if (!e->hold.moving && !qs_engine_begin(e) && !e->hold.moving) {
+                QS_ENGINE_RESTING();
                 QS_ENGINE_UNDECIDED();
                 return 0;
             }

@@ -13,6 +13,12 @@ void qs_port_send(const uint8_t *bytes, uint8_t len);
 uint8_t qs_port_lock(void);
 void qs_port_unlock(uint8_t saved);
 
+/* A target's tick may rest while the engine has nothing to do
+ * (QS_ENGINE_RESTING, qs_engine_tick.h): the core calls this, with the
+ * tick locked out, when it gives the engine work (a segment published
+ * while IDLE), so that the next tick runs it as it would have run anyway. */
+void qs_port_tick_wake(void);
+
 /* A free-running count of QS_PORT_CLOCK_US microseconds each, wrapping at
  * 2^16, for the host watchdog. Main loop only. */
 uint16_t qs_port_clock(void);

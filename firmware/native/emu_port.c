@@ -43,6 +43,11 @@ void qs_port_send(const uint8_t *bytes, uint8_t len)
     emu_faults_tx(out.faults, bytes, len, append, 0);
 }
 
+/* The emulator's tick never rests. */
+void qs_port_tick_wake(void)
+{
+}
+
 uint16_t qs_port_clock(void)
 {
     struct timespec ts;

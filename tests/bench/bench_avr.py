@@ -4,7 +4,7 @@ step-interrupt cycles by stepping axes, the highest tick rate at which three
 axes stepping every tick still leave the CPU to take 1,000 segments/s (and
 the highest at which beginning a HOLD loses no tick either), the
 segments/s the board takes while stepping, the main loop's cycles per
-segment, flash, RAM and stack, beside GRBL's and Klipper's published
+segment, the CPU spent at rest, flash, RAM and stack, beside GRBL's and Klipper's published
 figures for the same 16 MHz chip.
 
     python3 tests/bench/bench_avr.py [--quick]
@@ -26,7 +26,8 @@ sys.path.insert(0, str(REPO / "tests" / "simavr"))
 
 import avr_scenarios  # noqa: E402
 import avr_sim  # noqa: E402
-from quadstep.protocol import AxisMove, Hold, Identify, Segment, Status, encode  # noqa: E402
+from quadstep.protocol import (  # noqa: E402
+    AxisMove, Config, Hold, Identify, Segment, Status, encode)
 from quadstep.protocol.segment import D, N_MAX  # noqa: E402
 
 F_CPU = avr_sim.F_CPU
@@ -187,6 +188,49 @@ def hold_begin(v: Variant) -> tuple[int, int, int]:
     return lock, isr, lost
 
 
+def at_rest(v: Variant, seconds: float, debounce: int | None = None) -> dict:
+    """Nothing queued for `seconds`; with `debounce`, every input debounced that many ticks (a
+    CONFIG) and the cycle start button, pressed at power-up, released a third of the way in: one
+    window of `debounce` ticks."""
+    name = "rest" if debounce is None else f"rest-debounce{debounce}"
+    args = [*avr_sim.harness("uno", v.elf), "--output", str(v.build / f"{name}-replies.bin"),
+            "--max-cycles", str(int(seconds * F_CPU))]
+    frames = b""
+    if debounce is not None:
+        config = Config(invert=0, enabled=0x0FFF, hard_limits=0, debounce=(debounce,) * 12,
+                        hold_decel=(3000, 3000, 3000, 0))
+        frames = encode(config, 0)
+        machine = v.build / f"{name}.toml"
+        machine.write_text(f'[[press]]\ninput = "cycle_start"\nat_tick = 0\n'
+                           f'ticks = {int(seconds * v.tick_hz / 3)}\n')
+        args += ["--machine", str(machine)]
+    (v.build / f"{name}.input").write_bytes(frames)
+    out = avr_sim.Outputs(v.build / f"{name}-trace.csv", v.build / f"{name}-edges.csv",
+                          v.build / f"{name}.json")
+    subprocess.run([*args, "--input", str(v.build / f"{name}.input"), *out.args()],
+                   capture_output=True, check=True)
+    return out.load_stats()
+
+
+def print_at_rest(v: Variant, seconds: float) -> None:
+    st = at_rest(v, seconds)
+    cycles, isr = st["cycles"], st["isr"]["timer"]
+    awake = cycles - st["sleep_cycles"]
+    print(f"\nat rest (nothing queued, no hold, no input debounced), {seconds:g} s at "
+          f"{v.tick_hz} Hz:")
+    print(f"  step interrupt {isr['total'] * F_CPU / cycles:,.0f} cycles/s = "
+          f"{100 * isr['total'] / cycles:.1f} % of the CPU ({isr['count']} ticks, {isr['min']} "
+          f"cycles each but the first); awake in all {100 * awake / cycles:.1f} % "
+          f"(main loop {100 * (awake - isr['total']) / cycles:.1f} %)")
+    window = 200
+    quick, slow = at_rest(v, seconds, debounce=0), at_rest(v, seconds, debounce=window)
+    extra = slow["isr"]["timer"]["total"] - quick["isr"]["timer"]["total"]
+    per_tick = isr["min"] + extra / (window - 1)
+    print(f"  with a debounce in progress: {per_tick:.0f} cycles a tick = "
+          f"{100 * per_tick / st['tick_cycles']:.0f} % of the CPU while its window is open "
+          "(the whole tick and the inputs' rare path, every tick)")
+
+
 def sizes() -> dict[str, tuple[int, int]]:
     out = {}
     for line in make("firmware").splitlines():
@@ -241,6 +285,8 @@ def main() -> None:
     busy = stats["cycles"] - stats["sleep_cycles"]
     print("  where the busy cycles went: " + ", ".join(
         f"{name} {100 * int(c) / busy:.1f} %" for name, c in (row.split(",") for row in profile)))
+
+    print_at_rest(default, seconds)
 
     b4 = avr_scenarios.ChainBuilder(4)
     four = [avr_scenarios.dwell(200)] + [b4.segment(1000, {a: (1, D, D) for a in range(4)}) for _ in range(3)]

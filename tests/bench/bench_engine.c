@@ -20,6 +20,11 @@ void qs_port_send(const uint8_t *bytes, uint8_t len)
     (void)len;
 }
 
+/* The bench drives the tick itself. */
+void qs_port_tick_wake(void)
+{
+}
+
 uint16_t qs_port_clock(void)
 {
     return 0;

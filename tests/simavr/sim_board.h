@@ -12,6 +12,7 @@ typedef struct {
     uint8_t dir_shift;   /* dir pin of axis i: bit dir_shift + i (high = negative) */
     uint8_t axes;
     uint8_t timer_vector; /* TIMER1_COMPA */
+    uint8_t rest_vector;  /* TIMER1_COMPB: the tick while the engine rests */
     uint8_t rx_vector;    /* USART0 RX complete */
     uint8_t udre_vector;  /* USART0 data register empty */
     uint16_t ram_start;

@@ -72,6 +72,16 @@ sim_isr *sim_isr_watch(avr_t *avr, uint8_t vector, sim_isr_enter enter, sim_isr_
     return w;
 }
 
+int sim_isr_watch_also(sim_isr *w, uint8_t vector)
+{
+    avr_irq_t *irq = avr_get_interrupt_irq(w->avr, vector);
+    if (!irq) {
+        return -1;
+    }
+    avr_irq_register_notify(irq + AVR_INT_IRQ_RUNNING, on_running, w);
+    return 0;
+}
+
 sim_cost sim_isr_cost(const sim_isr *w)
 {
     return w->cost;

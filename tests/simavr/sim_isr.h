@@ -30,6 +30,10 @@ typedef struct sim_isr sim_isr;
 sim_isr *sim_isr_watch(avr_t *avr, uint8_t vector, sim_isr_enter enter, sim_isr_done done,
                        void *ctx);
 
+/* Count a second vector as the same interrupt (the two never nest): the
+ * step tick runs from compare A, or from compare B while it rests. */
+int sim_isr_watch_also(sim_isr *w, uint8_t vector);
+
 sim_cost sim_isr_cost(const sim_isr *w);
 
 /* Nonzero while the interrupt runs. */
