@@ -33,9 +33,13 @@ class WorkCoordinates(BaseModel):
     model_config = ConfigDict(extra="forbid", validate_assignment=True)
 
     system: int = Field(default=1, ge=1, le=len(SYSTEMS), description="1 = G54 … 6 = G59")
-    offsets: list[Offsets] = Field(default_factory=_six, min_length=len(SYSTEMS), max_length=len(SYSTEMS))
+    offsets: list[Offsets] = Field(
+        default_factory=_six, min_length=len(SYSTEMS), max_length=len(SYSTEMS)
+    )
     g92: Offsets = Field(default_factory=dict)
-    g92_applied: bool = False  # G92 sets and applies; G92.2 suspends (values kept), G92.3 applies them again
+    g92_applied: bool = (
+        False  # G92 sets and applies; G92.2 suspends (values kept), G92.3 applies them again
+    )
     g28: Offsets = Field(default_factory=dict, description="machine mm")
     g30: Offsets = Field(default_factory=dict, description="machine mm")
 

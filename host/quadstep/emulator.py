@@ -35,9 +35,13 @@ def emulator_binary(build: bool = True) -> Path:
     if path.is_file():
         return path
     if build and (REPO / "Makefile").is_file():
-        result = subprocess.run(["make", "-C", str(REPO), "emulator"], capture_output=True, text=True)
+        result = subprocess.run(
+            ["make", "-C", str(REPO), "emulator"], capture_output=True, text=True
+        )
         if result.returncode != 0 or not path.is_file():
-            raise EmulatorError(f"`make -C {REPO} emulator` failed:\n{result.stdout[-2000:]}{result.stderr[-2000:]}")
+            raise EmulatorError(
+                f"`make -C {REPO} emulator` failed:\n{result.stdout[-2000:]}{result.stderr[-2000:]}"
+            )
         return path
     raise EmulatorError(
         f"emulator binary not found: set ${EMULATOR_ENV} or build it with `make emulator` in the source tree"
@@ -60,7 +64,16 @@ class Emulator(PortProcess):
         binary: Path | None = None,
     ) -> None:
         self.binary = binary or emulator_binary()
-        args = [str(self.binary), "--pty", "--tick-hz", str(tick_hz), "--axes", str(axes), "--queue", str(queue)]
+        args = [
+            str(self.binary),
+            "--pty",
+            "--tick-hz",
+            str(tick_hz),
+            "--axes",
+            str(axes),
+            "--queue",
+            str(queue),
+        ]
         if free:
             args.append("--free")
         if trace is not None:

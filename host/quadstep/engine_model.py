@@ -124,7 +124,13 @@ def predict(
         count += 1
     steps = _stack(chunks)
     steps = steps[np.lexsort((steps[:, 1], steps[:, 0]))]
-    return Prediction(steps=steps, positions=pos, motion_ticks=tick - start_tick, segments=count, per_axis_steps=counts)
+    return Prediction(
+        steps=steps,
+        positions=pos,
+        motion_ticks=tick - start_tick,
+        segments=count,
+        per_axis_steps=counts,
+    )
 
 
 # --- HOLD: deceleration to rest from any tick (docs/FIXED_POINT.md §8) -----------------------------
@@ -187,8 +193,13 @@ def axis_hold(n: int, mv: AxisMove, t0: int, decel: int) -> AxisHold:
     x = n * mv.r + c1 * t0 * t0 + 2 * n * mv.v0 * t0  # 2nD·x(t0)
     before = int(steps_by_tick(n, mv, np.array([t0]))[0])
     i1 = 2 * n * mv.vn if t0 == n else 2 * n * mv.v0 + c1 * (2 * t0 + 1)
-    return AxisHold(kn=k * n, e0=k * (x - 2 * n * D * before), i1=k * i1, d=hold_step_change(k * n, decel),
-                    before=before)
+    return AxisHold(
+        kn=k * n,
+        e0=k * (x - 2 * n * D * before),
+        i1=k * i1,
+        d=hold_step_change(k * n, decel),
+        before=before,
+    )
 
 
 @dataclass
@@ -224,7 +235,11 @@ def predict_hold(
     for index, seg in enumerate(segments):
         if hold_tick < tick + seg.n:
             return _hold_segment(seg, index, hold_tick - tick, hold_tick, decels, pos)
-        if hold_tick == tick + seg.n and index == len(segments) - 1 and any(mv.vn for mv in seg.axes):
+        if (
+            hold_tick == tick + seg.n
+            and index == len(segments) - 1
+            and any(mv.vn for mv in seg.axes)
+        ):
             return _hold_segment(seg, index, seg.n, hold_tick, decels, pos)
         for mv in seg.axes:
             pos[mv.axis] += mv.direction * segment_steps(seg.n, mv)

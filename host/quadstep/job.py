@@ -73,7 +73,9 @@ class Job:
     program: Program
     plan: Plan
     coordinates: WorkCoordinates  # the work coordinates the job starts with
-    feed_override: int = 100  # % of every programmed feed the plan has (the program keeps them as written)
+    feed_override: int = (
+        100  # % of every programmed feed the plan has (the program keeps them as written)
+    )
     approach: Approach | None = None  # started at a line (--from-line): how it gets there
 
     @property
@@ -141,7 +143,10 @@ class Job:
 
 
 def read_program(
-    path: Path, config: MachineConfig, start_steps: tuple[int, ...], skip_unsupported: bool = False,
+    path: Path,
+    config: MachineConfig,
+    start_steps: tuple[int, ...],
+    skip_unsupported: bool = False,
     coordinates: WorkCoordinates | None = None,
 ) -> Program:
     """Parse the job file into moves in machine coordinates, starting from `start_steps`, G-code in the work
@@ -151,7 +156,9 @@ def read_program(
         return move_program(read_move_file(path), config.axis_names, start_mm)
     text = read_text(path, JobError)
     try:
-        return parse_gcode(text, config.axis_names, start_mm, config.arc_tolerance, skip_unsupported, coordinates)
+        return parse_gcode(
+            text, config.axis_names, start_mm, config.arc_tolerance, skip_unsupported, coordinates
+        )
     except JobError as exc:
         raise JobError(f"{path}: {exc}") from None
 
@@ -181,5 +188,11 @@ def load_job(
         plan = plan_program(scale_feeds(program, feed_override), config, start, label)
     except JobError as exc:
         raise JobError(f"{path}: {exc}") from None
-    return Job(path=path, program=program, plan=plan, coordinates=coordinates,
-               feed_override=feed_override, approach=approach)
+    return Job(
+        path=path,
+        program=program,
+        plan=plan,
+        coordinates=coordinates,
+        feed_override=feed_override,
+        approach=approach,
+    )

@@ -26,8 +26,9 @@ class Console:
         """The line as a job from step position `start`; raises JobError naming the fault, and then nothing
         of the line is kept (not even its modal words)."""
         config = self.config
-        interpreter = GcodeInterpreter(config.axis_names, config.to_mm(start), config.arc_tolerance,
-                                       coordinates=coordinates)
+        interpreter = GcodeInterpreter(
+            config.axis_names, config.to_mm(start), config.arc_tolerance, coordinates=coordinates
+        )
         for name, value in self._modal.items():
             setattr(interpreter, name, value)
         try:
@@ -35,5 +36,7 @@ class Console:
             plan = plan_program(interpreter.program, config, start, "MDI")
         except JobError as exc:
             raise JobError(f"MDI: {str(exc).removeprefix('line 1: ')}") from None
-        self._modal = {name: getattr(interpreter, name) for name in MODAL if hasattr(interpreter, name)}
+        self._modal = {
+            name: getattr(interpreter, name) for name in MODAL if hasattr(interpreter, name)
+        }
         return Job(path=SOURCE, program=interpreter.program, plan=plan, coordinates=coordinates)

@@ -47,9 +47,15 @@ class Move(BaseModel):
 
     @model_validator(mode="after")
     def _one_kind(self) -> Move:
-        kinds = [k for k in ("to", "by", "rapid_to", "rapid_by", "dwell", "pause") if getattr(self, k) is not None]
+        kinds = [
+            k
+            for k in ("to", "by", "rapid_to", "rapid_by", "dwell", "pause")
+            if getattr(self, k) is not None
+        ]
         if len(kinds) != 1:
-            raise ValueError(f"needs exactly one of to, by, rapid_to, rapid_by, dwell, pause (got {kinds or 'none'})")
+            raise ValueError(
+                f"needs exactly one of to, by, rapid_to, rapid_by, dwell, pause (got {kinds or 'none'})"
+            )
         kind = kinds[0]
         if kind in ("to", "by") and self.feed is None:
             raise ValueError(f"'{kind}' needs a feed")
@@ -75,8 +81,10 @@ class _UniqueKeyLoader(yaml.SafeLoader):
         seen: set[str] = set()
         for key, _ in node.value:
             if isinstance(key, yaml.ScalarNode) and key.value in seen:
-                raise DuplicateKeyError(f"line {key.start_mark.line + 1}: key {key.value!r} is "
-                                        "given twice in one mapping (which one is meant?)")
+                raise DuplicateKeyError(
+                    f"line {key.start_mark.line + 1}: key {key.value!r} is "
+                    "given twice in one mapping (which one is meant?)"
+                )
             seen.add(key.value if isinstance(key, yaml.ScalarNode) else "")
         return super().construct_mapping(node, deep)
 

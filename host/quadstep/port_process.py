@@ -98,7 +98,9 @@ class PortProcess:
         self._proc: subprocess.Popen[bytes] | None = None
         self._stderr = tempfile.TemporaryFile()
         self._stderr_text: str | None = None  # kept once the child has ended
-        self._released = threading.Event()  # the keeper thread (the child's parent for PR_SET_PDEATHSIG) may end
+        self._released = (
+            threading.Event()
+        )  # the keeper thread (the child's parent for PR_SET_PDEATHSIG) may end
 
     def start(self) -> Self:
         """Start the child from a thread that lives until stop() (or the program's end): the parent-death
@@ -129,8 +131,14 @@ class PortProcess:
     def _spawn(self) -> None:
         # A session of its own: the terminal's Ctrl-C (SIGINT to the foreground process group) reaches the
         # program that started the child, which then stops the machine through it; never the child itself.
-        self._proc = subprocess.Popen(self.args, stdout=subprocess.PIPE, stderr=self._stderr, stdin=subprocess.DEVNULL,
-                                      start_new_session=True, preexec_fn=die_with_parent())
+        self._proc = subprocess.Popen(
+            self.args,
+            stdout=subprocess.PIPE,
+            stderr=self._stderr,
+            stdin=subprocess.DEVNULL,
+            start_new_session=True,
+            preexec_fn=die_with_parent(),
+        )
 
     def _await_port(self) -> Self:
         assert self._proc is not None and self._proc.stdout is not None

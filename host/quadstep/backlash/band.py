@@ -73,13 +73,17 @@ class Band:
 
     def to_position(self, motor: Sequence[int]) -> tuple[int, ...]:
         """The positions reports show (take-ups excluded) for these motor step counts."""
-        return tuple(m - a.offset() for m, a in zip(motor, self.axes)) + tuple(motor[len(self.axes):])
+        return tuple(m - a.offset() for m, a in zip(motor, self.axes)) + tuple(
+            motor[len(self.axes) :]
+        )
 
     def to_motor(self, position: Sequence[int]) -> tuple[int, ...]:
-        return tuple(p + a.offset() for p, a in zip(position, self.axes)) + tuple(position[len(self.axes):])
+        return tuple(p + a.offset() for p, a in zip(position, self.axes)) + tuple(
+            position[len(self.axes) :]
+        )
 
     def with_axis(self, i: int, axis: BandAxis) -> Band:
-        return Band(self.axes[:i] + (axis,) + self.axes[i + 1:])
+        return Band(self.axes[:i] + (axis,) + self.axes[i + 1 :])
 
     @property
     def active(self) -> bool:
@@ -98,13 +102,19 @@ class BandRecord(BaseModel):
 
     @classmethod
     def of(cls, band: Band, motor: Sequence[int]) -> BandRecord:
-        return cls(size=[a.size for a in band.axes], w=[a.w for a in band.axes], base=[a.base for a in band.axes],
-                   motor=list(motor[: len(band.axes)]))
+        return cls(
+            size=[a.size for a in band.axes],
+            w=[a.w for a in band.axes],
+            base=[a.base for a in band.axes],
+            motor=list(motor[: len(band.axes)]),
+        )
 
     def restore(self, config: MachineConfig, motor: Sequence[int]) -> Band:
         """The kept band if it still describes this machine (same sizes, the board where it was); else a new one."""
         fresh = Band.of(config)
-        if self.size != [a.size for a in fresh.axes] or self.motor != list(motor[: len(fresh.axes)]):
+        if self.size != [a.size for a in fresh.axes] or self.motor != list(
+            motor[: len(fresh.axes)]
+        ):
             return fresh
         return Band(tuple(BandAxis(s, w, b) for s, w, b in zip(self.size, self.w, self.base)))
 

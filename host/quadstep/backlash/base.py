@@ -21,7 +21,9 @@ from ..planner.stream import Stream
 from ..protocol.cubic import SIGMA, AxisState, CubicChain, CubicSegment, CubicStep, choose2
 from ..protocol.segment import D, AxisMove, Segment
 
-Poly = tuple[Fraction, Fraction, Fraction]  # advance over tick k: α + β·(k−1) + γ·C(k−1, 2), signed, 2^-31 step
+Poly = tuple[
+    Fraction, Fraction, Fraction
+]  # advance over tick k: α + β·(k−1) + γ·C(k−1, 2), signed, 2^-31 step
 
 
 @dataclass
@@ -32,9 +34,13 @@ class BaseStream:
     n: np.ndarray  # (S,) ticks
     steps: np.ndarray  # (S, A) signed steps of each axis
     accel: np.ndarray  # (S, A) largest |acceleration|, steps per tick²
-    rest_before: np.ndarray  # (S + 1,) every axis at rest at the boundary before segment k (and at the end)
+    rest_before: (
+        np.ndarray
+    )  # (S + 1,) every axis at rest at the boundary before segment k (and at the end)
     item: Sequence[Segment | CubicSegment] | SegmentArrays
-    chains: list[CubicChain] = field(default_factory=list)  # mixed streams: the chain before each segment
+    chains: list[CubicChain] = field(
+        default_factory=list
+    )  # mixed streams: the chain before each segment
     start: np.ndarray = field(init=False)  # (S + 1,) first tick of each segment
     position: np.ndarray = field(init=False)  # (S + 1, A) stepper before each segment, from 0
 
@@ -44,7 +50,9 @@ class BaseStream:
         self.position = np.vstack([zeros, np.cumsum(self.steps, axis=0, dtype=np.int64)])
         if isinstance(self.item, SegmentArrays):
             self._arrays = self.item.numpy()
-            named = (self._arrays["axes"][:, None].astype(np.int64) >> np.arange(self.axis_count)) & 1
+            named = (
+                self._arrays["axes"][:, None].astype(np.int64) >> np.arange(self.axis_count)
+            ) & 1
             index = np.where(named == 1, np.arange(len(self))[:, None], -1)
             self._last_named = np.maximum.accumulate(index, axis=0) if len(self) else index
 
@@ -89,8 +97,11 @@ class BaseStream:
             return _quadratic_advance(seg.n, mv, skip)
         start, r = self.chain_before(k).starts(seg)[axis]
         sign = start.direction
-        return (Fraction(sign * (start.i + skip * start.d + choose2(skip) * r)),
-                Fraction(sign * (start.d + skip * r)), Fraction(sign * r))
+        return (
+            Fraction(sign * (start.i + skip * start.d + choose2(skip) * r)),
+            Fraction(sign * (start.d + skip * r)),
+            Fraction(sign * r),
+        )
 
     # --- the firmware's state -----------------------------------------------------------------
 
@@ -157,7 +168,9 @@ def from_items(items: Sequence[Segment | CubicSegment], axis_count: int) -> Base
             moving[k] |= any(not s.at_rest for s, _ in starts)
             for step in chain.advance(seg):
                 steps[k, step.axis] = step.start.direction * step.steps
-                accel[k, step.axis] = max(abs(step.start.d), abs(step.start.d + seg.n * step.r)) / SIGMA
+                accel[k, step.axis] = (
+                    max(abs(step.start.d), abs(step.start.d + seg.n * step.r)) / SIGMA
+                )
             moving[k + 1] = any(not s.at_rest for s in chain.axes)
             continue
         totals = {}
@@ -170,7 +183,9 @@ def from_items(items: Sequence[Segment | CubicSegment], axis_count: int) -> Base
             moving[k + 1] |= mv.vn > 0
         chain.follow_quadratic(seg, totals)
     chains.append(chain.copy())
-    kept = items if isinstance(items, Stream) else list(items)  # a planned stream keeps its source lines
+    kept = (
+        items if isinstance(items, Stream) else list(items)
+    )  # a planned stream keeps its source lines
     return BaseStream(axis_count, n, steps, accel, ~moving, kept, chains)
 
 

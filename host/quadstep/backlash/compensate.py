@@ -86,8 +86,11 @@ class Compensated:
             if tick >= window.start + window.ticks:
                 band = window.band_after
                 continue
-            made = predict(self.stream.segments(window.first, window.first + window.count),
-                           axis_count=self.stream.axis_count, chain=window.chain.copy())
+            made = predict(
+                self.stream.segments(window.first, window.first + window.count),
+                axis_count=self.stream.axis_count,
+                chain=window.chain.copy(),
+            )
             rows = made.steps[made.steps[:, 0] <= tick - window.start]
             band = window.band
             motor = list(window.motor)
@@ -119,11 +122,22 @@ def _limits(config: MachineConfig, axis: int) -> tuple[float, float, float]:
     assert a.backlash is not None
     accel = a.backlash.accel or a.max_accel
     jerk = a.backlash.jerk or accel / JERK_TIME
-    return a.max_accel * a.steps_per_mm / hz**2, accel * a.steps_per_mm / hz**2, jerk * a.steps_per_mm / hz**3
+    return (
+        a.max_accel * a.steps_per_mm / hz**2,
+        accel * a.steps_per_mm / hz**2,
+        jerk * a.steps_per_mm / hz**3,
+    )
 
 
-def _place(base: BaseStream, config: MachineConfig, axis: int, prev: int, new: int, steps: int,
-           barriers: list[int]) -> _Placed:
+def _place(
+    base: BaseStream,
+    config: MachineConfig,
+    axis: int,
+    prev: int,
+    new: int,
+    steps: int,
+    barriers: list[int],
+) -> _Placed:
     """Where the take-up of `steps` goes between the axis's last motion one way (segment `prev`, −1: before
     the stream) and its first the other way (segment `new`)."""
     limit, accel, jerk = _limits(config, axis)
@@ -146,15 +160,23 @@ def _place(base: BaseStream, config: MachineConfig, axis: int, prev: int, new: i
             return _Placed(axis, gap_ramp, "gap", start, line)
         gap_ramp = design(steps, max(budget, accel * 0.01), jerk)
     if prev < 0:
-        return _Placed(axis, design(steps, accel, jerk), "rest", max([0, *[b for b in barriers if b <= new]]), line)
+        return _Placed(
+            axis,
+            design(steps, accel, jerk),
+            "rest",
+            max([0, *[b for b in barriers if b <= new]]),
+            line,
+        )
     rests = [b for b in range(prev + 1, new + 1) if base.rest_before[b]]
     if rests:
         middle = (t_a + t_b) / 2
         b = min(rests, key=lambda b: abs(int(base.start[b]) - middle))
         return _Placed(axis, design(steps, accel, jerk), "rest", b, line)
     kind = config.axes[axis].backlash.place  # type: ignore[union-attr]
-    section = (max([0, *[int(base.start[b]) for b in barriers if b <= prev]]),
-               min([base.ticks, *[int(base.start[b]) for b in barriers if b > new]]))
+    section = (
+        max([0, *[int(base.start[b]) for b in barriers if b <= prev]]),
+        min([base.ticks, *[int(base.start[b]) for b in barriers if b > new]]),
+    )
     best: tuple[int, float, int, Ramp] | None = None
     still = base.position_at(axis, t_a)  # where the axis lingers between its two motions
     full = ramp
@@ -165,7 +187,10 @@ def _place(base: BaseStream, config: MachineConfig, axis: int, prev: int, new: i
             budget = min(accel, limit - _base_accel(base, axis, start, start + ramp.ticks))
             ramp = design(steps, max(budget, accel * 0.01), jerk)
         start = max(section[0], min(start, section[1] - ramp.ticks - 1))
-        if start < section[0] or limit - _base_accel(base, axis, start, start + ramp.ticks) < ramp.peak_accel:
+        if (
+            start < section[0]
+            or limit - _base_accel(base, axis, start, start + ramp.ticks) < ramp.peak_accel
+        ):
             continue
         # what the path does on this axis while the ramp runs: the carriage's error is at most that
         away = max(abs(base.position_at(axis, t) - still) for t in (start, start + ramp.ticks))
@@ -173,7 +198,9 @@ def _place(base: BaseStream, config: MachineConfig, axis: int, prev: int, new: i
         if best is None or score[:2] < best[:2]:
             best = score
     if best is None:
-        raise FitError(f"axis {config.axes[axis].name}: no room for a take-up of {abs(steps)} steps at line {line}")
+        raise FitError(
+            f"axis {config.axes[axis].name}: no room for a take-up of {abs(steps)} steps at line {line}"
+        )
     start, ramp = best[2], best[3]
     return _Placed(axis, ramp, kind, start, line)
 
@@ -183,15 +210,17 @@ def _candidates(kind: str, t_a: int, t_b: int, ticks: int) -> list[int]:
     if kind == "after":
         return [t_a]
     centre = round((t_a + t_b) / 2 - ticks / 2)
-    return sorted({centre, t_a, t_b - ticks - 1, *range(t_a - ticks, t_b + 1, max(1, ticks // 8))},
-                  key=lambda s: abs(s - centre))
+    return sorted(
+        {centre, t_a, t_b - ticks - 1, *range(t_a - ticks, t_b + 1, max(1, ticks // 8))},
+        key=lambda s: abs(s - centre),
+    )
 
 
 def _base_accel(base: BaseStream, axis: int, lo: int, hi: int) -> float:
     """The largest |acceleration| of `axis` in the plan over ticks lo … hi."""
     first = int(np.searchsorted(base.start, lo, side="right")) - 1
     last = int(np.searchsorted(base.start, hi, side="left"))
-    chunk = base.accel[max(first, 0): max(last, first + 1), axis]
+    chunk = base.accel[max(first, 0) : max(last, first + 1), axis]
     return float(chunk.max()) if chunk.size else 0.0
 
 
@@ -221,17 +250,30 @@ def reversals(base: BaseStream, band: Band) -> tuple[list[tuple[int, int, int, i
     return found, start, band
 
 
-def compensate(base: BaseStream, config: MachineConfig, band: Band, barriers: list[int] | None = None,
-               pauses: list[tuple[int, int]] | None = None) -> Compensated:
+def compensate(
+    base: BaseStream,
+    config: MachineConfig,
+    band: Band,
+    barriers: list[int] | None = None,
+    pauses: list[tuple[int, int]] | None = None,
+) -> Compensated:
     """The stream with its take-ups; `barriers` (segment indices) are where it rests between sections."""
     barriers = sorted(set(barriers or []) | {b for b, _ in pauses or []})
     found, band_start, band_end = reversals(base, band)
-    placed = [_place(base, config, axis, prev, new, steps, barriers) for axis, prev, new, steps in found]
+    placed = [
+        _place(base, config, axis, prev, new, steps, barriers) for axis, prev, new, steps in found
+    ]
     return _assemble(base, config, band_start, band_end, placed, pauses or [])
 
 
-def _assemble(base: BaseStream, config: MachineConfig, band: Band, band_end: Band, placed: list[_Placed],
-              pauses: list[tuple[int, int]]) -> Compensated:
+def _assemble(
+    base: BaseStream,
+    config: MachineConfig,
+    band: Band,
+    band_end: Band,
+    placed: list[_Placed],
+    pauses: list[tuple[int, int]],
+) -> Compensated:
     count = len(base)
     blocks: dict[int, int] = {}
     for p in placed:
@@ -241,7 +283,9 @@ def _assemble(base: BaseStream, config: MachineConfig, band: Band, band_end: Ban
     for b, length in blocks.items():
         inserted[b:] += length
     anchor = 1 if placed else 0
-    seg_start = base.start + inserted + anchor  # motion tick each base segment starts at in the stream
+    seg_start = (
+        base.start + inserted + anchor
+    )  # motion tick each base segment starts at in the stream
     for p in placed:
         if p.kind == "rest":
             p.start = int(seg_start[p.at]) - blocks[p.at]
@@ -250,13 +294,23 @@ def _assemble(base: BaseStream, config: MachineConfig, band: Band, band_end: Ban
             p.start = p.at + int(inserted[k]) + anchor
     units = _units(base, blocks, seg_start)
     windows = _windows(units, placed)
-    out = Stream(base.item) if not base.chains or isinstance(base.item, Stream) \
-        else Stream(list(base.item), axes=base.axis_count)  # type: ignore[arg-type]
+    out = (
+        Stream(base.item)
+        if not base.chains or isinstance(base.item, Stream)
+        else Stream(list(base.item), axes=base.axis_count)
+    )  # type: ignore[arg-type]
     result = Compensated(out, band, band_end, added_ticks=int(inserted[-1]) + anchor)
     taken = [0] * base.axis_count  # take-up steps of the windows so far
     if anchor:
-        out.add(Segment(n=1, axes=tuple(AxisMove(axis=a, direction=1, v0=0, vn=0, r=0) for a in range(base.axis_count))),
-                _line(base, 0))
+        out.add(
+            Segment(
+                n=1,
+                axes=tuple(
+                    AxisMove(axis=a, direction=1, v0=0, vn=0, r=0) for a in range(base.axis_count)
+                ),
+            ),
+            _line(base, 0),
+        )
     first_item = {}  # base boundary → index of the stream's first item there
     chain: CubicChain | None = None
     after = 0  # first base segment after the last window
@@ -272,18 +326,32 @@ def _assemble(base: BaseStream, config: MachineConfig, band: Band, band_end: Ban
             begin = len(out)
             start_chain = chain.copy()
             segments, made = fit_window(chain, spans)
-            _check(base, units[u:last + 1], ramps, made, config)
+            _check(base, units[u : last + 1], ramps, made, config)
             for seg in segments:
                 out.add(seg, _line(base, index), min(index, len(base) - 1))
             motor = tuple(int(p) + t for p, t in zip(base.position[index], taken))
             after_band = band
             for p in ramps:
                 taken[p.axis] += p.ramp.steps
-                after_band = after_band.with_axis(p.axis, after_band.axes[p.axis].monotone(p.ramp.steps))
-            result.windows.append(Window(begin, len(segments), lo, units[last][3] - lo, band, after_band,
-                                         start_chain, motor))
+                after_band = after_band.with_axis(
+                    p.axis, after_band.axes[p.axis].monotone(p.ramp.steps)
+                )
+            result.windows.append(
+                Window(
+                    begin,
+                    len(segments),
+                    lo,
+                    units[last][3] - lo,
+                    band,
+                    after_band,
+                    start_chain,
+                    motor,
+                )
+            )
             band = after_band
-            after = max((units[j][1] + 1 for j in range(u, last + 1) if units[j][0] == "seg"), default=after)
+            after = max(
+                (units[j][1] + 1 for j in range(u, last + 1) if units[j][0] == "seg"), default=after
+            )
             u = last + 1
             w += 1
             continue
@@ -295,8 +363,18 @@ def _assemble(base: BaseStream, config: MachineConfig, band: Band, band_end: Ban
     for p in placed:
         a = config.axes[p.axis]
         planned = int(base.start[p.at]) if p.kind == "rest" else p.at
-        result.takeups.append(TakeUp(p.axis, p.start, p.ramp.ticks, p.ramp.steps, p.kind,
-                                     p.ramp.peak_accel * hz * hz / a.steps_per_mm, p.line, planned))
+        result.takeups.append(
+            TakeUp(
+                p.axis,
+                p.start,
+                p.ramp.ticks,
+                p.ramp.steps,
+                p.kind,
+                p.ramp.peak_accel * hz * hz / a.steps_per_mm,
+                p.line,
+                planned,
+            )
+        )
     result.pauses = [(first_item[b], line) for b, line in pauses]
     return result
 
@@ -369,14 +447,22 @@ def _chain_at(base: BaseStream, k: int, previous: CubicChain | None, after: int)
     chain = base.chain_before(k)
     if previous is not None and not base.chains:
         for axis in range(base.axis_count):
-            if int(base._last_named[k - 1, axis]) < after:  # not named since that window: at rest, e carried
+            if (
+                int(base._last_named[k - 1, axis]) < after
+            ):  # not named since that window: at rest, e carried
                 kept = previous.axes[axis]
                 state = chain.axes[axis]
                 state.e, state.direction, state.i, state.d = kept.e, kept.direction, 0, 0
     return chain
 
 
-def _check(base: BaseStream, units: list[Unit], ramps: list[_Placed], made: list[int], config: MachineConfig) -> None:
+def _check(
+    base: BaseStream,
+    units: list[Unit],
+    ramps: list[_Placed],
+    made: list[int],
+    config: MachineConfig,
+) -> None:
     """The window makes exactly the planned steps plus the take-ups' (else the plan after it would not land)."""
     want = [0] * base.axis_count
     for kind, index, _, _ in units:
@@ -386,4 +472,6 @@ def _check(base: BaseStream, units: list[Unit], ramps: list[_Placed], made: list
     for p in ramps:
         want[p.axis] += p.ramp.steps
     if want != made:
-        raise FitError(f"a take-up window makes {made} steps, not {want} (line {_line(base, units[0][1])})")
+        raise FitError(
+            f"a take-up window makes {made} steps, not {want} (line {_line(base, units[0][1])})"
+        )

@@ -41,7 +41,9 @@ def from_reading(distance_mm: float, reading_mm: float, steps_per_mm: float) -> 
     if distance_mm <= 0:
         raise DialError(f"distance = {distance_mm:g} mm: must be more than 0")
     if reading > distance_mm:
-        raise DialError(f"reading = {reading:g} mm: must be at most the distance moved, {distance_mm:g} mm")
+        raise DialError(
+            f"reading = {reading:g} mm: must be at most the distance moved, {distance_mm:g} mm"
+        )
     mm = distance_mm - reading
     return DialResult(mm * steps_per_mm, mm)
 

@@ -17,7 +17,16 @@ from dataclasses import dataclass
 from fractions import Fraction
 
 from ..protocol.constants import CUBIC_ACCEL_LIMIT
-from ..protocol.cubic import SIGMA, AxisState, CubicAxis, CubicChain, CubicSegment, advances_in_range, choose2, choose3
+from ..protocol.cubic import (
+    SIGMA,
+    AxisState,
+    CubicAxis,
+    CubicChain,
+    CubicSegment,
+    advances_in_range,
+    choose2,
+    choose3,
+)
 from .base import Poly
 
 MAX_PIECE = 2048  # ticks: keeps a rounded jerk's effect inside a piece below 10^-2 step
@@ -100,8 +109,9 @@ def sign_changes(poly: Poly, m: int) -> list[int]:
     return changes
 
 
-def fit_window(chain: CubicChain, spans: Sequence[Span], exact_end: Sequence[AxisState] | None = None
-               ) -> tuple[list[CubicSegment], list[int]]:
+def fit_window(
+    chain: CubicChain, spans: Sequence[Span], exact_end: Sequence[AxisState] | None = None
+) -> tuple[list[CubicSegment], list[int]]:
     """Cubic segments that run `spans` from `chain` (moved on past them), and each axis's steps (signed).
 
     The last tick lands every axis's ideal on the wanted one; with `exact_end` also its speed and
@@ -116,8 +126,14 @@ def fit_window(chain: CubicChain, spans: Sequence[Span], exact_end: Sequence[Axi
     done = 0
     for span in spans:
         ticks = span.ticks - (1 if done + span.ticks == total else 0)  # the last tick lands
-        cuts = sorted({0, ticks, *range(MAX_PIECE, ticks, MAX_PIECE),
-                       *(k - 1 for p in span.advance for k in sign_changes(p, ticks) if ticks)})
+        cuts = sorted(
+            {
+                0,
+                ticks,
+                *range(MAX_PIECE, ticks, MAX_PIECE),
+                *(k - 1 for p in span.advance for k in sign_changes(p, ticks) if ticks),
+            }
+        )
         for lo, hi in zip(cuts, cuts[1:]):
             piece = [shifted(p, lo) for p in span.advance]
             out.append(_piece(chain, piece, hi - lo, dev, made))
@@ -128,7 +144,9 @@ def fit_window(chain: CubicChain, spans: Sequence[Span], exact_end: Sequence[Axi
     return out, made
 
 
-def _piece(chain: CubicChain, piece: list[Poly], m: int, dev: list[Fraction], made: list[int]) -> CubicSegment:
+def _piece(
+    chain: CubicChain, piece: list[Poly], m: int, dev: list[Fraction], made: list[int]
+) -> CubicSegment:
     axes: list[CubicAxis] = []
     for axis, poly in enumerate(piece):
         state = chain.axes[axis]
@@ -154,31 +172,51 @@ def _piece(chain: CubicChain, piece: list[Poly], m: int, dev: list[Fraction], ma
     return segment
 
 
-def _round_state(a: Fraction, b: Fraction, jerk: int, wanted: Fraction, u: Fraction, m: int, axis: int,
-                 end: Fraction) -> tuple[int, int]:
+def _round_state(
+    a: Fraction,
+    b: Fraction,
+    jerk: int,
+    wanted: Fraction,
+    u: Fraction,
+    m: int,
+    axis: int,
+    end: Fraction,
+) -> tuple[int, int]:
     """Integer speed and acceleration for a piece of m ticks (jerk given): the chain's ideal ends at most m
     quanta ahead of the wanted one (u: how far ahead it starts), its last advance near the wanted `end`, and
     every advance within 0 … 1 step."""
-    if m > 1:  # the real (i, d) that give the wanted distance and the wanted last advance with this jerk
+    if (
+        m > 1
+    ):  # the real (i, d) that give the wanted distance and the wanted last advance with this jerk
         c2, c3, e2 = choose2(m), choose3(m), choose2(m - 1)
         rest_x, rest_a = wanted - u - c3 * jerk, end - e2 * jerk
         d_real = (rest_x - m * rest_a) / (c2 - m * (m - 1))
     else:
         d_real = b
     centre = round(d_real)
-    for d in sorted({centre + k for k in range(-3, 4)} | {math.floor(b), math.ceil(b)}, key=lambda d: abs(d - d_real)):
+    for d in sorted(
+        {centre + k for k in range(-3, 4)} | {math.floor(b), math.ceil(b)},
+        key=lambda d: abs(d - d_real),
+    ):
         if not (abs(d) < CUBIC_ACCEL_LIMIT and abs(d + m * jerk) < CUBIC_ACCEL_LIMIT):
             continue
         first = math.ceil((wanted - choose2(m) * d - choose3(m) * jerk - u) / m)
         for i in (first, first + 1, first + 2):
             if 0 <= i < SIGMA and advances_in_range(i, d, jerk, m):
                 return i, d
-    raise FitError(f"axis {axis}: an advance of {float(a) / SIGMA:.4f} step per tick (change {float(b) / SIGMA:.3g}) "
-                   f"cannot be held within 0 … 1 step per tick over {m} ticks")
+    raise FitError(
+        f"axis {axis}: an advance of {float(a) / SIGMA:.4f} step per tick (change {float(b) / SIGMA:.3g}) "
+        f"cannot be held within 0 … 1 step per tick over {m} ticks"
+    )
 
 
-def _landing(chain: CubicChain, wanted: list[Fraction], dev: list[Fraction], made: list[int],
-             exact_end: Sequence[AxisState] | None) -> CubicSegment:
+def _landing(
+    chain: CubicChain,
+    wanted: list[Fraction],
+    dev: list[Fraction],
+    made: list[int],
+    exact_end: Sequence[AxisState] | None,
+) -> CubicSegment:
     """One tick that puts every axis's ideal exactly on the wanted one."""
     axes: list[CubicAxis] = []
     for axis, want in enumerate(wanted):
@@ -209,4 +247,13 @@ def _advance(chain: CubicChain, segment: CubicSegment, made: list[int]) -> None:
         made[step.axis] += step.start.direction * step.steps
 
 
-__all__ = ["FitError", "Span", "at", "piece_sign", "fit_window", "shifted", "sign_changes", "travel"]
+__all__ = [
+    "FitError",
+    "Span",
+    "at",
+    "piece_sign",
+    "fit_window",
+    "shifted",
+    "sign_changes",
+    "travel",
+]

@@ -16,7 +16,9 @@ from fractions import Fraction
 from ..protocol.cubic import SIGMA, choose2, choose3
 from ..planner.ramps import Phase, ramp_distance, ramp_move
 
-MIN_JERK_UNITS = 1024  # the jerk in 2^-31 step per tick³ is kept at least this large: its rounding stays tiny
+MIN_JERK_UNITS = (
+    1024  # the jerk in 2^-31 step per tick³ is kept at least this large: its rounding stays tiny
+)
 MAX_JERK_UNITS = (1 << 15) - 1  # the wire's i16
 
 
@@ -88,20 +90,27 @@ def design(steps: int, accel: float, jerk: float) -> Ramp:
     distance = abs(steps)
     jerk = min(jerk, MAX_JERK_UNITS / SIGMA)
     n1 = max(1, math.ceil(accel / jerk))  # ticks to reach the acceleration at this jerk
-    n1 = max(1, min(n1, math.ceil((distance / (2.0 * jerk)) ** (1.0 / 3.0))))  # short: jerk-limited, no n2
+    n1 = max(
+        1, min(n1, math.ceil((distance / (2.0 * jerk)) ** (1.0 / 3.0)))
+    )  # short: jerk-limited, no n2
     n2 = 0
     if 2.0 * n1 * n1 * n1 * jerk < distance:
         a = min(accel, n1 * jerk)
         n2 = max(0, math.ceil((-3.0 * n1 + math.sqrt(n1 * n1 + 4.0 * distance / a)) / 2.0))
+
     def fits(n1: int, n2: int) -> Fraction | None:
         """The ramp's exact jerk (2^-31 step per tick³) if (n1, n2) stays within the limits."""
         exact = Fraction(distance * SIGMA, ramp_distance(ramp_move(n1, n2, 1)))
-        ok = exact <= jerk * SIGMA and n1 * exact <= accel * SIGMA and round(exact) <= MAX_JERK_UNITS
+        ok = (
+            exact <= jerk * SIGMA and n1 * exact <= accel * SIGMA and round(exact) <= MAX_JERK_UNITS
+        )
         return exact if ok else None
 
     while (exact := fits(n1, n2)) is None:
         n2 += max(1, n2 // 16)
-    while exact < MIN_JERK_UNITS and n1 > 1:  # a gentle ramp: shorter jerk phases, longer constant ones, same time
+    while (
+        exact < MIN_JERK_UNITS and n1 > 1
+    ):  # a gentle ramp: shorter jerk phases, longer constant ones, same time
         shorter = fits(n1 - 1, n2 + 2)
         if shorter is None:
             break

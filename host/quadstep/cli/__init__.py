@@ -21,7 +21,9 @@ from ._stops import INTERRUPTED, stop_signals_as_interrupt, why
 
 
 def build_parser() -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(prog="quadstep", description="Exact quadratic stepper motion over serial.")
+    parser = argparse.ArgumentParser(
+        prog="quadstep", description="Exact quadratic stepper motion over serial."
+    )
     parser.add_argument("--version", action="version", version=f"quadstep {version()}")
     subparsers = parser.add_subparsers(dest="command", metavar="COMMAND", required=True)
     for module in sorted(pkgutil.iter_modules(__path__), key=lambda m: m.name):

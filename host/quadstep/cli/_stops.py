@@ -43,7 +43,7 @@ def stop_signals_as_interrupt() -> Iterator[None]:
 
 
 def why(exc: KeyboardInterrupt) -> str:
-    """" (SIGTERM)" for a stop signal, "" for Ctrl-C."""
+    """ " (SIGTERM)" for a stop signal, "" for Ctrl-C."""
     return f" ({exc.args[0]})" if exc.args else ""
 
 
@@ -53,6 +53,10 @@ def interrupted(args: argparse.Namespace, machine: Machine, exc: KeyboardInterru
     from .run import position_lines  # the same lines as a stopped job's
 
     hold_to_rest(machine)
-    print(f"quadstep {args.command}: interrupted{why(exc)}: stopped (HOLD)", file=sys.stderr, flush=True)
+    print(
+        f"quadstep {args.command}: interrupted{why(exc)}: stopped (HOLD)",
+        file=sys.stderr,
+        flush=True,
+    )
     print("\n".join(position_lines(machine)), flush=True)
     return INTERRUPTED

@@ -8,12 +8,21 @@ import json
 from ..toolpath import Box, toolpath
 
 from ._jobs import approach_text
-from ._jobs import add_job_options, format_duration, job_from_args, machine_config, skipped_text, stored_coordinates
+from ._jobs import (
+    add_job_options,
+    format_duration,
+    job_from_args,
+    machine_config,
+    skipped_text,
+    stored_coordinates,
+)
 from .options import add_json_option
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
-    parser = subparsers.add_parser("check", help="validate and plan a job; print moves, distance, duration, speeds")
+    parser = subparsers.add_parser(
+        "check", help="validate and plan a job; print moves, distance, duration, speeds"
+    )
     add_job_options(parser)
     add_json_option(parser)
     parser.set_defaults(handler=run)
@@ -21,14 +30,18 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 
 def run(args: argparse.Namespace) -> int:
     config = machine_config(args)
-    job = job_from_args(args, config, coordinates=stored_coordinates(args))  # from the machine origin
+    job = job_from_args(
+        args, config, coordinates=stored_coordinates(args)
+    )  # from the machine origin
     summary = job.summary()
     path = toolpath(job.program, config.to_mm(job.plan.start))
     names = config.axis_names
     if args.json:
         data = summary.model_dump()
-        data["bounds"] = {kind: _box_json(names, box) for kind, box in
-                          (("work", path.work_box), ("machine", path.machine_box))}
+        data["bounds"] = {
+            kind: _box_json(names, box)
+            for kind, box in (("work", path.work_box), ("machine", path.machine_box))
+        }
         if job.approach is not None:
             data["approach"] = approach_text(job)
         print(json.dumps(data))
@@ -37,7 +50,9 @@ def run(args: argparse.Namespace) -> int:
         f"{summary.file}: {job.source_size}, {summary.moves} moves, {summary.segments} segments "
         f"({summary.wire_bytes / 1000:.1f} kB on the wire)"
     )
-    print(f"distance {summary.distance_mm:.1f} mm, planned duration {format_duration(summary.duration_s)}")
+    print(
+        f"distance {summary.distance_mm:.1f} mm, planned duration {format_duration(summary.duration_s)}"
+    )
     print(f"axis   peak speed     work ({job.coordinates.name} → {summary.work_system})    machine")
     for axis in summary.axes:
         print(
@@ -49,8 +64,10 @@ def run(args: argparse.Namespace) -> int:
         print(f"               machine  {_box_text(names, path.machine_box)}")
         print(f"{path.cuts} cuts, {path.rapids} rapids")
     if summary.pauses:
-        print(f"pauses for the operator at line{'s' if len(summary.pauses) > 1 else ''} "
-              f"{', '.join(map(str, summary.pauses))}")
+        print(
+            f"pauses for the operator at line{'s' if len(summary.pauses) > 1 else ''} "
+            f"{', '.join(map(str, summary.pauses))}"
+        )
     skipped = skipped_text(job)
     if skipped:
         print(skipped)

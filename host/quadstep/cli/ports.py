@@ -10,7 +10,9 @@ from ..link import find_boards
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
-    parser = subparsers.add_parser("ports", help="list the boards on USB (Arduino Uno, Mega and their clones)")
+    parser = subparsers.add_parser(
+        "ports", help="list the boards on USB (Arduino Uno, Mega and their clones)"
+    )
     parser.set_defaults(handler=run)
 
 

@@ -33,6 +33,7 @@ class SegmentsFile(BaseModel):
     @classmethod
     def _whole_numbers_only(cls, data: Any) -> Any:
         """Every value of the file is a whole number: never a string, a boolean or a fraction taken for one."""
+
         def check(value: Any, where: str) -> None:
             if isinstance(value, dict):
                 for key, item in value.items():
@@ -42,6 +43,7 @@ class SegmentsFile(BaseModel):
                     check(item, f"{where}[{i}]")
             elif isinstance(value, bool) or not isinstance(value, int):
                 raise ValueError(f"{where} = {value!r}: must be a whole number")
+
         check(data, "")
         return data
 
@@ -61,10 +63,14 @@ def load(path: Path) -> SegmentsFile:
         data = parse_nested(strict_json, text, path, CliError)
     except json.JSONDecodeError as exc:
         if GCODE_LINE.search(text):
-            raise CliError(f"{path} is G-code: `quadstep run {path}` runs it (send streams a JSON file of raw "
-                           "segments, docs/HOST.md)") from None
+            raise CliError(
+                f"{path} is G-code: `quadstep run {path}` runs it (send streams a JSON file of raw "
+                "segments, docs/HOST.md)"
+            ) from None
         raise CliError(f"{path}: line {exc.lineno} column {exc.colno}: {exc.msg}") from None
-    job = validate(SegmentsFile, data, str(path), CliError, strict=False)  # whole numbers only: _whole_numbers_only
+    job = validate(
+        SegmentsFile, data, str(path), CliError, strict=False
+    )  # whole numbers only: _whole_numbers_only
     last = job.segments[-1]
     moving = [a.axis for a in last.axes if a.vn > 0]
     if moving:
@@ -78,10 +84,14 @@ def load(path: Path) -> SegmentsFile:
 def check_against(job: SegmentsFile, ident: IdentifyReply, path: Path) -> None:
     """Refuse, before anything is sent, what this firmware cannot run."""
     if job.positions is not None and len(job.positions) > ident.axis_count:
-        raise CliError(f"{path}: positions has {len(job.positions)} values, the firmware has {ident.axis_count} axes")
+        raise CliError(
+            f"{path}: positions has {len(job.positions)} values, the firmware has {ident.axis_count} axes"
+        )
     for i, seg in enumerate(job.segments):
         if seg.n > ident.n_max:
-            raise CliError(f"{path}: segments[{i}].n: {seg.n} exceeds the firmware's n_max {ident.n_max}")
+            raise CliError(
+                f"{path}: segments[{i}].n: {seg.n} exceeds the firmware's n_max {ident.n_max}"
+            )
         for j, move in enumerate(seg.axes):
             if move.axis >= ident.axis_count:
                 raise CliError(
@@ -113,12 +123,16 @@ def run(args: argparse.Namespace) -> int:
         final = machine.status()
     ticks = final.motion_ticks - start.motion_ticks
     if args.json:
-        print(json.dumps({
-            "positions": list(final.position),
-            "segments": len(job.segments),
-            "motion_ticks": ticks,
-            "link": machine.stats.as_dict(),
-        }))
+        print(
+            json.dumps(
+                {
+                    "positions": list(final.position),
+                    "segments": len(job.segments),
+                    "motion_ticks": ticks,
+                    "link": machine.stats.as_dict(),
+                }
+            )
+        )
     else:
         names = "  ".join(f"{AXIS_NAMES[i]} {p}" for i, p in enumerate(final.position))
         print(f"sent {len(job.segments)} segments, {ticks} ticks of motion")

@@ -23,7 +23,10 @@ def chord_count(radius: float, sweep: float, tolerance: float) -> int:
 
 
 def sweep_angle(
-    start: tuple[float, float], end: tuple[float, float], center: tuple[float, float], clockwise: bool
+    start: tuple[float, float],
+    end: tuple[float, float],
+    center: tuple[float, float],
+    clockwise: bool,
 ) -> float:
     """Signed angle from start to end around center; a full turn when they coincide."""
     r0 = (start[0] - center[0], start[1] - center[1])

@@ -7,5 +7,13 @@ from .release import ReleaseDetector
 from .settings import JogSettings
 from .step_queue import QueuedStep, StepQueue
 
-__all__ = ["JogMode", "JogPresets", "JogResult", "JogSettings", "Jogger", "QueuedStep", "ReleaseDetector",
-           "StepQueue"]
+__all__ = [
+    "JogMode",
+    "JogPresets",
+    "JogResult",
+    "JogSettings",
+    "Jogger",
+    "QueuedStep",
+    "ReleaseDetector",
+    "StepQueue",
+]

@@ -17,12 +17,28 @@ from typing import TypeVar
 import serial
 
 from ..protocol import (
-    Alarm, Identify, IdentifyReply, InputChange, Report, Request, State, Status, StatusReport, Stop, encode,
+    Alarm,
+    Identify,
+    IdentifyReply,
+    InputChange,
+    Report,
+    Request,
+    State,
+    Status,
+    StatusReport,
+    Stop,
+    encode,
 )
 from ..protocol.constants import PROTOCOL_VERSION, is_sequenced
 from ..protocol.messages import queue_slots
 from .errors import (
-    AlarmError, BoardSilent, LinkError, LinkTimeout, ProtocolVersionError, Stopped, known_text,
+    AlarmError,
+    BoardSilent,
+    LinkError,
+    LinkTimeout,
+    ProtocolVersionError,
+    Stopped,
+    known_text,
 )
 from .port_open import open_port
 from .outbox import Outbox
@@ -59,16 +75,28 @@ class Link:
         self._request_lock = threading.Lock()  # one immediate request at a time
         self._window = SendWindow(clock, rto, retries, self.stats)
         self._callbacks: list[ReportCallback] = []
-        self._in = Inbox(self._window, self.stats)  # these two shared with the threads, guarded by _cond
+        self._in = Inbox(
+            self._window, self.stats
+        )  # these two shared with the threads, guarded by _cond
         self._out = Outbox(self._window, self._in, self.stats, poll_interval)
-        self._transport = Transport(port, self._cond, self._on_data, self._next_output, self._port_failed)
+        self._transport = Transport(
+            port, self._cond, self._on_data, self._next_output, self._port_failed
+        )
         self._transport.start()
 
     # --- opening and closing ---------------------------------------------------------------------
 
     @classmethod
-    def open(cls, url: str, baudrate: int = DEFAULT_BAUD, *, rto: float = 0.25, retries: int = 8,
-             request_timeout: float = 0.5, connect: bool = True) -> Link:
+    def open(
+        cls,
+        url: str,
+        baudrate: int = DEFAULT_BAUD,
+        *,
+        rto: float = 0.25,
+        retries: int = 8,
+        request_timeout: float = 0.5,
+        connect: bool = True,
+    ) -> Link:
         """Open `url` (a device such as /dev/ttyACM0 or /dev/pts/N, or socket://host:port) and connect."""
         try:
             port = open_port(url, baudrate)
@@ -232,8 +260,10 @@ class Link:
                     self._raise_if_closed()
                     self._out.urgent.append(data)
                     self._cond.notify_all()
-                    self._cond.wait_for(lambda: waiter.answered or self._transport.closed,
-                                        timeout=self.request_timeout)
+                    self._cond.wait_for(
+                        lambda: waiter.answered or self._transport.closed,
+                        timeout=self.request_timeout,
+                    )
                     waiter.raise_refusal(message.NAME)
                     if waiter.reply is not None:
                         return waiter.reply  # type: ignore[return-value]
@@ -249,7 +279,9 @@ class Link:
 
     # --- sequenced messages ------------------------------------------------------------------------
 
-    def send(self, message: Request, timeout: float | None = None, generation: int | None = None) -> int:
+    def send(
+        self, message: Request, timeout: float | None = None, generation: int | None = None
+    ) -> int:
         """Queue a sequenced message (Segment, SetPosition); blocks while the window is full.
 
         Returns the seq it was given. Raises the first failure seen since the last stop(): FirmwareError,
@@ -277,12 +309,18 @@ class Link:
             generation = self._in.generation if generation is None else generation
             while True:
                 self._raise_failure(generation)
-                if not self._window.in_flight and self._in.refused is None:  # a refusal waits for its status
+                if (
+                    not self._window.in_flight and self._in.refused is None
+                ):  # a refusal waits for its status
                     return
                 if not self._wait(deadline):
-                    raise LinkTimeout(f"{self._window.in_flight} frames still unacknowledged after {timeout:g} s")
+                    raise LinkTimeout(
+                        f"{self._window.in_flight} frames still unacknowledged after {timeout:g} s"
+                    )
 
-    def wait_idle(self, timeout: float | None = None, generation: int | None = None) -> StatusReport:
+    def wait_idle(
+        self, timeout: float | None = None, generation: int | None = None
+    ) -> StatusReport:
         """Until every frame is acknowledged and the firmware is IDLE (`generation`: as for send); its status."""
         deadline = None if timeout is None else self._clock() + timeout
         with self._cond:
@@ -290,10 +328,15 @@ class Link:
         self.drain(timeout, generation)
         while True:
             with self._cond:
-                remaining = self.poll_interval if deadline is None else max(0.0, deadline - self._clock())
+                remaining = (
+                    self.poll_interval if deadline is None else max(0.0, deadline - self._clock())
+                )
                 self._cond.wait_for(
-                    lambda: self._in.done_total >= self._in.expected_done or self._in.failure is not None
-                    or self._in.generation != generation,
+                    lambda: (
+                        self._in.done_total >= self._in.expected_done
+                        or self._in.failure is not None
+                        or self._in.generation != generation
+                    ),
                     timeout=min(self.poll_interval, remaining),
                 )
                 self._raise_failure(generation)
@@ -303,7 +346,9 @@ class Link:
             if status.state == State.ALARM:
                 alarm = self.last_alarm
                 if alarm is None:
-                    raise LinkError(f"firmware is in ALARM {status.alarm.name if status.alarm else ''}")
+                    raise LinkError(
+                        f"firmware is in ALARM {status.alarm.name if status.alarm else ''}"
+                    )
                 raise AlarmError(alarm)
             if status.state == State.IDLE and status.queue_fill == 0:
                 return status
@@ -318,13 +363,19 @@ class Link:
         with self._cond:
             self._raise_failure(generation)
 
-    def wait_report(self, cls: type[R], after: int, generation: int, timeout: float | None) -> R | None:
+    def wait_report(
+        self, cls: type[R], after: int, generation: int, timeout: float | None
+    ) -> R | None:
         """Until report number `after` + 1 of class `cls` (report_count) arrives: returns the latest one,
         or None after `timeout`. Raises the link's failure, or Stopped once the stream is restarted."""
         with self._cond:
             self._cond.wait_for(
-                lambda: self._in.counts[cls] > after or self._in.failure is not None
-                or self._in.generation != generation or self._transport.closed,
+                lambda: (
+                    self._in.counts[cls] > after
+                    or self._in.failure is not None
+                    or self._in.generation != generation
+                    or self._transport.closed
+                ),
                 timeout=timeout,
             )
             if self._in.counts[cls] > after:
@@ -347,7 +398,9 @@ class Link:
 
     def _wait(self, deadline: float | None) -> bool:
         if deadline is None:
-            self._cond.wait(self.poll_interval)  # woken by any change; the slice only bounds a missed one
+            self._cond.wait(
+                self.poll_interval
+            )  # woken by any change; the slice only bounds a missed one
             return True
         remaining = deadline - self._clock()
         return remaining > 0 and (self._cond.wait(remaining) or self._clock() < deadline)
@@ -361,7 +414,9 @@ class Link:
         if self._in.failure is not None:
             raise self._in.failure
         if generation != self._in.generation:
-            raise Stopped("stop() or a hold was called: unsent and unacknowledged frames were dropped")
+            raise Stopped(
+                "stop() or a hold was called: unsent and unacknowledged frames were dropped"
+            )
 
     # --- reader --------------------------------------------------------------------------------------
 
@@ -389,8 +444,12 @@ class Link:
         while not self._transport.closed:
             now = self._clock()
             out = self._out.take(now)
-            if self._in.failure is not None:  # a frame resent too often, or the board silent: wake whoever waits
-                self._transport.closed |= isinstance(self._in.failure, BoardSilent)  # a silent board ends the link
+            if (
+                self._in.failure is not None
+            ):  # a frame resent too often, or the board silent: wake whoever waits
+                self._transport.closed |= isinstance(
+                    self._in.failure, BoardSilent
+                )  # a silent board ends the link
                 self._cond.notify_all()
             if out:
                 return out

@@ -18,10 +18,14 @@ class LinkError(Exception):
         if not isinstance(error, LinkError):
             return error
         if b"Grbl" in heard or b"grbl" in heard or b"ok\r\n" in heard or b"error:" in heard:
-            return LinkError("this board runs GRBL, not quadstep firmware: flash it with `quadstep flash`")
+            return LinkError(
+                "this board runs GRBL, not quadstep firmware: flash it with `quadstep flash`"
+            )
         if b"Marlin" in heard or b"Klipper" in heard:
-            return LinkError("this board runs 3D-printer firmware, not quadstep firmware: flash it with "
-                             "`quadstep flash`")
+            return LinkError(
+                "this board runs 3D-printer firmware, not quadstep firmware: flash it with "
+                "`quadstep flash`"
+            )
         return error
 
 
@@ -51,15 +55,19 @@ def status_alarm(status: StatusReport) -> AlarmError | None:
     """The alarm a status shows (its report may have been lost): the board halted, its queue flushed."""
     if status.state != State.ALARM or status.alarm is None:
         return None
-    return AlarmError(Alarm(code=status.alarm, motion_ticks=status.motion_ticks, position=status.position))
+    return AlarmError(
+        Alarm(code=status.alarm, motion_ticks=status.motion_ticks, position=status.position)
+    )
 
 
 def known_text(status: StatusReport | None, alarm: Alarm | None) -> str:
     """What the host last knew of the board, for an error about a board that stopped answering."""
     parts = []
     if status is not None:
-        parts.append(f"last known state {status.state.name}, position {list(status.position)} steps, "
-                     f"{status.segments_done} segments done")
+        parts.append(
+            f"last known state {status.state.name}, position {list(status.position)} steps, "
+            f"{status.segments_done} segments done"
+        )
     if alarm is not None:
         parts.append(f"last alarm {alarm.code.name} at positions {list(alarm.position)}")
     return f" ({'; '.join(parts)})" if parts else ""
@@ -104,6 +112,15 @@ class AlarmError(LinkError):
         )
 
 
-__all__ = ["AlarmError", "BoardReset", "BoardSilent", "FirmwareError", "LinkError", "LinkTimeout", "ProtocolVersionError",
-           "Stopped", "known_text", "status_alarm"]
-
+__all__ = [
+    "AlarmError",
+    "BoardReset",
+    "BoardSilent",
+    "FirmwareError",
+    "LinkError",
+    "LinkTimeout",
+    "ProtocolVersionError",
+    "Stopped",
+    "known_text",
+    "status_alarm",
+]

@@ -34,8 +34,9 @@ def input_status(link: Link) -> InputStatus:
     return link.request(Inputs(), InputStatus)
 
 
-def until_input(link: Link, probe: Probe, segments: Iterable[Segment],
-                timeout: float | None = None) -> InputChange | ProbeMissed:
+def until_input(
+    link: Link, probe: Probe, segments: Iterable[Segment], timeout: float | None = None
+) -> InputChange | ProbeMissed:
     """Arm `probe`, stream `segments` (a motion from rest to rest) and wait for its end: at the armed edge (returns
     that EVENT INPUT, once the hold after it has come to rest) or at rest without it (returns PROBE_MISSED).
 
@@ -43,7 +44,11 @@ def until_input(link: Link, probe: Probe, segments: Iterable[Segment],
     AlarmError if an alarm (a hard limit on another input, the abort button) ends the motion, LinkTimeout after
     `timeout` seconds."""
     deadline = None if timeout is None else time.monotonic() + timeout
-    holds, missed, triggers = link.report_count(HoldDone), link.report_count(ProbeMissed), link.holds_by_input
+    holds, missed, triggers = (
+        link.report_count(HoldDone),
+        link.report_count(ProbeMissed),
+        link.holds_by_input,
+    )
     stream = link.generation  # the edge ends it: a segment sent after that would open another
     link.send(probe, timeout, stream)
     try:
@@ -66,11 +71,15 @@ def until_input(link: Link, probe: Probe, segments: Iterable[Segment],
             if link.holds_by_input == triggers:
                 raise  # a STOP or HOLD from elsewhere
             continue  # the edge came while waiting: wait for its hold
-        alarm = status_alarm(link.status())  # a board gone silent does not answer; an alarm's report may be lost
+        alarm = status_alarm(
+            link.status()
+        )  # a board gone silent does not answer; an alarm's report may be lost
         if alarm is not None:
             raise alarm
         if deadline is not None and time.monotonic() >= deadline:
-            raise LinkTimeout(f"the motion after PROBE {probe.input.name} did not end within {timeout:g} s")
+            raise LinkTimeout(
+                f"the motion after PROBE {probe.input.name} did not end within {timeout:g} s"
+            )
     wait_rest(link, timeout)
     return end
 
@@ -92,4 +101,8 @@ def wait_rest(link: Link, timeout: float | None = None) -> StatusReport:
 
 
 def _slice(link: Link, deadline: float | None) -> float:
-    return link.poll_interval if deadline is None else max(0.0, min(link.poll_interval, deadline - time.monotonic()))
+    return (
+        link.poll_interval
+        if deadline is None
+        else max(0.0, min(link.poll_interval, deadline - time.monotonic()))
+    )

@@ -26,14 +26,22 @@ SILENCE = 1.5  # s without a good frame, while something is outstanding, before 
 
 
 class Outbox:
-    def __init__(self, window: SendWindow, inbox: Inbox, stats: LinkStats, poll_interval: float,
-                 silence: float = SILENCE) -> None:
+    def __init__(
+        self,
+        window: SendWindow,
+        inbox: Inbox,
+        stats: LinkStats,
+        poll_interval: float,
+        silence: float = SILENCE,
+    ) -> None:
         self.window = window
         self.inbox = inbox
         self.stats = stats
         self.poll_interval = poll_interval
         self.silence = silence
-        self.urgent: deque[bytes] = deque()  # immediate requests, written before any sequenced frame
+        self.urgent: deque[bytes] = (
+            deque()
+        )  # immediate requests, written before any sequenced frame
         self.request_seq = 0x40
         self.last_poll = 0.0
         self.last_write = 0.0
@@ -94,7 +102,8 @@ class Outbox:
     def _outstanding(self) -> bool:
         """Something the board owes an answer for: a frame unacknowledged, or a segment not yet finished."""
         return self.inbox.queue_capacity is not None and (
-            self.window.in_flight > 0 or self.inbox.expected_done > self.inbox.done_total)
+            self.window.in_flight > 0 or self.inbox.expected_done > self.inbox.done_total
+        )
 
     def _heard_at(self) -> float:
         """Where the silence counts from: the last good frame, or when the board began to owe one."""
@@ -108,11 +117,17 @@ class Outbox:
 
     def _stalled(self, now: float) -> bool:
         """The window closed with nothing awaiting an ACK, and no report for a while (a lost SPACE ack)."""
-        return self._stall_possible() and now - max(self.inbox.last_frame_at, self.last_poll) >= STALL_POLL
+        return (
+            self._stall_possible()
+            and now - max(self.inbox.last_frame_at, self.last_poll) >= STALL_POLL
+        )
 
     def _silence_text(self, now: float) -> str:
         inbox, window = self.inbox, self.window
-        return (f"the board has not answered for {now - self._heard_at():.1f} s (is it powered, connected, "
-                f"running?): the last frame it confirmed was seq {(window.base - 1) & 0xFF}; "
-                f"{inbox.done_total} segments done, {max(0, inbox.expected_done - inbox.done_total)} more accepted, "
-                f"{window.in_flight} frames unacknowledged" + known_text(inbox.last_status, inbox.last_alarm()))
+        return (
+            f"the board has not answered for {now - self._heard_at():.1f} s (is it powered, connected, "
+            f"running?): the last frame it confirmed was seq {(window.base - 1) & 0xFF}; "
+            f"{inbox.done_total} segments done, {max(0, inbox.expected_done - inbox.done_total)} more accepted, "
+            f"{window.in_flight} frames unacknowledged"
+            + known_text(inbox.last_status, inbox.last_alarm())
+        )

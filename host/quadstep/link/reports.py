@@ -31,8 +31,15 @@ from .stats import LinkStats
 from .window import SendWindow
 
 # ERRORs about a frame damaged on the wire (PROTOCOL.md §2): nothing in it could be trusted, not even its seq.
-FRAMING_ERRORS = frozenset({ErrorCode.FRAME_TOO_LONG, ErrorCode.FRAME_TOO_SHORT, ErrorCode.BAD_COBS,
-                            ErrorCode.BAD_CRC, ErrorCode.RX_OVERRUN})
+FRAMING_ERRORS = frozenset(
+    {
+        ErrorCode.FRAME_TOO_LONG,
+        ErrorCode.FRAME_TOO_SHORT,
+        ErrorCode.BAD_COBS,
+        ErrorCode.BAD_CRC,
+        ErrorCode.RX_OVERRUN,
+    }
+)
 
 
 @dataclass
@@ -44,7 +51,9 @@ class Waiter:
     reply_type: int
     reply: Report | None = None
     error: ErrorReport | None = None
-    unreadable: str | None = None  # an answer this host cannot decode: another protocol version's layout
+    unreadable: str | None = (
+        None  # an answer this host cannot decode: another protocol version's layout
+    )
 
     @property
     def answered(self) -> bool:
@@ -55,8 +64,10 @@ class Waiter:
         if self.error is not None:
             raise FirmwareError(self.error)
         if self.unreadable is not None:
-            raise ProtocolVersionError(f"the firmware's answer to {name} does not decode ({self.unreadable}): "
-                                       f"it speaks another protocol version than this host's {PROTOCOL_VERSION}")
+            raise ProtocolVersionError(
+                f"the firmware's answer to {name} does not decode ({self.unreadable}): "
+                f"it speaks another protocol version than this host's {PROTOCOL_VERSION}"
+            )
 
 
 class Inbox:
@@ -68,19 +79,27 @@ class Inbox:
         self.queue_capacity: int | None = None  # known once connected
         self.waiter: Waiter | None = None
         self.failure: LinkError | None = None  # raised by every call until the next restart
-        self.stopping = False  # a STOP or HOLD is on its way: ACKs and alarms are about dropped frames
+        self.stopping = (
+            False  # a STOP or HOLD is on its way: ACKs and alarms are about dropped frames
+        )
         self.done16 = 0
         self.done_total = 0  # segments completed since reset (ACK `done` unwrapped)
         self.expected_done = 0  # segments completed once everything accepted has run
         self.latest: dict[type, Report] = {}  # the latest unsolicited report of each class
         self.counts: defaultdict[type, int] = defaultdict(int)
         self.input_changes: deque[InputChange] = deque(maxlen=256)  # the latest EVENT INPUT reports
-        self.held_by_input = 0  # holds the firmware began itself (a PROBE's edge, the feed hold button)
+        self.held_by_input = (
+            0  # holds the firmware began itself (a PROBE's edge, the feed hold button)
+        )
         self.starved = False  # the latest status said STARVED
         self.last_frame_at = 0.0  # clock time of the last good frame received
         self.want_status = False  # the writer sends a STATUS: something needs explaining
-        self.refused: ErrorReport | None = None  # BUSY or ALARM_ACTIVE for a frame of ours, until a status explains it
-        self.last_status: StatusReport | None = None  # the board's latest STATUS_REPORT (or answer to STOP, HOLD)
+        self.refused: ErrorReport | None = (
+            None  # BUSY or ALARM_ACTIVE for a frame of ours, until a status explains it
+        )
+        self.last_status: StatusReport | None = (
+            None  # the board's latest STATUS_REPORT (or answer to STOP, HOLD)
+        )
 
     def receive(self, data: bytes, now: float) -> list[Report]:
         """Decode and apply what the reader read at `now`; returns the reports that on_report callbacks want."""
@@ -90,7 +109,10 @@ class Inbox:
             if isinstance(item, DecodeError):
                 self.stats.decode_errors += 1
                 waiter = self.waiter
-                if waiter is not None and (item.frame_type, item.frame_seq) == (waiter.reply_type, waiter.seq):
+                if waiter is not None and (item.frame_type, item.frame_seq) == (
+                    waiter.reply_type,
+                    waiter.seq,
+                ):
                     waiter.unreadable = item.detail
                 continue
             self.last_frame_at = now
@@ -149,7 +171,9 @@ class Inbox:
             if self.starved and not starved and not self.stopping:
                 self._starved()
             if not self.stopping and self.queue_capacity is not None:  # repairs a lost SPACE ack
-                self.expected_done += self.window.on_status(m.next_seq, self.queue_capacity - m.queue_fill)
+                self.expected_done += self.window.on_status(
+                    m.next_seq, self.queue_capacity - m.queue_fill
+                )
                 self._explain(m)
         return False
 
@@ -168,9 +192,21 @@ class Inbox:
         """A status while streaming: an alarm whose report was lost, or what a refusal was about."""
         if self.failure is not None:
             return
-        streaming = self.window.in_flight > 0 or self.expected_done > self.done_total or self.refused is not None
+        streaming = (
+            self.window.in_flight > 0
+            or self.expected_done > self.done_total
+            or self.refused is not None
+        )
         if status.state == State.ALARM and status.alarm is not None and streaming:
-            self.fail(AlarmError(Alarm(code=status.alarm, motion_ticks=status.motion_ticks, position=status.position)))
+            self.fail(
+                AlarmError(
+                    Alarm(
+                        code=status.alarm,
+                        motion_ticks=status.motion_ticks,
+                        position=status.position,
+                    )
+                )
+            )
         elif self.refused is not None and status.state != State.HOLDING:
             self.fail(FirmwareError(self.refused))
         # HOLDING without a HOLD from here: a stop the firmware began itself (an underrun); STARVED follows.
@@ -206,13 +242,21 @@ class Inbox:
     def _on_error(self, error: ErrorReport) -> None:
         self.stats.errors += 1
         waiter = self.waiter
-        if waiter is not None and error.frame_type == waiter.request_type and error.frame_seq == waiter.seq:
+        if (
+            waiter is not None
+            and error.frame_type == waiter.request_type
+            and error.frame_seq == waiter.seq
+        ):
             waiter.error = error
             return
         if error.code in FRAMING_ERRORS and not self.stopping:
             self.window.on_damaged()
             return
-        if self.window.holds(error.frame_seq) and is_sequenced(error.frame_type) and not self.stopping:
+        if (
+            self.window.holds(error.frame_seq)
+            and is_sequenced(error.frame_type)
+            and not self.stopping
+        ):
             if error.code in (ErrorCode.BUSY, ErrorCode.ALARM_ACTIVE):
                 # Usually a stop the firmware began (an underrun, a silent host): a status says which.
                 self.refused = self.refused or error

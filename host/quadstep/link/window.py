@@ -33,7 +33,17 @@ GIVE_UP = 2.0  # s: a frame resent `retries` times is given up only once it has 
 
 
 class _Frame:
-    __slots__ = ("seq", "data", "segments", "transmissions", "pending", "first_sent", "sent_at", "order", "parked")
+    __slots__ = (
+        "seq",
+        "data",
+        "segments",
+        "transmissions",
+        "pending",
+        "first_sent",
+        "sent_at",
+        "order",
+        "parked",
+    )
 
     def __init__(self, seq: int, data: bytes, segments: int) -> None:
         self.seq = seq
@@ -51,7 +61,11 @@ class SendWindow:
     """Sequenced frames from `base` (the firmware's next_seq) on; `free` slots as last reported."""
 
     def __init__(
-        self, clock: Clock, rto: float = 0.25, retries: int = 8, stats: LinkStats | None = None,
+        self,
+        clock: Clock,
+        rto: float = 0.25,
+        retries: int = 8,
+        stats: LinkStats | None = None,
         max_in_flight: int = MAX_IN_FLIGHT,
     ) -> None:
         self.clock = clock
@@ -114,7 +128,9 @@ class SendWindow:
     def room(self, segments: int = 1) -> bool:
         """Whether one more frame, taking `segments` queue slots, fits the flow-control window (every frame
         counts as at least one slot, as the firmware's free count does for a sequence of single frames)."""
-        return len(self._frames) < self.max_in_flight and self._slots + max(1, segments) <= self.free
+        return (
+            len(self._frames) < self.max_in_flight and self._slots + max(1, segments) <= self.free
+        )
 
     def holds(self, seq: int) -> bool:
         """Whether frame `seq` is in the window (pushed, not yet acknowledged)."""
@@ -187,7 +203,9 @@ class SendWindow:
         if self._written and now >= self._last_progress + self.rto:
             self.stats.timeouts += 1
             self._gap_handled_for = None
-            self.rto = min(self.max_rto, 2 * self.rto)  # back off until a round trip is measured again
+            self.rto = min(
+                self.max_rto, 2 * self.rto
+            )  # back off until a round trip is measured again
             self._go_back(parked_too=True)  # the firmware may have let parked frames go
         frames = self._frames
         stop = min(len(frames), self.max_in_flight)
@@ -200,12 +218,16 @@ class SendWindow:
             slots += max(1, frame.segments)
             if not frame.pending:
                 continue
-            if slots > self.free and not frame.transmissions:  # a frame never written needs free slots
+            if (
+                slots > self.free and not frame.transmissions
+            ):  # a frame never written needs free slots
                 stop = i
                 break
             if frame.transmissions > self.retries and now - frame.first_sent >= GIVE_UP:
-                raise LinkTimeout(f"frame seq {frame.seq} unacknowledged after {frame.transmissions - 1} resends "
-                                  f"over {now - frame.first_sent:.1f} s")
+                raise LinkTimeout(
+                    f"frame seq {frame.seq} unacknowledged after {frame.transmissions - 1} resends "
+                    f"over {now - frame.first_sent:.1f} s"
+                )
             if frame.transmissions:
                 self.stats.retransmits += 1
             else:

@@ -19,6 +19,10 @@ def check_agreement(identity: IdentifyReply, config: MachineConfig, source: str)
             f"(identify); set tick_hz = {identity.tick_hz} in the configuration"
         )
     if identity.axis_count < len(config.axes):
-        raise MachineError(f"{source}: {len(config.axes)} axes configured, the firmware drives {identity.axis_count}")
+        raise MachineError(
+            f"{source}: {len(config.axes)} axes configured, the firmware drives {identity.axis_count}"
+        )
     if identity.n_max < N_MAX:
-        raise MachineError(f"the firmware's n_max is {identity.n_max}; quadstep plans segments of up to {N_MAX} ticks")
+        raise MachineError(
+            f"the firmware's n_max is {identity.n_max}; quadstep plans segments of up to {N_MAX} ticks"
+        )

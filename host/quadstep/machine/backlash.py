@@ -53,7 +53,9 @@ class Measurement:
     spread_steps: float  # largest − smallest
     spread_mm: float
     bound_mm: float  # the largest spread accepted
-    sum_steps: float | None = None  # switch: backlash + hysteresis, before the hysteresis is taken off
+    sum_steps: float | None = (
+        None  # switch: backlash + hysteresis, before the hysteresis is taken off
+    )
     hysteresis_mm: float | None = None  # switch: the calibrated hysteresis taken off
 
     @property
@@ -68,11 +70,15 @@ class Measurement:
         return {**asdict(self), "accepted": self.accepted, "whole_steps": self.whole_steps}
 
 
-def _result(axis: AxisConfig, method: str, tries: list[float], bound_mm: float, **extra: float | None) -> Measurement:
+def _result(
+    axis: AxisConfig, method: str, tries: list[float], bound_mm: float, **extra: float | None
+) -> Measurement:
     spm = axis.steps_per_mm
     mean = statistics.fmean(tries)
     spread = max(tries) - min(tries)
-    return Measurement(axis.name, method, tries, mean, mean / spm, spread, spread / spm, bound_mm, **extra)
+    return Measurement(
+        axis.name, method, tries, mean, mean / spm, spread, spread / spm, bound_mm, **extra
+    )
 
 
 def _axis(machine: Machine, name: str) -> int:
@@ -82,9 +88,21 @@ def _axis(machine: Machine, name: str) -> int:
     return names.index(name.upper())
 
 
-def measure_with_probe(machine: Machine, name: str, *, toward: int, test: str, test_toward: int, tries: int = 5,
-                       search: float = 10.0, clear: float = 3.0, largest: float = 1.0, feed: float = 2.0,
-                       max_spread: float = 0.01, on_progress: Progress | None = None) -> Measurement:
+def measure_with_probe(
+    machine: Machine,
+    name: str,
+    *,
+    toward: int,
+    test: str,
+    test_toward: int,
+    tries: int = 5,
+    search: float = 10.0,
+    clear: float = 3.0,
+    largest: float = 1.0,
+    feed: float = 2.0,
+    max_spread: float = 0.01,
+    on_progress: Progress | None = None,
+) -> Measurement:
     """The probe at a corner: `name` moves toward (+1/−1, machine direction) the face it measures, `test`
     moves toward the neighbouring face; the probe starts outside the first face, and less than `clear` mm
     inside the second's edge along the test axis. Distances in mm, `feed` in mm/s."""
@@ -104,7 +122,9 @@ def measure_with_probe(machine: Machine, name: str, *, toward: int, test: str, t
 
         def touch() -> int:
             """Touch the face; the overshoot past the latch (steps)."""
-            if input_status(machine.link).is_active(Input.PROBE):  # in contact from the last test: away first
+            if input_status(machine.link).is_active(
+                Input.PROBE
+            ):  # in contact from the last test: away first
                 moves.move(a, -s_a * (top + reach // 10))
             latched = moves.until(a, s_a * reach, Input.PROBE, 1)
             if latched is None:
@@ -115,7 +135,9 @@ def measure_with_probe(machine: Machine, name: str, *, toward: int, test: str, t
             """Away along the test axis and back: does it touch the neighbouring face?"""
             moves.move(t, -s_t * back)
             if input_status(machine.link).is_active(Input.PROBE):
-                raise MeasureError(f"{test_axis.name}: the probe still touches {clear:g} mm away from the face")
+                raise MeasureError(
+                    f"{test_axis.name}: the probe still touches {clear:g} mm away from the face"
+                )
             return moves.until(t, s_t * back, Input.PROBE, 1) is not None
 
         for k in range(tries):
@@ -129,7 +151,9 @@ def measure_with_probe(machine: Machine, name: str, *, toward: int, test: str, t
             low, e, high = 0, 1, None
             while high is None:  # doubling, without a new touch while it still hits
                 if e > top:
-                    raise MeasureError(f"{axis.name}: the backlash is more than {largest:g} mm (--max)")
+                    raise MeasureError(
+                        f"{axis.name}: the backlash is more than {largest:g} mm (--max)"
+                    )
                 back_off(e)
                 if hits():
                     low, e = e, e * 2
@@ -149,8 +173,9 @@ def measure_with_probe(machine: Machine, name: str, *, toward: int, test: str, t
     return _result(axis, "probe", values, max_spread)
 
 
-def switch_sums(machine: Machine, a: int, end: str, tries: int, search: float, feed: float,
-                say: Progress) -> list[float]:
+def switch_sums(
+    machine: Machine, a: int, end: str, tries: int, search: float, feed: float, say: Progress
+) -> list[float]:
     """Per try, backlash + the switch's hysteresis in steps: the mean of two intervals between its edges."""
     axis = machine.config.axes[a]
     which = switch_input(input_status(machine.link).present, a, end)
@@ -163,8 +188,10 @@ def switch_sums(machine: Machine, a: int, end: str, tries: int, search: float, f
         def edge(level: int, direction: int) -> int:
             latched = moves.until(a, direction * reach, which, level)
             if latched is None:
-                raise MeasureError(f"{axis.name}: the switch did not {'close' if level else 'open'} within "
-                                   f"{search:g} mm ({which.name})")
+                raise MeasureError(
+                    f"{axis.name}: the switch did not {'close' if level else 'open'} within "
+                    f"{search:g} mm ({which.name})"
+                )
             return latched
 
         if input_status(machine.link).is_active(which):
@@ -173,24 +200,37 @@ def switch_sums(machine: Machine, a: int, end: str, tries: int, search: float, f
         for k in range(tries):
             edges += [edge(0, -s), edge(1, s)]
             first, second = abs(edges[-2] - edges[-3]), abs(edges[-1] - edges[-2])
-            sums.append((first + second) / 2 - 1)  # each interval is the sum rounded up by 0 … 2 steps
+            sums.append(
+                (first + second) / 2 - 1
+            )  # each interval is the sum rounded up by 0 … 2 steps
             say(f"{axis.name}: try {k + 1}/{tries}: backlash + hysteresis {sums[-1]:g} steps")
         edge(0, -s)
         moves.move(a, -s * reach // 10)  # off the switch
     return sums
 
 
-def measure_with_switch(machine: Machine, name: str, *, end: str | None = None, tries: int = 5, search: float = 5.0,
-                        feed: float = 1.0, max_spread: float = 0.01, on_progress: Progress | None = None) -> Measurement:
+def measure_with_switch(
+    machine: Machine,
+    name: str,
+    *,
+    end: str | None = None,
+    tries: int = 5,
+    search: float = 5.0,
+    feed: float = 1.0,
+    max_spread: float = 0.01,
+    on_progress: Progress | None = None,
+) -> Measurement:
     """The axis's limit switch (at `end`, default its homing end): backlash + hysteresis − the calibrated
     hysteresis."""
     a = _axis(machine, name)
     axis = machine.config.axes[a]
     hysteresis = axis.backlash.switch_hysteresis if axis.backlash is not None else None
     if hysteresis is None:
-        raise MeasureError(f"{axis.name}: the switch's hysteresis is not calibrated ([axes.backlash] "
-                           "switch_hysteresis): `quadstep backlash calibrate-switch` finds it once the backlash is "
-                           "known (from the probe)")
+        raise MeasureError(
+            f"{axis.name}: the switch's hysteresis is not calibrated ([axes.backlash] "
+            "switch_hysteresis): `quadstep backlash calibrate-switch` finds it once the backlash is "
+            "known (from the probe)"
+        )
     end = end or (axis.homing.end if axis.homing is not None else "min")
     sums = switch_sums(machine, a, end, tries, search, feed, on_progress or (lambda text: None))
     h = hysteresis * axis.steps_per_mm
@@ -198,8 +238,17 @@ def measure_with_switch(machine: Machine, name: str, *, end: str | None = None, 
     return Measurement(**{**asdict(result), "sum_steps": statistics.fmean(sums)})
 
 
-def calibrate_switch(machine: Machine, name: str, backlash_mm: float, *, end: str | None = None, tries: int = 5,
-                     search: float = 5.0, feed: float = 1.0, on_progress: Progress | None = None) -> float:
+def calibrate_switch(
+    machine: Machine,
+    name: str,
+    backlash_mm: float,
+    *,
+    end: str | None = None,
+    tries: int = 5,
+    search: float = 5.0,
+    feed: float = 1.0,
+    on_progress: Progress | None = None,
+) -> float:
     """The switch's hysteresis (mm): what is left of backlash + hysteresis once the known backlash is taken off."""
     a = _axis(machine, name)
     axis = machine.config.axes[a]
@@ -209,5 +258,10 @@ def calibrate_switch(machine: Machine, name: str, backlash_mm: float, *, end: st
 
 
 __all__ = [
-    "PROBE_SETUP", "MeasureError", "Measurement", "calibrate_switch", "measure_with_probe", "measure_with_switch",
+    "PROBE_SETUP",
+    "MeasureError",
+    "Measurement",
+    "calibrate_switch",
+    "measure_with_probe",
+    "measure_with_switch",
 ]

@@ -44,12 +44,16 @@ class AxisHomed:
 
 def unbounded(config: MachineConfig) -> MachineConfig:
     """The configuration with no travel limits: before homing, the travel is not known yet."""
-    axes = tuple(a.model_copy(update={"travel_min": -100_000.0, "travel_max": 100_000.0}) for a in config.axes)
+    axes = tuple(
+        a.model_copy(update={"travel_min": -100_000.0, "travel_max": 100_000.0})
+        for a in config.axes
+    )
     return config.model_copy(update={"axes": axes})
 
 
-def straight(config: MachineConfig, start: Sequence[int], axis: int, mm: float, feed: float,
-             axis_count: int) -> list[Segment]:
+def straight(
+    config: MachineConfig, start: Sequence[int], axis: int, mm: float, feed: float, axis_count: int
+) -> list[Segment]:
     """One move of `mm` along `axis` at `feed` mm/s from rest to rest, from step position `start`, as segments
     for a firmware of `axis_count` axes."""
     target = list(config.to_mm(tuple(start)))
@@ -59,15 +63,23 @@ def straight(config: MachineConfig, start: Sequence[int], axis: int, mm: float, 
     return [plan.segments.segment(i) for i in range(len(plan))]
 
 
-def home(machine: Machine, axes: Sequence[str] | None = None, on_progress: Progress | None = None) -> list[AxisHomed]:
+def home(
+    machine: Machine, axes: Sequence[str] | None = None, on_progress: Progress | None = None
+) -> list[AxisHomed]:
     """Home the named axes (default: the configured order) one at a time; returns each one's result. Raises
     HomingError (a switch not found within the travel and a half), and what the link raises (a hard limit of
     another axis, the abort button: AlarmError; the user's stop: Stopped)."""
     config = machine.config
-    order = config.homing_axes if axes is None else tuple(config.axis_names.index(n.upper()) for n in axes)
+    order = (
+        config.homing_axes
+        if axes is None
+        else tuple(config.axis_names.index(n.upper()) for n in axes)
+    )
     for i in order:
         if config.axes[i].homing is None:
-            raise HomingError(f"axis {config.axes[i].name} has no [axes.homing] in the configuration")
+            raise HomingError(
+                f"axis {config.axes[i].name} has no [axes.homing] in the configuration"
+            )
     if not order:
         raise HomingError("no axis has [axes.homing] in the configuration")
     say = on_progress or (lambda text: None)
@@ -89,7 +101,10 @@ def _home_axis(machine: Machine, procedure: Procedure, i: int, say: Progress) ->
     decel = tuple(list(machine.decels) + [0] * (MAX_AXES - len(machine.decels)))
     n = link.axis_count
     span = (axis.travel_max - axis.travel_min) * 1.5
-    overshoot = braking_steps(homing.seek * axis.steps_per_mm / config.tick_hz, machine.decels[i]) / axis.steps_per_mm
+    overshoot = (
+        braking_steps(homing.seek * axis.steps_per_mm / config.tick_hz, machine.decels[i])
+        / axis.steps_per_mm
+    )
     back = overshoot + homing.pull_off
 
     def at() -> list[int]:
@@ -98,8 +113,12 @@ def _home_axis(machine: Machine, procedure: Procedure, i: int, say: Progress) ->
     def approach(level: int, mm: float, feed: float, what: str) -> tuple[int, ...]:
         """Where (take-ups excluded) the switch reached `level` on a move of `mm`."""
         segments = machine.takeup_stream(straight(free, at(), i, mm, feed, n))
-        end = until_input(link, Probe(input=which, level=level, decel=decel),  # type: ignore[arg-type]
-                          segments, TIMEOUT)  # type: ignore[arg-type]
+        end = until_input(
+            link,
+            Probe(input=which, level=level, decel=decel),  # type: ignore[arg-type]
+            segments,
+            TIMEOUT,
+        )  # type: ignore[arg-type]
         if isinstance(end, ProbeMissed):
             machine.rested()
             raise HomingError(f"axis {axis.name}: {what} within {abs(mm):.1f} mm ({which.name})")
@@ -116,7 +135,9 @@ def _home_axis(machine: Machine, procedure: Procedure, i: int, say: Progress) ->
 
     if input_status(link).is_active(which):
         say(f"{axis.name}: switch closed already, pulling off")
-        approach(0, -toward * (back + homing.pull_off) * 4, homing.locate, "the switch did not open")
+        approach(
+            0, -toward * (back + homing.pull_off) * 4, homing.locate, "the switch did not open"
+        )
     say(f"{axis.name}: seeking the switch at {homing.seek:g} mm/s")
     approach(1, toward * span, homing.seek, "no switch")
     say(f"{axis.name}: backing off {back:.2f} mm")
@@ -126,8 +147,11 @@ def _home_axis(machine: Machine, procedure: Procedure, i: int, say: Progress) ->
     say(f"{axis.name}: locating the switch at {homing.locate:g} mm/s")
     hit = approach(1, toward * back * 2, homing.locate, "no switch on the slow approach")
     move(-toward * homing.pull_off, homing.locate)
-    switch_mm = homing.switch_at if homing.switch_at is not None else (
-        axis.travel_min if homing.end == "min" else axis.travel_max)
+    switch_mm = (
+        homing.switch_at
+        if homing.switch_at is not None
+        else (axis.travel_min if homing.end == "min" else axis.travel_max)
+    )
     zero_shift = axis.to_steps(switch_mm) - hit[i]
     position = machine.set_position({i: machine.position[i] + zero_shift}, within=procedure)[i]
     say(f"{axis.name}: homed, switch at {switch_mm:g} mm, now at {axis.to_mm(position):.3f} mm")

@@ -22,9 +22,13 @@ def config_message(config: MachineConfig, axis_count: int) -> Config:
     decels = list(hold_decels(config))[:axis_count]
     decels += [decels[-1]] * (axis_count - len(decels)) + [0] * (MAX_AXES - axis_count)
     all_inputs = (1 << INPUT_COUNT) - 1
-    return Config(invert=input_mask(inputs.active_high), enabled=all_inputs & ~input_mask(inputs.disabled),
-                  hard_limits=int(inputs.hard_limits), debounce=(ticks,) * INPUT_COUNT,
-                  hold_decel=tuple(decels))  # type: ignore[arg-type]
+    return Config(
+        invert=input_mask(inputs.active_high),
+        enabled=all_inputs & ~input_mask(inputs.disabled),
+        hard_limits=int(inputs.hard_limits),
+        debounce=(ticks,) * INPUT_COUNT,
+        hold_decel=tuple(decels),
+    )  # type: ignore[arg-type]
 
 
 def switch_input(present: int, axis: int, end: str) -> Input:

@@ -28,13 +28,23 @@ from .journal import Journal
 from .motion import CUT, STARVED, Motion, MotionEnd, bring_to_rest
 from .override import Swap, replan_running
 from .job_legs import (
-    PauseOffer, base_plan, rest_after_pause, rest_after_probe, rest_after_stop, stream_move_ends,
+    PauseOffer,
+    base_plan,
+    rest_after_pause,
+    rest_after_probe,
+    rest_after_stop,
+    stream_move_ends,
 )
 from .standing import Restream
 from .takeups import StreamPlan
 
-LOOKAHEAD_S = 0.5  # s queued beyond the watchdog's host_timeout: a lost host meets the watchdog first
-AT_REST = (FEED_HOLD, STARVED)  # motion ends after which the rest of the job is planned again from rest
+LOOKAHEAD_S = (
+    0.5  # s queued beyond the watchdog's host_timeout: a lost host meets the watchdog first
+)
+AT_REST = (
+    FEED_HOLD,
+    STARVED,
+)  # motion ends after which the rest of the job is planned again from rest
 
 
 def final_state(end: MotionEnd) -> JobState:
@@ -51,9 +61,16 @@ class JobRun:
     `feed_override` %). Without it a feed hold or running dry ends the job, as halt() does."""
 
     def __init__(
-        self, link: Link, plan: Plan | StreamPlan, decels: tuple[int, ...], *,
-        program: Program | None = None, label: str = "line", feed_override: int = 100,
-        restream: Restream | None = None, busy_elsewhere: Callable[[], bool] | None = None,
+        self,
+        link: Link,
+        plan: Plan | StreamPlan,
+        decels: tuple[int, ...],
+        *,
+        program: Program | None = None,
+        label: str = "line",
+        feed_override: int = 100,
+        restream: Restream | None = None,
+        busy_elsewhere: Callable[[], bool] | None = None,
         journal: Journal | None = None,
     ) -> None:
         self.link = link
@@ -61,7 +78,9 @@ class JobRun:
         self.program = program
         self.label = label
         self.decels = decels
-        self.restream = restream  # the machine's: positions, take-ups and probing for a job that goes on
+        self.restream = (
+            restream  # the machine's: positions, take-ups and probing for a job that goes on
+        )
         self.busy_elsewhere = busy_elsewhere  # the machine's: another program runs at a pause
         self.journal = journal  # where each leg of the job is kept for `run --resume`
         self.on_end: Callable[[MotionEnd], None] | None = None  # called once, in the job's thread
@@ -100,8 +119,15 @@ class JobRun:
         total = len(self.plan)
         line = int(self.plan.segments.line[min(done, total - 1)]) if total else 0
         left = (self._ticks[-1] - self._ticks[done]) / self.plan.config.tick_hz
-        return JobProgress(self._done_before + done, self._done_before + total, line, left, line_at,
-                           state, self.states.starvations)
+        return JobProgress(
+            self._done_before + done,
+            self._done_before + total,
+            line,
+            left,
+            line_at,
+            state,
+            self.states.starvations,
+        )
 
     @property
     def held(self) -> bool:
@@ -132,8 +158,12 @@ class JobRun:
     def gives_way(self) -> bool:
         """Waiting at a pause of its program (M0, a tool change) or probing for it on a machine: jogs, probing
         and work zeros may run meanwhile, and the job goes on from where they leave the machine."""
-        return (self.state in (JobState.PAUSED, JobState.PROBING) and self.restream is not None
-                and self.program is not None and not self._halted)
+        return (
+            self.state in (JobState.PAUSED, JobState.PROBING)
+            and self.restream is not None
+            and self.program is not None
+            and not self._halted
+        )
 
     # --- control ------------------------------------------------------------------------------
 
@@ -152,8 +182,10 @@ class JobRun:
         old without a stop (from the next pause when the section under way has no boundary left)."""
         check_percent(percent)
         if self.plan.config.jerk_limited and percent != self._override:
-            raise MachineError("a jerk-limited job (max_jerk) takes its feed override only as it starts "
-                               "(quadstep run --feed-override)")
+            raise MachineError(
+                "a jerk-limited job (max_jerk) takes its feed override only as it starts "
+                "(quadstep run --feed-override)"
+            )
         with self._lock:
             self._override = percent
         self._wake.set()
@@ -171,8 +203,10 @@ class JobRun:
         """Go on after a pause or a feed hold; False when the job waits at neither, or another program runs."""
         if self.busy_elsewhere is not None and self.busy_elsewhere():
             return False
-        if not (self.states.leave(JobState.PAUSED, JobState.RESUMING)
-                or self.states.leave(JobState.HELD, JobState.RESUMING)):
+        if not (
+            self.states.leave(JobState.PAUSED, JobState.RESUMING)
+            or self.states.leave(JobState.HELD, JobState.RESUMING)
+        ):
             return False
         self._resume.set()
         return True
@@ -235,7 +269,9 @@ class JobRun:
             self._resume.clear()
         with self._lock:
             if self._halted:
-                return replace(rest, ended_by=self._halted, segments_done=self._done_before + self._offset)
+                return replace(
+                    rest, ended_by=self._halted, segments_done=self._done_before + self._offset
+                )
         assert self.program is not None
         if self.restream is not None:  # the machine's positions, the band where the stop left it
             here = self.restream.held(rest)
@@ -270,13 +306,16 @@ class JobRun:
         self.program = rest_after_probe(self.program, probe, rest_mm)
         return self._next_leg(self.restream.position())
 
-    def _after_pause(self, pause: Pause, before: WorkCoordinates, after: WorkCoordinates,
-                     interrupted: bool) -> MotionEnd:
+    def _after_pause(
+        self, pause: Pause, before: WorkCoordinates, after: WorkCoordinates, interrupted: bool
+    ) -> MotionEnd:
         """The operator jogged, probed or set a work zero at the pause: the rest of the program from where the
         machine stands, in the work offsets as they are now."""
         assert self.program is not None and self.restream is not None
         here = self.restream.at_rest() if not interrupted else self.restream.position()
-        self.program = rest_after_pause(self.program, pause, before, after, base_plan(self.plan).config)
+        self.program = rest_after_pause(
+            self.program, pause, before, after, base_plan(self.plan).config
+        )
         return self._next_leg(here)
 
     def _next_leg(self, here: tuple[int, ...]) -> MotionEnd:
@@ -294,8 +333,14 @@ class JobRun:
         """The plan now streamed is kept in the journal with the board's count of segments (at rest)."""
         if self.journal is not None and self.program is not None:
             base = base_plan(self.plan)
-            self.journal.begin_leg(self.program, base.start, stream_move_ends(self.plan), len(self.plan),
-                                   self.link.segments_done, self._planned)
+            self.journal.begin_leg(
+                self.program,
+                base.start,
+                stream_move_ends(self.plan),
+                len(self.plan),
+                self.link.segments_done,
+                self._planned,
+            )
 
     def _note_state(self, state: JobState) -> None:
         if self.journal is not None:
@@ -316,12 +361,22 @@ class JobRun:
             swap, self._swap = self._swap, None
             with self._lock:
                 follows, halted = self._motion, self._halted
-                self.plan, self._ticks = swap.plan, list(accumulate(swap.plan.segments.n, initial=0))
+                self.plan, self._ticks = (
+                    swap.plan,
+                    list(accumulate(swap.plan.segments.n, initial=0)),
+                )
             begin = swap.index
-            if halted:  # halted as one motion handed over to the next: the board still runs the first's
+            if (
+                halted
+            ):  # halted as one motion handed over to the next: the board still runs the first's
                 rest = bring_to_rest(self.link, self.decels)
-                return MotionEnd(halted, rest.position[: self.plan.segments.axis_count], begin,
-                                 held=rest.held, hold_tick=rest.hold_tick)
+                return MotionEnd(
+                    halted,
+                    rest.position[: self.plan.segments.axis_count],
+                    begin,
+                    held=rest.held,
+                    hold_tick=rest.hold_tick,
+                )
 
     def _stream(self, motion: Motion) -> MotionEnd:
         """Start `motion` and wait for its end; meanwhile a changed feed override plans the rest again and cuts
@@ -351,8 +406,15 @@ class JobRun:
         self.states.enter(JobState.OVERRIDING)
         running = self.restream if self.restream and isinstance(self.plan, StreamPlan) else None
         percent = self._override
-        self._swap = replan_running(self.program, self.plan, motion, percent, self.label,
-                                    running.restream if running else None, self._ticks)
+        self._swap = replan_running(
+            self.program,
+            self.plan,
+            motion,
+            percent,
+            self.label,
+            running.restream if running else None,
+            self._ticks,
+        )
         if self._swap is not None:
             self._planned = percent
             if running is not None:
@@ -379,8 +441,16 @@ class JobRun:
                 with self._lock:
                     if self._halted:
                         break
-                    motion = Motion(self.link, self.plan.segments, self.decels, first=first, last=index,
-                                    lookahead_ticks=self.lookahead, outputs=mine, follows=follows)
+                    motion = Motion(
+                        self.link,
+                        self.plan.segments,
+                        self.decels,
+                        first=first,
+                        last=index,
+                        lookahead_ticks=self.lookahead,
+                        outputs=mine,
+                        follows=follows,
+                    )
                     self._motion, self._offset, follows = motion, first, None
                 end = self._stream(motion)
                 if end.ended_by == CUT:
@@ -389,7 +459,9 @@ class JobRun:
                     self._motion = None
                     self._offset = index if end.ended_by == "done" else first + end.segments_done
                 if end.ended_by != "done":
-                    return end  # a feed hold or running dry among them: the caller plans what is left
+                    return (
+                        end  # a feed hold or running dry among them: the caller plans what is left
+                    )
                 first = index
             if line is None:
                 break
@@ -418,7 +490,9 @@ class JobRun:
         self.states.enter(JobState.PAUSED, line)
         restream = self.restream
         program = pause.coordinates if pause is not None else None
-        offer = PauseOffer(program, restream) if program is not None and restream is not None else None
+        offer = (
+            PauseOffer(program, restream) if program is not None and restream is not None else None
+        )
         self._resume.wait()
         self._resume.clear()
         with self._lock:

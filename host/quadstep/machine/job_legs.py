@@ -50,8 +50,13 @@ def rest_after_probe(program: Program, probe: ProbeMove, rest_mm: Sequence[float
     return rest
 
 
-def rest_after_pause(program: Program, pause: Pause, before: WorkCoordinates, after: WorkCoordinates,
-                     config: MachineConfig) -> Program:
+def rest_after_pause(
+    program: Program,
+    pause: Pause,
+    before: WorkCoordinates,
+    after: WorkCoordinates,
+    config: MachineConfig,
+) -> Program:
     """The rest of `program` after `pause`, where the work offsets went from `before` to `after` meanwhile."""
     rest = after_pause_program(program, pause.line, before, after, config)
     if program.coordinates is not None:

@@ -19,8 +19,10 @@ def stream_outputs(plan: Plan | StreamPlan) -> list[tuple[int, int, Outputs]]:
     if not isinstance(plan, StreamPlan):
         return plan.outputs
     stream, planned = plan.segments, len(plan.base)
-    return [(bisect_left(stream.origin, index) if index < planned else len(stream), section, message)
-            for index, section, message in plan.base.outputs]
+    return [
+        (bisect_left(stream.origin, index) if index < planned else len(stream), section, message)
+        for index, section, message in plan.base.outputs
+    ]
 
 
 def switch_off(link: Link, end: MotionEnd, outputs: bool) -> MotionEnd:
@@ -31,6 +33,17 @@ def switch_off(link: Link, end: MotionEnd, outputs: bool) -> MotionEnd:
         link.send(OFF)
         link.drain(timeout=2)
     except LinkError as exc:
-        return end if end.error else MotionEnd(end.ended_by, end.position, end.segments_done, end.stop_event_ns,
-                                               end.held, end.hold_tick, error=f"outputs not switched off: {exc}")
+        return (
+            end
+            if end.error
+            else MotionEnd(
+                end.ended_by,
+                end.position,
+                end.segments_done,
+                end.stop_event_ns,
+                end.held,
+                end.hold_tick,
+                error=f"outputs not switched off: {exc}",
+            )
+        )
     return end

@@ -24,11 +24,15 @@ from enum import Enum
 
 class JobState(Enum):
     STREAMING = "streaming"  # a stretch of the plan is on its way to the board
-    PAUSED = "paused"  # at rest at an M0, M1 or tool change of the program, waiting for the operator
+    PAUSED = (
+        "paused"  # at rest at an M0, M1 or tool change of the program, waiting for the operator
+    )
     HELD = "held"  # at rest after a feed hold, waiting for the operator
     STARVED = "starved"  # the board ran dry and braked to rest: the rest is planned again, without the operator
     PROBING = "probing"  # the machine probes for a G38.x of the program
-    OVERRIDING = "overriding"  # the rest planned again at a new feed override while the board keeps moving
+    OVERRIDING = (
+        "overriding"  # the rest planned again at a new feed override while the board keeps moving
+    )
     RESUMING = "resuming"  # what is left planned again from where the machine rests
     DONE = "done"
     STOPPED = "stopped"  # halted by the user (HOLD to rest)
@@ -66,7 +70,9 @@ LABELS = {
 
 S = JobState
 TRANSITIONS: dict[JobState, frozenset[JobState]] = {
-    S.STREAMING: frozenset({S.STREAMING, S.PAUSED, S.HELD, S.STARVED, S.PROBING, S.OVERRIDING, S.DONE}),
+    S.STREAMING: frozenset(
+        {S.STREAMING, S.PAUSED, S.HELD, S.STARVED, S.PROBING, S.OVERRIDING, S.DONE}
+    ),
     S.OVERRIDING: frozenset({S.STREAMING, S.HELD, S.STARVED}),
     S.PAUSED: frozenset({S.RESUMING, S.STREAMING, S.PROBING, S.DONE}),
     S.HELD: frozenset({S.RESUMING}),

@@ -31,7 +31,15 @@ from ..planner.program import Program
 from ..planner.segments import SegmentArrays
 from ..port_process import PortProcess
 from ..protocol import (
-    Alarm, AlarmCode, Capability, IdentifyReply, Report, Segment, State, StatusReport, Watchdog,
+    Alarm,
+    AlarmCode,
+    Capability,
+    IdentifyReply,
+    Report,
+    Segment,
+    State,
+    StatusReport,
+    Watchdog,
 )
 from .agreement import check_agreement
 from .errors import MachineError
@@ -99,7 +107,9 @@ class Machine(Standing):
         self.link = link
         self.config_given = config is not None
         self.config = config if config is not None else fallback_config(identity)
-        check_agreement(identity, self.config, source if config is not None else DEFAULT_CONFIG_NAME)
+        check_agreement(
+            identity, self.config, source if config is not None else DEFAULT_CONFIG_NAME
+        )
         self.emulator = emulator  # an emulator this machine started, stopped by close()
         self.decels = hold_decels(self.config)  # HOLD decelerations: each axis's max_accel
         self.state_file = state_file  # where the state is kept (None: in memory only)
@@ -110,7 +120,9 @@ class Machine(Standing):
         self.notice: str | None = None
         self._state_lock = threading.Lock()
         self._ticks = 0
-        self.takeups = TakeUps(self.config)  # the backlash: take-ups in every program, positions without them
+        self.takeups = TakeUps(
+            self.config
+        )  # the backlash: take-ups in every program, positions without them
         self._lock = threading.Lock()
         self._running: Running | None = None
         self._waiting: JobRun | None = None  # a job waiting at a pause while another program runs
@@ -119,12 +131,19 @@ class Machine(Standing):
         self._homed = False
         self._position_lost = False
         link.on_report(self._watch_alarms)
-        if link.status().state == State.STARVED:  # left dry by a host gone (a killed job): take it up
+        if (
+            link.status().state == State.STARVED
+        ):  # left dry by a host gone (a killed job): take it up
             bring_to_rest(link, self.decels)
-        if identity.capabilities & Capability.LIMIT_INPUTS and link.status().state in (State.IDLE, State.ALARM):
+        if identity.capabilities & Capability.LIMIT_INPUTS and link.status().state in (
+            State.IDLE,
+            State.ALARM,
+        ):
             link.send(config_message(self.config, identity.axis_count))
             link.drain(timeout=5)
-        if identity.capabilities & Capability.CONTROLLED_STOPS:  # the link keeps it fed while anything moves
+        if (
+            identity.capabilities & Capability.CONTROLLED_STOPS
+        ):  # the link keeps it fed while anything moves
             link.request(Watchdog(timeout_ms=round(self.config.host_timeout * 1000)), StatusReport)
         self._carry_over(kept, self.status())
 
@@ -205,20 +224,38 @@ class Machine(Standing):
         motion = Motion(self.link, compensated.stream, self.decels, lookahead_ticks=lookahead_ticks)
         return self._begin(motion, compensated).start()  # type: ignore[return-value]
 
-    def run_job(self, plan: Plan, program: Program | None = None, label: str = "line",
-                feed_override: int = 100, journal: Journal | None = None) -> JobRun:
+    def run_job(
+        self,
+        plan: Plan,
+        program: Program | None = None,
+        label: str = "line",
+        feed_override: int = 100,
+        journal: Journal | None = None,
+    ) -> JobRun:
         """Start a planned job now, the backlash taken up in it (pauses wait for JobRun.resume()). With the
         `program` it was planned from, a feed hold (JobRun.feed_hold, the board's button) keeps the rest of the
         job for resume(), and JobRun.set_feed_override changes its feeds on the way (the plan is planned at
         `feed_override` %, the program as written); a `journal` keeps each leg of it for `run --resume`."""
         if plan.outputs and not self.identity.capabilities & Capability.OUTPUTS:
-            raise MachineError("the job sets the spindle, laser or coolant (M3/M4/M5, M7/M8/M9) and this firmware "
-                               "has no outputs; --skip-unsupported runs it without them")
+            raise MachineError(
+                "the job sets the spindle, laser or coolant (M3/M4/M5, M7/M8/M9) and this firmware "
+                "has no outputs; --skip-unsupported runs it without them"
+            )
         compensated = self.takeups.compensate(plan.segments, plan.pauses)
-        streamed = StreamPlan(plan.config, compensated.stream, compensated.pauses, compensated, plan)
-        job = JobRun(self.link, streamed, self.decels, program=program, label=label,
-                     feed_override=feed_override, restream=_Restream(self),
-                     busy_elsewhere=lambda: self._waiting is job, journal=journal)
+        streamed = StreamPlan(
+            plan.config, compensated.stream, compensated.pauses, compensated, plan
+        )
+        job = JobRun(
+            self.link,
+            streamed,
+            self.decels,
+            program=program,
+            label=label,
+            feed_override=feed_override,
+            restream=_Restream(self),
+            busy_elsewhere=lambda: self._waiting is job,
+            journal=journal,
+        )
         return self._begin(job, compensated).start()  # type: ignore[return-value]
 
     def send_segments(self, segments: Sequence[Segment]) -> Motion:
@@ -249,7 +286,9 @@ class Machine(Standing):
     def report_count(self, cls: type[Report]) -> int:
         return self.link.report_count(cls)
 
-    def wait_report(self, cls: type[Report], after: int, timeout: float | None = None) -> Report | None:
+    def wait_report(
+        self, cls: type[Report], after: int, timeout: float | None = None
+    ) -> Report | None:
         """Until report number `after` + 1 of class `cls` arrives (see report_count); None on timeout."""
         return self.link.wait_report(cls, after, self.link.generation, timeout)
 
@@ -294,7 +333,11 @@ class Machine(Standing):
         """Under the lock: `program` runs now. A job waiting at a pause gives way to it, and runs again after."""
         running = self._running
         if running is not None:
-            if not isinstance(running, JobRun) or not running.gives_way or self._waiting is not None:
+            if (
+                not isinstance(running, JobRun)
+                or not running.gives_way
+                or self._waiting is not None
+            ):
                 raise MachineError("a program is running already: one at a time (stop it first)")
             self._waiting = running
         self._running = program
@@ -331,16 +374,24 @@ class Machine(Standing):
         if isinstance(running, JobRun) and running.gives_way:
             running.interrupt()
 
-    def _begin(self, program: Running, compensated: Compensated | None = None,
-               raw: Sequence[Segment] | None = None) -> Running:
+    def _begin(
+        self,
+        program: Running,
+        compensated: Compensated | None = None,
+        raw: Sequence[Segment] | None = None,
+    ) -> Running:
         if self.config.homing_required and not self.homed:
-            raise MachineError("homing_required = true in the configuration: home the machine first "
-                               "(quadstep home, or the TUI's H)")
+            raise MachineError(
+                "homing_required = true in the configuration: home the machine first "
+                "(quadstep home, or the TUI's H)"
+            )
         self._interrupt_waiting()
         with self._lock:
             self._take(program)
         if compensated is not None:
-            status = self.link.status()  # at rest: where the stream begins, in steps and motion ticks
+            status = (
+                self.link.status()
+            )  # at rest: where the stream begins, in steps and motion ticks
             self.takeups.begin(compensated, status.position[: self.axis_count], status.motion_ticks)
         program.settle = lambda end: self._settle(end, raw)  # type: ignore[union-attr]
         program.on_end = lambda end: self._ended(program, end)
@@ -350,4 +401,3 @@ class Machine(Standing):
         """In the program's thread, before its waiters wake (after _settle): the machine is free again."""
         with self._lock:
             self._free(program)
-

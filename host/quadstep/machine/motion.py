@@ -20,7 +20,16 @@ from typing import Protocol
 from ..link import AlarmError, Link, LinkError, Stopped, hold, wait_rest
 from ..link.errors import status_alarm
 from ..protocol import (
-    DECEL_MAX, AckReason, Capability, CubicSegment, HoldDone, IdentifyReply, InputCause, Outputs, Report, Segment,
+    DECEL_MAX,
+    AckReason,
+    Capability,
+    CubicSegment,
+    HoldDone,
+    IdentifyReply,
+    InputCause,
+    Outputs,
+    Report,
+    Segment,
 )
 from ..protocol.messages import queue_slots
 from ..protocol.frames import next_frame, run_limit
@@ -139,14 +148,20 @@ class Motion:
         follows: Motion | None = None,
     ) -> None:
         self.link = link
-        self.on_end = on_end  # called once, in the thread that ends the motion, before wait() returns
-        self.settle: Callable[[MotionEnd], MotionEnd] | None = None  # the machine's view of the end, before that
+        self.on_end = (
+            on_end  # called once, in the thread that ends the motion, before wait() returns
+        )
+        self.settle: Callable[[MotionEnd], MotionEnd] | None = (
+            None  # the machine's view of the end, before that
+        )
         self.segments = segments
         self.decels = tuple(decels)
         self.first = first
         self.last = len(segments) if last is None else last
         self.lookahead_ticks = lookahead_ticks
-        self.outputs = list(outputs)  # (segment index, OUTPUTS): sent before that segment, or after the last
+        self.outputs = list(
+            outputs
+        )  # (segment index, OUTPUTS): sent before that segment, or after the last
         self._lock = threading.Lock()
         self._space = threading.Event()
         self._ended = threading.Event()
@@ -156,7 +171,9 @@ class Motion:
         self._base_done = 0
         self._generation = 0  # the link's, when streaming began: a STOP from elsewhere changes it
         self._input_holds = 0  # holds the firmware began itself, when streaming began
-        self._follows = follows  # a motion cut short whose last segments may still be queued: counted first
+        self._follows = (
+            follows  # a motion cut short whose last segments may still be queued: counted first
+        )
         self._cut = False  # streaming ends at `last`, moved down by cut(); the motion ends once that is sent
         self._thread = threading.Thread(target=self._run, name="quadstep-motion", daemon=True)
 
@@ -181,7 +198,9 @@ class Motion:
         follows = self._follows
         # after a cut motion, the board completes its segments first: `done` counts from their end (and is
         # negative while they run)
-        self._base_done = self.link.segments_done if follows is None else follows._base_done + follows.sent
+        self._base_done = (
+            self.link.segments_done if follows is None else follows._base_done + follows.sent
+        )
         self._generation = self.link.generation
         self._input_holds = self.link.holds_by_input
         self._starvations = self.link.stats.starvations
@@ -197,7 +216,11 @@ class Motion:
         without a stop (a feed override); False when that segment is sent already or is not before `last`. The
         motion then ends ("cut") as soon as the segment before it is sent, without waiting for the board."""
         with self._lock:
-            if self._halting or self._end is not None or not self.first + self._sent <= index < self.last:
+            if (
+                self._halting
+                or self._end is not None
+                or not self.first + self._sent <= index < self.last
+            ):
                 return False
             self.last, self._cut = index, True
             return True
@@ -223,7 +246,9 @@ class Motion:
         except LinkError as exc:
             end = MotionEnd("error", (), done, stop_ns, error=f"could not stop the motion: {exc}")
         else:
-            end = MotionEnd(reason, self._axes(rest.position), done, stop_ns, rest.held, rest.hold_tick)
+            end = MotionEnd(
+                reason, self._axes(rest.position), done, stop_ns, rest.held, rest.hold_tick
+            )
         self._finish(end, from_halt=True)
         return end
 
@@ -244,14 +269,18 @@ class Motion:
             self._finish(self._after_alarm(exc))
         except LinkError as exc:
             self._finish(MotionEnd("error", (), self.done, error=str(exc)))
-        except Exception as exc:  # a fault of this program: end the motion (the board stops at its queue's end)
+        except (
+            Exception
+        ) as exc:  # a fault of this program: end the motion (the board stops at its queue's end)
             self._finish(MotionEnd("error", (), self.done, error=f"streaming failed: {exc!r}"))
             raise
         finally:
             unregister()
 
     def _stream(self) -> None:
-        ticks = list(accumulate((self.segments.n[i] for i in range(self.first, self.last)), initial=0))
+        ticks = list(
+            accumulate((self.segments.n[i] for i in range(self.first, self.last)), initial=0)
+        )
         identity = self.link.identity
         assert identity is not None
         size = RunSize(board_run_limit(identity), self.link, identity.tick_hz)
@@ -262,10 +291,15 @@ class Motion:
         index = self.first
         while index < self.last:
             k = index - self.first
-            batch = size.next() if self._queued_ticks(k, ticks) >= size.floor else min(size.next(), 1)
+            batch = (
+                size.next() if self._queued_ticks(k, ticks) >= size.floor else min(size.next(), 1)
+            )
             end = min(self.last, index + max(1, batch))
-            while (self.lookahead_ticks and end - index > 1
-                   and ticks[end - self.first] - ticks[k] > self.lookahead_ticks // 2):
+            while (
+                self.lookahead_ticks
+                and end - index > 1
+                and ticks[end - self.first] - ticks[k] > self.lookahead_ticks // 2
+            ):
                 end -= 1  # a frame of at most half the lookahead: the board keeps the other half queued
             if output is not None and output[0] > index:
                 end = min(end, output[0])  # an output goes out before its segment, between frames
@@ -277,12 +311,16 @@ class Motion:
             # sent, so no segment can follow its HOLD. The room waited for above makes this
             # send return at once, so halt() never waits long for the lock.
             with self._lock:
-                if self._halting or index >= self.last:  # halted, or cut() ended the stream before this one
+                if (
+                    self._halting or index >= self.last
+                ):  # halted, or cut() ended the stream before this one
                     return
                 if index + count > self.last:  # cut() inside this frame: make it again, shorter
                     chain = before
                     continue
-                while output is not None and output[0] <= index:  # in stream order, before the segment
+                while (
+                    output is not None and output[0] <= index
+                ):  # in stream order, before the segment
                     self.link.send(output[1], generation=self._generation)
                     output = next(outputs, None)
                 self.link.send(message, generation=self._generation)  # a restart ends this motion
@@ -305,8 +343,12 @@ class Motion:
         while not self._halting:
             if self.link.generation != self._generation:
                 raise Stopped("the stream was restarted (STOP) while this motion waited for room")
-            self.link.check(self._generation)  # an alarm, a reset or a silent board: no room will come
-            done = self.done  # negative while the motion this one follows (a cut) still runs its last segments
+            self.link.check(
+                self._generation
+            )  # an alarm, a reset or a silent board: no room will come
+            done = (
+                self.done
+            )  # negative while the motion this one follows (a cut) still runs its last segments
             queued = k - done
             if queued < capacity and (
                 self.lookahead_ticks is None
@@ -318,7 +360,9 @@ class Motion:
             if done != last_done:
                 last_done, since = done, now
             elif now - since > STALL_POLL:
-                alarm = status_alarm(self.link.status())  # a SPACE ack lost: the status carries the count
+                alarm = status_alarm(
+                    self.link.status()
+                )  # a SPACE ack lost: the status carries the count
                 if alarm is not None:  # the alarm flushed the queue: no room will come
                     raise alarm
                 since = now
@@ -335,12 +379,27 @@ class Motion:
             if self.link.stats.starvations != self._starvations:
                 self._after_starvation()
                 return
-            holding = [c.cause for c in self.link.input_changes if c.cause in (InputCause.FEED_HOLD, InputCause.TRIGGER)]
-            if self.link.holds_by_input != self._input_holds and holding and holding[-1] == InputCause.FEED_HOLD:
+            holding = [
+                c.cause
+                for c in self.link.input_changes
+                if c.cause in (InputCause.FEED_HOLD, InputCause.TRIGGER)
+            ]
+            if (
+                self.link.holds_by_input != self._input_holds
+                and holding
+                and holding[-1] == InputCause.FEED_HOLD
+            ):
                 status = wait_rest(self.link)
                 done = self.link.last_report(HoldDone)
-                self._finish(MotionEnd("feed hold", self._axes(status.position), self.done, held=True,
-                                       hold_tick=done.hold_tick if done is not None else None))
+                self._finish(
+                    MotionEnd(
+                        "feed hold",
+                        self._axes(status.position),
+                        self.done,
+                        held=True,
+                        hold_tick=done.hold_tick if done is not None else None,
+                    )
+                )
                 return
             position = self._axes(self.link.status().position)
         except LinkError as exc:
@@ -352,7 +411,11 @@ class Motion:
         """The queue ran dry while moving: the board stopped under control and refuses segments until a HOLD.
         The HOLD takes it to IDLE and repeats the stop's HOLD_DONE: its hold_tick and exact rest position."""
         rest = bring_to_rest(self.link, self.decels)
-        self._finish(MotionEnd(STARVED, self._axes(rest.position), self.done, held=True, hold_tick=rest.hold_tick))
+        self._finish(
+            MotionEnd(
+                STARVED, self._axes(rest.position), self.done, held=True, hold_tick=rest.hold_tick
+            )
+        )
 
     def _after_alarm(self, exc: AlarmError) -> MotionEnd:
         """The board halted on an alarm (positions exact); clear it so the machine can go on."""
@@ -360,7 +423,9 @@ class Motion:
         try:
             status = self.link.stop()
         except LinkError as stop_exc:
-            return MotionEnd("error", self._axes(exc.alarm.position), self.done, error=f"{message}; {stop_exc}")
+            return MotionEnd(
+                "error", self._axes(exc.alarm.position), self.done, error=f"{message}; {stop_exc}"
+            )
         return MotionEnd("error", self._axes(status.position), self.done, error=message)
 
     def _axes(self, position: Sequence[int]) -> tuple[int, ...]:

@@ -42,7 +42,13 @@ class ProbingMachine(Protocol):
 
     def rested(self, hold_tick: int | None = None) -> tuple[int, ...]: ...
 
-CODES = {"38.2": (1, True), "38.3": (1, False), "38.4": (0, True), "38.5": (0, False)}  # level, error if missed
+
+CODES = {
+    "38.2": (1, True),
+    "38.3": (1, False),
+    "38.4": (0, True),
+    "38.5": (0, False),
+}  # level, error if missed
 
 
 class ProbeError(MachineError):
@@ -58,8 +64,14 @@ class ProbeResult:
     work_mm: tuple[float, ...]
 
 
-def probe(machine: ProbingMachine, code: str, target_mm: Sequence[float], feed: float,
-          work_offset: Sequence[float] | None = None, timeout: float = 600.0) -> ProbeResult:
+def probe(
+    machine: ProbingMachine,
+    code: str,
+    target_mm: Sequence[float],
+    feed: float,
+    work_offset: Sequence[float] | None = None,
+    timeout: float = 600.0,
+) -> ProbeResult:
     """Move toward `target_mm` (machine coordinates, inside the travel) at `feed` mm/s as G`code` does."""
     if code not in CODES:
         raise ProbeError(f"G{code}: not a probing code (G38.2, G38.3, G38.4, G38.5)")
@@ -71,20 +83,30 @@ def probe(machine: ProbingMachine, code: str, target_mm: Sequence[float], feed: 
             raise ProbeError(f"G{code}: the probe is {'touching' if level else 'clear'} already")
         machine.sync()
         program = Program(items=[LinearMove(line=1, target=tuple(target_mm), feed=feed)], lines=1)
-        plan = plan_program(program, config, machine.position)  # a target outside the travel: JobError
+        plan = plan_program(
+            program, config, machine.position
+        )  # a target outside the travel: JobError
         decel = tuple(list(machine.decels) + [0] * (MAX_AXES - len(machine.decels)))
         segments = machine.takeup_stream([plan.segments.segment(i) for i in range(len(plan))])
-        end = until_input(link, Probe(input=Input.PROBE, level=level, decel=decel),  # type: ignore[arg-type]
-                          segments, timeout)  # type: ignore[arg-type]
+        end = until_input(
+            link,
+            Probe(input=Input.PROBE, level=level, decel=decel),  # type: ignore[arg-type]
+            segments,
+            timeout,
+        )  # type: ignore[arg-type]
         found = isinstance(end, InputChange)
         steps = machine.shown(end.position, end.motion_ticks) if found else ()
         rest = machine.rested(end.motion_ticks if found else None)
     if must and not found:
-        raise ProbeError(f"G{code}: no contact {'made' if level else 'lost'} on the way to "
-                         + " ".join(f"{a.name}{x:g}" for a, x in zip(config.axes, target_mm)))
+        raise ProbeError(
+            f"G{code}: no contact {'made' if level else 'lost'} on the way to "
+            + " ".join(f"{a.name}{x:g}" for a, x in zip(config.axes, target_mm))
+        )
     steps = steps or rest
     machine_mm = config.to_mm(steps)
-    return ProbeResult(code, found, steps, machine_mm, tuple(m - o for m, o in zip(machine_mm, offset)))
+    return ProbeResult(
+        code, found, steps, machine_mm, tuple(m - o for m, o in zip(machine_mm, offset))
+    )
 
 
 def hold_to_rest(machine: ProbingMachine) -> tuple[int, ...]:

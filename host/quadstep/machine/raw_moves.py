@@ -45,13 +45,25 @@ class RawMoves:
         self.link.wait_idle(TIMEOUT, stream)
         self._rested()
 
-    def until(self, axis: int, steps: int, which: Input, level: int, feed: float | None = None) -> int | None:
+    def until(
+        self, axis: int, steps: int, which: Input, level: int, feed: float | None = None
+    ) -> int | None:
         """Up to `steps` along `axis` until `which` reaches `level`: the motor's latched step there (None: the
         move ended without the edge)."""
-        end = until_input(self.link, Probe(input=which, level=level, decel=self.decel),  # type: ignore[arg-type]
-                          self.segments(axis, steps, feed), TIMEOUT)
+        end = until_input(
+            self.link,
+            Probe(input=which, level=level, decel=self.decel),  # type: ignore[arg-type]
+            self.segments(axis, steps, feed),
+            TIMEOUT,
+        )
         self._rested()
-        return end.position[axis] if isinstance(end, InputChange) else None if isinstance(end, ProbeMissed) else None
+        return (
+            end.position[axis]
+            if isinstance(end, InputChange)
+            else None
+            if isinstance(end, ProbeMissed)
+            else None
+        )
 
     def _rested(self) -> None:
         before = self.motor

@@ -94,7 +94,11 @@ class Standing:
         if within is None or self.program is not within:
             self._refuse_if_busy("set the position")
         offsets = [m - p for m, p in zip(self.motor_position, self.position)]
-        self.link.send(SetPosition(positions={a: s + (offsets[a] if a < len(offsets) else 0) for a, s in steps.items()}))
+        self.link.send(
+            SetPosition(
+                positions={a: s + (offsets[a] if a < len(offsets) else 0) for a, s in steps.items()}
+            )
+        )
         self.link.drain()
         status = self.link.status()
         with self._lock:
@@ -123,7 +127,11 @@ class Standing:
     def rested(self, hold_tick: int | None = None) -> tuple[int, ...]:
         """A procedure's motion is at rest: after a hold that began at `hold_tick`, or (None) at its end."""
         status = self.link.status()
-        self._rest(status.position, hold_tick if hold_tick is not None else status.motion_ticks, hold_tick is None)
+        self._rest(
+            status.position,
+            hold_tick if hold_tick is not None else status.motion_ticks,
+            hold_tick is None,
+        )
         return self.position
 
     def _settle(self, end: MotionEnd, raw: Sequence[Segment] | None) -> MotionEnd:
@@ -176,17 +184,21 @@ class Standing:
         with self._lock:
             motor, ticks = self._motor, self._ticks
         band = self.takeups.band
-        state = StateFile(coordinates=self._stored_coordinates, homed=self._homed,
-                          position_lost=self._position_lost,
-                          band=BandRecord.of(band, motor) if band.active else None,
-                          board=board_mark(self.identity, ticks, motor))
+        state = StateFile(
+            coordinates=self._stored_coordinates,
+            homed=self._homed,
+            position_lost=self._position_lost,
+            band=BandRecord.of(band, motor) if band.active else None,
+            board=board_mark(self.identity, ticks, motor),
+        )
         try:
             with self._state_lock:
                 write_state(self.state_file, state)
         except OSError as exc:
             if strict:
-                raise MachineError(f"cannot write the machine's state to {self.state_file}: "
-                                   f"{exc.strerror or exc}") from None
+                raise MachineError(
+                    f"cannot write the machine's state to {self.state_file}: {exc.strerror or exc}"
+                ) from None
 
 
 class Restream(Protocol):
@@ -257,5 +269,7 @@ class _Restream:
     def stream(self, plan: Plan) -> StreamPlan:
         compensated = self.machine.takeups.compensate(plan.segments, plan.pauses)
         status = self.machine.link.status()
-        self.machine.takeups.begin(compensated, status.position[: self.machine.axis_count], status.motion_ticks)
+        self.machine.takeups.begin(
+            compensated, status.position[: self.machine.axis_count], status.motion_ticks
+        )
         return StreamPlan(plan.config, compensated.stream, compensated.pauses, compensated, plan)

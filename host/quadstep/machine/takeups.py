@@ -53,14 +53,26 @@ class TakeUps:
             self._band = band if band is not None else Band.of(self.config)
             self._running = None
 
-    def compensate(self, segments: SegmentArrays | Stream, pauses: Sequence[tuple[int, int]] = (),
-                   band: Band | None = None) -> Compensated:
+    def compensate(
+        self,
+        segments: SegmentArrays | Stream,
+        pauses: Sequence[tuple[int, int]] = (),
+        band: Band | None = None,
+    ) -> Compensated:
         """`segments` (planned: quadratic arrays, or a jerk-limited plan's cubic stream) with their take-ups, from
         the band as it stands (or `band`)."""
-        base = from_arrays(segments) if isinstance(segments, SegmentArrays) else from_items(segments, segments.axis_count)
-        return compensate(base, self.config, self.band if band is None else band, pauses=list(pauses))
+        base = (
+            from_arrays(segments)
+            if isinstance(segments, SegmentArrays)
+            else from_items(segments, segments.axis_count)
+        )
+        return compensate(
+            base, self.config, self.band if band is None else band, pauses=list(pauses)
+        )
 
-    def compensate_items(self, items: Sequence[Segment | CubicSegment], axis_count: int) -> Compensated:
+    def compensate_items(
+        self, items: Sequence[Segment | CubicSegment], axis_count: int
+    ) -> Compensated:
         return compensate(from_items(items, axis_count), self.config, self.band)
 
     def begin(self, compensated: Compensated, motor: Sequence[int], tick: int) -> None:
@@ -88,7 +100,9 @@ class TakeUps:
             elif tick is not None:
                 self._band = comp.band_at(tick - running.tick, moved)
             else:  # where inside the band each motor stopped is not known: the next motion adopts its side
-                self._band = Band(tuple(BandAxis(a.size, None, a.offset()) for a in comp.band_start.axes))
+                self._band = Band(
+                    tuple(BandAxis(a.size, None, a.offset()) for a in comp.band_start.axes)
+                )
 
     def moved_raw(self, segments: Sequence[Segment | CubicSegment], done: bool) -> None:
         """Raw segments (not compensated) moved the motors: follow them through the band."""
@@ -101,7 +115,9 @@ class TakeUps:
                 return
             steps = predict(segments, axis_count=max(len(band.axes), 1)).steps
             for axis in range(len(band.axes)):
-                band = band.with_axis(axis, band.axes[axis].moved(int(s) for s in steps[steps[:, 1] == axis, 2]))
+                band = band.with_axis(
+                    axis, band.axes[axis].moved(int(s) for s in steps[steps[:, 1] == axis, 2])
+                )
             self._band = band
 
     def moved_straight(self, deltas: Sequence[int]) -> None:

@@ -43,8 +43,12 @@ def start_emulator(target: Target, config: MachineConfig | None) -> Emulator:
 
 
 def open_machine(
-    target: Target, config: MachineConfig | None = None, *, source: str = "the configuration",
-    emulator: Emulator | None = None, state_file: Path | None = None,
+    target: Target,
+    config: MachineConfig | None = None,
+    *,
+    source: str = "the configuration",
+    emulator: Emulator | None = None,
+    state_file: Path | None = None,
 ) -> Machine:
     """Connect to `target`. For an emulator target, `emulator` is a running one to use (its owner stops
     it); without it one is started, and the machine stops it when closed. `state_file` keeps the
@@ -59,8 +63,14 @@ def open_machine(
         url = emulator.url if target.emulator and emulator is not None else str(target.port)
         link = Link.open(url, target.baud)
         try:
-            return Machine(link, config, source=source, emulator=started, state_file=state_file,
-                           state_lock=lock)
+            return Machine(
+                link,
+                config,
+                source=source,
+                emulator=started,
+                state_file=state_file,
+                state_lock=lock,
+            )
         except BaseException:
             link.close()
             raise

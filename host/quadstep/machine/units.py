@@ -5,7 +5,10 @@ from __future__ import annotations
 import math
 
 from ..config import AxisConfig, MachineConfig
-from ..protocol import DECEL_MAX, DECEL_SHIFT  # HOLD decelerations: d / 2^DECEL_SHIFT step per tick², 1 … DECEL_MAX
+from ..protocol import (
+    DECEL_MAX,
+    DECEL_SHIFT,
+)  # HOLD decelerations: d / 2^DECEL_SHIFT step per tick², 1 … DECEL_MAX
 
 
 def hold_decel(axis: AxisConfig, tick_hz: int) -> int:

@@ -22,6 +22,10 @@ def scale_feeds(program: Program, percent: int) -> Program:
     if percent == 100:
         return program
     factor = percent / 100.0
-    items = [replace(item, feed=item.feed * factor) if isinstance(item, LinearMove) and item.feed is not None
-             else item for item in program.items]
+    items = [
+        replace(item, feed=item.feed * factor)
+        if isinstance(item, LinearMove) and item.feed is not None
+        else item
+        for item in program.items
+    ]
     return replace(program, items=items)

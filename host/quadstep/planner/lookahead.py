@@ -39,13 +39,19 @@ def _junction_speed(table: MoveTable, k: int, config: MachineConfig, amax: list[
     if cos_theta > 0.999999 or deviation == 0.0:
         return 0.0  # full reversal, or exact stop (G61)
     for i, axis in enumerate(config.axes):
-        if axis.backlash_steps and e1[i] * e2[i] < 0 and min(abs(e1[i]), abs(e2[i])) > SHARP_REVERSAL:
+        if (
+            axis.backlash_steps
+            and e1[i] * e2[i] < 0
+            and min(abs(e1[i]), abs(e2[i])) > SHARP_REVERSAL
+        ):
             return 0.0  # a sharp reversal of an axis with backlash: its take-up at rest
     if cos_theta < -0.999999:
         return cap  # straight on
     turn = [b - a for a, b in zip(e1, e2)]
     norm = math.sqrt(sum(x * x for x in turn))
-    accel = min(table.accel_cap[k - 1], table.accel_cap[k])  # a move's own lower limit, if it has one
+    accel = min(
+        table.accel_cap[k - 1], table.accel_cap[k]
+    )  # a move's own lower limit, if it has one
     for i, x in enumerate(turn):
         if abs(x) > 1e-12:
             accel = min(accel, amax[i] * norm / abs(x))
@@ -62,7 +68,11 @@ def junction_speeds(table: MoveTable, config: MachineConfig, entry: float = 0.0)
     count = len(table)
     hz = float(config.tick_hz)
     amax = [a.max_accel / (hz * hz) for a in config.axes]
-    stopped = {index for index, item in table.stops if not (isinstance(item, SetOutputs) and config.spindle.laser)}
+    stopped = {
+        index
+        for index, item in table.stops
+        if not (isinstance(item, SetOutputs) and config.spindle.laser)
+    }
     limit = [0.0] * (count + 1)
     limit[0] = entry
     for k in range(1, count):
@@ -84,6 +94,8 @@ def junction_speeds(table: MoveTable, config: MachineConfig, entry: float = 0.0)
             least = math.sqrt(max(0.0, limit[k] ** 2 - 2.0 * accel[k] * table.length[k]))
             if least > 1e-6 * limit[k] and least > limit[k + 1]:
                 if k + 1 == count or k + 1 in stopped:
-                    raise JobError(f"line {table.line[k]}: cannot slow down to the stop from the pinned speed")
+                    raise JobError(
+                        f"line {table.line[k]}: cannot slow down to the stop from the pinned speed"
+                    )
                 limit[k + 1] = least
     return limit

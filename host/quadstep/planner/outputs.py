@@ -29,7 +29,9 @@ def set_at_rest(state: OutputState, config: MachineConfig) -> bool:
     return not (config.spindle.laser and state.spindle == 4)
 
 
-def output_message(state: OutputState, config: MachineConfig, unit: Sequence[float] = (), feed: float = 0.0) -> Outputs:
+def output_message(
+    state: OutputState, config: MachineConfig, unit: Sequence[float] = (), feed: float = 0.0
+) -> Outputs:
     """The message for `state` on a move along `unit` (mm, normalised) at the programmed `feed` (mm/tick; inf:
     a rapid), or at rest (no unit)."""
     bits = (Output.MIST if state.mist else 0) | (Output.FLOOD if state.flood else 0)
@@ -39,11 +41,15 @@ def output_message(state: OutputState, config: MachineConfig, unit: Sequence[flo
     if not config.spindle.laser:
         bits |= Output.ON | (Output.REVERSE if state.spindle == 4 else 0)
         return Outputs(outputs=int(bits), power=power)
-    if feed == float("inf") or (state.spindle == 4 and not unit):  # a rapid, or M4 at rest: the laser is off
+    if feed == float("inf") or (
+        state.spindle == 4 and not unit
+    ):  # a rapid, or M4 at rest: the laser is off
         return Outputs(outputs=int(bits), power=0)
     if state.spindle == 3:  # on at rest too (a dwell burns a dot)
         return Outputs(outputs=int(bits | Output.ON), power=power)
     steps = [abs(u) * a.steps_per_mm for u, a in zip(unit, config.axes)]
     axis = max(range(len(steps)), key=steps.__getitem__)
     speed = min(D, max(1, round(feed * steps[axis] * D)))
-    return Outputs(outputs=int(bits | Output.ON | Output.DYNAMIC), power=power, axis=axis, speed=speed)
+    return Outputs(
+        outputs=int(bits | Output.ON | Output.DYNAMIC), power=power, axis=axis, speed=speed
+    )

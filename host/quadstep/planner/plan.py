@@ -44,10 +44,14 @@ class Plan:
     """A whole job, planned: its segments, where it starts and ends, and where it pauses."""
 
     config: MachineConfig
-    segments: SegmentArrays | Stream  # quadratic arrays; a stream of cubic segments when jerk-limited
+    segments: (
+        SegmentArrays | Stream
+    )  # quadratic arrays; a stream of cubic segments when jerk-limited
     start: tuple[int, ...]
     end: tuple[int, ...]
-    pauses: list[tuple[int, int]] = field(default_factory=list)  # (segment index, line) before which to wait
+    pauses: list[tuple[int, int]] = field(
+        default_factory=list
+    )  # (segment index, line) before which to wait
     moves: int = 0
     distance_mm: float = 0.0
     lines: int = 0
@@ -56,8 +60,12 @@ class Plan:
     retries: int = 0  # moves whose best profile would have missed a target by rounding
     # (segment index, pauses before it, message): OUTPUTS sent before that segment (at the end: after the last)
     outputs: list[tuple[int, int, Outputs]] = field(default_factory=list)
-    peak_advance: tuple[int, ...] = ()  # jerk-limited plans: highest speed per axis, 2^-31 step per tick
-    junctions: array = field(default_factory=lambda: array("d"))  # each move's entry speed (mm/tick), then 0
+    peak_advance: tuple[
+        int, ...
+    ] = ()  # jerk-limited plans: highest speed per axis, 2^-31 step per tick
+    junctions: array = field(
+        default_factory=lambda: array("d")
+    )  # each move's entry speed (mm/tick), then 0
 
     def __len__(self) -> int:
         return len(self.segments)
@@ -73,38 +81,60 @@ class Plan:
     def peak_speeds(self) -> list[float]:
         """Highest planned speed per axis, mm/s."""
         if isinstance(self.segments, Stream):
-            return [i / SIGMA * self.config.tick_hz / axis.steps_per_mm for i, axis in zip(self.peak_advance, self.config.axes)]
+            return [
+                i / SIGMA * self.config.tick_hz / axis.steps_per_mm
+                for i, axis in zip(self.peak_advance, self.config.axes)
+            ]
         arrays = self.segments.numpy()
         if len(self) == 0:
             return [0.0] * len(self.config.axes)
         top = np.maximum(arrays["v0"].max(axis=0), arrays["vn"].max(axis=0))
         return [
-            float(top[i]) / D * self.config.tick_hz / axis.steps_per_mm for i, axis in enumerate(self.config.axes)
+            float(top[i]) / D * self.config.tick_hz / axis.steps_per_mm
+            for i, axis in enumerate(self.config.axes)
         ]
 
 
 def plan_program(
-    program: Program, config: MachineConfig, start: tuple[int, ...] | None = None, label: str = "line",
+    program: Program,
+    config: MachineConfig,
+    start: tuple[int, ...] | None = None,
+    label: str = "line",
     boundary: Boundary | None = None,
 ) -> Plan:
     """Plan every item of `program` from stepper positions `start` (default all 0), or, moving, from a
     `boundary` of another plan (quadratic plans only)."""
-    begin = boundary.position if boundary is not None else tuple(start) if start is not None else (0,) * len(config.axes)
+    begin = (
+        boundary.position
+        if boundary is not None
+        else tuple(start)
+        if start is not None
+        else (0,) * len(config.axes)
+    )
     table = build_moves(program, config, begin, label)
     return plan_moves(table, config, program.lines, label, boundary)
 
 
-def plan_moves(table: MoveTable, config: MachineConfig, lines: int = 0, label: str = "line",
-               boundary: Boundary | None = None) -> Plan:
+def plan_moves(
+    table: MoveTable,
+    config: MachineConfig,
+    lines: int = 0,
+    label: str = "line",
+    boundary: Boundary | None = None,
+) -> Plan:
     if boundary is not None and config.jerk_limited:
         raise JobError("a jerk-limited plan goes on only from rest")
     check_duration(table, config, label)  # each move at its top speed, before the look-ahead
     entry = junction_speeds(table, config, boundary.speed if boundary is not None else 0.0)
     check_duration(table, config, label, entry)  # with its ramps: before anything is planned
     scurve = ScurvePlanner(config, table.start, label) if config.jerk_limited else None
-    out: SegmentArrays | Stream = scurve.out if scurve is not None else SegmentArrays(len(config.axes))
+    out: SegmentArrays | Stream = (
+        scurve.out if scurve is not None else SegmentArrays(len(config.axes))
+    )
     quantizer = Quantizer(out, table.start) if scurve is None else None
-    if quantizer is not None and boundary is not None:  # the residual chain and the speeds go on unbroken
+    if (
+        quantizer is not None and boundary is not None
+    ):  # the residual chain and the speeds go on unbroken
         quantizer.ideal2, quantizer.exit_speed = list(boundary.ideal2), list(boundary.exit_speed)
     pauses: list[tuple[int, int]] = []
     move_ends = array("i")
@@ -124,7 +154,9 @@ def plan_moves(table: MoveTable, config: MachineConfig, lines: int = 0, label: s
             item = next_stop[1]
             if isinstance(item, Dwell):
                 (scurve or quantizer).dwell(round(item.seconds * config.tick_hz), item.line)  # type: ignore[union-attr]
-            elif isinstance(item, (Pause, ProbeMove)):  # a probe: the job probes there, then plans again
+            elif isinstance(
+                item, (Pause, ProbeMove)
+            ):  # a probe: the job probes there, then plans again
                 if scurve is not None:
                     scurve.stop(item.line)
                 pauses.append((len(out), item.line))
@@ -145,24 +177,45 @@ def plan_moves(table: MoveTable, config: MachineConfig, lines: int = 0, label: s
         assert quantizer is not None
         accel = table.accel[k]
         profiles = fit_profiles(
-            table.length[k], entry[k], entry[k + 1], table.max_speed[k], accel, accel * PLAN_ACCEL_FRACTION
+            table.length[k],
+            entry[k],
+            entry[k + 1],
+            table.max_speed[k],
+            accel,
+            accel * PLAN_ACCEL_FRACTION,
         )
         for attempt, profile in enumerate(profiles):
             retries += attempt > 0
             if quantizer.move(table.target[k], table.length[k], profile, table.line[k]):
                 break
-            if quantizer.move(table.target[k], table.length[k], profile, table.line[k], continuous=False):
+            if quantizer.move(
+                table.target[k], table.length[k], profile, table.line[k], continuous=False
+            ):
                 break
         else:
-            raise JobError(f"{label} {table.line[k]}: no whole-tick profile lands this move exactly; lower max_speed")
+            raise JobError(
+                f"{label} {table.line[k]}: no whole-tick profile lands this move exactly; lower max_speed"
+            )
         move_ends.append(len(out))
     flush_stops(len(table))
     if scurve is not None:
         scurve.stop(table.line[-1] if len(table) else 0)
-        return Plan(config=config, segments=out, start=table.start, end=tuple(scurve.position), pauses=pauses,
-                    moves=len(table), distance_mm=float(sum(table.length)), lines=lines,
-                    max_landing_error=scurve.max_landing >> 18, move_ends=move_ends, retries=scurve.corrections,
-                    outputs=outputs, peak_advance=tuple(scurve.peak), junctions=array("d", entry))
+        return Plan(
+            config=config,
+            segments=out,
+            start=table.start,
+            end=tuple(scurve.position),
+            pauses=pauses,
+            moves=len(table),
+            distance_mm=float(sum(table.length)),
+            lines=lines,
+            max_landing_error=scurve.max_landing >> 18,
+            move_ends=move_ends,
+            retries=scurve.corrections,
+            outputs=outputs,
+            peak_advance=tuple(scurve.peak),
+            junctions=array("d", entry),
+        )
     assert quantizer is not None
     return Plan(
         config=config,

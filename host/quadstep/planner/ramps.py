@@ -41,7 +41,9 @@ def ramp_distance(phases: list[Phase]) -> int:
     return x
 
 
-def superpose(segments: list[CubicSegment], axis: int, start: int, phases: list[Phase]) -> list[CubicSegment]:
+def superpose(
+    segments: list[CubicSegment], axis: int, start: int, phases: list[Phase]
+) -> list[CubicSegment]:
     """`segments` with the ramp `phases` added to `axis`'s jerk from tick `start` of the run on: segments are
     split where a phase begins or ends (a piece keeps its segment's jerks; a state set stays on the first
     piece), and every other axis moves exactly as before."""
@@ -64,8 +66,15 @@ def superpose(segments: list[CubicSegment], axis: int, start: int, phases: list[
                 m = named.get(k)
                 jerk = (m.jerk or 0 if m is not None else 0) + (extra if k == axis else 0)
                 if m is not None and m.speed is not None and a == tick:
-                    axes.append(CubicAxis(axis=k, speed=m.speed, accel=m.accel, direction=m.direction,
-                                          jerk=jerk if m.jerk is not None or jerk else None))
+                    axes.append(
+                        CubicAxis(
+                            axis=k,
+                            speed=m.speed,
+                            accel=m.accel,
+                            direction=m.direction,
+                            jerk=jerk if m.jerk is not None or jerk else None,
+                        )
+                    )
                 elif jerk:
                     axes.append(CubicAxis(axis=k, jerk=jerk))
             out.append(CubicSegment(n=b - a, axes=tuple(axes)))
@@ -73,7 +82,9 @@ def superpose(segments: list[CubicSegment], axis: int, start: int, phases: list[
     return out
 
 
-def two_step_arrival(v0: Fraction, a0: Fraction, p02: Fraction, t: Fraction) -> tuple[Fraction, Fraction]:
+def two_step_arrival(
+    v0: Fraction, a0: Fraction, p02: Fraction, t: Fraction
+) -> tuple[Fraction, Fraction]:
     """Accelerations a1 (at t) and a2 (at 2t) that, with the acceleration linear in between, bring an axis
     at speed v0 and acceleration a0 to rest at distance p02 after 2t (seed 004, checked)."""
     a1 = (3 * p02 - 5 * t * v0 - 2 * t * t * a0) / (2 * t * t)

@@ -28,7 +28,9 @@ class Stream:
     extra: list[Segment | CubicSegment] = field(default_factory=list)
     n: array = field(default_factory=lambda: array("I"))
     line: array = field(default_factory=lambda: array("i"))
-    origin: array = field(default_factory=lambda: array("i"))  # the base segment each item runs (part of)
+    origin: array = field(
+        default_factory=lambda: array("i")
+    )  # the base segment each item runs (part of)
 
     @property
     def axis_count(self) -> int:
@@ -80,7 +82,9 @@ class Stream:
         """n and line as numpy views."""
         return {
             "n": np.frombuffer(self.n, dtype=np.uint32) if len(self) else np.zeros(0, np.uint32),
-            "line": np.frombuffer(self.line, dtype=np.int32) if len(self) else np.zeros(0, np.int32),
+            "line": np.frombuffer(self.line, dtype=np.int32)
+            if len(self)
+            else np.zeros(0, np.int32),
         }
 
     @property

@@ -26,16 +26,49 @@ DECEL_MAX = 8191  # largest HOLD deceleration (keeps the hold's per-tick values 
 CUBIC_SHIFT = 31  # a cubic segment's advances are in 2^-31 step (docs/CUBIC.md)
 CUBIC_ACCEL_LIMIT = 1 << 23  # |change of the advance per tick| stays below this (24 bits)
 CUBIC_N_MAX = 65535  # longest cubic segment in ticks (a 16-bit count)
-POSITION_MAX = 2**31 - 2**24  # the firmware keeps every step position within ±this (PROTOCOL.md §5.2)
+POSITION_MAX = (
+    2**31 - 2**24
+)  # the firmware keeps every step position within ±this (PROTOCOL.md §5.2)
 WATCHDOG_MAX_MS = 4000  # longest WATCHDOG timeout
 
 __all__ = [
-    "AXIS_NAMES", "D", "MAX_AXES", "N_MAX", "R_MAX", "SPEED_SHIFT", "V_MAX", "PROTOCOL_VERSION", "MAX_FRAME", "MIN_FRAME",
-    "DELIMITER", "BROADCAST_SEQ", "NO_FIELD", "NO_AXIS", "MAX_IN_FLIGHT", "DECEL_SHIFT", "DECEL_MAX", "CUBIC_SHIFT", "POSITION_MAX",
+    "AXIS_NAMES",
+    "D",
+    "MAX_AXES",
+    "N_MAX",
+    "R_MAX",
+    "SPEED_SHIFT",
+    "V_MAX",
+    "PROTOCOL_VERSION",
+    "MAX_FRAME",
+    "MIN_FRAME",
+    "DELIMITER",
+    "BROADCAST_SEQ",
+    "NO_FIELD",
+    "NO_AXIS",
+    "MAX_IN_FLIGHT",
+    "DECEL_SHIFT",
+    "DECEL_MAX",
+    "CUBIC_SHIFT",
+    "POSITION_MAX",
     "WATCHDOG_MAX_MS",
-    "CUBIC_ACCEL_LIMIT", "CUBIC_N_MAX",
-    "AckReason", "ErrorCode", "FieldId", "AlarmCode", "State", "Board", "Capability", "TypeClass",
-    "is_immediate", "is_report", "is_sequenced", "Input", "InputCause", "INPUT_COUNT", "Output",
+    "CUBIC_ACCEL_LIMIT",
+    "CUBIC_N_MAX",
+    "AckReason",
+    "ErrorCode",
+    "FieldId",
+    "AlarmCode",
+    "State",
+    "Board",
+    "Capability",
+    "TypeClass",
+    "is_immediate",
+    "is_report",
+    "is_sequenced",
+    "Input",
+    "InputCause",
+    "INPUT_COUNT",
+    "Output",
 ]
 
 

@@ -13,7 +13,15 @@ import struct
 from dataclasses import dataclass, field
 from typing import Annotated, Any, Literal
 
-from pydantic import BaseModel, ConfigDict, Field, SerializerFunctionWrapHandler, field_validator, model_serializer, model_validator
+from pydantic import (
+    BaseModel,
+    ConfigDict,
+    Field,
+    SerializerFunctionWrapHandler,
+    field_validator,
+    model_serializer,
+    model_validator,
+)
 
 from .constants import CUBIC_ACCEL_LIMIT, CUBIC_N_MAX, CUBIC_SHIFT, MAX_AXES, FieldId
 from .segment import Segment
@@ -30,7 +38,9 @@ class CubicAxis(BaseModel):
     model_config = ConfigDict(frozen=True)
 
     axis: int = Field(ge=0, lt=MAX_AXES)
-    speed: int | None = Field(default=None, ge=0, lt=1 << 31, description="set: advance over the first tick")
+    speed: int | None = Field(
+        default=None, ge=0, lt=1 << 31, description="set: advance over the first tick"
+    )
     accel: int = Field(default=0, gt=-CUBIC_ACCEL_LIMIT, lt=CUBIC_ACCEL_LIMIT)
     direction: Literal[1, -1] = 1
     jerk: int | None = Field(default=None, ge=-(1 << 15), lt=1 << 15)
@@ -113,8 +123,15 @@ class CubicFields(FieldCodec):
                 axes.append(CubicAxis(axis=axis, jerk=jerk))
             else:
                 word, accel = set_
-                axes.append(CubicAxis(axis=axis, speed=word & (SPEED_BIT - 1), accel=accel,
-                                      direction=-1 if word & SPEED_BIT else 1, jerk=jerk))
+                axes.append(
+                    CubicAxis(
+                        axis=axis,
+                        speed=word & (SPEED_BIT - 1),
+                        accel=accel,
+                        direction=-1 if word & SPEED_BIT else 1,
+                        jerk=jerk,
+                    )
+                )
         return tuple(axes)
 
 
@@ -233,7 +250,9 @@ class CubicChain:
         self.axes = [AxisState() for _ in range(self.axis_count)]
 
     def copy(self) -> CubicChain:
-        return CubicChain(self.axis_count, [AxisState(a.e, a.i, a.d, a.direction) for a in self.axes])
+        return CubicChain(
+            self.axis_count, [AxisState(a.e, a.i, a.d, a.direction) for a in self.axes]
+        )
 
     def follow_quadratic(self, seg: Segment, totals: dict[int, int]) -> None:
         """The exact end state of a quadratic segment; `totals` its steps per axis."""
@@ -273,11 +292,20 @@ class CubicChain:
         starts = self.starts(seg)
         n = seg.n
         for axis, (s, r) in enumerate(starts):
-            if not (-CUBIC_ACCEL_LIMIT < s.d < CUBIC_ACCEL_LIMIT and -CUBIC_ACCEL_LIMIT < s.d + n * r < CUBIC_ACCEL_LIMIT):
-                raise CubicRefused(FieldId.ACCEL, axis, f"axis {axis}: acceleration {s.d} … {s.d + n * r} leaves 24 bits")
+            if not (
+                -CUBIC_ACCEL_LIMIT < s.d < CUBIC_ACCEL_LIMIT
+                and -CUBIC_ACCEL_LIMIT < s.d + n * r < CUBIC_ACCEL_LIMIT
+            ):
+                raise CubicRefused(
+                    FieldId.ACCEL,
+                    axis,
+                    f"axis {axis}: acceleration {s.d} … {s.d + n * r} leaves 24 bits",
+                )
         for axis, (s, r) in enumerate(starts):
             if (s.i or s.d or r) and not advances_in_range(s.i, s.d, r, n):
-                raise CubicRefused(FieldId.SPEED, axis, f"axis {axis}: the advance per tick leaves 0 … 1 step")
+                raise CubicRefused(
+                    FieldId.SPEED, axis, f"axis {axis}: the advance per tick leaves 0 … 1 step"
+                )
 
     def advance(self, seg: CubicSegment) -> list[CubicStep]:
         """Check `seg`, move the chain past it, and return what every moving axis does."""
@@ -301,6 +329,12 @@ class CubicChain:
 
 
 __all__ = [
-    "AxisState", "CubicAxis", "CubicChain", "CubicFields", "CubicRefused", "CubicSegment", "CubicStep",
+    "AxisState",
+    "CubicAxis",
+    "CubicChain",
+    "CubicFields",
+    "CubicRefused",
+    "CubicSegment",
+    "CubicStep",
     "advances_in_range",
 ]

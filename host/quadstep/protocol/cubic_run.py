@@ -18,7 +18,14 @@ from collections.abc import Sequence
 from dataclasses import dataclass, field
 from typing import Annotated, Any
 
-from pydantic import BaseModel, ConfigDict, Field, SerializerFunctionWrapHandler, model_serializer, model_validator
+from pydantic import (
+    BaseModel,
+    ConfigDict,
+    Field,
+    SerializerFunctionWrapHandler,
+    model_serializer,
+    model_validator,
+)
 
 from .constants import CUBIC_N_MAX, MAX_AXES, MAX_FRAME, FieldId
 from .cubic import SIGMA, CubicAxis, CubicChain, CubicRefused, CubicSegment, choose2
@@ -72,9 +79,15 @@ class CubicRecord(BaseModel):
     n: int = Field(ge=0, lt=1 << 19)
     codes: tuple[int, int, int, int] = Field(description="per axis: NONE, GIVEN, NEGATE or SAME")
     jerks: tuple[int, ...] = Field(default=(), description="per axis coded GIVEN, in axis order")
-    sets: int | None = Field(default=None, ge=0, le=255, description="bits 0–3 axes set, 4–7 their directions")
-    speeds: tuple[int, ...] = Field(default=(), description="per set axis: the speed less the chain's")
-    accels: tuple[int, ...] | None = Field(default=None, description="per set axis: its acceleration")
+    sets: int | None = Field(
+        default=None, ge=0, le=255, description="bits 0–3 axes set, 4–7 their directions"
+    )
+    speeds: tuple[int, ...] = Field(
+        default=(), description="per set axis: the speed less the chain's"
+    )
+    accels: tuple[int, ...] | None = Field(
+        default=None, description="per set axis: its acceleration"
+    )
 
     @model_validator(mode="after")
     def _whole(self) -> CubicRecord:
@@ -83,7 +96,9 @@ class CubicRecord(BaseModel):
         if any(not -(1 << 20) <= j < 1 << 20 for j in self.jerks):
             raise ValueError("a jerk takes at most 3 bytes")
         count = len(bits((self.sets or 0) & 0x0F))
-        if len(self.speeds) != count or (self.accels is not None and (not count or len(self.accels) != count)):
+        if len(self.speeds) != count or (
+            self.accels is not None and (not count or len(self.accels) != count)
+        ):
             raise ValueError("a speed (and, with accels, an acceleration) for each set axis")
         if any(not -(1 << 31) <= s < 1 << 31 for s in self.speeds):
             raise ValueError("a speed change lies within ±2^31")
@@ -149,8 +164,16 @@ def _parse(payload: bytes, offset: int) -> tuple[list[CubicRecord], int] | None:
                 return None
             jerks.append(_signed(jerk[0]))
             at = jerk[1]
-        records.append(CubicRecord(n=value >> 2, codes=codes, jerks=tuple(jerks), sets=sets, speeds=tuple(speeds),  # type: ignore[arg-type]
-                                   accels=None if sets is None or accels is None or not speeds else tuple(accels)))
+        records.append(
+            CubicRecord(
+                n=value >> 2,
+                codes=codes,
+                jerks=tuple(jerks),
+                sets=sets,
+                speeds=tuple(speeds),  # type: ignore[arg-type]
+                accels=None if sets is None or accels is None or not speeds else tuple(accels),
+            )
+        )
     return (records, at) if records else None
 
 
@@ -198,18 +221,28 @@ def expand(records: Sequence[CubicRecord], chain: CubicChain) -> list[CubicSegme
         sets = record.sets or 0
         named = bits(sets & 0x0F) + [a for a, c in enumerate(record.codes) if c]
         if any(a >= chain.axis_count for a in named):
-            raise FieldFault(FieldId.AXES, None, f"axes {sorted(set(named))}, firmware has {chain.axis_count}")
+            raise FieldFault(
+                FieldId.AXES, None, f"axes {sorted(set(named))}, firmware has {chain.axis_count}"
+            )
         if sets >> 4 & ~sets & 0x0F:
-            raise FieldFault(FieldId.DIRECTION, None, f"direction bit of an axis not set (sets 0x{sets:02x})")
+            raise FieldFault(
+                FieldId.DIRECTION, None, f"direction bit of an axis not set (sets 0x{sets:02x})"
+            )
         axes: dict[int, dict[str, Any]] = {}
         for k, axis in enumerate(bits(sets & 0x0F)):
             state = chain.axes[axis]
             direction = -1 if sets >> (4 + axis) & 1 else 1
             if not 0 <= state.i <= SIGMA:
-                raise FieldFault(FieldId.SPEED, axis, f"axis {axis}: the chain's speed {state.i} is outside 0 … 1 step")
+                raise FieldFault(
+                    FieldId.SPEED,
+                    axis,
+                    f"axis {axis}: the chain's speed {state.i} is outside 0 … 1 step",
+                )
             speed = (state.i if direction == state.direction else -state.i) + record.speeds[k]
             if not 0 <= speed < SIGMA:
-                raise FieldFault(FieldId.SPEED, axis, f"axis {axis}: a set speed {speed} outside 0 … 1 step")
+                raise FieldFault(
+                    FieldId.SPEED, axis, f"axis {axis}: a set speed {speed} outside 0 … 1 step"
+                )
             accel = record.accels[k] if record.accels is not None else 0
             axes[axis] = {"axis": axis, "speed": speed, "accel": accel, "direction": direction}
         given = iter(record.jerks)
@@ -223,8 +256,14 @@ def expand(records: Sequence[CubicRecord], chain: CubicChain) -> list[CubicSegme
             axes.setdefault(axis, {"axis": axis})["jerk"] = jerk
         # built unvalidated: CubicChain.check names an acceleration outside 24 bits as the firmware does
         segment = CubicSegment.model_construct(
-            n=record.n, axes=tuple(CubicAxis.model_construct(**{"accel": 0, "direction": 1, "speed": None, "jerk": None, **axes[a]})
-                                   for a in sorted(axes)))
+            n=record.n,
+            axes=tuple(
+                CubicAxis.model_construct(
+                    **{"accel": 0, "direction": 1, "speed": None, "jerk": None, **axes[a]}
+                )
+                for a in sorted(axes)
+            ),
+        )
         try:
             chain.advance(segment)
         except CubicRefused as refused:
@@ -317,11 +356,19 @@ def _record(segment: CubicSegment, chain: SpeedChain, last: list[int]) -> CubicR
             codes[a.axis] = GIVEN
             jerks.append(jerk)
         last[a.axis] = jerk
-    return CubicRecord(n=segment.n, codes=tuple(codes), jerks=tuple(jerks),  # type: ignore[arg-type]
-                       sets=sets if sets else None, speeds=tuple(speeds), accels=tuple(accels) if any(accels) else None)
+    return CubicRecord(
+        n=segment.n,
+        codes=tuple(codes),
+        jerks=tuple(jerks),  # type: ignore[arg-type]
+        sets=sets if sets else None,
+        speeds=tuple(speeds),
+        accels=tuple(accels) if any(accels) else None,
+    )
 
 
-def pack(segments: Sequence[CubicSegment], chain: SpeedChain, limit: int = RECORDS_MAX) -> CubicSegments | None:
+def pack(
+    segments: Sequence[CubicSegment], chain: SpeedChain, limit: int = RECORDS_MAX
+) -> CubicSegments | None:
     """As many of `segments` (from the first, at most `limit`) as one frame holds, moving `chain` on past
     them; None when the first cannot be a record (send it as a CUBIC_SEGMENT, then follow it)."""
     records: list[CubicRecord] = []

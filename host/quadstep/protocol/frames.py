@@ -24,8 +24,14 @@ class SegmentSource(Protocol):
     def segment(self, i: int) -> Segment | CubicSegment: ...
 
 
-def next_frame(source: SegmentSource, index: int, end: int, chain: RunChain, limit: int,
-               cubic_runs: bool = True) -> Segment | CubicSegment | Segments | CubicSegments:
+def next_frame(
+    source: SegmentSource,
+    index: int,
+    end: int,
+    chain: RunChain,
+    limit: int,
+    cubic_runs: bool = True,
+) -> Segment | CubicSegment | Segments | CubicSegments:
     """The frame that sends segment `index` and what follows it before `end`: segments of its kind chained
     into SEGMENTS or CUBIC_SEGMENTS (at most `limit`; 0 where the firmware has no SEGMENTS, and cubic ones
     only with `cubic_runs`) once the chain is known, else segment `index` alone, as its own message (with a

@@ -60,7 +60,16 @@ from .fields import (
 from .outputs import Outputs
 from .segment import AxisMove, Segment
 from .wire import (
-    FieldFault, Int, Report, Request, WireMessage, bits, declared_event_kinds, declared_messages, event_kind, message,
+    FieldFault,
+    Int,
+    Report,
+    Request,
+    WireMessage,
+    bits,
+    declared_event_kinds,
+    declared_messages,
+    event_kind,
+    message,
 )
 
 # --- host → firmware ----------------------------------------------------------
@@ -103,7 +112,11 @@ def _check_decel(values: Any, axis_count: int) -> None:
         if axis < axis_count and not 1 <= d <= DECEL_MAX:
             raise FieldFault(FieldId.DECEL, axis, f"decel = {d}, limit 1..{DECEL_MAX}")
         if axis >= axis_count and d != 0:
-            raise FieldFault(FieldId.DECEL, axis, f"decel = {d} for an axis the firmware lacks ({axis_count} axes)")
+            raise FieldFault(
+                FieldId.DECEL,
+                axis,
+                f"decel = {d} for an axis the firmware lacks ({axis_count} axes)",
+            )
 
 
 @message(0x06, "INPUTS")
@@ -121,7 +134,11 @@ class Watchdog(Request):
     @classmethod
     def check_wire(cls, raw: dict[str, Any], axis_count: int) -> None:
         if raw["timeout_ms"] > WATCHDOG_MAX_MS:
-            raise FieldFault(FieldId.TIMEOUT, None, f"timeout_ms = {raw['timeout_ms']}, limit 0..{WATCHDOG_MAX_MS}")
+            raise FieldFault(
+                FieldId.TIMEOUT,
+                None,
+                f"timeout_ms = {raw['timeout_ms']}, limit 0..{WATCHDOG_MAX_MS}",
+            )
 
 
 @message(0x11, "SET_POSITION")
@@ -138,7 +155,9 @@ class SetPosition(Request):
             raise FieldFault(FieldId.AXES, None, f"axes {axes}, firmware has {axis_count}")
         for axis, item in zip(axes, items):
             if abs(item[0]) > POSITION_MAX:
-                raise FieldFault(FieldId.POSITION, axis, f"position = {item[0]}, limit ±{POSITION_MAX}")
+                raise FieldFault(
+                    FieldId.POSITION, axis, f"position = {item[0]}, limit ±{POSITION_MAX}"
+                )
 
 
 @message(0x15, "PROBE")
@@ -154,7 +173,11 @@ class Probe(Request):
     @classmethod
     def check_wire(cls, raw: dict[str, Any], axis_count: int) -> None:
         if raw["input"] > Input.PROBE:
-            raise FieldFault(FieldId.INPUT, None, f"input {raw['input']}: only a limit or the probe can end a motion")
+            raise FieldFault(
+                FieldId.INPUT,
+                None,
+                f"input {raw['input']}: only a limit or the probe can end a motion",
+            )
         if raw["level"] > 1:
             raise FieldFault(FieldId.LEVEL, None, f"level = {raw['level']}, limit 0..1")
         _check_decel(raw["decel"], axis_count)
@@ -168,8 +191,11 @@ class Config(Request):
     invert: U16
     enabled: U16
     hard_limits: U8
-    debounce: Annotated[tuple[U8, ...], Field(min_length=INPUT_COUNT, max_length=INPUT_COUNT),
-                        Int("B", count=INPUT_COUNT)]
+    debounce: Annotated[
+        tuple[U8, ...],
+        Field(min_length=INPUT_COUNT, max_length=INPUT_COUNT),
+        Int("B", count=INPUT_COUNT),
+    ]
     hold_decel: Decels
 
     @classmethod
@@ -177,7 +203,9 @@ class Config(Request):
         if (raw["invert"] | raw["enabled"]) >> INPUT_COUNT:
             raise FieldFault(FieldId.INPUTS, None, f"input bits above {INPUT_COUNT - 1}")
         if raw["hard_limits"] > 1:
-            raise FieldFault(FieldId.HARD_LIMITS, None, f"hard_limits = {raw['hard_limits']}, limit 0..1")
+            raise FieldFault(
+                FieldId.HARD_LIMITS, None, f"hard_limits = {raw['hard_limits']}, limit 0..1"
+            )
         _check_decel(raw["hold_decel"], axis_count)
 
 
@@ -214,7 +242,11 @@ class IdentifyReply(Report):
 
     @property
     def board_name(self) -> str:
-        return Board(self.board).name if self.board in Board._value2member_map_ else f"board {self.board}"
+        return (
+            Board(self.board).name
+            if self.board in Board._value2member_map_
+            else f"board {self.board}"
+        )
 
     @property
     def capability_names(self) -> list[str]:
@@ -287,7 +319,9 @@ class Event(Report):
         return data
 
     @model_serializer(mode="wrap")
-    def _with_kind(self, handler: SerializerFunctionWrapHandler, info: SerializationInfo) -> dict[str, Any]:
+    def _with_kind(
+        self, handler: SerializerFunctionWrapHandler, info: SerializationInfo
+    ) -> dict[str, Any]:
         return {"kind": self.KIND_NAME if info.mode == "json" else self.kind, **handler(self)}
 
 
@@ -345,8 +379,12 @@ class ProbeMissed(Event):
 
 # --- built from the declarations above ------------------------------------------
 
-MessageType = TypeClass("MessageType", [(d.name, d.code) for d in declared_messages()], module=__name__)  # type: ignore[call-overload]
-EventKind = IntEnum("EventKind", [(d.name, d.code) for d in declared_event_kinds()], module=__name__)  # type: ignore[misc]
+MessageType = TypeClass(
+    "MessageType", [(d.name, d.code) for d in declared_messages()], module=__name__
+)  # type: ignore[call-overload]
+EventKind = IntEnum(
+    "EventKind", [(d.name, d.code) for d in declared_event_kinds()], module=__name__
+)  # type: ignore[misc]
 for _declared in declared_messages():
     _declared.cls.TYPE = MessageType(_declared.code)  # type: ignore[attr-defined]
 
@@ -385,8 +423,39 @@ def message_from_json(fields: dict[str, Any]) -> tuple[int, WireMessage]:
 
 
 __all__ = [
-    "Ack", "Alarm", "AxisMove", "Config", "CubicAxis", "CubicSegment", "ErrorReport", "Event", "EventKind", "Hold", "HoldDone", "Identify",
-    "IdentifyReply", "InputChange", "InputStatus", "Inputs", "Message", "MessageType", "Outputs", "Probe", "ProbeMissed",
-    "CubicRecord", "CubicSegments", "Report", "Request", "Segment", "SegmentRecord", "Segments", "SetPosition", "Status", "StatusReport", "Stop", "message_from_json",
-    "message_type", "queue_slots",
+    "Ack",
+    "Alarm",
+    "AxisMove",
+    "Config",
+    "CubicAxis",
+    "CubicSegment",
+    "ErrorReport",
+    "Event",
+    "EventKind",
+    "Hold",
+    "HoldDone",
+    "Identify",
+    "IdentifyReply",
+    "InputChange",
+    "InputStatus",
+    "Inputs",
+    "Message",
+    "MessageType",
+    "Outputs",
+    "Probe",
+    "ProbeMissed",
+    "CubicRecord",
+    "CubicSegments",
+    "Report",
+    "Request",
+    "Segment",
+    "SegmentRecord",
+    "Segments",
+    "SetPosition",
+    "Status",
+    "StatusReport",
+    "Stop",
+    "message_from_json",
+    "message_type",
+    "queue_slots",
 ]

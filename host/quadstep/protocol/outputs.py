@@ -30,11 +30,19 @@ class Outputs(Request):
         bits = raw["outputs"]
         unknown = bits & ~VALID_BITS
         if unknown:
-            raise FieldFault(FieldId.OUTPUTS, None, f"outputs = 0x{bits:02x}: no output has bits 0x{unknown:02x}")
+            raise FieldFault(
+                FieldId.OUTPUTS, None, f"outputs = 0x{bits:02x}: no output has bits 0x{unknown:02x}"
+            )
         if bits & Output.DYNAMIC:
             if raw["axis"] >= axis_count:
-                raise FieldFault(FieldId.REFERENCE, raw["axis"], f"axis {raw['axis']}, firmware has {axis_count}")
+                raise FieldFault(
+                    FieldId.REFERENCE, raw["axis"], f"axis {raw['axis']}, firmware has {axis_count}"
+                )
             if not 1 <= raw["speed"] <= D:
-                raise FieldFault(FieldId.REFERENCE, raw["axis"], f"speed = {raw['speed']}, limit 1..{D}")
+                raise FieldFault(
+                    FieldId.REFERENCE, raw["axis"], f"speed = {raw['speed']}, limit 1..{D}"
+                )
         elif raw["axis"] or raw["speed"]:
-            raise FieldFault(FieldId.REFERENCE, None, "a power that follows no speed names no axis and no speed")
+            raise FieldFault(
+                FieldId.REFERENCE, None, "a power that follows no speed names no axis and no speed"
+            )

@@ -22,12 +22,16 @@ class AxisMove(BaseModel):
     direction: Literal[1, -1]
     v0: int = Field(ge=0, le=D, description="start speed, v0/4096 steps per tick")
     vn: int = Field(ge=0, le=D, description="end speed, vn/4096 steps per tick")
-    r: int = Field(ge=-R_MAX, le=R_MAX, description="starting residual, 1/8192 step, ahead is positive")
+    r: int = Field(
+        ge=-R_MAX, le=R_MAX, description="starting residual, 1/8192 step, ahead is positive"
+    )
 
     @model_validator(mode="after")
     def _not_trailing_forever(self) -> AxisMove:
         if self.r == R_MAX and self.v0 == D and self.vn == D:
-            raise ValueError("r = 4096 with v0 = vn = 4096 would trail the ideal by ½ step all segment")
+            raise ValueError(
+                "r = 4096 with v0 = vn = 4096 would trail the ideal by ½ step all segment"
+            )
         return self
 
 
@@ -90,7 +94,9 @@ class Segment(Request):
         if any(a >= axis_count for a in active):
             raise FieldFault(FieldId.AXES, None, f"axes {active}, firmware has {axis_count}")
         if mask >> 4 & ~mask & 0x0F:
-            raise FieldFault(FieldId.DIRECTION, None, f"direction bit of an inactive axis (mask 0x{mask:02x})")
+            raise FieldFault(
+                FieldId.DIRECTION, None, f"direction bit of an inactive axis (mask 0x{mask:02x})"
+            )
         fields = [(axis, *item) for axis, item in zip(active, items)]
         for axis, v0, _, _ in fields:
             if v0 > V_MAX:

@@ -17,7 +17,14 @@ from collections.abc import Sequence
 from dataclasses import dataclass, field
 from typing import Annotated, Any
 
-from pydantic import BaseModel, ConfigDict, Field, SerializerFunctionWrapHandler, model_serializer, model_validator
+from pydantic import (
+    BaseModel,
+    ConfigDict,
+    Field,
+    SerializerFunctionWrapHandler,
+    model_serializer,
+    model_validator,
+)
 
 from .constants import D, MAX_FRAME, V_MAX, FieldId
 from .cubic import CubicSegment
@@ -66,17 +73,27 @@ class SegmentRecord(BaseModel):
 
     repeat: bool = False
     n: int | None = Field(default=None, ge=0, le=1023)
-    axes: int | None = Field(default=None, ge=0, le=255, description="the axes byte; None: the record before's")
-    start: Deltas | None = Field(default=None, description="per active axis: v0 less the chain's speed")
+    axes: int | None = Field(
+        default=None, ge=0, le=255, description="the axes byte; None: the record before's"
+    )
+    start: Deltas | None = Field(
+        default=None, description="per active axis: v0 less the chain's speed"
+    )
     residual: Deltas | None = Field(default=None, description="per active axis: r")
-    change: Deltas | None = Field(default=None, description="per active axis: vn − v0; None: a cruise")
-    mirror: bool = Field(default=False, description="change is vn − v0 plus the axis's last change in the frame")
+    change: Deltas | None = Field(
+        default=None, description="per active axis: vn − v0; None: a cruise"
+    )
+    mirror: bool = Field(
+        default=False, description="change is vn − v0 plus the axis's last change in the frame"
+    )
 
     @model_validator(mode="after")
     def _whole(self) -> SegmentRecord:
         if self.repeat != (self.n is None):
             raise ValueError("a record is a repeat (alone) or has an n")
-        if self.repeat and ((self.axes, self.start, self.residual, self.change) != (None,) * 4 or self.mirror):
+        if self.repeat and (
+            (self.axes, self.start, self.residual, self.change) != (None,) * 4 or self.mirror
+        ):
             raise ValueError("a repeat carries nothing else")
         if self.mirror and self.change is None:
             raise ValueError("a mirrored change needs a change (not a cruise)")
@@ -92,8 +109,14 @@ class SegmentRecord(BaseModel):
         if self.repeat:
             return bytes([REPEAT])
         assert self.n is not None
-        head = self.n >> 8 | (AXES if self.axes is not None else 0) | (START if self.start is not None else 0)
-        head |= (RESIDUAL if self.residual is not None else 0) | (CRUISE if self.change is None else 0)
+        head = (
+            self.n >> 8
+            | (AXES if self.axes is not None else 0)
+            | (START if self.start is not None else 0)
+        )
+        head |= (RESIDUAL if self.residual is not None else 0) | (
+            CRUISE if self.change is None else 0
+        )
         head |= MIRROR if self.mirror else 0
         out = bytearray([head, self.n & 0xFF])
         if self.axes is not None:
@@ -136,7 +159,9 @@ def _parse(payload: bytes, offset: int) -> tuple[list[SegmentRecord], int] | Non
         elif axes is None:
             return None
         lists: dict[str, list[int] | None] = {
-            name: [] if head & flag else None for name, flag in (("start", START), ("residual", RESIDUAL))}
+            name: [] if head & flag else None
+            for name, flag in (("start", START), ("residual", RESIDUAL))
+        }
         lists["change"] = None if head & CRUISE else []
         for _ in range(_active_count(axes)):
             for name in ("start", "residual", "change"):
@@ -147,8 +172,14 @@ def _parse(payload: bytes, offset: int) -> tuple[list[SegmentRecord], int] | Non
                         return None
                     values.append(read[0])
                     at = read[1]
-        records.append(SegmentRecord(n=n, axes=own_axes, mirror=bool(head & MIRROR),
-                                     **{k: tuple(v) if v is not None else None for k, v in lists.items()}))
+        records.append(
+            SegmentRecord(
+                n=n,
+                axes=own_axes,
+                mirror=bool(head & MIRROR),
+                **{k: tuple(v) if v is not None else None for k, v in lists.items()},
+            )
+        )
     return (records, at) if records else None
 
 
@@ -261,7 +292,9 @@ def expand(records: Sequence[SegmentRecord], chain: RunChain) -> list[Segment]:
         if any(a >= chain.axis_count for a in active):
             raise FieldFault(FieldId.AXES, None, f"axes {active}, firmware has {chain.axis_count}")
         if negative & ~axes & 0x0F:
-            raise FieldFault(FieldId.DIRECTION, None, f"direction bit of an inactive axis (axes 0x{axes:02x})")
+            raise FieldFault(
+                FieldId.DIRECTION, None, f"direction bit of an inactive axis (axes 0x{axes:02x})"
+            )
         moves = []
         for j, axis in enumerate(active):
             sign = -1 if negative >> axis & 1 else 1
@@ -269,7 +302,9 @@ def expand(records: Sequence[SegmentRecord], chain: RunChain) -> list[Segment]:
             if not record.repeat:
                 speed = chain.speed[axis]
                 if speed is None:
-                    raise FieldFault(FieldId.V0, axis, "the chain's speed is not on the 1/4096 grid")
+                    raise FieldFault(
+                        FieldId.V0, axis, "the chain's speed is not on the 1/4096 grid"
+                    )
                 v0[axis] = speed + (record.start[j] if record.start is not None else 0)
                 if record.residual is not None:
                     residual = sign * record.residual[j]
@@ -281,13 +316,18 @@ def expand(records: Sequence[SegmentRecord], chain: RunChain) -> list[Segment]:
                 if not 0 <= vn[axis] <= V_MAX:
                     raise FieldFault(FieldId.VN, axis, f"vn = {vn[axis]}, limit 0..{V_MAX}")
             if residual is None:
-                raise FieldFault(FieldId.RESIDUAL, axis, "the chain's residual is not on the 1/8192 grid")
+                raise FieldFault(
+                    FieldId.RESIDUAL, axis, "the chain's residual is not on the 1/8192 grid"
+                )
             moves.append((axis, sign, v0[axis], vn[axis], sign * residual))
             if vn[axis] != v0[axis]:
                 last[axis] = vn[axis] - v0[axis]
         raw = {"n": n, "axes": (axes, [(a, b, r) for _, _, a, b, r in moves])}
         Segment.check_wire(raw, chain.axis_count)
-        segment = Segment(n=n, axes=tuple(AxisMove(axis=a, direction=s, v0=a0, vn=b, r=r) for a, s, a0, b, r in moves))
+        segment = Segment(
+            n=n,
+            axes=tuple(AxisMove(axis=a, direction=s, v0=a0, vn=b, r=r) for a, s, a0, b, r in moves),
+        )
         chain.follow(segment)
         out.append(segment)
     return out
@@ -302,10 +342,14 @@ def _shape(segment: Segment) -> tuple[int, int, tuple[tuple[int, int], ...]]:
     return segment.n, _axes_byte(segment), tuple((a.v0, a.vn) for a in segment.axes)
 
 
-def _record(segment: Segment, before: Segment | None, chain: RunChain, last: list[int]) -> SegmentRecord:
+def _record(
+    segment: Segment, before: Segment | None, chain: RunChain, last: list[int]
+) -> SegmentRecord:
     """The canonical record of `segment` after `before` (in the same frame) from `chain`."""
-    residuals = [a.direction * chain.residual[a.axis] if chain.residual[a.axis] is not None else None
-                 for a in segment.axes]
+    residuals = [
+        a.direction * chain.residual[a.axis] if chain.residual[a.axis] is not None else None
+        for a in segment.axes
+    ]
     chained = all(r == a.r for r, a in zip(residuals, segment.axes))
     if before is not None and chained and _shape(before) == _shape(segment):
         return SegmentRecord(repeat=True)
@@ -334,7 +378,9 @@ def _change(segment: Segment, last: list[int]) -> tuple[tuple[int, ...] | None, 
     return plain, False
 
 
-def pack(segments: Sequence[Segment], chain: RunChain, limit: int = SEGMENTS_MAX) -> Segments | None:
+def pack(
+    segments: Sequence[Segment], chain: RunChain, limit: int = SEGMENTS_MAX
+) -> Segments | None:
     """As many of `segments` (from the first, at most `limit`) as one frame holds, moving `chain` on past
     them; None when the chain cannot start a record (send the first segment as a SEGMENT, then follow it)."""
     if not segments or not chain.ready():

@@ -155,7 +155,9 @@ class Masked(FieldCodec):
         """(mask, [per-axis tuple for each axis in the mask])."""
         mask = payload[offset]
         width = len(self.unit_code)
-        flat = _repeated(self.unit_code, len(bits(mask & self.mask_bits))).unpack_from(payload, offset)[1:]
+        flat = _repeated(self.unit_code, len(bits(mask & self.mask_bits))).unpack_from(
+            payload, offset
+        )[1:]
         return mask, [flat[i : i + width] for i in range(0, len(flat), width)]
 
 
@@ -274,7 +276,9 @@ class WireMessage(BaseModel):
             for name, info in cls.model_fields.items():
                 codecs = [m for m in info.metadata if isinstance(m, FieldCodec)]
                 if len(codecs) != 1:
-                    raise TypeError(f"{cls.__name__}.{name} needs exactly one wire form in its annotation")
+                    raise TypeError(
+                        f"{cls.__name__}.{name} needs exactly one wire form in its annotation"
+                    )
                 fields.append((name, codecs[0]))
             layout = _LAYOUTS[cls] = Layout(cls.PREFIX, tuple(fields))
         return layout

@@ -80,12 +80,15 @@ class BacklashScreen(ModalScreen[None]):
     # --- what it shows ---------------------------------------------------------------------
 
     def _show_setup(self) -> None:
-        where = {"probe": "the probe at a corner of the target (docs/BACKLASH.md)",
-                 "switch": "the limit switch, less its calibrated hysteresis"}[self.method]
+        where = {
+            "probe": "the probe at a corner of the target (docs/BACKLASH.md)",
+            "switch": "the limit switch, less its calibrated hysteresis",
+        }[self.method]
         self.query_one("#backlash-setup", Static).update(
             f"[b]Backlash[/b]  axis [b]{self.axis}[/b] (x y z)   method [b]{self.method}[/b] (m): {where}\n"
             f"tries [b]{self.tries}[/b] (- +)   refused when they spread more than {self.max_spread:g} mm\n"
-            "Enter: measure   w: write the result   d: dial indicator   Esc: close")
+            "Enter: measure   w: write the result   d: dial indicator   Esc: close"
+        )
 
     def say(self, text: str, error: bool = False) -> None:
         self.lines.append(text)
@@ -125,8 +128,9 @@ class BacklashScreen(ModalScreen[None]):
         self.query_one("#backlash-result", Static).update("")
         self.say(f"measuring {self.axis} with the {self.method}, {self.tries} tries…")
         axis, method, tries = self.axis, self.method, self.tries
-        threading.Thread(target=lambda: self._measure(axis, method, tries), name="quadstep-backlash",
-                         daemon=True).start()
+        threading.Thread(
+            target=lambda: self._measure(axis, method, tries), name="quadstep-backlash", daemon=True
+        ).start()
 
     def _measure(self, axis: str, method: str, tries: int) -> None:
         machine = self.session.machine
@@ -134,12 +138,21 @@ class BacklashScreen(ModalScreen[None]):
         progress = lambda text: self.post_message(Tried(text))  # noqa: E731
         try:
             if method == "switch":
-                result = measure_with_switch(machine, axis, tries=tries, max_spread=self.max_spread,
-                                             on_progress=progress)
+                result = measure_with_switch(
+                    machine, axis, tries=tries, max_spread=self.max_spread, on_progress=progress
+                )
             else:
                 toward, test = PROBE_SETUP[axis]
-                result = measure_with_probe(machine, axis, toward=toward, test=test, test_toward=1, tries=tries,
-                                            max_spread=self.max_spread, on_progress=progress)
+                result = measure_with_probe(
+                    machine,
+                    axis,
+                    toward=toward,
+                    test=test,
+                    test_toward=1,
+                    tries=tries,
+                    max_spread=self.max_spread,
+                    on_progress=progress,
+                )
         except (LinkError, MachineError) as exc:
             self.post_message(Measured(None, str(exc)))
         else:
@@ -157,14 +170,18 @@ class BacklashScreen(ModalScreen[None]):
         if result is None:
             self.say(f"backlash {self.axis}: {message.error}", True)
             return
-        text = (f"{result.axis} backlash: [b]{result.mm:.4f} mm[/b] ({result.steps:g} steps), spread "
-                f"{result.spread_steps:g} steps ({result.spread_mm:.4f} mm) over {len(result.tries)} tries")
+        text = (
+            f"{result.axis} backlash: [b]{result.mm:.4f} mm[/b] ({result.steps:g} steps), spread "
+            f"{result.spread_steps:g} steps ({result.spread_mm:.4f} mm) over {len(result.tries)} tries"
+        )
         if result.accepted:
             self.result = result
             text += "\nw: write it to the configuration (asks first)"
         else:
-            text += (f"\n[b]refused[/b]: the tries spread {result.spread_mm:.4f} mm, more than "
-                     f"{result.bound_mm:g} mm (check the target and the switch, then measure again)")
+            text += (
+                f"\n[b]refused[/b]: the tries spread {result.spread_mm:.4f} mm, more than "
+                f"{result.bound_mm:g} mm (check the target and the switch, then measure again)"
+            )
         self.lines.append(text)
         self.query_one("#backlash-result", Static).update(text)
 
@@ -172,7 +189,14 @@ class BacklashScreen(ModalScreen[None]):
         if self.running or self.result is None:
             self.say("nothing to write: measure first (a refused result is not written)", True)
             return
-        ask_to_write(self, self.session.config_path, self.result.axis, self.result.mm, self.say, self._written)
+        ask_to_write(
+            self,
+            self.session.config_path,
+            self.result.axis,
+            self.result.mm,
+            self.say,
+            self._written,
+        )
 
     def _written(self, config: MachineConfig) -> None:
         self.session.config_given = config  # the next connection compensates with it

@@ -60,5 +60,8 @@ class Canvas:
                     text.append(mark[0], style=self._styles[mark[1]])
                     continue
                 bits, layer = self._bits[row][col], self._layer[row][col]
-                text.append(chr(BRAILLE + bits) if bits else " ", style=self._styles[layer] if layer >= 0 else "")
+                text.append(
+                    chr(BRAILLE + bits) if bits else " ",
+                    style=self._styles[layer] if layer >= 0 else "",
+                )
         return text

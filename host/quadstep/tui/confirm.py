@@ -34,8 +34,14 @@ class ConfirmScreen(ModalScreen[bool]):
         self.dismiss(yes)
 
 
-def ask_to_write(screen: Screen, path: Path | None, axis: str, mm: float, say: Callable[[str, bool], None],
-                 written: Callable[[MachineConfig], None]) -> None:
+def ask_to_write(
+    screen: Screen,
+    path: Path | None,
+    axis: str,
+    mm: float,
+    say: Callable[[str, bool], None],
+    written: Callable[[MachineConfig], None],
+) -> None:
     """Ask, then write `axis`'s backlash.mm = `mm` to `path`; `say(text, error)` reports, `written` gets the
     configuration as now written."""
     if path is None:
@@ -52,8 +58,11 @@ def ask_to_write(screen: Screen, path: Path | None, axis: str, mm: float, say: C
         except (ConfigError, OSError) as exc:
             say(f"not written: {exc}", True)
             return
-        say(f"wrote {what} to {path} (the old file is {backup}); it takes effect at the next connection "
-            "(Ctrl+R)", False)
+        say(
+            f"wrote {what} to {path} (the old file is {backup}); it takes effect at the next connection "
+            "(Ctrl+R)",
+            False,
+        )
         written(config)
 
     screen.app.push_screen(ConfirmScreen(f"Write {what} to {path}?"), answered)

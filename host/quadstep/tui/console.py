@@ -23,7 +23,9 @@ class ConsoleLine(Input):
             self.text = text
 
     def __init__(self, **kwargs: object) -> None:
-        super().__init__(placeholder=": G-code line (MDI) — Enter runs it, ↑↓ history, Esc back", **kwargs)  # type: ignore[arg-type]
+        super().__init__(
+            placeholder=": G-code line (MDI) — Enter runs it, ↑↓ history, Esc back", **kwargs
+        )  # type: ignore[arg-type]
         self.history: list[str] = []
         self._at = 0  # index into history while browsing; len(history): the line being typed
 

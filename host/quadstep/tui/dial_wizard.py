@@ -77,16 +77,17 @@ class DialWizard(ModalScreen[None]):
         side = "+" if self.side > 0 else "−"
         self.query_one("#dial-title", Static).update(
             f"[b]Dial indicator[/b]  axis [b]{self.axis}[/b], indicator on its {side} side (f)   "
-            f"method [b]{'jog back' if self.mode == 'jog' else f'move back {DISTANCE_MM:g} mm'}[/b] (t)")
+            f"method [b]{'jog back' if self.mode == 'jog' else f'move back {DISTANCE_MM:g} mm'}[/b] (t)"
+        )
         back = "−" if self.side > 0 else "+"
         text = {
             "place": f"1. Put the indicator against the carriage on its {side} side, square to {self.axis}.\n"
-                     f"2. Press p: {self.axis} moves {PRELOAD_MM:g} mm {side} into it (the preload).",
+            f"2. Press p: {self.axis} moves {PRELOAD_MM:g} mm {side} into it (the preload).",
             "zero": "3. Zero the indicator, then press Enter.",
             "back": f"4. Press j (or ←) to move {self.axis} {back} one motor step; press Enter as soon as the "
-                    f"needle moves.   steps so far: [b]{self.count}[/b]",
+            f"needle moves.   steps so far: [b]{self.count}[/b]",
             "moved": f"4. {self.axis} moved {DISTANCE_MM:g} mm {back}. Type the indicator's reading (mm) and press "
-                     "Enter.",
+            "Enter.",
             "done": "w: write the result to the configuration (asks first)   p: again   Esc: close",
         }[self.stage]
         self.query_one("#dial-step", Static).update(text)
@@ -204,7 +205,9 @@ class DialWizard(ModalScreen[None]):
         if self.result is None:
             self.say("nothing to write yet", True)
             return
-        ask_to_write(self, self.session.config_path, self.axis, self.result.mm, self.say, self._written)
+        ask_to_write(
+            self, self.session.config_path, self.axis, self.result.mm, self.say, self._written
+        )
 
     def _written(self, config: MachineConfig) -> None:
         self.session.config_given = config

@@ -21,7 +21,12 @@ if TYPE_CHECKING:
     from .session import Session
 
 
-AT_A_PAUSE = ("jog", "zero", "G38.2", "G38.4")  # what may run while a job waits at its pause (M0, M6)
+AT_A_PAUSE = (
+    "jog",
+    "zero",
+    "G38.2",
+    "G38.4",
+)  # what may run while a job waits at its pause (M0, M6)
 
 
 class JogKeys(Screen[None]):
@@ -31,6 +36,7 @@ class JogKeys(Screen[None]):
     job: JobRun | None
 
     if TYPE_CHECKING:  # MachineScreen's own
+
         def log_line(self, text: str, error: bool = False) -> None: ...
         def refresh_panels(self) -> None: ...
         def _thread(self, target: Callable[[], object], name: str) -> object: ...
@@ -77,7 +83,9 @@ class JogKeys(Screen[None]):
         jogger = self.session.jogger
         for name, axis, direction, _, _ in JOG_KEYS:
             if name == key and jogger is not None and jogger.mode == JogMode.CONTINUOUS:
-                self._thread(lambda: self._guard_release(jogger, axis, direction), "quadstep-release")
+                self._thread(
+                    lambda: self._guard_release(jogger, axis, direction), "quadstep-release"
+                )
 
     def _guard_release(self, jogger: Jogger, axis: int, direction: int) -> None:
         try:
@@ -124,8 +132,10 @@ class JogKeys(Screen[None]):
             config = self.session.config
             assert config is not None
             axis = config.axes[result.axis]
-            self.log_line(f"{axis.name} at {axis.to_mm(result.position[result.axis]):.3f} mm "
-                          f"({result.position[result.axis]} steps)")
+            self.log_line(
+                f"{axis.name} at {axis.to_mm(result.position[result.axis]):.3f} mm "
+                f"({result.position[result.axis]} steps)"
+            )
         self.refresh_panels()
 
     def action_space(self) -> None:
@@ -176,8 +186,12 @@ class JogKeys(Screen[None]):
         def zero() -> None:
             machine = jogger.machine
             machine.set_work_zero(axes)
-            self.post_message(Note(f"zeroed {names} in {machine.coordinates.name} (work offset; "
-                                   "machine coordinates and soft limits unchanged)"))
+            self.post_message(
+                Note(
+                    f"zeroed {names} in {machine.coordinates.name} (work offset; "
+                    "machine coordinates and soft limits unchanged)"
+                )
+            )
 
         self._command(zero, "zero")
 

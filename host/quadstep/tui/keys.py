@@ -26,7 +26,8 @@ def bindings(step_presets: int) -> list[BindingType]:
         for key, axis, direction, display, label in JOG_KEYS
     ]
     keys += [
-        Binding(str(i + 1), f"step_preset({i})", "step", group=STEP) for i in range(min(step_presets, 9))
+        Binding(str(i + 1), f"step_preset({i})", "step", group=STEP)
+        for i in range(min(step_presets, 9))
     ]
     keys += [
         Binding("left_square_bracket", "z_step(-1)", "Z step down", key_display="[", show=False),
@@ -123,7 +124,11 @@ HELP = """\
 """
 
 # The screen's bottom line: the main keys, within 80 columns; another while a job runs.
-KEY_LINE = ("[b]←→↑↓ PgUp/Dn[/b] jog [b]1-4 \\[ ][/b] XY/Z step [b]-+[/b] speed [b]c[/b] mode "
-            "[b]Esc[/b] stop [b]:[/b] MDI [b]o[/b] job [b]?[/b] help")
-JOB_KEY_LINE = ("[b]Space[/b] hold/resume  [b]Esc[/b] stop  [b]g[/b] go on  [b]- + *[/b] feed −/+10 %, 100 %  "
-                "[b]?[/b] help")
+KEY_LINE = (
+    "[b]←→↑↓ PgUp/Dn[/b] jog [b]1-4 \\[ ][/b] XY/Z step [b]-+[/b] speed [b]c[/b] mode "
+    "[b]Esc[/b] stop [b]:[/b] MDI [b]o[/b] job [b]?[/b] help"
+)
+JOB_KEY_LINE = (
+    "[b]Space[/b] hold/resume  [b]Esc[/b] stop  [b]g[/b] go on  [b]- + *[/b] feed −/+10 %, 100 %  "
+    "[b]?[/b] help"
+)

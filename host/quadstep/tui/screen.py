@@ -47,7 +47,9 @@ class MachineScreen(JobKeys, JogKeys):
     BINDINGS = bindings(9)  # step keys beyond the presets are hidden by check_action
     AUTO_FOCUS = ""  # nothing: every key jogs until `:` focuses the console line
 
-    def __init__(self, session: Session, job_path: str = "", poll_interval: float = POLL_INTERVAL) -> None:
+    def __init__(
+        self, session: Session, job_path: str = "", poll_interval: float = POLL_INTERVAL
+    ) -> None:
         super().__init__()
         self.session = session
         session.on_jog = self.jog_finished
@@ -75,7 +77,9 @@ class MachineScreen(JobKeys, JogKeys):
         yield JobPanel(id="job")
         yield ConsoleLine(id="console")
         with Horizontal(id="bottom"):
-            yield MessageLog(id="log", wrap=True, min_width=20)  # wrapped to its width (RichLog renders at ≥ 78)
+            yield MessageLog(
+                id="log", wrap=True, min_width=20
+            )  # wrapped to its width (RichLog renders at ≥ 78)
             yield ToolpathView(id="toolpath")
         yield Static(KEY_LINE, id="keys")
 
@@ -98,7 +102,10 @@ class MachineScreen(JobKeys, JogKeys):
             self._repeats += 1
             return
         if self._repeats:
-            self._write(f"  (the line above {self._repeats} more time{'s' if self._repeats > 1 else ''})", False)
+            self._write(
+                f"  (the line above {self._repeats} more time{'s' if self._repeats > 1 else ''})",
+                False,
+            )
             self._repeats = 0
         self.messages.append(text)
         self._write(text, error)
@@ -117,7 +124,9 @@ class MachineScreen(JobKeys, JogKeys):
         origin = None
         if snapshot is not None:
             origin = tuple(m - w for m, w in zip(snapshot.position_mm, snapshot.work_mm))
-        self.query_one(ToolpathView).show(session.config, snapshot.position_mm if snapshot else None, origin)
+        self.query_one(ToolpathView).show(
+            session.config, snapshot.position_mm if snapshot else None, origin
+        )
 
     # --- connection ------------------------------------------------------------------------
 
@@ -150,9 +159,15 @@ class MachineScreen(JobKeys, JogKeys):
             f"{self.session.target.label} · firmware {ident.fw_major}.{ident.fw_minor}.{ident.fw_patch} · "
             f"{len(config.axes)} axes · {ident.tick_hz / 1000:g} kHz"
         )
-        given = "" if self.session.config_given is not None else " (no --config: default 80 steps/mm, ±1000 mm)"
-        self.log_line(f"connected: {_board_name(ident.board)}, {ident.axis_count} axes, "
-                      f"queue {ident.queue_capacity}{given}")
+        given = (
+            ""
+            if self.session.config_given is not None
+            else " (no --config: default 80 steps/mm, ±1000 mm)"
+        )
+        self.log_line(
+            f"connected: {_board_name(ident.board)}, {ident.axis_count} axes, "
+            f"queue {ident.queue_capacity}{given}"
+        )
         if self.session.machine is not None:
             if self.session.machine.notice is not None:  # what it found of the kept state
                 self.log_line(self.session.machine.notice)
@@ -207,7 +222,9 @@ class MachineScreen(JobKeys, JogKeys):
             return
         machine = self.session.machine
         self.log_line("homing…")
-        self._thread(lambda: self._routine(machine, "home", lambda: self._homed(machine)), "quadstep-home")
+        self._thread(
+            lambda: self._routine(machine, "home", lambda: self._homed(machine)), "quadstep-home"
+        )
 
     def action_probe(self, code: str) -> None:
         """P: G38.2 down Z to its travel_min at 1 mm/s (a touch plate); Shift+P: G38.4 up until it lets go."""
@@ -225,8 +242,11 @@ class MachineScreen(JobKeys, JogKeys):
 
         def run() -> str:
             result = probe(machine, code, target, 1.0)
-            return (f"G{code}: contact at Z {result.machine_mm[z]:.4f} mm (step {result.steps[z]})"
-                    if result.found else f"G{code}: no contact")
+            return (
+                f"G{code}: contact at Z {result.machine_mm[z]:.4f} mm (step {result.steps[z]})"
+                if result.found
+                else f"G{code}: no contact"
+            )
 
         self._thread(lambda: self._routine(machine, f"G{code}", run), "quadstep-probe")
 

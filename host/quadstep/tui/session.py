@@ -95,14 +95,24 @@ class Session:
             raise LinkError("no port chosen")
         if self.target.emulator and (self.emulator is None or not self.emulator.running):
             self.emulator = start_emulator(self.target, self.config_given)
-        machine = open_machine(self.target, self.config_given, source=self.config_source, emulator=self.emulator,
-                               state_file=self.state_file)
+        machine = open_machine(
+            self.target,
+            self.config_given,
+            source=self.config_source,
+            emulator=self.emulator,
+            state_file=self.state_file,
+        )
         old = self.jogger
         jogger = Jogger(machine, self.settings, on_finish=self.on_jog)
         if old is not None:
             jogger.copy_presets(old)
         with self._lock:
-            self.machine, self.jogger, self.config, self.identity = machine, jogger, machine.config, machine.identity
+            self.machine, self.jogger, self.config, self.identity = (
+                machine,
+                jogger,
+                machine.config,
+                machine.identity,
+            )
             self.lost = None
             self._last_feed_sample = None
         return machine.identity
@@ -111,7 +121,9 @@ class Session:
         with self._lock:
             machine, self.machine = self.machine, None
         if machine is not None:
-            machine.close(bring_to_rest=False)  # the link may be gone; close() brings motion to rest first
+            machine.close(
+                bring_to_rest=False
+            )  # the link may be gone; close() brings motion to rest first
 
     def close(self) -> None:
         """Bring any motion to rest, close the link and stop an emulator this session started; `parting` says
@@ -170,9 +182,12 @@ class Session:
         last, self._last_feed_sample = self._last_feed_sample, (ticks, position)
         if last is None or ticks <= last[0]:
             return 0.0
-        distance = math.sqrt(sum(
-            ((p - q) / axis.steps_per_mm) ** 2 for axis, p, q in zip(config.axes, position, last[1])
-        ))
+        distance = math.sqrt(
+            sum(
+                ((p - q) / axis.steps_per_mm) ** 2
+                for axis, p, q in zip(config.axes, position, last[1])
+            )
+        )
         return distance / ((ticks - last[0]) / config.tick_hz) * 60.0
 
     # --- commands ------------------------------------------------------------------------
