@@ -68,7 +68,8 @@ InputName = Literal[
 
 
 class HomingConfig(BaseModel):
-    """How an axis finds machine zero: the switch at one end of its travel (docs/INPUTS.md, Homing)."""
+    """How an axis finds machine zero: the switch at one end of its travel (docs/INPUTS.md,
+    Homing)."""
 
     model_config = ConfigDict(extra="forbid", frozen=True)
 
@@ -87,7 +88,8 @@ class HomingConfig(BaseModel):
 
 
 class InputsConfig(BaseModel):
-    """The board's inputs: polarity, debounce, which are used, hard limits (sent as CONFIG at connect)."""
+    """The board's inputs: polarity, debounce, which are used, hard limits (sent as CONFIG at
+    connect)."""
 
     model_config = ConfigDict(extra="forbid", frozen=True)
 
@@ -102,8 +104,9 @@ class InputsConfig(BaseModel):
 
 
 class BacklashConfig(BaseModel):
-    """An axis's backlash and how it is taken up (docs/BACKLASH.md): at each reversal the motor makes the extra
-    steps inside the motion, with an acceleration- and jerk-limited ramp; positions never include them."""
+    """An axis's backlash and how it is taken up (docs/BACKLASH.md): at each reversal the motor
+    makes the extra steps inside the motion, with an acceleration- and jerk-limited ramp; positions
+    never include them."""
 
     model_config = ConfigDict(extra="forbid", frozen=True)
 
@@ -142,7 +145,8 @@ class BacklashConfig(BaseModel):
 
 
 class SpindleConfig(BaseModel):
-    """The spindle (or laser) output: what S means, and whether M4 is a laser's power that follows the speed."""
+    """The spindle (or laser) output: what S means, and whether M4 is a laser's power that follows
+    the speed."""
 
     model_config = ConfigDict(extra="forbid", frozen=True)
 
@@ -172,7 +176,8 @@ class SpindleConfig(BaseModel):
         return self
 
     def power(self, speed: float) -> int:
-        """The duty (0 … 65535) for S = `speed`: 0 at S0, else in proportion to s_max, from s_min up."""
+        """The duty (0 … 65535) for S = `speed`: 0 at S0, else in proportion to s_max, from s_min
+        up."""
         if speed <= 0:
             return 0
         return round(65535 * min(1.0, max(speed, self.s_min) / self.s_max))
@@ -221,11 +226,13 @@ class AxisConfig(BaseModel):
             and self.backlash.accel > self.max_accel
         ):
             problems.append(
-                f"backlash.accel = {self.backlash.accel}: must be at most max_accel = {self.max_accel}"
+                f"backlash.accel = {self.backlash.accel}: must be at most max_accel = "
+                f"{self.max_accel}"
             )
         if self.travel_max <= self.travel_min:
             problems.append(
-                f"travel_max = {self.travel_max}: must be greater than travel_min = {self.travel_min}"
+                f"travel_max = {self.travel_max}: must be greater than travel_min = "
+                f"{self.travel_min}"
             )
         elif (self.travel_max - self.travel_min) * self.steps_per_mm < 1:
             step = 1 / self.steps_per_mm
@@ -239,8 +246,8 @@ class AxisConfig(BaseModel):
         for key, value in (("travel_min", self.travel_min), ("travel_max", self.travel_max)):
             if abs(value) > reach:
                 problems.append(
-                    f"{key} = {value:g}: must be within ±{reach:.0f} mm, the firmware's position range "
-                    f"(±{POSITION_MAX} steps at {self.steps_per_mm:g} steps/mm)"
+                    f"{key} = {value:g}: must be within ±{reach:.0f} mm, the firmware's position "
+                    f"range (±{POSITION_MAX} steps at {self.steps_per_mm:g} steps/mm)"
                 )
         if problems:
             raise ValueError("\n".join(problems))  # every problem at once, a line each
@@ -298,8 +305,8 @@ class MachineConfig(BaseModel):
             limit = MAX_STEPS_PER_TICK * self.tick_hz / axis.steps_per_mm
             if axis.max_speed > limit:
                 problems.append(
-                    f"axes[{i}].max_speed = {axis.max_speed}: must be at most {limit:g} mm/s "
-                    f"(3/4 step per tick at tick_hz {self.tick_hz} with {axis.steps_per_mm:g} steps/mm)"
+                    f"axes[{i}].max_speed = {axis.max_speed}: must be at most {limit:g} mm/s (3/4 "
+                    f"step per tick at tick_hz {self.tick_hz} with {axis.steps_per_mm:g} steps/mm)"
                 )
             problems += self._floors(i, axis)
             if axis.max_jerk is not None:
@@ -368,7 +375,8 @@ class MachineConfig(BaseModel):
         ]
 
     def _check_cubic_range(self, i: int, axis: AxisConfig) -> None:
-        """A jerk-limited plan runs as cubic segments: its jerk and acceleration must fit their fields."""
+        """A jerk-limited plan runs as cubic segments: its jerk and acceleration must fit their
+        fields."""
         hz = float(self.tick_hz)
         jerk_limit = CUBIC_JERK_LIMIT / SIGMA * hz**3 / axis.steps_per_mm
         if axis.max_jerk is not None and axis.max_jerk > jerk_limit:
@@ -387,8 +395,9 @@ class MachineConfig(BaseModel):
         accel_limit = CUBIC_ACCEL_LIMIT / SIGMA * hz * hz / axis.steps_per_mm / 2
         if axis.max_accel > accel_limit:
             raise ValueError(
-                f"axes[{i}].max_accel = {axis.max_accel:g}: must be at most {accel_limit:g} mm/s² with "
-                f"max_jerk (half a cubic segment's 24-bit acceleration at tick_hz {self.tick_hz})"
+                f"axes[{i}].max_accel = {axis.max_accel:g}: must be at most {accel_limit:g} mm/s² "
+                "with max_jerk (half a cubic segment's 24-bit acceleration at tick_hz "
+                f"{self.tick_hz})"
             )
 
     @property
@@ -398,7 +407,8 @@ class MachineConfig(BaseModel):
 
     @property
     def homing_axes(self) -> tuple[int, ...]:
-        """The axes to home, in order: homing_order, or Z first and then the others with [axes.homing]."""
+        """The axes to home, in order: homing_order, or Z first and then the others with
+        [axes.homing]."""
         names = self.axis_names
         if self.homing_order is not None:
             return tuple(names.index(n) for n in self.homing_order)

@@ -1,7 +1,8 @@
-"""Writing a measured value back into the machine configuration file, comments and layout kept (tomlkit).
+"""Writing a measured value back into the machine configuration file, comments and layout kept
+(tomlkit).
 
-The file is checked whole before it is replaced (the new text must load as a configuration), the old one is
-kept beside it as FILE.bak, and the new one replaces it atomically.
+The file is checked whole before it is replaced (the new text must load as a configuration), the old
+one is kept beside it as FILE.bak, and the new one replaces it atomically.
 """
 
 from __future__ import annotations
@@ -32,8 +33,8 @@ def new_table_ends_file(document: tomlkit.TOMLDocument, table: Table) -> bool:
 
 
 def set_backlash(path: Path, axis: str, **values: float) -> tuple[MachineConfig, Path]:
-    """Set keys of axis `axis`'s [axes.backlash] (mm, switch_hysteresis, ...) in the file at `path`; returns
-    the configuration as now written and where the old file was kept."""
+    """Set keys of axis `axis`'s [axes.backlash] (mm, switch_hysteresis, ...) in the file at `path`;
+    returns the configuration as now written and where the old file was kept."""
     text = read_text(path, ConfigError, SETTINGS_MAX_BYTES)
     try:
         document = tomlkit.parse(text)

@@ -16,7 +16,8 @@ import numpy as np
 
 from .protocol.constants import CUBIC_SHIFT
 
-# The chain is the firmware's validation of CUBIC_SEGMENT, so it lives with the message (protocol/cubic.py).
+# The chain is the firmware's validation of CUBIC_SEGMENT, so it lives with the message
+# (protocol/cubic.py).
 from .protocol.cubic import (
     HALF,
     SIGMA,

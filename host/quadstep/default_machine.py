@@ -1,6 +1,7 @@
-"""The machine quadstep assumes when no configuration is given: the router of examples/router-uno.toml
-(a 3-axis CNC router on an Uno with a CNC shield, 400 steps/mm, at the Uno firmware's 32 kHz). The emulator
-starts as this machine, so `quadstep run FILE --emulator` works without a file; a real board needs one."""
+"""The machine quadstep assumes when no configuration is given: the router of
+examples/router-uno.toml (a 3-axis CNC router on an Uno with a CNC shield, 400 steps/mm, at the Uno
+firmware's 32 kHz). The emulator starts as this machine, so `quadstep run FILE --emulator` works
+without a file; a real board needs one."""
 
 from __future__ import annotations
 

@@ -24,7 +24,8 @@ class EmulatorError(RuntimeError):
 
 
 def emulator_binary(build: bool = True) -> Path:
-    """$QUADSTEP_EMULATOR, else <repo>/build/native/quadstep-emu (built with `make emulator` if missing)."""
+    """$QUADSTEP_EMULATOR, else <repo>/build/native/quadstep-emu (built with `make emulator` if
+    missing)."""
     env = os.environ.get(EMULATOR_ENV)
     if env:
         path = Path(env)
@@ -44,7 +45,8 @@ def emulator_binary(build: bool = True) -> Path:
             )
         return path
     raise EmulatorError(
-        f"emulator binary not found: set ${EMULATOR_ENV} or build it with `make emulator` in the source tree"
+        f"emulator binary not found: set ${EMULATOR_ENV} or build it with `make emulator` in the "
+        "source tree"
     )
 
 
@@ -90,7 +92,8 @@ def open_connection(
     baudrate: int = DEFAULT_BAUD,
     **emulator_options: object,
 ) -> Iterator[Link]:
-    """A connected Link to `port`, or to a fresh emulator when `emulator` is true (exactly one of the two)."""
+    """A connected Link to `port`, or to a fresh emulator when `emulator` is true (exactly one of
+    the two)."""
     if emulator == (port is not None):
         raise ValueError("give either a serial port or the emulator, not both or neither")
     if port is not None:

@@ -20,8 +20,8 @@ from .planner.feed_override import scale_feeds
 from .planner.plan import Plan, plan_program
 from .planner.program import JobError, Program
 from .protocol.codec import encode
-from .protocol.messages import queue_slots
 from .protocol.frames import next_frame, run_limit
+from .protocol.messages import queue_slots
 from .protocol.segment_run import RunChain
 from .textfile import read_text
 
@@ -42,7 +42,8 @@ class AxisSummary(BaseModel):
     start_mm: float  # machine coordinates
     end_mm: float
     end_steps: int
-    start_work_mm: float  # work coordinates: the start's in the system the job starts in, the end's in the one it ends in
+    # work coordinates: the start's in the system the job starts in, the end's in the one it ends in
+    start_work_mm: float
     end_work_mm: float
 
 
@@ -99,8 +100,9 @@ class Job:
         return f"{count} {noun}"
 
     def wire_bytes(self, run_limit: int = UNO_RUN_LIMIT) -> int:
-        """Bytes the job's segments take on the serial line, framing included, sent as a motion sends them
-        to a board that takes `run_limit` segments a frame (an Uno's, by default; 0: one SEGMENT a frame)."""
+        """Bytes the job's segments take on the serial line, framing included, sent as a motion
+        sends them to a board that takes `run_limit` segments a frame (an Uno's, by default; 0: one
+        SEGMENT a frame)."""
         segments = self.plan.segments
         chain = RunChain(segments.axis_count)
         total = index = 0
@@ -149,8 +151,8 @@ def read_program(
     skip_unsupported: bool = False,
     coordinates: WorkCoordinates | None = None,
 ) -> Program:
-    """Parse the job file into moves in machine coordinates, starting from `start_steps`, G-code in the work
-    coordinates `coordinates` (move files are machine coordinates)."""
+    """Parse the job file into moves in machine coordinates, starting from `start_steps`, G-code in
+    the work coordinates `coordinates` (move files are machine coordinates)."""
     start_mm = config.to_mm(start_steps)
     if is_move_file(path):
         return move_program(read_move_file(path), config.axis_names, start_mm)

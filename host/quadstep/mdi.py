@@ -1,6 +1,6 @@
-"""The console (MDI): one G-code line at a time, checked and planned whole from where the machine stands,
-then run like a job. Units, G90/G91, the plane, the motion mode and the feed carry over from one line to
-the next, as on a controller; work offsets are the machine's."""
+"""The console (MDI): one G-code line at a time, checked and planned whole from where the machine
+stands, then run like a job. Units, G90/G91, the plane, the motion mode and the feed carry over from
+one line to the next, as on a controller; work offsets are the machine's."""
 
 from __future__ import annotations
 
@@ -23,8 +23,8 @@ class Console:
         self._modal: dict[str, object] = {}
 
     def plan(self, text: str, start: tuple[int, ...], coordinates: WorkCoordinates) -> Job:
-        """The line as a job from step position `start`; raises JobError naming the fault, and then nothing
-        of the line is kept (not even its modal words)."""
+        """The line as a job from step position `start`; raises JobError naming the fault, and then
+        nothing of the line is kept (not even its modal words)."""
         config = self.config
         interpreter = GcodeInterpreter(
             config.axis_names, config.to_mm(start), config.arc_tolerance, coordinates=coordinates

@@ -24,9 +24,9 @@ import yaml
 from pydantic import BaseModel, ConfigDict, Field, model_validator
 
 from .config import AxisName
-from .validation import validate
 from .planner.program import MAX_DWELL_S, Dwell, JobError, LinearMove, Pause, Program
 from .textfile import DuplicateKeyError, parse_nested, read_text, strict_json
+from .validation import validate
 
 Coordinates = dict[AxisName, float]
 
@@ -54,7 +54,8 @@ class Move(BaseModel):
         ]
         if len(kinds) != 1:
             raise ValueError(
-                f"needs exactly one of to, by, rapid_to, rapid_by, dwell, pause (got {kinds or 'none'})"
+                "needs exactly one of to, by, rapid_to, rapid_by, dwell, pause (got "
+                f"{kinds or 'none'})"
             )
         kind = kinds[0]
         if kind in ("to", "by") and self.feed is None:
@@ -122,7 +123,8 @@ def move_program(moves: MoveFile, axis_names: Sequence[str], start: Sequence[flo
         for letter, value in coords.items():
             if letter not in axis_names:
                 raise JobError(
-                    f"move {number}: axis {letter} is not on this machine (axes {', '.join(axis_names)})"
+                    f"move {number}: axis {letter} is not on this machine (axes "
+                    f"{', '.join(axis_names)})"
                 )
             i = list(axis_names).index(letter)
             position[i] = position[i] + value if relative else value

@@ -100,7 +100,8 @@ def parse_nested(parse: Callable[[str], Any], text: str, path: Path, error: type
 
 
 def _values(data: Any, counted: dict[int, int]) -> int:
-    """How many values `data` holds once every shared list or table is written out; each counted once."""
+    """How many values `data` holds once every shared list or table is written out; each counted
+    once."""
     if not isinstance(data, (list, dict)):
         return 1
     if id(data) not in counted:
@@ -110,7 +111,8 @@ def _values(data: Any, counted: dict[int, int]) -> int:
 
 
 def replace_text(path: Path, text: str) -> None:
-    """Replace `path` with `text` atomically: written beside it, flushed to disk, renamed over it (its mode kept)."""
+    """Replace `path` with `text` atomically: written beside it, flushed to disk, renamed over it
+    (its mode kept)."""
     path.parent.mkdir(parents=True, exist_ok=True)
     fd, temporary = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
     try:

@@ -1,6 +1,6 @@
-"""Files the user writes (configurations, move files, the state file) read into pydantic models: every
-problem one line naming the key, the value given and the rule, e.g. `axes[0].max_speed = 900.0: must be at
-most 468.75 mm/s`."""
+"""Files the user writes (configurations, move files, the state file) read into pydantic models:
+every problem one line naming the key, the value given and the rule, e.g. `axes[0].max_speed =
+900.0: must be at most 468.75 mm/s`."""
 
 from __future__ import annotations
 
@@ -55,7 +55,8 @@ def describe_validation_error(error: ValidationError) -> list[str]:
         elif kind == "literal_error":
             lines.append(f"{key} = {e['input']!r}: must be one of {e['ctx']['expected']}")
         elif kind == "value_error":
-            # a validator's message may start with the key it is about ("travel_max = 5: ..."), a line a problem
+            # a validator's message may start with the key it is about ("travel_max = 5: ..."), a
+            # line a problem
             for message in str(e["ctx"]["error"]).split("\n"):
                 lines.append(
                     message
@@ -72,9 +73,10 @@ def describe_validation_error(error: ValidationError) -> list[str]:
 def validate(
     model: type[Model], data: Any, source: str, error: type[Exception], strict: bool = True
 ) -> Model:
-    """`data` (as a JSON, YAML or TOML parser gives it) as a `model`, strictly: a string or a boolean is never
-    taken for a number, nor a number for a string or a boolean. Raises `error` with one `source: key = value: rule`
-    line per problem, or one line for what no such file can hold (a date, nesting hundreds of levels deep)."""
+    """`data` (as a JSON, YAML or TOML parser gives it) as a `model`, strictly: a string or a
+    boolean is never taken for a number, nor a number for a string or a boolean. Raises `error` with
+    one `source: key = value: rule` line per problem, or one line for what no such file can hold (a
+    date, nesting hundreds of levels deep)."""
     try:
         text = json.dumps(
             data, allow_nan=False
@@ -97,7 +99,8 @@ def validate(
 
 
 def _non_finite(data: Any, key: str = "") -> str | None:
-    """`key = value` for the first NaN or infinity in `data`, its key written as validation errors write it."""
+    """`key = value` for the first NaN or infinity in `data`, its key written as validation errors
+    write it."""
     if isinstance(data, float) and not math.isfinite(data):
         return f"{key} = {data}"
     items = (

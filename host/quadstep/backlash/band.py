@@ -1,12 +1,13 @@
 """Where each carriage sits in its dead band, and the positions that exclude the take-up.
 
-A motor pushes its carriage through a dead band of `size` steps: `w` (0 … size) is how far the motor is
-from the band's negative side, so `w = size` after a push in +, `w = 0` after a push in −. A motor step
-moves the carriage only at a side (w stays), otherwise it moves the motor within the band (w changes):
-the carriage is `motor − w` plus a constant. The position every report shows — status, the TUI, `run`,
-probing, homing — is that carriage position, `motor − base − w`: a take-up moves the motor and `w`
-together and leaves it unchanged. `w` is unknown (None) until an axis first moves; its first motion
-then takes no take-up and puts it on that side (base chosen so that the position stays where it was).
+A motor pushes its carriage through a dead band of `size` steps: `w` (0 … size) is how far the motor
+is from the band's negative side, so `w = size` after a push in +, `w = 0` after a push in −. A
+motor step moves the carriage only at a side (w stays), otherwise it moves the motor within the band
+(w changes): the carriage is `motor − w` plus a constant. The position every report shows — status,
+the TUI, `run`, probing, homing — is that carriage position, `motor − base − w`: a take-up moves the
+motor and `w` together and leaves it unchanged. `w` is unknown (None) until an axis first moves; its
+first motion then takes no take-up and puts it on that side (base chosen so that the position stays
+where it was).
 """
 
 from __future__ import annotations
@@ -21,7 +22,8 @@ from ..config import MachineConfig
 
 @dataclass(frozen=True)
 class BandAxis:
-    """One axis: band size (steps), where the motor is in it (None: not known yet), and the constant."""
+    """One axis: band size (steps), where the motor is in it (None: not known yet), and the
+    constant."""
 
     size: int = 0
     w: int | None = None
@@ -38,14 +40,16 @@ class BandAxis:
         return (self.size - self.w) if direction > 0 else -self.w
 
     def adopt(self, direction: int) -> BandAxis:
-        """Known from here on: a first motion in `direction`, with no take-up, puts the motor on that side."""
+        """Known from here on: a first motion in `direction`, with no take-up, puts the motor on
+        that side."""
         if self.w is not None:
             return self
         w = self.size if direction > 0 else 0
         return replace(self, w=w, base=self.base - w)
 
     def moved(self, steps: Iterable[int]) -> BandAxis:
-        """After the motor made these signed steps (in order): each moves w within the band, or the carriage."""
+        """After the motor made these signed steps (in order): each moves w within the band, or the
+        carriage."""
         axis = self
         for s in steps:
             if axis.w is None:
@@ -54,7 +58,8 @@ class BandAxis:
         return axis
 
     def monotone(self, delta: int) -> BandAxis:
-        """After a motion of `delta` steps all in one direction (a hold's deceleration, a straight run)."""
+        """After a motion of `delta` steps all in one direction (a hold's deceleration, a straight
+        run)."""
         if delta == 0:
             return self
         axis = self.adopt(delta) if self.w is None else self
@@ -91,7 +96,8 @@ class Band:
 
 
 class BandRecord(BaseModel):
-    """The band kept between runs (in the state file): valid only while the board still counts `motor`."""
+    """The band kept between runs (in the state file): valid only while the board still counts
+    `motor`."""
 
     model_config = ConfigDict(extra="forbid")
 
@@ -110,7 +116,8 @@ class BandRecord(BaseModel):
         )
 
     def restore(self, config: MachineConfig, motor: Sequence[int]) -> Band:
-        """The kept band if it still describes this machine (same sizes, the board where it was); else a new one."""
+        """The kept band if it still describes this machine (same sizes, the board where it was);
+        else a new one."""
         fresh = Band.of(config)
         if self.size != [a.size for a in fresh.axes] or self.motor != list(
             motor[: len(fresh.axes)]

@@ -1,9 +1,11 @@
-"""A planned stream read back exactly, for the compensation stage: steps, speeds and the ideal per axis.
+"""A planned stream read back exactly, for the compensation stage: steps, speeds and the ideal per
+axis.
 
 The stream is quadratic segments (the planner's arrays, read with numpy) or any mix of SEGMENT and
-CUBIC_SEGMENT (walked with the firmware's chain). For every segment: its ticks, each axis's signed steps
-and largest acceleration; on demand: the exact advance of an axis over part of a segment (the polynomial the
-take-up is added to), the ticks of its steps, and the firmware's chain state before it.
+CUBIC_SEGMENT (walked with the firmware's chain). For every segment: its ticks, each axis's signed
+steps and largest acceleration; on demand: the exact advance of an axis over part of a segment (the
+polynomial the take-up is added to), the ticks of its steps, and the firmware's chain state before
+it.
 """
 
 from __future__ import annotations
@@ -19,7 +21,7 @@ from ..engine_model import step_ticks
 from ..planner.segments import SegmentArrays
 from ..planner.stream import Stream
 from ..protocol.cubic import SIGMA, AxisState, CubicChain, CubicSegment, CubicStep, choose2
-from ..protocol.segment import D, AxisMove, Segment
+from ..protocol.segment import AxisMove, D, Segment
 
 Poly = tuple[
     Fraction, Fraction, Fraction
@@ -88,7 +90,8 @@ class BaseStream:
         return int(self.position[k, axis]) + (made if self.steps[k, axis] >= 0 else -made)
 
     def advance(self, k: int, axis: int, skip: int) -> Poly:
-        """The ideal's advance of `axis` over the ticks of segment k after its first `skip`, signed."""
+        """The ideal's advance of `axis` over the ticks of segment k after its first `skip`,
+        signed."""
         seg = self.segment(k)
         if isinstance(seg, Segment):
             mv = next((m for m in seg.axes if m.axis == axis), None)
@@ -106,8 +109,8 @@ class BaseStream:
     # --- the firmware's state -----------------------------------------------------------------
 
     def chain_before(self, k: int) -> CubicChain:
-        """The firmware's chain before segment k, given the chain at the stream's start was at rest with e = 0
-        (the stage begins every compensated stream with a segment that makes it so)."""
+        """The firmware's chain before segment k, given the chain at the stream's start was at rest
+        with e = 0 (the stage begins every compensated stream with a segment that makes it so)."""
         if self.chains:
             return self.chains[k].copy()
         chain = CubicChain(self.axis_count)
@@ -153,7 +156,8 @@ def from_arrays(arrays: SegmentArrays) -> BaseStream:
 
 
 def from_items(items: Sequence[Segment | CubicSegment], axis_count: int) -> BaseStream:
-    """Any mix of quadratic and cubic segments, walked with the firmware's chain from rest (e = 0)."""
+    """Any mix of quadratic and cubic segments, walked with the firmware's chain from rest (e =
+    0)."""
     chain = CubicChain(axis_count)
     chains: list[CubicChain] = []
     n = np.zeros(len(items), dtype=np.int64)

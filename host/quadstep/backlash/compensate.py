@@ -1,18 +1,23 @@
-"""The compensation stage: a planned stream with every reversal's take-up inside it (docs/BACKLASH.md).
+"""The compensation stage: a planned stream with every reversal's take-up inside it
+(docs/BACKLASH.md).
 
-After planning, per axis with a backlash: where the axis reverses (against the side its carriage was last
-pushed to), the motor makes the take-up — seed 004's ramp, within the axis's acceleration and jerk — while
-the path goes on. Where it goes:
+After planning, per axis with a backlash: where the axis reverses (against the side its carriage was
+last pushed to), the motor makes the take-up — seed 004's ramp, within the axis's acceleration and
+jerk — while the path goes on. Where it goes:
 
-- `gap`: inside the axis's own pause between its last step one way and its first step the other (a pocket's
-  stepover, a circle's quadrant, where the axis's ideal lingers within half a step): no path error at all;
-- `rest`: where every axis is at rest anyway (the stream's start, a stop, a pause): added ticks, no error;
-- `around` (or `after`, by the configuration): superposed on the motion, centred on the reversal, with the
+- `gap`: inside the axis's own pause between its last step one way and its first step the other (a
+pocket's
+  stepover, a circle's quadrant, where the axis's ideal lingers within half a step): no path error
+  at all;
+- `rest`: where every axis is at rest anyway (the stream's start, a stop, a pause): added ticks, no
+error;
+- `around` (or `after`, by the configuration): superposed on the motion, centred on the reversal,
+with the
   acceleration left over by the path's own.
 
 The segments a take-up touches (a window) become cubic segments that follow the planned ideal to the
-quantum plus the ramp (fit.py); every other segment goes out as planned. The positions reported exclude
-the take-ups (band.py); `takeups` says where each is, for plots and checks.
+quantum plus the ramp (fit.py); every other segment goes out as planned. The positions reported
+exclude the take-ups (band.py); `takeups` says where each is, for plots and checks.
 """
 
 from __future__ import annotations
@@ -25,9 +30,9 @@ import numpy as np
 
 from ..config import MachineConfig
 from ..engine_model import predict
+from ..planner.stream import Stream
 from ..protocol.cubic import CubicChain
 from ..protocol.segment import AxisMove, Segment
-from ..planner.stream import Stream
 from .band import Band
 from .base import BaseStream, Poly
 from .fit import FitError, Span, fit_window
@@ -38,7 +43,8 @@ JERK_TIME = 0.005  # s: without a configured jerk, the take-up reaches its accel
 
 @dataclass(frozen=True)
 class TakeUp:
-    """One take-up as streamed: axis, first motion tick (from the stream's start), length, steps, where."""
+    """One take-up as streamed: axis, first motion tick (from the stream's start), length, steps,
+    where."""
 
     axis: int
     start: int
@@ -66,7 +72,8 @@ class Window:
 
 @dataclass
 class Compensated:
-    """The stream as sent, its take-ups, and the band before (every moving axis's side known), after and inside."""
+    """The stream as sent, its take-ups, and the band before (every moving axis's side known), after
+    and inside."""
 
     stream: Stream
     band_start: Band
@@ -77,8 +84,9 @@ class Compensated:
     added_ticks: int = 0
 
     def band_at(self, tick: int, moved: Sequence[int] | None = None) -> Band:
-        """The band after `tick` motion ticks of the stream — and, given `moved` (each motor's steps from the
-        stream's start to where it rests), after a stop there: a hold's deceleration goes on one way."""
+        """The band after `tick` motion ticks of the stream — and, given `moved` (each motor's steps
+        from the stream's start to where it rests), after a stop there: a hold's deceleration goes
+        on one way."""
         band = self.band_start
         for window in self.windows:
             if tick < window.start:
@@ -116,7 +124,8 @@ class _Placed:
 
 
 def _limits(config: MachineConfig, axis: int) -> tuple[float, float, float]:
-    """The axis's acceleration limit, the take-up's acceleration and jerk, in steps per tick² and tick³."""
+    """The axis's acceleration limit, the take-up's acceleration and jerk, in steps per tick² and
+    tick³."""
     a = config.axes[axis]
     hz = float(config.tick_hz)
     assert a.backlash is not None
@@ -138,8 +147,8 @@ def _place(
     steps: int,
     barriers: list[int],
 ) -> _Placed:
-    """Where the take-up of `steps` goes between the axis's last motion one way (segment `prev`, −1: before
-    the stream) and its first the other way (segment `new`)."""
+    """Where the take-up of `steps` goes between the axis's last motion one way (segment `prev`, −1:
+    before the stream) and its first the other way (segment `new`)."""
     limit, accel, jerk = _limits(config, axis)
     ramp = design(steps, accel, jerk)
     line = _line(base, new)
@@ -199,14 +208,16 @@ def _place(
             best = score
     if best is None:
         raise FitError(
-            f"axis {config.axes[axis].name}: no room for a take-up of {abs(steps)} steps at line {line}"
+            f"axis {config.axes[axis].name}: no room for a take-up of {abs(steps)} steps at line "
+            f"{line}"
         )
     start, ramp = best[2], best[3]
     return _Placed(axis, ramp, kind, start, line)
 
 
 def _candidates(kind: str, t_a: int, t_b: int, ticks: int) -> list[int]:
-    """Where a superposed ramp may begin: at the reversal (after), or anywhere it overlaps the axis's pause."""
+    """Where a superposed ramp may begin: at the reversal (after), or anywhere it overlaps the
+    axis's pause."""
     if kind == "after":
         return [t_a]
     centre = round((t_a + t_b) / 2 - ticks / 2)
@@ -225,8 +236,8 @@ def _base_accel(base: BaseStream, axis: int, lo: int, hi: int) -> float:
 
 
 def reversals(base: BaseStream, band: Band) -> tuple[list[tuple[int, int, int, int]], Band, Band]:
-    """(axis, previous segment or −1, new segment, take-up steps) for every reversal; the band before (an axis
-    not known yet adopts the side of its first motion) and after."""
+    """(axis, previous segment or −1, new segment, take-up steps) for every reversal; the band
+    before (an axis not known yet adopts the side of its first motion) and after."""
     found = []
     start = band
     for axis, state in enumerate(band.axes):
@@ -257,7 +268,8 @@ def compensate(
     barriers: list[int] | None = None,
     pauses: list[tuple[int, int]] | None = None,
 ) -> Compensated:
-    """The stream with its take-ups; `barriers` (segment indices) are where it rests between sections."""
+    """The stream with its take-ups; `barriers` (segment indices) are where it rests between
+    sections."""
     barriers = sorted(set(barriers or []) | {b for b, _ in pauses or []})
     found, band_start, band_end = reversals(base, band)
     placed = [
@@ -440,8 +452,9 @@ def _line(base: BaseStream, k: int) -> int:
 
 
 def _chain_at(base: BaseStream, k: int, previous: CubicChain | None, after: int) -> CubicChain:
-    """The firmware's chain where a window begins (before base segment or boundary k): the previous window's
-    end chain, moved on by the planned segments since it (quadratic ones restart the axes they name)."""
+    """The firmware's chain where a window begins (before base segment or boundary k): the previous
+    window's end chain, moved on by the planned segments since it (quadratic ones restart the axes
+    they name)."""
     if previous is not None and k == after:
         return previous
     chain = base.chain_before(k)
@@ -463,7 +476,8 @@ def _check(
     made: list[int],
     config: MachineConfig,
 ) -> None:
-    """The window makes exactly the planned steps plus the take-ups' (else the plan after it would not land)."""
+    """The window makes exactly the planned steps plus the take-ups' (else the plan after it would
+    not land)."""
     want = [0] * base.axis_count
     for kind, index, _, _ in units:
         if kind == "seg":

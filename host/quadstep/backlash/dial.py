@@ -1,14 +1,17 @@
-"""A dial indicator's reading of the backlash, for machines without a probe (the TUI's wizard; docs/BACKLASH.md).
+"""A dial indicator's reading of the backlash, for machines without a probe (the TUI's wizard;
+docs/BACKLASH.md).
 
 The indicator rests against the carriage, preloaded by a move toward it and zeroed there. Either:
 
-- **jog back** one motor step at a time: the first steps turn the motor through the band and leave the
-  carriage (and the needle) where it is; the step that first moves the needle is the first past the band,
-  so the band is the steps before it;
-- **move back by d** and read the indicator: the carriage came back by d − B, so B = d − the reading.
+- **jog back** one motor step at a time: the first steps turn the motor through the band and leave
+the
+  carriage (and the needle) where it is; the step that first moves the needle is the first past the
+  band, so the band is the steps before it;
+- **move back by d** and read the indicator: the carriage came back by d − B, so B = d − the
+reading.
 
-Both are the carriage's own motion, so no switch or probe hysteresis enters; the indicator's resolution and
-the least needle motion the eye sees add to the jog-back result.
+Both are the carriage's own motion, so no switch or probe hysteresis enters; the indicator's
+resolution and the least needle motion the eye sees add to the jog-back result.
 """
 
 from __future__ import annotations
@@ -35,8 +38,8 @@ def from_jog_back(steps_until_moved: int, steps_per_mm: float) -> DialResult:
 
 
 def from_reading(distance_mm: float, reading_mm: float, steps_per_mm: float) -> DialResult:
-    """Moved back by `distance_mm` from the zeroed, preloaded indicator, which then read `reading_mm` (its
-    magnitude: how far the carriage came back)."""
+    """Moved back by `distance_mm` from the zeroed, preloaded indicator, which then read
+    `reading_mm` (its magnitude: how far the carriage came back)."""
     reading = abs(reading_mm)
     if distance_mm <= 0:
         raise DialError(f"distance = {distance_mm:g} mm: must be more than 0")

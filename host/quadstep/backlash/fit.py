@@ -1,12 +1,13 @@
-"""Exact motion → CUBIC_SEGMENTs: the firmware's integer chain made to follow a wanted ideal, to the quantum.
+"""Exact motion → CUBIC_SEGMENTs: the firmware's integer chain made to follow a wanted ideal, to the
+quantum.
 
 The wanted ideal of each axis is given span by span as its advance per tick, a polynomial with exact
-rational coefficients (a planned segment plus a take-up ramp). Each cubic segment the fitter makes is a
-piece over which every axis keeps one direction; per axis it carries the chain's state where that is
-exactly the wanted one, and otherwise sets a speed and an acceleration, rounded so that the chain's ideal
-ends the piece at most one quantum per tick ahead of the wanted one (2^-31 step per tick: nothing a
-stepper can show). The last tick of a window lands the chain's ideal exactly on the wanted one, so the
-planned segments after the window run as planned.
+rational coefficients (a planned segment plus a take-up ramp). Each cubic segment the fitter makes
+is a piece over which every axis keeps one direction; per axis it carries the chain's state where
+that is exactly the wanted one, and otherwise sets a speed and an acceleration, rounded so that the
+chain's ideal ends the piece at most one quantum per tick ahead of the wanted one (2^-31 step per
+tick: nothing a stepper can show). The last tick of a window lands the chain's ideal exactly on the
+wanted one, so the planned segments after the window run as planned.
 """
 
 from __future__ import annotations
@@ -34,8 +35,8 @@ ZERO = (Fraction(0), Fraction(0), Fraction(0))
 
 
 class FitError(RuntimeError):
-    """The chain cannot follow the wanted motion (a speed above one step per tick, an acceleration the
-    firmware cannot hold)."""
+    """The chain cannot follow the wanted motion (a speed above one step per tick, an acceleration
+    the firmware cannot hold)."""
 
 
 @dataclass(frozen=True)
@@ -79,12 +80,14 @@ def piece_sign(poly: Poly, m: int) -> int:
 
 
 def sign_changes(poly: Poly, m: int) -> list[int]:
-    """Ticks k in 2..m where the advance takes the sign opposite to the last nonzero one before it."""
+    """Ticks k in 2..m where the advance takes the sign opposite to the last nonzero one before
+    it."""
     a, b, g = poly
     if not (a or b or g):
         return []
     candidates = {1, m}
-    # A(k) = g/2·(k−1)(k−2) + b·(k−1) + a: its real roots (and its vertex) bracket every change of sign
+    # A(k) = g/2·(k−1)(k−2) + b·(k−1) + a: its real roots (and its vertex) bracket every change of
+    # sign
     qa, qb, qc = float(g) / 2, float(b) - 1.5 * float(g), float(a) - float(b) + float(g)
     roots: list[float] = []
     if qa != 0.0:
@@ -112,10 +115,12 @@ def sign_changes(poly: Poly, m: int) -> list[int]:
 def fit_window(
     chain: CubicChain, spans: Sequence[Span], exact_end: Sequence[AxisState] | None = None
 ) -> tuple[list[CubicSegment], list[int]]:
-    """Cubic segments that run `spans` from `chain` (moved on past them), and each axis's steps (signed).
+    """Cubic segments that run `spans` from `chain` (moved on past them), and each axis's steps
+    (signed).
 
     The last tick lands every axis's ideal on the wanted one; with `exact_end` also its speed and
-    acceleration (the chain then equals a planned chain after the window, which carries on from it)."""
+    acceleration (the chain then equals a planned chain after the window, which carries on from
+    it)."""
     count = chain.axis_count
     dev = [Fraction(0)] * count  # chain's ideal − wanted ideal, per axis, in 2^-31 step
     made = [0] * count
@@ -182,9 +187,9 @@ def _round_state(
     axis: int,
     end: Fraction,
 ) -> tuple[int, int]:
-    """Integer speed and acceleration for a piece of m ticks (jerk given): the chain's ideal ends at most m
-    quanta ahead of the wanted one (u: how far ahead it starts), its last advance near the wanted `end`, and
-    every advance within 0 … 1 step."""
+    """Integer speed and acceleration for a piece of m ticks (jerk given): the chain's ideal ends at
+    most m quanta ahead of the wanted one (u: how far ahead it starts), its last advance near the
+    wanted `end`, and every advance within 0 … 1 step."""
     if (
         m > 1
     ):  # the real (i, d) that give the wanted distance and the wanted last advance with this jerk
@@ -205,8 +210,8 @@ def _round_state(
             if 0 <= i < SIGMA and advances_in_range(i, d, jerk, m):
                 return i, d
     raise FitError(
-        f"axis {axis}: an advance of {float(a) / SIGMA:.4f} step per tick (change {float(b) / SIGMA:.3g}) "
-        f"cannot be held within 0 … 1 step per tick over {m} ticks"
+        f"axis {axis}: an advance of {float(a) / SIGMA:.4f} step per tick (change "
+        f"{float(b) / SIGMA:.3g}) cannot be held within 0 … 1 step per tick over {m} ticks"
     )
 
 

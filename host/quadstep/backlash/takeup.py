@@ -1,10 +1,12 @@
-"""The take-up: seed 004's 7-point acceleration ramp, sized for a distance within an acceleration and a jerk.
+"""The take-up: seed 004's 7-point acceleration ramp, sized for a distance within an acceleration
+and a jerk.
 
-Jerk +r, 0, −r over n1, n2, n1 ticks, then −r, 0, +r (planner/ramps.py): the axis gains exactly the speed and
-acceleration back that it had, so the ramp can be added to any motion. Its distance with r = 1 is K(n1, n2)
-in 2^-31 step; the ramp is scaled by distance/(r·K) to be exactly `steps` long (the scale differs from 1 by
-less than 1/(2r): the integer jerks of the cubic segments follow it and the fitter absorbs the rest).
-Units: steps and ticks; accelerations in steps per tick², jerks in steps per tick³.
+Jerk +r, 0, −r over n1, n2, n1 ticks, then −r, 0, +r (planner/ramps.py): the axis gains exactly the
+speed and acceleration back that it had, so the ramp can be added to any motion. Its distance with r
+= 1 is K(n1, n2) in 2^-31 step; the ramp is scaled by distance/(r·K) to be exactly `steps` long (the
+scale differs from 1 by less than 1/(2r): the integer jerks of the cubic segments follow it and the
+fitter absorbs the rest). Units: steps and ticks; accelerations in steps per tick², jerks in steps
+per tick³.
 """
 
 from __future__ import annotations
@@ -13,8 +15,8 @@ import math
 from dataclasses import dataclass
 from fractions import Fraction
 
-from ..protocol.cubic import SIGMA, choose2, choose3
 from ..planner.ramps import Phase, ramp_distance, ramp_move
+from ..protocol.cubic import SIGMA, choose2, choose3
 
 MIN_JERK_UNITS = (
     1024  # the jerk in 2^-31 step per tick³ is kept at least this large: its rounding stays tiny
@@ -28,7 +30,8 @@ class TakeUpError(ValueError):
 
 @dataclass(frozen=True)
 class Ramp:
-    """A take-up of `steps` (signed) over 4·n1 + 2·n2 ticks, jerk ±r (2^-31 step per tick³) scaled by `scale`."""
+    """A take-up of `steps` (signed) over 4·n1 + 2·n2 ticks, jerk ±r (2^-31 step per tick³) scaled
+    by `scale`."""
 
     steps: int
     n1: int
@@ -58,8 +61,8 @@ class Ramp:
         return float(self.r * self.scale) / SIGMA
 
     def state(self, t: int) -> tuple[Fraction, Fraction, Fraction, Fraction]:
-        """(x, i, d, jerk) after t ticks, signed, scaled, in 2^-31 step: the distance made, the advance over the
-        next tick, its change per tick, and the jerk of the next tick."""
+        """(x, i, d, jerk) after t ticks, signed, scaled, in 2^-31 step: the distance made, the
+        advance over the next tick, its change per tick, and the jerk of the next tick."""
         x = i = d = jerk = 0
         at = 0
         for n, r in self.phases():
@@ -82,7 +85,8 @@ class Ramp:
 
 
 def design(steps: int, accel: float, jerk: float) -> Ramp:
-    """The shortest ramp of `steps` (≠ 0) whose acceleration stays within `accel` and jerk within `jerk`."""
+    """The shortest ramp of `steps` (≠ 0) whose acceleration stays within `accel` and jerk within
+    `jerk`."""
     if steps == 0:
         raise TakeUpError("a take-up of 0 steps")
     if accel <= 0 or jerk <= 0:

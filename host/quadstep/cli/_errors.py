@@ -7,10 +7,10 @@ import sys
 
 from pydantic import ValidationError
 
-from ..validation import describe_validation_error
 from ..emulator import EmulatorError
 from ..link import LinkError
 from ..machine import MachineError, StateError
+from ..validation import describe_validation_error
 from .options import CliError
 
 

@@ -31,7 +31,8 @@ def add_job_options(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "--skip-unsupported",
         action="store_true",
-        help="skip spindle, coolant and tool words (M3 M4 M5 M6 M7 M8 M9, S, T) instead of refusing the job",
+        help="skip spindle, coolant and tool words (M3 M4 M5 M6 M7 M8 M9, S, T) instead of "
+        "refusing the job",
     )
     parser.add_argument(
         "--from-line",
@@ -55,8 +56,8 @@ def line_number(text: str) -> int:
 
 
 def machine_config(args: argparse.Namespace) -> MachineConfig:
-    """--config FILE, else ./quadstep.toml, else — with nothing to move, or on the emulator — the default
-    machine (said so on stderr); a real board needs a configuration."""
+    """--config FILE, else ./quadstep.toml, else — with nothing to move, or on the emulator — the
+    default machine (said so on stderr); a real board needs a configuration."""
     path = config_path(args)
     if path is None:
         on_board = getattr(args, "emulator", None) is False and getattr(args, "sim", None) is None

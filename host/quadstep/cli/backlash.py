@@ -1,7 +1,9 @@
-"""`quadstep backlash measure --axis X [--method probe|switch]`, `quadstep backlash calibrate-switch --axis X`.
+"""`quadstep backlash measure --axis X [--method probe|switch]`, `quadstep backlash calibrate-switch
+--axis X`.
 
-The measurement runs on the machine (docs/BACKLASH.md); its result is written to the configuration file only
-after the user confirms (--write; --yes confirms beforehand), comments kept and the old file kept as .bak.
+The measurement runs on the machine (docs/BACKLASH.md); its result is written to the configuration
+file only after the user confirms (--write; --yes confirms beforehand), comments kept and the old
+file kept as .bak.
 """
 
 from __future__ import annotations
@@ -152,12 +154,14 @@ def run(args: argparse.Namespace) -> int:
         print(json.dumps(result.as_dict()))
     else:
         print(
-            f"{name} backlash: {result.mm:.4f} mm ({result.steps:g} steps, {result.whole_steps} whole), spread "
-            f"{result.spread_steps:g} steps ({result.spread_mm:.4f} mm) over {len(result.tries)} tries"
+            f"{name} backlash: {result.mm:.4f} mm ({result.steps:g} steps, {result.whole_steps} "
+            f"whole), spread {result.spread_steps:g} steps ({result.spread_mm:.4f} mm) over "
+            f"{len(result.tries)} tries"
         )
     if not result.accepted:
         print(
-            f"refused: the tries spread {result.spread_mm:.4f} mm, more than --max-spread {result.bound_mm:g} mm",
+            f"refused: the tries spread {result.spread_mm:.4f} mm, more than --max-spread "
+            f"{result.bound_mm:g} mm",
             file=sys.stderr,
         )
         return 1

@@ -6,10 +6,9 @@ import argparse
 import json
 
 from ..toolpath import Box, toolpath
-
-from ._jobs import approach_text
 from ._jobs import (
     add_job_options,
+    approach_text,
     format_duration,
     job_from_args,
     machine_config,
@@ -51,13 +50,15 @@ def run(args: argparse.Namespace) -> int:
         f"({summary.wire_bytes / 1000:.1f} kB on the wire)"
     )
     print(
-        f"distance {summary.distance_mm:.1f} mm, planned duration {format_duration(summary.duration_s)}"
+        f"distance {summary.distance_mm:.1f} mm, planned duration "
+        f"{format_duration(summary.duration_s)}"
     )
     print(f"axis   peak speed     work ({job.coordinates.name} → {summary.work_system})    machine")
     for axis in summary.axes:
         print(
-            f"{axis.name:<6} {axis.peak_speed:7.2f} mm/s   {axis.start_work_mm:.3f} → {axis.end_work_mm:.3f} mm"
-            f"   {axis.start_mm:.3f} → {axis.end_mm:.3f} mm ({axis.end_steps} steps)"
+            f"{axis.name:<6} {axis.peak_speed:7.2f} mm/s   {axis.start_work_mm:.3f} → "
+            f"{axis.end_work_mm:.3f} mm   {axis.start_mm:.3f} → {axis.end_mm:.3f} mm "
+            f"({axis.end_steps} steps)"
         )
     if path.machine_box is not None and path.work_box is not None:
         print(f"bounding box   work     {_box_text(names, path.work_box)}")

@@ -1,8 +1,10 @@
-"""`quadstep flash --board uno|mega [--port PORT]`: write the quadstep firmware to a board with avrdude.
+"""`quadstep flash --board uno|mega [--port PORT]`: write the quadstep firmware to a board with
+avrdude.
 
-The hex is build/avr/<board>.hex of this source tree, built (`make <hex>`) when missing, or --hex FILE.
-avrdude talks to the Arduino bootloader: `-c arduino` at 115200 baud for the Uno (57600 for old Nano
-bootloaders: --bootloader-baud), `-c wiring` for the Mega; its progress bars are shown as it prints them.
+The hex is build/avr/<board>.hex of this source tree, built (`make <hex>`) when missing, or --hex
+FILE. avrdude talks to the Arduino bootloader: `-c arduino` at 115200 baud for the Uno (57600 for
+old Nano bootloaders: --bootloader-baud), `-c wiring` for the Mega; its progress bars are shown as
+it prints them.
 """
 
 from __future__ import annotations
@@ -69,7 +71,8 @@ def built_hex(board: str) -> Path:
 def avrdude_command(
     board: str, port: str, hex_file: Path, baud: int | None = None, programmer: str | None = None
 ) -> list[str]:
-    """The avrdude command line that writes `hex_file` through the board's bootloader (and verifies it)."""
+    """The avrdude command line that writes `hex_file` through the board's bootloader (and verifies
+    it)."""
     part, bootloader, default_baud = BOARDS[board]
     return [
         "avrdude",
@@ -109,6 +112,7 @@ def run(args: argparse.Namespace) -> int:
             "holding it (a sender, the TUI)?"
         )
     print(
-        f"flashed: quadstep firmware on the {args.board} at {port}; `quadstep info --port {port}` shows it"
+        f"flashed: quadstep firmware on the {args.board} at {port}; `quadstep info --port {port}` "
+        "shows it"
     )
     return 0

@@ -1,4 +1,5 @@
-"""`quadstep home`: find machine zero with the homing switches (the GRBL cycle, from exact latches)."""
+"""`quadstep home`: find machine zero with the homing switches (the GRBL cycle, from exact
+latches)."""
 
 from __future__ import annotations
 

@@ -45,7 +45,8 @@ def format_info(ident: IdentifyReply, status: StatusReport) -> str:
         ("axes", f"{ident.axis_count}"),
         (
             "tick",
-            f"{ident.tick_hz} Hz, segments up to {ident.n_max} ticks, speeds in 1/{1 << ident.speed_shift} step/tick",
+            f"{ident.tick_hz} Hz, segments up to {ident.n_max} ticks, speeds in "
+            f"1/{1 << ident.speed_shift} step/tick",
         ),
         ("queue", f"{status.queue_fill} of {ident.queue_capacity} slots in use"),
         ("capabilities", ", ".join(ident.capability_names) or "none"),

@@ -10,7 +10,6 @@ from ..config import MachineConfig
 from ..link import DEFAULT_BAUD, PortError, auto_port
 from ..machine import Machine, Target, open_machine, state_path
 
-
 DEFAULT_CONFIG = Path("quadstep.toml")
 
 

@@ -1,4 +1,5 @@
-"""`quadstep plot JOB -o FILE.png`: planned speed and acceleration per axis over time, and the path."""
+"""`quadstep plot JOB -o FILE.png`: planned speed and acceleration per axis over time, and the
+path."""
 
 from __future__ import annotations
 

@@ -1,4 +1,5 @@
-"""`quadstep ports`: the serial ports whose USB identity is a board quadstep runs on (what --port auto picks from)."""
+"""`quadstep ports`: the serial ports whose USB identity is a board quadstep runs on (what --port
+auto picks from)."""
 
 from __future__ import annotations
 

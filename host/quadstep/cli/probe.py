@@ -1,5 +1,5 @@
-"""`quadstep probe`: G38.2–G38.5 from the command line: move until the probe touches (or lets go) and print the
-exact latched position."""
+"""`quadstep probe`: G38.2–G38.5 from the command line: move until the probe touches (or lets go)
+and print the exact latched position."""
 
 from __future__ import annotations
 
@@ -65,7 +65,7 @@ def run(args: argparse.Namespace) -> int:
     else:
         where = "  ".join(f"{a.name} {x:.4f}" for a, x in zip(config.axes, result.machine_mm))
         print(
-            f"G{result.code}: {'contact at' if result.found else 'no contact, at rest at'} {where} mm "
-            f"(steps {list(result.steps)})"
+            f"G{result.code}: {'contact at' if result.found else 'no contact, at rest at'} {where} "
+            f"mm (steps {list(result.steps)})"
         )
     return 0 if result.found or args.mode in ("38.3", "38.5") else 1

@@ -23,18 +23,17 @@ from rich.console import Console
 from rich.progress import BarColumn, Progress, TaskProgressColumn, TextColumn
 
 from ..config import MachineConfig
+from ..default_machine import DEFAULT_MACHINE_NAME
 from ..job import Job, read_program
-from ..machine import JobProgress, JobRun, Machine, MachineError, MotionEnd
+from ..machine import JobProgress, JobRun, Machine, MachineError, MotionEnd, state_path
+from ..machine.journal import Journal
+from ..machine.resume import job_journal, resume_job
 from ..planner.feed_override import MAX_PERCENT, MIN_PERCENT, check_percent
 from ..planner.program import JobError, Pause
 from ..protocol import State, StatusReport
-from ..default_machine import DEFAULT_MACHINE_NAME
-from ..machine import state_path
-from ..machine.journal import Journal
-from ..machine.resume import job_journal, resume_job
-from ._jobs import approach_text
 from ._jobs import (
     add_job_options,
+    approach_text,
     config_path,
     format_duration,
     job_from_args,
@@ -116,8 +115,8 @@ def ask_operator(label: str, line: int, pause: Pause | None) -> bool:
     """Wait for Enter on stdin; False when stdin is closed (nobody can answer)."""
     if pause is not None and pause.tool is not None:
         print(
-            f"tool change at line {line}: put in T{pause.tool} (spindle and coolant off), then press Enter to "
-            "continue, Ctrl-C to stop",
+            f"tool change at line {line}: put in T{pause.tool} (spindle and coolant off), then "
+            "press Enter to continue, Ctrl-C to stop",
             file=sys.stderr,
             flush=True,
         )
@@ -132,8 +131,8 @@ def ask_operator(label: str, line: int, pause: Pause | None) -> bool:
         return True
     what = pause.reason if pause is not None else "the pause"
     print(
-        f"stopped at {label} {line}: {what} waits for Enter, and stdin is closed (not a terminal); run the job "
-        "from a terminal, or give it what to answer on stdin",
+        f"stopped at {label} {line}: {what} waits for Enter, and stdin is closed (not a terminal); "
+        "run the job from a terminal, or give it what to answer on stdin",
         file=sys.stderr,
         flush=True,
     )
@@ -176,11 +175,13 @@ def run(args: argparse.Namespace) -> int:
             skipped = skipped_text(job)
             if skipped:
                 print(skipped)
+            override = (
+                f" at feed override {job.feed_override} %" if job.feed_override != 100 else ""
+            )
             print(
                 f"{job.path}: {job.source_size}, {job.plan.moves} moves, {len(job.plan)} segments, "
-                f"{format_duration(job.plan.duration_s)} planned"
-                f"{f' at feed override {job.feed_override} %' if job.feed_override != 100 else ''}; "
-                "every target inside the travel",
+                f"{format_duration(job.plan.duration_s)} planned{override}; every target inside "
+                "the travel",
                 flush=True,
             )
             if job.approach is not None:
@@ -191,8 +192,9 @@ def run(args: argparse.Namespace) -> int:
 def follow(
     run_: JobRun, job: Job, progress: Progress, show: Callable[[JobProgress], None]
 ) -> tuple[MotionEnd, bool]:
-    """Wait for the job in this (the main) thread, so that Ctrl-C lands here and nowhere in the link:
-    then HOLD. SIGUSR1 is a feed hold, SIGUSR2 resumes. Returns how the job ended and whether Ctrl-C ended it."""
+    """Wait for the job in this (the main) thread, so that Ctrl-C lands here and nowhere in the
+    link: then HOLD. SIGUSR1 is a feed hold, SIGUSR2 resumes. Returns how the job ended and whether
+    Ctrl-C ended it."""
     asked: list[str] = []
     previous = {
         sig: signal.signal(
@@ -240,7 +242,8 @@ def _follow(
                 if not prompted:
                     prompted = True
                     print(
-                        f"feed hold at {job.label} {line}: Enter, SIGUSR2 or cycle start resumes; Ctrl-C stops",
+                        f"feed hold at {job.label} {line}: Enter, SIGUSR2 or cycle start resumes; "
+                        "Ctrl-C stops",
                         file=sys.stderr,
                         flush=True,
                     )
@@ -290,7 +293,8 @@ def stream(
     )
 
     def show(now: JobProgress) -> None:
-        """The job's own progress: the line it runs, the time its plan has left (planned again after a stop)."""
+        """The job's own progress: the line it runs, the time its plan has left (planned again after
+        a stop)."""
         progress.update(
             task,
             completed=max(0.0, total - now.seconds_left),

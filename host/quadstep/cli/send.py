@@ -6,17 +6,15 @@ import argparse
 import json
 import re
 from pathlib import Path
-
 from typing import Any
 
 from pydantic import BaseModel, ConfigDict, Field, model_validator
 
-from ..validation import validate
 from ..protocol import AXIS_NAMES, IdentifyReply, Segment
 from ..protocol.fields import I32
 from ..textfile import parse_nested, read_text, strict_json
+from ..validation import validate
 from .options import CliError, add_connection_options, add_json_option, connect
-
 
 GCODE_LINE = re.compile(r"^\s*(?:[Nn]\d+\s*)?[GgMm]\s*\d", re.MULTILINE)
 
@@ -32,7 +30,8 @@ class SegmentsFile(BaseModel):
     @model_validator(mode="before")
     @classmethod
     def _whole_numbers_only(cls, data: Any) -> Any:
-        """Every value of the file is a whole number: never a string, a boolean or a fraction taken for one."""
+        """Every value of the file is a whole number: never a string, a boolean or a fraction taken
+        for one."""
 
         def check(value: Any, where: str) -> None:
             if isinstance(value, dict):
@@ -75,8 +74,9 @@ def load(path: Path) -> SegmentsFile:
     moving = [a.axis for a in last.axes if a.vn > 0]
     if moving:
         raise CliError(
-            f"{path}: segments[{len(job.segments) - 1}]: the last segment must end at rest, "
-            f"but axis {moving[0]} ends at vn > 0 (the firmware would brake to rest on its own: STARVED)"
+            f"{path}: segments[{len(job.segments) - 1}]: the last segment must end at rest, but "
+            f"axis {moving[0]} ends at vn > 0 (the firmware would brake to rest on its own: "
+            "STARVED)"
         )
     return job
 
@@ -85,7 +85,8 @@ def check_against(job: SegmentsFile, ident: IdentifyReply, path: Path) -> None:
     """Refuse, before anything is sent, what this firmware cannot run."""
     if job.positions is not None and len(job.positions) > ident.axis_count:
         raise CliError(
-            f"{path}: positions has {len(job.positions)} values, the firmware has {ident.axis_count} axes"
+            f"{path}: positions has {len(job.positions)} values, the firmware has "
+            f"{ident.axis_count} axes"
         )
     for i, seg in enumerate(job.segments):
         if seg.n > ident.n_max:
@@ -95,7 +96,8 @@ def check_against(job: SegmentsFile, ident: IdentifyReply, path: Path) -> None:
         for j, move in enumerate(seg.axes):
             if move.axis >= ident.axis_count:
                 raise CliError(
-                    f"{path}: segments[{i}].axes[{j}].axis: {move.axis}, the firmware has axes 0..{ident.axis_count - 1}"
+                    f"{path}: segments[{i}].axes[{j}].axis: {move.axis}, the firmware has axes "
+                    f"0..{ident.axis_count - 1}"
                 )
 
 

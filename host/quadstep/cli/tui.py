@@ -1,4 +1,5 @@
-"""`quadstep tui (--port PORT | --emulator) [--config FILE]`: jog, zero and run jobs in the terminal."""
+"""`quadstep tui (--port PORT | --emulator) [--config FILE]`: jog, zero and run jobs in the
+terminal."""
 
 from __future__ import annotations
 
@@ -14,9 +15,9 @@ from typing import TYPE_CHECKING
 from pydantic import ValidationError
 
 from ..config import ConfigError, load_config
-from ..validation import describe_validation_error
 from ..jog import JogSettings
 from ..machine import Target, state_path
+from ..validation import describe_validation_error
 from ._jobs import DEFAULT_CONFIG
 from ._stops import STOP_SIGNALS
 from .options import CliError, add_connection_options, target
@@ -113,8 +114,9 @@ def run(args: argparse.Namespace) -> int:
 
 @contextmanager
 def stops_as_ctrl_c(app: QuadstepApp) -> Iterator[None]:
-    """SIGTERM and SIGHUP quit the TUI as Ctrl-C does (motion brought to rest first, exit 130). The handler runs
-    in the main thread, inside the app's event loop: a thread of its own hands the request to the app."""
+    """SIGTERM and SIGHUP quit the TUI as Ctrl-C does (motion brought to rest first, exit 130). The
+    handler runs in the main thread, inside the app's event loop: a thread of its own hands the
+    request to the app."""
 
     def handler(number: int, frame: FrameType | None) -> None:
         threading.Thread(
@@ -133,14 +135,16 @@ def stops_as_ctrl_c(app: QuadstepApp) -> Iterator[None]:
 
 
 def _target(device: str, baud: int) -> Target:
-    """What the port picker's choice means: a serial port at the given baud rate, or the emulator."""
+    """What the port picker's choice means: a serial port at the given baud rate, or the
+    emulator."""
     from ..tui.port_picker import EMULATOR
 
     return Target(emulator=True) if device == EMULATOR else Target(port=device, baud=baud)
 
 
 def parting_lines(parting: Parting | None) -> list[str]:
-    """After the TUI: the line a job was stopped at (HOLD) and where the machine rests, as `quadstep run` says."""
+    """After the TUI: the line a job was stopped at (HOLD) and where the machine rests, as `quadstep
+    run` says."""
     if parting is None:
         return []
     end = parting.end

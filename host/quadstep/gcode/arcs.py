@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import math
 
-
 # A full circle of 100 m radius needs 15 708 chords at 0.002 mm; an arc needing more than this is
 # refused (a radius of thousands of kilometres, which would be written out as millions of moves).
 MAX_ARC_CHORDS = 100_000

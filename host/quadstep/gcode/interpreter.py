@@ -218,7 +218,8 @@ class GcodeInterpreter:
             self.program.items.append(SetOutputs(line, state))
 
     def _path_mode(self, path: Word, tolerance: Word | None, line: int) -> None:
-        """G61 and G61.1: stop at every corner; G64: corners within P mm of the path (or the configuration's)."""
+        """G61 and G61.1: stop at every corner; G64: corners within P mm of the path (or the
+        configuration's)."""
         if code(path) != "64":
             self.deviation = 0.0
         elif tolerance is None:
@@ -253,8 +254,8 @@ class GcodeInterpreter:
         self.program.items.append(Dwell(line, pause.value))
 
     def _return(self, g: Word, which: int, axes: dict[str, Word], line: int) -> None:
-        """G28/G30: rapid through the point the axis words give (if any), then to the stored position, of the
-        axes named (all of them when none is)."""
+        """G28/G30: rapid through the point the axis words give (if any), then to the stored
+        position, of the axes named (all of them when none is)."""
         if axes:
             self._move(self._target(axes), None, line)
         names = (
@@ -269,7 +270,8 @@ class GcodeInterpreter:
         self._move(target, None, line, machine=True)
 
     def _target(self, axes: dict[str, Word], machine: bool = False) -> list[float]:
-        """Machine mm of the axis words: work coordinates (or machine ones, for G53), absolute or relative."""
+        """Machine mm of the axis words: work coordinates (or machine ones, for G53), absolute or
+        relative."""
         target = list(self.position)
         for letter, w in axes.items():
             i = self.axis_names.index(letter)
@@ -366,7 +368,8 @@ class GcodeInterpreter:
                 raise GcodeError(
                     line,
                     w.column,
-                    f"'{w.text}' is not an offset in the G{self.plane} plane ({', '.join(offset_letters)})",
+                    f"'{w.text}' is not an offset in the G{self.plane} plane "
+                    f"({', '.join(offset_letters)})",
                 )
         i1, i2 = self.axis_names.index(first), self.axis_names.index(second)
         start = (self.position[i1], self.position[i2])
@@ -452,8 +455,8 @@ class GcodeInterpreter:
             raise GcodeError(
                 line,
                 radius_word.column,
-                f"'{radius_word.text}': radius {abs(radius):.3f} mm is less than half the distance to the end point "
-                f"({math.dist(start, end) / 2:.3f} mm)",
+                f"'{radius_word.text}': radius {abs(radius):.3f} mm is less than half the distance "
+                f"to the end point ({math.dist(start, end) / 2:.3f} mm)",
             )
         return center
 

@@ -99,8 +99,8 @@ class Line:
 def sort_words(
     words: list[Word], line: int, axis_names: Sequence[str], skip: list[tuple[int, str]] | None
 ) -> Line:
-    """The words of `line` by kind; `skip`, when given, collects the spindle, coolant and tool words instead
-    (a dry run without them)."""
+    """The words of `line` by kind; `skip`, when given, collects the spindle, coolant and tool words
+    instead (a dry run without them)."""
 
     def unsupported(w: Word) -> None:
         raise GcodeError(line, w.column, f"'{w.text}' is not supported")
@@ -169,7 +169,8 @@ def sort_words(
                 raise GcodeError(
                     line,
                     w.column,
-                    f"'{w.text}': axis {w.letter} is not on this machine (axes {', '.join(axis_names)})",
+                    f"'{w.text}': axis {w.letter} is not on this machine (axes "
+                    f"{', '.join(axis_names)})",
                 )
             table = parsed.axes if w.letter in AXIS_LETTERS else parsed.values
             if w.letter in table:

@@ -1,4 +1,5 @@
-"""The coordinate words of a line: G54–G59, G10 L2/L20, G92 and G92.1–G92.3, G28.1/G30.1 (on WorkCoordinates).
+"""The coordinate words of a line: G54–G59, G10 L2/L20, G92 and G92.1–G92.3, G28.1/G30.1 (on
+WorkCoordinates).
 
 Values are in program units (G20/G21) and absolute whatever G90/G91 says,
 as in GRBL and LinuxCNC. P selects a system: 0 the active one, 1 … 6 G54 … G59.
@@ -27,7 +28,8 @@ def g10(
     axis_names: Sequence[str],
     units: float,
 ) -> None:
-    """G10 L2 Pn (set the offset of system n) and G10 L20 Pn (make the current position read the values)."""
+    """G10 L2 Pn (set the offset of system n) and G10 L20 Pn (make the current position read the
+    values)."""
     level, system = values.get("L"), values.get("P")
     if level is None or level.value not in (2, 20):
         where = level or g
@@ -69,7 +71,8 @@ def g92(
     axis_names: Sequence[str],
     units: float,
 ) -> None:
-    """G92 (the current position reads the values given), G92.1 (clear), G92.2 (suspend), G92.3 (restore)."""
+    """G92 (the current position reads the values given), G92.1 (clear), G92.2 (suspend), G92.3
+    (restore)."""
     if key != "92":
         if axes:
             first = min(axes.values(), key=lambda w: w.column)

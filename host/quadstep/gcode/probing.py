@@ -1,10 +1,10 @@
 """G38.2–G38.5 in a job: a probing move, after which the job goes on from where the probe stopped.
 
-What follows a probe often depends on where it touched (`G10 L20 P1 Z10` after `G38.2 Z-40`), so the rest of
-the file is read again from the probe's rest position when the job gets there (`ProbeMove.resume`), in the
-modal state the file had at the probe. Until then — to check the whole job before it starts — it is read and
-planned as if the probe went all the way to its target (a straight move after a stop, which the job never
-streams: it probes there instead).
+What follows a probe often depends on where it touched (`G10 L20 P1 Z10` after `G38.2 Z-40`), so the
+rest of the file is read again from the probe's rest position when the job gets there
+(`ProbeMove.resume`), in the modal state the file had at the probe. Until then — to check the whole
+job before it starts — it is read and planned as if the probe went all the way to its target (a
+straight move after a stop, which the job never streams: it probes there instead).
 """
 
 from __future__ import annotations
@@ -24,8 +24,8 @@ MODAL = ("units", "absolute", "plane", "motion", "feed", "deviation", "outputs",
 def probe_move(
     interpreter: Any, word: Word, axes: dict[str, Word], line: int, no_feed: str
 ) -> None:
-    """G38.x on `line` toward the axis words: a ProbeMove, able to read the rest of the file from any rest.
-    `interpreter` is the GcodeInterpreter reading the file (which imports this module)."""
+    """G38.x on `line` toward the axis words: a ProbeMove, able to read the rest of the file from
+    any rest. `interpreter` is the GcodeInterpreter reading the file (which imports this module)."""
     name = f"G{code(word)}"
     if not axes:
         raise GcodeError(line, word.column, f"{name} needs an axis word: where to probe toward")

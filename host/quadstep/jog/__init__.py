@@ -1,7 +1,7 @@
 """Jogging on a Machine, independent of any user interface: presets, soft limits, continuous jogs
 stopped by HOLD."""
 
-from .jogger import JogResult, Jogger
+from .jogger import Jogger, JogResult
 from .presets import JogMode, JogPresets
 from .release import ReleaseDetector
 from .settings import JogSettings

@@ -125,7 +125,8 @@ class Jogger(JogPresets):
         return self._idle.wait(timeout)
 
     def anchor(self) -> None:
-        """Re-anchor on where the machine layer says the machine stands (a job stopped at its pause)."""
+        """Re-anchor on where the machine layer says the machine stands (a job stopped at its
+        pause)."""
         self._anchor(self.machine.position)
 
     def sync(self) -> None:
@@ -135,14 +136,16 @@ class Jogger(JogPresets):
     # --- jogging ---------------------------------------------------------------------------
 
     def jog(self, axis: int, direction: int) -> JogResult | None:
-        """A jog key: one step in incremental mode (blocks until at rest), a press in continuous mode."""
+        """A jog key: one step in incremental mode (blocks until at rest), a press in continuous
+        mode."""
         if self.mode == JogMode.INCREMENTAL:
             return self.step(axis, direction)
         self.press(axis, direction)
         return None
 
     def step(self, axis: int, direction: int, distance: float | None = None) -> JogResult:
-        """Move `axis` by `distance` mm (default: its selected preset) toward `direction`; blocks until at rest."""
+        """Move `axis` by `distance` mm (default: its selected preset) toward `direction`; blocks
+        until at rest."""
         self._check_axis(axis, direction)
         with self._run_lock:
             self._idle.clear()
@@ -154,8 +157,8 @@ class Jogger(JogPresets):
                 self._idle.set()
 
     def queue_step(self, axis: int, direction: int) -> QueuedStep | None:
-        """An incremental jog key: the step to run_queued() (in order, from a worker), or None when dropped
-        because enough jog motion waits already (a held key's repeats)."""
+        """An incremental jog key: the step to run_queued() (in order, from a worker), or None when
+        dropped because enough jog motion waits already (a held key's repeats)."""
         self._check_axis(axis, direction)
         distance = self.distance_for(axis)
         seconds = step_seconds(distance, self.speed(axis), self.config.axes[axis].max_accel)
@@ -195,8 +198,8 @@ class Jogger(JogPresets):
             self._run_lock.release()
 
     def release(self, axis: int, direction: int) -> bool:
-        """The key of a continuous jog let go (a terminal that reports releases): HOLD now. False when no
-        continuous jog of that key runs."""
+        """The key of a continuous jog let go (a terminal that reports releases): HOLD now. False
+        when no continuous jog of that key runs."""
         with self._lock:
             current = self._continuous
         if current is None or (current.axis, current.direction) != (axis, direction):
@@ -321,7 +324,8 @@ class Jogger(JogPresets):
                 pass  # the link is gone; the next connection re-reads the position
 
     def _anchor(self, position: tuple[int, ...]) -> None:
-        """Re-anchor on the machine's rest position: commanded coordinates follow wherever they disagree."""
+        """Re-anchor on the machine's rest position: commanded coordinates follow wherever they
+        disagree."""
         with self._lock:
             old = self._commanded_mm
             self._commanded_mm = [

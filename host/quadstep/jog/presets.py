@@ -1,5 +1,5 @@
-"""The jog keys' choices: incremental or continuous, the step for X/Y (and other axes) and for Z apart, the
-speed as a fraction of each axis's max_speed."""
+"""The jog keys' choices: incremental or continuous, the step for X/Y (and other axes) and for Z
+apart, the speed as a fraction of each axis's max_speed."""
 
 from __future__ import annotations
 

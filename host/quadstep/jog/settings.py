@@ -37,7 +37,8 @@ class JogSettings(BaseModel):
         for i, speed in enumerate(self.speed_presets):
             if not 0.0 < speed <= 1.0:
                 raise ValueError(
-                    f"speed_presets[{i}] = {speed}: must be greater than 0 and at most 1 (the axis max)"
+                    f"speed_presets[{i}] = {speed}: must be greater than 0 and at most 1 (the axis "
+                    "max)"
                 )
         if self.repeat_timeout > self.first_repeat_timeout:
             raise ValueError(

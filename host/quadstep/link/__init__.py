@@ -1,5 +1,5 @@
-"""The serial link to a board: a transport (port and threads), a send window with no I/O, the errors,
-the HOLD procedure and the inputs' (a motion until an input's edge)."""
+"""The serial link to a board: a transport (port and threads), a send window with no I/O, the
+errors, the HOLD procedure and the inputs' (a motion until an input's edge)."""
 
 from .connection import DEFAULT_BAUD, Link
 from .errors import (

@@ -40,8 +40,8 @@ from .errors import (
     Stopped,
     known_text,
 )
-from .port_open import open_port
 from .outbox import Outbox
+from .port_open import open_port
 from .reports import Inbox, Waiter
 from .stats import LinkStats
 from .transport import Transport
@@ -97,7 +97,8 @@ class Link:
         request_timeout: float = 0.5,
         connect: bool = True,
     ) -> Link:
-        """Open `url` (a device such as /dev/ttyACM0 or /dev/pts/N, or socket://host:port) and connect."""
+        """Open `url` (a device such as /dev/ttyACM0 or /dev/pts/N, or socket://host:port) and
+        connect."""
         try:
             port = open_port(url, baudrate)
         except (serial.SerialException, OSError, ValueError) as exc:
@@ -154,7 +155,8 @@ class Link:
 
     @property
     def generation(self) -> int:
-        """How many times the stream was restarted (STOP, HOLD): a waiter that saw another gives up."""
+        """How many times the stream was restarted (STOP, HOLD): a waiter that saw another gives
+        up."""
         with self._cond:
             return self._in.generation
 
@@ -171,7 +173,8 @@ class Link:
         return self.last_report(Alarm)
 
     def last_report(self, cls: type[R]) -> R | None:
-        """The latest unsolicited report (ALARM, or an EVENT kind such as HoldDone) of class `cls`."""
+        """The latest unsolicited report (ALARM, or an EVENT kind such as HoldDone) of class
+        `cls`."""
         with self._cond:
             return self._in.latest.get(cls)  # type: ignore[return-value]
 
@@ -193,7 +196,8 @@ class Link:
             return self._in.counts[cls]
 
     def on_report(self, callback: ReportCallback) -> Callable[[], None]:
-        """Call `callback(report)` for every ALARM, ERROR, EVENT and SPACE ack; returns an unregister function.
+        """Call `callback(report)` for every ALARM, ERROR, EVENT and SPACE ack; returns an
+        unregister function.
 
         Callbacks run in the reader thread: they must return quickly and not call the Link.
         """
@@ -216,12 +220,14 @@ class Link:
         return self.request(Status(), StatusReport)
 
     def stop(self) -> StatusReport:
-        """Stop at once: drop every unacknowledged frame, flush the firmware's queue, clear any alarm."""
+        """Stop at once: drop every unacknowledged frame, flush the firmware's queue, clear any
+        alarm."""
         return self.restart(Stop())[0]
 
     def restart(self, message: Request) -> tuple[StatusReport, int]:
-        """Drop every unsent and unacknowledged frame and send `message` (STOP or HOLD), which makes its
-        seq the firmware's next_seq; resynchronise from the answer. Returns it and the new generation."""
+        """Drop every unsent and unacknowledged frame and send `message` (STOP or HOLD), which makes
+        its seq the firmware's next_seq; resynchronise from the answer. Returns it and the new
+        generation."""
         with self._request_lock:
             with self._cond:
                 self._in.generation += 1
@@ -243,7 +249,8 @@ class Link:
             return reply, generation
 
     def request(self, message: Request, reply_type: type[R], seq: int | None = None) -> R:
-        """Send an immediate request and wait for its answer, resending it on timeout (it is idempotent)."""
+        """Send an immediate request and wait for its answer, resending it on timeout (it is
+        idempotent)."""
         with self._request_lock:
             if seq is None:
                 with self._cond:
@@ -270,23 +277,25 @@ class Link:
                     self.stats.timeouts += 1
                 self._raise_if_closed()
                 raise LinkTimeout(
-                    f"no answer to {message.NAME} after {self.retries} tries of {self.request_timeout:g} s "
-                    f"(is the board connected, running quadstep firmware, at this baud rate?)"
+                    f"no answer to {message.NAME} after {self.retries} tries of "
+                    f"{self.request_timeout:g} s (is the board connected, running quadstep "
+                    "firmware, at this baud rate?)"
                     + known_text(self._in.last_status, self._in.last_alarm())
                 )
             finally:
                 self._in.waiter = None
 
-    # --- sequenced messages ------------------------------------------------------------------------
+    # --- sequenced messages -----------------------------------------------------------------------
 
     def send(
         self, message: Request, timeout: float | None = None, generation: int | None = None
     ) -> int:
         """Queue a sequenced message (Segment, SetPosition); blocks while the window is full.
 
-        Returns the seq it was given. Raises the first failure seen since the last stop(): FirmwareError,
-        AlarmError, LinkTimeout; Stopped if stop() is called meanwhile, or if the stream was restarted after
-        `generation` (the one its motion began in: a hold the firmware began at an input ends that stream)."""
+        Returns the seq it was given. Raises the first failure seen since the last stop():
+        FirmwareError, AlarmError, LinkTimeout; Stopped if stop() is called meanwhile, or if the
+        stream was restarted after `generation` (the one its motion began in: a hold the firmware
+        began at an input ends that stream)."""
         if not is_sequenced(message.CODE):
             raise ValueError(f"{message.NAME} is not a sequenced message; use its own method")
         deadline = None if timeout is None else self._clock() + timeout
@@ -321,7 +330,8 @@ class Link:
     def wait_idle(
         self, timeout: float | None = None, generation: int | None = None
     ) -> StatusReport:
-        """Until every frame is acknowledged and the firmware is IDLE (`generation`: as for send); its status."""
+        """Until every frame is acknowledged and the firmware is IDLE (`generation`: as for send);
+        its status."""
         deadline = None if timeout is None else self._clock() + timeout
         with self._cond:
             generation = self._in.generation if generation is None else generation
@@ -355,19 +365,22 @@ class Link:
             time.sleep(0.005)  # the last segment is still running
             if deadline is not None and self._clock() >= deadline:
                 raise LinkTimeout(
-                    f"firmware still {status.state.name} with {status.queue_fill} segments queued after {timeout:g} s"
+                    f"firmware still {status.state.name} with {status.queue_fill} segments queued "
+                    f"after {timeout:g} s"
                 )
 
     def check(self, generation: int) -> None:
-        """Raise the link's failure (an alarm, a reset, a silent board), or Stopped after a restart."""
+        """Raise the link's failure (an alarm, a reset, a silent board), or Stopped after a
+        restart."""
         with self._cond:
             self._raise_failure(generation)
 
     def wait_report(
         self, cls: type[R], after: int, generation: int, timeout: float | None
     ) -> R | None:
-        """Until report number `after` + 1 of class `cls` (report_count) arrives: returns the latest one,
-        or None after `timeout`. Raises the link's failure, or Stopped once the stream is restarted."""
+        """Until report number `after` + 1 of class `cls` (report_count) arrives: returns the latest
+        one, or None after `timeout`. Raises the link's failure, or Stopped once the stream is
+        restarted."""
         with self._cond:
             self._cond.wait_for(
                 lambda: (
@@ -418,7 +431,7 @@ class Link:
                 "stop() or a hold was called: unsent and unacknowledged frames were dropped"
             )
 
-    # --- reader --------------------------------------------------------------------------------------
+    # --- reader -----------------------------------------------------------------------------------
 
     def _on_data(self, data: bytes) -> None:
         with self._cond:
@@ -437,7 +450,7 @@ class Link:
                 self._transport.closed = True
             self._cond.notify_all()
 
-    # --- writer --------------------------------------------------------------------------------------
+    # --- writer -----------------------------------------------------------------------------------
 
     def _next_output(self) -> bytes | None:
         """Wait for something to write and return it; None once closed. Called with _cond held."""

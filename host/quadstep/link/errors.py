@@ -4,7 +4,6 @@ from __future__ import annotations
 
 from ..protocol import Alarm, ErrorReport, State, StatusReport
 
-
 HEARD_BYTES = 512  # bytes kept from before the board identified itself, to name another firmware
 
 
@@ -13,8 +12,8 @@ class LinkError(Exception):
 
     @staticmethod
     def at_connect(heard: bytes, error: BaseException) -> BaseException:
-        """Why connecting failed: a board that answered in another firmware's text (GRBL's banner, its `ok`s)
-        is named, with the fix; otherwise `error` as it was."""
+        """Why connecting failed: a board that answered in another firmware's text (GRBL's banner,
+        its `ok`s) is named, with the fix; otherwise `error` as it was."""
         if not isinstance(error, LinkError):
             return error
         if b"Grbl" in heard or b"grbl" in heard or b"ok\r\n" in heard or b"error:" in heard:
@@ -38,21 +37,23 @@ class BoardSilent(LinkTimeout):
 
 
 class BoardReset(LinkError):
-    """The board started afresh (reset button, power, a USB re-enumeration): its queue, its alarm and its step
-    counts are gone; the host cannot know where the machine stands."""
+    """The board started afresh (reset button, power, a USB re-enumeration): its queue, its alarm
+    and its step counts are gone; the host cannot know where the machine stands."""
 
     def __init__(self, done_before: int, before: StatusReport, after: StatusReport) -> None:
         self.before, self.after = before, after
         super().__init__(
-            f"the board was reset: segments done went back from {done_before} to {after.segments_done}, "
-            f"motion ticks from {before.motion_ticks} to {after.motion_ticks}; what was queued is lost and it "
-            f"counts from {list(after.position)} now (last position known before: {list(before.position)} steps); "
-            "home the machine or set its position before going on"
+            f"the board was reset: segments done went back from {done_before} to "
+            f"{after.segments_done}, motion ticks from {before.motion_ticks} to "
+            f"{after.motion_ticks}; what was queued is lost and it counts from "
+            f"{list(after.position)} now (last position known before: {list(before.position)} "
+            "steps); home the machine or set its position before going on"
         )
 
 
 def status_alarm(status: StatusReport) -> AlarmError | None:
-    """The alarm a status shows (its report may have been lost): the board halted, its queue flushed."""
+    """The alarm a status shows (its report may have been lost): the board halted, its queue
+    flushed."""
     if status.state != State.ALARM or status.alarm is None:
         return None
     return AlarmError(

@@ -21,8 +21,8 @@ from .errors import AlarmError, FirmwareError, LinkError, LinkTimeout
 
 
 def hold_message(decels: Sequence[int], axis_count: int) -> Hold:
-    """The HOLD for `decels` (one per firmware axis, or one for all); a bad value is a ValueError naming
-    the axis and the limit, before anything is sent."""
+    """The HOLD for `decels` (one per firmware axis, or one for all); a bad value is a ValueError
+    naming the axis and the limit, before anything is sent."""
     values = list(decels)
     if len(values) == 1:
         values *= axis_count

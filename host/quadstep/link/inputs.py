@@ -1,11 +1,11 @@
-"""The inputs' procedures (PROTOCOL.md §5.4): their state, a motion that ends at an input's edge, and waiting for
-rest after a hold the firmware began itself.
+"""The inputs' procedures (PROTOCOL.md §5.4): their state, a motion that ends at an input's edge,
+and waiting for rest after a hold the firmware began itself.
 
-A PROBE arms an input; the segments that follow run until it reaches its level. At that tick the firmware
-latches every position (EVENT INPUT, cause TRIGGER) and holds, which restarts the stream as a HOLD does (a
-thread waiting in Link.send raises Stopped; the frames in flight are refused, BUSY, and not resent); HOLD_DONE
-follows at rest. If the motion comes to rest first, EVENT PROBE_MISSED says where. Homing and probing are both
-this one procedure.
+A PROBE arms an input; the segments that follow run until it reaches its level. At that tick the
+firmware latches every position (EVENT INPUT, cause TRIGGER) and holds, which restarts the stream as
+a HOLD does (a thread waiting in Link.send raises Stopped; the frames in flight are refused, BUSY,
+and not resent); HOLD_DONE follows at rest. If the motion comes to rest first, EVENT PROBE_MISSED
+says where. Homing and probing are both this one procedure.
 """
 
 from __future__ import annotations
@@ -37,12 +37,13 @@ def input_status(link: Link) -> InputStatus:
 def until_input(
     link: Link, probe: Probe, segments: Iterable[Segment], timeout: float | None = None
 ) -> InputChange | ProbeMissed:
-    """Arm `probe`, stream `segments` (a motion from rest to rest) and wait for its end: at the armed edge (returns
-    that EVENT INPUT, once the hold after it has come to rest) or at rest without it (returns PROBE_MISSED).
+    """Arm `probe`, stream `segments` (a motion from rest to rest) and wait for its end: at the
+    armed edge (returns that EVENT INPUT, once the hold after it has come to rest) or at rest
+    without it (returns PROBE_MISSED).
 
-    Raises FirmwareError if the PROBE is refused (INPUT_AT_LEVEL: the input is there already; BUSY: not at rest),
-    AlarmError if an alarm (a hard limit on another input, the abort button) ends the motion, LinkTimeout after
-    `timeout` seconds."""
+    Raises FirmwareError if the PROBE is refused (INPUT_AT_LEVEL: the input is there already; BUSY:
+    not at rest), AlarmError if an alarm (a hard limit on another input, the abort button) ends the
+    motion, LinkTimeout after `timeout` seconds."""
     deadline = None if timeout is None else time.monotonic() + timeout
     holds, missed, triggers = (
         link.report_count(HoldDone),
@@ -85,8 +86,8 @@ def until_input(
 
 
 def wait_rest(link: Link, timeout: float | None = None) -> StatusReport:
-    """Wait until nothing moves (a hold the firmware began itself included) and adopt the firmware's sequence
-    state; returns its status."""
+    """Wait until nothing moves (a hold the firmware began itself included) and adopt the firmware's
+    sequence state; returns its status."""
     deadline = None if timeout is None else time.monotonic() + timeout
     generation = link.generation
     while True:

@@ -1,7 +1,9 @@
-"""Finding the board: the serial ports whose USB identity is an Arduino Uno or Mega, or a clone's USB chip.
+"""Finding the board: the serial ports whose USB identity is an Arduino Uno or Mega, or a clone's
+USB chip.
 
-`--port auto` (and no --port at all) uses the one board found; none or several is an error that lists what
-there is. Identities are USB vendor and product ids as pyserial's port listing reports them.
+`--port auto` (and no --port at all) uses the one board found; none or several is an error that
+lists what there is. Identities are USB vendor and product ids as pyserial's port listing reports
+them.
 """
 
 from __future__ import annotations

@@ -1,5 +1,6 @@
-"""What the reader thread learns from each report: the window's ACKs, how many segments are done, the
-latest unsolicited report of each kind, the answer a waiting request wants, and the first failure.
+"""What the reader thread learns from each report: the window's ACKs, how many segments are done,
+the latest unsolicited report of each kind, the answer a waiting request wants, and the first
+failure.
 
 An Inbox is shared state: every method and field is used with the link's condition held.
 """
@@ -30,7 +31,8 @@ from .errors import AlarmError, BoardReset, FirmwareError, LinkError, ProtocolVe
 from .stats import LinkStats
 from .window import SendWindow
 
-# ERRORs about a frame damaged on the wire (PROTOCOL.md §2): nothing in it could be trusted, not even its seq.
+# ERRORs about a frame damaged on the wire (PROTOCOL.md §2): nothing in it could be trusted, not
+# even its seq.
 FRAMING_ERRORS = frozenset(
     {
         ErrorCode.FRAME_TOO_LONG,
@@ -60,7 +62,8 @@ class Waiter:
         return self.reply is not None or self.error is not None or self.unreadable is not None
 
     def raise_refusal(self, name: str) -> None:
-        """An ERROR for the request, or an answer this host cannot decode (another protocol version's)."""
+        """An ERROR for the request, or an answer this host cannot decode (another protocol
+        version's)."""
         if self.error is not None:
             raise FirmwareError(self.error)
         if self.unreadable is not None:
@@ -102,7 +105,8 @@ class Inbox:
         )
 
     def receive(self, data: bytes, now: float) -> list[Report]:
-        """Decode and apply what the reader read at `now`; returns the reports that on_report callbacks want."""
+        """Decode and apply what the reader read at `now`; returns the reports that on_report
+        callbacks want."""
         self.stats.bytes_received += len(data)
         notify: list[Report] = []
         for item in self.decoder.feed(data):
@@ -178,8 +182,9 @@ class Inbox:
         return False
 
     def _check_reset(self, status: StatusReport) -> None:
-        """The board's segments_done and motion_ticks only grow (motion_ticks wraps after 2^32 ticks): one
-        that went back is a board reset, which fails the link whatever else it was doing."""
+        """The board's segments_done and motion_ticks only grow (motion_ticks wraps after 2^32
+        ticks): one that went back is a board reset, which fails the link whatever else it was
+        doing."""
         last = self.last_status
         if last is None:
             return
@@ -209,19 +214,22 @@ class Inbox:
             )
         elif self.refused is not None and status.state != State.HOLDING:
             self.fail(FirmwareError(self.refused))
-        # HOLDING without a HOLD from here: a stop the firmware began itself (an underrun); STARVED follows.
+        # HOLDING without a HOLD from here: a stop the firmware began itself (an underrun); STARVED
+        # follows.
 
     def _held_by_input(self) -> None:
-        """The firmware began a hold itself, at an input (a PROBE's edge, the feed hold button): what is queued
-        or in flight will not run (segments arriving while it holds are refused, BUSY), so the stream restarts
-        as at a STOP or HOLD; a waiter resyncs once it is at rest (inputs.wait_rest)."""
+        """The firmware began a hold itself, at an input (a PROBE's edge, the feed hold button):
+        what is queued or in flight will not run (segments arriving while it holds are refused,
+        BUSY), so the stream restarts as at a STOP or HOLD; a waiter resyncs once it is at rest
+        (inputs.wait_rest)."""
         self.generation += 1
         self.window.restart()
         self.held_by_input += 1
 
     def _starved(self) -> None:
-        """The queue ran dry while moving and the firmware stopped (STARVED): it refuses every segment until a
-        HOLD (or STOP), so the stream restarts as at a hold; whoever streams takes it up with HOLD."""
+        """The queue ran dry while moving and the firmware stopped (STARVED): it refuses every
+        segment until a HOLD (or STOP), so the stream restarts as at a hold; whoever streams takes
+        it up with HOLD."""
         self.generation += 1
         self.window.restart()
         self.refused = None  # the BUSY refusals were this stop's
@@ -258,7 +266,8 @@ class Inbox:
             and not self.stopping
         ):
             if error.code in (ErrorCode.BUSY, ErrorCode.ALARM_ACTIVE):
-                # Usually a stop the firmware began (an underrun, a silent host): a status says which.
+                # Usually a stop the firmware began (an underrun, a silent host): a status says
+                # which.
                 self.refused = self.refused or error
                 self.want_status = True
             else:

@@ -7,7 +7,8 @@ from dataclasses import asdict, dataclass
 
 @dataclass
 class LinkStats:
-    """`retransmits` counts frames written again; `timeouts` retransmission timeouts and unanswered requests."""
+    """`retransmits` counts frames written again; `timeouts` retransmission timeouts and unanswered
+    requests."""
 
     frames_sent: int = 0
     bytes_sent: int = 0

@@ -28,7 +28,9 @@ from .stats import LinkStats
 Clock = Callable[[], float]
 
 
-MIN_RTO = 0.05  # s: the retransmission timeout never goes below this (a busy host answers late), however short the round trip
+# s: the retransmission timeout never goes below this (a busy host answers late), however short the
+# round trip
+MIN_RTO = 0.05
 GIVE_UP = 2.0  # s: a frame resent `retries` times is given up only once it has waited this long too
 
 
@@ -90,13 +92,15 @@ class SendWindow:
     # --- the firmware's state -----------------------------------------------------------------
 
     def reset(self, next_seq: int, free: int) -> None:
-        """Adopt the firmware's next_seq and free slots (a connection, or the answer to STOP/HOLD)."""
+        """Adopt the firmware's next_seq and free slots (a connection, or the answer to
+        STOP/HOLD)."""
         self._drop()
         self.base = next_seq
         self.free = free
 
     def restart(self) -> int:
-        """Drop every frame, unsent or unacknowledged; returns the seq that a STOP or HOLD must carry."""
+        """Drop every frame, unsent or unacknowledged; returns the seq that a STOP or HOLD must
+        carry."""
         seq = self.next_seq
         self._drop()
         self.base = seq
@@ -109,8 +113,8 @@ class SendWindow:
 
     @property
     def stalled(self) -> bool:
-        """Nothing written awaits an ACK and the firmware reported no free slot: only a SPACE ack (or a
-        STATUS, if that ack was lost) can open the window again."""
+        """Nothing written awaits an ACK and the firmware reported no free slot: only a SPACE ack
+        (or a STATUS, if that ack was lost) can open the window again."""
         return not self._written and self.free == 0
 
     # --- frames -------------------------------------------------------------------------------
@@ -126,8 +130,9 @@ class SendWindow:
         return len(self._frames)
 
     def room(self, segments: int = 1) -> bool:
-        """Whether one more frame, taking `segments` queue slots, fits the flow-control window (every frame
-        counts as at least one slot, as the firmware's free count does for a sequence of single frames)."""
+        """Whether one more frame, taking `segments` queue slots, fits the flow-control window
+        (every frame counts as at least one slot, as the firmware's free count does for a sequence
+        of single frames)."""
         return (
             len(self._frames) < self.max_in_flight and self._slots + max(1, segments) <= self.free
         )
@@ -137,15 +142,16 @@ class SendWindow:
         return (seq - self.base) & 0xFF < len(self._frames)
 
     def push(self, data: bytes, segments: int) -> int:
-        """Queue the frame `data`, encoded with seq `next_seq`, that takes `segments` queue slots; returns
-        that seq."""
+        """Queue the frame `data`, encoded with seq `next_seq`, that takes `segments` queue slots;
+        returns that seq."""
         seq = self.next_seq
         self._frames.append(_Frame(seq, data, segments))
         self._slots += max(1, segments)
         return seq
 
     def resend(self, seq: int) -> None:
-        """Write the unacknowledged frame `seq` again at the next due() (one frame, not go-back-N)."""
+        """Write the unacknowledged frame `seq` again at the next due() (one frame, not
+        go-back-N)."""
         index = (seq - self.base) & 0xFF
         if index < len(self._frames):
             self._mark_pending(index)
@@ -187,10 +193,10 @@ class SendWindow:
         return accepted
 
     def on_damaged(self) -> None:
-        """The firmware got a frame it could not read (a framing ERROR: which frame, it cannot say). Any frame
-        written and not yet acknowledged may be the one: write them again now, as for a GAP (once per
-        next_seq), not at the timeout — with several segments a frame, one lost frame is often the last one
-        in flight, and no GAP would come."""
+        """The firmware got a frame it could not read (a framing ERROR: which frame, it cannot say).
+        Any frame written and not yet acknowledged may be the one: write them again now, as for a
+        GAP (once per next_seq), not at the timeout — with several segments a frame, one lost frame
+        is often the last one in flight, and no GAP would come."""
         if self._written and self._gap_handled_for != self.base:
             self._gap_handled_for = self.base
             self._go_back(parked_too=False)
@@ -198,7 +204,8 @@ class SendWindow:
     # --- writing ---------------------------------------------------------------------------------
 
     def due(self) -> list[bytes]:
-        """The frames to write now, in order; raises LinkTimeout for a frame resent `retries` times."""
+        """The frames to write now, in order; raises LinkTimeout for a frame resent `retries`
+        times."""
         now = self.clock()
         if self._written and now >= self._last_progress + self.rto:
             self.stats.timeouts += 1
@@ -247,7 +254,8 @@ class SendWindow:
         return out
 
     def deadline(self) -> float | None:
-        """The clock time at which due() will resend for the retransmission timeout, if frames wait."""
+        """The clock time at which due() will resend for the retransmission timeout, if frames
+        wait."""
         return self._last_progress + self.rto if self._written else None
 
     # --- internals --------------------------------------------------------------------------------
@@ -268,8 +276,9 @@ class SendWindow:
                 self._mark_pending(i)
 
     def _parked(self, seq: int) -> None:
-        """Selective repeat: frame `seq` waits in the firmware for the ones before it. Those written before
-        it and neither acknowledged nor kept were lost on the way (the line keeps the order): resend them."""
+        """Selective repeat: frame `seq` waits in the firmware for the ones before it. Those written
+        before it and neither acknowledged nor kept were lost on the way (the line keeps the order):
+        resend them."""
         index = (seq - self.base) & 0xFF
         if index >= len(self._frames):
             return

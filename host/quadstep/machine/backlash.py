@@ -1,16 +1,18 @@
 """Measuring an axis's backlash from exact latches (docs/BACKLASH.md, "Measuring").
 
-**Probe** (hysteresis-free, independent of the target's size and the probe's tip): a corner of the target —
-a block, a touch plate's edge. The axis touches the face (the carriage is then at the face, pushed toward
-it) and backs off by e steps beyond its overshoot; the test axis then leaves and comes back along the
-neighbouring face, which it can touch only if the carriage is still at the face. A closing edge has no
-hysteresis, and the test asks only "contact or not", so the largest e that still touches is the backlash:
-the first e − B steps of the back-off move the motor inside the band, not the carriage. The largest e is
-found by doubling, then halving (a test that misses needs a new touch; one that hits does not).
+**Probe** (hysteresis-free, independent of the target's size and the probe's tip): a corner of the
+target — a block, a touch plate's edge. The axis touches the face (the carriage is then at the face,
+pushed toward it) and backs off by e steps beyond its overshoot; the test axis then leaves and comes
+back along the neighbouring face, which it can touch only if the carriage is still at the face. A
+closing edge has no hysteresis, and the test asks only "contact or not", so the largest e that still
+touches is the backlash: the first e − B steps of the back-off move the motor inside the band, not
+the carriage. The largest e is found by doubling, then halving (a test that misses needs a new
+touch; one that hits does not).
 
-**Switch**: approach until the switch closes, reverse until it opens, approach again: each interval between
-two edges is the backlash plus the switch's own hysteresis (rounded up by 0 … 2 steps). The hysteresis,
-calibrated once (`switch_hysteresis`, from a backlash known by the probe), is subtracted.
+**Switch**: approach until the switch closes, reverse until it opens, approach again: each interval
+between two edges is the backlash plus the switch's own hysteresis (rounded up by 0 … 2 steps). The
+hysteresis, calibrated once (`switch_hysteresis`, from a backlash known by the probe), is
+subtracted.
 
 Both run k tries and refuse a result whose tries spread more than a bound.
 """
@@ -32,13 +34,15 @@ from .units import step_direction
 
 Progress = Callable[[str], None]
 
-# Per axis, the probe's default corner: the direction toward the face measured, and the axis that tests the
-# neighbouring face (toward +): the −X, −Y corner of a block for X and Y, a plate's −X edge for Z.
+# Per axis, the probe's default corner: the direction toward the face measured, and the axis that
+# tests the neighbouring face (toward +): the −X, −Y corner of a block for X and Y, a plate's −X
+# edge for Z.
 PROBE_SETUP = {"X": (1, "Y"), "Y": (1, "X"), "Z": (-1, "X"), "A": (1, "X")}
 
 
 class MeasureError(MachineError):
-    """The measurement could not be made (no contact, a switch not found, a result too scattered)."""
+    """The measurement could not be made (no contact, a switch not found, a result too
+    scattered)."""
 
 
 @dataclass(frozen=True)
@@ -103,9 +107,10 @@ def measure_with_probe(
     max_spread: float = 0.01,
     on_progress: Progress | None = None,
 ) -> Measurement:
-    """The probe at a corner: `name` moves toward (+1/−1, machine direction) the face it measures, `test`
-    moves toward the neighbouring face; the probe starts outside the first face, and less than `clear` mm
-    inside the second's edge along the test axis. Distances in mm, `feed` in mm/s."""
+    """The probe at a corner: `name` moves toward (+1/−1, machine direction) the face it measures,
+    `test` moves toward the neighbouring face; the probe starts outside the first face, and less
+    than `clear` mm inside the second's edge along the test axis. Distances in mm, `feed` in
+    mm/s."""
     a, t = _axis(machine, name), _axis(machine, test)
     if a == t:
         raise MeasureError("the test axis must be another axis than the one measured")
@@ -176,7 +181,8 @@ def measure_with_probe(
 def switch_sums(
     machine: Machine, a: int, end: str, tries: int, search: float, feed: float, say: Progress
 ) -> list[float]:
-    """Per try, backlash + the switch's hysteresis in steps: the mean of two intervals between its edges."""
+    """Per try, backlash + the switch's hysteresis in steps: the mean of two intervals between its
+    edges."""
     axis = machine.config.axes[a]
     which = switch_input(input_status(machine.link).present, a, end)
     s = step_direction(axis, -1 if end == "min" else 1)  # toward the switch, in steps
@@ -220,16 +226,16 @@ def measure_with_switch(
     max_spread: float = 0.01,
     on_progress: Progress | None = None,
 ) -> Measurement:
-    """The axis's limit switch (at `end`, default its homing end): backlash + hysteresis − the calibrated
-    hysteresis."""
+    """The axis's limit switch (at `end`, default its homing end): backlash + hysteresis − the
+    calibrated hysteresis."""
     a = _axis(machine, name)
     axis = machine.config.axes[a]
     hysteresis = axis.backlash.switch_hysteresis if axis.backlash is not None else None
     if hysteresis is None:
         raise MeasureError(
             f"{axis.name}: the switch's hysteresis is not calibrated ([axes.backlash] "
-            "switch_hysteresis): `quadstep backlash calibrate-switch` finds it once the backlash is "
-            "known (from the probe)"
+            "switch_hysteresis): `quadstep backlash calibrate-switch` finds it once the backlash "
+            "is known (from the probe)"
         )
     end = end or (axis.homing.end if axis.homing is not None else "min")
     sums = switch_sums(machine, a, end, tries, search, feed, on_progress or (lambda text: None))
@@ -249,7 +255,8 @@ def calibrate_switch(
     feed: float = 1.0,
     on_progress: Progress | None = None,
 ) -> float:
-    """The switch's hysteresis (mm): what is left of backlash + hysteresis once the known backlash is taken off."""
+    """The switch's hysteresis (mm): what is left of backlash + hysteresis once the known backlash
+    is taken off."""
     a = _axis(machine, name)
     axis = machine.config.axes[a]
     end = end or (axis.homing.end if axis.homing is not None else "min")

@@ -1,11 +1,12 @@
 """The homing cycle (GRBL's), driven by the host from exact latches (docs/INPUTS.md, Homing).
 
-Per axis in the configured order (Z first by default): if its switch is closed already, pull off until it
-opens; seek toward it fast until it closes (a PROBE on the switch's input: the firmware latches the edge and
-holds); back off beyond the hold's overshoot; locate it slowly; pull off. The slow approach's latched step
-position is where the switch's point is: the axis's step count is redefined so that it reads `switch_at`
-there (by default the travel's end). The switch is always approached from the same side at the same speed, so
-the backlash is taken up the same way each time and machine zero repeats to the step.
+Per axis in the configured order (Z first by default): if its switch is closed already, pull off
+until it opens; seek toward it fast until it closes (a PROBE on the switch's input: the firmware
+latches the edge and holds); back off beyond the hold's overshoot; locate it slowly; pull off. The
+slow approach's latched step position is where the switch's point is: the axis's step count is
+redefined so that it reads `switch_at` there (by default the travel's end). The switch is always
+approached from the same side at the same speed, so the backlash is taken up the same way each time
+and machine zero repeats to the step.
 """
 
 from __future__ import annotations
@@ -33,8 +34,8 @@ class HomingError(MachineError):
 
 @dataclass(frozen=True)
 class AxisHomed:
-    """An axis homed: where its switch closed on the slow approach (steps before zero was set) and where the
-    axis stands now (after the pull-off), both in the new machine coordinates."""
+    """An axis homed: where its switch closed on the slow approach (steps before zero was set) and
+    where the axis stands now (after the pull-off), both in the new machine coordinates."""
 
     name: str
     switch_steps: int
@@ -54,8 +55,8 @@ def unbounded(config: MachineConfig) -> MachineConfig:
 def straight(
     config: MachineConfig, start: Sequence[int], axis: int, mm: float, feed: float, axis_count: int
 ) -> list[Segment]:
-    """One move of `mm` along `axis` at `feed` mm/s from rest to rest, from step position `start`, as segments
-    for a firmware of `axis_count` axes."""
+    """One move of `mm` along `axis` at `feed` mm/s from rest to rest, from step position `start`,
+    as segments for a firmware of `axis_count` axes."""
     target = list(config.to_mm(tuple(start)))
     target[axis] += mm  # machine mm: the axis's `invert` is the step conversion's
     program = Program(items=[LinearMove(line=1, target=tuple(target), feed=feed)], lines=1)
@@ -66,9 +67,9 @@ def straight(
 def home(
     machine: Machine, axes: Sequence[str] | None = None, on_progress: Progress | None = None
 ) -> list[AxisHomed]:
-    """Home the named axes (default: the configured order) one at a time; returns each one's result. Raises
-    HomingError (a switch not found within the travel and a half), and what the link raises (a hard limit of
-    another axis, the abort button: AlarmError; the user's stop: Stopped)."""
+    """Home the named axes (default: the configured order) one at a time; returns each one's result.
+    Raises HomingError (a switch not found within the travel and a half), and what the link raises
+    (a hard limit of another axis, the abort button: AlarmError; the user's stop: Stopped)."""
     config = machine.config
     order = (
         config.homing_axes

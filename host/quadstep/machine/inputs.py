@@ -1,4 +1,5 @@
-"""The machine configuration's [inputs] as the firmware's CONFIG, and which input is an axis's switch."""
+"""The machine configuration's [inputs] as the firmware's CONFIG, and which input is an axis's
+switch."""
 
 from __future__ import annotations
 
@@ -15,8 +16,8 @@ def input_mask(names: tuple[str, ...]) -> int:
 
 
 def config_message(config: MachineConfig, axis_count: int) -> Config:
-    """CONFIG for the firmware (axis_count axes): polarity, enabled inputs, hard limits, debounce in ticks,
-    and the feed hold button's decelerations (each axis's max_accel, as the user's stop)."""
+    """CONFIG for the firmware (axis_count axes): polarity, enabled inputs, hard limits, debounce in
+    ticks, and the feed hold button's decelerations (each axis's max_accel, as the user's stop)."""
     inputs = config.inputs
     ticks = min(255, math.ceil(inputs.debounce_ms * config.tick_hz / 1000))
     decels = list(hold_decels(config))[:axis_count]
@@ -32,8 +33,9 @@ def config_message(config: MachineConfig, axis_count: int) -> Config:
 
 
 def switch_input(present: int, axis: int, end: str) -> Input:
-    """The input of an axis's switch at `end` ("min" or "max"): its own max input where the board has one,
-    else the axis's one limit input (min and max switches on one pin, as on the Uno's shield)."""
+    """The input of an axis's switch at `end` ("min" or "max"): its own max input where the board
+    has one, else the axis's one limit input (min and max switches on one pin, as on the Uno's
+    shield)."""
     if end == "max" and present >> Input.limit(axis, True) & 1:
         return Input.limit(axis, True)
     return Input.limit(axis)

@@ -1,13 +1,15 @@
-"""The running job's journal: what `quadstep run --resume` needs to go on from the exact move where motion
-stopped, after a crash or kill of the host, a dropped port, a closed terminal or an alarm that kept the position.
+"""The running job's journal: what `quadstep run --resume` needs to go on from the exact move where
+motion stopped, after a crash or kill of the host, a dropped port, a closed terminal or an alarm
+that kept the position.
 
-A job streams in legs: the whole plan at its start, and the rest planned again after a feed hold, a starvation,
-a pause where the operator moved the machine, a probe. Each leg's program (what was left of the job, in machine
-coordinates), where its plan began, and where each of its moves ends in the board's count of segments are
-written (atomically) as the leg begins, with the board's `segments_done` then. After any stop, the board's
-`segments_done` names the segment it was running, so the move it belongs to, and the rest of the job is that
-move again from where the machine stands, then everything after it (remainder.py) — the same rest a feed hold
-plans. The journal is removed when the job completes.
+A job streams in legs: the whole plan at its start, and the rest planned again after a feed hold, a
+starvation, a pause where the operator moved the machine, a probe. Each leg's program (what was left
+of the job, in machine coordinates), where its plan began, and where each of its moves ends in the
+board's count of segments are written (atomically) as the leg begins, with the board's
+`segments_done` then. After any stop, the board's `segments_done` names the segment it was running,
+so the move it belongs to, and the rest of the job is that move again from where the machine stands,
+then everything after it (remainder.py) — the same rest a feed hold plans. The journal is removed
+when the job completes.
 """
 
 from __future__ import annotations
@@ -15,16 +17,16 @@ from __future__ import annotations
 import hashlib
 import json
 from bisect import bisect_right
-from dataclasses import replace
 from collections.abc import Sequence
+from dataclasses import replace
 from pathlib import Path
 from typing import Annotated, Literal
 
 from pydantic import BaseModel, ConfigDict, Field
 
 from ..config import MachineConfig
-from ..validation import validate
 from ..coordinates import WorkCoordinates
+from ..planner.approach import approach_to, describe, with_approach
 from ..planner.program import (
     Dwell,
     Item,
@@ -36,7 +38,7 @@ from ..planner.program import (
     SetOutputs,
 )
 from ..textfile import read_text, replace_text
-from ..planner.approach import approach_to, describe, with_approach
+from ..validation import validate
 from .job_state import JobState
 from .remainder import move_item, rest_of
 
@@ -122,7 +124,8 @@ def record_of(item: Item) -> ItemRecord:
 
 
 def item_of(record: ItemRecord) -> Item:
-    """The program item `record` keeps; a probe's way on (its `resume`) comes from the file read again."""
+    """The program item `record` keeps; a probe's way on (its `resume`) comes from the file read
+    again."""
     if isinstance(record, MoveRecord):
         return LinearMove(
             record.line,
@@ -195,7 +198,8 @@ def journal_path(state_file: Path) -> Path:
 
 
 class Journal:
-    """Writes the journal of one job as it runs (JobRun calls it; every write replaces the file whole)."""
+    """Writes the journal of one job as it runs (JobRun calls it; every write replaces the file
+    whole)."""
 
     def __init__(self, path: Path, job: JobIdentity, boot_id: int) -> None:
         self.path = path
@@ -236,7 +240,8 @@ class Journal:
         self._write()
 
     def replan(self, move_ends: Sequence[int], segments: int, percent: int) -> None:
-        """The leg's rest planned again in place (a feed override): the same program and board count."""
+        """The leg's rest planned again in place (a feed override): the same program and board
+        count."""
         if self._file is None:
             return
         leg = self._file.leg.model_copy(
@@ -256,8 +261,9 @@ class Journal:
         self.path.unlink(missing_ok=True)
 
     def note(self, state: JobState, line: int | None) -> None:
-        """The job went to `state` (waiting at `line`): where it waits is kept (a pause is offered again on
-        resume, also when the job was stopped there); a done job leaves nothing to resume."""
+        """The job went to `state` (waiting at `line`): where it waits is kept (a pause is offered
+        again on resume, also when the job was stopped there); a done job leaves nothing to
+        resume."""
         if state is JobState.DONE:
             self.finish()
         elif state.final:
@@ -285,8 +291,8 @@ def read_journal(path: Path) -> JournalFile | None:
 def resume_item(
     journal: JournalFile, program: Program, config: MachineConfig, board_done: int
 ) -> int:
-    """The index in `program` (the leg's) where the rest begins: the pause the job waited at, else the move
-    the board was running when it stopped (`board_done`: its segments_done now)."""
+    """The index in `program` (the leg's) where the rest begins: the pause the job waited at, else
+    the move the board was running when it stopped (`board_done`: its segments_done now)."""
     leg = journal.leg
     if journal.waiting_at is not None:
         for index, item in enumerate(program.items):
@@ -329,9 +335,9 @@ def move_start(
 def stood_on_move(
     config: MachineConfig, begin: Sequence[int], end: Sequence[int], position: Sequence[int]
 ) -> bool:
-    """Whether `position` is where a stop during the move from `begin` to `end` may leave the machine: between
-    the two, or past them by no more than each axis brakes from its top speed (a hold brakes each axis on its
-    own)."""
+    """Whether `position` is where a stop during the move from `begin` to `end` may leave the
+    machine: between the two, or past them by no more than each axis brakes from its top speed (a
+    hold brakes each axis on its own)."""
     for axis, b, e, p in zip(config.axes, begin, end, position):
         brake = axis.max_speed**2 / (2 * axis.max_accel) * axis.steps_per_mm + 1
         if not min(b, e) - brake <= p <= max(b, e) + brake:
@@ -347,11 +353,12 @@ def rest_to_resume(
     position: Sequence[int],
     homed: bool = False,
 ) -> tuple[Program, str | None]:
-    """What is left of the job, and what the machine does first (None: nothing but going on). Where the machine
-    stands where the stop left it: the move under way again from there, then everything after it, the outputs
-    as they were (and the spindle's spin-up wait). Where it was moved since (homed after a hard limit, jogged):
-    a safe approach first (Z up, over, the outputs, Z down at feed) to where that move began — only on a homed
-    machine; otherwise refused, as a new path to the move's target could cut anything."""
+    """What is left of the job, and what the machine does first (None: nothing but going on). Where
+    the machine stands where the stop left it: the move under way again from there, then everything
+    after it, the outputs as they were (and the spindle's spin-up wait). Where it was moved since
+    (homed after a hard limit, jogged): a safe approach first (Z up, over, the outputs, Z down at
+    feed) to where that move began — only on a homed machine; otherwise refused, as a new path to
+    the move's target could cut anything."""
     program = leg_program(journal, fresh)
     item = resume_item(journal, program, config, board_done)
     begin = move_start(program, config, journal.leg.start, item)
@@ -366,9 +373,10 @@ def rest_to_resume(
     names = config.axis_names
     if not homed:
         raise JournalError(
-            f"the machine was moved since the job stopped: it stands at {_mm(config, names, position)}, and "
-            f"the move under way began at {_mm(config, names, begin)}; home it (quadstep home) and resume to "
-            "approach that point safely, or start the file at a line (--from-line N)"
+            "the machine was moved since the job stopped: it stands at "
+            f"{_mm(config, names, position)}, and the move under way began at "
+            f"{_mm(config, names, begin)}; home it (quadstep home) and resume to approach that "
+            "point safely, or start the file at a line (--from-line N)"
         )
     start = config.to_mm(list(journal.leg.start))
     approach = approach_to(
@@ -378,7 +386,8 @@ def rest_to_resume(
 
 
 def with_spin_up(program: Program, config: MachineConfig) -> Program:
-    """A spindle switched on again (the outputs as they were) gets its spin-up wait before the first move."""
+    """A spindle switched on again (the outputs as they were) gets its spin-up wait before the first
+    move."""
     first = program.items[0] if program.items else None
     spinning = (
         isinstance(first, SetOutputs)

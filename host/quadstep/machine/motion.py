@@ -31,8 +31,8 @@ from ..protocol import (
     Report,
     Segment,
 )
-from ..protocol.messages import queue_slots
 from ..protocol.frames import next_frame, run_limit
+from ..protocol.messages import queue_slots
 from ..protocol.segment_run import RunChain
 
 # Keep at least this many segments queued, whatever the lookahead, so the board
@@ -41,8 +41,10 @@ MIN_QUEUED_SEGMENTS = 2
 SPACE_WAIT = 0.005  # s between checks while the lookahead is full
 STALL_POLL = 0.25  # s without a completed segment before asking for STATUS
 STARVED = "starved"  # how a motion ends when the board ran dry and braked to rest by itself
-CUT = "cut"  # how a motion whose stream was cut short (cut()) ends: the board still runs its last segments
-STARVED = "starved"  # how a motion ends whose queue ran dry while moving: the board stopped it (a hold), and
+# how a motion whose stream was cut short (cut()) ends: the board still runs its last segments
+CUT = "cut"
+# how a motion ends whose queue ran dry while moving: the board stopped it (a hold), and
+STARVED = "starved"
 # the motion took it out of STARVED with HOLD, so it is IDLE at the end's position
 
 
@@ -50,7 +52,8 @@ STARVED = "starved"  # how a motion ends whose queue ran dry while moving: the b
 class MotionEnd:
     """How a motion ended and where the machine rests."""
 
-    ended_by: str  # "done", "error", "reset" (a STOP from elsewhere), STARVED, or the reason given to halt()
+    # "done", "error", "reset" (a STOP from elsewhere), STARVED, or the reason given to halt()
+    ended_by: str
     position: tuple[int, ...]  # step positions at rest
     segments_done: int  # segments of this motion the board completed (before any hold)
     stop_event_ns: int | None = None  # time.monotonic_ns() when halt() was called
@@ -74,12 +77,12 @@ def board_run_limit(identity: IdentifyReply) -> int:
 
 
 class RunSize:
-    """How many segments go in the next SEGMENTS frame: `limit` on a clean line. With less than `floor` ticks
-    queued (at a start, or behind) the motion sends one segment a frame, each as soon as it is made. Once the
-    link has had to write a frame again (or a frame was damaged either way), single SEGMENT frames for the
-    next CALM frames: after a lost frame the board keeps the SEGMENT frames behind it (selective repeat) but
-    never SEGMENTS, and a long frame is the likeliest to be damaged, so a noisy line runs as well as it did
-    with one segment a frame."""
+    """How many segments go in the next SEGMENTS frame: `limit` on a clean line. With less than
+    `floor` ticks queued (at a start, or behind) the motion sends one segment a frame, each as soon
+    as it is made. Once the link has had to write a frame again (or a frame was damaged either way),
+    single SEGMENT frames for the next CALM frames: after a lost frame the board keeps the SEGMENT
+    frames behind it (selective repeat) but never SEGMENTS, and a long frame is the likeliest to be
+    damaged, so a noisy line runs as well as it did with one segment a frame."""
 
     CALM = 32
 
@@ -91,7 +94,8 @@ class RunSize:
         self.calm = self.CALM
 
     def _trouble(self) -> int:
-        """Signs of a noisy line so far: frames written again, ERRORs from the board, reports we could not read."""
+        """Signs of a noisy line so far: frames written again, ERRORs from the board, reports we
+        could not read."""
         stats = self.link.stats
         return stats.retransmits + stats.errors + stats.decode_errors
 
@@ -108,7 +112,8 @@ def supports_hold(link: Link) -> bool:
 
 
 def bring_to_rest(link: Link, decels: Sequence[int]) -> Rest:
-    """HOLD: decelerate every axis to rest and drop the queued tail; STOP where the firmware has no HOLD.
+    """HOLD: decelerate every axis to rest and drop the queued tail; STOP where the firmware has no
+    HOLD.
 
     `decels` covers the planned axes; the firmware's others stand still and get the largest.
     """
@@ -121,7 +126,8 @@ def bring_to_rest(link: Link, decels: Sequence[int]) -> Rest:
 
 
 class Segments(Protocol):
-    """What a motion streams from: the planner's arrays, or a stream with take-ups (planner/stream.py)."""
+    """What a motion streams from: the planner's arrays, or a stream with take-ups
+    (planner/stream.py)."""
 
     axis_count: int
     n: Sequence[int]
@@ -174,7 +180,8 @@ class Motion:
         self._follows = (
             follows  # a motion cut short whose last segments may still be queued: counted first
         )
-        self._cut = False  # streaming ends at `last`, moved down by cut(); the motion ends once that is sent
+        # streaming ends at `last`, moved down by cut(); the motion ends once that is sent
+        self._cut = False
         self._thread = threading.Thread(target=self._run, name="quadstep-motion", daemon=True)
 
     # --- progress ------------------------------------------------------------------
@@ -196,8 +203,8 @@ class Motion:
 
     def start(self) -> Motion:
         follows = self._follows
-        # after a cut motion, the board completes its segments first: `done` counts from their end (and is
-        # negative while they run)
+        # after a cut motion, the board completes its segments first: `done` counts from their end
+        # (and is negative while they run)
         self._base_done = (
             self.link.segments_done if follows is None else follows._base_done + follows.sent
         )
@@ -212,9 +219,10 @@ class Motion:
         return self._end
 
     def cut(self, index: int) -> bool:
-        """End streaming before segment `index` instead of at `last`, for what follows to be streamed in its place
-        without a stop (a feed override); False when that segment is sent already or is not before `last`. The
-        motion then ends ("cut") as soon as the segment before it is sent, without waiting for the board."""
+        """End streaming before segment `index` instead of at `last`, for what follows to be
+        streamed in its place without a stop (a feed override); False when that segment is sent
+        already or is not before `last`. The motion then ends ("cut") as soon as the segment before
+        it is sent, without waiting for the board."""
         with self._lock:
             if (
                 self._halting
@@ -300,7 +308,8 @@ class Motion:
                 and end - index > 1
                 and ticks[end - self.first] - ticks[k] > self.lookahead_ticks // 2
             ):
-                end -= 1  # a frame of at most half the lookahead: the board keeps the other half queued
+                # a frame of at most half the lookahead: the board keeps the other half queued
+                end -= 1
             if output is not None and output[0] > index:
                 end = min(end, output[0])  # an output goes out before its segment, between frames
             before = chain.copy()
@@ -332,13 +341,14 @@ class Motion:
                 output = next(outputs, None)
 
     def _queued_ticks(self, k: int, ticks: list[int]) -> int:
-        """Ticks of motion sent and not yet finished (the running segment's whole), before segment k."""
+        """Ticks of motion sent and not yet finished (the running segment's whole), before segment
+        k."""
         return ticks[k] - ticks[max(0, min(self.done, k))]
 
     def _wait_for_room(self, first: int, k: int, ticks: list[int], capacity: int) -> None:
-        """Until a frame's segments `first` … `k` fit in the board's queue and within the lookahead, or the
-        board holds fewer than MIN_QUEUED_SEGMENTS before them (a segment longer than the lookahead is
-        running), or a halt."""
+        """Until a frame's segments `first` … `k` fit in the board's queue and within the lookahead,
+        or the board holds fewer than MIN_QUEUED_SEGMENTS before them (a segment longer than the
+        lookahead is running), or a halt."""
         last_done, since = -1, time.monotonic()
         while not self._halting:
             if self.link.generation != self._generation:
@@ -370,8 +380,9 @@ class Motion:
             self._space.clear()
 
     def _after_stop(self) -> None:
-        """A STOP from elsewhere (not halt()) dropped the rest of the motion: end where the board stands. The
-        board's feed hold button (a hold the firmware began itself) ends it as a feed hold, once at rest."""
+        """A STOP from elsewhere (not halt()) dropped the rest of the motion: end where the board
+        stands. The board's feed hold button (a hold the firmware began itself) ends it as a feed
+        hold, once at rest."""
         with self._lock:
             if self._halting is not None:
                 return
@@ -408,8 +419,9 @@ class Motion:
         self._finish(MotionEnd("reset", position, self.done))
 
     def _after_starvation(self) -> None:
-        """The queue ran dry while moving: the board stopped under control and refuses segments until a HOLD.
-        The HOLD takes it to IDLE and repeats the stop's HOLD_DONE: its hold_tick and exact rest position."""
+        """The queue ran dry while moving: the board stopped under control and refuses segments
+        until a HOLD. The HOLD takes it to IDLE and repeats the stop's HOLD_DONE: its hold_tick and
+        exact rest position."""
         rest = bring_to_rest(self.link, self.decels)
         self._finish(
             MotionEnd(

@@ -1,7 +1,7 @@
-"""The feed override (planner/feed_override.py) on a running job: its rest planned again from a move boundary
-not yet sent. The residual chain, the steppers and every axis's speed there are the plan's own and the first
-move is entered at the speed the plan had there, so the new tail follows the sent segments without a stop and
-every move still lands exactly (docs/PLANNER.md, "Feed override")."""
+"""The feed override (planner/feed_override.py) on a running job: its rest planned again from a move
+boundary not yet sent. The residual chain, the steppers and every axis's speed there are the plan's
+own and the first move is entered at the speed the plan had there, so the new tail follows the sent
+segments without a stop and every move still lands exactly (docs/PLANNER.md, "Feed override")."""
 
 from __future__ import annotations
 
@@ -27,8 +27,8 @@ TRIES = 12  # boundaries tried, one after another, before the change waits for t
 
 
 def boundary_at(plan: Plan, move: int) -> Boundary:
-    """The state of the quadratic `plan` where its move `move` (≥ 1) begins: the ideal summed over every segment
-    before, the last segment's speeds, the look-ahead's entry speed."""
+    """The state of the quadratic `plan` where its move `move` (≥ 1) begins: the ideal summed over
+    every segment before, the last segment's speeds, the look-ahead's entry speed."""
     segments = plan.segments
     assert isinstance(segments, SegmentArrays)
     index, count = plan.move_ends[move - 1], segments.axis_count
@@ -83,8 +83,9 @@ def join(plan: Plan, move: int, tail: Plan) -> Plan:
 
 
 def replan_from(program: Program, plan: Plan, move: int, percent: int, label: str) -> Plan:
-    """`plan` (of `program`) up to where its move `move` begins, then the rest of `program` with its feeds at
-    `percent` %, going on from there (what lies between the moves, a dwell or a pause, comes with the rest)."""
+    """`plan` (of `program`) up to where its move `move` begins, then the rest of `program` with its
+    feeds at `percent` %, going on from there (what lies between the moves, a dwell or a pause,
+    comes with the rest)."""
     first = move_item(program, plan.config, plan.start, move - 1) + 1
     tail = plan_program(
         scale_feeds(rest_of(program, first), percent),
@@ -96,8 +97,8 @@ def replan_from(program: Program, plan: Plan, move: int, percent: int, label: st
 
 
 def first_difference(old: Stream, new: Stream) -> int:
-    """The first item where the streams differ (their own segments, or another base's); the shorter's length
-    when none does."""
+    """The first item where the streams differ (their own segments, or another base's); the
+    shorter's length when none does."""
     count = min(len(old), len(new))
     a, b = np.frombuffer(old.ref, np.int32)[:count], np.frombuffer(new.ref, np.int32)[:count]
     n_old, n_new = np.frombuffer(old.n, np.uint32)[:count], np.frombuffer(new.n, np.uint32)[:count]
@@ -114,7 +115,8 @@ def first_difference(old: Stream, new: Stream) -> int:
 
 @dataclass(frozen=True)
 class Swap:
-    """The job planned again: stream it from item `index` on, after the running plan's items before it."""
+    """The job planned again: stream it from item `index` on, after the running plan's items before
+    it."""
 
     index: int
     plan: Plan | StreamPlan
@@ -134,8 +136,9 @@ def prepare(
     label: str,
     restream: Restreamer | None,
 ) -> Swap | None:
-    """`running` planned again at `percent` % from the first move boundary where the new stream leaves the old
-    at or after its item `after` (and before item `before`, the section's end); None when there is none."""
+    """`running` planned again at `percent` % from the first move boundary where the new stream
+    leaves the old at or after its item `after` (and before item `before`, the section's end); None
+    when there is none."""
     base = running.base if isinstance(running, StreamPlan) else running
     if not isinstance(base.segments, SegmentArrays) or len(base.junctions) <= base.moves:
         return None  # a jerk-limited plan, or one not made by plan_program
@@ -149,7 +152,9 @@ def prepare(
         at = base.move_ends[move - 1]
         if not isinstance(running, StreamPlan) or restream is None:
             index, swapped = at, joined
-        else:  # with the take-ups again: the new stream goes on from where it leaves the old one (a take-up
+        # with the take-ups again: the new stream goes on from where it leaves the old one (a
+        # take-up
+        else:
             swapped = restream(joined, running)  # across the boundary begins before it)
             index = first_difference(running.segments, swapped.segments)
         if index >= before:
@@ -169,9 +174,10 @@ def replan_running(
     restream: Restreamer | None,
     ticks: Sequence[int],
 ) -> Swap | None:
-    """`running` planned again at `percent` % from the first move boundary that `motion` (streaming it) has not
-    sent, and the motion cut there. A boundary sent meanwhile is passed by for one twice as far ahead as the
-    planning took. None when the section under way has no boundary left (or the motion ends)."""
+    """`running` planned again at `percent` % from the first move boundary that `motion` (streaming
+    it) has not sent, and the motion cut there. A boundary sent meanwhile is passed by for one twice
+    as far ahead as the planning took. None when the section under way has no boundary left (or the
+    motion ends)."""
     after, hz = motion.first + motion.sent, running.config.tick_hz
     for _ in range(TRIES):
         if motion.end is not None:

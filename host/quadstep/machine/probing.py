@@ -1,10 +1,11 @@
-"""Probing (G38.2–G38.5): a straight move that ends where the probe touches (or lets go), with the exact
-latched position (docs/INPUTS.md).
+"""Probing (G38.2–G38.5): a straight move that ends where the probe touches (or lets go), with the
+exact latched position (docs/INPUTS.md).
 
-G38.2 moves toward the work until the probe touches, an error if it never does; G38.3 the same without the
-error; G38.4 and G38.5 move away until contact is lost, with and without the error. At the edge the firmware
-latches every axis's position and decelerates to rest (no crash into the plate); the result gives the
-latched position in machine coordinates, and in work coordinates for the work offset given.
+G38.2 moves toward the work until the probe touches, an error if it never does; G38.3 the same
+without the error; G38.4 and G38.5 move away until contact is lost, with and without the error. At
+the edge the firmware latches every axis's position and decelerates to rest (no crash into the
+plate); the result gives the latched position in machine coordinates, and in work coordinates for
+the work offset given.
 """
 
 from __future__ import annotations
@@ -72,7 +73,8 @@ def probe(
     work_offset: Sequence[float] | None = None,
     timeout: float = 600.0,
 ) -> ProbeResult:
-    """Move toward `target_mm` (machine coordinates, inside the travel) at `feed` mm/s as G`code` does."""
+    """Move toward `target_mm` (machine coordinates, inside the travel) at `feed` mm/s as G`code`
+    does."""
     if code not in CODES:
         raise ProbeError(f"G{code}: not a probing code (G38.2, G38.3, G38.4, G38.5)")
     level, must = CODES[code]
@@ -110,7 +112,7 @@ def probe(
 
 
 def hold_to_rest(machine: ProbingMachine) -> tuple[int, ...]:
-    """The user's stop after a procedure was interrupted (Ctrl-C): HOLD, so that an axis decelerates to rest
-    now instead of running out its queue; returns where it rests (take-ups excluded)."""
+    """The user's stop after a procedure was interrupted (Ctrl-C): HOLD, so that an axis decelerates
+    to rest now instead of running out its queue; returns where it rests (take-ups excluded)."""
     done = hold(machine.link, machine.decels)
     return machine.rested(done.hold_tick)

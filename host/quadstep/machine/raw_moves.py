@@ -1,8 +1,9 @@
-"""Straight moves of one axis by whole steps, without take-ups, for routines that measure the backlash.
+"""Straight moves of one axis by whole steps, without take-ups, for routines that measure the
+backlash.
 
-A measurement must see the backlash, so its moves go out as planned (no take-up) and at rest the band follows
-each motor as it moved: every move is one straight motion, so its deceleration after an input's edge goes on
-the same way and the band's state after it is exact (band.py).
+A measurement must see the backlash, so its moves go out as planned (no take-up) and at rest the
+band follows each motor as it moved: every move is one straight motion, so its deceleration after an
+input's edge goes on the same way and the band's state after it is exact (band.py).
 """
 
 from __future__ import annotations
@@ -48,8 +49,8 @@ class RawMoves:
     def until(
         self, axis: int, steps: int, which: Input, level: int, feed: float | None = None
     ) -> int | None:
-        """Up to `steps` along `axis` until `which` reaches `level`: the motor's latched step there (None: the
-        move ended without the edge)."""
+        """Up to `steps` along `axis` until `which` reaches `level`: the motor's latched step there
+        (None: the move ended without the edge)."""
         end = until_input(
             self.link,
             Probe(input=which, level=level, decel=self.decel),  # type: ignore[arg-type]

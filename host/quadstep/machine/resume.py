@@ -1,7 +1,7 @@
-"""Going on with a job that stopped before its end (the host killed or crashed, the port dropped, the terminal
-closed, Ctrl-C, an alarm that kept the position), from the exact move where motion stopped, as the job's journal
-(journal.py) and the board's count of segments say: `quadstep run JOB --resume`, and the TUI's offer on
-connect."""
+"""Going on with a job that stopped before its end (the host killed or crashed, the port dropped,
+the terminal closed, Ctrl-C, an alarm that kept the position), from the exact move where motion
+stopped, as the job's journal (journal.py) and the board's count of segments say: `quadstep run JOB
+--resume`, and the TUI's offer on connect."""
 
 from __future__ import annotations
 
@@ -14,10 +14,10 @@ from ..planner.program import JobError, LinearMove
 from ..protocol import AlarmCode, State, StatusReport
 from .errors import MachineError
 from .journal import (
+    JobIdentity,
     Journal,
     JournalError,
     JournalFile,
-    JobIdentity,
     file_digest,
     journal_path,
     read_journal,
@@ -32,8 +32,8 @@ KEPT = (
 
 
 def job_journal(machine: Machine, job: Path, skip_unsupported: bool = False) -> Journal | None:
-    """The journal a job of `job` keeps on this machine (None: the machine keeps no state); a MachineError
-    before anything moves when it cannot be written."""
+    """The journal a job of `job` keeps on this machine (None: the machine keeps no state); a
+    MachineError before anything moves when it cannot be written."""
     if machine.state_file is None:
         return None
     identity = JobIdentity(
@@ -85,8 +85,8 @@ def kept_journal(machine: Machine, job: Path) -> JournalFile:
 def at_rest_with_position(
     machine: Machine, journal: JournalFile, status: StatusReport, say: list[str]
 ) -> StatusReport:
-    """The board as the stop left it: cleared of an alarm that kept the position (STOP), refused where the
-    position was lost (a hard limit, the abort button, a reset)."""
+    """The board as the stop left it: cleared of an alarm that kept the position (STOP), refused
+    where the position was lost (a hard limit, the abort button, a reset)."""
     if journal.boot_id is not None and machine.identity.boot_id != journal.boot_id:
         raise MachineError(
             "the board was reset since the job stopped, and where it stopped was lost with it; "
@@ -109,8 +109,8 @@ def at_rest_with_position(
 
 
 def resume_job(machine: Machine, job: Path) -> tuple[Job, StatusReport, list[str]]:
-    """The rest of the job kept for `job`, planned from where the machine stands; the board's status it
-    starts from and what to tell the user."""
+    """The rest of the job kept for `job`, planned from where the machine stands; the board's status
+    it starts from and what to tell the user."""
     journal = kept_journal(machine, job)
     say: list[str] = []
     status = at_rest_with_position(machine, journal, machine.status(), say)

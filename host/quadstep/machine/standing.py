@@ -1,14 +1,15 @@
-"""Where a machine stands: the board's step counts, the backlash's band, and the positions shown without the
-take-ups (docs/BACKLASH.md) — at rest, while a program runs, at a latch — and whether it is
-homed; all of it kept in the state file (state.py) at each change, with the board it belongs to."""
+"""Where a machine stands: the board's step counts, the backlash's band, and the positions shown
+without the take-ups (docs/BACKLASH.md) — at rest, while a program runs, at a latch — and whether it
+is homed; all of it kept in the state file (state.py) at each change, with the board it belongs
+to."""
 
 from __future__ import annotations
 
 import threading
 from collections.abc import Callable, Sequence
 from dataclasses import replace
-from typing import Protocol
 from pathlib import Path
+from typing import Protocol
 
 from ..backlash.band import BandRecord
 from ..coordinates import WorkCoordinates
@@ -71,8 +72,8 @@ class Standing:
 
     @property
     def position(self) -> tuple[int, ...]:
-        """Step position of every configured axis where the machine last stood still, exact, the backlash's
-        take-ups excluded (the carriage's position: docs/BACKLASH.md)."""
+        """Step position of every configured axis where the machine last stood still, exact, the
+        backlash's take-ups excluded (the carriage's position: docs/BACKLASH.md)."""
         with self._lock:
             motor = self._motor
         return self.takeups.position(motor)
@@ -88,9 +89,9 @@ class Standing:
         return self.takeups.position(status.position[: self.axis_count], status.motion_ticks)
 
     def set_position(self, steps: dict[int, int], within: object | None = None) -> tuple[int, ...]:
-        """Redefine the position of some axes (SET_POSITION): only at rest (or by the procedure `within`, which
-        holds the machine). Machine coordinates move with it, so this is for homing and tools; work
-        coordinates are the user's zero."""
+        """Redefine the position of some axes (SET_POSITION): only at rest (or by the procedure
+        `within`, which holds the machine). Machine coordinates move with it, so this is for homing
+        and tools; work coordinates are the user's zero."""
         if within is None or self.program is not within:
             self._refuse_if_busy("set the position")
         offsets = [m - p for m, p in zip(self.motor_position, self.position)]
@@ -107,15 +108,17 @@ class Standing:
         return self.position
 
     def takeup_stream(self, segments: Sequence[Segment]) -> list[Segment | CubicSegment]:
-        """For a procedure that streams itself (homing, probing), at rest: `segments` with their take-ups. Until
-        `rested()`, positions the firmware reports in between are shown by `live_position`/`shown`."""
+        """For a procedure that streams itself (homing, probing), at rest: `segments` with their
+        take-ups. Until `rested()`, positions the firmware reports in between are shown by
+        `live_position`/`shown`."""
         compensated = self.takeups.compensate(SegmentArrays.of(segments, self.identity.axis_count))
         status = self.link.status()
         self.takeups.begin(compensated, status.position[: self.axis_count], status.motion_ticks)
         return list(compensated.stream.segments())
 
     def raw_moved(self, before: Sequence[int], after: Sequence[int]) -> None:
-        """A procedure's straight move without take-ups took the motors from `before` to `after` (at rest)."""
+        """A procedure's straight move without take-ups took the motors from `before` to `after` (at
+        rest)."""
         self.takeups.moved_straight([a - b for a, b in zip(after, before)])
         with self._lock:
             self._motor = tuple(after[: self.axis_count])
@@ -125,7 +128,8 @@ class Standing:
         return self.takeups.position(motor[: self.axis_count], tick)
 
     def rested(self, hold_tick: int | None = None) -> tuple[int, ...]:
-        """A procedure's motion is at rest: after a hold that began at `hold_tick`, or (None) at its end."""
+        """A procedure's motion is at rest: after a hold that began at `hold_tick`, or (None) at its
+        end."""
         status = self.link.status()
         self._rest(
             status.position,
@@ -135,8 +139,8 @@ class Standing:
         return self.position
 
     def _settle(self, end: MotionEnd, raw: Sequence[Segment] | None) -> MotionEnd:
-        """In the program's thread, before its waiters wake: the exact rest position (motors), the band where
-        the stop left it, and the end as everything above sees it (take-ups excluded)."""
+        """In the program's thread, before its waiters wake: the exact rest position (motors), the
+        band where the stop left it, and the end as everything above sees it (take-ups excluded)."""
         if not end.position:
             try:
                 status = self.link.status()
@@ -202,8 +206,8 @@ class Standing:
 
 
 class Restream(Protocol):
-    """What the machine does for a job going on after a feed hold: the band where the hold left it and the
-    position at rest (take-ups excluded), then the rest of the job with its take-ups."""
+    """What the machine does for a job going on after a feed hold: the band where the hold left it
+    and the position at rest (take-ups excluded), then the rest of the job with its take-ups."""
 
     def held(self, end: MotionEnd) -> tuple[int, ...]: ...
 
@@ -257,8 +261,8 @@ class _Restream:
         self.machine.coordinates = coordinates
 
     def restream(self, plan: Plan, running: StreamPlan) -> StreamPlan:
-        """`plan`, which begins as `running` did, with its take-ups from the same band: what follows the part of
-        them that is the same replaces the running program's (a feed override)."""
+        """`plan`, which begins as `running` did, with its take-ups from the same band: what follows
+        the part of them that is the same replaces the running program's (a feed override)."""
         band = running.compensated.band_start
         compensated = self.machine.takeups.compensate(plan.segments, plan.pauses, band)
         return StreamPlan(plan.config, compensated.stream, compensated.pauses, compensated, plan)

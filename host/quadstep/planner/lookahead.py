@@ -19,9 +19,10 @@ from .jerk import reachable_speed
 from .moves import MoveTable
 from .program import JobError, SetOutputs
 
-# An axis whose backlash is taken up (docs/BACKLASH.md) and that turns around sharply at a junction — moving
-# along both moves by more than this share of the path — stops there: the take-up then runs at rest, where it
-# costs no acceleration. (Shallow reversals, as on an arc's chords, take it up on the move.)
+# An axis whose backlash is taken up (docs/BACKLASH.md) and that turns around sharply at a junction
+# — moving along both moves by more than this share of the path — stops there: the take-up then runs
+# at rest, where it costs no acceleration. (Shallow reversals, as on an arc's chords, take it up on
+# the move.)
 SHARP_REVERSAL = 0.25
 
 # Ramps are planned at this fraction of each move's acceleration (and jerk) limit; the
@@ -62,9 +63,10 @@ def _junction_speed(table: MoveTable, k: int, config: MachineConfig, amax: list[
 def junction_speeds(table: MoveTable, config: MachineConfig, entry: float = 0.0) -> list[float]:
     """Entry speed of every move, plus the exit speed of the last (always 0): len(table) + 1 values.
 
-    `entry` pins the first move's entry speed (a plan that goes on from another, moving: a feed override): the
-    junctions after it are raised where it could not slow down to them otherwise. The plan it goes on from
-    slowed down from there to its stops, so the raised speeds stay under that plan's and inside the limits."""
+    `entry` pins the first move's entry speed (a plan that goes on from another, moving: a feed
+    override): the junctions after it are raised where it could not slow down to them otherwise. The
+    plan it goes on from slowed down from there to its stops, so the raised speeds stay under that
+    plan's and inside the limits."""
     count = len(table)
     hz = float(config.tick_hz)
     amax = [a.max_accel / (hz * hz) for a in config.axes]

@@ -40,8 +40,9 @@ class MoveTable:
     deviation: list[float | None] = field(
         default_factory=list
     )  # G64 P / G61 at the move's start corner
-    # stops: (number of moves before it, item), in order; the machine is at rest there (at an output change
-    # only without laser mode, as GRBL waits for the motion before it changes the spindle or the coolant)
+    # stops: (number of moves before it, item), in order; the machine is at rest there (at an output
+    # change only without laser mode, as GRBL waits for the motion before it changes the spindle or
+    # the coolant)
     stops: list[tuple[int, Dwell | Pause | SetOutputs | ProbeMove]] = field(default_factory=list)
     jerk: list[float] = field(
         default_factory=list
@@ -72,8 +73,9 @@ def _check_travel(config: MachineConfig, item: LinearMove, label: str) -> None:
 def build_moves(
     program: Program, config: MachineConfig, start_steps: tuple[int, ...], label: str = "line"
 ) -> MoveTable:
-    """Check every target against the travel, then make the move table (nothing planned yet). What follows a
-    probe (G38.x) is checked when the job has probed: its positions depend on where the probe stops."""
+    """Check every target against the travel, then make the move table (nothing planned yet). What
+    follows a probe (G38.x) is checked when the job has probed: its positions depend on where the
+    probe stops."""
     for item in program.items:
         if isinstance(item, ProbeMove):
             break

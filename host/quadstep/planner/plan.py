@@ -25,9 +25,9 @@ from .stream import Stream
 
 @dataclass(frozen=True)
 class Boundary:
-    """Where a plan goes on from another without stopping (a feed override): the residual chain's ideal
-    (1/8192 step) and each axis's signed speed in the last segment there, and the path speed (mm/tick) the
-    first move is entered at, as the plan before had it."""
+    """Where a plan goes on from another without stopping (a feed override): the residual chain's
+    ideal (1/8192 step) and each axis's signed speed in the last segment there, and the path speed
+    (mm/tick) the first move is entered at, as the plan before had it."""
 
     ideal2: tuple[int, ...]
     exit_speed: tuple[int, ...]
@@ -58,7 +58,8 @@ class Plan:
     max_landing_error: int = 0  # largest |ideal − target| at a move end, in 1/8192 step
     move_ends: array = field(default_factory=lambda: array("i"))  # segments planned after each move
     retries: int = 0  # moves whose best profile would have missed a target by rounding
-    # (segment index, pauses before it, message): OUTPUTS sent before that segment (at the end: after the last)
+    # (segment index, pauses before it, message): OUTPUTS sent before that segment (at the end:
+    # after the last)
     outputs: list[tuple[int, int, Outputs]] = field(default_factory=list)
     peak_advance: tuple[
         int, ...
@@ -102,8 +103,8 @@ def plan_program(
     label: str = "line",
     boundary: Boundary | None = None,
 ) -> Plan:
-    """Plan every item of `program` from stepper positions `start` (default all 0), or, moving, from a
-    `boundary` of another plan (quadratic plans only)."""
+    """Plan every item of `program` from stepper positions `start` (default all 0), or, moving, from
+    a `boundary` of another plan (quadratic plans only)."""
     begin = (
         boundary.position
         if boundary is not None
@@ -194,7 +195,8 @@ def plan_moves(
                 break
         else:
             raise JobError(
-                f"{label} {table.line[k]}: no whole-tick profile lands this move exactly; lower max_speed"
+                f"{label} {table.line[k]}: no whole-tick profile lands this move exactly; lower "
+                "max_speed"
             )
         move_ends.append(len(out))
     flush_stops(len(table))

@@ -14,7 +14,6 @@ from dataclasses import dataclass, field
 
 from ..coordinates import WorkCoordinates
 
-
 MAX_DWELL_S = 3600.0  # an hour; M0 waits for the operator as long as it takes
 
 
@@ -53,7 +52,8 @@ class Dwell:
 
 @dataclass(frozen=True, slots=True)
 class Pause:
-    """Come to rest and wait for the operator: M0, or a tool change (M6, `tool` the T word's number)."""
+    """Come to rest and wait for the operator: M0, or a tool change (M6, `tool` the T word's
+    number)."""
 
     line: int
     tool: int | None = None  # a tool change to this tool; None: a program pause (M0)
@@ -76,7 +76,8 @@ class OutputState:
 
 @dataclass(frozen=True, slots=True)
 class SetOutputs:
-    """From here on the outputs are `state` (what follows runs under it; the machine does not stop)."""
+    """From here on the outputs are `state` (what follows runs under it; the machine does not
+    stop)."""
 
     line: int
     state: OutputState
@@ -84,8 +85,9 @@ class SetOutputs:
 
 @dataclass(frozen=True, slots=True)
 class ProbeMove:
-    """G38.2–G38.5 toward `target` (machine mm) at `feed` (mm/s); the job comes to rest before it, probes, and
-    `resume(rest position in machine mm)` is the rest of the program read from where the probe stopped."""
+    """G38.2–G38.5 toward `target` (machine mm) at `feed` (mm/s); the job comes to rest before it,
+    probes, and `resume(rest position in machine mm)` is the rest of the program read from where the
+    probe stopped."""
 
     line: int
     code: str  # "38.2" … "38.5"

@@ -1,14 +1,15 @@
 """Jerk-limited plans: every move an S-curve of exact cubic segments (docs/PLANNER.md, "S-curves").
 
-Per move the path speed goes v0 → vc in a ramp (jerk +J, 0, −J), cruises at vc, and goes vc → v1 in a
-ramp; the acceleration is 0 at both ends of every ramp, so at every junction. The phases are whole ticks
-(planner/jerk.py rounds them up), vc is then solved so the path's length is covered exactly. Per axis the
-jerk of each ramp is rounded once, R = round(Σ·j); every state after that is the firmware's own exact
-integer chain (protocol/cubic.py): the ramp's symmetric phases bring the acceleration back to exactly 0, a
-state set at the start of a ramp that ends at rest makes the speed end at exactly 0, and a move lands
-exactly when its ideal ends within a quarter step of its target — otherwise a speed set on the cruise
-(at most 2^-12 step per tick of change, spread over the cruise) puts it there. Corners set each axis's
-speed as the junction-deviation rule allows (its acceleration is 0 on both sides).
+Per move the path speed goes v0 → vc in a ramp (jerk +J, 0, −J), cruises at vc, and goes vc → v1 in
+a ramp; the acceleration is 0 at both ends of every ramp, so at every junction. The phases are whole
+ticks (planner/jerk.py rounds them up), vc is then solved so the path's length is covered exactly.
+Per axis the jerk of each ramp is rounded once, R = round(Σ·j); every state after that is the
+firmware's own exact integer chain (protocol/cubic.py): the ramp's symmetric phases bring the
+acceleration back to exactly 0, a state set at the start of a ramp that ends at rest makes the speed
+end at exactly 0, and a move lands exactly when its ideal ends within a quarter step of its target —
+otherwise a speed set on the cruise (at most 2^-12 step per tick of change, spread over the cruise)
+puts it there. Corners set each axis's speed as the junction-deviation rule allows (its acceleration
+is 0 on both sides).
 """
 
 from __future__ import annotations
@@ -47,7 +48,8 @@ class _Phase:
 
 
 class ScurvePlanner:
-    """Moves in order → cubic segments, with the firmware's chain carried exactly from move to move."""
+    """Moves in order → cubic segments, with the firmware's chain carried exactly from move to
+    move."""
 
     def __init__(self, config: MachineConfig, start: tuple[int, ...], label: str) -> None:
         self.config = config
@@ -68,7 +70,8 @@ class ScurvePlanner:
         self.jerk_limit = [
             (a.max_jerk or math.inf) * a.steps_per_mm / hz**3 * SIGMA for a in config.axes
         ]
-        # the firmware's chain may hold any residual from before: a 1-tick quadratic at rest puts it on the ideal
+        # the firmware's chain may hold any residual from before: a 1-tick quadratic at rest puts it
+        # on the ideal
         self.out.add(
             Segment(
                 n=1,
@@ -83,8 +86,9 @@ class ScurvePlanner:
     # --- one move ---------------------------------------------------------------------------------
 
     def move(self, table: MoveTable, k: int, entry: list[float]) -> None:
-        """Plan move k, from the speed the move before ended at, to at most the look-ahead's junction speed
-        (capped a little under the speed limits too, as the profiles are: room for the landing corrections)."""
+        """Plan move k, from the speed the move before ended at, to at most the look-ahead's
+        junction speed (capped a little under the speed limits too, as the profiles are: room for
+        the landing corrections)."""
         cap = PROFILE_FRACTION * min(
             table.max_speed[k], table.max_speed[k + 1] if k + 1 < len(table) else math.inf
         )
@@ -175,8 +179,9 @@ class ScurvePlanner:
         return segments
 
     def _retune_starts(self, p: Profile, phases: list[_Phase], misses: dict[int, int]) -> bool:
-        """An axis far off its target takes the nearest whole jerk on its first ramp instead: one unit more
-        moves it by the unit ramp's travel and the speed it adds until the last ramp (set to its exit)."""
+        """An axis far off its target takes the nearest whole jerk on its first ramp instead: one
+        unit more moves it by the unit ramp's travel and the speed it adds until the last ramp (set
+        to its exit)."""
         ka = p.n1a * (p.n1a + p.n2a)
         until = p.nc  # the last ramp's start speed is set: the change ends there (or the move does)
         unit = _ramp_travel([(p.n1a, 1), (p.n2a, 0), (p.n1a, -1)]) + ka * until
@@ -186,7 +191,8 @@ class ScurvePlanner:
                 continue
             start = phases[0].sets.get(axis)
             from_rest = (start.speed if start is not None else self.chain.axes[axis].i) == 0
-            # from rest a correction can only add speed: leave the axis short of its target, not past it
+            # from rest a correction can only add speed: leave the axis short of its target, not
+            # past it
             ra = phases[0].jerk.get(axis, 0) + (miss // unit if from_rest else round(miss / unit))
             speed = start.speed if start is not None else self.chain.axes[axis].i
             if (
@@ -203,8 +209,9 @@ class ScurvePlanner:
     def _retune_stops(
         self, p: Profile, phases: list[_Phase], misses: dict[int, int], exits: list[int]
     ) -> bool:
-        """An axis lands by its last ramp's jerk first: one unit more moves it by the travel of the unit ramp
-        (its start speed set to keep the exit), so the nearest whole jerk is taken (within the limit)."""
+        """An axis lands by its last ramp's jerk first: one unit more moves it by the travel of the
+        unit ramp (its start speed set to keep the exit), so the nearest whole jerk is taken (within
+        the limit)."""
         unit = _unit_ramp_travel(p.n1d, p.n2d)
         changed = False
         for axis, miss in misses.items():
@@ -239,9 +246,9 @@ class ScurvePlanner:
         misses: dict[int, int],
         delta: tuple[int, ...],
     ) -> bool:
-        """Speed sets that put each axis's ideal on its target, each at the earliest phase start where the
-        change it needs, spread over the rest of the move, is within the limit (on the move's start an axis
-        often has a set anyway: a corner); False when none is."""
+        """Speed sets that put each axis's ideal on its target, each at the earliest phase start
+        where the change it needs, spread over the rest of the move, is within the limit (on the
+        move's start an axis often has a set anyway: a corner); False when none is."""
         limit = max(START_JUMP, p.n1a * (p.n1a + p.n2a) + p.n1d * (p.n1d + p.n2d))
         begins = [sum(ph.n for ph in phases[:at]) for at in range(len(phases) + 1)]
         states = {at: self._state_at(segments, begins[at]) for at in range(1, 7) if phases[at].n}
@@ -292,8 +299,8 @@ class ScurvePlanner:
         limit: int,
         delta: int,
     ) -> bool:
-        """A speed change over the longest phase without jerk, set back exactly where it ends (two sets): for a
-        move whose window before its last ramp is too short."""
+        """A speed change over the longest phase without jerk, set back exactly where it ends (two
+        sets): for a move whose window before its last ramp is too short."""
         spans = [
             j
             for j in (1, 3, 5)
@@ -318,7 +325,8 @@ class ScurvePlanner:
     def _misses(
         self, segments: list[CubicSegment], target: tuple[int, ...]
     ) -> dict[int, int] | None:
-        """Per moving axis, how far (2^-31 step, along its motion) its ideal would end short of `target`."""
+        """Per moving axis, how far (2^-31 step, along its motion) its ideal would end short of
+        `target`."""
         chain = self.chain.copy()
         position = list(self.position)
         try:
@@ -370,7 +378,8 @@ class ScurvePlanner:
 
 
 def _ramp_travel(phases: list[tuple[int, int]], i: int = 0) -> int:
-    """How far (2^-31 step) phases of (ticks, jerk) travel from advance i and no acceleration (exact)."""
+    """How far (2^-31 step) phases of (ticks, jerk) travel from advance i and no acceleration
+    (exact)."""
     d = travel = 0
     for n, r in phases:
         travel += n * i + n * (n - 1) // 2 * d + n * (n - 1) * (n - 2) // 6 * r
@@ -385,8 +394,8 @@ def _unit_ramp_travel(n1: int, n2: int) -> int:
 
 
 def _build(phases: list[_Phase]) -> list[CubicSegment] | None:
-    """The phases as segments: empty ones left out (their sets on the next), long ones split (a set on the
-    first piece only)."""
+    """The phases as segments: empty ones left out (their sets on the next), long ones split (a set
+    on the first piece only)."""
     out = []
     pending: dict[int, CubicAxis] = {}  # sets of an empty phase go to the next one
     try:

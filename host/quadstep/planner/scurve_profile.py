@@ -1,8 +1,9 @@
-"""A move's S-curve in whole ticks: the path speed v0 → vc → v1 in two jerk-limited ramps and a cruise.
+"""A move's S-curve in whole ticks: the path speed v0 → vc → v1 in two jerk-limited ramps and a
+cruise.
 
-The ramps' phases are rounded up to whole ticks (never more jerk or acceleration than planned) and the cruise
-speed is then solved so that the profile covers the move's length exactly (planner/jerk.py has the closed
-forms). Units: mm and ticks.
+The ramps' phases are rounded up to whole ticks (never more jerk or acceleration than planned) and
+the cruise speed is then solved so that the profile covers the move's length exactly
+(planner/jerk.py has the closed forms). Units: mm and ticks.
 """
 
 from __future__ import annotations
@@ -19,7 +20,8 @@ PROFILE_FRACTION = (
 
 @dataclass(frozen=True)
 class Profile:
-    """A move's path speeds (mm/tick) and phases in ticks: ramp (n1a, n2a, n1a), cruise nc, ramp (n1d, n2d, n1d)."""
+    """A move's path speeds (mm/tick) and phases in ticks: ramp (n1a, n2a, n1a), cruise nc, ramp
+    (n1d, n2d, n1d)."""
 
     v0: float
     vc: float
@@ -60,11 +62,11 @@ def whole_tick_profile(
 ) -> Profile:
     """The S-curve in whole ticks that covers `length` exactly within the limits.
 
-    The ramps rounded up to whole ticks for a peak speed b are long enough for any lower peak, so with them
-    the cruise is the fewest whole ticks that keep the speed at most b, and the speed that covers `length`
-    exactly is solved. The peak b is the time-optimal one, or lower when the rounding leaves no room. A cruise
-    through (a chord of an arc at speed) keeps its speed within half a tick of travel; a move no ramp fits
-    cruises a little slower than the junctions allow."""
+    The ramps rounded up to whole ticks for a peak speed b are long enough for any lower peak, so
+    with them the cruise is the fewest whole ticks that keep the speed at most b, and the speed that
+    covers `length` exactly is solved. The peak b is the time-optimal one, or lower when the
+    rounding leaves no room. A cruise through (a chord of an arc at speed) keeps its speed within
+    half a tick of travel; a move no ramp fits cruises a little slower than the junctions allow."""
     v1 = min(
         v1, reachable_speed(v0, length, accel, jerk) * (1 - 1e-9)
     )  # after a slower exit than planned
@@ -92,8 +94,9 @@ def whole_tick_profile(
 def _solved(
     length: float, v0: float, v1: float, peak: float, vmax: float, accel: float, jerk: float
 ) -> Profile | None:
-    """The profile with the ramps rounded up for this peak speed and the cruise speed solved with them; a start
-    within a tick's travel of the cruise speed takes it without a ramp (at the junction's speed set)."""
+    """The profile with the ramps rounded up for this peak speed and the cruise speed solved with
+    them; a start within a tick's travel of the cruise speed takes it without a ramp (at the
+    junction's speed set)."""
     one_tick = v0 * v0 / length  # the speed change that a tick of travel makes over the move
     n1a, n2a = (0, 0) if abs(peak - v0) <= one_tick else tick_ramp(peak - v0, accel, jerk)
     n1d, n2d = tick_ramp(peak - v1, accel, jerk)

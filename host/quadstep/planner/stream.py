@@ -1,8 +1,10 @@
-"""A stream of segments as sent: planned quadratic segments with some replaced by others (cubic ones).
+"""A stream of segments as sent: planned quadratic segments with some replaced by others (cubic
+ones).
 
-The planner's arrays stay as they are; a stream refers to their segments by index and holds only what is
-new, so a job of a few hundred thousand segments costs a few bytes per segment here. It offers what the
-machine streams from (`n`, `segment(i)`, `axis_count`) and the source line of each segment.
+The planner's arrays stay as they are; a stream refers to their segments by index and holds only
+what is new, so a job of a few hundred thousand segments costs a few bytes per segment here. It
+offers what the machine streams from (`n`, `segment(i)`, `axis_count`) and the source line of each
+segment.
 """
 
 from __future__ import annotations
@@ -57,7 +59,8 @@ class Stream:
         self.line.append(line)
 
     def origin_of(self, i: int) -> int:
-        """The base segment that item i runs, or part of it (at the end: the number of base segments)."""
+        """The base segment that item i runs, or part of it (at the end: the number of base
+        segments)."""
         return self.origin[i] if i < len(self) else len(self.base)
 
     def segment(self, i: int) -> Segment | CubicSegment:

@@ -61,7 +61,8 @@ def timeline(plan: Plan) -> Timeline:
 
 
 def _cubic_timeline(plan: Plan) -> Timeline:
-    """A jerk-limited plan: the firmware's chain walked segment by segment (the anchor tick at rest)."""
+    """A jerk-limited plan: the firmware's chain walked segment by segment (the anchor tick at
+    rest)."""
     config = plan.config
     hz = float(config.tick_hz)
     count = len(config.axes)

@@ -20,6 +20,7 @@ from .constants import (
     Output,
     State,
 )
+from .cubic import CubicAxis, CubicSegment
 from .messages import (
     Ack,
     Alarm,
@@ -46,8 +47,7 @@ from .messages import (
     Watchdog,
     message_type,
 )
-from .cubic import CubicAxis, CubicSegment
-from .segment import D, MAX_AXES, N_MAX, R_MAX, AxisMove, Segment
+from .segment import MAX_AXES, N_MAX, R_MAX, AxisMove, D, Segment
 from .segment_run import RunChain, SegmentRecord, Segments
 from .wire import Report, Request
 

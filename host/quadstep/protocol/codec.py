@@ -98,7 +98,8 @@ def _message_class(t: int, seq: int, p: bytes, direction: Direction) -> type[Wir
 
 
 def decode_body(body: bytes, direction: Direction = "to_host", axis_count: int = MAX_AXES) -> Frame:
-    """Decode a checked body (type, seq, payload); raises DecodeError for codes 5–7 and content errors.
+    """Decode a checked body (type, seq, payload); raises DecodeError for codes 5–7 and content
+    errors.
 
     `direction` is where the frame travels: the host decodes "to_host"
     frames; "to_firmware" decoding (with the firmware's validation and its

@@ -1,6 +1,6 @@
 """Every number of the wire protocol (PROTOCOL.md) but the message types and event kinds, which each
-message declares itself (wire.py, messages.py). tests/protocol/test_protocol_c_header.py holds these equal
-to firmware/core/qs_protocol.h."""
+message declares itself (wire.py, messages.py). tests/protocol/test_protocol_c_header.py holds these
+equal to firmware/core/qs_protocol.h."""
 
 from __future__ import annotations
 
@@ -186,8 +186,8 @@ class Capability(IntFlag):
 
 
 class Output(IntFlag):
-    """The OUTPUTS bits (PROTOCOL.md §5.5): spindle or laser on, its direction, a power that follows an axis's
-    speed, and the coolant outputs."""
+    """The OUTPUTS bits (PROTOCOL.md §5.5): spindle or laser on, its direction, a power that follows
+    an axis's speed, and the coolant outputs."""
 
     ON = 1 << 0
     REVERSE = 1 << 1
@@ -200,8 +200,8 @@ INPUT_COUNT = 12  # inputs the wire names: bit i of every input mask is Input(i)
 
 
 class Input(IntEnum):
-    """The board's inputs (PROTOCOL.md §5.4): an axis's limit (its min switch, or min and max on one pin), its
-    max switch where it has a pin of its own, the probe and the control buttons."""
+    """The board's inputs (PROTOCOL.md §5.4): an axis's limit (its min switch, or min and max on one
+    pin), its max switch where it has a pin of its own, the probe and the control buttons."""
 
     LIMIT_0 = 0
     LIMIT_1 = 1

@@ -1,10 +1,12 @@
-"""The CUBIC_SEGMENT message: n ticks of jerk-limited motion that carries only what changes (PROTOCOL.md §5.2).
+"""The CUBIC_SEGMENT message: n ticks of jerk-limited motion that carries only what changes
+(PROTOCOL.md §5.2).
 
-Per axis, in its direction of motion and in 2^-31 step: the ideal's advance over the next tick (`speed`),
-its change per tick (`accel`) and the change of that per tick (`jerk`, the segment's constant third
-difference). An axis named with a `speed` is *set* (a corner: new speed, acceleration and direction);
-one named with a `jerk` only keeps its state and changes its jerk; one not named keeps its state with no
-jerk. The firmware carries the exact state from segment to segment (docs/CUBIC.md).
+Per axis, in its direction of motion and in 2^-31 step: the ideal's advance over the next tick
+(`speed`), its change per tick (`accel`) and the change of that per tick (`jerk`, the segment's
+constant third difference). An axis named with a `speed` is *set* (a corner: new speed, acceleration
+and direction); one named with a `jerk` only keeps its state and changes its jerk; one not named
+keeps its state with no jerk. The firmware carries the exact state from segment to segment
+(docs/CUBIC.md).
 """
 
 from __future__ import annotations
@@ -71,8 +73,9 @@ class CubicAxis(BaseModel):
 
 @dataclass(frozen=True)
 class CubicFields(FieldCodec):
-    """The `fields` byte (bits 0–3: axes with a jerk, bits 4–7: axes with a state set), then per named
-    axis in axis order its set (speed:u32 with the direction in bit 31, accel:i24) and its jerk (i16)."""
+    """The `fields` byte (bits 0–3: axes with a jerk, bits 4–7: axes with a state set), then per
+    named axis in axis order its set (speed:u32 with the direction in bit 31, accel:i24) and its
+    jerk (i16)."""
 
     head: int = 1
     named_lengths: tuple[tuple[str, int], ...] = (("SET", SET_BYTES), ("JERK", JERK_BYTES))
@@ -154,9 +157,9 @@ class CubicSegment(Request):
 
     @classmethod
     def check_wire(cls, raw: dict[str, Any], axis_count: int) -> None:
-        """The firmware's checks in order: N and AXES, then ACCEL and SPEED against the state each axis
-        carries, here that of a freshly started firmware (every axis at rest on the ideal); within a chain,
-        cubic_model.CubicChain checks against the state reached."""
+        """The firmware's checks in order: N and AXES, then ACCEL and SPEED against the state each
+        axis carries, here that of a freshly started firmware (every axis at rest on the ideal);
+        within a chain, cubic_model.CubicChain checks against the state reached."""
         n = raw["n"]
         mask, _ = raw["axes"]
         if n < 1:
@@ -170,7 +173,7 @@ class CubicSegment(Request):
             raise FieldFault(refused.field, refused.axis, str(refused)) from None
 
 
-# --- the firmware's chain of cubic state (the model of its validation; cubic_model.py predicts the steps) ---
+# --- the firmware's chain of cubic state (the model of its validation; cubic_model.py predicts the
 
 SIGMA = 1 << CUBIC_SHIFT
 HALF = SIGMA // 2
@@ -195,7 +198,8 @@ class CubicRefused(ValueError):
 
 @dataclass
 class AxisState:
-    """One axis of the chain: exact integers (i may be out of range: the next segment is then refused)."""
+    """One axis of the chain: exact integers (i may be out of range: the next segment is then
+    refused)."""
 
     e: int = 0
     i: int = 0

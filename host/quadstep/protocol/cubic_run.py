@@ -1,15 +1,16 @@
 """The CUBIC_SEGMENTS message: chained cubic segments, several to a frame (PROTOCOL.md §5.2).
 
-A jerk-limited move is seven phases of one or two jerks per axis: +J, 0, −J, a cruise, −J′, 0, +J′. A record
-says per axis, in two bits, whether its jerk is none, given (a varint), or its last jerk in the frame again
-or negated; n and two flags share one varint; a state set carries its speed as the change from the chain's
-(a corner's new speed, a landing's small correction). So a phase is 2 bytes where it repeats a jerk and a
-three-axis jerk phase about 8, against 15 for a CUBIC_SEGMENT. A frame is read in order once it is taken,
-against the chain its predecessors left, so a resent frame means exactly what it meant the first time.
+A jerk-limited move is seven phases of one or two jerks per axis: +J, 0, −J, a cruise, −J′, 0, +J′.
+A record says per axis, in two bits, whether its jerk is none, given (a varint), or its last jerk in
+the frame again or negated; n and two flags share one varint; a state set carries its speed as the
+change from the chain's (a corner's new speed, a landing's small correction). So a phase is 2 bytes
+where it repeats a jerk and a three-axis jerk phase about 8, against 15 for a CUBIC_SEGMENT. A frame
+is read in order once it is taken, against the chain its predecessors left, so a resent frame means
+exactly what it meant the first time.
 
-`SpeedChain` is what the host knows of the firmware's chain for this (each axis's I, d and direction),
-`pack` the one canonical encoding and `expand` its meaning (the firmware's `qs_cubic_records_next`,
-tests/firmware holds the two equal through protocol/vectors.json).
+`SpeedChain` is what the host knows of the firmware's chain for this (each axis's I, d and
+direction), `pack` the one canonical encoding and `expand` its meaning (the firmware's
+`qs_cubic_records_next`, tests/firmware holds the two equal through protocol/vectors.json).
 """
 
 from __future__ import annotations
@@ -55,7 +56,8 @@ def _zigzag(value: int) -> int:
 
 
 def _read(payload: bytes, at: int, most: int) -> tuple[int, int] | None:
-    """(unsigned value, next offset), or None where the payload ends inside it or it runs past `most` bytes."""
+    """(unsigned value, next offset), or None where the payload ends inside it or it runs past
+    `most` bytes."""
     u = shift = 0
     for k in range(most):
         if at + k >= len(payload):
@@ -206,13 +208,13 @@ class CubicSegments(Request):
         return len(self.records)
 
 
-# --- the records' meaning ---------------------------------------------------------------------------------
+# --- the records' meaning -------------------------------------------------------------------------
 
 
 def expand(records: Sequence[CubicRecord], chain: CubicChain) -> list[CubicSegment]:
-    """The cubic segments the records mean, starting from `chain`, which they move on; raises FieldFault as
-    the firmware refuses: N, AXES, DIRECTION, then SPEED per set axis and JERK per axis, then
-    CUBIC_SEGMENT's own checks."""
+    """The cubic segments the records mean, starting from `chain`, which they move on; raises
+    FieldFault as the firmware refuses: N, AXES, DIRECTION, then SPEED per set axis and JERK per
+    axis, then CUBIC_SEGMENT's own checks."""
     out: list[CubicSegment] = []
     last = [0] * MAX_AXES
     for record in records:
@@ -254,7 +256,8 @@ def expand(records: Sequence[CubicRecord], chain: CubicChain) -> list[CubicSegme
                 raise FieldFault(FieldId.JERK, axis, f"axis {axis}: jerk {jerk}, limit ±2^15")
             last[axis] = jerk
             axes.setdefault(axis, {"axis": axis})["jerk"] = jerk
-        # built unvalidated: CubicChain.check names an acceleration outside 24 bits as the firmware does
+        # built unvalidated: CubicChain.check names an acceleration outside 24 bits as the firmware
+        # does
         segment = CubicSegment.model_construct(
             n=record.n,
             axes=tuple(
@@ -272,14 +275,14 @@ def expand(records: Sequence[CubicRecord], chain: CubicChain) -> list[CubicSegme
     return out
 
 
-# --- what the host knows of the chain, and the one canonical packing ---------------------------------------
+# --- what the host knows of the chain, and the one canonical packing ------------------------------
 
 
 @dataclass
 class SpeedChain:
-    """Per axis what a record's set starts from: the firmware chain's I (the advance over the next tick,
-    2^-31 step), its change d and the direction; None where the host cannot know it (before the motion's
-    first segment). A direction is needed only while I is not 0."""
+    """Per axis what a record's set starts from: the firmware chain's I (the advance over the next
+    tick, 2^-31 step), its change d and the direction; None where the host cannot know it (before
+    the motion's first segment). A direction is needed only while I is not 0."""
 
     axis_count: int
     i: list[int | None] = field(default_factory=list)
@@ -303,7 +306,8 @@ class SpeedChain:
         return SpeedChain(self.axis_count, list(self.i), list(self.d), list(self.direction))
 
     def follow(self, segment: Segment | CubicSegment) -> None:
-        """After `segment`: a quadratic one leaves its axes at vn << 19 with no d and stops the others."""
+        """After `segment`: a quadratic one leaves its axes at vn << 19 with no d and stops the
+        others."""
         named = {a.axis: a for a in segment.axes}
         for axis in range(self.axis_count):
             a = named.get(axis)
@@ -331,8 +335,9 @@ class SpeedChain:
 
 
 def _record(segment: CubicSegment, chain: SpeedChain, last: list[int]) -> CubicRecord | None:
-    """The canonical record of `segment` from `chain`, `last` each axis's last jerk in the frame (moved
-    on); None where a set cannot start from the chain (send the segment as a CUBIC_SEGMENT)."""
+    """The canonical record of `segment` from `chain`, `last` each axis's last jerk in the frame
+    (moved on); None where a set cannot start from the chain (send the segment as a
+    CUBIC_SEGMENT)."""
     sets, speeds, accels = 0, [], []
     for a in segment.axes:
         if a.speed is None:
@@ -369,8 +374,9 @@ def _record(segment: CubicSegment, chain: SpeedChain, last: list[int]) -> CubicR
 def pack(
     segments: Sequence[CubicSegment], chain: SpeedChain, limit: int = RECORDS_MAX
 ) -> CubicSegments | None:
-    """As many of `segments` (from the first, at most `limit`) as one frame holds, moving `chain` on past
-    them; None when the first cannot be a record (send it as a CUBIC_SEGMENT, then follow it)."""
+    """As many of `segments` (from the first, at most `limit`) as one frame holds, moving `chain` on
+    past them; None when the first cannot be a record (send it as a CUBIC_SEGMENT, then follow
+    it)."""
     records: list[CubicRecord] = []
     size, last = 0, [0] * MAX_AXES
     for segment in segments[: min(limit, RECORDS_MAX)]:

@@ -1,5 +1,5 @@
-"""Which frame sends the next segments of a plan: chained in SEGMENTS or CUBIC_SEGMENTS where the board has them
-and the chain is known, else one segment alone (PROTOCOL.md §5.2)."""
+"""Which frame sends the next segments of a plan: chained in SEGMENTS or CUBIC_SEGMENTS where the
+board has them and the chain is known, else one segment alone (PROTOCOL.md §5.2)."""
 
 from __future__ import annotations
 
@@ -13,8 +13,8 @@ from .segment_run import RUN_LIMIT, RunChain, Segments, pack
 
 
 def run_limit(queue_capacity: int) -> int:
-    """Segments a host puts in one SEGMENTS frame for a board with this queue: half of it (so the next frame
-    is taken while the other half runs), at most RUN_LIMIT."""
+    """Segments a host puts in one SEGMENTS frame for a board with this queue: half of it (so the
+    next frame is taken while the other half runs), at most RUN_LIMIT."""
     return max(1, min(RUN_LIMIT, queue_capacity // 2))
 
 
@@ -32,11 +32,11 @@ def next_frame(
     limit: int,
     cubic_runs: bool = True,
 ) -> Segment | CubicSegment | Segments | CubicSegments:
-    """The frame that sends segment `index` and what follows it before `end`: segments of its kind chained
-    into SEGMENTS or CUBIC_SEGMENTS (at most `limit`; 0 where the firmware has no SEGMENTS, and cubic ones
-    only with `cubic_runs`) once the chain is known, else segment `index` alone, as its own message (with a
-    limit of 1 too: after a lost frame the board keeps later single-segment frames, never a run);
-    `chain` moves on past what the frame sends."""
+    """The frame that sends segment `index` and what follows it before `end`: segments of its kind
+    chained into SEGMENTS or CUBIC_SEGMENTS (at most `limit`; 0 where the firmware has no SEGMENTS,
+    and cubic ones only with `cubic_runs`) once the chain is known, else segment `index` alone, as
+    its own message (with a limit of 1 too: after a lost frame the board keeps later single-segment
+    frames, never a run); `chain` moves on past what the frame sends."""
     first = source.segment(index)
     kind = type(first)
     run = [first]

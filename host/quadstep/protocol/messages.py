@@ -1,4 +1,5 @@
-"""Every message of PROTOCOL.md §5, each declared once: type code, name, direction, fields and widths.
+"""Every message of PROTOCOL.md §5, each declared once: type code, name, direction, fields and
+widths.
 
 A message is a class declared with `@message(code, NAME)` on `Request` (host
 → firmware) or `Report` (firmware → host); its fields go on the wire in the
@@ -25,26 +26,25 @@ from pydantic import (
 
 from .constants import (
     DECEL_MAX,
+    INPUT_COUNT,
+    NO_AXIS,
     POSITION_MAX,
     WATCHDOG_MAX_MS,
-    NO_AXIS,
     Board,
     Capability,
-    INPUT_COUNT,
     FieldId,
     Input,
     TypeClass,
 )
 from .cubic import CubicAxis, CubicSegment
 from .cubic_run import CubicRecord, CubicSegments
-from .segment_run import SegmentRecord, Segments
 from .fields import (
+    I32,
     U8,
     U16,
     U32,
     AxisIndex,
     Decels,
-    I32,
     NamedAckReason,
     NamedAlarmCode,
     NamedCause,
@@ -59,6 +59,7 @@ from .fields import (
 )
 from .outputs import Outputs
 from .segment import AxisMove, Segment
+from .segment_run import SegmentRecord, Segments
 from .wire import (
     FieldFault,
     Int,
@@ -126,8 +127,8 @@ class Inputs(Request):
 
 @message(0x07, "WATCHDOG")
 class Watchdog(Request):
-    """Stop (a hold at CONFIG's hold_decel, then ALARM HOST_LOST) when no good frame has come for `timeout_ms`
-    while moving; 0 turns it off (PROTOCOL.md §5.1). Answered by STATUS_REPORT."""
+    """Stop (a hold at CONFIG's hold_decel, then ALARM HOST_LOST) when no good frame has come for
+    `timeout_ms` while moving; 0 turns it off (PROTOCOL.md §5.1). Answered by STATUS_REPORT."""
 
     timeout_ms: U16
 
@@ -162,9 +163,10 @@ class SetPosition(Request):
 
 @message(0x15, "PROBE")
 class Probe(Request):
-    """The motion that follows ends where `input` reaches `level` (1 active, 0 inactive): at that tick the firmware
-    latches every position (EVENT INPUT, cause TRIGGER) and holds at `decel` (HOLD's units; HOLD_DONE follows). If
-    the motion comes to rest first: EVENT PROBE_MISSED. Only while IDLE with nothing queued."""
+    """The motion that follows ends where `input` reaches `level` (1 active, 0 inactive): at that
+    tick the firmware latches every position (EVENT INPUT, cause TRIGGER) and holds at `decel`
+    (HOLD's units; HOLD_DONE follows). If the motion comes to rest first: EVENT PROBE_MISSED. Only
+    while IDLE with nothing queued."""
 
     input: NamedInput
     level: U8
@@ -185,8 +187,9 @@ class Probe(Request):
 
 @message(0x16, "CONFIG")
 class Config(Request):
-    """The inputs' settings: polarity (bit set: active high), which are acted on, hard limits on or off, each
-    input's debounce in ticks, and the feed hold input's decelerations (HOLD's units). Not while moving."""
+    """The inputs' settings: polarity (bit set: active high), which are acted on, hard limits on or
+    off, each input's debounce in ticks, and the feed hold input's decelerations (HOLD's units). Not
+    while moving."""
 
     invert: U16
     enabled: U16
@@ -327,7 +330,8 @@ class Event(Report):
 
 @event_kind(1, "HOLD_DONE")
 class HoldDone(Event):
-    """A hold began at motion tick `hold_tick`; every axis rests at `position` since `motion_ticks`."""
+    """A hold began at motion tick `hold_tick`; every axis rests at `position` since
+    `motion_ticks`."""
 
     hold_tick: U32
     motion_ticks: U32
@@ -336,8 +340,9 @@ class HoldDone(Event):
 
 @message(0x86, "INPUT_STATUS")
 class InputStatus(Report):
-    """The inputs now: which the firmware has, which are active, the raw pin levels (bit set: high), the settings,
-    the armed PROBE's input and level (None: nothing armed) and latches lost to a full ring."""
+    """The inputs now: which the firmware has, which are active, the raw pin levels (bit set: high),
+    the settings, the armed PROBE's input and level (None: nothing armed) and latches lost to a full
+    ring."""
 
     present: U16
     active: U16
@@ -355,9 +360,9 @@ class InputStatus(Report):
 
 @event_kind(2, "INPUT")
 class InputChange(Event):
-    """An input's accepted change: at motion tick `motion_ticks` every axis was at `position` (exact: the latch of the
-    tick of its first edge); `active` the inputs active after it, `changed` those that changed, `cause` what the
-    firmware did."""
+    """An input's accepted change: at motion tick `motion_ticks` every axis was at `position`
+    (exact: the latch of the tick of its first edge); `active` the inputs active after it, `changed`
+    those that changed, `cause` what the firmware did."""
 
     motion_ticks: U32
     active: U16
@@ -371,7 +376,8 @@ class InputChange(Event):
 
 @event_kind(3, "PROBE_MISSED")
 class ProbeMissed(Event):
-    """The motion after a PROBE came to rest at `position` (motion tick `motion_ticks`) without the edge."""
+    """The motion after a PROBE came to rest at `position` (motion tick `motion_ticks`) without the
+    edge."""
 
     motion_ticks: U32
     position: Positions
@@ -399,8 +405,8 @@ def message_type(message: WireMessage) -> Any:
 
 
 def queue_slots(message: WireMessage) -> int:
-    """Queue slots the firmware gives a sequenced message: one a segment, one a record of SEGMENTS and
-    CUBIC_SEGMENTS."""
+    """Queue slots the firmware gives a sequenced message: one a segment, one a record of SEGMENTS
+    and CUBIC_SEGMENTS."""
     if isinstance(message, (Segments, CubicSegments)):
         return len(message.records)
     return 1 if isinstance(message, (Segment, CubicSegment)) else 0

@@ -1,4 +1,5 @@
-"""The OUTPUTS message: the spindle (or laser) and coolant outputs, in stream order (PROTOCOL.md §5.5)."""
+"""The OUTPUTS message: the spindle (or laser) and coolant outputs, in stream order (PROTOCOL.md
+§5.5)."""
 
 from __future__ import annotations
 
@@ -14,11 +15,12 @@ VALID_BITS = int(Output.ON | Output.REVERSE | Output.DYNAMIC | Output.MIST | Out
 
 @message(0x17, "OUTPUTS")
 class Outputs(Request):
-    """The spindle (or laser) and coolant outputs for the segments sent after it, and at rest (PROTOCOL.md §5.5).
+    """The spindle (or laser) and coolant outputs for the segments sent after it, and at rest
+    (PROTOCOL.md §5.5).
 
-    `outputs` holds Output bits; `power` is the duty (0 … 65535). With Output.DYNAMIC the duty follows axis
-    `axis`'s speed: `power` at `speed` (1/4096 step per tick, 1 … 4096) and in proportion below it; without it
-    `axis` and `speed` are 0."""
+    `outputs` holds Output bits; `power` is the duty (0 … 65535). With Output.DYNAMIC the duty
+    follows axis `axis`'s speed: `power` at `speed` (1/4096 step per tick, 1 … 4096) and in
+    proportion below it; without it `axis` and `speed` are 0."""
 
     outputs: U8
     power: U16

@@ -79,13 +79,14 @@ class Segment(Request):
         return axes
 
     def moving_at_end(self) -> bool:
-        """True when some axis still has speed at the end (an empty queue after it is an underrun)."""
+        """True when some axis still has speed at the end (an empty queue after it is an
+        underrun)."""
         return any(a.vn > 0 for a in self.axes)
 
     @classmethod
     def check_wire(cls, raw: dict[str, Any], axis_count: int) -> None:
-        """The firmware's checks, in the order of PROTOCOL.md §5.2: N, AXES, DIRECTION, then field by
-        field (every V0, then every VN, then every RESIDUAL), each in axis order."""
+        """The firmware's checks, in the order of PROTOCOL.md §5.2: N, AXES, DIRECTION, then field
+        by field (every V0, then every VN, then every RESIDUAL), each in axis order."""
         n = raw["n"]
         mask, items = raw["axes"]
         if not 1 <= n <= N_MAX:

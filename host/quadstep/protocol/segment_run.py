@@ -1,14 +1,16 @@
 """The SEGMENTS message: chained quadratic segments, several to a frame (PROTOCOL.md §5.2).
 
-The segment before leaves every axis at a speed and a residual, which the firmware keeps exactly (its
-chain); they are the next segment's v0 and r unless its record says otherwise. So a record carries n and
-each axis's change of speed, in variable-length integers: a chained two-axis segment is 4 bytes, a cruise
-2, the same segment again 1; a change close to the negated last one in the frame (a move's deceleration
-after its acceleration) is sent as the difference (MIRROR). A frame is read in order once it is taken (never when parked), against the
-chain its predecessors left, so a resent frame means exactly what it meant the first time.
+The segment before leaves every axis at a speed and a residual, which the firmware keeps exactly
+(its chain); they are the next segment's v0 and r unless its record says otherwise. So a record
+carries n and each axis's change of speed, in variable-length integers: a chained two-axis segment
+is 4 bytes, a cruise 2, the same segment again 1; a change close to the negated last one in the
+frame (a move's deceleration after its acceleration) is sent as the difference (MIRROR). A frame is
+read in order once it is taken (never when parked), against the chain its predecessors left, so a
+resent frame means exactly what it meant the first time.
 
-`RunChain` is the host's model of that chain, `pack` the one canonical encoding and `expand` its meaning
-(the firmware's `qs_segments_next`, tests/firmware holds the two equal through protocol/vectors.json).
+`RunChain` is the host's model of that chain, `pack` the one canonical encoding and `expand` its
+meaning (the firmware's `qs_segments_next`, tests/firmware holds the two equal through
+protocol/vectors.json).
 """
 
 from __future__ import annotations
@@ -26,7 +28,7 @@ from pydantic import (
     model_validator,
 )
 
-from .constants import D, MAX_FRAME, V_MAX, FieldId
+from .constants import MAX_FRAME, V_MAX, D, FieldId
 from .cubic import CubicSegment
 from .cubic_run import SpeedChain
 from .segment import AxisMove, Segment
@@ -38,7 +40,9 @@ START = 0x08  # per axis: v0 less the chain's speed
 RESIDUAL = 0x10  # per axis: r
 CRUISE = 0x20  # vn = v0 on every axis: no vn field
 REPEAT = 0x40  # the record before again (n, axes, v0, vn), its residuals from the chain
-MIRROR = 0x80  # per axis: vn − v0 plus the axis's last change in the frame (a deceleration undoing an acceleration)
+# per axis: vn − v0 plus the axis's last change in the frame (a deceleration undoing an
+# acceleration)
+MIRROR = 0x80
 SEGMENTS_MAX = 16  # records in one frame
 RUN_LIMIT = 8  # records a host puts in one frame, at most
 PAYLOAD_MAX = MAX_FRAME - 4  # type, seq and the CRC take the rest of a frame
@@ -105,7 +109,8 @@ class SegmentRecord(BaseModel):
         return {k: v for k, v in handler(self).items() if v is not None and v is not False}
 
     def pack(self, active: int) -> bytes:
-        """Its bytes, `active` axes having fields (the record's own axes byte, or the one before's)."""
+        """Its bytes, `active` axes having fields (the record's own axes byte, or the one
+        before's)."""
         if self.repeat:
             return bytes([REPEAT])
         assert self.n is not None
@@ -200,7 +205,8 @@ class Records(RecordsField):
 
 @message(0x18, "SEGMENTS")
 class Segments(Request):
-    """1 … 16 chained quadratic segments (capability bit 11); each takes a queue slot, all or none."""
+    """1 … 16 chained quadratic segments (capability bit 11); each takes a queue slot, all or
+    none."""
 
     model_config = ConfigDict(frozen=True, extra="ignore")
 
@@ -216,15 +222,15 @@ class Segments(Request):
         return len(self.records)
 
 
-# --- the chain, and the records' meaning ------------------------------------------------------------------
+# --- the chain, and the records' meaning ----------------------------------------------------------
 
 
 @dataclass
 class RunChain:
-    """Per axis, what the firmware's chain gives a quadratic segment that starts from it: the speed (1/4096
-    step per tick) and the residual along the positive direction (1/8192 step); None where the host cannot
-    know it (before the motion's first segment, after a cubic one). `speeds` is what it gives a cubic
-    record's sets (CUBIC_SEGMENTS)."""
+    """Per axis, what the firmware's chain gives a quadratic segment that starts from it: the speed
+    (1/4096 step per tick) and the residual along the positive direction (1/8192 step); None where
+    the host cannot know it (before the motion's first segment, after a cubic one). `speeds` is what
+    it gives a cubic record's sets (CUBIC_SEGMENTS)."""
 
     axis_count: int
     speed: list[int | None] = field(default_factory=list)
@@ -254,7 +260,8 @@ class RunChain:
         return RunChain(self.axis_count, list(self.speed), list(self.residual), self.speeds.copy())
 
     def follow(self, segment: Segment) -> None:
-        """After a quadratic segment: named axes end at vn and their exact residual, the others stop."""
+        """After a quadratic segment: named axes end at vn and their exact residual, the others
+        stop."""
         assert self.speeds is not None
         self.speeds.follow(segment)
         named = {a.axis: a for a in segment.axes}
@@ -279,8 +286,9 @@ class RunChain:
 
 
 def expand(records: Sequence[SegmentRecord], chain: RunChain) -> list[Segment]:
-    """The segments the records mean, starting from `chain`, which they move on; raises FieldFault as the
-    firmware refuses (AXES, DIRECTION, V0, VN, RESIDUAL per record, then SEGMENT's own checks)."""
+    """The segments the records mean, starting from `chain`, which they move on; raises FieldFault
+    as the firmware refuses (AXES, DIRECTION, V0, VN, RESIDUAL per record, then SEGMENT's own
+    checks)."""
     out: list[Segment] = []
     n, axes, v0, vn, last = 0, 0, [0] * 4, [0] * 4, [0] * 4
     for record in records:
@@ -367,8 +375,8 @@ def _record(
 
 
 def _change(segment: Segment, last: list[int]) -> tuple[tuple[int, ...] | None, bool]:
-    """The vn fields and whether they are mirrored (against each axis's last change in the frame): mirrored
-    where that takes fewer bytes."""
+    """The vn fields and whether they are mirrored (against each axis's last change in the frame):
+    mirrored where that takes fewer bytes."""
     if all(a.vn == a.v0 for a in segment.axes):
         return None, False
     plain = tuple(a.vn - a.v0 for a in segment.axes)
@@ -381,8 +389,9 @@ def _change(segment: Segment, last: list[int]) -> tuple[tuple[int, ...] | None, 
 def pack(
     segments: Sequence[Segment], chain: RunChain, limit: int = SEGMENTS_MAX
 ) -> Segments | None:
-    """As many of `segments` (from the first, at most `limit`) as one frame holds, moving `chain` on past
-    them; None when the chain cannot start a record (send the first segment as a SEGMENT, then follow it)."""
+    """As many of `segments` (from the first, at most `limit`) as one frame holds, moving `chain` on
+    past them; None when the chain cannot start a record (send the first segment as a SEGMENT, then
+    follow it)."""
     if not segments or not chain.ready():
         return None
     records: list[SegmentRecord] = []

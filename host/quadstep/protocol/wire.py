@@ -54,13 +54,14 @@ class FieldCodec:
         raise NotImplementedError
 
     def value(self, raw: Any) -> Any:
-        """The model's value for a raw value; raises FieldFault for a value the model has no name for."""
+        """The model's value for a raw value; raises FieldFault for a value the model has no name
+        for."""
         return raw
 
 
 class RecordsField(FieldCodec):
-    """Records to the end of the payload (SEGMENTS, CUBIC_SEGMENTS): `parse` reads them all, or says None
-    where one is not whole (BAD_LENGTH)."""
+    """Records to the end of the payload (SEGMENTS, CUBIC_SEGMENTS): `parse` reads them all, or says
+    None where one is not whole (BAD_LENGTH)."""
 
     def parse(self, payload: bytes, offset: int) -> tuple[list[Any], int] | None:
         raise NotImplementedError
@@ -77,7 +78,8 @@ class RecordsField(FieldCodec):
 
 @dataclass(frozen=True)
 class Int(FieldCodec):
-    """A little-endian integer (struct code B H I b h i), or `count` of them; `none` is the wire value of None."""
+    """A little-endian integer (struct code B H I b h i), or `count` of them; `none` is the wire
+    value of None."""
 
     code: str
     count: int = 1
@@ -132,7 +134,8 @@ def bits(mask: int) -> list[int]:
 
 @dataclass(frozen=True)
 class Masked(FieldCodec):
-    """An axis mask byte, then `unit` bytes for each axis it names (`mask_bits` of the mask count)."""
+    """An axis mask byte, then `unit` bytes for each axis it names (`mask_bits` of the mask
+    count)."""
 
     unit_code: str
     mask_bits: int = 0xFF
@@ -300,7 +303,8 @@ class WireMessage(BaseModel):
 
     @classmethod
     def check_wire(cls, raw: dict[str, Any], axis_count: int) -> None:
-        """The receiver's content checks on raw values, in the order of PROTOCOL.md; raise FieldFault."""
+        """The receiver's content checks on raw values, in the order of PROTOCOL.md; raise
+        FieldFault."""
 
     @classmethod
     def from_wire(cls: type[ModelT], raw: dict[str, Any]) -> ModelT:

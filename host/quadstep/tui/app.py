@@ -30,8 +30,8 @@ class QuadstepApp(App[None]):
         ports: Sequence[PortChoice] | None = None,
         choose: Callable[[str], Target] | None = None,
     ) -> None:
-        """Without a target in `session`, the port picker comes first: `ports` (default: pyserial's listing),
-        and `choose` makes the Target of the device picked (or EMULATOR)."""
+        """Without a target in `session`, the port picker comes first: `ports` (default: pyserial's
+        listing), and `choose` makes the Target of the device picked (or EMULATOR)."""
         super().__init__(driver_class=ReleaseDriver)
         self.session = session
         self.ports = ports
@@ -63,7 +63,8 @@ class QuadstepApp(App[None]):
             )
 
     def action_interrupt(self) -> None:
-        """Ctrl-C: as Ctrl+Q, any motion brought to rest with HOLD first (on_unmount); the command prints where."""
+        """Ctrl-C: as Ctrl+Q, any motion brought to rest with HOLD first (on_unmount); the command
+        prints where."""
         self.interrupted = True
         self.exit()
 

@@ -1,6 +1,7 @@
-"""The backlash screen (b): measure an axis's backlash with the probe or its limit switch, k tries shown as
-they come, the result in mm and steps with its spread, refused over the spread bound, written to the
-configuration after a confirm; d opens the dial-indicator wizard for machines without a probe.
+"""The backlash screen (b): measure an axis's backlash with the probe or its limit switch, k tries
+shown as they come, the result in mm and steps with its spread, refused over the spread bound,
+written to the configuration after a confirm; d opens the dial-indicator wizard for machines without
+a probe.
 
 The measurement runs in a worker thread (machine/backlash.py) and reports back with messages.
 """
@@ -85,9 +86,10 @@ class BacklashScreen(ModalScreen[None]):
             "switch": "the limit switch, less its calibrated hysteresis",
         }[self.method]
         self.query_one("#backlash-setup", Static).update(
-            f"[b]Backlash[/b]  axis [b]{self.axis}[/b] (x y z)   method [b]{self.method}[/b] (m): {where}\n"
-            f"tries [b]{self.tries}[/b] (- +)   refused when they spread more than {self.max_spread:g} mm\n"
-            "Enter: measure   w: write the result   d: dial indicator   Esc: close"
+            f"[b]Backlash[/b]  axis [b]{self.axis}[/b] (x y z)   method [b]{self.method}[/b] (m): "
+            f"{where}\ntries [b]{self.tries}[/b] (- +)   refused when they spread more than "
+            f"{self.max_spread:g} mm\nEnter: measure   w: write the result   d: dial indicator   "
+            "Esc: close"
         )
 
     def say(self, text: str, error: bool = False) -> None:
@@ -172,7 +174,8 @@ class BacklashScreen(ModalScreen[None]):
             return
         text = (
             f"{result.axis} backlash: [b]{result.mm:.4f} mm[/b] ({result.steps:g} steps), spread "
-            f"{result.spread_steps:g} steps ({result.spread_mm:.4f} mm) over {len(result.tries)} tries"
+            f"{result.spread_steps:g} steps ({result.spread_mm:.4f} mm) over {len(result.tries)} "
+            "tries"
         )
         if result.accepted:
             self.result = result

@@ -1,7 +1,8 @@
-"""A braille canvas: every terminal cell holds 2 × 4 dots, so an 38 × 11 cell view draws 76 × 44 points.
+"""A braille canvas: every terminal cell holds 2 × 4 dots, so an 38 × 11 cell view draws 76 × 44
+points.
 
-Dots are set in layers; a cell takes the colour of the highest layer among its dots (the tool over the
-origin over cuts over rapids over the travel box)."""
+Dots are set in layers; a cell takes the colour of the highest layer among its dots (the tool over
+the origin over cuts over rapids over the travel box)."""
 
 from __future__ import annotations
 

@@ -1,5 +1,6 @@
-"""A yes/no question, and the one way the TUI writes a measured backlash: into the configuration file after
-the user confirms (comments kept, the old file kept as FILE.bak; config_file.set_backlash)."""
+"""A yes/no question, and the one way the TUI writes a measured backlash: into the configuration
+file after the user confirms (comments kept, the old file kept as FILE.bak;
+config_file.set_backlash)."""
 
 from __future__ import annotations
 
@@ -42,8 +43,8 @@ def ask_to_write(
     say: Callable[[str, bool], None],
     written: Callable[[MachineConfig], None],
 ) -> None:
-    """Ask, then write `axis`'s backlash.mm = `mm` to `path`; `say(text, error)` reports, `written` gets the
-    configuration as now written."""
+    """Ask, then write `axis`'s backlash.mm = `mm` to `path`; `say(text, error)` reports, `written`
+    gets the configuration as now written."""
     if path is None:
         say("no configuration file (--config FILE) to write the backlash to", True)
         return
@@ -59,8 +60,8 @@ def ask_to_write(
             say(f"not written: {exc}", True)
             return
         say(
-            f"wrote {what} to {path} (the old file is {backup}); it takes effect at the next connection "
-            "(Ctrl+R)",
+            f"wrote {what} to {path} (the old file is {backup}); it takes effect at the next "
+            "connection (Ctrl+R)",
             False,
         )
         written(config)

@@ -1,5 +1,5 @@
-"""The console line (MDI): `:` focuses it, Enter runs the line typed, ↑/↓ go through the lines run before,
-Esc gives the keys back to jogging."""
+"""The console line (MDI): `:` focuses it, Enter runs the line typed, ↑/↓ go through the lines run
+before, Esc gives the keys back to jogging."""
 
 from __future__ import annotations
 

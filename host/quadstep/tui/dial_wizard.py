@@ -1,8 +1,10 @@
-"""The dial-indicator wizard: a guided backlash measurement for machines without a probe (backlash/dial.py).
+"""The dial-indicator wizard: a guided backlash measurement for machines without a probe
+(backlash/dial.py).
 
-Set the indicator against the carriage, preload it (p moves the axis toward it), zero it, then either jog back
-one motor step at a time until the needle moves, or move back by a distance and type the reading; the screen
-says what to do at each step, computes the backlash and writes it after a confirm.
+Set the indicator against the carriage, preload it (p moves the axis toward it), zero it, then
+either jog back one motor step at a time until the needle moves, or move back by a distance and type
+the reading; the screen says what to do at each step, computes the backlash and writes it after a
+confirm.
 """
 
 from __future__ import annotations
@@ -77,17 +79,25 @@ class DialWizard(ModalScreen[None]):
         side = "+" if self.side > 0 else "−"
         self.query_one("#dial-title", Static).update(
             f"[b]Dial indicator[/b]  axis [b]{self.axis}[/b], indicator on its {side} side (f)   "
-            f"method [b]{'jog back' if self.mode == 'jog' else f'move back {DISTANCE_MM:g} mm'}[/b] (t)"
+            "method "
+            f"[b]{'jog back' if self.mode == 'jog' else f'move back {DISTANCE_MM:g} mm'}[/b] (t)"
         )
         back = "−" if self.side > 0 else "+"
         text = {
-            "place": f"1. Put the indicator against the carriage on its {side} side, square to {self.axis}.\n"
-            f"2. Press p: {self.axis} moves {PRELOAD_MM:g} mm {side} into it (the preload).",
+            "place": (
+                f"1. Put the indicator against the carriage on its {side} side, square to "
+                f"{self.axis}.\n"
+                f"2. Press p: {self.axis} moves {PRELOAD_MM:g} mm {side} into it (the preload)."
+            ),
             "zero": "3. Zero the indicator, then press Enter.",
-            "back": f"4. Press j (or ←) to move {self.axis} {back} one motor step; press Enter as soon as the "
-            f"needle moves.   steps so far: [b]{self.count}[/b]",
-            "moved": f"4. {self.axis} moved {DISTANCE_MM:g} mm {back}. Type the indicator's reading (mm) and press "
-            "Enter.",
+            "back": (
+                f"4. Press j (or ←) to move {self.axis} {back} one motor step; press Enter as soon "
+                f"as the needle moves.   steps so far: [b]{self.count}[/b]"
+            ),
+            "moved": (
+                f"4. {self.axis} moved {DISTANCE_MM:g} mm {back}. Type the indicator's reading "
+                "(mm) and press Enter."
+            ),
             "done": "w: write the result to the configuration (asks first)   p: again   Esc: close",
         }[self.stage]
         self.query_one("#dial-step", Static).update(text)
@@ -107,7 +117,8 @@ class DialWizard(ModalScreen[None]):
     # --- motion ----------------------------------------------------------------------------
 
     def _move(self, mm: float | None, steps: int = 0) -> None:
-        """Move the axis by `mm` (or `steps` motor steps) toward the indicator (+) or away (−), in a thread."""
+        """Move the axis by `mm` (or `steps` motor steps) toward the indicator (+) or away (−), in a
+        thread."""
         machine = self.session.machine
         if machine is None or not self.session.connected:
             self.say("not connected", True)

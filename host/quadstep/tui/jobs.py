@@ -1,6 +1,7 @@
 """The machine screen's job keys: open a job (planned whole, in the work coordinates), run it, go on
-after a pause, hold and resume it (Space; the board's feed hold and cycle start buttons too). Alarms and
-the buttons go to the log. Mixed into MachineScreen, whose log, session and worker threads they use."""
+after a pause, hold and resume it (Space; the board's feed hold and cycle start buttons too). Alarms
+and the buttons go to the log. Mixed into MachineScreen, whose log, session and worker threads they
+use."""
 
 from __future__ import annotations
 
@@ -82,7 +83,8 @@ class JobKeys(Screen[None]):
         )
 
     def offer_kept_job(self, machine: Machine) -> None:
-        """On connect: a job that stopped before its end is named, with the key that goes on with it."""
+        """On connect: a job that stopped before its end is named, with the key that goes on with
+        it."""
         try:
             kept = kept_job(machine)
         except MachineError as exc:
@@ -125,7 +127,8 @@ class JobKeys(Screen[None]):
             self.query_one(ConsoleLine).focus()
 
     def on_console_line_run(self, message: ConsoleLine.Run) -> None:
-        """A line typed in the console: planned whole from where the machine stands, then run as a job."""
+        """A line typed in the console: planned whole from where the machine stands, then run as a
+        job."""
         text = message.text
         self.log_line(f"> {text}")
         machine = self._machine_free("MDI") if self._jogger_ready("MDI") is not None else None
@@ -195,8 +198,8 @@ class JobKeys(Screen[None]):
         self.show_job(job.progress)
 
     def show_job(self, progress: JobProgress) -> None:
-        """The job line: name, the line being run and its text, time left, progress; at a pause what it waits
-        for (an M0, a tool change), said once in the log with what the operator may do."""
+        """The job line: name, the line being run and its text, time left, progress; at a pause what
+        it waits for (an M0, a tool change), said once in the log with what the operator may do."""
         line = progress.line
         text = self.job_source[line - 1] if 0 < line <= len(self.job_source) else ""
         pause = self.job.pause if self.job is not None else None
@@ -229,7 +232,8 @@ class JobKeys(Screen[None]):
             self._command(jogger.sync, "sync")
 
     def action_hold_resume(self) -> bool:
-        """Space while a job runs: a feed hold that keeps the rest of the job; again: resume. False: no job."""
+        """Space while a job runs: a feed hold that keeps the rest of the job; again: resume. False:
+        no job."""
         job = self.job
         if job is None:
             return False
@@ -242,8 +246,8 @@ class JobKeys(Screen[None]):
         return True
 
     def action_feed_override(self, delta: int) -> bool:
-        """- + while a job runs: its feed override 10 % lower / higher (within 10–200 %); * (delta 0) back to
-        100 %. It applies to what is not yet sent. False: no job."""
+        """- + while a job runs: its feed override 10 % lower / higher (within 10–200 %); * (delta
+        0) back to 100 %. It applies to what is not yet sent. False: no job."""
         job = self.job
         if job is None:
             return False

@@ -1,6 +1,7 @@
-"""The machine screen's jog keys: incremental steps (one press, one step; a held key's repeats beyond what
-can run soon dropped), continuous jogs, the step and speed presets (X/Y and Z steps apart), zeroing, the
-stop keys. Mixed into MachineScreen, whose log, session and worker threads they use."""
+"""The machine screen's jog keys: incremental steps (one press, one step; a held key's repeats
+beyond what can run soon dropped), continuous jogs, the step and speed presets (X/Y and Z steps
+apart), zeroing, the stop keys. Mixed into MachineScreen, whose log, session and worker threads they
+use."""
 
 from __future__ import annotations
 
@@ -9,7 +10,7 @@ from typing import TYPE_CHECKING
 
 from textual.screen import Screen
 
-from ..jog import JogMode, Jogger
+from ..jog import Jogger, JogMode
 from ..link import LinkError
 from ..machine import JobRun, MachineError
 from ..planner.program import JobError
@@ -79,7 +80,8 @@ class JogKeys(Screen[None]):
         self.refresh_panels()  # the queued distance
 
     def key_released(self, key: str) -> None:
-        """A jog key let go, where the terminal reports it (kitty.py): a continuous jog stops at once."""
+        """A jog key let go, where the terminal reports it (kitty.py): a continuous jog stops at
+        once."""
         jogger = self.session.jogger
         for name, axis, direction, _, _ in JOG_KEYS:
             if name == key and jogger is not None and jogger.mode == JogMode.CONTINUOUS:
@@ -144,7 +146,8 @@ class JogKeys(Screen[None]):
             self.action_halt()
 
     def action_halt(self) -> None:
-        """Esc: cancel queued jog presses and bring whatever moves to rest with HOLD (a job ends there)."""
+        """Esc: cancel queued jog presses and bring whatever moves to rest with HOLD (a job ends
+        there)."""
         self._drop_queued()
         machine = self.session.machine
         if machine is not None and machine.busy:

@@ -1,4 +1,5 @@
-"""The key map: arrows jog X/Y, Page Up/Down jog Z (as in bCNC and most senders), number keys pick the step."""
+"""The key map: arrows jog X/Y, Page Up/Down jog Z (as in bCNC and most senders), number keys pick
+the step."""
 
 from __future__ import annotations
 
@@ -20,7 +21,8 @@ JOG_KEYS = (
 
 
 def bindings(step_presets: int) -> list[BindingType]:
-    """Every binding of the machine screen, in the order the footer and the help screen show them."""
+    """Every binding of the machine screen, in the order the footer and the help screen show
+    them."""
     keys: list[BindingType] = [
         Binding(key, f"jog({axis}, {direction})", label, key_display=display, group=JOG)
         for key, axis, direction, display, label in JOG_KEYS

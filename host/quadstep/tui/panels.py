@@ -8,7 +8,7 @@ from textual.containers import Horizontal
 from textual.widgets import ProgressBar, RichLog, Static
 
 from ..config import MachineConfig
-from ..jog import JogMode, Jogger
+from ..jog import Jogger, JogMode
 from ..machine import JobProgress, JobState
 from ..protocol import IdentifyReply, State
 from .session import Snapshot
@@ -31,7 +31,8 @@ JOB_SHOWN = {
 
 
 class Panel(Static):
-    """A Static redrawn often: plain Text (cheap to render), relaid out only when its height changes."""
+    """A Static redrawn often: plain Text (cheap to render), relaid out only when its height
+    changes."""
 
     _lines = -1
 
@@ -42,8 +43,8 @@ class Panel(Static):
 
 
 class PositionPanel(Panel):
-    """Per axis: the work position (active system) and the machine position side by side, the steps, and the
-    soft limits (machine coordinates)."""
+    """Per axis: the work position (active system) and the machine position side by side, the steps,
+    and the soft limits (machine coordinates)."""
 
     def show(self, config: MachineConfig, snapshot: Snapshot | None) -> None:
         system = snapshot.system if snapshot is not None else "work"
@@ -103,7 +104,8 @@ class MachinePanel(Panel):
 
 
 class JogPanel(Panel):
-    """The jog mode, the X/Y and Z steps, the speed, and the distance still to go of the steps pressed."""
+    """The jog mode, the X/Y and Z steps, the speed, and the distance still to go of the steps
+    pressed."""
 
     def show(self, jogger: Jogger | None) -> None:
         if jogger is None:

@@ -1,5 +1,6 @@
-"""Which board to talk to, when `quadstep tui` is given no --port and not exactly one board is plugged in:
-the serial ports pyserial lists (boards first, named by their USB identity), and the emulator."""
+"""Which board to talk to, when `quadstep tui` is given no --port and not exactly one board is
+plugged in: the serial ports pyserial lists (boards first, named by their USB identity), and the
+emulator."""
 
 from __future__ import annotations
 

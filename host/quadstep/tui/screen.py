@@ -97,7 +97,8 @@ class MachineScreen(JobKeys, JogKeys):
         self._poll_stop.set()
 
     def log_line(self, text: str, error: bool = False) -> None:
-        """A line in the message log; the same line again (a held key's repeats) is counted, not repeated."""
+        """A line in the message log; the same line again (a held key's repeats) is counted, not
+        repeated."""
         if self.messages and self.messages[-1] == text:
             self._repeats += 1
             return
@@ -156,8 +157,9 @@ class MachineScreen(JobKeys, JogKeys):
         assert config is not None
         self.query_one("#banner", Static).display = False
         self.app.sub_title = (
-            f"{self.session.target.label} · firmware {ident.fw_major}.{ident.fw_minor}.{ident.fw_patch} · "
-            f"{len(config.axes)} axes · {ident.tick_hz / 1000:g} kHz"
+            f"{self.session.target.label} · firmware "
+            f"{ident.fw_major}.{ident.fw_minor}.{ident.fw_patch} · {len(config.axes)} axes · "
+            f"{ident.tick_hz / 1000:g} kHz"
         )
         given = (
             ""
@@ -217,7 +219,8 @@ class MachineScreen(JobKeys, JogKeys):
     # --- homing and probing -------------------------------------------------------------
 
     def action_home(self) -> None:
-        """H: home every axis with [axes.homing], in the configured order; each phase goes to the log."""
+        """H: home every axis with [axes.homing], in the configured order; each phase goes to the
+        log."""
         if self._jogger_ready("home") is None or self.session.machine is None:
             return
         machine = self.session.machine
@@ -227,7 +230,8 @@ class MachineScreen(JobKeys, JogKeys):
         )
 
     def action_probe(self, code: str) -> None:
-        """P: G38.2 down Z to its travel_min at 1 mm/s (a touch plate); Shift+P: G38.4 up until it lets go."""
+        """P: G38.2 down Z to its travel_min at 1 mm/s (a touch plate); Shift+P: G38.4 up until it
+        lets go."""
         if self._jogger_ready(f"G{code}") is None or self.session.machine is None:
             return
         machine = self.session.machine
@@ -255,7 +259,8 @@ class MachineScreen(JobKeys, JogKeys):
         return "homed: " + "  ".join(f"{r.name} {r.position_mm:.3f} mm" for r in results)
 
     def _routine(self, machine: Machine, what: str, body: Callable[[], str]) -> None:
-        """A homing or probing routine in a worker thread: its outcome to the log, then the jogger resyncs."""
+        """A homing or probing routine in a worker thread: its outcome to the log, then the jogger
+        resyncs."""
         try:
             self.post_message(Note(body()))
         except (LinkError, MachineError, JobError) as exc:

@@ -29,7 +29,8 @@ LINK_HEALTH = ("retransmits", "timeouts", "errors", "decode_errors", "alarms")
 
 @dataclass(frozen=True)
 class Parting:
-    """Where the machine was left when the session closed: the line a job was stopped at, and the rest."""
+    """Where the machine was left when the session closed: the line a job was stopped at, and the
+    rest."""
 
     machine: Machine
     line: int | None  # the job's line when its hold began (None: no job ran)
@@ -126,8 +127,8 @@ class Session:
             )  # the link may be gone; close() brings motion to rest first
 
     def close(self) -> None:
-        """Bring any motion to rest, close the link and stop an emulator this session started; `parting` says
-        where it was left."""
+        """Bring any motion to rest, close the link and stop an emulator this session started;
+        `parting` says where it was left."""
         self.cancel_pending()
         machine = self.machine
         if self.connected and machine is not None:
@@ -153,7 +154,8 @@ class Session:
     # --- reading ------------------------------------------------------------------------
 
     def snapshot(self) -> Snapshot:
-        """Status, link counters and the feed since the last snapshot; raises LinkError when lost."""
+        """Status, link counters and the feed since the last snapshot; raises LinkError when
+        lost."""
         machine = self.machine
         if machine is None or self.lost is not None:
             raise LinkError(self.lost or "not connected")

@@ -1,5 +1,6 @@
-"""The toolpath view: the job's X/Y path (cuts solid, rapids dotted), the travel box, the work origin and the
-tool where it stands now. `v` switches between the job's extent and the whole travel."""
+"""The toolpath view: the job's X/Y path (cuts solid, rapids dotted), the travel box, the work
+origin and the tool where it stands now. `v` switches between the job's extent and the whole
+travel."""
 
 from __future__ import annotations
 
