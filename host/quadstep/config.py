@@ -240,9 +240,8 @@ class AxisConfig(BaseModel):
                 f"travel_max = {self.travel_max:g}: must be at least one step "
                 f"({step:g} mm) beyond travel_min = {self.travel_min:g}"
             )
-        reach = (
-            POSITION_MAX / self.steps_per_mm
-        )  # the firmware keeps step positions within ±POSITION_MAX
+        # the firmware keeps step positions within ±POSITION_MAX
+        reach = POSITION_MAX / self.steps_per_mm
         for key, value in (("travel_min", self.travel_min), ("travel_max", self.travel_max)):
             if abs(value) > reach:
                 problems.append(
@@ -433,9 +432,8 @@ def parse_config(data: dict[str, Any], source: str = "config") -> MachineConfig:
 def default_config(tick_hz: int, axis_count: int) -> MachineConfig:
     """A configuration for a board nothing is known about: 80 steps/mm, ±1000 mm, gentle limits."""
     speed = min(100.0, math.floor(MAX_STEPS_PER_TICK * tick_hz / 80))
-    accel = max(
-        500, math.ceil(DECEL_QUANTUM * tick_hz * tick_hz / 80)
-    )  # fast ticks: a hold's least
+    # fast ticks: a hold's least
+    accel = max(500, math.ceil(DECEL_QUANTUM * tick_hz * tick_hz / 80))
     return parse_config(
         {
             "tick_hz": tick_hz,

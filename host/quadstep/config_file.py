@@ -51,9 +51,8 @@ def set_backlash(path: Path, axis: str, **values: float) -> tuple[MachineConfig,
     if "backlash" not in text and not new_table_ends_file(document, table):
         backlash.add(tomlkit.nl())
     new_text = tomlkit.dumps(document)
-    config = parse_config(
-        tomlkit.parse(new_text).unwrap(), str(path)
-    )  # refused whole if anything is wrong
+    # refused whole if anything is wrong
+    config = parse_config(tomlkit.parse(new_text).unwrap(), str(path))
     backup = path.with_name(path.name + ".bak")
     shutil.copy2(path, backup)
     replace_text(path, new_text)

@@ -100,9 +100,8 @@ class PortProcess:
         self._proc: subprocess.Popen[bytes] | None = None
         self._stderr = tempfile.TemporaryFile()
         self._stderr_text: str | None = None  # kept once the child has ended
-        self._released = (
-            threading.Event()
-        )  # the keeper thread (the child's parent for PR_SET_PDEATHSIG) may end
+        # the keeper thread (the child's parent for PR_SET_PDEATHSIG) may end
+        self._released = threading.Event()
 
     def start(self) -> Self:
         """Start the child from a thread that lives until stop() (or the program's end): the

@@ -27,9 +27,8 @@ class Box:
 class Toolpath:
     pieces: tuple[Piece, ...]
     machine_box: Box | None  # None: the job has no move
-    work_box: (
-        Box | None
-    )  # the targets as their lines wrote them (each in the system it was written in)
+    # the targets as their lines wrote them (each in the system it was written in)
+    work_box: Box | None
 
     @property
     def rapids(self) -> int:

@@ -38,9 +38,8 @@ def describe_validation_error(error: ValidationError) -> list[str]:
     """pydantic errors as `key = value: rule` lines."""
     lines = []
     for e in error.errors():
-        key = error_location(
-            tuple(part for part in e["loc"] if part != "[key]")
-        )  # a bad dict key: name it once
+        # a bad dict key: name it once
+        key = error_location(tuple(part for part in e["loc"] if part != "[key]"))
         kind = e["type"]
         if kind == "too_short" and len(e["input"]) >= e["ctx"]["min_length"]:
             continue  # its entries were refused (named on their own lines), not too few given
@@ -78,9 +77,8 @@ def validate(
     one `source: key = value: rule` line per problem, or one line for what no such file can hold (a
     date, nesting hundreds of levels deep)."""
     try:
-        text = json.dumps(
-            data, allow_nan=False
-        )  # JSON's own types, in which strict validation takes lists as tuples
+        # JSON's own types, in which strict validation takes lists as tuples
+        text = json.dumps(data, allow_nan=False)
     except (TypeError, ValueError) as exc:
         bad = _non_finite(data)
         if bad is not None:

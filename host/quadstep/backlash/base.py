@@ -23,9 +23,8 @@ from ..planner.stream import Stream
 from ..protocol.cubic import SIGMA, AxisState, CubicChain, CubicSegment, CubicStep, choose2
 from ..protocol.segment import AxisMove, D, Segment
 
-Poly = tuple[
-    Fraction, Fraction, Fraction
-]  # advance over tick k: α + β·(k−1) + γ·C(k−1, 2), signed, 2^-31 step
+# advance over tick k: α + β·(k−1) + γ·C(k−1, 2), signed, 2^-31 step
+Poly = tuple[Fraction, Fraction, Fraction]
 
 
 @dataclass
@@ -36,13 +35,11 @@ class BaseStream:
     n: np.ndarray  # (S,) ticks
     steps: np.ndarray  # (S, A) signed steps of each axis
     accel: np.ndarray  # (S, A) largest |acceleration|, steps per tick²
-    rest_before: (
-        np.ndarray
-    )  # (S + 1,) every axis at rest at the boundary before segment k (and at the end)
+    # (S + 1,) every axis at rest at the boundary before segment k (and at the end)
+    rest_before: np.ndarray
     item: Sequence[Segment | CubicSegment] | SegmentArrays
-    chains: list[CubicChain] = field(
-        default_factory=list
-    )  # mixed streams: the chain before each segment
+    # mixed streams: the chain before each segment
+    chains: list[CubicChain] = field(default_factory=list)
     start: np.ndarray = field(init=False)  # (S + 1,) first tick of each segment
     position: np.ndarray = field(init=False)  # (S + 1, A) stepper before each segment, from 0
 
@@ -187,9 +184,8 @@ def from_items(items: Sequence[Segment | CubicSegment], axis_count: int) -> Base
             moving[k + 1] |= mv.vn > 0
         chain.follow_quadratic(seg, totals)
     chains.append(chain.copy())
-    kept = (
-        items if isinstance(items, Stream) else list(items)
-    )  # a planned stream keeps its source lines
+    # a planned stream keeps its source lines
+    kept = items if isinstance(items, Stream) else list(items)
     return BaseStream(axis_count, n, steps, accel, ~moving, kept, chains)
 
 

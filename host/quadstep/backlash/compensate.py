@@ -295,9 +295,8 @@ def _assemble(
     for b, length in blocks.items():
         inserted[b:] += length
     anchor = 1 if placed else 0
-    seg_start = (
-        base.start + inserted + anchor
-    )  # motion tick each base segment starts at in the stream
+    # motion tick each base segment starts at in the stream
+    seg_start = base.start + inserted + anchor
     for p in placed:
         if p.kind == "rest":
             p.start = int(seg_start[p.at]) - blocks[p.at]

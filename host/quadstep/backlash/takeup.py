@@ -94,9 +94,8 @@ def design(steps: int, accel: float, jerk: float) -> Ramp:
     distance = abs(steps)
     jerk = min(jerk, MAX_JERK_UNITS / SIGMA)
     n1 = max(1, math.ceil(accel / jerk))  # ticks to reach the acceleration at this jerk
-    n1 = max(
-        1, min(n1, math.ceil((distance / (2.0 * jerk)) ** (1.0 / 3.0)))
-    )  # short: jerk-limited, no n2
+    # short: jerk-limited, no n2
+    n1 = max(1, min(n1, math.ceil((distance / (2.0 * jerk)) ** (1.0 / 3.0))))
     n2 = 0
     if 2.0 * n1 * n1 * n1 * jerk < distance:
         a = min(accel, n1 * jerk)

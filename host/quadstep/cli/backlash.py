@@ -123,9 +123,10 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
+    # here: every command's parser is built at each start
     from ..machine.backlash import (
         MeasureError,
-    )  # here: every command's parser is built at each start
+    )
 
     config = machine_config(args)
     name = args.axis.upper()

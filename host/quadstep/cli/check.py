@@ -29,9 +29,8 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 
 def run(args: argparse.Namespace) -> int:
     config = machine_config(args)
-    job = job_from_args(
-        args, config, coordinates=stored_coordinates(args)
-    )  # from the machine origin
+    # from the machine origin
+    job = job_from_args(args, config, coordinates=stored_coordinates(args))
     summary = job.summary()
     path = toolpath(job.program, config.to_mm(job.plan.start))
     names = config.axis_names

@@ -90,9 +90,8 @@ def draw(
             (True, {"color": "tab:orange", "linestyle": "--", "label": "rapid (G0)"}),
             (False, {"color": "tab:blue", "linestyle": "-", "label": "cut"}),
         ):
-            pieces = [
-                p for p in (path.pieces if path is not None else ()) if p.rapid == rapid
-            ]  # as written
+            # as written
+            pieces = [p for p in (path.pieces if path is not None else ()) if p.rapid == rapid]
             xs = [v for p in pieces for v in (p.start[0], p.end[0], np.nan)]
             ys = [v for p in pieces for v in (p.start[1], p.end[1], np.nan)]
             if pieces:

@@ -275,9 +275,8 @@ def stream(
     journal: Journal | None = None,
 ) -> int:
     config, plan = machine.config, job.plan
-    run_ = machine.run_job(
-        plan, job.program, job.label, job.feed_override, journal
-    )  # with its take-ups
+    # with its take-ups
+    run_ = machine.run_job(plan, job.program, job.label, job.feed_override, journal)
     console = Console(stderr=True)
     progress = Progress(
         TextColumn("{task.description}"),

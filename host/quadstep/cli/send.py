@@ -67,9 +67,8 @@ def load(path: Path) -> SegmentsFile:
                 "segments, docs/HOST.md)"
             ) from None
         raise CliError(f"{path}: line {exc.lineno} column {exc.colno}: {exc.msg}") from None
-    job = validate(
-        SegmentsFile, data, str(path), CliError, strict=False
-    )  # whole numbers only: _whole_numbers_only
+    # whole numbers only: _whole_numbers_only
+    job = validate(SegmentsFile, data, str(path), CliError, strict=False)
     last = job.segments[-1]
     moving = [a.axis for a in last.axes if a.vn > 0]
     if moving:

@@ -45,9 +45,8 @@ def probe_move(
     interpreter.program.items.append(
         ProbeMove(line, code(word) or "", tuple(target), interpreter.feed, resume=resume)
     )
-    interpreter._move(
-        target, interpreter.feed, line
-    )  # planned as if it went all the way, for the checks
+    # planned as if it went all the way, for the checks
+    interpreter._move(target, interpreter.feed, line)
 
 
 def read_rest(

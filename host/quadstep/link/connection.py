@@ -75,9 +75,8 @@ class Link:
         self._request_lock = threading.Lock()  # one immediate request at a time
         self._window = SendWindow(clock, rto, retries, self.stats)
         self._callbacks: list[ReportCallback] = []
-        self._in = Inbox(
-            self._window, self.stats
-        )  # these two shared with the threads, guarded by _cond
+        # these two shared with the threads, guarded by _cond
+        self._in = Inbox(self._window, self.stats)
         self._out = Outbox(self._window, self._in, self.stats, poll_interval)
         self._transport = Transport(
             port, self._cond, self._on_data, self._next_output, self._port_failed
@@ -411,9 +410,8 @@ class Link:
 
     def _wait(self, deadline: float | None) -> bool:
         if deadline is None:
-            self._cond.wait(
-                self.poll_interval
-            )  # woken by any change; the slice only bounds a missed one
+            # woken by any change; the slice only bounds a missed one
+            self._cond.wait(self.poll_interval)
             return True
         remaining = deadline - self._clock()
         return remaining > 0 and (self._cond.wait(remaining) or self._clock() < deadline)
@@ -460,9 +458,8 @@ class Link:
             if (
                 self._in.failure is not None
             ):  # a frame resent too often, or the board silent: wake whoever waits
-                self._transport.closed |= isinstance(
-                    self._in.failure, BoardSilent
-                )  # a silent board ends the link
+                # a silent board ends the link
+                self._transport.closed |= isinstance(self._in.failure, BoardSilent)
                 self._cond.notify_all()
             if out:
                 return out

@@ -58,9 +58,8 @@ def hold(link: Link, decels: Sequence[int], timeout: float | None = None) -> Hol
             raise _alarm_error(link) from exc
         raise
     done = _wait_hold_done(link, message, seen, generation, timeout)
-    link.resync(
-        link.status(), generation
-    )  # the queue is empty now: adopt its free slots and counts
+    # the queue is empty now: adopt its free slots and counts
+    link.resync(link.status(), generation)
     return done
 
 
@@ -113,6 +112,5 @@ def _wait_hold_done(
             and link.report_count(HoldDone) == seen
             and link.generation == generation
         ):
-            link.request(
-                message, StatusReport, status.next_seq
-            )  # HOLD again: at rest it repeats HOLD_DONE
+            # HOLD again: at rest it repeats HOLD_DONE
+            link.request(message, StatusReport, status.next_seq)

@@ -72,9 +72,8 @@ def until_input(
             if link.holds_by_input == triggers:
                 raise  # a STOP or HOLD from elsewhere
             continue  # the edge came while waiting: wait for its hold
-        alarm = status_alarm(
-            link.status()
-        )  # a board gone silent does not answer; an alarm's report may be lost
+        # a board gone silent does not answer; an alarm's report may be lost
+        alarm = status_alarm(link.status())
         if alarm is not None:
             raise alarm
         if deadline is not None and time.monotonic() >= deadline:

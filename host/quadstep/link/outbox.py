@@ -39,9 +39,8 @@ class Outbox:
         self.stats = stats
         self.poll_interval = poll_interval
         self.silence = silence
-        self.urgent: deque[bytes] = (
-            deque()
-        )  # immediate requests, written before any sequenced frame
+        # immediate requests, written before any sequenced frame
+        self.urgent: deque[bytes] = deque()
         self.request_seq = 0x40
         self.last_poll = 0.0
         self.last_write = 0.0

@@ -210,9 +210,8 @@ class SendWindow:
         if self._written and now >= self._last_progress + self.rto:
             self.stats.timeouts += 1
             self._gap_handled_for = None
-            self.rto = min(
-                self.max_rto, 2 * self.rto
-            )  # back off until a round trip is measured again
+            # back off until a round trip is measured again
+            self.rto = min(self.max_rto, 2 * self.rto)
             self._go_back(parked_too=True)  # the firmware may have let parked frames go
         frames = self._frames
         stop = min(len(frames), self.max_in_flight)

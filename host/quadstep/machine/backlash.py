@@ -206,9 +206,8 @@ def switch_sums(
         for k in range(tries):
             edges += [edge(0, -s), edge(1, s)]
             first, second = abs(edges[-2] - edges[-3]), abs(edges[-1] - edges[-2])
-            sums.append(
-                (first + second) / 2 - 1
-            )  # each interval is the sum rounded up by 0 … 2 steps
+            # each interval is the sum rounded up by 0 … 2 steps
+            sums.append((first + second) / 2 - 1)
             say(f"{axis.name}: try {k + 1}/{tries}: backlash + hysteresis {sums[-1]:g} steps")
         edge(0, -s)
         moves.move(a, -s * reach // 10)  # off the switch

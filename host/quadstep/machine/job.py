@@ -43,10 +43,11 @@ from .takeups import StreamPlan
 LOOKAHEAD_S = (
     0.5  # s queued beyond the watchdog's host_timeout: a lost host meets the watchdog first
 )
+# motion ends after which the rest of the job is planned again from rest
 AT_REST = (
     FEED_HOLD,
     STARVED,
-)  # motion ends after which the rest of the job is planned again from rest
+)
 
 
 def final_state(end: MotionEnd) -> JobState:

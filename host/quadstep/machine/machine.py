@@ -122,9 +122,8 @@ class Machine(Standing):
         self.notice: str | None = None
         self._state_lock = threading.Lock()
         self._ticks = 0
-        self.takeups = TakeUps(
-            self.config
-        )  # the backlash: take-ups in every program, positions without them
+        # the backlash: take-ups in every program, positions without them
+        self.takeups = TakeUps(self.config)
         self._lock = threading.Lock()
         self._running: Running | None = None
         self._waiting: JobRun | None = None  # a job waiting at a pause while another program runs
@@ -399,9 +398,8 @@ class Machine(Standing):
         with self._lock:
             self._take(program)
         if compensated is not None:
-            status = (
-                self.link.status()
-            )  # at rest: where the stream begins, in steps and motion ticks
+            # at rest: where the stream begins, in steps and motion ticks
+            status = self.link.status()
             self.takeups.begin(compensated, status.position[: self.axis_count], status.motion_ticks)
         program.settle = lambda end: self._settle(end, raw)  # type: ignore[union-attr]
         program.on_end = lambda end: self._ended(program, end)

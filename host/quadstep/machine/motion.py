@@ -40,12 +40,11 @@ from ..protocol.segment_run import RunChain
 MIN_QUEUED_SEGMENTS = 2
 SPACE_WAIT = 0.005  # s between checks while the lookahead is full
 STALL_POLL = 0.25  # s without a completed segment before asking for STATUS
-STARVED = "starved"  # how a motion ends when the board ran dry and braked to rest by itself
 # how a motion whose stream was cut short (cut()) ends: the board still runs its last segments
 CUT = "cut"
-# how a motion ends whose queue ran dry while moving: the board stopped it (a hold), and
+# how a motion ends whose queue ran dry while moving: the board stopped it (a hold), and the motion
+# took it out of STARVED with HOLD, so it is IDLE at the end's position
 STARVED = "starved"
-# the motion took it out of STARVED with HOLD, so it is IDLE at the end's position
 
 
 @dataclass(frozen=True)
@@ -165,9 +164,8 @@ class Motion:
         self.first = first
         self.last = len(segments) if last is None else last
         self.lookahead_ticks = lookahead_ticks
-        self.outputs = list(
-            outputs
-        )  # (segment index, OUTPUTS): sent before that segment, or after the last
+        # (segment index, OUTPUTS): sent before that segment, or after the last
+        self.outputs = list(outputs)
         self._lock = threading.Lock()
         self._space = threading.Event()
         self._ended = threading.Event()
@@ -353,12 +351,10 @@ class Motion:
         while not self._halting:
             if self.link.generation != self._generation:
                 raise Stopped("the stream was restarted (STOP) while this motion waited for room")
-            self.link.check(
-                self._generation
-            )  # an alarm, a reset or a silent board: no room will come
-            done = (
-                self.done
-            )  # negative while the motion this one follows (a cut) still runs its last segments
+            # an alarm, a reset or a silent board: no room will come
+            self.link.check(self._generation)
+            # negative while the motion this one follows (a cut) still runs its last segments
+            done = self.done
             queued = k - done
             if queued < capacity and (
                 self.lookahead_ticks is None
@@ -370,9 +366,8 @@ class Motion:
             if done != last_done:
                 last_done, since = done, now
             elif now - since > STALL_POLL:
-                alarm = status_alarm(
-                    self.link.status()
-                )  # a SPACE ack lost: the status carries the count
+                # a SPACE ack lost: the status carries the count
+                alarm = status_alarm(self.link.status())
                 if alarm is not None:  # the alarm flushed the queue: no room will come
                     raise alarm
                 since = now

@@ -122,9 +122,8 @@ class Swap:
     plan: Plan | StreamPlan
 
 
-Restreamer = Callable[
-    [Plan, StreamPlan], StreamPlan
-]  # the machine's: a plan with its take-ups, as one running
+# the machine's: a plan with its take-ups, as one running
+Restreamer = Callable[[Plan, StreamPlan], StreamPlan]
 
 
 def prepare(

@@ -44,12 +44,13 @@ class ProbingMachine(Protocol):
     def rested(self, hold_tick: int | None = None) -> tuple[int, ...]: ...
 
 
+# level, error if missed
 CODES = {
     "38.2": (1, True),
     "38.3": (1, False),
     "38.4": (0, True),
     "38.5": (0, False),
-}  # level, error if missed
+}
 
 
 class ProbeError(MachineError):
@@ -85,9 +86,8 @@ def probe(
             raise ProbeError(f"G{code}: the probe is {'touching' if level else 'clear'} already")
         machine.sync()
         program = Program(items=[LinearMove(line=1, target=tuple(target_mm), feed=feed)], lines=1)
-        plan = plan_program(
-            program, config, machine.position
-        )  # a target outside the travel: JobError
+        # a target outside the travel: JobError
+        plan = plan_program(program, config, machine.position)
         decel = tuple(list(machine.decels) + [0] * (MAX_AXES - len(machine.decels)))
         segments = machine.takeup_stream([plan.segments.segment(i) for i in range(len(plan))])
         end = until_input(

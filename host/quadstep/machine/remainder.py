@@ -41,9 +41,8 @@ def rest_of(program: Program, first: int) -> Program:
 def remainder_program(program: Program, plan: Plan, held_segment: int) -> Program:
     """What is left of `program` (planned as `plan`) held during its segment `held_segment`: the
     interrupted move again, then everything after it."""
-    move = bisect_right(
-        plan.move_ends, held_segment
-    )  # the first move whose segments end past the held one
+    # the first move whose segments end past the held one
+    move = bisect_right(plan.move_ends, held_segment)
     return rest_of(program, move_item(program, plan.config, plan.start, move))
 
 

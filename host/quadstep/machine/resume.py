@@ -25,10 +25,11 @@ from .journal import (
 )
 from .machine import Machine
 
+# alarms after a controlled stop: the position is exact
 KEPT = (
     AlarmCode.HOST_LOST,
     AlarmCode.UNDERRUN,
-)  # alarms after a controlled stop: the position is exact
+)
 
 
 def job_journal(machine: Machine, job: Path, skip_unsupported: bool = False) -> Journal | None:

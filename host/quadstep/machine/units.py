@@ -6,10 +6,12 @@ from __future__ import annotations
 import math
 
 from ..config import AxisConfig, MachineConfig
+
+# HOLD decelerations: d / 2^DECEL_SHIFT step per tick², 1 … DECEL_MAX
 from ..protocol import (
     DECEL_MAX,
     DECEL_SHIFT,
-)  # HOLD decelerations: d / 2^DECEL_SHIFT step per tick², 1 … DECEL_MAX
+)
 
 
 def hold_decel(axis: AxisConfig, tick_hz: int) -> int:

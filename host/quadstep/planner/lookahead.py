@@ -50,9 +50,8 @@ def _junction_speed(table: MoveTable, k: int, config: MachineConfig, amax: list[
         return cap  # straight on
     turn = [b - a for a, b in zip(e1, e2)]
     norm = math.sqrt(sum(x * x for x in turn))
-    accel = min(
-        table.accel_cap[k - 1], table.accel_cap[k]
-    )  # a move's own lower limit, if it has one
+    # a move's own lower limit, if it has one
+    accel = min(table.accel_cap[k - 1], table.accel_cap[k])
     for i, x in enumerate(turn):
         if abs(x) > 1e-12:
             accel = min(accel, amax[i] * norm / abs(x))

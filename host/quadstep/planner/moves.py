@@ -31,22 +31,18 @@ class MoveTable:
     unit: list[tuple[float, ...]] = field(default_factory=list)  # direction, mm space
     max_speed: list[float] = field(default_factory=list)  # mm/tick along the path
     accel: list[float] = field(default_factory=list)  # mm/tick² along the path
-    accel_cap: list[float] = field(
-        default_factory=list
-    )  # the move's own accel (mm/tick²), inf if none
-    feed: list[float] = field(
-        default_factory=list
-    )  # the programmed feed (mm/tick), inf for a rapid
-    deviation: list[float | None] = field(
-        default_factory=list
-    )  # G64 P / G61 at the move's start corner
+    # the move's own accel (mm/tick²), inf if none
+    accel_cap: list[float] = field(default_factory=list)
+    # the programmed feed (mm/tick), inf for a rapid
+    feed: list[float] = field(default_factory=list)
+    # G64 P / G61 at the move's start corner
+    deviation: list[float | None] = field(default_factory=list)
     # stops: (number of moves before it, item), in order; the machine is at rest there (at an output
     # change only without laser mode, as GRBL waits for the motion before it changes the spindle or
     # the coolant)
     stops: list[tuple[int, Dwell | Pause | SetOutputs | ProbeMove]] = field(default_factory=list)
-    jerk: list[float] = field(
-        default_factory=list
-    )  # mm/tick³ along the path, inf where no axis limits it
+    # mm/tick³ along the path, inf where no axis limits it
+    jerk: list[float] = field(default_factory=list)
     start: tuple[int, ...] = ()
     skipped_lines: int = 0  # moves too short to make a step
 

@@ -44,14 +44,12 @@ class Plan:
     """A whole job, planned: its segments, where it starts and ends, and where it pauses."""
 
     config: MachineConfig
-    segments: (
-        SegmentArrays | Stream
-    )  # quadratic arrays; a stream of cubic segments when jerk-limited
+    # quadratic arrays; a stream of cubic segments when jerk-limited
+    segments: SegmentArrays | Stream
     start: tuple[int, ...]
     end: tuple[int, ...]
-    pauses: list[tuple[int, int]] = field(
-        default_factory=list
-    )  # (segment index, line) before which to wait
+    # (segment index, line) before which to wait
+    pauses: list[tuple[int, int]] = field(default_factory=list)
     moves: int = 0
     distance_mm: float = 0.0
     lines: int = 0
@@ -64,9 +62,8 @@ class Plan:
     peak_advance: tuple[
         int, ...
     ] = ()  # jerk-limited plans: highest speed per axis, 2^-31 step per tick
-    junctions: array = field(
-        default_factory=lambda: array("d")
-    )  # each move's entry speed (mm/tick), then 0
+    # each move's entry speed (mm/tick), then 0
+    junctions: array = field(default_factory=lambda: array("d"))
 
     def __len__(self) -> int:
         return len(self.segments)

@@ -49,9 +49,8 @@ def fit_profiles(
     error, in steps of 5% of a tick's travel), then shortest. The caller takes the first
     whose quantised form lands every axis exactly.
     """
-    slowing = u_in > u_max * (
-        1.0 + 1e-9
-    )  # entered faster than this move may go (a lowered feed override): slow down first
+    # entered faster than this move may go (a lowered feed override): slow down first
+    slowing = u_in > u_max * (1.0 + 1e-9)
     u_max = max(u_max, u_out) if slowing else max(u_max, u_in, u_out)  # guard rounding
     peak = math.sqrt(max(0.0, (2.0 * plan_accel * length + u_in * u_in + u_out * u_out) / 2.0))
     peak = max(min(u_max, peak), u_out) if slowing else max(min(u_max, peak), u_in, u_out)

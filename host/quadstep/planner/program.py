@@ -29,9 +29,8 @@ class LinearMove:
     target: tuple[float, ...]
     feed: float | None  # mm/s along the path
     accel: float | None = None  # mm/s² along the path, None: the machine's limits only
-    offset: tuple[float, ...] = field(
-        default=(), compare=False
-    )  # machine − work per axis; () = none
+    # machine − work per axis; () = none
+    offset: tuple[float, ...] = field(default=(), compare=False)
     system: str = field(default="", compare=False)  # G54 … G59, or G53 for machine coordinates
     deviation: float | None = (
         None  # mm the path may leave a corner by (G64 P); 0: exact stop (G61); None: config

@@ -26,17 +26,14 @@ from .program import JobError
 from .scurve_profile import PROFILE_FRACTION, Profile, whole_tick_profile
 from .stream import Stream
 
-SPEED_KEPT = (
-    1 << 15
-)  # a junction keeps an axis's speed without a set when it is this close (2^-16 step/tick)
-LAND_SLACK = (
-    SIGMA * 9 // 20
-)  # a move's ideal may end this far from its target (the stepper is on it; the
-# next move starts from the exact ideal)
-JUMP_LIMIT = (
-    1 << 19
-)  # a correction on a cruise may always be this large (2^-12 step per tick), or as large
-# as the speed the ramps' rounded jerks can miss (half a jerk quantum over their phases)
+# a junction keeps an axis's speed without a set when it is this close (2^-16 step/tick)
+SPEED_KEPT = 1 << 15
+# a move's ideal may end this far from its target (the stepper is on it; the next move starts from
+# the exact ideal)
+LAND_SLACK = SIGMA * 9 // 20
+# a correction on a cruise may always be this large (2^-12 step per tick), or as large as the speed
+# the ramps' rounded jerks can miss (half a jerk quantum over their phases)
+JUMP_LIMIT = 1 << 19
 START_JUMP = 1 << 21  # a correction at a move's start (a junction): at most 2^-10 step per tick
 
 
@@ -256,9 +253,8 @@ class ScurvePlanner:
         for axis, miss in misses.items():
             if abs(miss) <= (0 if axis in phases[0].sets else LAND_SLACK) or not delta[axis]:
                 continue
-            pinned = (
-                axis in phases[4].sets
-            )  # its last ramp is set to end at its exit: the window ends before it
+            # its last ramp is set to end at its exit: the window ends before it
+            pinned = axis in phases[4].sets
             for at in range(5):
                 if at and (at not in states or (pinned and at == 4)):
                     continue

@@ -67,13 +67,11 @@ def whole_tick_profile(
     covers `length` exactly is solved. The peak b is the time-optimal one, or lower when the
     rounding leaves no room. A cruise through (a chord of an arc at speed) keeps its speed within
     half a tick of travel; a move no ramp fits cruises a little slower than the junctions allow."""
-    v1 = min(
-        v1, reachable_speed(v0, length, accel, jerk) * (1 - 1e-9)
-    )  # after a slower exit than planned
+    # after a slower exit than planned
+    v1 = min(v1, reachable_speed(v0, length, accel, jerk) * (1 - 1e-9))
     best = peak_speed(length, v0, v1, vmax, accel, jerk)
-    half_tick = (
-        v0 * v0 / (2 * length)
-    )  # the speed change that half a tick of travel makes over the move
+    # the speed change that half a tick of travel makes over the move
+    half_tick = v0 * v0 / (2 * length)
     if v0 > 0 and v1 > 0 and best - v0 <= half_tick:
         nc = max(1, round(length / v0))
         if length / nc <= min(vmax / PROFILE_FRACTION, v1 + half_tick):

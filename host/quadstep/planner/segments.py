@@ -21,9 +21,8 @@ class SegmentArrays:
 
     axis_count: int
     n: array = field(default_factory=lambda: array("H"))
-    axes: array = field(
-        default_factory=lambda: array("B")
-    )  # bits 0–3 active, 4–7 negative direction
+    # bits 0–3 active, 4–7 negative direction
+    axes: array = field(default_factory=lambda: array("B"))
     v0: array = field(default_factory=lambda: array("H"))
     vn: array = field(default_factory=lambda: array("H"))
     r: array = field(default_factory=lambda: array("h"))

@@ -30,9 +30,8 @@ class Stream:
     extra: list[Segment | CubicSegment] = field(default_factory=list)
     n: array = field(default_factory=lambda: array("I"))
     line: array = field(default_factory=lambda: array("i"))
-    origin: array = field(
-        default_factory=lambda: array("i")
-    )  # the base segment each item runs (part of)
+    # the base segment each item runs (part of)
+    origin: array = field(default_factory=lambda: array("i"))
 
     @property
     def axis_count(self) -> int:

@@ -26,9 +26,8 @@ DECEL_MAX = 8191  # largest HOLD deceleration (keeps the hold's per-tick values 
 CUBIC_SHIFT = 31  # a cubic segment's advances are in 2^-31 step (docs/CUBIC.md)
 CUBIC_ACCEL_LIMIT = 1 << 23  # |change of the advance per tick| stays below this (24 bits)
 CUBIC_N_MAX = 65535  # longest cubic segment in ticks (a 16-bit count)
-POSITION_MAX = (
-    2**31 - 2**24
-)  # the firmware keeps every step position within ±this (PROTOCOL.md §5.2)
+# the firmware keeps every step position within ±this (PROTOCOL.md §5.2)
+POSITION_MAX = 2**31 - 2**24
 WATCHDOG_MAX_MS = 4000  # longest WATCHDOG timeout
 
 __all__ = [

@@ -179,9 +179,8 @@ class JobKeys(Screen[None]):
         end = run.wait()
         assert end is not None
         if end.ended_by == "done":
-            machine.adopt_coordinates(
-                job.end_coordinates
-            )  # what its G10, G92, G54…G59, M2/M30 left
+            # what its G10, G92, G54…G59, M2/M30 left
+            machine.adopt_coordinates(job.end_coordinates)
         self.post_message(JobDone(name, end))
 
     def on_job_started(self, message: JobStarted) -> None:

@@ -22,12 +22,13 @@ if TYPE_CHECKING:
     from .session import Session
 
 
+# what may run while a job waits at its pause (M0, M6)
 AT_A_PAUSE = (
     "jog",
     "zero",
     "G38.2",
     "G38.4",
-)  # what may run while a job waits at its pause (M0, M6)
+)
 
 
 class JogKeys(Screen[None]):

@@ -77,9 +77,8 @@ class MachineScreen(JobKeys, JogKeys):
         yield JobPanel(id="job")
         yield ConsoleLine(id="console")
         with Horizontal(id="bottom"):
-            yield MessageLog(
-                id="log", wrap=True, min_width=20
-            )  # wrapped to its width (RichLog renders at ≥ 78)
+            # wrapped to its width (RichLog renders at ≥ 78)
+            yield MessageLog(id="log", wrap=True, min_width=20)
             yield ToolpathView(id="toolpath")
         yield Static(KEY_LINE, id="keys")
 

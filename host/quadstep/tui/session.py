@@ -122,9 +122,8 @@ class Session:
         with self._lock:
             machine, self.machine = self.machine, None
         if machine is not None:
-            machine.close(
-                bring_to_rest=False
-            )  # the link may be gone; close() brings motion to rest first
+            # the link may be gone; close() brings motion to rest first
+            machine.close(bring_to_rest=False)
 
     def close(self) -> None:
         """Bring any motion to rest, close the link and stop an emulator this session started;
