@@ -287,22 +287,7 @@ def _assemble(
     pauses: list[tuple[int, int]],
 ) -> Compensated:
     count = len(base)
-    blocks: dict[int, int] = {}
-    for p in placed:
-        if p.kind == "rest":
-            blocks[p.at] = max(blocks.get(p.at, 0), p.ramp.ticks + 1)
-    inserted = np.zeros(count + 1, dtype=np.int64)  # ticks inserted at boundaries ≤ b
-    for b, length in blocks.items():
-        inserted[b:] += length
-    anchor = 1 if placed else 0
-    # motion tick each base segment starts at in the stream
-    seg_start = base.start + inserted + anchor
-    for p in placed:
-        if p.kind == "rest":
-            p.start = int(seg_start[p.at]) - blocks[p.at]
-        else:
-            k = int(np.searchsorted(base.start, p.at, side="right")) - 1
-            p.start = p.at + int(inserted[k]) + anchor
+    blocks, inserted, anchor, seg_start = _time_line(base, placed)
     units = _units(base, blocks, seg_start)
     windows = _windows(units, placed)
     out = (
@@ -390,6 +375,31 @@ def _assemble(
     return result
 
 
+def _time_line(
+    base: BaseStream, placed: list[_Placed]
+) -> tuple[dict[int, int], np.ndarray, int, np.ndarray]:
+    """The stream's time line: the blocks at rest (base boundary → ticks), the ticks inserted at
+    boundaries ≤ b, the anchor segment's ticks, and the motion tick each base segment starts at in
+    the stream; each take-up's start is set on it."""
+    blocks: dict[int, int] = {}
+    for p in placed:
+        if p.kind == "rest":
+            blocks[p.at] = max(blocks.get(p.at, 0), p.ramp.ticks + 1)
+    inserted = np.zeros(len(base) + 1, dtype=np.int64)  # ticks inserted at boundaries ≤ b
+    for b, length in blocks.items():
+        inserted[b:] += length
+    anchor = 1 if placed else 0
+    # motion tick each base segment starts at in the stream
+    seg_start = base.start + inserted + anchor
+    for p in placed:
+        if p.kind == "rest":
+            p.start = int(seg_start[p.at]) - blocks[p.at]
+        else:
+            k = int(np.searchsorted(base.start, p.at, side="right")) - 1
+            p.start = p.at + int(inserted[k]) + anchor
+    return blocks, inserted, anchor, seg_start
+
+
 Unit = tuple[str, int, int, int]  # ("seg" | "block", base index or boundary, first tick, end tick)
 
 
@@ -459,9 +469,8 @@ def _chain_at(base: BaseStream, k: int, previous: CubicChain | None, after: int)
     chain = base.chain_before(k)
     if previous is not None and not base.chains:
         for axis in range(base.axis_count):
-            if (
-                int(base._last_named[k - 1, axis]) < after
-            ):  # not named since that window: at rest, e carried
+            # not named since that window: at rest, e carried
+            if int(base._last_named[k - 1, axis]) < after:
                 kept = previous.axes[axis]
                 state = chain.axes[axis]
                 state.e, state.direction, state.i, state.d = kept.e, kept.direction, 0, 0

@@ -190,9 +190,8 @@ def _round_state(
     """Integer speed and acceleration for a piece of m ticks (jerk given): the chain's ideal ends at
     most m quanta ahead of the wanted one (u: how far ahead it starts), its last advance near the
     wanted `end`, and every advance within 0 … 1 step."""
-    if (
-        m > 1
-    ):  # the real (i, d) that give the wanted distance and the wanted last advance with this jerk
+    # the real (i, d) that give the wanted distance and the wanted last advance with this jerk
+    if m > 1:
         c2, c3, e2 = choose2(m), choose3(m), choose2(m - 1)
         rest_x, rest_a = wanted - u - c3 * jerk, end - e2 * jerk
         d_real = (rest_x - m * rest_a) / (c2 - m * (m - 1))

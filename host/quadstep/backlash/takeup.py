@@ -111,9 +111,8 @@ def design(steps: int, accel: float, jerk: float) -> Ramp:
 
     while (exact := fits(n1, n2)) is None:
         n2 += max(1, n2 // 16)
-    while (
-        exact < MIN_JERK_UNITS and n1 > 1
-    ):  # a gentle ramp: shorter jerk phases, longer constant ones, same time
+    # a gentle ramp: shorter jerk phases, longer constant ones, same time
+    while exact < MIN_JERK_UNITS and n1 > 1:
         shorter = fits(n1 - 1, n2 + 2)
         if shorter is None:
             break

@@ -64,9 +64,8 @@ def draw(
         time, speed, _, accel = _stairs(t, i)
         ax_speed.plot(time, speed, label=name, linewidth=1)
         ax_accel.plot(time, accel, label=name, linewidth=1)
-    for k, takeup in enumerate(
-        takeups or []
-    ):  # the backlash's take-ups (at rest: added time, drawn at its start)
+    # the backlash's take-ups (at rest: added time, drawn at its start)
+    for k, takeup in enumerate(takeups or []):
         begin = takeup.planned / tick_hz
         span = takeup.ticks / tick_hz if takeup.kind != "rest" else 0.0
         for axes in (ax_speed, ax_accel):

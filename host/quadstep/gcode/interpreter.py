@@ -120,6 +120,19 @@ class GcodeInterpreter:
     # -- executing -----------------------------------------------------------
 
     def _execute(self, p: Line, line: int) -> None:
+        self._set_modes(p, line)
+        path = p.g.get("path mode")
+        g = p.g.get("non-modal")
+        key = code(g) if g is not None else None
+        self._check_users(p.values, key, code(path) if path is not None else None, line)
+        axes = dict(p.axes)
+        if g is not None:
+            axes = self._non_modal(g, key, axes, p.values, line)
+        self._motion(p.g.get("motion"), axes, p.values, line, machine=g if key == "53" else None)
+
+    def _set_modes(self, p: Line, line: int) -> None:
+        """The line's modal words, in the order they take effect: units, feed, spindle and coolant,
+        plane, coordinate system, path mode, distance."""
         units = p.g.get("units")
         if units is not None:
             self.units = MM_PER_INCH if code(units) == "20" else 1.0
@@ -143,32 +156,43 @@ class GcodeInterpreter:
         distance = p.g.get("distance")
         if distance is not None:
             self.absolute = code(distance) == "90"
-        axes = dict(p.axes)
-        g = p.g.get("non-modal")
-        key = code(g) if g is not None else None
-        path_key = code(path) if path is not None else None
+
+    def _check_users(
+        self, values: dict[str, Word], key: str | None, path_key: str | None, line: int
+    ) -> None:
+        """A value word (P, L, …) only with a G code that reads it."""
         for letter, users in _USERS.items():
-            word = p.values.get(letter)
+            word = values.get(letter)
             if word is not None and key not in users and path_key not in users:
                 names = ["G" + u for u in users]
                 listed = names[0] if len(names) == 1 else f"{', '.join(names[:-1])} and {names[-1]}"
                 raise GcodeError(line, word.column, f"'{word.text}' is only used with {listed}")
-        if g is not None and key == "4":
-            self._dwell(g, p.values.get("P"), axes, line)
-        elif g is not None and key == "10":
+
+    def _non_modal(
+        self,
+        g: Word,
+        key: str | None,
+        axes: dict[str, Word],
+        values: dict[str, Word],
+        line: int,
+    ) -> dict[str, Word]:
+        """G4, G10, G28/G30, G28.1/G30.1, G92…: the axis words left for a motion."""
+        if key == "4":
+            self._dwell(g, values.get("P"), axes, line)
+        elif key == "10":
             offsets.g10(
-                self.coords, g, axes, p.values, line, self.position, self.axis_names, self.units
+                self.coords, g, axes, values, line, self.position, self.axis_names, self.units
             )
             axes = {}
-        elif g is not None and key in ("28", "30"):
+        elif key in ("28", "30"):
             self._return(g, int(g.value), axes, line)
             axes = {}
-        elif g is not None and key in ("28.1", "30.1"):
+        elif key in ("28.1", "30.1"):
             offsets.store(self.coords, key, axes, line, self.position, self.axis_names)
-        elif g is not None and key is not None and key.startswith("92"):
+        elif key is not None and key.startswith("92"):
             offsets.g92(self.coords, g, key, axes, line, self.position, self.axis_names, self.units)
             axes = {}
-        self._motion(p.g.get("motion"), axes, p.values, line, machine=g if key == "53" else None)
+        return axes
 
     def _spindle_words(self, p: Line, line: int) -> None:
         """S, T, M6, M3/M4/M5, M7/M8/M9, in that order."""
@@ -308,9 +332,8 @@ class GcodeInterpreter:
         line: int,
         machine: Word | None = None,
     ) -> None:
-        if (
-            motion is not None and code(motion) in PROBING
-        ):  # a probe: the motion mode stays as it was
+        # a probe: the motion mode stays as it was
+        if motion is not None and code(motion) in PROBING:
             if machine is not None:
                 raise GcodeError(line, machine.column, "G53 does not apply to probing")
             probe_move(self, motion, axes, line, NO_FEED)

@@ -9,6 +9,7 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from dataclasses import dataclass
+from typing import NoReturn
 
 from ..protocol.constants import AXIS_NAMES
 from .words import PRINTER_FILE, GcodeError, Word
@@ -101,10 +102,6 @@ def sort_words(
 ) -> Line:
     """The words of `line` by kind; `skip`, when given, collects the spindle, coolant and tool words
     instead (a dry run without them)."""
-
-    def unsupported(w: Word) -> None:
-        raise GcodeError(line, w.column, f"'{w.text}' is not supported")
-
     parsed = Line(g={}, stop=None, axes={}, values={}, m={})
     for w in words:
         if skip is not None and (
@@ -115,72 +112,86 @@ def sort_words(
         if w.letter == "N":
             raise GcodeError(line, w.column, f"'{w.text}' (line number) must be the first word")
         if w.letter == "G":
-            key = code(w)
-            group = G_GROUPS.get(key) if key is not None else None
-            if key in CANNED_CYCLES:
-                raise GcodeError(
-                    line,
-                    w.column,
-                    f"'{w.text}': canned cycles (G73, G81 … G89) are not supported; "
-                    "a CAM post for GRBL writes them as G0/G1 moves",
-                )
-            if key == "90.1":
-                raise GcodeError(
-                    line,
-                    w.column,
-                    "'G90.1': absolute arc centers are not supported (I, J and K are "
-                    "relative to the arc's start, G91.1)",
-                )
-            if group is None:
-                unsupported(w)
-                continue
-            if group in parsed.g:
-                first = parsed.g[group]
-                raise GcodeError(
-                    line, w.column, f"'{w.text}' and '{first.text}' are both in the {group} group"
-                )
-            parsed.g[group] = w
+            _sort_g_word(parsed, w, line)
         elif w.letter == "M":
-            number = whole(w)
-            if number in M_STOPS:
-                if parsed.stop is not None:
-                    raise GcodeError(
-                        line,
-                        w.column,
-                        f"'{w.text}' and '{parsed.stop.text}' are both program stops",
-                    )
-                parsed.stop = w
-            elif number in M_GROUPS:
-                group = M_GROUPS[number]
-                clash = [parsed.m[g] for g in (group, *_CLASHES.get(group, ())) if g in parsed.m]
-                if clash:
-                    raise GcodeError(
-                        line, w.column, f"'{w.text}' and '{clash[0].text}' contradict each other"
-                    )
-                parsed.m[group] = w
-            elif number in M_PRINTER:
-                raise GcodeError(
-                    line, w.column, f"'{w.text}' is a 3D printer's code: this is {PRINTER_FILE}"
-                )
-            else:
-                unsupported(w)
+            _sort_m_word(parsed, w, line)
         elif w.letter in AXIS_LETTERS or w.letter in VALUE_LETTERS:
-            if w.letter in AXIS_LETTERS and w.letter not in axis_names:
-                raise GcodeError(
-                    line,
-                    w.column,
-                    f"'{w.text}': axis {w.letter} is not on this machine (axes "
-                    f"{', '.join(axis_names)})",
-                )
-            table = parsed.axes if w.letter in AXIS_LETTERS else parsed.values
-            if w.letter in table:
-                first = table[w.letter]
-                raise GcodeError(
-                    line,
-                    w.column,
-                    f"'{w.text}' repeats {w.letter} (first at column {first.column})",
-                )
-            table[w.letter] = w
+            _sort_value_word(parsed, w, line, axis_names)
         else:
-            unsupported(w)
+            _unsupported(w, line)
     return parsed
+
+
+def _unsupported(w: Word, line: int) -> NoReturn:
+    raise GcodeError(line, w.column, f"'{w.text}' is not supported")
+
+
+def _sort_g_word(parsed: Line, w: Word, line: int) -> None:
+    key = code(w)
+    group = G_GROUPS.get(key) if key is not None else None
+    if key in CANNED_CYCLES:
+        raise GcodeError(
+            line,
+            w.column,
+            f"'{w.text}': canned cycles (G73, G81 … G89) are not supported; "
+            "a CAM post for GRBL writes them as G0/G1 moves",
+        )
+    if key == "90.1":
+        raise GcodeError(
+            line,
+            w.column,
+            "'G90.1': absolute arc centers are not supported (I, J and K are "
+            "relative to the arc's start, G91.1)",
+        )
+    if group is None:
+        _unsupported(w, line)
+    if group in parsed.g:
+        first = parsed.g[group]
+        raise GcodeError(
+            line, w.column, f"'{w.text}' and '{first.text}' are both in the {group} group"
+        )
+    parsed.g[group] = w
+
+
+def _sort_m_word(parsed: Line, w: Word, line: int) -> None:
+    number = whole(w)
+    if number in M_STOPS:
+        if parsed.stop is not None:
+            raise GcodeError(
+                line,
+                w.column,
+                f"'{w.text}' and '{parsed.stop.text}' are both program stops",
+            )
+        parsed.stop = w
+    elif number in M_GROUPS:
+        group = M_GROUPS[number]
+        clash = [parsed.m[g] for g in (group, *_CLASHES.get(group, ())) if g in parsed.m]
+        if clash:
+            raise GcodeError(
+                line, w.column, f"'{w.text}' and '{clash[0].text}' contradict each other"
+            )
+        parsed.m[group] = w
+    elif number in M_PRINTER:
+        raise GcodeError(
+            line, w.column, f"'{w.text}' is a 3D printer's code: this is {PRINTER_FILE}"
+        )
+    else:
+        _unsupported(w, line)
+
+
+def _sort_value_word(parsed: Line, w: Word, line: int, axis_names: Sequence[str]) -> None:
+    if w.letter in AXIS_LETTERS and w.letter not in axis_names:
+        raise GcodeError(
+            line,
+            w.column,
+            f"'{w.text}': axis {w.letter} is not on this machine (axes {', '.join(axis_names)})",
+        )
+    table = parsed.axes if w.letter in AXIS_LETTERS else parsed.values
+    if w.letter in table:
+        first = table[w.letter]
+        raise GcodeError(
+            line,
+            w.column,
+            f"'{w.text}' repeats {w.letter} (first at column {first.column})",
+        )
+    table[w.letter] = w

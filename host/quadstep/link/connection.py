@@ -317,9 +317,8 @@ class Link:
             generation = self._in.generation if generation is None else generation
             while True:
                 self._raise_failure(generation)
-                if (
-                    not self._window.in_flight and self._in.refused is None
-                ):  # a refusal waits for its status
+                # a refusal waits for its status
+                if not self._window.in_flight and self._in.refused is None:
                     return
                 if not self._wait(deadline):
                     raise LinkTimeout(
@@ -455,9 +454,8 @@ class Link:
         while not self._transport.closed:
             now = self._clock()
             out = self._out.take(now)
-            if (
-                self._in.failure is not None
-            ):  # a frame resent too often, or the board silent: wake whoever waits
+            # a frame resent too often, or the board silent: wake whoever waits
+            if self._in.failure is not None:
                 # a silent board ends the link
                 self._transport.closed |= isinstance(self._in.failure, BoardSilent)
                 self._cond.notify_all()

@@ -224,9 +224,8 @@ class SendWindow:
             slots += max(1, frame.segments)
             if not frame.pending:
                 continue
-            if (
-                slots > self.free and not frame.transmissions
-            ):  # a frame never written needs free slots
+            # a frame never written needs free slots
+            if slots > self.free and not frame.transmissions:
                 stop = i
                 break
             if frame.transmissions > self.retries and now - frame.first_sent >= GIVE_UP:

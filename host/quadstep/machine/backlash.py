@@ -116,66 +116,106 @@ def measure_with_probe(
         raise MeasureError("the test axis must be another axis than the one measured")
     axis, test_axis = machine.config.axes[a], machine.config.axes[t]
     say = on_progress or (lambda text: None)
-    s_a, s_t = step_direction(axis, toward), step_direction(test_axis, test_toward)
-    reach, back = round(search * axis.steps_per_mm), round(clear * test_axis.steps_per_mm)
-    top = round(largest * axis.steps_per_mm)
     values: list[float] = []
     with machine.procedure(f"backlash {axis.name}"):
         moves = RawMoves(machine, feed)
         if input_status(machine.link).is_active(Input.PROBE):
             raise MeasureError("the probe touches already: move it clear of the target")
-
-        def touch() -> int:
-            """Touch the face; the overshoot past the latch (steps)."""
-            if input_status(machine.link).is_active(
-                Input.PROBE
-            ):  # in contact from the last test: away first
-                moves.move(a, -s_a * (top + reach // 10))
-            latched = moves.until(a, s_a * reach, Input.PROBE, 1)
-            if latched is None:
-                raise MeasureError(f"{axis.name}: no contact within {search:g} mm")
-            return abs(moves.motor[a] - latched)
-
-        def hits() -> bool:
-            """Away along the test axis and back: does it touch the neighbouring face?"""
-            moves.move(t, -s_t * back)
-            if input_status(machine.link).is_active(Input.PROBE):
-                raise MeasureError(
-                    f"{test_axis.name}: the probe still touches {clear:g} mm away from the face"
-                )
-            return moves.until(t, s_t * back, Input.PROBE, 1) is not None
-
+        corner = _Corner(
+            machine,
+            moves,
+            a,
+            t,
+            axis,
+            test_axis,
+            s_a=step_direction(axis, toward),
+            s_t=step_direction(test_axis, test_toward),
+            reach=round(search * axis.steps_per_mm),
+            back=round(clear * test_axis.steps_per_mm),
+            top=round(largest * axis.steps_per_mm),
+            search=search,
+            clear=clear,
+            largest=largest,
+        )
         for k in range(tries):
-            overshoot, out = touch(), 0  # out: steps backed off beyond the overshoot
-
-            def back_off(e: int) -> None:
-                nonlocal out
-                moves.move(a, -s_a * (e - out + (overshoot if out == 0 else 0)))
-                out = e
-
-            low, e, high = 0, 1, None
-            while high is None:  # doubling, without a new touch while it still hits
-                if e > top:
-                    raise MeasureError(
-                        f"{axis.name}: the backlash is more than {largest:g} mm (--max)"
-                    )
-                back_off(e)
-                if hits():
-                    low, e = e, e * 2
-                else:
-                    high = e
-            missed = True
-            while high - low > 1:  # halving: a miss needs a new touch first
-                middle = (low + high) // 2
-                if missed:
-                    overshoot, out = touch(), 0
-                back_off(middle)
-                missed = not hits()
-                low, high = (low, middle) if missed else (middle, high)
+            low = corner.measure()
             values.append(float(low))
             say(f"{axis.name}: try {k + 1}/{tries}: {low} steps ({low / axis.steps_per_mm:.4f} mm)")
-        moves.move(a, -s_a * reach // 4)  # leave the target free
+        moves.move(a, -corner.s_a * corner.reach // 4)  # leave the target free
     return _result(axis, "probe", values, max_spread)
+
+
+@dataclass
+class _Corner:
+    """One probe corner's moves (steps): touch the face along axis `a`, back off, test the
+    neighbouring face along axis `t`."""
+
+    machine: Machine
+    moves: RawMoves
+    a: int
+    t: int
+    axis: AxisConfig
+    test_axis: AxisConfig
+    s_a: int
+    s_t: int
+    reach: int
+    back: int
+    top: int
+    search: float
+    clear: float
+    largest: float
+    overshoot: int = 0
+    out: int = 0  # steps backed off beyond the overshoot
+
+    def measure(self) -> int:
+        """One try: the largest back-off (steps) after which the test still touches."""
+        self.touch()
+        low, e, high = 0, 1, None
+        while high is None:  # doubling, without a new touch while it still hits
+            if e > self.top:
+                raise MeasureError(
+                    f"{self.axis.name}: the backlash is more than {self.largest:g} mm (--max)"
+                )
+            self.back_off(e)
+            if self.hits():
+                low, e = e, e * 2
+            else:
+                high = e
+        missed = True
+        while high - low > 1:  # halving: a miss needs a new touch first
+            middle = (low + high) // 2
+            if missed:
+                self.touch()
+            self.back_off(middle)
+            missed = not self.hits()
+            low, high = (low, middle) if missed else (middle, high)
+        return low
+
+    def touch(self) -> None:
+        """Touch the face; the overshoot past the latch (steps)."""
+        # in contact from the last test: away first
+        if input_status(self.machine.link).is_active(Input.PROBE):
+            self.moves.move(self.a, -self.s_a * (self.top + self.reach // 10))
+        latched = self.moves.until(self.a, self.s_a * self.reach, Input.PROBE, 1)
+        if latched is None:
+            raise MeasureError(f"{self.axis.name}: no contact within {self.search:g} mm")
+        self.overshoot, self.out = abs(self.moves.motor[self.a] - latched), 0
+
+    def back_off(self, e: int) -> None:
+        self.moves.move(
+            self.a, -self.s_a * (e - self.out + (self.overshoot if self.out == 0 else 0))
+        )
+        self.out = e
+
+    def hits(self) -> bool:
+        """Away along the test axis and back: does it touch the neighbouring face?"""
+        self.moves.move(self.t, -self.s_t * self.back)
+        if input_status(self.machine.link).is_active(Input.PROBE):
+            raise MeasureError(
+                f"{self.test_axis.name}: the probe still touches {self.clear:g} mm away from the "
+                "face"
+            )
+        return self.moves.until(self.t, self.s_t * self.back, Input.PROBE, 1) is not None
 
 
 def switch_sums(

@@ -381,9 +381,8 @@ class JobRun:
                     list(accumulate(swap.plan.segments.n, initial=0)),
                 )
             begin = swap.index
-            if (
-                halted
-            ):  # halted as one motion handed over to the next: the board still runs the first's
+            # halted as one motion handed over to the next: the board still runs the first's
+            if halted:
                 rest = bring_to_rest(self.link, self.decels)
                 return MotionEnd(
                     halted,

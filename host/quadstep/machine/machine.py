@@ -133,9 +133,8 @@ class Machine(Standing):
         self._homed = False
         self._position_lost = False
         link.on_report(self._watch_alarms)
-        if (
-            link.status().state == State.STARVED
-        ):  # left dry by a host gone (a killed job): take it up
+        # left dry by a host gone (a killed job): take it up
+        if link.status().state == State.STARVED:
             bring_to_rest(link, self.decels)
         if identity.capabilities & Capability.LIMIT_INPUTS and link.status().state in (
             State.IDLE,
@@ -143,9 +142,8 @@ class Machine(Standing):
         ):
             link.send(config_message(self.config, identity.axis_count))
             link.drain(timeout=5)
-        if (
-            identity.capabilities & Capability.CONTROLLED_STOPS
-        ):  # the link keeps it fed while anything moves
+        # the link keeps it fed while anything moves
+        if identity.capabilities & Capability.CONTROLLED_STOPS:
             link.request(Watchdog(timeout_ms=round(self.config.host_timeout * 1000)), StatusReport)
         self._carry_over(kept, self.status())
 

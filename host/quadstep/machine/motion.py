@@ -318,16 +318,14 @@ class Motion:
             # sent, so no segment can follow its HOLD. The room waited for above makes this
             # send return at once, so halt() never waits long for the lock.
             with self._lock:
-                if (
-                    self._halting or index >= self.last
-                ):  # halted, or cut() ended the stream before this one
+                # halted, or cut() ended the stream before this one
+                if self._halting or index >= self.last:
                     return
                 if index + count > self.last:  # cut() inside this frame: make it again, shorter
                     chain = before
                     continue
-                while (
-                    output is not None and output[0] <= index
-                ):  # in stream order, before the segment
+                # in stream order, before the segment
+                while output is not None and output[0] <= index:
                     self.link.send(output[1], generation=self._generation)
                     output = next(outputs, None)
                 self.link.send(message, generation=self._generation)  # a restart ends this motion

@@ -44,9 +44,8 @@ def output_message(
     if not config.spindle.laser:
         bits |= Output.ON | (Output.REVERSE if state.spindle == 4 else 0)
         return Outputs(outputs=int(bits), power=power)
-    if feed == float("inf") or (
-        state.spindle == 4 and not unit
-    ):  # a rapid, or M4 at rest: the laser is off
+    # a rapid, or M4 at rest: the laser is off
+    if feed == float("inf") or (state.spindle == 4 and not unit):
         return Outputs(outputs=int(bits), power=0)
     if state.spindle == 3:  # on at rest too (a dwell burns a dot)
         return Outputs(outputs=int(bits | Output.ON), power=power)

@@ -113,6 +113,74 @@ def plan_program(
     return plan_moves(table, config, program.lines, label, boundary)
 
 
+class _Stops:
+    """The table's stops (dwells, pauses, probes, output changes), put into the plan as the moves
+    reach them, and the OUTPUTS messages the plan sends."""
+
+    def __init__(
+        self,
+        table: MoveTable,
+        config: MachineConfig,
+        out: SegmentArrays | Stream,
+        timing: ScurvePlanner | Quantizer,
+    ) -> None:
+        self.config = config
+        self.out = out
+        self.timing = timing
+        self.pauses: list[tuple[int, int]] = []
+        self.outputs: list[tuple[int, int, Outputs]] = []
+        self.state: OutputState | None = None  # None: the job sets no output
+        self._stops = iter(table.stops)
+        self._next = next(self._stops, None)
+
+    def send(self, message: Outputs) -> None:
+        if not self.outputs or self.outputs[-1][2] != message:
+            self.outputs.append((len(self.out), len(self.pauses), message))
+
+    def flush(self, before: int) -> None:
+        """The stops before move `before`."""
+        while self._next is not None and self._next[0] <= before:
+            item = self._next[1]
+            if isinstance(item, Dwell):
+                self.timing.dwell(round(item.seconds * self.config.tick_hz), item.line)
+            # a probe: the job probes there, then plans again
+            elif isinstance(item, (Pause, ProbeMove)):
+                if isinstance(self.timing, ScurvePlanner):
+                    self.timing.stop(item.line)
+                self.pauses.append((len(self.out), item.line))
+            elif isinstance(item, SetOutputs):
+                self.state = item.state
+                if set_at_rest(self.state, self.config):
+                    self.send(output_message(self.state, self.config))
+            self._next = next(self._stops, None)
+
+
+def _quantized_move(
+    quantizer: Quantizer, table: MoveTable, k: int, entry: list[float], label: str
+) -> int:
+    """Move k in whole-tick segments, from the best profile that lands exactly; returns how many
+    profiles before it missed (retries)."""
+    accel = table.accel[k]
+    profiles = fit_profiles(
+        table.length[k],
+        entry[k],
+        entry[k + 1],
+        table.max_speed[k],
+        accel,
+        accel * PLAN_ACCEL_FRACTION,
+    )
+    for attempt, profile in enumerate(profiles):
+        if quantizer.move(table.target[k], table.length[k], profile, table.line[k]):
+            return attempt
+        if quantizer.move(
+            table.target[k], table.length[k], profile, table.line[k], continuous=False
+        ):
+            return attempt
+    raise JobError(
+        f"{label} {table.line[k]}: no whole-tick profile lands this move exactly; lower max_speed"
+    )
+
+
 def plan_moves(
     table: MoveTable,
     config: MachineConfig,
@@ -126,77 +194,32 @@ def plan_moves(
     entry = junction_speeds(table, config, boundary.speed if boundary is not None else 0.0)
     check_duration(table, config, label, entry)  # with its ramps: before anything is planned
     scurve = ScurvePlanner(config, table.start, label) if config.jerk_limited else None
-    out: SegmentArrays | Stream = (
-        scurve.out if scurve is not None else SegmentArrays(len(config.axes))
-    )
-    quantizer = Quantizer(out, table.start) if scurve is None else None
-    if (
-        quantizer is not None and boundary is not None
-    ):  # the residual chain and the speeds go on unbroken
+    out: SegmentArrays | Stream
+    quantizer: Quantizer | None = None
+    if scurve is not None:
+        out = scurve.out
+    else:
+        arrays = SegmentArrays(len(config.axes))
+        out, quantizer = arrays, Quantizer(arrays, table.start)
+    # the residual chain and the speeds go on unbroken
+    if quantizer is not None and boundary is not None:
         quantizer.ideal2, quantizer.exit_speed = list(boundary.ideal2), list(boundary.exit_speed)
-    pauses: list[tuple[int, int]] = []
+    timing: ScurvePlanner | Quantizer | None = scurve if scurve is not None else quantizer
+    assert timing is not None
+    stops = _Stops(table, config, out, timing)
     move_ends = array("i")
     retries = 0
-    stops = iter(table.stops)
-    next_stop = next(stops, None)
-    outputs: list[tuple[int, int, Outputs]] = []
-    state: OutputState | None = None  # None: the job sets no output
-
-    def send(message: Outputs) -> None:
-        if not outputs or outputs[-1][2] != message:
-            outputs.append((len(out), len(pauses), message))
-
-    def flush_stops(before: int) -> None:
-        nonlocal next_stop, state
-        while next_stop is not None and next_stop[0] <= before:
-            item = next_stop[1]
-            if isinstance(item, Dwell):
-                (scurve or quantizer).dwell(round(item.seconds * config.tick_hz), item.line)  # type: ignore[union-attr]
-            elif isinstance(
-                item, (Pause, ProbeMove)
-            ):  # a probe: the job probes there, then plans again
-                if scurve is not None:
-                    scurve.stop(item.line)
-                pauses.append((len(out), item.line))
-            elif isinstance(item, SetOutputs):
-                state = item.state
-                if set_at_rest(state, config):
-                    send(output_message(state, config))
-            next_stop = next(stops, None)
-
     for k in range(len(table)):
-        flush_stops(k)
-        if state is not None and is_dynamic(state, config):
-            send(output_message(state, config, table.unit[k], table.feed[k]))
+        stops.flush(k)
+        if stops.state is not None and is_dynamic(stops.state, config):
+            stops.send(output_message(stops.state, config, table.unit[k], table.feed[k]))
         if scurve is not None:
             scurve.move(table, k, entry)
-            move_ends.append(len(out))
-            continue
-        assert quantizer is not None
-        accel = table.accel[k]
-        profiles = fit_profiles(
-            table.length[k],
-            entry[k],
-            entry[k + 1],
-            table.max_speed[k],
-            accel,
-            accel * PLAN_ACCEL_FRACTION,
-        )
-        for attempt, profile in enumerate(profiles):
-            retries += attempt > 0
-            if quantizer.move(table.target[k], table.length[k], profile, table.line[k]):
-                break
-            if quantizer.move(
-                table.target[k], table.length[k], profile, table.line[k], continuous=False
-            ):
-                break
         else:
-            raise JobError(
-                f"{label} {table.line[k]}: no whole-tick profile lands this move exactly; lower "
-                "max_speed"
-            )
+            assert quantizer is not None
+            retries += _quantized_move(quantizer, table, k, entry, label)
         move_ends.append(len(out))
-    flush_stops(len(table))
+    stops.flush(len(table))
     if scurve is not None:
         scurve.stop(table.line[-1] if len(table) else 0)
         return Plan(
@@ -204,14 +227,14 @@ def plan_moves(
             segments=out,
             start=table.start,
             end=tuple(scurve.position),
-            pauses=pauses,
+            pauses=stops.pauses,
             moves=len(table),
             distance_mm=float(sum(table.length)),
             lines=lines,
             max_landing_error=scurve.max_landing >> 18,
             move_ends=move_ends,
             retries=scurve.corrections,
-            outputs=outputs,
+            outputs=stops.outputs,
             peak_advance=tuple(scurve.peak),
             junctions=array("d", entry),
         )
@@ -221,13 +244,13 @@ def plan_moves(
         segments=out,
         start=table.start,
         end=tuple(quantizer.position),
-        pauses=pauses,
+        pauses=stops.pauses,
         moves=len(table),
         distance_mm=float(sum(table.length)),
         lines=lines,
         max_landing_error=quantizer.max_landing_error,
         move_ends=move_ends,
         retries=retries,
-        outputs=outputs,
+        outputs=stops.outputs,
         junctions=array("d", entry),
     )

@@ -117,7 +117,33 @@ class ScurvePlanner:
 
     def _segments(self, table: MoveTable, k: int, p: Profile) -> list[CubicSegment] | None:
         """The move's segments, landing every axis on its target; None when they cannot."""
-        target, delta, length = table.target[k], table.delta[k], table.length[k]
+        target, delta = table.target[k], table.delta[k]
+        shaped = self._shape(table, k, p)
+        if shaped is None:
+            return None
+        phases, exits = shaped
+        built = self._built(phases, target)
+        if built is None:
+            return None
+        if self._retune_starts(p, phases, built[1]):
+            built = self._built(phases, target)
+            if built is None:
+                return None
+        if self._retune_stops(p, phases, built[1], exits):
+            built = self._built(phases, target)
+            if built is None:
+                return None
+        if not self._land(p, phases, *built, delta):
+            return None
+        built = self._built(phases, target)
+        if built is None or any(abs(m) > LAND_SLACK for m in built[1].values()):
+            return None
+        return built[0]
+
+    def _shape(self, table: MoveTable, k: int, p: Profile) -> tuple[list[_Phase], list[int]] | None:
+        """The profile's seven phases with each axis's share of its jerks and speed sets, and each
+        axis's exit speed; None when a last ramp would have to begin below rest."""
+        delta, length = table.delta[k], table.length[k]
         share = [abs(d) / length * SIGMA for d in delta]  # 2^-31 step per mm of path
         ka, kd = p.n1a * (p.n1a + p.n2a), p.n1d * (p.n1d + p.n2d)
         phases = [
@@ -151,29 +177,20 @@ class ScurvePlanner:
                 phases[4].sets[axis] = CubicAxis(
                     axis=axis, speed=exits[axis] + rd * kd, direction=direction
                 )  # type: ignore[arg-type]
+        return phases, exits
+
+    def _built(
+        self, phases: list[_Phase], target: tuple[int, ...]
+    ) -> tuple[list[CubicSegment], dict[int, int]] | None:
+        """The phases' segments and each moving axis's miss; None when they cannot be built or
+        the chain refuses them."""
         segments = _build(phases)
         if segments is None:
             return None
         misses = self._misses(segments, target)
         if misses is None:
             return None
-        if self._retune_starts(p, phases, misses):
-            segments = _build(phases)
-            misses = self._misses(segments, target) if segments is not None else None
-            if segments is None or misses is None:
-                return None
-        if self._retune_stops(p, phases, misses, exits):
-            segments = _build(phases)
-            misses = self._misses(segments, target) if segments is not None else None
-            if segments is None or misses is None:
-                return None
-        if not self._land(p, phases, segments, misses, delta):
-            return None
-        segments = _build(phases)
-        misses = self._misses(segments, target) if segments is not None else None
-        if misses is None or any(abs(m) > LAND_SLACK for m in misses.values()):
-            return None
-        return segments
+        return segments, misses
 
     def _retune_starts(self, p: Profile, phases: list[_Phase], misses: dict[int, int]) -> bool:
         """An axis far off its target takes the nearest whole jerk on its first ramp instead: one

@@ -163,29 +163,43 @@ def _parse(payload: bytes, offset: int) -> tuple[list[SegmentRecord], int] | Non
             at += 1
         elif axes is None:
             return None
-        lists: dict[str, list[int] | None] = {
-            name: [] if head & flag else None
-            for name, flag in (("start", START), ("residual", RESIDUAL))
-        }
-        lists["change"] = None if head & CRUISE else []
-        for _ in range(_active_count(axes)):
-            for name in ("start", "residual", "change"):
-                values = lists[name]
-                if values is not None:
-                    read = _read_varint(payload, at)
-                    if read is None:
-                        return None
-                    values.append(read[0])
-                    at = read[1]
+        read = _read_fields(payload, at, head, _active_count(axes))
+        if read is None:
+            return None
+        fields, at = read
         records.append(
             SegmentRecord(
                 n=n,
                 axes=own_axes,
                 mirror=bool(head & MIRROR),
-                **{k: tuple(v) if v is not None else None for k, v in lists.items()},
+                start=fields["start"],
+                residual=fields["residual"],
+                change=fields["change"],
             )
         )
     return (records, at) if records else None
+
+
+def _read_fields(
+    payload: bytes, at: int, head: int, count: int
+) -> tuple[dict[str, tuple[int, ...] | None], int] | None:
+    """A record's start, residual and change fields (those its head names), one value per active
+    axis each, interleaved by axis; None where one is not whole."""
+    lists: dict[str, list[int] | None] = {
+        name: [] if head & flag else None
+        for name, flag in (("start", START), ("residual", RESIDUAL))
+    }
+    lists["change"] = None if head & CRUISE else []
+    for _ in range(count):
+        for name in ("start", "residual", "change"):
+            values = lists[name]
+            if values is not None:
+                read = _read_varint(payload, at)
+                if read is None:
+                    return None
+                values.append(read[0])
+                at = read[1]
+    return {k: tuple(v) if v is not None else None for k, v in lists.items()}, at
 
 
 @dataclass(frozen=True)
@@ -296,13 +310,7 @@ def expand(records: Sequence[SegmentRecord], chain: RunChain) -> list[Segment]:
             assert record.n is not None
             n = record.n
             axes = record.axes if record.axes is not None else axes
-        active, negative = bits(axes & 0x0F), axes >> 4
-        if any(a >= chain.axis_count for a in active):
-            raise FieldFault(FieldId.AXES, None, f"axes {active}, firmware has {chain.axis_count}")
-        if negative & ~axes & 0x0F:
-            raise FieldFault(
-                FieldId.DIRECTION, None, f"direction bit of an inactive axis (axes 0x{axes:02x})"
-            )
+        active, negative = _check_axes(axes, chain.axis_count)
         moves = []
         for j, axis in enumerate(active):
             sign = -1 if negative >> axis & 1 else 1
@@ -339,6 +347,19 @@ def expand(records: Sequence[SegmentRecord], chain: RunChain) -> list[Segment]:
         chain.follow(segment)
         out.append(segment)
     return out
+
+
+def _check_axes(axes: int, axis_count: int) -> tuple[list[int], int]:
+    """The active axes of an axes byte and its direction bits; raises FieldFault as the firmware
+    refuses them (AXES, DIRECTION)."""
+    active, negative = bits(axes & 0x0F), axes >> 4
+    if any(a >= axis_count for a in active):
+        raise FieldFault(FieldId.AXES, None, f"axes {active}, firmware has {axis_count}")
+    if negative & ~axes & 0x0F:
+        raise FieldFault(
+            FieldId.DIRECTION, None, f"direction bit of an inactive axis (axes 0x{axes:02x})"
+        )
+    return active, negative
 
 
 def _axes_byte(segment: Segment) -> int:
