@@ -39,9 +39,8 @@ AxisName = Literal["X", "Y", "Z", "A"]  # AXIS_NAMES, as pydantic needs them
 MAX_STEPS_PER_TICK = 0.75
 SIGMA = 1 << CUBIC_SHIFT  # one step in a cubic segment's units
 CUBIC_JERK_LIMIT = (1 << 15) - 1  # a cubic segment's jerk field is an i16 (PROTOCOL.md §5.2)
-MIN_JERK_QUANTA = (
-    64  # the smallest max_jerk, in units of the cubic segment's jerk (2^-31 step per tick³)
-)
+# the smallest max_jerk, in units of the cubic segment's jerk (2^-31 step per tick³)
+MIN_JERK_QUANTA = 64
 MIN_STEPS_PER_MM = 1.0  # below it a 1 mm move may round to no step at all
 SPEED_QUANTUM = 1 / (1 << SPEED_SHIFT)  # a segment's finest speed, step per tick
 DECEL_QUANTUM = 1 / (1 << DECEL_SHIFT)  # a HOLD's gentlest deceleration, step per tick²

@@ -29,7 +29,7 @@ def _axis_table(document: tomlkit.TOMLDocument, name: str, path: Path) -> Table:
 
 def new_table_ends_file(document: tomlkit.TOMLDocument, table: Table) -> bool:
     axes = document.get("axes")
-    return bool(axes) and axes[-1] is table
+    return axes is not None and bool(axes) and axes[-1] is table
 
 
 def set_backlash(path: Path, axis: str, **values: float) -> tuple[MachineConfig, Path]:

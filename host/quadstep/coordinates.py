@@ -37,9 +37,8 @@ class WorkCoordinates(BaseModel):
         default_factory=_six, min_length=len(SYSTEMS), max_length=len(SYSTEMS)
     )
     g92: Offsets = Field(default_factory=dict)
-    g92_applied: bool = (
-        False  # G92 sets and applies; G92.2 suspends (values kept), G92.3 applies them again
-    )
+    # G92 sets and applies; G92.2 suspends (values kept), G92.3 applies them again
+    g92_applied: bool = False
     g28: Offsets = Field(default_factory=dict, description="machine mm")
     g30: Offsets = Field(default_factory=dict, description="machine mm")
 

@@ -11,6 +11,7 @@ import subprocess
 from collections.abc import Iterator, Sequence
 from contextlib import contextmanager
 from pathlib import Path
+from typing import Any
 
 from .link import DEFAULT_BAUD, Link
 from .port_process import PortProcess, parse_summary  # noqa: F401  (parse_summary: part of this module's API)
@@ -90,7 +91,7 @@ def open_connection(
     emulator: bool,
     *,
     baudrate: int = DEFAULT_BAUD,
-    **emulator_options: object,
+    **emulator_options: Any,  # Emulator's options
 ) -> Iterator[Link]:
     """A connected Link to `port`, or to a fresh emulator when `emulator` is true (exactly one of
     the two)."""
@@ -100,6 +101,6 @@ def open_connection(
         with Link.open(port, baudrate) as link:
             yield link
         return
-    with Emulator(**emulator_options) as emu:  # type: ignore[arg-type]
+    with Emulator(**emulator_options) as emu:
         with Link.open(emu.url, baudrate) as link:
             yield link

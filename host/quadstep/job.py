@@ -74,9 +74,8 @@ class Job:
     program: Program
     plan: Plan
     coordinates: WorkCoordinates  # the work coordinates the job starts with
-    feed_override: int = (
-        100  # % of every programmed feed the plan has (the program keeps them as written)
-    )
+    # % of every programmed feed the plan has (the program keeps them as written)
+    feed_override: int = 100
     approach: Approach | None = None  # started at a line (--from-line): how it gets there
 
     @property

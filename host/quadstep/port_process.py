@@ -25,7 +25,7 @@ from collections.abc import Callable, Sequence
 from typing import TYPE_CHECKING, Any
 
 if TYPE_CHECKING:
-    from typing import Self  # Python 3.11; annotations are not evaluated at run time
+    from typing_extensions import Self  # typing.Self from Python 3.11; not evaluated at run time
 
 START_TIMEOUT = 10.0
 

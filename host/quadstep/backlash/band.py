@@ -54,7 +54,8 @@ class BandAxis:
         for s in steps:
             if axis.w is None:
                 axis = axis.adopt(s)
-            axis = replace(axis, w=min(axis.size, max(0, axis.w + s)))  # type: ignore[operator]
+            assert axis.w is not None  # known once adopted
+            axis = replace(axis, w=min(axis.size, max(0, axis.w + s)))
         return axis
 
     def monotone(self, delta: int) -> BandAxis:
@@ -63,7 +64,8 @@ class BandAxis:
         if delta == 0:
             return self
         axis = self.adopt(delta) if self.w is None else self
-        return replace(axis, w=min(axis.size, max(0, axis.w + delta)))  # type: ignore[operator]
+        assert axis.w is not None  # known once adopted
+        return replace(axis, w=min(axis.size, max(0, axis.w + delta)))
 
 
 @dataclass(frozen=True)

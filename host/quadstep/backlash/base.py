@@ -25,6 +25,7 @@ from ..protocol.segment import AxisMove, D, Segment
 
 # advance over tick k: α + β·(k−1) + γ·C(k−1, 2), signed, 2^-31 step
 Poly = tuple[Fraction, Fraction, Fraction]
+Items = Sequence[Segment | CubicSegment] | Stream  # segments by index: a list, or a planned stream
 
 
 @dataclass
@@ -37,7 +38,7 @@ class BaseStream:
     accel: np.ndarray  # (S, A) largest |acceleration|, steps per tick²
     # (S + 1,) every axis at rest at the boundary before segment k (and at the end)
     rest_before: np.ndarray
-    item: Sequence[Segment | CubicSegment] | SegmentArrays
+    item: Items | SegmentArrays
     # mixed streams: the chain before each segment
     chains: list[CubicChain] = field(default_factory=list)
     start: np.ndarray = field(init=False)  # (S + 1,) first tick of each segment
@@ -152,7 +153,7 @@ def from_arrays(arrays: SegmentArrays) -> BaseStream:
     return BaseStream(count, n, steps.astype(np.int64), accel, rest, arrays)
 
 
-def from_items(items: Sequence[Segment | CubicSegment], axis_count: int) -> BaseStream:
+def from_items(items: Items, axis_count: int) -> BaseStream:
     """Any mix of quadratic and cubic segments, walked with the firmware's chain from rest (e =
     0)."""
     chain = CubicChain(axis_count)

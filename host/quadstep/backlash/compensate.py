@@ -30,6 +30,7 @@ import numpy as np
 
 from ..config import MachineConfig
 from ..engine_model import predict
+from ..planner.segments import SegmentArrays
 from ..planner.stream import Stream
 from ..protocol.cubic import CubicChain
 from ..protocol.segment import AxisMove, Segment
@@ -181,7 +182,9 @@ def _place(
         middle = (t_a + t_b) / 2
         b = min(rests, key=lambda b: abs(int(base.start[b]) - middle))
         return _Placed(axis, design(steps, accel, jerk), "rest", b, line)
-    kind = config.axes[axis].backlash.place  # type: ignore[union-attr]
+    backlash = config.axes[axis].backlash
+    assert backlash is not None  # only an axis with backlash has take-ups
+    kind = backlash.place
     section = (
         max([0, *[int(base.start[b]) for b in barriers if b <= prev]]),
         min([base.ticks, *[int(base.start[b]) for b in barriers if b > new]]),
@@ -290,11 +293,14 @@ def _assemble(
     blocks, inserted, anchor, seg_start = _time_line(base, placed)
     units = _units(base, blocks, seg_start)
     windows = _windows(units, placed)
+    # the planner's arrays (no chains) or a planned stream are the base as they are; a list of
+    # items is copied
+    item = base.item
     out = (
-        Stream(base.item)
-        if not base.chains or isinstance(base.item, Stream)
-        else Stream(list(base.item), axes=base.axis_count)
-    )  # type: ignore[arg-type]
+        Stream(item)
+        if isinstance(item, (SegmentArrays, Stream))
+        else Stream(list(item), axes=base.axis_count)
+    )
     result = Compensated(out, band, band_end, added_ticks=int(inserted[-1]) + anchor)
     taken = [0] * base.axis_count  # take-up steps of the windows so far
     if anchor:
@@ -307,7 +313,7 @@ def _assemble(
             ),
             _line(base, 0),
         )
-    first_item = {}  # base boundary → index of the stream's first item there
+    first_item: dict[int, int] = {}  # base boundary → index of the stream's first item there
     chain: CubicChain | None = None
     after = 0  # first base segment after the last window
     w = 0
@@ -416,20 +422,21 @@ def _units(base: BaseStream, blocks: dict[int, int], seg_start: np.ndarray) -> l
 def _windows(units: list[Unit], placed: list[_Placed]) -> list[tuple[int, int, list[_Placed]]]:
     """(first unit, last unit, ramps) of each window, in order, overlapping ones merged."""
     starts = [u[2] for u in units]
-    found = []
+    found: list[tuple[int, int, list[_Placed]]] = []
     for p in placed:
         first = int(np.searchsorted(starts, p.start, side="right")) - 1
         last = int(np.searchsorted(starts, p.start + p.ramp.ticks, side="right")) - 1
-        found.append([first, last, [p]])
+        found.append((first, last, [p]))
     found.sort(key=lambda f: f[0])
-    merged: list[list] = []
-    for f in found:
-        if merged and f[0] <= merged[-1][1]:
-            merged[-1][1] = max(merged[-1][1], f[1])
-            merged[-1][2].extend(f[2])
+    merged: list[tuple[int, int, list[_Placed]]] = []
+    for first, last, ramps in found:
+        if merged and first <= merged[-1][1]:
+            begin, end, together = merged[-1]
+            together.extend(ramps)
+            merged[-1] = (begin, max(end, last), together)
         else:
-            merged.append(f)
-    return [(f[0], f[1], f[2]) for f in merged]
+            merged.append((first, last, ramps))
+    return merged
 
 
 def _span(base: BaseStream, unit: Unit, ramps: list[_Placed]) -> list[Span]:
@@ -445,7 +452,7 @@ def _span(base: BaseStream, unit: Unit, ramps: list[_Placed]) -> list[Span]:
     for a, b in zip(edges, edges[1:]):
         polys = []
         for axis in range(base.axis_count):
-            poly: Poly = base.advance(index, axis, a - lo) if kind == "seg" else (Fraction(0),) * 3  # type: ignore[assignment]
+            poly: Poly = base.advance(index, axis, a - lo) if kind == "seg" else (Fraction(0),) * 3
             for p in ramps:
                 if p.axis == axis and p.start <= a < p.start + p.ramp.ticks:
                     _, i, d, j = p.ramp.state(a - p.start)

@@ -28,6 +28,7 @@ from ..protocol.cubic import (
     choose2,
     choose3,
 )
+from ..protocol.segment import Direction
 from .base import Poly
 
 MAX_PIECE = 2048  # ticks: keeps a rounded jerk's effect inside a piece below 10^-2 step
@@ -66,6 +67,11 @@ def travel(poly: Poly, m: int) -> Fraction:
 
 def sign(x: Fraction | int) -> int:
     return (x > 0) - (x < 0)
+
+
+def as_direction(s: int) -> Direction:
+    """A sign known to be ±1 (a moving advance's, or a state's direction) as a direction."""
+    return 1 if s > 0 else -1
 
 
 def piece_sign(poly: Poly, m: int) -> int:
@@ -158,7 +164,7 @@ def _piece(
         s = piece_sign(poly, m)
         if s == 0 and not any(poly):
             if not state.at_rest:
-                axes.append(CubicAxis(axis=axis, speed=0, accel=0, direction=state.direction))  # type: ignore[arg-type]
+                axes.append(CubicAxis(axis=axis, speed=0, accel=0, direction=state.direction))
             continue
         s = s or state.direction
         a, b, g = (s * x for x in poly)
@@ -170,7 +176,9 @@ def _piece(
             if jerk:
                 axes.append(CubicAxis(axis=axis, jerk=jerk))
         else:
-            axes.append(CubicAxis(axis=axis, speed=i, accel=d, direction=s, jerk=jerk or None))  # type: ignore[arg-type]
+            axes.append(
+                CubicAxis(axis=axis, speed=i, accel=d, direction=as_direction(s), jerk=jerk or None)
+            )
         dev[axis] += s * (m * i + choose2(m) * d + choose3(m) * jerk - wanted)
     segment = CubicSegment(n=m, axes=tuple(axes))
     _advance(chain, segment, made)
@@ -239,7 +247,11 @@ def _landing(
                 raise FitError(f"axis {axis}: the window ends turning around")
             accel = end.i - speed
             jerk = end.d - accel
-        axes.append(CubicAxis(axis=axis, speed=speed, accel=accel, direction=s, jerk=jerk or None))  # type: ignore[arg-type]
+        axes.append(
+            CubicAxis(
+                axis=axis, speed=speed, accel=accel, direction=as_direction(s), jerk=jerk or None
+            )
+        )
         dev[axis] = Fraction(0)
     segment = CubicSegment(n=1, axes=tuple(axes))
     _advance(chain, segment, made)

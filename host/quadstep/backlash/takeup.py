@@ -18,9 +18,8 @@ from fractions import Fraction
 from ..planner.ramps import Phase, ramp_distance, ramp_move
 from ..protocol.cubic import SIGMA, choose2, choose3
 
-MIN_JERK_UNITS = (
-    1024  # the jerk in 2^-31 step per tick³ is kept at least this large: its rounding stays tiny
-)
+# the jerk in 2^-31 step per tick³ is kept at least this large: its rounding stays tiny
+MIN_JERK_UNITS = 1024
 MAX_JERK_UNITS = (1 << 15) - 1  # the wire's i16
 
 

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import argparse
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -85,10 +86,11 @@ def draw(
     if len(names) >= 2 and path is None:
         ax_path.plot(t.position[:, 0], t.position[:, 1], linewidth=0.8)
     if len(names) >= 2:
-        for rapid, style in (
+        styles: tuple[tuple[bool, dict[str, Any]], ...] = (
             (True, {"color": "tab:orange", "linestyle": "--", "label": "rapid (G0)"}),
             (False, {"color": "tab:blue", "linestyle": "-", "label": "cut"}),
-        ):
+        )
+        for rapid, style in styles:
             # as written
             pieces = [p for p in (path.pieces if path is not None else ()) if p.rapid == rapid]
             xs = [v for p in pieces for v in (p.start[0], p.end[0], np.nan)]

@@ -81,9 +81,8 @@ class GcodeInterpreter:
         self.plane = 17
         self.motion: int | None = None
         self.feed: float | None = None  # mm/s
-        self.deviation: float | None = (
-            None  # G64 P (mm), 0 after G61, None: the configuration's cornering
-        )
+        # G64 P (mm), 0 after G61, None: the configuration's cornering
+        self.deviation: float | None = None
         self.outputs = OutputState()
         self.tool: int | None = None  # the tool T selected
         self.program = Program(coordinates=self.coords)

@@ -55,7 +55,7 @@ def read_rest(
     """The lines of `source` after line `after`, read from `position_mm` in the modal `state`."""
     interpreter = type(like)(
         like.axis_names, position_mm, like.arc_tolerance, like.skip_unsupported, state["coords"]
-    )  # type: ignore[arg-type]
+    )
     for key, value in state.items():
         if key != "coords":
             setattr(interpreter, key, copy.deepcopy(value))

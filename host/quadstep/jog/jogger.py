@@ -31,9 +31,8 @@ from .release import ReleaseDetector
 from .settings import JogSettings
 from .step_queue import QueuedStep, StepQueue, step_seconds
 
-WATCH_INTERVAL = (
-    0.05  # s: how often a continuous jog's watcher looks at the motion besides its deadline
-)
+# s: how often a continuous jog's watcher looks at the motion besides its deadline
+WATCH_INTERVAL = 0.05
 
 
 @dataclass(frozen=True)
@@ -240,9 +239,8 @@ class Jogger(JogPresets):
         if (limited - start[axis]) * step_direction(cfg, direction) <= 0:
             if limited == target_steps:
                 with self._lock:
-                    self._commanded_mm[axis] = (
-                        wanted_mm  # less than a step: remember it for the next
-                    )
+                    # less than a step: remember it for the next
+                    self._commanded_mm[axis] = wanted_mm
             return self._report(
                 JogResult(JogMode.INCREMENTAL, axis, direction, start, start, None, message)
             )

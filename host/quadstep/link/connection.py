@@ -175,7 +175,9 @@ class Link:
         """The latest unsolicited report (ALARM, or an EVENT kind such as HoldDone) of class
         `cls`."""
         with self._cond:
-            return self._in.latest.get(cls)  # type: ignore[return-value]
+            report = self._in.latest.get(cls)
+        assert report is None or isinstance(report, cls)  # kept by its class
+        return report
 
     @property
     def input_changes(self) -> list[InputChange]:
@@ -271,8 +273,10 @@ class Link:
                         timeout=self.request_timeout,
                     )
                     waiter.raise_refusal(message.NAME)
-                    if waiter.reply is not None:
-                        return waiter.reply  # type: ignore[return-value]
+                    reply = waiter.reply
+                    if reply is not None:
+                        assert isinstance(reply, reply_type)  # the waiter takes only its CODE
+                        return reply
                     self.stats.timeouts += 1
                 self._raise_if_closed()
                 raise LinkTimeout(
@@ -390,7 +394,9 @@ class Link:
                 timeout=timeout,
             )
             if self._in.counts[cls] > after:
-                return self._in.latest[cls]  # type: ignore[return-value]
+                report = self._in.latest[cls]
+                assert isinstance(report, cls)  # kept by its class
+                return report
             self._raise_failure(generation)
             return None
 

@@ -16,6 +16,7 @@ from collections.abc import Sequence
 from concurrent.futures import Future
 
 from ..protocol import DECEL_MAX, MAX_AXES, ErrorCode, Hold, HoldDone, State, StatusReport
+from ..protocol.wire import four_axes
 from .connection import Link
 from .errors import AlarmError, FirmwareError, LinkError, LinkTimeout
 
@@ -36,7 +37,7 @@ def hold_message(decels: Sequence[int], axis_count: int) -> Hold:
                 f"hold deceleration of axis {axis} is {d!r}; limit 1..{DECEL_MAX} "
                 "(in 1/2^24 step per tick²)"
             )
-    return Hold(decel=tuple(values + [0] * (MAX_AXES - axis_count)))  # type: ignore[arg-type]
+    return Hold(decel=four_axes(values + [0] * (MAX_AXES - axis_count)))
 
 
 def hold(link: Link, decels: Sequence[int], timeout: float | None = None) -> HoldDone:

@@ -14,6 +14,7 @@ import time
 from collections.abc import Iterable
 
 from ..protocol import (
+    CubicSegment,
     HoldDone,
     InputCause,
     InputChange,
@@ -35,7 +36,10 @@ def input_status(link: Link) -> InputStatus:
 
 
 def until_input(
-    link: Link, probe: Probe, segments: Iterable[Segment], timeout: float | None = None
+    link: Link,
+    probe: Probe,
+    segments: Iterable[Segment | CubicSegment],
+    timeout: float | None = None,
 ) -> InputChange | ProbeMissed:
     """Arm `probe`, stream `segments` (a motion from rest to rest) and wait for its end: at the
     armed edge (returns that EVENT INPUT, once the hold after it has come to rest) or at rest
@@ -58,12 +62,14 @@ def until_input(
     except Stopped:
         if link.holds_by_input == triggers:
             raise  # a STOP or HOLD from elsewhere
+    end: InputChange | ProbeMissed
     while True:
         generation = link.generation
         try:
             if link.holds_by_input == triggers:
-                end = link.wait_report(ProbeMissed, missed, generation, _slice(link, deadline))
-                if end is not None:
+                report = link.wait_report(ProbeMissed, missed, generation, _slice(link, deadline))
+                if report is not None:
+                    end = report
                     break
             elif link.wait_report(HoldDone, holds, generation, _slice(link, deadline)) is not None:
                 end = next(c for c in reversed(link.input_changes) if c.cause == InputCause.TRIGGER)

@@ -53,9 +53,8 @@ class Waiter:
     reply_type: int
     reply: Report | None = None
     error: ErrorReport | None = None
-    unreadable: str | None = (
-        None  # an answer this host cannot decode: another protocol version's layout
-    )
+    # an answer this host cannot decode: another protocol version's layout
+    unreadable: str | None = None
 
     @property
     def answered(self) -> bool:
@@ -82,27 +81,23 @@ class Inbox:
         self.queue_capacity: int | None = None  # known once connected
         self.waiter: Waiter | None = None
         self.failure: LinkError | None = None  # raised by every call until the next restart
-        self.stopping = (
-            False  # a STOP or HOLD is on its way: ACKs and alarms are about dropped frames
-        )
+        # a STOP or HOLD is on its way: ACKs and alarms are about dropped frames
+        self.stopping = False
         self.done16 = 0
         self.done_total = 0  # segments completed since reset (ACK `done` unwrapped)
         self.expected_done = 0  # segments completed once everything accepted has run
         self.latest: dict[type, Report] = {}  # the latest unsolicited report of each class
         self.counts: defaultdict[type, int] = defaultdict(int)
         self.input_changes: deque[InputChange] = deque(maxlen=256)  # the latest EVENT INPUT reports
-        self.held_by_input = (
-            0  # holds the firmware began itself (a PROBE's edge, the feed hold button)
-        )
+        # holds the firmware began itself (a PROBE's edge, the feed hold button)
+        self.held_by_input = 0
         self.starved = False  # the latest status said STARVED
         self.last_frame_at = 0.0  # clock time of the last good frame received
         self.want_status = False  # the writer sends a STATUS: something needs explaining
-        self.refused: ErrorReport | None = (
-            None  # BUSY or ALARM_ACTIVE for a frame of ours, until a status explains it
-        )
-        self.last_status: StatusReport | None = (
-            None  # the board's latest STATUS_REPORT (or answer to STOP, HOLD)
-        )
+        # BUSY or ALARM_ACTIVE for a frame of ours, until a status explains it
+        self.refused: ErrorReport | None = None
+        # the board's latest STATUS_REPORT (or answer to STOP, HOLD)
+        self.last_status: StatusReport | None = None
 
     def receive(self, data: bytes, now: float) -> list[Report]:
         """Decode and apply what the reader read at `now`; returns the reports that on_report
@@ -121,8 +116,9 @@ class Inbox:
                 continue
             self.last_frame_at = now
             self.stats.frames_received += 1
-            if self.apply(item):
-                notify.append(item.message)  # type: ignore[arg-type]
+            message = item.message
+            if self.apply(item) and isinstance(message, Report):  # apply() wants only reports
+                notify.append(message)
         return notify
 
     def last_alarm(self) -> Alarm | None:
@@ -164,8 +160,13 @@ class Inbox:
                     self.fail(AlarmError(m))
             return True
         waiter = self.waiter
-        if waiter is not None and frame.seq == waiter.seq and m.CODE == waiter.reply_type:
-            waiter.reply = m  # type: ignore[assignment]
+        if (
+            waiter is not None
+            and frame.seq == waiter.seq
+            and m.CODE == waiter.reply_type
+            and isinstance(m, Report)  # a reply's code is a report's
+        ):
+            waiter.reply = m
         if isinstance(m, StatusReport):
             self._check_reset(m)
             self.last_status = m

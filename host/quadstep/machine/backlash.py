@@ -57,9 +57,8 @@ class Measurement:
     spread_steps: float  # largest − smallest
     spread_mm: float
     bound_mm: float  # the largest spread accepted
-    sum_steps: float | None = (
-        None  # switch: backlash + hysteresis, before the hysteresis is taken off
-    )
+    # switch: backlash + hysteresis, before the hysteresis is taken off
+    sum_steps: float | None = None
     hysteresis_mm: float | None = None  # switch: the calibrated hysteresis taken off
 
     @property

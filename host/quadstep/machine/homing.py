@@ -14,11 +14,12 @@ from __future__ import annotations
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 
-from ..config import AxisConfig, HomingConfig, MachineConfig
+from ..config import AxisConfig, MachineConfig
 from ..link import input_status, until_input
 from ..planner.plan import plan_program
 from ..planner.program import LinearMove, Program
 from ..protocol import MAX_AXES, Probe, ProbeMissed, Segment
+from ..protocol.wire import four_axes
 from .errors import MachineError
 from .inputs import switch_input
 from .machine import Machine, Procedure
@@ -61,7 +62,7 @@ def straight(
     target[axis] += mm  # machine mm: the axis's `invert` is the step conversion's
     program = Program(items=[LinearMove(line=1, target=tuple(target), feed=feed)], lines=1)
     plan = plan_program(program, config, tuple(start))
-    return [plan.segments.segment(i) for i in range(len(plan))]
+    return plan.quadratic_segments()
 
 
 def home(
@@ -95,11 +96,12 @@ def home(
 def _home_axis(machine: Machine, procedure: Procedure, i: int, say: Progress) -> AxisHomed:
     config, link = machine.config, machine.link
     axis: AxisConfig = config.axes[i]
-    homing: HomingConfig = axis.homing  # type: ignore[assignment]
+    homing = axis.homing
+    assert homing is not None  # home() takes only axes with [axes.homing]
     free = unbounded(config)
     toward = -1.0 if homing.end == "min" else 1.0  # in machine mm
     which = switch_input(input_status(link).present, i, homing.end)
-    decel = tuple(list(machine.decels) + [0] * (MAX_AXES - len(machine.decels)))
+    decel = four_axes(list(machine.decels) + [0] * (MAX_AXES - len(machine.decels)))
     n = link.axis_count
     span = (axis.travel_max - axis.travel_min) * 1.5
     overshoot = (
@@ -116,10 +118,10 @@ def _home_axis(machine: Machine, procedure: Procedure, i: int, say: Progress) ->
         segments = machine.takeup_stream(straight(free, at(), i, mm, feed, n))
         end = until_input(
             link,
-            Probe(input=which, level=level, decel=decel),  # type: ignore[arg-type]
+            Probe(input=which, level=level, decel=decel),
             segments,
             TIMEOUT,
-        )  # type: ignore[arg-type]
+        )
         if isinstance(end, ProbeMissed):
             machine.rested()
             raise HomingError(f"axis {axis.name}: {what} within {abs(mm):.1f} mm ({which.name})")

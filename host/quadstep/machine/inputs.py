@@ -8,6 +8,7 @@ import math
 from ..config import MachineConfig
 from ..protocol import MAX_AXES, Config, Input
 from ..protocol.constants import INPUT_COUNT
+from ..protocol.wire import four_axes
 from .units import hold_decels
 
 
@@ -28,8 +29,8 @@ def config_message(config: MachineConfig, axis_count: int) -> Config:
         enabled=all_inputs & ~input_mask(inputs.disabled),
         hard_limits=int(inputs.hard_limits),
         debounce=(ticks,) * INPUT_COUNT,
-        hold_decel=tuple(decels),
-    )  # type: ignore[arg-type]
+        hold_decel=four_axes(decels),
+    )
 
 
 def switch_input(present: int, axis: int, end: str) -> Input:

@@ -16,6 +16,7 @@ import threading
 from collections.abc import Callable
 from dataclasses import replace
 from itertools import accumulate
+from typing import TypeVar
 
 from ..coordinates import WorkCoordinates
 from ..link import Link, LinkError
@@ -40,9 +41,9 @@ from .override import Swap, replan_running
 from .standing import Restream
 from .takeups import StreamPlan
 
-LOOKAHEAD_S = (
-    0.5  # s queued beyond the watchdog's host_timeout: a lost host meets the watchdog first
-)
+# s queued beyond the watchdog's host_timeout: a lost host meets the watchdog first
+LOOKAHEAD_S = 0.5
+Stop = TypeVar("Stop", Pause, ProbeMove)  # a program item a job waits at
 # motion ends after which the rest of the job is planned again from rest
 AT_REST = (
     FEED_HOLD,
@@ -83,9 +84,8 @@ class JobRun:
         self.program = program
         self.label = label
         self.decels = decels
-        self.restream = (
-            restream  # the machine's: positions, take-ups and probing for a job that goes on
-        )
+        # the machine's: positions, take-ups and probing for a job that goes on
+        self.restream = restream
         self.busy_elsewhere = busy_elsewhere  # the machine's: another program runs at a pause
         self.journal = journal  # where each leg of the job is kept for `run --resume`
         self.on_end: Callable[[MotionEnd], None] | None = None  # called once, in the job's thread
@@ -298,7 +298,7 @@ class JobRun:
             self._planned = self._override
         return scale_feeds(self.program, self._planned)
 
-    def _item_at(self, kind: type, line: int) -> Pause | ProbeMove | None:
+    def _item_at(self, kind: type[Stop], line: int) -> Stop | None:
         items = self.program.items if self.program is not None else ()
         return next((i for i in items if isinstance(i, kind) and i.line == line), None)
 

@@ -25,16 +25,14 @@ from enum import Enum
 
 class JobState(Enum):
     STREAMING = "streaming"  # a stretch of the plan is on its way to the board
-    PAUSED = (
-        "paused"  # at rest at an M0, M1 or tool change of the program, waiting for the operator
-    )
+    # at rest at an M0, M1 or tool change of the program, waiting for the operator
+    PAUSED = "paused"
     HELD = "held"  # at rest after a feed hold, waiting for the operator
     # the board ran dry and braked to rest: the rest is planned again, without the operator
     STARVED = "starved"
     PROBING = "probing"  # the machine probes for a G38.x of the program
-    OVERRIDING = (
-        "overriding"  # the rest planned again at a new feed override while the board keeps moving
-    )
+    # the rest planned again at a new feed override while the board keeps moving
+    OVERRIDING = "overriding"
     RESUMING = "resuming"  # what is left planned again from where the machine rests
     DONE = "done"
     STOPPED = "stopped"  # halted by the user (HOLD to rest)

@@ -20,6 +20,7 @@ from __future__ import annotations
 import threading
 from collections.abc import Callable, Sequence
 from pathlib import Path
+from typing import TypeVar
 
 from ..backlash.compensate import Compensated
 from ..config import DEFAULT_CONFIG_NAME, MachineConfig, default_config
@@ -29,6 +30,7 @@ from ..link import Link, LinkError, LinkStats, hold
 from ..planner.plan import Plan
 from ..planner.program import Program
 from ..planner.segments import SegmentArrays
+from ..planner.stream import Stream
 from ..port_process import PortProcess
 from ..protocol import (
     Alarm,
@@ -87,6 +89,7 @@ class Procedure:
 
 
 Running = Motion | JobRun | Procedure  # what the machine runs, one at a time
+Started = TypeVar("Started", Motion, JobRun)  # what _begin() starts (a Procedure claims itself)
 
 
 class Machine(Standing):
@@ -219,12 +222,14 @@ class Machine(Standing):
 
     # --- programs ---------------------------------------------------------------------------------
 
-    def move(self, segments: SegmentArrays, *, lookahead_ticks: int | None = None) -> Motion:
+    def move(
+        self, segments: SegmentArrays | Stream, *, lookahead_ticks: int | None = None
+    ) -> Motion:
         """Start streaming planned segments now, the backlash taken up in them; wait() on the
         Motion."""
         compensated = self.takeups.compensate(segments)
         motion = Motion(self.link, compensated.stream, self.decels, lookahead_ticks=lookahead_ticks)
-        return self._begin(motion, compensated).start()  # type: ignore[return-value]
+        return self._begin(motion, compensated).start()
 
     def run_job(
         self,
@@ -259,14 +264,14 @@ class Machine(Standing):
             busy_elsewhere=lambda: self._waiting is job,
             journal=journal,
         )
-        return self._begin(job, compensated).start()  # type: ignore[return-value]
+        return self._begin(job, compensated).start()
 
     def send_segments(self, segments: Sequence[Segment]) -> Motion:
         """Start streaming raw segments (every firmware axis) now, as they are (no take-ups
         added)."""
         arrays = SegmentArrays.of(segments, self.identity.axis_count)
         motion = Motion(self.link, arrays, self.decels)
-        return self._begin(motion, raw=segments).start()  # type: ignore[return-value]
+        return self._begin(motion, raw=segments).start()
 
     def hold(self, reason: str = "stop") -> MotionEnd | None:
         """The user's stop: bring the running program to rest with HOLD; returns how it ended, with
@@ -383,10 +388,10 @@ class Machine(Standing):
 
     def _begin(
         self,
-        program: Running,
+        program: Started,
         compensated: Compensated | None = None,
         raw: Sequence[Segment] | None = None,
-    ) -> Running:
+    ) -> Started:
         if self.config.homing_required and not self.homed:
             raise MachineError(
                 "homing_required = true in the configuration: home the machine first "
@@ -399,7 +404,7 @@ class Machine(Standing):
             # at rest: where the stream begins, in steps and motion ticks
             status = self.link.status()
             self.takeups.begin(compensated, status.position[: self.axis_count], status.motion_ticks)
-        program.settle = lambda end: self._settle(end, raw)  # type: ignore[union-attr]
+        program.settle = lambda end: self._settle(end, raw)
         program.on_end = lambda end: self._ended(program, end)
         return program
 

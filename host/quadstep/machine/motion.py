@@ -128,8 +128,11 @@ class Segments(Protocol):
     """What a motion streams from: the planner's arrays, or a stream with take-ups
     (planner/stream.py)."""
 
-    axis_count: int
-    n: Sequence[int]
+    @property
+    def axis_count(self) -> int: ...
+
+    @property
+    def n(self) -> Sequence[int]: ...  # each segment's ticks
 
     def __len__(self) -> int: ...
 
@@ -153,12 +156,10 @@ class Motion:
         follows: Motion | None = None,
     ) -> None:
         self.link = link
-        self.on_end = (
-            on_end  # called once, in the thread that ends the motion, before wait() returns
-        )
-        self.settle: Callable[[MotionEnd], MotionEnd] | None = (
-            None  # the machine's view of the end, before that
-        )
+        # called once, in the thread that ends the motion, before wait() returns
+        self.on_end = on_end
+        # the machine's view of the end, before that
+        self.settle: Callable[[MotionEnd], MotionEnd] | None = None
         self.segments = segments
         self.decels = tuple(decels)
         self.first = first
@@ -175,9 +176,8 @@ class Motion:
         self._base_done = 0
         self._generation = 0  # the link's, when streaming began: a STOP from elsewhere changes it
         self._input_holds = 0  # holds the firmware began itself, when streaming began
-        self._follows = (
-            follows  # a motion cut short whose last segments may still be queued: counted first
-        )
+        # a motion cut short whose last segments may still be queued: counted first
+        self._follows = follows
         # streaming ends at `last`, moved down by cut(); the motion ends once that is sent
         self._cut = False
         self._thread = threading.Thread(target=self._run, name="quadstep-motion", daemon=True)

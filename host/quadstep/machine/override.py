@@ -149,12 +149,13 @@ def prepare(
         except JobError:
             continue  # no whole-tick profile from this boundary: the next one
         at = base.move_ends[move - 1]
+        swapped: Plan | StreamPlan
         if not isinstance(running, StreamPlan) or restream is None:
             index, swapped = at, joined
-        # with the take-ups again: the new stream goes on from where it leaves the old one (a
-        # take-up
         else:
-            swapped = restream(joined, running)  # across the boundary begins before it)
+            # with the take-ups again: the new stream goes on from where it leaves the old one (a
+            # take-up across the boundary begins before it)
+            swapped = restream(joined, running)
             index = first_difference(running.segments, swapped.segments)
         if index >= before:
             return None

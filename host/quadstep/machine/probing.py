@@ -20,6 +20,7 @@ from ..link import Link, hold, input_status, until_input
 from ..planner.plan import plan_program
 from ..planner.program import LinearMove, Program
 from ..protocol import MAX_AXES, CubicSegment, Input, InputChange, Probe, Segment
+from ..protocol.wire import four_axes
 from .errors import MachineError
 
 
@@ -88,14 +89,14 @@ def probe(
         program = Program(items=[LinearMove(line=1, target=tuple(target_mm), feed=feed)], lines=1)
         # a target outside the travel: JobError
         plan = plan_program(program, config, machine.position)
-        decel = tuple(list(machine.decels) + [0] * (MAX_AXES - len(machine.decels)))
-        segments = machine.takeup_stream([plan.segments.segment(i) for i in range(len(plan))])
+        decel = four_axes(list(machine.decels) + [0] * (MAX_AXES - len(machine.decels)))
+        segments = machine.takeup_stream(plan.quadratic_segments())
         end = until_input(
             link,
-            Probe(input=Input.PROBE, level=level, decel=decel),  # type: ignore[arg-type]
+            Probe(input=Input.PROBE, level=level, decel=decel),
             segments,
             timeout,
-        )  # type: ignore[arg-type]
+        )
         found = isinstance(end, InputChange)
         steps = machine.shown(end.position, end.motion_ticks) if found else ()
         rest = machine.rested(end.motion_ticks if found else None)

@@ -12,6 +12,7 @@ from ..link import until_input
 from ..planner.plan import plan_program
 from ..planner.program import LinearMove, Program
 from ..protocol import MAX_AXES, Input, InputChange, Probe, ProbeMissed, Segment
+from ..protocol.wire import four_axes
 from .homing import TIMEOUT, unbounded
 from .machine import Machine
 
@@ -26,7 +27,7 @@ class RawMoves:
         self.feed = feed
         self.count = self.link.axis_count
         self.motor = list(self.link.status().position[: self.count])
-        self.decel = tuple(list(machine.decels) + [0] * (MAX_AXES - len(machine.decels)))
+        self.decel = four_axes(list(machine.decels) + [0] * (MAX_AXES - len(machine.decels)))
 
     def segments(self, axis: int, steps: int, feed: float | None = None) -> list[Segment]:
         start = tuple(self.motor[: len(self.config.axes)])
@@ -34,7 +35,7 @@ class RawMoves:
         target[axis] += steps
         move = LinearMove(line=1, target=self.config.to_mm(tuple(target)), feed=feed or self.feed)
         plan = plan_program(Program(items=[move], lines=1), self.config, start)
-        return [plan.segments.segment(i) for i in range(len(plan))]
+        return plan.quadratic_segments()
 
     def move(self, axis: int, steps: int, feed: float | None = None) -> None:
         """`steps` (signed) along `axis`, to rest."""
@@ -53,7 +54,7 @@ class RawMoves:
         (None: the move ended without the edge)."""
         end = until_input(
             self.link,
-            Probe(input=which, level=level, decel=self.decel),  # type: ignore[arg-type]
+            Probe(input=which, level=level, decel=self.decel),
             self.segments(axis, steps, feed),
             TIMEOUT,
         )

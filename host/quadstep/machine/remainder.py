@@ -74,7 +74,7 @@ def shift_items(
     shifted: list[Item] = []
     for item in items:
         delta = deltas.get(item.system) if isinstance(item, LinearMove) else None
-        if delta is not None and any(delta):
+        if isinstance(item, LinearMove) and delta is not None and any(delta):
             item = replace(
                 item,
                 target=tuple(t + d for t, d in zip(item.target, delta)),

@@ -7,11 +7,13 @@ from __future__ import annotations
 
 import threading
 from collections.abc import Callable, Sequence
+from contextlib import AbstractContextManager
 from dataclasses import replace
 from pathlib import Path
-from typing import Protocol
+from typing import TYPE_CHECKING, Protocol
 
 from ..backlash.band import BandRecord
+from ..config import MachineConfig
 from ..coordinates import WorkCoordinates
 from ..link import Link, LinkError
 from ..planner.plan import Plan
@@ -41,13 +43,31 @@ class Standing:
     _state_lock: threading.Lock  # one write of the state file at a time
     new_board: bool  # cannot be the board the state file was written for (an emulator started anew)
     notice: str | None  # what opening the machine found of the kept state, for the user
-    identity: IdentifyReply  # the Machine's
-    axis_count: int
-    program: object | None  # the program running (machine.Running)
     coordinates: WorkCoordinates  # in force (a job running changes them as it goes)
     _stored_coordinates: WorkCoordinates  # as a work zero or a completed job left them: kept
     adopt_coordinates: Callable[[WorkCoordinates], None]
     _refuse_if_busy: Callable[[str], None]
+
+    config: MachineConfig
+    decels: tuple[int, ...]
+
+    if TYPE_CHECKING:  # the Machine's properties and methods (it probes: probing.ProbingMachine)
+
+        @property
+        def identity(self) -> IdentifyReply: ...
+
+        @property
+        def position_mm(self) -> tuple[float, ...]: ...
+
+        def procedure(self, name: str) -> AbstractContextManager[object]: ...
+
+        def sync(self) -> tuple[int, ...]: ...
+
+        @property
+        def axis_count(self) -> int: ...
+
+        @property
+        def program(self) -> object | None: ...  # the program running (machine.Running)
 
     @property
     def homed(self) -> bool:
@@ -253,8 +273,8 @@ class _Restream:
 
     def probe(self, probe: ProbeMove) -> tuple[float, ...]:
         """A job's G38.x, as `quadstep probe` runs it; the machine position where it rests (mm)."""
-        run_probe(self.machine, probe.code, probe.target, probe.feed)  # type: ignore[arg-type]
-        return self.machine.position_mm  # type: ignore[attr-defined]
+        run_probe(self.machine, probe.code, probe.target, probe.feed)
+        return self.machine.position_mm
 
     def adopt(self, coordinates: WorkCoordinates) -> None:
         """In memory only: the state file keeps what a work zero or a completed job sets."""

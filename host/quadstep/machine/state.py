@@ -25,7 +25,7 @@ import hashlib
 import json
 import os
 from pathlib import Path
-from typing import Literal
+from typing import Final, Literal
 
 from pydantic import BaseModel, ConfigDict
 
@@ -39,7 +39,7 @@ class StateError(ValueError):
     """A state file that cannot be read; the message names the file and the problem."""
 
 
-VERSION = 2  # version 1 files (coordinates and band only) are read as they are
+VERSION: Final = 2  # version 1 files (coordinates and band only) are read as they are
 
 
 class BoardMark(BaseModel):

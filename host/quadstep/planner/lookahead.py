@@ -36,7 +36,8 @@ def _junction_speed(table: MoveTable, k: int, config: MachineConfig, amax: list[
     e2 = table.unit[k]
     cos_theta = -sum(a * b for a, b in zip(e1, e2))
     cap = min(table.max_speed[k - 1], table.max_speed[k])
-    deviation = table.deviation[k] if table.deviation[k] is not None else config.junction_deviation
+    own = table.deviation[k]  # G64 P, or G61's 0
+    deviation = own if own is not None else config.junction_deviation
     if cos_theta > 0.999999 or deviation == 0.0:
         return 0.0  # full reversal, or exact stop (G61)
     for i, axis in enumerate(config.axes):

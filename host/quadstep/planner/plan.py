@@ -10,7 +10,7 @@ import numpy as np
 from ..config import MachineConfig
 from ..protocol import Outputs
 from ..protocol.cubic import SIGMA
-from ..protocol.segment import D
+from ..protocol.segment import D, Segment
 from .limits import check_duration
 from .lookahead import PLAN_ACCEL_FRACTION, junction_speeds
 from .moves import MoveTable, build_moves
@@ -67,6 +67,12 @@ class Plan:
 
     def __len__(self) -> int:
         return len(self.segments)
+
+    def quadratic_segments(self) -> list[Segment]:
+        """Every segment of a plan without jerk limits, as protocol models (homing, probing and the
+        backlash measurements stream them themselves; they take no cubic segments)."""
+        assert isinstance(self.segments, SegmentArrays), "a jerk-limited plan has cubic segments"
+        return [self.segments.segment(i) for i in range(len(self))]
 
     @property
     def duration_ticks(self) -> int:

@@ -32,9 +32,8 @@ class LinearMove:
     # machine − work per axis; () = none
     offset: tuple[float, ...] = field(default=(), compare=False)
     system: str = field(default="", compare=False)  # G54 … G59, or G53 for machine coordinates
-    deviation: float | None = (
-        None  # mm the path may leave a corner by (G64 P); 0: exact stop (G61); None: config
-    )
+    # mm the path may leave a corner by (G64 P); 0: exact stop (G61); None: config
+    deviation: float | None = None
 
     def work(self, axis: int) -> float:
         """The target of `axis` as its line wrote it (work coordinates)."""
@@ -106,6 +105,5 @@ class Program:
     skipped: list[tuple[int, str]] = field(default_factory=list)  # (line, word)
     lines: int = 0  # source lines (or moves) read
     end_line: int | None = None  # line of M2/M30, if any
-    coordinates: WorkCoordinates | None = (
-        None  # the work coordinates as the program leaves them (G-code)
-    )
+    # the work coordinates as the program leaves them (G-code)
+    coordinates: WorkCoordinates | None = None

@@ -92,8 +92,8 @@ class Quantizer:
                 )
         self.max_landing_error = max(self.max_landing_error, landing)
         self.exit_speed = [
-            direction[i] * columns[i][count] if columns[i] is not None else 0  # type: ignore[index]
-            for i in range(axis_count)
+            direction[i] * column[count] if column is not None else 0
+            for i, column in enumerate(columns)
         ]
         return True
 

@@ -20,7 +20,7 @@ from dataclasses import dataclass
 from ..config import MachineConfig
 from ..protocol.constants import CUBIC_N_MAX
 from ..protocol.cubic import SIGMA, AxisState, CubicAxis, CubicChain, CubicRefused, CubicSegment
-from ..protocol.segment import AxisMove, Segment
+from ..protocol.segment import AxisMove, Direction, Segment
 from .moves import MoveTable
 from .program import JobError
 from .scurve_profile import PROFILE_FRACTION, Profile, whole_tick_profile
@@ -160,12 +160,12 @@ class ScurvePlanner:
             state = self.chain.axes[axis]
             if not delta[axis]:
                 if not state.at_rest:
-                    phases[0].sets[axis] = CubicAxis(axis=axis, speed=0, direction=state.direction)  # type: ignore[arg-type]
+                    phases[0].sets[axis] = CubicAxis(axis=axis, speed=0, direction=state.direction)
                 continue
-            direction = 1 if delta[axis] > 0 else -1
+            direction: Direction = 1 if delta[axis] > 0 else -1
             entry = round(p.v0 * share[axis])
             if state.direction != direction or abs(state.i - entry) > SPEED_KEPT or state.d:
-                phases[0].sets[axis] = CubicAxis(axis=axis, speed=entry, direction=direction)  # type: ignore[arg-type]
+                phases[0].sets[axis] = CubicAxis(axis=axis, speed=entry, direction=direction)
             ra = round((p.vc - p.v0) * share[axis] / ka) if ka else 0
             rd = round((p.vc - p.v1) * share[axis] / kd) if kd else 0
             phases[0].jerk[axis], phases[2].jerk[axis] = ra, -ra
@@ -176,7 +176,7 @@ class ScurvePlanner:
                     return None
                 phases[4].sets[axis] = CubicAxis(
                     axis=axis, speed=exits[axis] + rd * kd, direction=direction
-                )  # type: ignore[arg-type]
+                )
         return phases, exits
 
     def _built(
@@ -289,7 +289,7 @@ class ScurvePlanner:
                     phases[at].sets[axis] = CubicAxis(
                         axis=axis,
                         speed=speed + jump,
-                        accel=accel,  # type: ignore[arg-type]
+                        accel=accel,
                         direction=1 if delta[axis] > 0 else -1,
                     )
                     corrected = True
@@ -326,13 +326,13 @@ class ScurvePlanner:
         at, back = states[j][axis], states[j + 1][axis]
         if abs(jump) > limit or at.i + jump < 0 or back.i < 0:
             return False
-        direction = 1 if delta > 0 else -1
+        direction: Direction = 1 if delta > 0 else -1
         phases[j].sets[axis] = CubicAxis(
             axis=axis, speed=at.i + jump, accel=at.d, direction=direction
-        )  # type: ignore[arg-type]
+        )
         phases[j + 1].sets[axis] = CubicAxis(
             axis=axis, speed=back.i, accel=back.d, direction=direction
-        )  # type: ignore[arg-type]
+        )
         return True
 
     def _misses(

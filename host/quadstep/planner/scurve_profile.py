@@ -13,9 +13,8 @@ from dataclasses import dataclass
 
 from .jerk import ramp_distance, ramp_fits, reachable_speed, tick_ramp
 
-PROFILE_FRACTION = (
-    0.995  # each move's profile at this share of its limits (the look-ahead plans at 0.98)
-)
+# each move's profile at this share of its limits (the look-ahead plans at 0.98)
+PROFILE_FRACTION = 0.995
 
 
 @dataclass(frozen=True)

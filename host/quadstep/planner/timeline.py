@@ -22,9 +22,8 @@ class Timeline:
     speed1: np.ndarray  # (S, axes) signed speed at the end
     accel: np.ndarray  # (S, axes) at the start of each segment
     position: np.ndarray  # (S + 1, axes) ideal position at every boundary
-    accel1: np.ndarray | None = (
-        None  # (S, axes) at the end, where it changes within segments (cubic)
-    )
+    # (S, axes) at the end, where it changes within segments (cubic)
+    accel1: np.ndarray | None = None
 
 
 def timeline(plan: Plan) -> Timeline:

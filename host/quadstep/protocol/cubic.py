@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import struct
 from dataclasses import dataclass, field
-from typing import Annotated, Any, Literal
+from typing import Annotated, Any
 
 from pydantic import (
     BaseModel,
@@ -26,7 +26,7 @@ from pydantic import (
 )
 
 from .constants import CUBIC_ACCEL_LIMIT, CUBIC_N_MAX, CUBIC_SHIFT, MAX_AXES, FieldId
-from .segment import Segment
+from .segment import Direction, Segment
 from .wire import FieldCodec, FieldFault, Int, Request, bits, message
 
 SPEED_BIT = 1 << 31  # in a set's speed word: the axis moves in the negative direction
@@ -44,7 +44,7 @@ class CubicAxis(BaseModel):
         default=None, ge=0, lt=1 << 31, description="set: advance over the first tick"
     )
     accel: int = Field(default=0, gt=-CUBIC_ACCEL_LIMIT, lt=CUBIC_ACCEL_LIMIT)
-    direction: Literal[1, -1] = 1
+    direction: Direction = 1
     jerk: int | None = Field(default=None, ge=-(1 << 15), lt=1 << 15)
 
     @model_validator(mode="after")
@@ -204,7 +204,7 @@ class AxisState:
     e: int = 0
     i: int = 0
     d: int = 0
-    direction: int = 1
+    direction: Direction = 1
 
     @property
     def at_rest(self) -> bool:

@@ -31,7 +31,7 @@ from pydantic import (
 from .constants import CUBIC_N_MAX, MAX_AXES, MAX_FRAME, FieldId
 from .cubic import SIGMA, CubicAxis, CubicChain, CubicRefused, CubicSegment, choose2
 from .segment import Segment
-from .wire import FieldFault, RecordsField, Request, bits, message
+from .wire import FieldFault, RecordsField, Request, bits, four_axes, message
 
 NONE, GIVEN, NEGATE, SAME = 0, 1, 2, 3  # an axis's jerk code
 SETS = 0x01  # in n's varint: a sets byte follows (bits 0–3 axes set, 4–7 their directions)
@@ -140,7 +140,9 @@ def _parse(payload: bytes, offset: int) -> tuple[list[CubicRecord], int] | None:
         if head is None:
             return None
         value, at = head
-        sets, speeds, accels = None, [], [] if value & ACCEL else None
+        sets: int | None = None
+        speeds: list[int] = []
+        accels: list[int] | None = [] if value & ACCEL else None
         if value & SETS:
             if at >= len(payload):
                 return None
@@ -158,7 +160,7 @@ def _parse(payload: bytes, offset: int) -> tuple[list[CubicRecord], int] | None:
                         return None
                     accels.append(_signed(accel[0]))
                     at = accel[1]
-        codes = tuple(code_byte >> 2 * a & 3 for a in range(MAX_AXES))
+        codes = four_axes([code_byte >> 2 * a & 3 for a in range(MAX_AXES)])
         jerks = []
         for _ in range(codes.count(GIVEN)):
             jerk = _read(payload, at, MOST["jerk"])
@@ -172,7 +174,7 @@ def _parse(payload: bytes, offset: int) -> tuple[list[CubicRecord], int] | None:
                 codes=codes,
                 jerks=tuple(jerks),
                 sets=sets,
-                speeds=tuple(speeds),  # type: ignore[arg-type]
+                speeds=tuple(speeds),
                 accels=None if sets is None or accels is None or not speeds else tuple(accels),
             )
         )
@@ -184,7 +186,7 @@ class Records(RecordsField):
     """The records, to the end of the payload."""
 
     def parse(self, payload: bytes, offset: int) -> tuple[list[Any], int] | None:
-        return _parse(payload, offset)  # type: ignore[return-value]
+        return _parse(payload, offset)
 
     def pack(self, value: tuple[CubicRecord, ...]) -> bytes:
         return b"".join(record.pack() for record in value)
@@ -308,14 +310,17 @@ class SpeedChain:
     def follow(self, segment: Segment | CubicSegment) -> None:
         """After `segment`: a quadratic one leaves its axes at vn << 19 with no d and stops the
         others."""
+        if isinstance(segment, Segment):
+            moves = {a.axis: a for a in segment.axes}
+            for axis in range(self.axis_count):
+                move = moves.get(axis)
+                self.i[axis], self.d[axis] = (move.vn << 19, 0) if move is not None else (0, 0)
+                if move is not None:
+                    self.direction[axis] = move.direction
+            return
         named = {a.axis: a for a in segment.axes}
         for axis in range(self.axis_count):
             a = named.get(axis)
-            if isinstance(segment, Segment):
-                self.i[axis], self.d[axis] = (a.vn << 19, 0) if a is not None else (0, 0)
-                if a is not None:
-                    self.direction[axis] = a.direction
-                continue
             r = 0
             if a is not None:
                 if a.speed is not None:
@@ -363,8 +368,8 @@ def _record(segment: CubicSegment, chain: SpeedChain, last: list[int]) -> CubicR
         last[a.axis] = jerk
     return CubicRecord(
         n=segment.n,
-        codes=tuple(codes),
-        jerks=tuple(jerks),  # type: ignore[arg-type]
+        codes=four_axes(codes),
+        jerks=tuple(jerks),
         sets=sets if sets else None,
         speeds=tuple(speeds),
         accels=tuple(accels) if any(accels) else None,

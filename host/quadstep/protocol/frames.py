@@ -3,7 +3,7 @@ board has them and the chain is known, else one segment alone (PROTOCOL.md §5.2
 
 from __future__ import annotations
 
-from typing import Protocol
+from typing import Protocol, TypeVar
 
 from .cubic import CubicSegment
 from .cubic_run import CubicSegments
@@ -38,23 +38,33 @@ def next_frame(
     its own message (with a limit of 1 too: after a lost frame the board keeps later single-segment
     frames, never a run); `chain` moves on past what the frame sends."""
     first = source.segment(index)
-    kind = type(first)
-    run = [first]
-    for i in range(index + 1, min(end, index + limit)):
-        segment = source.segment(i)
-        if type(segment) is not kind:
-            break
-        run.append(segment)
     if isinstance(first, CubicSegment):
+        cubics = _run(first, source, index, end, limit)
         assert chain.speeds is not None
-        cubic = cubic_pack(run, chain.speeds, limit) if limit > 1 and cubic_runs else None  # type: ignore[arg-type]
+        cubic = cubic_pack(cubics, chain.speeds, limit) if limit > 1 and cubic_runs else None
         if cubic is None:
             chain.follow_cubic(first)
             return first
         chain.forget()
         return cubic
-    packed = pack(run, chain, limit) if limit > 1 else None  # type: ignore[arg-type]
+    run = _run(first, source, index, end, limit)
+    packed = pack(run, chain, limit) if limit > 1 else None
     if packed is None:
         chain.follow(first)
         return first
     return packed
+
+
+Kind = TypeVar("Kind", Segment, CubicSegment)
+
+
+def _run(first: Kind, source: SegmentSource, index: int, end: int, limit: int) -> list[Kind]:
+    """`first` (segment `index`) and the segments of its kind right after it, before `end`: at most
+    `limit` in all."""
+    run = [first]
+    for i in range(index + 1, min(end, index + limit)):
+        segment = source.segment(i)
+        if not isinstance(segment, type(first)):
+            break
+        run.append(segment)
+    return run

@@ -13,8 +13,8 @@ in JSON, which is also the form of protocol/vectors.json.
 
 from __future__ import annotations
 
-from enum import IntEnum
-from typing import Annotated, Any, ClassVar
+from enum import EnumMeta, IntEnum
+from typing import Annotated, Any, ClassVar, TypeVar
 
 from pydantic import (
     Field,
@@ -385,14 +385,21 @@ class ProbeMissed(Event):
 
 # --- built from the declarations above ------------------------------------------
 
-MessageType = TypeClass(
-    "MessageType", [(d.name, d.code) for d in declared_messages()], module=__name__
-)  # type: ignore[call-overload]
-EventKind = IntEnum(
-    "EventKind", [(d.name, d.code) for d in declared_event_kinds()], module=__name__
-)  # type: ignore[misc]
+_E = TypeVar("_E", bound=IntEnum)
+
+
+def _enum(base: type[_E], name: str, members: list[tuple[str, int]]) -> type[_E]:
+    """An enum derived from `base` with members made at import: the functional API, spelled as the
+    metaclass call it is, which a type checker can follow."""
+    made = EnumMeta.__call__(base, name, members, module=__name__)
+    assert issubclass(made, base)
+    return made
+
+
+MessageType = _enum(TypeClass, "MessageType", [(d.name, d.code) for d in declared_messages()])
+EventKind = _enum(IntEnum, "EventKind", [(d.name, d.code) for d in declared_event_kinds()])
 for _declared in declared_messages():
-    _declared.cls.TYPE = MessageType(_declared.code)  # type: ignore[attr-defined]
+    _declared.cls.TYPE = MessageType(_declared.code)
 
 Message = WireMessage
 
@@ -422,9 +429,10 @@ def message_from_json(fields: dict[str, Any]) -> tuple[int, WireMessage]:
     seq = data.pop("seq")
     cls = declared.cls
     if cls is Event:
-        cls = next((k.cls for k in declared_event_kinds() if k.name == data.get("kind")), None)
-        if cls is None:
+        kind = next((k.cls for k in declared_event_kinds() if k.name == data.get("kind")), None)
+        if kind is None:
             raise ValueError(f"unknown EVENT kind {data.get('kind')!r}")
+        cls = kind
     return seq, cls.model_validate(data)
 
 

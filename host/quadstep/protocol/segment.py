@@ -13,13 +13,16 @@ from .wire import FieldFault, Int, Masked, Request, bits, message
 __all__ = ["D", "MAX_AXES", "N_MAX", "R_MAX", "SPEED_SHIFT", "AxisMove", "Segment"]
 
 
+Direction = Literal[1, -1]  # an axis's sense of motion: +1 toward its positive steps
+
+
 class AxisMove(BaseModel):
     """One axis of a segment: direction, start and end speed, starting residual."""
 
     model_config = ConfigDict(frozen=True)
 
     axis: int = Field(ge=0, lt=MAX_AXES)
-    direction: Literal[1, -1]
+    direction: Direction
     v0: int = Field(ge=0, le=D, description="start speed, v0/4096 steps per tick")
     vn: int = Field(ge=0, le=D, description="end speed, vn/4096 steps per tick")
     r: int = Field(

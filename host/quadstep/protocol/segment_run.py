@@ -31,7 +31,7 @@ from pydantic import (
 from .constants import MAX_FRAME, V_MAX, D, FieldId
 from .cubic import CubicSegment
 from .cubic_run import SpeedChain
-from .segment import AxisMove, Segment
+from .segment import AxisMove, Direction, Segment
 from .wire import FieldFault, RecordsField, Request, bits, message
 
 N_HIGH = 0x03  # n's bits 8–9 in the head; its low byte follows
@@ -294,6 +294,12 @@ class RunChain:
         self.speeds.follow(segment)
         self.forget()
 
+    def known_speed(self, axis: int) -> int:
+        """The speed on `axis`, where the chain is ready()."""
+        speed = self.speed[axis]
+        assert speed is not None, "a record starts only where every speed is known"
+        return speed
+
     def ready(self) -> bool:
         """Whether a record can start from here (every speed known)."""
         return all(s is not None for s in self.speed)
@@ -311,9 +317,9 @@ def expand(records: Sequence[SegmentRecord], chain: RunChain) -> list[Segment]:
             n = record.n
             axes = record.axes if record.axes is not None else axes
         active, negative = _check_axes(axes, chain.axis_count)
-        moves = []
+        moves: list[tuple[int, Direction, int, int, int]] = []
         for j, axis in enumerate(active):
-            sign = -1 if negative >> axis & 1 else 1
+            sign: Direction = -1 if negative >> axis & 1 else 1
             residual = chain.residual[axis]
             if not record.repeat:
                 speed = chain.speed[axis]
@@ -376,14 +382,14 @@ def _record(
 ) -> SegmentRecord:
     """The canonical record of `segment` after `before` (in the same frame) from `chain`."""
     residuals = [
-        a.direction * chain.residual[a.axis] if chain.residual[a.axis] is not None else None
+        a.direction * residual if (residual := chain.residual[a.axis]) is not None else None
         for a in segment.axes
     ]
     chained = all(r == a.r for r, a in zip(residuals, segment.axes))
     if before is not None and chained and _shape(before) == _shape(segment):
         return SegmentRecord(repeat=True)
     axes = _axes_byte(segment)
-    start = tuple(a.v0 - chain.speed[a.axis] for a in segment.axes)  # type: ignore[operator]
+    start = tuple(a.v0 - chain.known_speed(a.axis) for a in segment.axes)
     change, mirror = _change(segment, last)
     return SegmentRecord(
         n=segment.n,

@@ -16,14 +16,14 @@ from __future__ import annotations
 
 import functools
 import struct
-from collections.abc import Callable, Iterator
+from collections.abc import Callable, Iterator, Sequence
 from dataclasses import dataclass
 from enum import IntEnum
 from typing import Any, ClassVar, TypeVar
 
 from pydantic import BaseModel, ConfigDict
 
-from .constants import MAX_AXES, FieldId
+from .constants import MAX_AXES, FieldId, TypeClass
 
 
 class FieldFault(ValueError):
@@ -39,8 +39,13 @@ class FieldFault(ValueError):
 class FieldCodec:
     """One field's bytes: `head` fixed bytes, then `unit` bytes per repeated item (axes)."""
 
-    head: int = 0
-    unit: int = 0
+    @property
+    def head(self) -> int:
+        return 0
+
+    @property
+    def unit(self) -> int:
+        return 0
 
     def length(self, payload: bytes, offset: int) -> int | None:
         """Bytes this field takes at `offset`, or None when the payload cannot hold it."""
@@ -87,7 +92,7 @@ class Int(FieldCodec):
     none: int | None = None
 
     @property
-    def head(self) -> int:  # type: ignore[override]
+    def head(self) -> int:
         return struct.calcsize("<" + self.code) * self.count
 
     def value(self, raw: Any) -> Any:
@@ -112,7 +117,7 @@ class PerAxis(FieldCodec):
     code: str = "i"
 
     @property
-    def unit(self) -> int:  # type: ignore[override]
+    def unit(self) -> int:
         return struct.calcsize("<" + self.code)
 
     def length(self, payload: bytes, offset: int) -> int | None:
@@ -125,6 +130,12 @@ class PerAxis(FieldCodec):
 
     def unpack(self, payload: bytes, offset: int, size: int) -> Any:
         return struct.unpack_from(f"<{size // self.unit}{self.code}", payload, offset)
+
+
+def four_axes(values: Sequence[int]) -> tuple[int, int, int, int]:
+    """One value for each of the MAX_AXES (4) axes a field names, as its model takes them."""
+    first, second, third, fourth = values
+    return first, second, third, fourth
 
 
 def bits(mask: int) -> list[int]:
@@ -142,7 +153,7 @@ class Masked(FieldCodec):
     head: int = 1
 
     @property
-    def unit(self) -> int:  # type: ignore[override]
+    def unit(self) -> int:
         return struct.calcsize("<" + self.unit_code)
 
     def length(self, payload: bytes, offset: int) -> int | None:
@@ -268,6 +279,9 @@ class WireMessage(BaseModel):
     CODE: ClassVar[int]
     NAME: ClassVar[str]
     DIRECTION: ClassVar[str]
+    TYPE: ClassVar[TypeClass]  # its member of MessageType (set where messages.py builds it)
+    KIND: ClassVar[int]  # an EVENT kind's code and name (set by @event_kind)
+    KIND_NAME: ClassVar[str]
     PREFIX: ClassVar[bytes] = b""  # bytes before the fields (an EVENT's kind)
 
     @classmethod
@@ -361,7 +375,7 @@ def event_kind(code: int, name: str) -> Callable[[type[ModelT]], type[ModelT]]:
     """Declare an EVENT kind: a subclass of Event, the kind byte first on the wire."""
 
     def declare(cls: type[ModelT]) -> type[ModelT]:
-        cls.KIND, cls.KIND_NAME = code, name  # type: ignore[attr-defined]
+        cls.KIND, cls.KIND_NAME = code, name
         cls.PREFIX = bytes([code])
         _declare(_EVENT_KINDS, code, name, cls)
         cls.layout()  # every field has its wire form, or the declaration fails here

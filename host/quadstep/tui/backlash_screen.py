@@ -137,7 +137,10 @@ class BacklashScreen(ModalScreen[None]):
     def _measure(self, axis: str, method: str, tries: int) -> None:
         machine = self.session.machine
         assert machine is not None
-        progress = lambda text: self.post_message(Tried(text))  # noqa: E731
+
+        def progress(text: str) -> None:
+            self.post_message(Tried(text))
+
         try:
             if method == "switch":
                 result = measure_with_switch(

@@ -3,6 +3,8 @@ before, Esc gives the keys back to jogging."""
 
 from __future__ import annotations
 
+from typing import Any
+
 from textual.binding import Binding
 from textual.message import Message
 from textual.widgets import Input
@@ -22,10 +24,10 @@ class ConsoleLine(Input):
             super().__init__()
             self.text = text
 
-    def __init__(self, **kwargs: object) -> None:
+    def __init__(self, **kwargs: Any) -> None:  # the Input's own options
         super().__init__(
             placeholder=": G-code line (MDI) — Enter runs it, ↑↓ history, Esc back", **kwargs
-        )  # type: ignore[arg-type]
+        )
         self.history: list[str] = []
         self._at = 0  # index into history while browsing; len(history): the line being typed
 

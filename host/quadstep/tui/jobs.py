@@ -29,6 +29,7 @@ from .panels import JobPanel
 from .toolpath_view import ToolpathView
 
 if TYPE_CHECKING:
+    from ..jog import Jogger
     from .session import Session
 
 
@@ -56,7 +57,7 @@ class JobKeys(Screen[None]):
     if TYPE_CHECKING:  # MachineScreen's own
 
         def log_line(self, text: str, error: bool = False) -> None: ...
-        def _jogger_ready(self, what: str) -> object: ...
+        def _jogger_ready(self, what: str) -> Jogger | None: ...
         def _thread(self, target: Callable[[], object], name: str) -> object: ...
         def _command(self, command: Callable[[], object], what: str) -> None: ...
 

@@ -6,7 +6,7 @@ use."""
 from __future__ import annotations
 
 from collections.abc import Callable
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 from textual.screen import Screen
 
@@ -47,12 +47,12 @@ class JogKeys(Screen[None]):
 
     # --- jogging ---------------------------------------------------------------------------
 
-    def check_action(self, action: str, parameters: tuple[object, ...]) -> bool | None:
+    def check_action(self, action: str, parameters: tuple[Any, ...]) -> bool | None:
         if action == "step_preset":
-            return int(parameters[0]) < len(self.session.settings.step_presets)  # type: ignore[call-overload]
+            return int(parameters[0]) < len(self.session.settings.step_presets)
         if action in ("zero",):
             config = self.session.config
-            return config is None or int(parameters[0]) < len(config.axes)  # type: ignore[call-overload]
+            return config is None or int(parameters[0]) < len(config.axes)
         return True
 
     def _jogger_ready(self, what: str) -> Jogger | None:

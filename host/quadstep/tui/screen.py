@@ -82,9 +82,16 @@ class MachineScreen(JobKeys, JogKeys):
             yield ToolpathView(id="toolpath")
         yield Static(KEY_LINE, id="keys")
 
+    @property
+    def _target_label(self) -> str:
+        """The board this screen drives: chosen before it opens (the port picker's choice)."""
+        target = self.session.target
+        assert target is not None
+        return target.label
+
     def on_mount(self) -> None:
         self.app.title = "quadstep"
-        self.app.sub_title = self.session.target.label
+        self.app.sub_title = self._target_label
         self.query_one("#banner", Static).display = False
         self.query_one(PositionPanel).border_title = "position"
         self.query_one(MachinePanel).border_title = "machine"
@@ -137,7 +144,7 @@ class MachineScreen(JobKeys, JogKeys):
         self._stop_polling()
         self.snapshot = None
         self.refresh_panels()
-        self.log_line(f"connecting to {self.session.target.label}…")
+        self.log_line(f"connecting to {self._target_label}…")
         self._thread(self._connect_worker, "quadstep-connect")
 
     def _connect_worker(self) -> None:
@@ -156,7 +163,7 @@ class MachineScreen(JobKeys, JogKeys):
         assert config is not None
         self.query_one("#banner", Static).display = False
         self.app.sub_title = (
-            f"{self.session.target.label} · firmware "
+            f"{self._target_label} · firmware "
             f"{ident.fw_major}.{ident.fw_minor}.{ident.fw_patch} · {len(config.axes)} axes · "
             f"{ident.tick_hz / 1000:g} kHz"
         )
@@ -254,7 +261,10 @@ class MachineScreen(JobKeys, JogKeys):
         self._thread(lambda: self._routine(machine, f"G{code}", run), "quadstep-probe")
 
     def _homed(self, machine: Machine) -> str:
-        results = home(machine, None, lambda text: self.post_message(Note(f"home: {text}")))
+        def progress(text: str) -> None:
+            self.post_message(Note(f"home: {text}"))
+
+        results = home(machine, None, progress)
         return "homed: " + "  ".join(f"{r.name} {r.position_mm:.3f} mm" for r in results)
 
     def _routine(self, machine: Machine, what: str, body: Callable[[], str]) -> None:

@@ -5,6 +5,7 @@ travel."""
 from __future__ import annotations
 
 from collections.abc import Sequence
+from typing import Any
 
 from rich.text import Text
 from textual.widget import Widget
@@ -17,8 +18,8 @@ MARGIN = 0.05  # of the extent, around what the view fits
 
 
 class ToolpathView(Widget, can_focus=False):
-    def __init__(self, **kwargs: object) -> None:
-        super().__init__(**kwargs)  # type: ignore[arg-type]
+    def __init__(self, **kwargs: Any) -> None:  # the Widget's own options
+        super().__init__(**kwargs)
         self.config: MachineConfig | None = None
         self.path: Toolpath | None = None
         self.tool: tuple[float, ...] | None = None  # machine mm
