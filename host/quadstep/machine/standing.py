@@ -47,9 +47,8 @@ class Standing:
     _stored_coordinates: WorkCoordinates  # as a work zero or a completed job left them: kept
     adopt_coordinates: Callable[[WorkCoordinates], None]
     _refuse_if_busy: Callable[[str], None]
-
     config: MachineConfig
-    decels: tuple[int, ...]
+    decels: tuple[int, ...]  # HOLD decelerations per axis
 
     if TYPE_CHECKING:  # the Machine's properties and methods (it probes: probing.ProbingMachine)
 
