@@ -13,7 +13,7 @@ SUDO := $(shell [ "$$(id -u)" = 0 ] || echo sudo)
 APT_PACKAGES := gcc make pkg-config gcc-avr avr-libc binutils-avr simavr libsimavr-dev libelf-dev \
 	clang libclang-rt-14-dev avrdude python3-venv
 
-.PHONY: all setup setup-apt setup-python demo test test-fast test-firmware test-python bench clean
+.PHONY: all setup setup-apt setup-python demo lint test test-fast test-firmware test-python bench clean
 
 all: emulator firmware
 
@@ -50,7 +50,14 @@ $(VENV_INSTALLED): pyproject.toml | $(VENV_PYTHON)
 demo: setup emulator
 	$(VENV_PYTHON) -m quadstep.cli run examples/demo.gcode --config examples/router-uno.toml --emulator
 
-test: setup all harness test-firmware fuzz-short test-python
+test: setup lint all harness test-firmware fuzz-short test-python
+
+# The host package's style and types (pyproject.toml: [tool.ruff], [tool.mypy]); `ruff format
+# host/quadstep` fixes the first.
+lint: setup-python
+	$(VENV_PYTHON) -m ruff format --check host/quadstep
+	$(VENV_PYTHON) -m ruff check host/quadstep
+	$(VENV_PYTHON) -m mypy host/quadstep
 
 test-python: setup-python
 	$(VENV_PYTHON) -m pytest -q

@@ -20,8 +20,15 @@ if sys.version_info >= (3, 11):
 else:  # the same parser, as a package, before Python 3.11
     import tomli as tomllib
 
-from .protocol.constants import (AXIS_NAMES, CUBIC_ACCEL_LIMIT, CUBIC_SHIFT, DECEL_SHIFT, MAX_AXES,
-                                 POSITION_MAX, SPEED_SHIFT)
+from .protocol.constants import (
+    AXIS_NAMES,
+    CUBIC_ACCEL_LIMIT,
+    CUBIC_SHIFT,
+    DECEL_SHIFT,
+    MAX_AXES,
+    POSITION_MAX,
+    SPEED_SHIFT,
+)
 from .textfile import SETTINGS_MAX_BYTES, parse_nested, read_text
 from .validation import validate
 
@@ -32,7 +39,8 @@ AxisName = Literal["X", "Y", "Z", "A"]  # AXIS_NAMES, as pydantic needs them
 MAX_STEPS_PER_TICK = 0.75
 SIGMA = 1 << CUBIC_SHIFT  # one step in a cubic segment's units
 CUBIC_JERK_LIMIT = (1 << 15) - 1  # a cubic segment's jerk field is an i16 (PROTOCOL.md §5.2)
-MIN_JERK_QUANTA = 64  # the smallest max_jerk, in units of the cubic segment's jerk (2^-31 step per tick³)
+# the smallest max_jerk, in units of the cubic segment's jerk (2^-31 step per tick³)
+MIN_JERK_QUANTA = 64
 MIN_STEPS_PER_MM = 1.0  # below it a 1 mm move may round to no step at all
 SPEED_QUANTUM = 1 / (1 << SPEED_SHIFT)  # a segment's finest speed, step per tick
 DECEL_QUANTUM = 1 / (1 << DECEL_SHIFT)  # a HOLD's gentlest deceleration, step per tick²
@@ -42,67 +50,123 @@ class ConfigError(ValueError):
     """A machine configuration that cannot be used; the message names every bad key."""
 
 
-InputName = Literal["limit_0", "limit_1", "limit_2", "limit_3", "limit_max_0", "limit_max_1", "limit_max_2",
-                    "limit_max_3", "probe", "abort", "feed_hold", "cycle_start"]
+InputName = Literal[
+    "limit_0",
+    "limit_1",
+    "limit_2",
+    "limit_3",
+    "limit_max_0",
+    "limit_max_1",
+    "limit_max_2",
+    "limit_max_3",
+    "probe",
+    "abort",
+    "feed_hold",
+    "cycle_start",
+]
 
 
 class HomingConfig(BaseModel):
-    """How an axis finds machine zero: the switch at one end of its travel (docs/INPUTS.md, Homing)."""
+    """How an axis finds machine zero: the switch at one end of its travel (docs/INPUTS.md,
+    Homing)."""
 
     model_config = ConfigDict(extra="forbid", frozen=True)
 
-    end: Literal["min", "max"] = Field(default="min", description="which end of the travel the switch is at")
+    end: Literal["min", "max"] = Field(
+        default="min", description="which end of the travel the switch is at"
+    )
     seek: float = Field(default=10.0, gt=0, description="mm/s, the fast approach")
     locate: float = Field(default=1.0, gt=0, description="mm/s, the slow approach that sets zero")
-    pull_off: float = Field(default=1.0, gt=0, le=100, description="mm, backed off the switch after each approach")
-    switch_at: float | None = Field(default=None, description="mm, machine coordinate of the switch's point "
-                                                              "(default: the travel end)")
+    pull_off: float = Field(
+        default=1.0, gt=0, le=100, description="mm, backed off the switch after each approach"
+    )
+    switch_at: float | None = Field(
+        default=None,
+        description="mm, machine coordinate of the switch's point (default: the travel end)",
+    )
 
 
 class InputsConfig(BaseModel):
-    """The board's inputs: polarity, debounce, which are used, hard limits (sent as CONFIG at connect)."""
+    """The board's inputs: polarity, debounce, which are used, hard limits (sent as CONFIG at
+    connect)."""
 
     model_config = ConfigDict(extra="forbid", frozen=True)
 
     hard_limits: bool = True
-    active_high: tuple[InputName, ...] = Field(default=(), description="inputs active when their pin is high "
-                                                                      "(normally closed switches)")
-    disabled: tuple[InputName, ...] = Field(default=(), description="inputs ignored (nothing wired)")
+    active_high: tuple[InputName, ...] = Field(
+        default=(), description="inputs active when their pin is high (normally closed switches)"
+    )
+    disabled: tuple[InputName, ...] = Field(
+        default=(), description="inputs ignored (nothing wired)"
+    )
     debounce_ms: float = Field(default=0.0, ge=0, le=100, description="every input's debounce")
 
 
 class BacklashConfig(BaseModel):
-    """An axis's backlash and how it is taken up (docs/BACKLASH.md): at each reversal the motor makes the extra
-    steps inside the motion, with an acceleration- and jerk-limited ramp; positions never include them."""
+    """An axis's backlash and how it is taken up (docs/BACKLASH.md): at each reversal the motor
+    makes the extra steps inside the motion, with an acceleration- and jerk-limited ramp; positions
+    never include them."""
 
     model_config = ConfigDict(extra="forbid", frozen=True)
 
-    mm: float = Field(ge=0, le=10, description="the dead band: motor travel on a reversal before the carriage moves")
-    compensate: bool = Field(default=True, description="take it up at every reversal (false: measure only)")
-    accel: float | None = Field(default=None, gt=0, le=1_000_000,
-                                description="mm/s², the take-up's acceleration (default and most: the axis's max_accel)")
-    jerk: float | None = Field(default=None, gt=0, le=1e12,
-                               description="mm/s³, the take-up's jerk (default: its acceleration reached in 5 ms)")
+    mm: float = Field(
+        ge=0,
+        le=10,
+        description="the dead band: motor travel on a reversal before the carriage moves",
+    )
+    compensate: bool = Field(
+        default=True, description="take it up at every reversal (false: measure only)"
+    )
+    accel: float | None = Field(
+        default=None,
+        gt=0,
+        le=1_000_000,
+        description="mm/s², the take-up's acceleration (default and most: the axis's max_accel)",
+    )
+    jerk: float | None = Field(
+        default=None,
+        gt=0,
+        le=1e12,
+        description="mm/s³, the take-up's jerk (default: its acceleration reached in 5 ms)",
+    )
     place: Literal["around", "after"] = Field(
-        default="around", description="around: centred on the reversal (smallest path error); "
-                                      "after: begun where the axis reverses")
+        default="around",
+        description="around: centred on the reversal (smallest path error); "
+        "after: begun where the axis reverses",
+    )
     switch_hysteresis: float | None = Field(
-        default=None, ge=0, le=10, description="mm, the limit switch's own hysteresis, calibrated once "
-                                               "(quadstep backlash measure --method switch subtracts it)")
+        default=None,
+        ge=0,
+        le=10,
+        description="mm, the limit switch's own hysteresis, calibrated once "
+        "(quadstep backlash measure --method switch subtracts it)",
+    )
 
 
 class SpindleConfig(BaseModel):
-    """The spindle (or laser) output: what S means, and whether M4 is a laser's power that follows the speed."""
+    """The spindle (or laser) output: what S means, and whether M4 is a laser's power that follows
+    the speed."""
 
     model_config = ConfigDict(extra="forbid", frozen=True)
 
-    s_max: float = Field(default=1000.0, gt=0, le=1_000_000, description="S at full power (GRBL's $30)")
-    s_min: float = Field(default=0.0, ge=0, description="S below this runs at it (GRBL's $31); S0 is off")
-    laser: bool = Field(default=False, description="M3 constant power, M4 power following the speed, G0 off "
-                                                   "(GRBL's $32); false: M3 clockwise, M4 counter-clockwise")
-    spin_up_s: float = Field(default=0.0, ge=0, le=60,
-                             description="s to wait after the spindle is turned on before a job "
-                                         "started at a line plunges (--from-line); 0: none")
+    s_max: float = Field(
+        default=1000.0, gt=0, le=1_000_000, description="S at full power (GRBL's $30)"
+    )
+    s_min: float = Field(
+        default=0.0, ge=0, description="S below this runs at it (GRBL's $31); S0 is off"
+    )
+    laser: bool = Field(
+        default=False,
+        description="M3 constant power, M4 power following the speed, G0 off "
+        "(GRBL's $32); false: M3 clockwise, M4 counter-clockwise",
+    )
+    spin_up_s: float = Field(
+        default=0.0,
+        ge=0,
+        le=60,
+        description="s to wait after the spindle is turned on before a job "
+        "started at a line plunges (--from-line); 0: none",
+    )
 
     @model_validator(mode="after")
     def _range_in_order(self) -> SpindleConfig:
@@ -111,7 +175,8 @@ class SpindleConfig(BaseModel):
         return self
 
     def power(self, speed: float) -> int:
-        """The duty (0 … 65535) for S = `speed`: 0 at S0, else in proportion to s_max, from s_min up."""
+        """The duty (0 … 65535) for S = `speed`: 0 at S0, else in proportion to s_max, from s_min
+        up."""
         if speed <= 0:
             return 0
         return round(65535 * min(1.0, max(speed, self.s_min) / self.s_max))
@@ -126,8 +191,13 @@ class AxisConfig(BaseModel):
     steps_per_mm: float = Field(gt=0, le=100_000)
     max_speed: float = Field(gt=0, description="mm/s")
     max_accel: float = Field(gt=0, le=1_000_000, description="mm/s²")
-    max_jerk: float | None = Field(default=None, gt=0, le=1e12, description="mm/s³: jerk-limited (S-curve) motion "
-                                   "(docs/PLANNER.md); absent on every axis: constant acceleration")
+    max_jerk: float | None = Field(
+        default=None,
+        gt=0,
+        le=1e12,
+        description="mm/s³: jerk-limited (S-curve) motion "
+        "(docs/PLANNER.md); absent on every axis: constant acceleration",
+    )
     travel_min: float = Field(ge=-100_000, le=100_000, description="mm")
     travel_max: float = Field(ge=-100_000, le=100_000, description="mm")
     invert: bool = False
@@ -144,22 +214,39 @@ class AxisConfig(BaseModel):
     @model_validator(mode="after")
     def _consistent(self) -> AxisConfig:
         if self.steps_per_mm < MIN_STEPS_PER_MM:  # every other rule divides by it
-            raise ValueError(f"steps_per_mm = {self.steps_per_mm:g}: must be at least "
-                             f"{MIN_STEPS_PER_MM:g} (a 1 mm move makes at least one step)")
+            raise ValueError(
+                f"steps_per_mm = {self.steps_per_mm:g}: must be at least "
+                f"{MIN_STEPS_PER_MM:g} (a 1 mm move makes at least one step)"
+            )
         problems = []
-        if self.backlash is not None and self.backlash.accel is not None and self.backlash.accel > self.max_accel:
-            problems.append(f"backlash.accel = {self.backlash.accel}: must be at most max_accel = {self.max_accel}")
+        if (
+            self.backlash is not None
+            and self.backlash.accel is not None
+            and self.backlash.accel > self.max_accel
+        ):
+            problems.append(
+                f"backlash.accel = {self.backlash.accel}: must be at most max_accel = "
+                f"{self.max_accel}"
+            )
         if self.travel_max <= self.travel_min:
-            problems.append(f"travel_max = {self.travel_max}: must be greater than travel_min = {self.travel_min}")
+            problems.append(
+                f"travel_max = {self.travel_max}: must be greater than travel_min = "
+                f"{self.travel_min}"
+            )
         elif (self.travel_max - self.travel_min) * self.steps_per_mm < 1:
             step = 1 / self.steps_per_mm
-            problems.append(f"travel_max = {self.travel_max:g}: must be at least one step "
-                            f"({step:g} mm) beyond travel_min = {self.travel_min:g}")
-        reach = POSITION_MAX / self.steps_per_mm  # the firmware keeps step positions within ±POSITION_MAX
+            problems.append(
+                f"travel_max = {self.travel_max:g}: must be at least one step "
+                f"({step:g} mm) beyond travel_min = {self.travel_min:g}"
+            )
+        # the firmware keeps step positions within ±POSITION_MAX
+        reach = POSITION_MAX / self.steps_per_mm
         for key, value in (("travel_min", self.travel_min), ("travel_max", self.travel_max)):
             if abs(value) > reach:
-                problems.append(f"{key} = {value:g}: must be within ±{reach:.0f} mm, the firmware's position range "
-                                f"(±{POSITION_MAX} steps at {self.steps_per_mm:g} steps/mm)")
+                problems.append(
+                    f"{key} = {value:g}: must be within ±{reach:.0f} mm, the firmware's position "
+                    f"range (±{POSITION_MAX} steps at {self.steps_per_mm:g} steps/mm)"
+                )
         if problems:
             raise ValueError("\n".join(problems))  # every problem at once, a line each
         return self
@@ -179,19 +266,32 @@ class MachineConfig(BaseModel):
     model_config = ConfigDict(extra="forbid", frozen=True)
 
     tick_hz: int = Field(ge=1000, le=1_000_000, description="must equal the firmware's tick rate")
-    junction_deviation: float = Field(default=0.01, gt=0, le=10, description="mm, GRBL-style cornering")
-    arc_tolerance: float = Field(default=0.002, gt=0, le=10, description="mm, largest chord-to-arc distance")
+    junction_deviation: float = Field(
+        default=0.01, gt=0, le=10, description="mm, GRBL-style cornering"
+    )
+    arc_tolerance: float = Field(
+        default=0.002, gt=0, le=10, description="mm, largest chord-to-arc distance"
+    )
     axes: tuple[AxisConfig, ...] = Field(min_length=1, max_length=MAX_AXES)
     inputs: InputsConfig = InputsConfig()
     spindle: SpindleConfig = SpindleConfig()
-    homing_order: tuple[AxisName, ...] | None = Field(default=None, description="default: Z first, then the others")
+    homing_order: tuple[AxisName, ...] | None = Field(
+        default=None, description="default: Z first, then the others"
+    )
     homing_required: bool = False  # refuse jobs and jogs until the machine is homed
-    safe_z: float | None = Field(default=None,
-                                 description="machine mm, the Z height a job started at a line "
-                                             "travels at (--from-line); default: the top of Z's travel")
-    host_timeout: float = Field(default=1.0, ge=0, le=4, description="s: a host silent this long while the machine "
-                                "moves makes the firmware stop on its own (a hold, then ALARM HOST_LOST); 0: never "
-                                "(1 s: ten keep-alives missed, more than a busy host pauses)")
+    safe_z: float | None = Field(
+        default=None,
+        description="machine mm, the Z height a job started at a line "
+        "travels at (--from-line); default: the top of Z's travel",
+    )
+    host_timeout: float = Field(
+        default=1.0,
+        ge=0,
+        le=4,
+        description="s: a host silent this long while the machine "
+        "moves makes the firmware stop on its own (a hold, then ALARM HOST_LOST); 0: never "
+        "(1 s: ten keep-alives missed, more than a busy host pauses)",
+    )
 
     @model_validator(mode="after")
     def _axes_consistent(self) -> MachineConfig:
@@ -203,8 +303,8 @@ class MachineConfig(BaseModel):
             limit = MAX_STEPS_PER_TICK * self.tick_hz / axis.steps_per_mm
             if axis.max_speed > limit:
                 problems.append(
-                    f"axes[{i}].max_speed = {axis.max_speed}: must be at most {limit:g} mm/s "
-                    f"(3/4 step per tick at tick_hz {self.tick_hz} with {axis.steps_per_mm:g} steps/mm)"
+                    f"axes[{i}].max_speed = {axis.max_speed}: must be at most {limit:g} mm/s (3/4 "
+                    f"step per tick at tick_hz {self.tick_hz} with {axis.steps_per_mm:g} steps/mm)"
                 )
             problems += self._floors(i, axis)
             if axis.max_jerk is not None:
@@ -228,8 +328,10 @@ class MachineConfig(BaseModel):
             return [f"safe_z = {self.safe_z:g}: the machine has no Z axis ({names})"]
         z = self.axes[names.index("Z")]
         if not z.travel_min <= self.safe_z <= z.travel_max:
-            return [f"safe_z = {self.safe_z:g}: must be within Z's travel "
-                    f"{z.travel_min:g} … {z.travel_max:g} mm"]
+            return [
+                f"safe_z = {self.safe_z:g}: must be within Z's travel "
+                f"{z.travel_min:g} … {z.travel_max:g} mm"
+            ]
         return []
 
     @property
@@ -246,36 +348,55 @@ class MachineConfig(BaseModel):
         deceleration (a hold could not brake more gently): a problem line for each below."""
         hz, spm = float(self.tick_hz), axis.steps_per_mm
         where = f"at tick_hz {self.tick_hz} with {spm:g} steps/mm"
-        speed = (SPEED_QUANTUM * hz / spm, "mm/s",
-                 f"1/4096 step per tick, a segment's finest speed, {where}")
-        accel = (DECEL_QUANTUM * hz * hz / spm, "mm/s²",
-                 f"2^-24 step per tick², a hold's gentlest deceleration, {where}")
+        speed = (
+            SPEED_QUANTUM * hz / spm,
+            "mm/s",
+            f"1/4096 step per tick, a segment's finest speed, {where}",
+        )
+        accel = (
+            DECEL_QUANTUM * hz * hz / spm,
+            "mm/s²",
+            f"2^-24 step per tick², a hold's gentlest deceleration, {where}",
+        )
         values = [("max_speed", axis.max_speed, speed), ("max_accel", axis.max_accel, accel)]
         if axis.homing is not None:
-            values += [("homing.seek", axis.homing.seek, speed),
-                       ("homing.locate", axis.homing.locate, speed)]
+            values += [
+                ("homing.seek", axis.homing.seek, speed),
+                ("homing.locate", axis.homing.locate, speed),
+            ]
         if axis.backlash is not None and axis.backlash.accel is not None:
             values.append(("backlash.accel", axis.backlash.accel, accel))
-        return [f"axes[{i}].{key} = {value:g}: must be at least {least:.4g} {unit} ({why})"
-                for key, value, (least, unit, why) in values if value < least]
+        return [
+            f"axes[{i}].{key} = {value:g}: must be at least {least:.4g} {unit} ({why})"
+            for key, value, (least, unit, why) in values
+            if value < least
+        ]
 
     def _check_cubic_range(self, i: int, axis: AxisConfig) -> None:
-        """A jerk-limited plan runs as cubic segments: its jerk and acceleration must fit their fields."""
+        """A jerk-limited plan runs as cubic segments: its jerk and acceleration must fit their
+        fields."""
         hz = float(self.tick_hz)
-        jerk_limit = CUBIC_JERK_LIMIT / SIGMA * hz ** 3 / axis.steps_per_mm
+        jerk_limit = CUBIC_JERK_LIMIT / SIGMA * hz**3 / axis.steps_per_mm
         if axis.max_jerk is not None and axis.max_jerk > jerk_limit:
-            raise ValueError(f"axes[{i}].max_jerk = {axis.max_jerk:g}: must be at most {jerk_limit:g} mm/s³ "
-                             f"(a cubic segment's 16-bit jerk at tick_hz {self.tick_hz} with "
-                             f"{axis.steps_per_mm:g} steps/mm)")
-        jerk_floor = MIN_JERK_QUANTA / SIGMA * hz ** 3 / axis.steps_per_mm
+            raise ValueError(
+                f"axes[{i}].max_jerk = {axis.max_jerk:g}: must be at most {jerk_limit:g} mm/s³ "
+                f"(a cubic segment's 16-bit jerk at tick_hz {self.tick_hz} with "
+                f"{axis.steps_per_mm:g} steps/mm)"
+            )
+        jerk_floor = MIN_JERK_QUANTA / SIGMA * hz**3 / axis.steps_per_mm
         if axis.max_jerk is not None and axis.max_jerk < jerk_floor:
-            raise ValueError(f"axes[{i}].max_jerk = {axis.max_jerk:g}: must be at least {jerk_floor:.4g} mm/s³ "
-                             f"({MIN_JERK_QUANTA} jerk quanta of a cubic segment at tick_hz {self.tick_hz} with "
-                             f"{axis.steps_per_mm:g} steps/mm, so that rounding it errs by under 1 %)")
+            raise ValueError(
+                f"axes[{i}].max_jerk = {axis.max_jerk:g}: must be at least {jerk_floor:.4g} mm/s³ "
+                f"({MIN_JERK_QUANTA} jerk quanta of a cubic segment at tick_hz {self.tick_hz} with "
+                f"{axis.steps_per_mm:g} steps/mm, so that rounding it errs by under 1 %)"
+            )
         accel_limit = CUBIC_ACCEL_LIMIT / SIGMA * hz * hz / axis.steps_per_mm / 2
         if axis.max_accel > accel_limit:
-            raise ValueError(f"axes[{i}].max_accel = {axis.max_accel:g}: must be at most {accel_limit:g} mm/s² with "
-                             f"max_jerk (half a cubic segment's 24-bit acceleration at tick_hz {self.tick_hz})")
+            raise ValueError(
+                f"axes[{i}].max_accel = {axis.max_accel:g}: must be at most {accel_limit:g} mm/s² "
+                "with max_jerk (half a cubic segment's 24-bit acceleration at tick_hz "
+                f"{self.tick_hz})"
+            )
 
     @property
     def jerk_limited(self) -> bool:
@@ -284,7 +405,8 @@ class MachineConfig(BaseModel):
 
     @property
     def homing_axes(self) -> tuple[int, ...]:
-        """The axes to home, in order: homing_order, or Z first and then the others with [axes.homing]."""
+        """The axes to home, in order: homing_order, or Z first and then the others with
+        [axes.homing]."""
         names = self.axis_names
         if self.homing_order is not None:
             return tuple(names.index(n) for n in self.homing_order)
@@ -309,15 +431,25 @@ def parse_config(data: dict[str, Any], source: str = "config") -> MachineConfig:
 def default_config(tick_hz: int, axis_count: int) -> MachineConfig:
     """A configuration for a board nothing is known about: 80 steps/mm, ±1000 mm, gentle limits."""
     speed = min(100.0, math.floor(MAX_STEPS_PER_TICK * tick_hz / 80))
-    accel = max(500, math.ceil(DECEL_QUANTUM * tick_hz * tick_hz / 80))  # fast ticks: a hold's least
-    return parse_config({
-        "tick_hz": tick_hz,
-        "axes": [
-            {"name": AXIS_NAMES[i], "steps_per_mm": 80, "max_speed": speed, "max_accel": accel,
-             "travel_min": -1000, "travel_max": 1000}
-            for i in range(axis_count)
-        ],
-    }, DEFAULT_CONFIG_NAME)
+    # fast ticks: a hold's least
+    accel = max(500, math.ceil(DECEL_QUANTUM * tick_hz * tick_hz / 80))
+    return parse_config(
+        {
+            "tick_hz": tick_hz,
+            "axes": [
+                {
+                    "name": AXIS_NAMES[i],
+                    "steps_per_mm": 80,
+                    "max_speed": speed,
+                    "max_accel": accel,
+                    "travel_min": -1000,
+                    "travel_max": 1000,
+                }
+                for i in range(axis_count)
+            ],
+        },
+        DEFAULT_CONFIG_NAME,
+    )
 
 
 DEFAULT_CONFIG_NAME = "default configuration"

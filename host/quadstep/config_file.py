@@ -1,7 +1,8 @@
-"""Writing a measured value back into the machine configuration file, comments and layout kept (tomlkit).
+"""Writing a measured value back into the machine configuration file, comments and layout kept
+(tomlkit).
 
-The file is checked whole before it is replaced (the new text must load as a configuration), the old one is
-kept beside it as FILE.bak, and the new one replaces it atomically.
+The file is checked whole before it is replaced (the new text must load as a configuration), the old
+one is kept beside it as FILE.bak, and the new one replaces it atomically.
 """
 
 from __future__ import annotations
@@ -28,12 +29,12 @@ def _axis_table(document: tomlkit.TOMLDocument, name: str, path: Path) -> Table:
 
 def new_table_ends_file(document: tomlkit.TOMLDocument, table: Table) -> bool:
     axes = document.get("axes")
-    return bool(axes) and axes[-1] is table
+    return axes is not None and bool(axes) and axes[-1] is table
 
 
 def set_backlash(path: Path, axis: str, **values: float) -> tuple[MachineConfig, Path]:
-    """Set keys of axis `axis`'s [axes.backlash] (mm, switch_hysteresis, ...) in the file at `path`; returns
-    the configuration as now written and where the old file was kept."""
+    """Set keys of axis `axis`'s [axes.backlash] (mm, switch_hysteresis, ...) in the file at `path`;
+    returns the configuration as now written and where the old file was kept."""
     text = read_text(path, ConfigError, SETTINGS_MAX_BYTES)
     try:
         document = tomlkit.parse(text)
@@ -50,7 +51,8 @@ def set_backlash(path: Path, axis: str, **values: float) -> tuple[MachineConfig,
     if "backlash" not in text and not new_table_ends_file(document, table):
         backlash.add(tomlkit.nl())
     new_text = tomlkit.dumps(document)
-    config = parse_config(tomlkit.parse(new_text).unwrap(), str(path))  # refused whole if anything is wrong
+    # refused whole if anything is wrong
+    config = parse_config(tomlkit.parse(new_text).unwrap(), str(path))
     backup = path.with_name(path.name + ".bak")
     shutil.copy2(path, backup)
     replace_text(path, new_text)

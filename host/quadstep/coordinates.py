@@ -1,5 +1,5 @@
-"""Work coordinates as GRBL and LinuxCNC have them: six work offsets (G54–G59), the G92 offset on top,
-and the two stored positions of G28 and G30.
+"""Work coordinates as GRBL and LinuxCNC have them: six work offsets (G54–G59), the G92 offset on
+top, and the two stored positions of G28 and G30.
 
 Everything is in mm, keyed by axis name. A machine coordinate is what the
 steps say (through the configuration); a work coordinate is the machine
@@ -33,9 +33,12 @@ class WorkCoordinates(BaseModel):
     model_config = ConfigDict(extra="forbid", validate_assignment=True)
 
     system: int = Field(default=1, ge=1, le=len(SYSTEMS), description="1 = G54 … 6 = G59")
-    offsets: list[Offsets] = Field(default_factory=_six, min_length=len(SYSTEMS), max_length=len(SYSTEMS))
+    offsets: list[Offsets] = Field(
+        default_factory=_six, min_length=len(SYSTEMS), max_length=len(SYSTEMS)
+    )
     g92: Offsets = Field(default_factory=dict)
-    g92_applied: bool = False  # G92 sets and applies; G92.2 suspends (values kept), G92.3 applies them again
+    # G92 sets and applies; G92.2 suspends (values kept), G92.3 applies them again
+    g92_applied: bool = False
     g28: Offsets = Field(default_factory=dict, description="machine mm")
     g30: Offsets = Field(default_factory=dict, description="machine mm")
 
@@ -58,14 +61,16 @@ class WorkCoordinates(BaseModel):
     # --- changes (each keeps the other axes as they are) ------------------------------------------
 
     def set_offset(self, system: int, axis: str, mm: float) -> None:
-        """G10 L2 Pn: the offset of system n (0: the active one) is `mm` (machine mm of its origin)."""
+        """G10 L2 Pn: the offset of system n (0: the active one) is `mm` (machine mm of its
+        origin)."""
         index = (system or self.system) - 1
         offsets = [dict(o) for o in self.offsets]
         offsets[index][axis] = mm
         self.offsets = offsets
 
     def set_position(self, system: int, axis: str, machine: float, work: float) -> None:
-        """G10 L20 Pn (and the zero keys): make the machine coordinate `machine` read `work` in system n."""
+        """G10 L20 Pn (and the zero keys): make the machine coordinate `machine` read `work` in
+        system n."""
         g92 = self.g92.get(axis, 0.0) if self.g92_applied else 0.0
         self.set_offset(system, axis, machine - g92 - work)
 
@@ -100,6 +105,7 @@ class WorkCoordinates(BaseModel):
         return (self.g28 if which == 28 else self.g30).get(axis, 0.0)
 
     def program_end(self) -> None:
-        """M2/M30 as RS274/NGC has it: back to G54, G92 offsets no longer applied (kept for G92.3)."""
+        """M2/M30 as RS274/NGC has it: back to G54, G92 offsets no longer applied (kept for
+        G92.3)."""
         self.system = 1
         self.g92_applied = False

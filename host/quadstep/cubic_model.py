@@ -16,8 +16,17 @@ import numpy as np
 
 from .protocol.constants import CUBIC_SHIFT
 
-# The chain is the firmware's validation of CUBIC_SEGMENT, so it lives with the message (protocol/cubic.py).
-from .protocol.cubic import HALF, SIGMA, AxisState, CubicChain, CubicRefused, CubicStep, advances_in_range
+# The chain is the firmware's validation of CUBIC_SEGMENT, so it lives with the message
+# (protocol/cubic.py).
+from .protocol.cubic import (
+    HALF,
+    SIGMA,
+    AxisState,
+    CubicChain,
+    CubicRefused,
+    CubicStep,
+    advances_in_range,
+)
 
 
 def cubic_steps_by_tick(step: CubicStep, ticks: np.ndarray) -> np.ndarray:
@@ -35,5 +44,13 @@ def cubic_step_ticks(n: int, step: CubicStep) -> np.ndarray:
     return np.flatnonzero(np.diff(made)) + 1
 
 
-__all__ = ["AxisState", "CubicChain", "CubicRefused", "CubicStep", "SIGMA", "advances_in_range",
-           "cubic_step_ticks", "cubic_steps_by_tick"]
+__all__ = [
+    "AxisState",
+    "CubicChain",
+    "CubicRefused",
+    "CubicStep",
+    "SIGMA",
+    "advances_in_range",
+    "cubic_step_ticks",
+    "cubic_steps_by_tick",
+]

@@ -11,6 +11,7 @@ import subprocess
 from collections.abc import Iterator, Sequence
 from contextlib import contextmanager
 from pathlib import Path
+from typing import Any
 
 from .link import DEFAULT_BAUD, Link
 from .port_process import PortProcess, parse_summary  # noqa: F401  (parse_summary: part of this module's API)
@@ -24,7 +25,8 @@ class EmulatorError(RuntimeError):
 
 
 def emulator_binary(build: bool = True) -> Path:
-    """$QUADSTEP_EMULATOR, else <repo>/build/native/quadstep-emu (built with `make emulator` if missing)."""
+    """$QUADSTEP_EMULATOR, else <repo>/build/native/quadstep-emu (built with `make emulator` if
+    missing)."""
     env = os.environ.get(EMULATOR_ENV)
     if env:
         path = Path(env)
@@ -35,12 +37,17 @@ def emulator_binary(build: bool = True) -> Path:
     if path.is_file():
         return path
     if build and (REPO / "Makefile").is_file():
-        result = subprocess.run(["make", "-C", str(REPO), "emulator"], capture_output=True, text=True)
+        result = subprocess.run(
+            ["make", "-C", str(REPO), "emulator"], capture_output=True, text=True
+        )
         if result.returncode != 0 or not path.is_file():
-            raise EmulatorError(f"`make -C {REPO} emulator` failed:\n{result.stdout[-2000:]}{result.stderr[-2000:]}")
+            raise EmulatorError(
+                f"`make -C {REPO} emulator` failed:\n{result.stdout[-2000:]}{result.stderr[-2000:]}"
+            )
         return path
     raise EmulatorError(
-        f"emulator binary not found: set ${EMULATOR_ENV} or build it with `make emulator` in the source tree"
+        f"emulator binary not found: set ${EMULATOR_ENV} or build it with `make emulator` in the "
+        "source tree"
     )
 
 
@@ -60,7 +67,16 @@ class Emulator(PortProcess):
         binary: Path | None = None,
     ) -> None:
         self.binary = binary or emulator_binary()
-        args = [str(self.binary), "--pty", "--tick-hz", str(tick_hz), "--axes", str(axes), "--queue", str(queue)]
+        args = [
+            str(self.binary),
+            "--pty",
+            "--tick-hz",
+            str(tick_hz),
+            "--axes",
+            str(axes),
+            "--queue",
+            str(queue),
+        ]
         if free:
             args.append("--free")
         if trace is not None:
@@ -75,15 +91,16 @@ def open_connection(
     emulator: bool,
     *,
     baudrate: int = DEFAULT_BAUD,
-    **emulator_options: object,
+    **emulator_options: Any,  # Emulator's options
 ) -> Iterator[Link]:
-    """A connected Link to `port`, or to a fresh emulator when `emulator` is true (exactly one of the two)."""
+    """A connected Link to `port`, or to a fresh emulator when `emulator` is true (exactly one of
+    the two)."""
     if emulator == (port is not None):
         raise ValueError("give either a serial port or the emulator, not both or neither")
     if port is not None:
         with Link.open(port, baudrate) as link:
             yield link
         return
-    with Emulator(**emulator_options) as emu:  # type: ignore[arg-type]
+    with Emulator(**emulator_options) as emu:
         with Link.open(emu.url, baudrate) as link:
             yield link

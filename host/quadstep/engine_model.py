@@ -24,7 +24,7 @@ import numpy as np
 from .cubic_model import CubicChain, cubic_step_ticks
 from .protocol.constants import DECEL_SHIFT
 from .protocol.cubic import CubicSegment
-from .protocol.segment import D, MAX_AXES, N_MAX, SPEED_SHIFT, AxisMove, Segment
+from .protocol.segment import MAX_AXES, N_MAX, SPEED_SHIFT, AxisMove, D, Segment
 
 
 def steps_by_tick(n: int, mv: AxisMove, ticks: np.ndarray) -> np.ndarray:
@@ -51,7 +51,8 @@ def residual(ideal2: int, position: int, direction: int) -> int:
 
 
 def advance(ideal2: int, position: int, n: int, mv: AxisMove) -> tuple[int, int]:
-    """(ideal2, position) of one axis after a segment; mv.r must equal residual(ideal2, position, ...)."""
+    """(ideal2, position) of one axis after a segment; mv.r must equal residual(ideal2, position,
+    ...)."""
     return (
         ideal2 + mv.direction * n * (mv.v0 + mv.vn),
         position + mv.direction * segment_steps(n, mv),
@@ -124,16 +125,23 @@ def predict(
         count += 1
     steps = _stack(chunks)
     steps = steps[np.lexsort((steps[:, 1], steps[:, 0]))]
-    return Prediction(steps=steps, positions=pos, motion_ticks=tick - start_tick, segments=count, per_axis_steps=counts)
+    return Prediction(
+        steps=steps,
+        positions=pos,
+        motion_ticks=tick - start_tick,
+        segments=count,
+        per_axis_steps=counts,
+    )
 
 
-# --- HOLD: deceleration to rest from any tick (docs/FIXED_POINT.md §8) -----------------------------
+# --- HOLD: deceleration to rest from any tick (docs/FIXED_POINT.md §8) ----------------------------
 
 HOLD_CHUNK = 1 << 20  # ticks evaluated at once, so that long holds stay small in memory
 
 
 def hold_shift(n: int) -> int:
-    """log2 k: the largest power of two with k·n ≤ N_MAX, by which the firmware rescales the held segment."""
+    """log2 k: the largest power of two with k·n ≤ N_MAX, by which the firmware rescales the held
+    segment."""
     shift = 0
     while n << (shift + 1) <= N_MAX:
         shift += 1
@@ -141,13 +149,15 @@ def hold_shift(n: int) -> int:
 
 
 def hold_step_change(kn: int, decel: int) -> int:
-    """The per-tick change of the increment, in the scale 2·kn·D, for decel/2^24 step per tick²: −max(1, ⌊kn·decel/2^11⌋)."""
+    """The per-tick change of the increment, in the scale 2·kn·D, for decel/2^24 step per tick²:
+    −max(1, ⌊kn·decel/2^11⌋)."""
     return -max(1, (kn * decel) >> (DECEL_SHIFT - SPEED_SHIFT - 1))
 
 
 @dataclass(frozen=True)
 class AxisHold:
-    """One axis of a hold, exactly as the firmware runs it, in the rescaled segment's scale w = 2·kn·D.
+    """One axis of a hold, exactly as the firmware runs it, in the rescaled segment's scale w =
+    2·kn·D.
 
     The ideal position relative to the stepper at the hold tick is (e0 + j·i1 + d·j(j−1)/2)/w after
     j ≤ stop hold ticks; the stepper has made ⌊(that·w + kn·D)/w⌋ steps (0 at j = 0).
@@ -178,8 +188,8 @@ class AxisHold:
 def axis_hold(n: int, mv: AxisMove, t0: int, decel: int) -> AxisHold:
     """The state a hold takes over after t0 ≤ n ticks of a segment, from the closed form, rescaled.
 
-    At t0 = n (a hold at the segment's end: an underrun, or a HOLD with nothing queued behind it) the
-    first hold tick runs at the end speed, i1 = k·2n·vn, not the quadratic's continuation."""
+    At t0 = n (a hold at the segment's end: an underrun, or a HOLD with nothing queued behind it)
+    the first hold tick runs at the end speed, i1 = k·2n·vn, not the quadratic's continuation."""
     if not 0 <= t0 <= n:
         raise ValueError(f"t0 = {t0} outside the segment's ticks 0..{n}")
     k = 1 << hold_shift(n)
@@ -187,13 +197,19 @@ def axis_hold(n: int, mv: AxisMove, t0: int, decel: int) -> AxisHold:
     x = n * mv.r + c1 * t0 * t0 + 2 * n * mv.v0 * t0  # 2nD·x(t0)
     before = int(steps_by_tick(n, mv, np.array([t0]))[0])
     i1 = 2 * n * mv.vn if t0 == n else 2 * n * mv.v0 + c1 * (2 * t0 + 1)
-    return AxisHold(kn=k * n, e0=k * (x - 2 * n * D * before), i1=k * i1, d=hold_step_change(k * n, decel),
-                    before=before)
+    return AxisHold(
+        kn=k * n,
+        e0=k * (x - 2 * n * D * before),
+        i1=k * i1,
+        d=hold_step_change(k * n, decel),
+        before=before,
+    )
 
 
 @dataclass
 class HoldPrediction:
-    """What a hold does: every step after hold_tick, where each axis rests and when the last stops."""
+    """What a hold does: every step after hold_tick, where each axis rests and when the last
+    stops."""
 
     hold_tick: int
     motion_ticks: int
@@ -213,9 +229,10 @@ def predict_hold(
     """Predict a HOLD (decels[axis] in 1/2^24 step per tick²) that began at motion tick `hold_tick`.
 
     `segments` are those sent since motion tick `start_tick`; the hold discards every one after the
-    segment running at hold_tick (at a boundary: the one starting there). At the end of the last segment,
-    if it ends moving, the hold begins from its end (an underrun's hold: `predict_underrun`). The firmware
-    reports hold_tick in HOLD_DONE, so a host predicts every step of the hold exactly.
+    segment running at hold_tick (at a boundary: the one starting there). At the end of the last
+    segment, if it ends moving, the hold begins from its end (an underrun's hold:
+    `predict_underrun`). The firmware reports hold_tick in HOLD_DONE, so a host predicts every step
+    of the hold exactly.
     """
     pos = list(positions) if positions is not None else [0] * axis_count
     tick = start_tick
@@ -224,7 +241,11 @@ def predict_hold(
     for index, seg in enumerate(segments):
         if hold_tick < tick + seg.n:
             return _hold_segment(seg, index, hold_tick - tick, hold_tick, decels, pos)
-        if hold_tick == tick + seg.n and index == len(segments) - 1 and any(mv.vn for mv in seg.axes):
+        if (
+            hold_tick == tick + seg.n
+            and index == len(segments) - 1
+            and any(mv.vn for mv in seg.axes)
+        ):
             return _hold_segment(seg, index, seg.n, hold_tick, decels, pos)
         for mv in seg.axes:
             pos[mv.axis] += mv.direction * segment_steps(seg.n, mv)
@@ -241,8 +262,9 @@ def predict_underrun(
     start_tick: int = 0,
     axis_count: int = MAX_AXES,
 ) -> HoldPrediction:
-    """The controlled stop after the last of `segments` when nothing follows it (PROTOCOL.md §8.1): a hold at
-    the firmware's stop decelerations (CONFIG's hold_decel) from where that segment ended."""
+    """The controlled stop after the last of `segments` when nothing follows it (PROTOCOL.md §8.1):
+    a hold at the firmware's stop decelerations (CONFIG's hold_decel) from where that segment
+    ended."""
     end = start_tick + sum(seg.n for seg in segments)
     return predict_hold(segments, end, decels, positions, start_tick, axis_count)
 

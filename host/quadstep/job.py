@@ -20,8 +20,8 @@ from .planner.feed_override import scale_feeds
 from .planner.plan import Plan, plan_program
 from .planner.program import JobError, Program
 from .protocol.codec import encode
-from .protocol.messages import queue_slots
 from .protocol.frames import next_frame, run_limit
+from .protocol.messages import queue_slots
 from .protocol.segment_run import RunChain
 from .textfile import read_text
 
@@ -42,7 +42,8 @@ class AxisSummary(BaseModel):
     start_mm: float  # machine coordinates
     end_mm: float
     end_steps: int
-    start_work_mm: float  # work coordinates: the start's in the system the job starts in, the end's in the one it ends in
+    # work coordinates: the start's in the system the job starts in, the end's in the one it ends in
+    start_work_mm: float
     end_work_mm: float
 
 
@@ -73,7 +74,8 @@ class Job:
     program: Program
     plan: Plan
     coordinates: WorkCoordinates  # the work coordinates the job starts with
-    feed_override: int = 100  # % of every programmed feed the plan has (the program keeps them as written)
+    # % of every programmed feed the plan has (the program keeps them as written)
+    feed_override: int = 100
     approach: Approach | None = None  # started at a line (--from-line): how it gets there
 
     @property
@@ -97,8 +99,9 @@ class Job:
         return f"{count} {noun}"
 
     def wire_bytes(self, run_limit: int = UNO_RUN_LIMIT) -> int:
-        """Bytes the job's segments take on the serial line, framing included, sent as a motion sends them
-        to a board that takes `run_limit` segments a frame (an Uno's, by default; 0: one SEGMENT a frame)."""
+        """Bytes the job's segments take on the serial line, framing included, sent as a motion
+        sends them to a board that takes `run_limit` segments a frame (an Uno's, by default; 0: one
+        SEGMENT a frame)."""
         segments = self.plan.segments
         chain = RunChain(segments.axis_count)
         total = index = 0
@@ -141,17 +144,22 @@ class Job:
 
 
 def read_program(
-    path: Path, config: MachineConfig, start_steps: tuple[int, ...], skip_unsupported: bool = False,
+    path: Path,
+    config: MachineConfig,
+    start_steps: tuple[int, ...],
+    skip_unsupported: bool = False,
     coordinates: WorkCoordinates | None = None,
 ) -> Program:
-    """Parse the job file into moves in machine coordinates, starting from `start_steps`, G-code in the work
-    coordinates `coordinates` (move files are machine coordinates)."""
+    """Parse the job file into moves in machine coordinates, starting from `start_steps`, G-code in
+    the work coordinates `coordinates` (move files are machine coordinates)."""
     start_mm = config.to_mm(start_steps)
     if is_move_file(path):
         return move_program(read_move_file(path), config.axis_names, start_mm)
     text = read_text(path, JobError)
     try:
-        return parse_gcode(text, config.axis_names, start_mm, config.arc_tolerance, skip_unsupported, coordinates)
+        return parse_gcode(
+            text, config.axis_names, start_mm, config.arc_tolerance, skip_unsupported, coordinates
+        )
     except JobError as exc:
         raise JobError(f"{path}: {exc}") from None
 
@@ -181,5 +189,11 @@ def load_job(
         plan = plan_program(scale_feeds(program, feed_override), config, start, label)
     except JobError as exc:
         raise JobError(f"{path}: {exc}") from None
-    return Job(path=path, program=program, plan=plan, coordinates=coordinates,
-               feed_override=feed_override, approach=approach)
+    return Job(
+        path=path,
+        program=program,
+        plan=plan,
+        coordinates=coordinates,
+        feed_override=feed_override,
+        approach=approach,
+    )

@@ -1,6 +1,6 @@
-"""The console (MDI): one G-code line at a time, checked and planned whole from where the machine stands,
-then run like a job. Units, G90/G91, the plane, the motion mode and the feed carry over from one line to
-the next, as on a controller; work offsets are the machine's."""
+"""The console (MDI): one G-code line at a time, checked and planned whole from where the machine
+stands, then run like a job. Units, G90/G91, the plane, the motion mode and the feed carry over from
+one line to the next, as on a controller; work offsets are the machine's."""
 
 from __future__ import annotations
 
@@ -23,11 +23,12 @@ class Console:
         self._modal: dict[str, object] = {}
 
     def plan(self, text: str, start: tuple[int, ...], coordinates: WorkCoordinates) -> Job:
-        """The line as a job from step position `start`; raises JobError naming the fault, and then nothing
-        of the line is kept (not even its modal words)."""
+        """The line as a job from step position `start`; raises JobError naming the fault, and then
+        nothing of the line is kept (not even its modal words)."""
         config = self.config
-        interpreter = GcodeInterpreter(config.axis_names, config.to_mm(start), config.arc_tolerance,
-                                       coordinates=coordinates)
+        interpreter = GcodeInterpreter(
+            config.axis_names, config.to_mm(start), config.arc_tolerance, coordinates=coordinates
+        )
         for name, value in self._modal.items():
             setattr(interpreter, name, value)
         try:
@@ -35,5 +36,7 @@ class Console:
             plan = plan_program(interpreter.program, config, start, "MDI")
         except JobError as exc:
             raise JobError(f"MDI: {str(exc).removeprefix('line 1: ')}") from None
-        self._modal = {name: getattr(interpreter, name) for name in MODAL if hasattr(interpreter, name)}
+        self._modal = {
+            name: getattr(interpreter, name) for name in MODAL if hasattr(interpreter, name)
+        }
         return Job(path=SOURCE, program=interpreter.program, plan=plan, coordinates=coordinates)

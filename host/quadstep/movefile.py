@@ -24,9 +24,9 @@ import yaml
 from pydantic import BaseModel, ConfigDict, Field, model_validator
 
 from .config import AxisName
-from .validation import validate
 from .planner.program import MAX_DWELL_S, Dwell, JobError, LinearMove, Pause, Program
 from .textfile import DuplicateKeyError, parse_nested, read_text, strict_json
+from .validation import validate
 
 Coordinates = dict[AxisName, float]
 
@@ -47,9 +47,16 @@ class Move(BaseModel):
 
     @model_validator(mode="after")
     def _one_kind(self) -> Move:
-        kinds = [k for k in ("to", "by", "rapid_to", "rapid_by", "dwell", "pause") if getattr(self, k) is not None]
+        kinds = [
+            k
+            for k in ("to", "by", "rapid_to", "rapid_by", "dwell", "pause")
+            if getattr(self, k) is not None
+        ]
         if len(kinds) != 1:
-            raise ValueError(f"needs exactly one of to, by, rapid_to, rapid_by, dwell, pause (got {kinds or 'none'})")
+            raise ValueError(
+                "needs exactly one of to, by, rapid_to, rapid_by, dwell, pause (got "
+                f"{kinds or 'none'})"
+            )
         kind = kinds[0]
         if kind in ("to", "by") and self.feed is None:
             raise ValueError(f"'{kind}' needs a feed")
@@ -75,8 +82,10 @@ class _UniqueKeyLoader(yaml.SafeLoader):
         seen: set[str] = set()
         for key, _ in node.value:
             if isinstance(key, yaml.ScalarNode) and key.value in seen:
-                raise DuplicateKeyError(f"line {key.start_mark.line + 1}: key {key.value!r} is "
-                                        "given twice in one mapping (which one is meant?)")
+                raise DuplicateKeyError(
+                    f"line {key.start_mark.line + 1}: key {key.value!r} is "
+                    "given twice in one mapping (which one is meant?)"
+                )
             seen.add(key.value if isinstance(key, yaml.ScalarNode) else "")
         return super().construct_mapping(node, deep)
 
@@ -114,7 +123,8 @@ def move_program(moves: MoveFile, axis_names: Sequence[str], start: Sequence[flo
         for letter, value in coords.items():
             if letter not in axis_names:
                 raise JobError(
-                    f"move {number}: axis {letter} is not on this machine (axes {', '.join(axis_names)})"
+                    f"move {number}: axis {letter} is not on this machine (axes "
+                    f"{', '.join(axis_names)})"
                 )
             i = list(axis_names).index(letter)
             position[i] = position[i] + value if relative else value

@@ -1,4 +1,5 @@
-"""A child process that serves a board on a pseudo-terminal, as the emulator and the simavr harness do.
+"""A child process that serves a board on a pseudo-terminal, as the emulator and the simavr harness
+do.
 
 Both print `PORT <url>` on stdout once the port is open, run until SIGTERM,
 and then print a summary on stderr: the emulator one JSON object on one line,
@@ -20,18 +21,18 @@ import sys
 import tempfile
 import threading
 import time
-from collections.abc import Callable
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from typing import TYPE_CHECKING, Any
 
 if TYPE_CHECKING:
-    from typing import Self  # Python 3.11; annotations are not evaluated at run time
+    from typing_extensions import Self  # typing.Self from Python 3.11; not evaluated at run time
 
 START_TIMEOUT = 10.0
 
 
 def parse_summary(text: str) -> dict[str, Any]:
-    """The exit summary: a JSON object on a line of its own, or `key=value` lines (integers where they parse)."""
+    """The exit summary: a JSON object on a line of its own, or `key=value` lines (integers where
+    they parse)."""
     summary: dict[str, Any] = {}
     for line in text.splitlines():
         if line.startswith("{"):
@@ -69,8 +70,9 @@ PR_SET_PDEATHSIG = 1  # linux/prctl.h
 
 
 def die_with_parent() -> Callable[[], None] | None:
-    """A preexec function that makes the child get SIGTERM once the thread that forked it ends (None off
-    Linux). libc is loaded here, in the parent: the child, between fork and exec, only makes two calls."""
+    """A preexec function that makes the child get SIGTERM once the thread that forked it ends (None
+    off Linux). libc is loaded here, in the parent: the child, between fork and exec, only makes two
+    calls."""
     if not sys.platform.startswith("linux"):
         return None
     libc = ctypes.CDLL(ctypes.util.find_library("c") or "libc.so.6", use_errno=True)
@@ -98,11 +100,13 @@ class PortProcess:
         self._proc: subprocess.Popen[bytes] | None = None
         self._stderr = tempfile.TemporaryFile()
         self._stderr_text: str | None = None  # kept once the child has ended
-        self._released = threading.Event()  # the keeper thread (the child's parent for PR_SET_PDEATHSIG) may end
+        # the keeper thread (the child's parent for PR_SET_PDEATHSIG) may end
+        self._released = threading.Event()
 
     def start(self) -> Self:
-        """Start the child from a thread that lives until stop() (or the program's end): the parent-death
-        signal follows the thread that forked, and the thread calling start() may end long before."""
+        """Start the child from a thread that lives until stop() (or the program's end): the
+        parent-death signal follows the thread that forked, and the thread calling start() may end
+        long before."""
         started, released = threading.Event(), threading.Event()
         self._released = released
         failed: list[BaseException] = []
@@ -127,10 +131,17 @@ class PortProcess:
             raise
 
     def _spawn(self) -> None:
-        # A session of its own: the terminal's Ctrl-C (SIGINT to the foreground process group) reaches the
-        # program that started the child, which then stops the machine through it; never the child itself.
-        self._proc = subprocess.Popen(self.args, stdout=subprocess.PIPE, stderr=self._stderr, stdin=subprocess.DEVNULL,
-                                      start_new_session=True, preexec_fn=die_with_parent())
+        # A session of its own: the terminal's Ctrl-C (SIGINT to the foreground process group)
+        # reaches the program that started the child, which then stops the machine through it; never
+        # the child itself.
+        self._proc = subprocess.Popen(
+            self.args,
+            stdout=subprocess.PIPE,
+            stderr=self._stderr,
+            stdin=subprocess.DEVNULL,
+            start_new_session=True,
+            preexec_fn=die_with_parent(),
+        )
 
     def _await_port(self) -> Self:
         assert self._proc is not None and self._proc.stdout is not None
@@ -138,7 +149,8 @@ class PortProcess:
         if not line.startswith("PORT "):
             self.stop()
             raise self.error(
-                f"{' '.join(self.args)} printed {line!r} instead of `PORT <url>`; stderr:\n{self.stderr_text()}"
+                f"{' '.join(self.args)} printed {line!r} instead of `PORT <url>`; "
+                f"stderr:\n{self.stderr_text()}"
             )
         self.url = line[5:].strip()
         return self
@@ -158,7 +170,8 @@ class PortProcess:
         return self._proc is not None and self._proc.poll() is None
 
     def stop(self) -> dict[str, Any]:
-        """SIGTERM, wait, and return the exit summary (also kept in .summary); output files are then complete."""
+        """SIGTERM, wait, and return the exit summary (also kept in .summary); output files are then
+        complete."""
         if self._proc is None:
             self._released.set()
             return self.summary or {}

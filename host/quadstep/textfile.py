@@ -17,8 +17,13 @@ from typing import Any
 # (G-code, a move file, raw segments) may be large; a configuration or a state file is kilobytes.
 JOB_MAX_BYTES = 256 * 1024 * 1024
 SETTINGS_MAX_BYTES = 4 * 1024 * 1024
-_KINDS = ((stat.S_ISDIR, "a directory"), (stat.S_ISCHR, "a character device"),
-          (stat.S_ISBLK, "a block device"), (stat.S_ISFIFO, "a pipe"), (stat.S_ISSOCK, "a socket"))
+_KINDS = (
+    (stat.S_ISDIR, "a directory"),
+    (stat.S_ISCHR, "a character device"),
+    (stat.S_ISBLK, "a block device"),
+    (stat.S_ISFIFO, "a pipe"),
+    (stat.S_ISSOCK, "a socket"),
+)
 
 
 def read_text(path: Path, error: type[Exception], max_bytes: int = JOB_MAX_BYTES) -> str:
@@ -42,8 +47,9 @@ def _read_regular(path: Path, error: type[Exception], max_bytes: int) -> bytes:
     if not stat.S_ISREG(mode):
         os.close(fd)
         kind = next((name for test, name in _KINDS if test(mode)), "not a file")
-        raise error(f"{path}: {kind}, not a regular file: quadstep reads configurations and jobs "
-                    "from files")
+        raise error(
+            f"{path}: {kind}, not a regular file: quadstep reads configurations and jobs from files"
+        )
     with os.fdopen(fd, "rb") as file:
         limit = f"larger than the {max_bytes / 2**20:g} MB such a file may be"
         size = os.fstat(fd).st_size
@@ -69,8 +75,9 @@ def _unique_keys(pairs: list[tuple[str, Any]]) -> dict[str, Any]:
     data: dict[str, Any] = {}
     for key, value in pairs:
         if key in data:
-            raise DuplicateKeyError(f"key {key!r} is given twice in one object (which one is "
-                                    "meant?)")
+            raise DuplicateKeyError(
+                f"key {key!r} is given twice in one object (which one is meant?)"
+            )
         data[key] = value
     return data
 
@@ -87,11 +94,14 @@ def parse_nested(parse: Callable[[str], Any], text: str, path: Path, error: type
     except DuplicateKeyError as exc:
         raise error(f"{path}: {exc}") from None
     except RecursionError:
-        raise error(f"{path}: nested too deep (lists or tables inside one another hundreds of levels down)") from None
+        raise error(
+            f"{path}: nested too deep (lists or tables inside one another hundreds of levels down)"
+        ) from None
 
 
 def _values(data: Any, counted: dict[int, int]) -> int:
-    """How many values `data` holds once every shared list or table is written out; each counted once."""
+    """How many values `data` holds once every shared list or table is written out; each counted
+    once."""
     if not isinstance(data, (list, dict)):
         return 1
     if id(data) not in counted:
@@ -101,7 +111,8 @@ def _values(data: Any, counted: dict[int, int]) -> int:
 
 
 def replace_text(path: Path, text: str) -> None:
-    """Replace `path` with `text` atomically: written beside it, flushed to disk, renamed over it (its mode kept)."""
+    """Replace `path` with `text` atomically: written beside it, flushed to disk, renamed over it
+    (its mode kept)."""
     path.parent.mkdir(parents=True, exist_ok=True)
     fd, temporary = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
     try:

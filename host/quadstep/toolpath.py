@@ -1,6 +1,6 @@
-"""A job's path as it was written: straight pieces from one target to the next, each a rapid (G0, no feed) or
-a cut, and its bounding box in machine and in work coordinates. The TUI draws it, `quadstep plot` draws it,
-`quadstep check` prints its box; nothing here plans or talks to a machine."""
+"""A job's path as it was written: straight pieces from one target to the next, each a rapid (G0, no
+feed) or a cut, and its bounding box in machine and in work coordinates. The TUI draws it, `quadstep
+plot` draws it, `quadstep check` prints its box; nothing here plans or talks to a machine."""
 
 from __future__ import annotations
 
@@ -27,7 +27,8 @@ class Box:
 class Toolpath:
     pieces: tuple[Piece, ...]
     machine_box: Box | None  # None: the job has no move
-    work_box: Box | None  # the targets as their lines wrote them (each in the system it was written in)
+    # the targets as their lines wrote them (each in the system it was written in)
+    work_box: Box | None
 
     @property
     def rapids(self) -> int:
@@ -45,7 +46,8 @@ def _box(points: Sequence[Sequence[float]]) -> Box | None:
 
 
 def toolpath(program: Program, start_mm: Sequence[float]) -> Toolpath:
-    """The pieces of `program` from machine position `start_mm`; moves that go nowhere are left out."""
+    """The pieces of `program` from machine position `start_mm`; moves that go nowhere are left
+    out."""
     pieces: list[Piece] = []
     work: list[tuple[float, ...]] = []
     here = tuple(float(x) for x in start_mm)

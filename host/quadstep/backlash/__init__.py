@@ -1,1 +1,2 @@
-"""Backlash: the carriage's dead band, its take-up inside the motion, and its measurement (docs/BACKLASH.md)."""
+"""Backlash: the carriage's dead band, its take-up inside the motion, and its measurement
+(docs/BACKLASH.md)."""

@@ -1,12 +1,13 @@
 """Where each carriage sits in its dead band, and the positions that exclude the take-up.
 
-A motor pushes its carriage through a dead band of `size` steps: `w` (0 … size) is how far the motor is
-from the band's negative side, so `w = size` after a push in +, `w = 0` after a push in −. A motor step
-moves the carriage only at a side (w stays), otherwise it moves the motor within the band (w changes):
-the carriage is `motor − w` plus a constant. The position every report shows — status, the TUI, `run`,
-probing, homing — is that carriage position, `motor − base − w`: a take-up moves the motor and `w`
-together and leaves it unchanged. `w` is unknown (None) until an axis first moves; its first motion
-then takes no take-up and puts it on that side (base chosen so that the position stays where it was).
+A motor pushes its carriage through a dead band of `size` steps: `w` (0 … size) is how far the motor
+is from the band's negative side, so `w = size` after a push in +, `w = 0` after a push in −. A
+motor step moves the carriage only at a side (w stays), otherwise it moves the motor within the band
+(w changes): the carriage is `motor − w` plus a constant. The position every report shows — status,
+the TUI, `run`, probing, homing — is that carriage position, `motor − base − w`: a take-up moves the
+motor and `w` together and leaves it unchanged. `w` is unknown (None) until an axis first moves; its
+first motion then takes no take-up and puts it on that side (base chosen so that the position stays
+where it was).
 """
 
 from __future__ import annotations
@@ -21,7 +22,8 @@ from ..config import MachineConfig
 
 @dataclass(frozen=True)
 class BandAxis:
-    """One axis: band size (steps), where the motor is in it (None: not known yet), and the constant."""
+    """One axis: band size (steps), where the motor is in it (None: not known yet), and the
+    constant."""
 
     size: int = 0
     w: int | None = None
@@ -38,27 +40,32 @@ class BandAxis:
         return (self.size - self.w) if direction > 0 else -self.w
 
     def adopt(self, direction: int) -> BandAxis:
-        """Known from here on: a first motion in `direction`, with no take-up, puts the motor on that side."""
+        """Known from here on: a first motion in `direction`, with no take-up, puts the motor on
+        that side."""
         if self.w is not None:
             return self
         w = self.size if direction > 0 else 0
         return replace(self, w=w, base=self.base - w)
 
     def moved(self, steps: Iterable[int]) -> BandAxis:
-        """After the motor made these signed steps (in order): each moves w within the band, or the carriage."""
+        """After the motor made these signed steps (in order): each moves w within the band, or the
+        carriage."""
         axis = self
         for s in steps:
             if axis.w is None:
                 axis = axis.adopt(s)
-            axis = replace(axis, w=min(axis.size, max(0, axis.w + s)))  # type: ignore[operator]
+            assert axis.w is not None  # known once adopted
+            axis = replace(axis, w=min(axis.size, max(0, axis.w + s)))
         return axis
 
     def monotone(self, delta: int) -> BandAxis:
-        """After a motion of `delta` steps all in one direction (a hold's deceleration, a straight run)."""
+        """After a motion of `delta` steps all in one direction (a hold's deceleration, a straight
+        run)."""
         if delta == 0:
             return self
         axis = self.adopt(delta) if self.w is None else self
-        return replace(axis, w=min(axis.size, max(0, axis.w + delta)))  # type: ignore[operator]
+        assert axis.w is not None  # known once adopted
+        return replace(axis, w=min(axis.size, max(0, axis.w + delta)))
 
 
 @dataclass(frozen=True)
@@ -73,13 +80,17 @@ class Band:
 
     def to_position(self, motor: Sequence[int]) -> tuple[int, ...]:
         """The positions reports show (take-ups excluded) for these motor step counts."""
-        return tuple(m - a.offset() for m, a in zip(motor, self.axes)) + tuple(motor[len(self.axes):])
+        return tuple(m - a.offset() for m, a in zip(motor, self.axes)) + tuple(
+            motor[len(self.axes) :]
+        )
 
     def to_motor(self, position: Sequence[int]) -> tuple[int, ...]:
-        return tuple(p + a.offset() for p, a in zip(position, self.axes)) + tuple(position[len(self.axes):])
+        return tuple(p + a.offset() for p, a in zip(position, self.axes)) + tuple(
+            position[len(self.axes) :]
+        )
 
     def with_axis(self, i: int, axis: BandAxis) -> Band:
-        return Band(self.axes[:i] + (axis,) + self.axes[i + 1:])
+        return Band(self.axes[:i] + (axis,) + self.axes[i + 1 :])
 
     @property
     def active(self) -> bool:
@@ -87,7 +98,8 @@ class Band:
 
 
 class BandRecord(BaseModel):
-    """The band kept between runs (in the state file): valid only while the board still counts `motor`."""
+    """The band kept between runs (in the state file): valid only while the board still counts
+    `motor`."""
 
     model_config = ConfigDict(extra="forbid")
 
@@ -98,13 +110,20 @@ class BandRecord(BaseModel):
 
     @classmethod
     def of(cls, band: Band, motor: Sequence[int]) -> BandRecord:
-        return cls(size=[a.size for a in band.axes], w=[a.w for a in band.axes], base=[a.base for a in band.axes],
-                   motor=list(motor[: len(band.axes)]))
+        return cls(
+            size=[a.size for a in band.axes],
+            w=[a.w for a in band.axes],
+            base=[a.base for a in band.axes],
+            motor=list(motor[: len(band.axes)]),
+        )
 
     def restore(self, config: MachineConfig, motor: Sequence[int]) -> Band:
-        """The kept band if it still describes this machine (same sizes, the board where it was); else a new one."""
+        """The kept band if it still describes this machine (same sizes, the board where it was);
+        else a new one."""
         fresh = Band.of(config)
-        if self.size != [a.size for a in fresh.axes] or self.motor != list(motor[: len(fresh.axes)]):
+        if self.size != [a.size for a in fresh.axes] or self.motor != list(
+            motor[: len(fresh.axes)]
+        ):
             return fresh
         return Band(tuple(BandAxis(s, w, b) for s, w, b in zip(self.size, self.w, self.base)))
 

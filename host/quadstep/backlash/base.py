@@ -1,9 +1,11 @@
-"""A planned stream read back exactly, for the compensation stage: steps, speeds and the ideal per axis.
+"""A planned stream read back exactly, for the compensation stage: steps, speeds and the ideal per
+axis.
 
 The stream is quadratic segments (the planner's arrays, read with numpy) or any mix of SEGMENT and
-CUBIC_SEGMENT (walked with the firmware's chain). For every segment: its ticks, each axis's signed steps
-and largest acceleration; on demand: the exact advance of an axis over part of a segment (the polynomial the
-take-up is added to), the ticks of its steps, and the firmware's chain state before it.
+CUBIC_SEGMENT (walked with the firmware's chain). For every segment: its ticks, each axis's signed
+steps and largest acceleration; on demand: the exact advance of an axis over part of a segment (the
+polynomial the take-up is added to), the ticks of its steps, and the firmware's chain state before
+it.
 """
 
 from __future__ import annotations
@@ -19,9 +21,11 @@ from ..engine_model import step_ticks
 from ..planner.segments import SegmentArrays
 from ..planner.stream import Stream
 from ..protocol.cubic import SIGMA, AxisState, CubicChain, CubicSegment, CubicStep, choose2
-from ..protocol.segment import D, AxisMove, Segment
+from ..protocol.segment import AxisMove, D, Segment
 
-Poly = tuple[Fraction, Fraction, Fraction]  # advance over tick k: α + β·(k−1) + γ·C(k−1, 2), signed, 2^-31 step
+# advance over tick k: α + β·(k−1) + γ·C(k−1, 2), signed, 2^-31 step
+Poly = tuple[Fraction, Fraction, Fraction]
+Items = Sequence[Segment | CubicSegment] | Stream  # segments by index: a list, or a planned stream
 
 
 @dataclass
@@ -32,9 +36,11 @@ class BaseStream:
     n: np.ndarray  # (S,) ticks
     steps: np.ndarray  # (S, A) signed steps of each axis
     accel: np.ndarray  # (S, A) largest |acceleration|, steps per tick²
-    rest_before: np.ndarray  # (S + 1,) every axis at rest at the boundary before segment k (and at the end)
-    item: Sequence[Segment | CubicSegment] | SegmentArrays
-    chains: list[CubicChain] = field(default_factory=list)  # mixed streams: the chain before each segment
+    # (S + 1,) every axis at rest at the boundary before segment k (and at the end)
+    rest_before: np.ndarray
+    item: Items | SegmentArrays
+    # mixed streams: the chain before each segment
+    chains: list[CubicChain] = field(default_factory=list)
     start: np.ndarray = field(init=False)  # (S + 1,) first tick of each segment
     position: np.ndarray = field(init=False)  # (S + 1, A) stepper before each segment, from 0
 
@@ -44,7 +50,9 @@ class BaseStream:
         self.position = np.vstack([zeros, np.cumsum(self.steps, axis=0, dtype=np.int64)])
         if isinstance(self.item, SegmentArrays):
             self._arrays = self.item.numpy()
-            named = (self._arrays["axes"][:, None].astype(np.int64) >> np.arange(self.axis_count)) & 1
+            named = (
+                self._arrays["axes"][:, None].astype(np.int64) >> np.arange(self.axis_count)
+            ) & 1
             index = np.where(named == 1, np.arange(len(self))[:, None], -1)
             self._last_named = np.maximum.accumulate(index, axis=0) if len(self) else index
 
@@ -80,7 +88,8 @@ class BaseStream:
         return int(self.position[k, axis]) + (made if self.steps[k, axis] >= 0 else -made)
 
     def advance(self, k: int, axis: int, skip: int) -> Poly:
-        """The ideal's advance of `axis` over the ticks of segment k after its first `skip`, signed."""
+        """The ideal's advance of `axis` over the ticks of segment k after its first `skip`,
+        signed."""
         seg = self.segment(k)
         if isinstance(seg, Segment):
             mv = next((m for m in seg.axes if m.axis == axis), None)
@@ -89,14 +98,17 @@ class BaseStream:
             return _quadratic_advance(seg.n, mv, skip)
         start, r = self.chain_before(k).starts(seg)[axis]
         sign = start.direction
-        return (Fraction(sign * (start.i + skip * start.d + choose2(skip) * r)),
-                Fraction(sign * (start.d + skip * r)), Fraction(sign * r))
+        return (
+            Fraction(sign * (start.i + skip * start.d + choose2(skip) * r)),
+            Fraction(sign * (start.d + skip * r)),
+            Fraction(sign * r),
+        )
 
     # --- the firmware's state -----------------------------------------------------------------
 
     def chain_before(self, k: int) -> CubicChain:
-        """The firmware's chain before segment k, given the chain at the stream's start was at rest with e = 0
-        (the stage begins every compensated stream with a segment that makes it so)."""
+        """The firmware's chain before segment k, given the chain at the stream's start was at rest
+        with e = 0 (the stage begins every compensated stream with a segment that makes it so)."""
         if self.chains:
             return self.chains[k].copy()
         chain = CubicChain(self.axis_count)
@@ -141,8 +153,9 @@ def from_arrays(arrays: SegmentArrays) -> BaseStream:
     return BaseStream(count, n, steps.astype(np.int64), accel, rest, arrays)
 
 
-def from_items(items: Sequence[Segment | CubicSegment], axis_count: int) -> BaseStream:
-    """Any mix of quadratic and cubic segments, walked with the firmware's chain from rest (e = 0)."""
+def from_items(items: Items, axis_count: int) -> BaseStream:
+    """Any mix of quadratic and cubic segments, walked with the firmware's chain from rest (e =
+    0)."""
     chain = CubicChain(axis_count)
     chains: list[CubicChain] = []
     n = np.zeros(len(items), dtype=np.int64)
@@ -157,7 +170,9 @@ def from_items(items: Sequence[Segment | CubicSegment], axis_count: int) -> Base
             moving[k] |= any(not s.at_rest for s, _ in starts)
             for step in chain.advance(seg):
                 steps[k, step.axis] = step.start.direction * step.steps
-                accel[k, step.axis] = max(abs(step.start.d), abs(step.start.d + seg.n * step.r)) / SIGMA
+                accel[k, step.axis] = (
+                    max(abs(step.start.d), abs(step.start.d + seg.n * step.r)) / SIGMA
+                )
             moving[k + 1] = any(not s.at_rest for s in chain.axes)
             continue
         totals = {}
@@ -170,7 +185,8 @@ def from_items(items: Sequence[Segment | CubicSegment], axis_count: int) -> Base
             moving[k + 1] |= mv.vn > 0
         chain.follow_quadratic(seg, totals)
     chains.append(chain.copy())
-    kept = items if isinstance(items, Stream) else list(items)  # a planned stream keeps its source lines
+    # a planned stream keeps its source lines
+    kept = items if isinstance(items, Stream) else list(items)
     return BaseStream(axis_count, n, steps, accel, ~moving, kept, chains)
 
 

@@ -1,10 +1,12 @@
-"""The take-up: seed 004's 7-point acceleration ramp, sized for a distance within an acceleration and a jerk.
+"""The take-up: seed 004's 7-point acceleration ramp, sized for a distance within an acceleration
+and a jerk.
 
-Jerk +r, 0, −r over n1, n2, n1 ticks, then −r, 0, +r (planner/ramps.py): the axis gains exactly the speed and
-acceleration back that it had, so the ramp can be added to any motion. Its distance with r = 1 is K(n1, n2)
-in 2^-31 step; the ramp is scaled by distance/(r·K) to be exactly `steps` long (the scale differs from 1 by
-less than 1/(2r): the integer jerks of the cubic segments follow it and the fitter absorbs the rest).
-Units: steps and ticks; accelerations in steps per tick², jerks in steps per tick³.
+Jerk +r, 0, −r over n1, n2, n1 ticks, then −r, 0, +r (planner/ramps.py): the axis gains exactly the
+speed and acceleration back that it had, so the ramp can be added to any motion. Its distance with r
+= 1 is K(n1, n2) in 2^-31 step; the ramp is scaled by distance/(r·K) to be exactly `steps` long (the
+scale differs from 1 by less than 1/(2r): the integer jerks of the cubic segments follow it and the
+fitter absorbs the rest). Units: steps and ticks; accelerations in steps per tick², jerks in steps
+per tick³.
 """
 
 from __future__ import annotations
@@ -13,10 +15,11 @@ import math
 from dataclasses import dataclass
 from fractions import Fraction
 
-from ..protocol.cubic import SIGMA, choose2, choose3
 from ..planner.ramps import Phase, ramp_distance, ramp_move
+from ..protocol.cubic import SIGMA, choose2, choose3
 
-MIN_JERK_UNITS = 1024  # the jerk in 2^-31 step per tick³ is kept at least this large: its rounding stays tiny
+# the jerk in 2^-31 step per tick³ is kept at least this large: its rounding stays tiny
+MIN_JERK_UNITS = 1024
 MAX_JERK_UNITS = (1 << 15) - 1  # the wire's i16
 
 
@@ -26,7 +29,8 @@ class TakeUpError(ValueError):
 
 @dataclass(frozen=True)
 class Ramp:
-    """A take-up of `steps` (signed) over 4·n1 + 2·n2 ticks, jerk ±r (2^-31 step per tick³) scaled by `scale`."""
+    """A take-up of `steps` (signed) over 4·n1 + 2·n2 ticks, jerk ±r (2^-31 step per tick³) scaled
+    by `scale`."""
 
     steps: int
     n1: int
@@ -56,8 +60,8 @@ class Ramp:
         return float(self.r * self.scale) / SIGMA
 
     def state(self, t: int) -> tuple[Fraction, Fraction, Fraction, Fraction]:
-        """(x, i, d, jerk) after t ticks, signed, scaled, in 2^-31 step: the distance made, the advance over the
-        next tick, its change per tick, and the jerk of the next tick."""
+        """(x, i, d, jerk) after t ticks, signed, scaled, in 2^-31 step: the distance made, the
+        advance over the next tick, its change per tick, and the jerk of the next tick."""
         x = i = d = jerk = 0
         at = 0
         for n, r in self.phases():
@@ -80,7 +84,8 @@ class Ramp:
 
 
 def design(steps: int, accel: float, jerk: float) -> Ramp:
-    """The shortest ramp of `steps` (≠ 0) whose acceleration stays within `accel` and jerk within `jerk`."""
+    """The shortest ramp of `steps` (≠ 0) whose acceleration stays within `accel` and jerk within
+    `jerk`."""
     if steps == 0:
         raise TakeUpError("a take-up of 0 steps")
     if accel <= 0 or jerk <= 0:
@@ -88,20 +93,25 @@ def design(steps: int, accel: float, jerk: float) -> Ramp:
     distance = abs(steps)
     jerk = min(jerk, MAX_JERK_UNITS / SIGMA)
     n1 = max(1, math.ceil(accel / jerk))  # ticks to reach the acceleration at this jerk
-    n1 = max(1, min(n1, math.ceil((distance / (2.0 * jerk)) ** (1.0 / 3.0))))  # short: jerk-limited, no n2
+    # short: jerk-limited, no n2
+    n1 = max(1, min(n1, math.ceil((distance / (2.0 * jerk)) ** (1.0 / 3.0))))
     n2 = 0
     if 2.0 * n1 * n1 * n1 * jerk < distance:
         a = min(accel, n1 * jerk)
         n2 = max(0, math.ceil((-3.0 * n1 + math.sqrt(n1 * n1 + 4.0 * distance / a)) / 2.0))
+
     def fits(n1: int, n2: int) -> Fraction | None:
         """The ramp's exact jerk (2^-31 step per tick³) if (n1, n2) stays within the limits."""
         exact = Fraction(distance * SIGMA, ramp_distance(ramp_move(n1, n2, 1)))
-        ok = exact <= jerk * SIGMA and n1 * exact <= accel * SIGMA and round(exact) <= MAX_JERK_UNITS
+        ok = (
+            exact <= jerk * SIGMA and n1 * exact <= accel * SIGMA and round(exact) <= MAX_JERK_UNITS
+        )
         return exact if ok else None
 
     while (exact := fits(n1, n2)) is None:
         n2 += max(1, n2 // 16)
-    while exact < MIN_JERK_UNITS and n1 > 1:  # a gentle ramp: shorter jerk phases, longer constant ones, same time
+    # a gentle ramp: shorter jerk phases, longer constant ones, same time
+    while exact < MIN_JERK_UNITS and n1 > 1:
         shorter = fits(n1 - 1, n2 + 2)
         if shorter is None:
             break

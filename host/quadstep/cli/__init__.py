@@ -12,16 +12,18 @@ import argparse
 import importlib
 import os
 import pkgutil
-from importlib import metadata
 import sys
 from collections.abc import Sequence
+from importlib import metadata
 
 from .. import __version__
 from ._stops import INTERRUPTED, stop_signals_as_interrupt, why
 
 
 def build_parser() -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(prog="quadstep", description="Exact quadratic stepper motion over serial.")
+    parser = argparse.ArgumentParser(
+        prog="quadstep", description="Exact quadratic stepper motion over serial."
+    )
     parser.add_argument("--version", action="version", version=f"quadstep {version()}")
     subparsers = parser.add_subparsers(dest="command", metavar="COMMAND", required=True)
     for module in sorted(pkgutil.iter_modules(__path__), key=lambda m: m.name):
@@ -35,7 +37,8 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 def version() -> str:
-    """The installed package's version (pyproject.toml), or the source tree's when it is not installed."""
+    """The installed package's version (pyproject.toml), or the source tree's when it is not
+    installed."""
     try:
         return metadata.version("quadstep")
     except metadata.PackageNotFoundError:
@@ -43,8 +46,9 @@ def version() -> str:
 
 
 def main(argv: Sequence[str] | None = None) -> int:
-    """Run a command. Ctrl-C, SIGTERM and SIGHUP at any moment, loading included, are a controlled stop: one
-    line and exit code 130 (a command that moves the machine brings it to rest first and says where)."""
+    """Run a command. Ctrl-C, SIGTERM and SIGHUP at any moment, loading included, are a controlled
+    stop: one line and exit code 130 (a command that moves the machine brings it to rest first and
+    says where)."""
     name = "quadstep"
     try:
         with stop_signals_as_interrupt():
@@ -64,7 +68,8 @@ def main(argv: Sequence[str] | None = None) -> int:
 
 
 def quiet_stdout() -> None:
-    """Whoever read stdout has gone: what is still buffered goes nowhere, without a second error at exit."""
+    """Whoever read stdout has gone: what is still buffered goes nowhere, without a second error at
+    exit."""
     try:
         devnull = os.open(os.devnull, os.O_WRONLY)
         os.dup2(devnull, sys.stdout.fileno())

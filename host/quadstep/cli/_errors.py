@@ -7,10 +7,10 @@ import sys
 
 from pydantic import ValidationError
 
-from ..validation import describe_validation_error
 from ..emulator import EmulatorError
 from ..link import LinkError
 from ..machine import MachineError, StateError
+from ..validation import describe_validation_error
 from .options import CliError
 
 
@@ -21,7 +21,10 @@ def run_command(args: argparse.Namespace) -> int:
         print(f"quadstep {args.command}: error: {exc}", file=sys.stderr)
         return 1
     except ValidationError as exc:
-        print(f"quadstep {args.command}: error: {'; '.join(describe_validation_error(exc))}", file=sys.stderr)
+        print(
+            f"quadstep {args.command}: error: {'; '.join(describe_validation_error(exc))}",
+            file=sys.stderr,
+        )
         return 1
     except (LinkError, MachineError, StateError, EmulatorError) as exc:
         print(f"quadstep {args.command}: error: {exc}", file=sys.stderr)

@@ -13,26 +13,35 @@ from ..job import Job, load_job
 from ..machine import StateError, load_state, state_path
 from ..planner.approach import describe
 from ..planner.program import JobError
+
 # DEFAULT_CONFIG and config_path live in options.py (connect needs them); commands find them here
 from .options import DEFAULT_CONFIG, CliError, config_path  # noqa: F401
 
 
 def add_job_options(parser: argparse.ArgumentParser) -> None:
-    parser.add_argument("job", type=Path, metavar="JOB", help="G-code file, or a move file (.json, .yaml)")
     parser.add_argument(
-        "--config", type=Path, metavar="FILE", help=f"machine configuration (TOML; default ./{DEFAULT_CONFIG})"
+        "job", type=Path, metavar="JOB", help="G-code file, or a move file (.json, .yaml)"
+    )
+    parser.add_argument(
+        "--config",
+        type=Path,
+        metavar="FILE",
+        help=f"machine configuration (TOML; default ./{DEFAULT_CONFIG})",
     )
     parser.add_argument(
         "--skip-unsupported",
         action="store_true",
-        help="skip spindle, coolant and tool words (M3 M4 M5 M6 M7 M8 M9, S, T) instead of refusing the job",
+        help="skip spindle, coolant and tool words (M3 M4 M5 M6 M7 M8 M9, S, T) instead of "
+        "refusing the job",
     )
     parser.add_argument(
-        "--from-line", type=line_number, metavar="N",
+        "--from-line",
+        type=line_number,
+        metavar="N",
         help="start the job at line N (a move file: its move N), in the modes, offsets, feed and "
-             "outputs the lines before it leave: Z up to safe_z (default the top of its travel), "
-             "over to where line N begins at rapid, the spindle and coolant as there (then "
-             "[spindle] spin_up_s), Z down at the feed there",
+        "outputs the lines before it leave: Z up to safe_z (default the top of its travel), "
+        "over to where line N begins at rapid, the spindle and coolant as there (then "
+        "[spindle] spin_up_s), Z down at the feed there",
     )
 
 
@@ -47,14 +56,16 @@ def line_number(text: str) -> int:
 
 
 def machine_config(args: argparse.Namespace) -> MachineConfig:
-    """--config FILE, else ./quadstep.toml, else — with nothing to move, or on the emulator — the default
-    machine (said so on stderr); a real board needs a configuration."""
+    """--config FILE, else ./quadstep.toml, else — with nothing to move, or on the emulator — the
+    default machine (said so on stderr); a real board needs a configuration."""
     path = config_path(args)
     if path is None:
         on_board = getattr(args, "emulator", None) is False and getattr(args, "sim", None) is None
         if on_board:
-            raise CliError(f"no machine configuration: give --config FILE (or put {DEFAULT_CONFIG} in this "
-                           "directory); examples/router-uno.toml is a commented one to start from")
+            raise CliError(
+                f"no machine configuration: give --config FILE (or put {DEFAULT_CONFIG} in this "
+                "directory); examples/router-uno.toml is a commented one to start from"
+            )
         print(f"no configuration given: using {DEFAULT_MACHINE_NAME}", file=sys.stderr, flush=True)
         return default_machine()
     try:
@@ -71,11 +82,22 @@ def stored_coordinates(args: argparse.Namespace) -> WorkCoordinates:
         raise CliError(str(exc)) from None
 
 
-def job_from_args(args: argparse.Namespace, config: MachineConfig, start: tuple[int, ...] | None = None,
-                  coordinates: WorkCoordinates | None = None) -> Job:
+def job_from_args(
+    args: argparse.Namespace,
+    config: MachineConfig,
+    start: tuple[int, ...] | None = None,
+    coordinates: WorkCoordinates | None = None,
+) -> Job:
     try:
-        return load_job(args.job, config, start, args.skip_unsupported, coordinates,
-                        getattr(args, "feed_override", 100), getattr(args, "from_line", None))
+        return load_job(
+            args.job,
+            config,
+            start,
+            args.skip_unsupported,
+            coordinates,
+            getattr(args, "feed_override", 100),
+            getattr(args, "from_line", None),
+        )
     except JobError as exc:
         raise CliError(str(exc)) from None
 

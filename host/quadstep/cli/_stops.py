@@ -1,6 +1,6 @@
-"""Stop requests from outside the program: SIGTERM (kill, a service manager) and SIGHUP (the terminal closed) are
-handled as Ctrl-C, a controlled stop: whatever moves is brought to rest with HOLD, the position is printed, and
-the command exits with 130."""
+"""Stop requests from outside the program: SIGTERM (kill, a service manager) and SIGHUP (the
+terminal closed) are handled as Ctrl-C, a controlled stop: whatever moves is brought to rest with
+HOLD, the position is printed, and the command exits with 130."""
 
 from __future__ import annotations
 
@@ -26,8 +26,8 @@ def _as_interrupt(number: int, frame: FrameType | None) -> None:
 
 @contextmanager
 def stop_signals_as_interrupt() -> Iterator[None]:
-    """SIGTERM and SIGHUP raise KeyboardInterrupt in the main thread while this lasts (a SIGHUP ignored, as
-    under nohup, stays ignored)."""
+    """SIGTERM and SIGHUP raise KeyboardInterrupt in the main thread while this lasts (a SIGHUP
+    ignored, as under nohup, stays ignored)."""
     if threading.current_thread() is not threading.main_thread():
         yield
         return
@@ -43,16 +43,21 @@ def stop_signals_as_interrupt() -> Iterator[None]:
 
 
 def why(exc: KeyboardInterrupt) -> str:
-    """" (SIGTERM)" for a stop signal, "" for Ctrl-C."""
+    """ " (SIGTERM)" for a stop signal, "" for Ctrl-C."""
     return f" ({exc.args[0]})" if exc.args else ""
 
 
 def interrupted(args: argparse.Namespace, machine: Machine, exc: KeyboardInterrupt) -> int:
-    """A procedure (homing, probing, a measurement) was interrupted: HOLD, then say where the machine rests."""
+    """A procedure (homing, probing, a measurement) was interrupted: HOLD, then say where the
+    machine rests."""
     from ..machine.probing import hold_to_rest
     from .run import position_lines  # the same lines as a stopped job's
 
     hold_to_rest(machine)
-    print(f"quadstep {args.command}: interrupted{why(exc)}: stopped (HOLD)", file=sys.stderr, flush=True)
+    print(
+        f"quadstep {args.command}: interrupted{why(exc)}: stopped (HOLD)",
+        file=sys.stderr,
+        flush=True,
+    )
     print("\n".join(position_lines(machine)), flush=True)
     return INTERRUPTED

@@ -6,14 +6,22 @@ import argparse
 import json
 
 from ..toolpath import Box, toolpath
-
-from ._jobs import approach_text
-from ._jobs import add_job_options, format_duration, job_from_args, machine_config, skipped_text, stored_coordinates
+from ._jobs import (
+    add_job_options,
+    approach_text,
+    format_duration,
+    job_from_args,
+    machine_config,
+    skipped_text,
+    stored_coordinates,
+)
 from .options import add_json_option
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
-    parser = subparsers.add_parser("check", help="validate and plan a job; print moves, distance, duration, speeds")
+    parser = subparsers.add_parser(
+        "check", help="validate and plan a job; print moves, distance, duration, speeds"
+    )
     add_job_options(parser)
     add_json_option(parser)
     parser.set_defaults(handler=run)
@@ -21,14 +29,17 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 
 def run(args: argparse.Namespace) -> int:
     config = machine_config(args)
-    job = job_from_args(args, config, coordinates=stored_coordinates(args))  # from the machine origin
+    # from the machine origin
+    job = job_from_args(args, config, coordinates=stored_coordinates(args))
     summary = job.summary()
     path = toolpath(job.program, config.to_mm(job.plan.start))
     names = config.axis_names
     if args.json:
         data = summary.model_dump()
-        data["bounds"] = {kind: _box_json(names, box) for kind, box in
-                          (("work", path.work_box), ("machine", path.machine_box))}
+        data["bounds"] = {
+            kind: _box_json(names, box)
+            for kind, box in (("work", path.work_box), ("machine", path.machine_box))
+        }
         if job.approach is not None:
             data["approach"] = approach_text(job)
         print(json.dumps(data))
@@ -37,20 +48,26 @@ def run(args: argparse.Namespace) -> int:
         f"{summary.file}: {job.source_size}, {summary.moves} moves, {summary.segments} segments "
         f"({summary.wire_bytes / 1000:.1f} kB on the wire)"
     )
-    print(f"distance {summary.distance_mm:.1f} mm, planned duration {format_duration(summary.duration_s)}")
+    print(
+        f"distance {summary.distance_mm:.1f} mm, planned duration "
+        f"{format_duration(summary.duration_s)}"
+    )
     print(f"axis   peak speed     work ({job.coordinates.name} → {summary.work_system})    machine")
     for axis in summary.axes:
         print(
-            f"{axis.name:<6} {axis.peak_speed:7.2f} mm/s   {axis.start_work_mm:.3f} → {axis.end_work_mm:.3f} mm"
-            f"   {axis.start_mm:.3f} → {axis.end_mm:.3f} mm ({axis.end_steps} steps)"
+            f"{axis.name:<6} {axis.peak_speed:7.2f} mm/s   {axis.start_work_mm:.3f} → "
+            f"{axis.end_work_mm:.3f} mm   {axis.start_mm:.3f} → {axis.end_mm:.3f} mm "
+            f"({axis.end_steps} steps)"
         )
     if path.machine_box is not None and path.work_box is not None:
         print(f"bounding box   work     {_box_text(names, path.work_box)}")
         print(f"               machine  {_box_text(names, path.machine_box)}")
         print(f"{path.cuts} cuts, {path.rapids} rapids")
     if summary.pauses:
-        print(f"pauses for the operator at line{'s' if len(summary.pauses) > 1 else ''} "
-              f"{', '.join(map(str, summary.pauses))}")
+        print(
+            f"pauses for the operator at line{'s' if len(summary.pauses) > 1 else ''} "
+            f"{', '.join(map(str, summary.pauses))}"
+        )
     skipped = skipped_text(job)
     if skipped:
         print(skipped)

@@ -1,4 +1,5 @@
-"""`quadstep home`: find machine zero with the homing switches (the GRBL cycle, from exact latches)."""
+"""`quadstep home`: find machine zero with the homing switches (the GRBL cycle, from exact
+latches)."""
 
 from __future__ import annotations
 
@@ -14,10 +15,21 @@ from .options import add_connection_options, add_json_option, connect
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
-    parser = subparsers.add_parser("home", help="home the machine: find each axis's switch and set machine zero")
-    parser.add_argument("axes", nargs="*", metavar="AXIS", help="axes to home (default: every axis with "
-                                                                 "[axes.homing], in the configured order)")
-    parser.add_argument("--config", type=Path, metavar="FILE", help="machine configuration (default ./quadstep.toml)")
+    parser = subparsers.add_parser(
+        "home", help="home the machine: find each axis's switch and set machine zero"
+    )
+    parser.add_argument(
+        "axes",
+        nargs="*",
+        metavar="AXIS",
+        help="axes to home (default: every axis with [axes.homing], in the configured order)",
+    )
+    parser.add_argument(
+        "--config",
+        type=Path,
+        metavar="FILE",
+        help="machine configuration (default ./quadstep.toml)",
+    )
     add_connection_options(parser)
     add_json_option(parser)
     parser.set_defaults(handler=run)

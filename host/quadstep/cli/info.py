@@ -23,7 +23,14 @@ def run(args: argparse.Namespace) -> int:
         ident = machine.identity
         status = machine.status()
     if args.json:
-        print(json.dumps({"identify": ident.model_dump(mode="json"), "status": status.model_dump(mode="json")}))
+        print(
+            json.dumps(
+                {
+                    "identify": ident.model_dump(mode="json"),
+                    "status": status.model_dump(mode="json"),
+                }
+            )
+        )
     else:
         print(format_info(ident, status))
     return 0
@@ -31,9 +38,16 @@ def run(args: argparse.Namespace) -> int:
 
 def format_info(ident: IdentifyReply, status: StatusReport) -> str:
     rows = [
-        ("firmware", f"{ident.firmware_version} on {ident.board_name}, protocol {ident.protocol_version}"),
+        (
+            "firmware",
+            f"{ident.firmware_version} on {ident.board_name}, protocol {ident.protocol_version}",
+        ),
         ("axes", f"{ident.axis_count}"),
-        ("tick", f"{ident.tick_hz} Hz, segments up to {ident.n_max} ticks, speeds in 1/{1 << ident.speed_shift} step/tick"),
+        (
+            "tick",
+            f"{ident.tick_hz} Hz, segments up to {ident.n_max} ticks, speeds in "
+            f"1/{1 << ident.speed_shift} step/tick",
+        ),
         ("queue", f"{status.queue_fill} of {ident.queue_capacity} slots in use"),
         ("capabilities", ", ".join(ident.capability_names) or "none"),
         ("state", status.state.name + (f" (alarm {status.alarm.name})" if status.alarm else "")),

@@ -10,7 +10,6 @@ from ..config import MachineConfig
 from ..link import DEFAULT_BAUD, PortError, auto_port
 from ..machine import Machine, Target, open_machine, state_path
 
-
 DEFAULT_CONFIG = Path("quadstep.toml")
 
 
@@ -21,15 +20,31 @@ class CliError(Exception):
 def add_connection_options(parser: argparse.ArgumentParser) -> None:
     """--port PORT | --emulator [--sim FILE.toml], and --baud, --free, --trace."""
     where = parser.add_mutually_exclusive_group(required=False)
-    where.add_argument("--port", metavar="PORT", help="serial port of the board (/dev/ttyUSB0, socket://host:port), "
-                       "or auto: the one Uno, Mega or clone on USB (the default without --emulator)")
-    where.add_argument("--emulator", action="store_true", help="start the loopback emulator and use it")
-    parser.add_argument("--sim", type=Path, metavar="FILE.toml",
-                        help="the emulator (implied) with this simulated machine around its motors: switches, "
-                             "probe, backlash (docs/SIMULATED_MACHINE.md)")
-    parser.add_argument("--baud", type=baud_rate, default=DEFAULT_BAUD, help=f"baud rate (default {DEFAULT_BAUD})")
-    parser.add_argument("--free", action="store_true", help="with --emulator: run ticks as fast as possible")
-    parser.add_argument("--trace", type=Path, metavar="CSV", help="with --emulator: write every step to CSV")
+    where.add_argument(
+        "--port",
+        metavar="PORT",
+        help="serial port of the board (/dev/ttyUSB0, socket://host:port), "
+        "or auto: the one Uno, Mega or clone on USB (the default without --emulator)",
+    )
+    where.add_argument(
+        "--emulator", action="store_true", help="start the loopback emulator and use it"
+    )
+    parser.add_argument(
+        "--sim",
+        type=Path,
+        metavar="FILE.toml",
+        help="the emulator (implied) with this simulated machine around its motors: switches, "
+        "probe, backlash (docs/SIMULATED_MACHINE.md)",
+    )
+    parser.add_argument(
+        "--baud", type=baud_rate, default=DEFAULT_BAUD, help=f"baud rate (default {DEFAULT_BAUD})"
+    )
+    parser.add_argument(
+        "--free", action="store_true", help="with --emulator: run ticks as fast as possible"
+    )
+    parser.add_argument(
+        "--trace", type=Path, metavar="CSV", help="with --emulator: write every step to CSV"
+    )
 
 
 def baud_rate(text: str) -> int:
@@ -56,10 +71,17 @@ def target(args: argparse.Namespace) -> Target:
         try:
             args.port = auto_port()
         except PortError as exc:
-            raise CliError(f"{exc}" if args.port == "auto" else
-                           f"{exc}; --emulator runs without a board") from None
-    if args.port is not None and args.port.startswith("socket://") and not args.port[9:].rpartition(":")[2].isdigit():
-        raise CliError(f"--port {args.port}: a TCP port is socket://HOST:PORT, with the port number")
+            raise CliError(
+                f"{exc}" if args.port == "auto" else f"{exc}; --emulator runs without a board"
+            ) from None
+    if (
+        args.port is not None
+        and args.port.startswith("socket://")
+        and not args.port[9:].rpartition(":")[2].isdigit()
+    ):
+        raise CliError(
+            f"--port {args.port}: a TCP port is socket://HOST:PORT, with the port number"
+        )
     if not emulator and (args.free or args.trace):
         raise CliError("--free and --trace apply only with --emulator")
     options: dict[str, object] = {"free": args.free, "trace": args.trace} if emulator else {}
@@ -77,16 +99,21 @@ def config_path(args: argparse.Namespace) -> Path | None:
     return DEFAULT_CONFIG if DEFAULT_CONFIG.exists() else None
 
 
-def connect(args: argparse.Namespace, config: MachineConfig | None = None, source: str = "",
-            state_file: Path | None = None) -> Machine:
+def connect(
+    args: argparse.Namespace,
+    config: MachineConfig | None = None,
+    source: str = "",
+    state_file: Path | None = None,
+) -> Machine:
     """The connected Machine the arguments ask for (a context manager); an emulator started for it
     ticks and has the axes that `config` says. With a configuration, the machine's state is kept in
     its state file (`state_file`, else the configuration's: machine/state.py), held by this process
     alone; what connecting found of it (a board reset since the last command) goes to stderr."""
     if config is not None and state_file is None:
         state_file = state_path(config_path(args))
-    machine = open_machine(target(args), config, source=source or "the configuration",
-                           state_file=state_file)
+    machine = open_machine(
+        target(args), config, source=source or "the configuration", state_file=state_file
+    )
     if machine.notice is not None:
         print(machine.notice, file=sys.stderr, flush=True)
     return machine

@@ -1,4 +1,5 @@
-"""`quadstep ports`: the serial ports whose USB identity is a board quadstep runs on (what --port auto picks from)."""
+"""`quadstep ports`: the serial ports whose USB identity is a board quadstep runs on (what --port
+auto picks from)."""
 
 from __future__ import annotations
 
@@ -10,7 +11,9 @@ from ..link import find_boards
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
-    parser = subparsers.add_parser("ports", help="list the boards on USB (Arduino Uno, Mega and their clones)")
+    parser = subparsers.add_parser(
+        "ports", help="list the boards on USB (Arduino Uno, Mega and their clones)"
+    )
     parser.set_defaults(handler=run)
 
 

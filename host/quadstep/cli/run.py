@@ -23,17 +23,24 @@ from rich.console import Console
 from rich.progress import BarColumn, Progress, TaskProgressColumn, TextColumn
 
 from ..config import MachineConfig
+from ..default_machine import DEFAULT_MACHINE_NAME
 from ..job import Job, read_program
-from ..machine import JobProgress, JobRun, Machine, MachineError, MotionEnd
+from ..machine import JobProgress, JobRun, Machine, MachineError, MotionEnd, state_path
+from ..machine.journal import Journal
+from ..machine.resume import job_journal, resume_job
 from ..planner.feed_override import MAX_PERCENT, MIN_PERCENT, check_percent
 from ..planner.program import JobError, Pause
 from ..protocol import State, StatusReport
-from ..default_machine import DEFAULT_MACHINE_NAME
-from ..machine import state_path
-from ..machine.journal import Journal
-from ..machine.resume import job_journal, resume_job
-from ._jobs import approach_text
-from ._jobs import add_job_options, config_path, format_duration, job_from_args, machine_config, skipped_text, work_text
+from ._jobs import (
+    add_job_options,
+    approach_text,
+    config_path,
+    format_duration,
+    job_from_args,
+    machine_config,
+    skipped_text,
+    work_text,
+)
 from .options import CliError, add_connection_options, add_json_option, connect
 
 PROGRESS_INTERVAL = 0.1  # s between progress updates
@@ -60,15 +67,25 @@ class RunResult(BaseModel):
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
-    parser = subparsers.add_parser("run", help="plan and check a whole job, then stream it to the machine")
+    parser = subparsers.add_parser(
+        "run", help="plan and check a whole job, then stream it to the machine"
+    )
     add_job_options(parser)
-    parser.add_argument("--feed-override", type=feed_percent, default=100, metavar="PERCENT",
-                        help="run every programmed feed (G1, G2, G3; not the rapids) at PERCENT %% of itself, "
-                             f"{MIN_PERCENT}–{MAX_PERCENT} (each axis still within its max_speed); default 100")
-    parser.add_argument("--resume", action="store_true",
-                        help="go on with JOB where it stopped before its end (a crash, a killed host, a dropped "
-                             "port, Ctrl-C, an alarm that kept the position): the move under way again from "
-                             "where the machine stands, then the rest")
+    parser.add_argument(
+        "--feed-override",
+        type=feed_percent,
+        default=100,
+        metavar="PERCENT",
+        help="run every programmed feed (G1, G2, G3; not the rapids) at PERCENT %% of itself, "
+        f"{MIN_PERCENT}–{MAX_PERCENT} (each axis still within its max_speed); default 100",
+    )
+    parser.add_argument(
+        "--resume",
+        action="store_true",
+        help="go on with JOB where it stopped before its end (a crash, a killed host, a dropped "
+        "port, Ctrl-C, an alarm that kept the position): the move under way again from "
+        "where the machine stands, then the rest",
+    )
     add_connection_options(parser)
     add_json_option(parser)
     parser.set_defaults(handler=run)
@@ -86,23 +103,39 @@ def feed_percent(text: str) -> int:
     try:
         return check_percent(int(text))
     except ValueError as exc:
-        message = str(exc) if "outside" in str(exc) else f"feed override {text!r} is not a whole number of percent"
+        message = (
+            str(exc)
+            if "outside" in str(exc)
+            else f"feed override {text!r} is not a whole number of percent"
+        )
         raise argparse.ArgumentTypeError(message) from None
 
 
 def ask_operator(label: str, line: int, pause: Pause | None) -> bool:
     """Wait for Enter on stdin; False when stdin is closed (nobody can answer)."""
     if pause is not None and pause.tool is not None:
-        print(f"tool change at line {line}: put in T{pause.tool} (spindle and coolant off), then press Enter to "
-              "continue, Ctrl-C to stop", file=sys.stderr, flush=True)
+        print(
+            f"tool change at line {line}: put in T{pause.tool} (spindle and coolant off), then "
+            "press Enter to continue, Ctrl-C to stop",
+            file=sys.stderr,
+            flush=True,
+        )
     else:
         where = f"line {line} (M0)" if label == "line" else f"{label} {line}"
-        print(f"paused at {where}: press Enter to continue, Ctrl-C to stop", file=sys.stderr, flush=True)
+        print(
+            f"paused at {where}: press Enter to continue, Ctrl-C to stop",
+            file=sys.stderr,
+            flush=True,
+        )
     if sys.stdin.readline() != "":
         return True
     what = pause.reason if pause is not None else "the pause"
-    print(f"stopped at {label} {line}: {what} waits for Enter, and stdin is closed (not a terminal); run the job "
-          "from a terminal, or give it what to answer on stdin", file=sys.stderr, flush=True)
+    print(
+        f"stopped at {label} {line}: {what} waits for Enter, and stdin is closed (not a terminal); "
+        "run the job from a terminal, or give it what to answer on stdin",
+        file=sys.stderr,
+        flush=True,
+    )
     return False
 
 
@@ -114,8 +147,10 @@ def positions_text(config: MachineConfig, steps: list[int]) -> str:
 
 def position_lines(machine: Machine) -> list[str]:
     """Where the machine stands: in work coordinates, then in machine coordinates and steps."""
-    return [work_text(machine.coordinates.name, machine.config.axis_names, machine.work_position),
-            f"machine: {positions_text(machine.config, list(machine.position))}"]
+    return [
+        work_text(machine.coordinates.name, machine.config.axis_names, machine.work_position),
+        f"machine: {positions_text(machine.config, list(machine.position))}",
+    ]
 
 
 def run(args: argparse.Namespace) -> int:
@@ -140,11 +175,13 @@ def run(args: argparse.Namespace) -> int:
             skipped = skipped_text(job)
             if skipped:
                 print(skipped)
+            override = (
+                f" at feed override {job.feed_override} %" if job.feed_override != 100 else ""
+            )
             print(
                 f"{job.path}: {job.source_size}, {job.plan.moves} moves, {len(job.plan)} segments, "
-                f"{format_duration(job.plan.duration_s)} planned"
-                f"{f' at feed override {job.feed_override} %' if job.feed_override != 100 else ''}; "
-                "every target inside the travel",
+                f"{format_duration(job.plan.duration_s)} planned{override}; every target inside "
+                "the travel",
                 flush=True,
             )
             if job.approach is not None:
@@ -152,13 +189,19 @@ def run(args: argparse.Namespace) -> int:
         return stream(args, machine, job, status, journal)
 
 
-def follow(run_: JobRun, job: Job, progress: Progress,
-           show: Callable[[JobProgress], None]) -> tuple[MotionEnd, bool]:
-    """Wait for the job in this (the main) thread, so that Ctrl-C lands here and nowhere in the link:
-    then HOLD. SIGUSR1 is a feed hold, SIGUSR2 resumes. Returns how the job ended and whether Ctrl-C ended it."""
+def follow(
+    run_: JobRun, job: Job, progress: Progress, show: Callable[[JobProgress], None]
+) -> tuple[MotionEnd, bool]:
+    """Wait for the job in this (the main) thread, so that Ctrl-C lands here and nowhere in the
+    link: then HOLD. SIGUSR1 is a feed hold, SIGUSR2 resumes. Returns how the job ended and whether
+    Ctrl-C ended it."""
     asked: list[str] = []
-    previous = {sig: signal.signal(sig, lambda number, _: asked.append("hold" if number == signal.SIGUSR1 else "go"))
-                for sig in (signal.SIGUSR1, signal.SIGUSR2)}
+    previous = {
+        sig: signal.signal(
+            sig, lambda number, _: asked.append("hold" if number == signal.SIGUSR1 else "go")
+        )
+        for sig in (signal.SIGUSR1, signal.SIGUSR2)
+    }
     try:
         return _follow(run_, job, progress, show, asked)
     finally:
@@ -166,8 +209,13 @@ def follow(run_: JobRun, job: Job, progress: Progress,
             signal.signal(sig, handler)
 
 
-def _follow(run_: JobRun, job: Job, progress: Progress, show: Callable[[JobProgress], None],
-            asked: list[str]) -> tuple[MotionEnd, bool]:
+def _follow(
+    run_: JobRun,
+    job: Job,
+    progress: Progress,
+    show: Callable[[JobProgress], None],
+    asked: list[str],
+) -> tuple[MotionEnd, bool]:
     prompted, starvations = False, 0
     try:
         while True:
@@ -176,8 +224,12 @@ def _follow(run_: JobRun, job: Job, progress: Progress, show: Callable[[JobProgr
             show(now)
             if now.starvations > starvations:
                 starvations = now.starvations
-                print(f"the board ran dry near {job.label} {now.line} (the computer fell behind): "
-                      "braked to rest, starved, going on", file=sys.stderr, flush=True)
+                print(
+                    f"the board ran dry near {job.label} {now.line} (the computer fell behind): "
+                    "braked to rest, starved, going on",
+                    file=sys.stderr,
+                    flush=True,
+                )
             if end is not None:
                 return end, False
             while asked:
@@ -189,9 +241,17 @@ def _follow(run_: JobRun, job: Job, progress: Progress, show: Callable[[JobProgr
             if line is not None and run_.held:
                 if not prompted:
                     prompted = True
-                    print(f"feed hold at {job.label} {line}: Enter, SIGUSR2 or cycle start resumes; Ctrl-C stops",
-                          file=sys.stderr, flush=True)
-                if sys.stdin.isatty() and select.select([sys.stdin], [], [], 0)[0] and sys.stdin.readline():
+                    print(
+                        f"feed hold at {job.label} {line}: Enter, SIGUSR2 or cycle start resumes; "
+                        "Ctrl-C stops",
+                        file=sys.stderr,
+                        flush=True,
+                    )
+                if (
+                    sys.stdin.isatty()
+                    and select.select([sys.stdin], [], [], 0)[0]
+                    and sys.stdin.readline()
+                ):
                     run_.resume()
                 continue
             prompted = False
@@ -207,10 +267,16 @@ def _follow(run_: JobRun, job: Job, progress: Progress, show: Callable[[JobProgr
         return run_.halt("interrupt"), True
 
 
-def stream(args: argparse.Namespace, machine: Machine, job: Job, start: StatusReport,
-           journal: Journal | None = None) -> int:
+def stream(
+    args: argparse.Namespace,
+    machine: Machine,
+    job: Job,
+    start: StatusReport,
+    journal: Journal | None = None,
+) -> int:
     config, plan = machine.config, job.plan
-    run_ = machine.run_job(plan, job.program, job.label, job.feed_override, journal)  # with its take-ups
+    # with its take-ups
+    run_ = machine.run_job(plan, job.program, job.label, job.feed_override, journal)
     console = Console(stderr=True)
     progress = Progress(
         TextColumn("{task.description}"),
@@ -221,18 +287,26 @@ def stream(args: argparse.Namespace, machine: Machine, job: Job, start: StatusRe
         disable=args.json or not console.is_terminal,
     )
     total = max(plan.duration_s, 1e-9)
-    task = progress.add_task(f"{job.label} 0/{job.program.lines}", total=total,
-                             left=format_duration(plan.duration_s))
+    task = progress.add_task(
+        f"{job.label} 0/{job.program.lines}", total=total, left=format_duration(plan.duration_s)
+    )
 
     def show(now: JobProgress) -> None:
-        """The job's own progress: the line it runs, the time its plan has left (planned again after a stop)."""
-        progress.update(task, completed=max(0.0, total - now.seconds_left), left=format_duration(now.seconds_left),
-                        description=f"{job.label} {now.line}/{job.program.lines}")
+        """The job's own progress: the line it runs, the time its plan has left (planned again after
+        a stop)."""
+        progress.update(
+            task,
+            completed=max(0.0, total - now.seconds_left),
+            left=format_duration(now.seconds_left),
+            description=f"{job.label} {now.line}/{job.program.lines}",
+        )
 
     with progress:
         end, interrupted = follow(run_, job, progress, show)
     if end.error:
-        resume = f"; once the board answers, quadstep run {args.job} --resume goes on" if journal else ""
+        resume = (
+            f"; once the board answers, quadstep run {args.job} --resume goes on" if journal else ""
+        )
         raise CliError(end.error + resume)
     final = machine.status()
     done = run_.progress.done
@@ -273,8 +347,11 @@ def stream(args: argparse.Namespace, machine: Machine, job: Job, start: StatusRe
         if not completed and journal is not None:
             print(f"quadstep run {args.job} --resume goes on from there")
         if completed:
-            print("every axis is exactly where the job put it" if exact else
-                  f"position differs from the plan: {positions_text(config, list(plan.end))}")
+            print(
+                "every axis is exactly where the job put it"
+                if exact
+                else f"position differs from the plan: {positions_text(config, list(plan.end))}"
+            )
     if interrupted:
         return 130
     return 0 if exact else 1

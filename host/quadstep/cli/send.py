@@ -6,17 +6,15 @@ import argparse
 import json
 import re
 from pathlib import Path
-
 from typing import Any
 
 from pydantic import BaseModel, ConfigDict, Field, model_validator
 
-from ..validation import validate
 from ..protocol import AXIS_NAMES, IdentifyReply, Segment
 from ..protocol.fields import I32
 from ..textfile import parse_nested, read_text, strict_json
+from ..validation import validate
 from .options import CliError, add_connection_options, add_json_option, connect
-
 
 GCODE_LINE = re.compile(r"^\s*(?:[Nn]\d+\s*)?[GgMm]\s*\d", re.MULTILINE)
 
@@ -32,7 +30,9 @@ class SegmentsFile(BaseModel):
     @model_validator(mode="before")
     @classmethod
     def _whole_numbers_only(cls, data: Any) -> Any:
-        """Every value of the file is a whole number: never a string, a boolean or a fraction taken for one."""
+        """Every value of the file is a whole number: never a string, a boolean or a fraction taken
+        for one."""
+
         def check(value: Any, where: str) -> None:
             if isinstance(value, dict):
                 for key, item in value.items():
@@ -42,6 +42,7 @@ class SegmentsFile(BaseModel):
                     check(item, f"{where}[{i}]")
             elif isinstance(value, bool) or not isinstance(value, int):
                 raise ValueError(f"{where} = {value!r}: must be a whole number")
+
         check(data, "")
         return data
 
@@ -61,16 +62,20 @@ def load(path: Path) -> SegmentsFile:
         data = parse_nested(strict_json, text, path, CliError)
     except json.JSONDecodeError as exc:
         if GCODE_LINE.search(text):
-            raise CliError(f"{path} is G-code: `quadstep run {path}` runs it (send streams a JSON file of raw "
-                           "segments, docs/HOST.md)") from None
+            raise CliError(
+                f"{path} is G-code: `quadstep run {path}` runs it (send streams a JSON file of raw "
+                "segments, docs/HOST.md)"
+            ) from None
         raise CliError(f"{path}: line {exc.lineno} column {exc.colno}: {exc.msg}") from None
-    job = validate(SegmentsFile, data, str(path), CliError, strict=False)  # whole numbers only: _whole_numbers_only
+    # whole numbers only: _whole_numbers_only
+    job = validate(SegmentsFile, data, str(path), CliError, strict=False)
     last = job.segments[-1]
     moving = [a.axis for a in last.axes if a.vn > 0]
     if moving:
         raise CliError(
-            f"{path}: segments[{len(job.segments) - 1}]: the last segment must end at rest, "
-            f"but axis {moving[0]} ends at vn > 0 (the firmware would brake to rest on its own: STARVED)"
+            f"{path}: segments[{len(job.segments) - 1}]: the last segment must end at rest, but "
+            f"axis {moving[0]} ends at vn > 0 (the firmware would brake to rest on its own: "
+            "STARVED)"
         )
     return job
 
@@ -78,14 +83,20 @@ def load(path: Path) -> SegmentsFile:
 def check_against(job: SegmentsFile, ident: IdentifyReply, path: Path) -> None:
     """Refuse, before anything is sent, what this firmware cannot run."""
     if job.positions is not None and len(job.positions) > ident.axis_count:
-        raise CliError(f"{path}: positions has {len(job.positions)} values, the firmware has {ident.axis_count} axes")
+        raise CliError(
+            f"{path}: positions has {len(job.positions)} values, the firmware has "
+            f"{ident.axis_count} axes"
+        )
     for i, seg in enumerate(job.segments):
         if seg.n > ident.n_max:
-            raise CliError(f"{path}: segments[{i}].n: {seg.n} exceeds the firmware's n_max {ident.n_max}")
+            raise CliError(
+                f"{path}: segments[{i}].n: {seg.n} exceeds the firmware's n_max {ident.n_max}"
+            )
         for j, move in enumerate(seg.axes):
             if move.axis >= ident.axis_count:
                 raise CliError(
-                    f"{path}: segments[{i}].axes[{j}].axis: {move.axis}, the firmware has axes 0..{ident.axis_count - 1}"
+                    f"{path}: segments[{i}].axes[{j}].axis: {move.axis}, the firmware has axes "
+                    f"0..{ident.axis_count - 1}"
                 )
 
 
@@ -113,12 +124,16 @@ def run(args: argparse.Namespace) -> int:
         final = machine.status()
     ticks = final.motion_ticks - start.motion_ticks
     if args.json:
-        print(json.dumps({
-            "positions": list(final.position),
-            "segments": len(job.segments),
-            "motion_ticks": ticks,
-            "link": machine.stats.as_dict(),
-        }))
+        print(
+            json.dumps(
+                {
+                    "positions": list(final.position),
+                    "segments": len(job.segments),
+                    "motion_ticks": ticks,
+                    "link": machine.stats.as_dict(),
+                }
+            )
+        )
     else:
         names = "  ".join(f"{AXIS_NAMES[i]} {p}" for i, p in enumerate(final.position))
         print(f"sent {len(job.segments)} segments, {ticks} ticks of motion")

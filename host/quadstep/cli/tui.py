@@ -1,4 +1,5 @@
-"""`quadstep tui (--port PORT | --emulator) [--config FILE]`: jog, zero and run jobs in the terminal."""
+"""`quadstep tui (--port PORT | --emulator) [--config FILE]`: jog, zero and run jobs in the
+terminal."""
 
 from __future__ import annotations
 
@@ -14,9 +15,9 @@ from typing import TYPE_CHECKING
 from pydantic import ValidationError
 
 from ..config import ConfigError, load_config
-from ..validation import describe_validation_error
 from ..jog import JogSettings
 from ..machine import Target, state_path
+from ..validation import describe_validation_error
 from ._jobs import DEFAULT_CONFIG
 from ._stops import STOP_SIGNALS
 from .options import CliError, add_connection_options, target
@@ -30,23 +31,41 @@ if TYPE_CHECKING:
 def register(subparsers: argparse._SubParsersAction) -> None:
     parser = subparsers.add_parser("tui", help="terminal user interface: positions, jogging, jobs")
     add_connection_options(parser)
-    parser.add_argument("--config", type=Path, metavar="FILE",
-                        help=f"machine configuration (TOML; default ./{DEFAULT_CONFIG} if present, else a "
-                             "generic one: 80 steps/mm, travel ±1000 mm)")
-    parser.add_argument("--job", metavar="FILE", default="", help="job file offered when o is pressed")
+    parser.add_argument(
+        "--config",
+        type=Path,
+        metavar="FILE",
+        help=f"machine configuration (TOML; default ./{DEFAULT_CONFIG} if present, else a "
+        "generic one: 80 steps/mm, travel ±1000 mm)",
+    )
+    parser.add_argument(
+        "--job", metavar="FILE", default="", help="job file offered when o is pressed"
+    )
     defaults = JogSettings()
-    parser.add_argument("--first-repeat-timeout", type=float, metavar="S", default=defaults.first_repeat_timeout,
-                        help="continuous jog: stop if the first key repeat does not come within S seconds "
-                             f"(covers the terminal's initial repeat delay; default {defaults.first_repeat_timeout:g})")
-    parser.add_argument("--repeat-timeout", type=float, metavar="S", default=defaults.repeat_timeout,
-                        help="continuous jog: stop if the next key repeat does not come within S seconds "
-                             f"(default {defaults.repeat_timeout:g})")
+    parser.add_argument(
+        "--first-repeat-timeout",
+        type=float,
+        metavar="S",
+        default=defaults.first_repeat_timeout,
+        help="continuous jog: stop if the first key repeat does not come within S seconds "
+        f"(covers the terminal's initial repeat delay; default {defaults.first_repeat_timeout:g})",
+    )
+    parser.add_argument(
+        "--repeat-timeout",
+        type=float,
+        metavar="S",
+        default=defaults.repeat_timeout,
+        help="continuous jog: stop if the next key repeat does not come within S seconds "
+        f"(default {defaults.repeat_timeout:g})",
+    )
     parser.set_defaults(handler=run)
 
 
 def settings_from(args: argparse.Namespace) -> JogSettings:
     try:
-        return JogSettings(first_repeat_timeout=args.first_repeat_timeout, repeat_timeout=args.repeat_timeout)
+        return JogSettings(
+            first_repeat_timeout=args.first_repeat_timeout, repeat_timeout=args.repeat_timeout
+        )
     except ValidationError as exc:
         raise CliError("; ".join(describe_validation_error(exc))) from None
 
@@ -58,19 +77,34 @@ def run(args: argparse.Namespace) -> int:
     where = None  # the port picker asks
     if args.port == "auto":
         args.port = None  # the one board, or the picker
-    if args.port is None and not args.emulator and args.sim is None and not (args.free or args.trace):
+    if (
+        args.port is None
+        and not args.emulator
+        and args.sim is None
+        and not (args.free or args.trace)
+    ):
         one = the_one_board(port_choices())
         if one is not None:
             args.port = one.device  # exactly one board plugged in: that one
     if args.port is not None or args.emulator or args.sim is not None or args.free or args.trace:
         where = target(args)
-    path = args.config if args.config is not None else (DEFAULT_CONFIG if DEFAULT_CONFIG.exists() else None)
+    path = (
+        args.config
+        if args.config is not None
+        else (DEFAULT_CONFIG if DEFAULT_CONFIG.exists() else None)
+    )
     try:
         config = load_config(path) if path is not None else None
     except ConfigError as exc:
         raise CliError(str(exc)) from None
-    session = Session(where, config, settings_from(args), config_source=str(path), state_file=state_path(path),
-                      config_path=path)
+    session = Session(
+        where,
+        config,
+        settings_from(args),
+        config_source=str(path),
+        state_file=state_path(path),
+        config_path=path,
+    )
     app = QuadstepApp(session, job_path=args.job, choose=lambda device: _target(device, args.baud))
     with stops_as_ctrl_c(app):
         app.run()
@@ -80,10 +114,14 @@ def run(args: argparse.Namespace) -> int:
 
 @contextmanager
 def stops_as_ctrl_c(app: QuadstepApp) -> Iterator[None]:
-    """SIGTERM and SIGHUP quit the TUI as Ctrl-C does (motion brought to rest first, exit 130). The handler runs
-    in the main thread, inside the app's event loop: a thread of its own hands the request to the app."""
+    """SIGTERM and SIGHUP quit the TUI as Ctrl-C does (motion brought to rest first, exit 130). The
+    handler runs in the main thread, inside the app's event loop: a thread of its own hands the
+    request to the app."""
+
     def handler(number: int, frame: FrameType | None) -> None:
-        threading.Thread(target=lambda: app.call_from_thread(app.action_interrupt), daemon=True).start()
+        threading.Thread(
+            target=lambda: app.call_from_thread(app.action_interrupt), daemon=True
+        ).start()
 
     previous = {sig: signal.getsignal(sig) for sig in STOP_SIGNALS}
     for sig, old in previous.items():
@@ -97,14 +135,16 @@ def stops_as_ctrl_c(app: QuadstepApp) -> Iterator[None]:
 
 
 def _target(device: str, baud: int) -> Target:
-    """What the port picker's choice means: a serial port at the given baud rate, or the emulator."""
+    """What the port picker's choice means: a serial port at the given baud rate, or the
+    emulator."""
     from ..tui.port_picker import EMULATOR
 
     return Target(emulator=True) if device == EMULATOR else Target(port=device, baud=baud)
 
 
 def parting_lines(parting: Parting | None) -> list[str]:
-    """After the TUI: the line a job was stopped at (HOLD) and where the machine rests, as `quadstep run` says."""
+    """After the TUI: the line a job was stopped at (HOLD) and where the machine rests, as `quadstep
+    run` says."""
     if parting is None:
         return []
     end = parting.end

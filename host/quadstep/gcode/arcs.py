@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import math
 
-
 # A full circle of 100 m radius needs 15 708 chords at 0.002 mm; an arc needing more than this is
 # refused (a radius of thousands of kilometres, which would be written out as millions of moves).
 MAX_ARC_CHORDS = 100_000
@@ -23,7 +22,10 @@ def chord_count(radius: float, sweep: float, tolerance: float) -> int:
 
 
 def sweep_angle(
-    start: tuple[float, float], end: tuple[float, float], center: tuple[float, float], clockwise: bool
+    start: tuple[float, float],
+    end: tuple[float, float],
+    center: tuple[float, float],
+    clockwise: bool,
 ) -> float:
     """Signed angle from start to end around center; a full turn when they coincide."""
     r0 = (start[0] - center[0], start[1] - center[1])

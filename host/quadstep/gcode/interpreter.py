@@ -25,8 +25,15 @@ from collections.abc import Sequence
 from dataclasses import replace
 
 from ..coordinates import WorkCoordinates
-from ..planner.program import (MAX_DWELL_S, Dwell, LinearMove, OutputState, Pause, Program,
-                               SetOutputs)
+from ..planner.program import (
+    MAX_DWELL_S,
+    Dwell,
+    LinearMove,
+    OutputState,
+    Pause,
+    Program,
+    SetOutputs,
+)
 from . import offsets
 from .arcs import MAX_ARC_CHORDS, chord_count, radius_center, sweep_angle
 from .lines import PROBING, Line, code, sort_words, whole
@@ -64,7 +71,9 @@ class GcodeInterpreter:
     ) -> None:
         self.axis_names = tuple(axis_names)
         self.position = [float(x) for x in start]  # machine mm
-        self.coords = coordinates.model_copy(deep=True) if coordinates is not None else WorkCoordinates()
+        self.coords = (
+            coordinates.model_copy(deep=True) if coordinates is not None else WorkCoordinates()
+        )
         self.arc_tolerance = arc_tolerance
         self.skip_unsupported = skip_unsupported
         self.units = 1.0  # mm per program unit
@@ -72,7 +81,8 @@ class GcodeInterpreter:
         self.plane = 17
         self.motion: int | None = None
         self.feed: float | None = None  # mm/s
-        self.deviation: float | None = None  # G64 P (mm), 0 after G61, None: the configuration's cornering
+        # G64 P (mm), 0 after G61, None: the configuration's cornering
+        self.deviation: float | None = None
         self.outputs = OutputState()
         self.tool: int | None = None  # the tool T selected
         self.program = Program(coordinates=self.coords)
@@ -90,11 +100,15 @@ class GcodeInterpreter:
             words = words[1:]
         if not words:
             return True
-        parsed = sort_words(words, line, self.axis_names, self.program.skipped if self.skip_unsupported else None)
+        parsed = sort_words(
+            words, line, self.axis_names, self.program.skipped if self.skip_unsupported else None
+        )
         self._execute(parsed, line)
         if parsed.stop is not None:
             if whole(parsed.stop) == 0:
-                self.program.items.append(Pause(line, coordinates=self.coords.model_copy(deep=True)))
+                self.program.items.append(
+                    Pause(line, coordinates=self.coords.model_copy(deep=True))
+                )
             else:
                 self._set_outputs(OutputState(speed=self.outputs.speed), line)
                 self.coords.program_end()
@@ -105,13 +119,28 @@ class GcodeInterpreter:
     # -- executing -----------------------------------------------------------
 
     def _execute(self, p: Line, line: int) -> None:
+        self._set_modes(p, line)
+        path = p.g.get("path mode")
+        g = p.g.get("non-modal")
+        key = code(g) if g is not None else None
+        self._check_users(p.values, key, code(path) if path is not None else None, line)
+        axes = dict(p.axes)
+        if g is not None:
+            axes = self._non_modal(g, key, axes, p.values, line)
+        self._motion(p.g.get("motion"), axes, p.values, line, machine=g if key == "53" else None)
+
+    def _set_modes(self, p: Line, line: int) -> None:
+        """The line's modal words, in the order they take effect: units, feed, spindle and coolant,
+        plane, coordinate system, path mode, distance."""
         units = p.g.get("units")
         if units is not None:
             self.units = MM_PER_INCH if code(units) == "20" else 1.0
         feed = p.values.get("F")
         if feed is not None:
             if feed.value <= 0:
-                raise GcodeError(line, feed.column, f"'{feed.text}': the feed rate must be greater than 0")
+                raise GcodeError(
+                    line, feed.column, f"'{feed.text}': the feed rate must be greater than 0"
+                )
             self.feed = feed.value * self.units / 60.0
         self._spindle_words(p, line)
         plane = p.g.get("plane")
@@ -126,30 +155,43 @@ class GcodeInterpreter:
         distance = p.g.get("distance")
         if distance is not None:
             self.absolute = code(distance) == "90"
-        axes = dict(p.axes)
-        g = p.g.get("non-modal")
-        key = code(g) if g is not None else None
-        path_key = code(path) if path is not None else None
+
+    def _check_users(
+        self, values: dict[str, Word], key: str | None, path_key: str | None, line: int
+    ) -> None:
+        """A value word (P, L, …) only with a G code that reads it."""
         for letter, users in _USERS.items():
-            word = p.values.get(letter)
+            word = values.get(letter)
             if word is not None and key not in users and path_key not in users:
                 names = ["G" + u for u in users]
                 listed = names[0] if len(names) == 1 else f"{', '.join(names[:-1])} and {names[-1]}"
                 raise GcodeError(line, word.column, f"'{word.text}' is only used with {listed}")
-        if g is not None and key == "4":
-            self._dwell(g, p.values.get("P"), axes, line)
-        elif g is not None and key == "10":
-            offsets.g10(self.coords, g, axes, p.values, line, self.position, self.axis_names, self.units)
+
+    def _non_modal(
+        self,
+        g: Word,
+        key: str | None,
+        axes: dict[str, Word],
+        values: dict[str, Word],
+        line: int,
+    ) -> dict[str, Word]:
+        """G4, G10, G28/G30, G28.1/G30.1, G92…: the axis words left for a motion."""
+        if key == "4":
+            self._dwell(g, values.get("P"), axes, line)
+        elif key == "10":
+            offsets.g10(
+                self.coords, g, axes, values, line, self.position, self.axis_names, self.units
+            )
             axes = {}
-        elif g is not None and key in ("28", "30"):
+        elif key in ("28", "30"):
             self._return(g, int(g.value), axes, line)
             axes = {}
-        elif g is not None and key in ("28.1", "30.1"):
+        elif key in ("28.1", "30.1"):
             offsets.store(self.coords, key, axes, line, self.position, self.axis_names)
-        elif g is not None and key is not None and key.startswith("92"):
+        elif key is not None and key.startswith("92"):
             offsets.g92(self.coords, g, key, axes, line, self.position, self.axis_names, self.units)
             axes = {}
-        self._motion(p.g.get("motion"), axes, p.values, line, machine=g if key == "53" else None)
+        return axes
 
     def _spindle_words(self, p: Line, line: int) -> None:
         """S, T, M6, M3/M4/M5, M7/M8/M9, in that order."""
@@ -157,11 +199,17 @@ class GcodeInterpreter:
         speed = self.outputs.speed
         if speed_word is not None:
             if speed_word.value < 0:
-                raise GcodeError(line, speed_word.column, f"'{speed_word.text}': the spindle speed must be at least 0")
+                raise GcodeError(
+                    line,
+                    speed_word.column,
+                    f"'{speed_word.text}': the spindle speed must be at least 0",
+                )
             speed = speed_word.value
         if tool_word is not None:
             if tool_word.value != int(tool_word.value) or tool_word.value < 0:
-                raise GcodeError(line, tool_word.column, f"'{tool_word.text}': a tool is a whole number")
+                raise GcodeError(
+                    line, tool_word.column, f"'{tool_word.text}': a tool is a whole number"
+                )
             self.tool = int(tool_word.value)
         if "tool change" in p.m:
             self._tool_change(line)
@@ -171,7 +219,9 @@ class GcodeInterpreter:
             state = replace(state, spindle=int(spindle.value))
         if "coolant off" in p.m:
             state = replace(state, mist=False, flood=False)
-        state = replace(state, mist=state.mist or mist is not None, flood=state.flood or flood is not None)
+        state = replace(
+            state, mist=state.mist or mist is not None, flood=state.flood or flood is not None
+        )
         self._set_outputs(state, line)
 
     def _tool_change(self, line: int) -> None:
@@ -180,7 +230,9 @@ class GcodeInterpreter:
             raise GcodeError(line, 1, "M6 needs a tool: no T on this line or before")
         running = self.outputs
         self._set_outputs(OutputState(speed=running.speed), line)
-        self.program.items.append(Pause(line, tool=self.tool, coordinates=self.coords.model_copy(deep=True)))
+        self.program.items.append(
+            Pause(line, tool=self.tool, coordinates=self.coords.model_copy(deep=True))
+        )
         self._set_outputs(running, line)
 
     def _set_outputs(self, state: OutputState, line: int) -> None:
@@ -189,14 +241,18 @@ class GcodeInterpreter:
             self.program.items.append(SetOutputs(line, state))
 
     def _path_mode(self, path: Word, tolerance: Word | None, line: int) -> None:
-        """G61 and G61.1: stop at every corner; G64: corners within P mm of the path (or the configuration's)."""
+        """G61 and G61.1: stop at every corner; G64: corners within P mm of the path (or the
+        configuration's)."""
         if code(path) != "64":
             self.deviation = 0.0
         elif tolerance is None:
             self.deviation = None
         elif not 0 < tolerance.value * self.units <= 10:
-            raise GcodeError(line, tolerance.column, f"'{tolerance.text}': the path tolerance must be greater "
-                                                     "than 0 and at most 10 mm")
+            raise GcodeError(
+                line,
+                tolerance.column,
+                f"'{tolerance.text}': the path tolerance must be greater than 0 and at most 10 mm",
+            )
         else:
             self.deviation = tolerance.value * self.units
 
@@ -207,24 +263,38 @@ class GcodeInterpreter:
             first = _first(axes)
             raise GcodeError(line, first.column, f"'{first.text}': G4 takes no axis words")
         if pause.value < 0:
-            raise GcodeError(line, pause.column, f"'{pause.text}': the dwell must be at least 0 seconds")
+            raise GcodeError(
+                line, pause.column, f"'{pause.text}': the dwell must be at least 0 seconds"
+            )
         if pause.value > MAX_DWELL_S:
-            raise GcodeError(line, pause.column, f"'{pause.text}': a dwell may last at most "
-                             f"{MAX_DWELL_S:g} s (an hour; M0 waits for the operator as long as "
-                             "it takes)")
+            raise GcodeError(
+                line,
+                pause.column,
+                f"'{pause.text}': a dwell may last at most "
+                f"{MAX_DWELL_S:g} s (an hour; M0 waits for the operator as long as "
+                "it takes)",
+            )
         self.program.items.append(Dwell(line, pause.value))
 
     def _return(self, g: Word, which: int, axes: dict[str, Word], line: int) -> None:
-        """G28/G30: rapid through the point the axis words give (if any), then to the stored position, of the
-        axes named (all of them when none is)."""
+        """G28/G30: rapid through the point the axis words give (if any), then to the stored
+        position, of the axes named (all of them when none is)."""
         if axes:
             self._move(self._target(axes), None, line)
-        names = [letter for letter in self.axis_names if letter in axes] if axes else list(self.axis_names)
-        target = [self.coords.stored(which, a) if a in names else x for a, x in zip(self.axis_names, self.position)]
+        names = (
+            [letter for letter in self.axis_names if letter in axes]
+            if axes
+            else list(self.axis_names)
+        )
+        target = [
+            self.coords.stored(which, a) if a in names else x
+            for a, x in zip(self.axis_names, self.position)
+        ]
         self._move(target, None, line, machine=True)
 
     def _target(self, axes: dict[str, Word], machine: bool = False) -> list[float]:
-        """Machine mm of the axis words: work coordinates (or machine ones, for G53), absolute or relative."""
+        """Machine mm of the axis words: work coordinates (or machine ones, for G53), absolute or
+        relative."""
         target = list(self.position)
         for letter, w in axes.items():
             i = self.axis_names.index(letter)
@@ -242,15 +312,27 @@ class GcodeInterpreter:
             return (0.0,) * len(self.axis_names), "G53"
         return tuple(self.coords.offset(a) for a in self.axis_names), self.coords.name
 
-    def _move(self, target: list[float], feed: float | None, line: int, machine: bool = False) -> None:
+    def _move(
+        self, target: list[float], feed: float | None, line: int, machine: bool = False
+    ) -> None:
         offset, system = self._offsets(machine)
-        self.program.items.append(LinearMove(line, tuple(target), feed, offset=offset, system=system,
-                                             deviation=self.deviation))
+        self.program.items.append(
+            LinearMove(
+                line, tuple(target), feed, offset=offset, system=system, deviation=self.deviation
+            )
+        )
         self.position = target
 
-    def _motion(self, motion: Word | None, axes: dict[str, Word], values: dict[str, Word], line: int,
-                machine: Word | None = None) -> None:
-        if motion is not None and code(motion) in PROBING:  # a probe: the motion mode stays as it was
+    def _motion(
+        self,
+        motion: Word | None,
+        axes: dict[str, Word],
+        values: dict[str, Word],
+        line: int,
+        machine: Word | None = None,
+    ) -> None:
+        # a probe: the motion mode stays as it was
+        if motion is not None and code(motion) in PROBING:
             if machine is not None:
                 raise GcodeError(line, machine.column, "G53 does not apply to probing")
             probe_move(self, motion, axes, line, NO_FEED)
@@ -267,12 +349,22 @@ class GcodeInterpreter:
             return
         where = motion if motion is not None else _first(axes)
         if mode is None or mode == 80:
-            raise GcodeError(line, where.column, f"'{where.text}': axis words without a motion mode (G0, G1, G2 or G3)")
+            raise GcodeError(
+                line,
+                where.column,
+                f"'{where.text}': axis words without a motion mode (G0, G1, G2 or G3)",
+            )
         if machine is not None and (is_arc or not self.absolute):
             why = "G0 or G1" if is_arc else "absolute distance (G90)"
-            raise GcodeError(line, machine.column, f"G53 moves in machine coordinates only with {why}")
+            raise GcodeError(
+                line, machine.column, f"G53 moves in machine coordinates only with {why}"
+            )
         if mode != 0 and self.feed is None:
-            raise GcodeError(line, where.column, f"G{mode} needs a feed rate: no F on this line or before ({NO_FEED})")
+            raise GcodeError(
+                line,
+                where.column,
+                f"G{mode} needs a feed rate: no F on this line or before ({NO_FEED})",
+            )
         target = self._target(axes, machine=machine is not None)
         feed = None if mode == 0 else self.feed
         if is_arc:
@@ -281,17 +373,25 @@ class GcodeInterpreter:
         else:
             self._move(target, feed, line, machine=machine is not None)
 
-    def _arc(self, clockwise: bool, target: list[float], words: dict[str, Word], where: Word, line: int) -> None:
+    def _arc(
+        self, clockwise: bool, target: list[float], words: dict[str, Word], where: Word, line: int
+    ) -> None:
         name = f"G{2 if clockwise else 3}"
         first, second, normal = _PLANES[self.plane]
         if first not in self.axis_names or second not in self.axis_names:
-            raise GcodeError(line, where.column, f"G{self.plane} arcs need axes {first} and {second} on this machine")
+            raise GcodeError(
+                line,
+                where.column,
+                f"G{self.plane} arcs need axes {first} and {second} on this machine",
+            )
         offset_letters = _PLANE_OFFSETS[self.plane]
         for w in words.values():
             if w.letter in "IJK" and w.letter not in offset_letters:
                 raise GcodeError(
-                    line, w.column,
-                    f"'{w.text}' is not an offset in the G{self.plane} plane ({', '.join(offset_letters)})",
+                    line,
+                    w.column,
+                    f"'{w.text}' is not an offset in the G{self.plane} plane "
+                    f"({', '.join(offset_letters)})",
                 )
         i1, i2 = self.axis_names.index(first), self.axis_names.index(second)
         start = (self.position[i1], self.position[i2])
@@ -299,20 +399,27 @@ class GcodeInterpreter:
         radius_word = words.get("R")
         offsets = [words.get(k) for k in offset_letters]
         if radius_word is not None and any(offsets):
-            raise GcodeError(line, radius_word.column, f"{name} takes either R or {'/'.join(offset_letters)}, not both")
+            raise GcodeError(
+                line,
+                radius_word.column,
+                f"{name} takes either R or {'/'.join(offset_letters)}, not both",
+            )
         if radius_word is not None:
             center = self._radius_form(radius_word, start, end, clockwise, line)
             radius = abs(radius_word.value) * self.units
         else:
             if not any(offsets):
-                raise GcodeError(line, where.column, f"{name} needs {'/'.join(offset_letters)} offsets or R")
+                raise GcodeError(
+                    line, where.column, f"{name} needs {'/'.join(offset_letters)} offsets or R"
+                )
             di, dj = (w.value * self.units if w is not None else 0.0 for w in offsets)
             center = (start[0] + di, start[1] + dj)
             radius = math.dist(start, center)
             end_radius = math.dist(end, center)
             if abs(radius - end_radius) > 0.005 and abs(radius - end_radius) > 0.001 * radius:
                 raise GcodeError(
-                    line, where.column,
+                    line,
+                    where.column,
                     f"{name} end point is not on the arc: radius {radius:.3f} mm at the start, "
                     f"{end_radius:.3f} mm at the end",
                 )
@@ -321,9 +428,13 @@ class GcodeInterpreter:
         sweep = sweep_angle(start, end, center, clockwise)
         chords = chord_count(radius, sweep, self.arc_tolerance)
         if chords > MAX_ARC_CHORDS:
-            raise GcodeError(line, where.column, f"{name} of radius {radius:.6g} mm would be more "
-                             f"than {MAX_ARC_CHORDS} chords at arc_tolerance "
-                             f"{self.arc_tolerance:g} mm")
+            raise GcodeError(
+                line,
+                where.column,
+                f"{name} of radius {radius:.6g} mm would be more "
+                f"than {MAX_ARC_CHORDS} chords at arc_tolerance "
+                f"{self.arc_tolerance:g} mm",
+            )
         angle0 = math.atan2(start[1] - center[1], start[0] - center[0])
         begin = list(self.position)
         offset, system = self._offsets(False)
@@ -335,21 +446,39 @@ class GcodeInterpreter:
                 point[i2] = center[1] + radius * math.sin(angle0 + sweep * f)
             else:
                 point = list(target)
-            self.program.items.append(LinearMove(line, tuple(point), self.feed, offset=offset, system=system,
-                                                 deviation=self.deviation))
+            self.program.items.append(
+                LinearMove(
+                    line,
+                    tuple(point),
+                    self.feed,
+                    offset=offset,
+                    system=system,
+                    deviation=self.deviation,
+                )
+            )
 
     def _radius_form(
-        self, radius_word: Word, start: tuple[float, float], end: tuple[float, float], clockwise: bool, line: int
+        self,
+        radius_word: Word,
+        start: tuple[float, float],
+        end: tuple[float, float],
+        clockwise: bool,
+        line: int,
     ) -> tuple[float, float]:
         if math.dist(start, end) < 1e-9:
-            raise GcodeError(line, radius_word.column, "an R-form arc needs an end point different from its start")
+            raise GcodeError(
+                line,
+                radius_word.column,
+                "an R-form arc needs an end point different from its start",
+            )
         radius = radius_word.value * self.units
         center = radius_center(start, end, radius, clockwise)
         if center is None:
             raise GcodeError(
-                line, radius_word.column,
-                f"'{radius_word.text}': radius {abs(radius):.3f} mm is less than half the distance to the end point "
-                f"({math.dist(start, end) / 2:.3f} mm)",
+                line,
+                radius_word.column,
+                f"'{radius_word.text}': radius {abs(radius):.3f} mm is less than half the distance "
+                f"to the end point ({math.dist(start, end) / 2:.3f} mm)",
             )
         return center
 
@@ -363,8 +492,9 @@ def parse_gcode(
     coordinates: WorkCoordinates | None = None,
 ) -> Program:
     """Parse a whole G-code text; raises GcodeError at the first problem."""
-    interpreter = GcodeInterpreter(axis_names, start or [0.0] * len(axis_names), arc_tolerance, skip_unsupported,
-                                   coordinates)
+    interpreter = GcodeInterpreter(
+        axis_names, start or [0.0] * len(axis_names), arc_tolerance, skip_unsupported, coordinates
+    )
     # Lines end at a newline only, as an editor counts them (not at \x1c-\x1e, \x85 or \u2028).
     interpreter.source = [line.removesuffix("\r") for line in text.split("\n")]
     for number, line in enumerate(interpreter.source, start=1):

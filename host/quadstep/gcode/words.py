@@ -57,21 +57,31 @@ def split_words(text: str, line: int) -> list[Word]:
                 raise GcodeError(line, i + 1, "comment '(' is not closed on this line")
             i = close + 1
         elif c in "oO" and all(w.letter == "N" for w in words) and _NUMBER.match(text, i + 1):
-            raise GcodeError(line, i + 1, f"'{text[i:].split()[0][:20]}': O-word flow control (subroutines, "
-                                          "loops, conditions) is not supported")
+            raise GcodeError(
+                line,
+                i + 1,
+                f"'{text[i:].split()[0][:20]}': O-word flow control (subroutines, "
+                "loops, conditions) is not supported",
+            )
         elif c == "#":
             raise GcodeError(line, i + 1, "'#': parameters (variables) are not supported")
         elif c.isascii() and c.isalpha():
             match = _NUMBER.match(text, i + 1)
             if c in "eE" and match is not None:
-                raise GcodeError(line, i + 1, f"'{c}{match.group(1)}' drives an extruder: this is {PRINTER_FILE}")
+                raise GcodeError(
+                    line, i + 1, f"'{c}{match.group(1)}' drives an extruder: this is {PRINTER_FILE}"
+                )
             if match is None:
                 raise GcodeError(line, i + 1, f"'{c}' has no number after it")
             number = match.group(1)
             value = float(number)
             if not math.isfinite(value):  # hundreds of digits
-                raise GcodeError(line, i + 1, f"'{c}{number[:12]}…': a number of {len(number)} "
-                                              "digits is too large to be represented")
+                raise GcodeError(
+                    line,
+                    i + 1,
+                    f"'{c}{number[:12]}…': a number of {len(number)} "
+                    "digits is too large to be represented",
+                )
             words.append(Word(c.upper(), number, value, i + 1))
             i = match.end()
         else:

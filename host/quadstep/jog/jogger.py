@@ -31,7 +31,8 @@ from .release import ReleaseDetector
 from .settings import JogSettings
 from .step_queue import QueuedStep, StepQueue, step_seconds
 
-WATCH_INTERVAL = 0.05  # s: how often a continuous jog's watcher looks at the motion besides its deadline
+# s: how often a continuous jog's watcher looks at the motion besides its deadline
+WATCH_INTERVAL = 0.05
 
 
 @dataclass(frozen=True)
@@ -58,7 +59,9 @@ class JogResult:
 class _Continuous:
     """A running continuous jog: its motion and the watcher that ends it on release."""
 
-    def __init__(self, jogger: Jogger, axis: int, direction: int, motion: Motion, result: JogResult) -> None:
+    def __init__(
+        self, jogger: Jogger, axis: int, direction: int, motion: Motion, result: JogResult
+    ) -> None:
         self.jogger = jogger
         self.axis = axis
         self.direction = direction
@@ -103,7 +106,9 @@ class Jogger(JogPresets):
         self._continuous: _Continuous | None = None
         self._idle = threading.Event()
         self._idle.set()
-        self._commanded_mm: list[float] = [axis.to_mm(p) for axis, p in zip(self.config.axes, machine.position)]
+        self._commanded_mm: list[float] = [
+            axis.to_mm(p) for axis, p in zip(self.config.axes, machine.position)
+        ]
 
     @property
     def position(self) -> tuple[int, ...]:
@@ -119,7 +124,8 @@ class Jogger(JogPresets):
         return self._idle.wait(timeout)
 
     def anchor(self) -> None:
-        """Re-anchor on where the machine layer says the machine stands (a job stopped at its pause)."""
+        """Re-anchor on where the machine layer says the machine stands (a job stopped at its
+        pause)."""
         self._anchor(self.machine.position)
 
     def sync(self) -> None:
@@ -129,25 +135,29 @@ class Jogger(JogPresets):
     # --- jogging ---------------------------------------------------------------------------
 
     def jog(self, axis: int, direction: int) -> JogResult | None:
-        """A jog key: one step in incremental mode (blocks until at rest), a press in continuous mode."""
+        """A jog key: one step in incremental mode (blocks until at rest), a press in continuous
+        mode."""
         if self.mode == JogMode.INCREMENTAL:
             return self.step(axis, direction)
         self.press(axis, direction)
         return None
 
     def step(self, axis: int, direction: int, distance: float | None = None) -> JogResult:
-        """Move `axis` by `distance` mm (default: its selected preset) toward `direction`; blocks until at rest."""
+        """Move `axis` by `distance` mm (default: its selected preset) toward `direction`; blocks
+        until at rest."""
         self._check_axis(axis, direction)
         with self._run_lock:
             self._idle.clear()
             try:
-                return self._step(axis, direction, self.distance_for(axis) if distance is None else distance)
+                return self._step(
+                    axis, direction, self.distance_for(axis) if distance is None else distance
+                )
             finally:
                 self._idle.set()
 
     def queue_step(self, axis: int, direction: int) -> QueuedStep | None:
-        """An incremental jog key: the step to run_queued() (in order, from a worker), or None when dropped
-        because enough jog motion waits already (a held key's repeats)."""
+        """An incremental jog key: the step to run_queued() (in order, from a worker), or None when
+        dropped because enough jog motion waits already (a held key's repeats)."""
         self._check_axis(axis, direction)
         distance = self.distance_for(axis)
         seconds = step_seconds(distance, self.speed(axis), self.config.axes[axis].max_accel)
@@ -187,8 +197,8 @@ class Jogger(JogPresets):
             self._run_lock.release()
 
     def release(self, axis: int, direction: int) -> bool:
-        """The key of a continuous jog let go (a terminal that reports releases): HOLD now. False when no
-        continuous jog of that key runs."""
+        """The key of a continuous jog let go (a terminal that reports releases): HOLD now. False
+        when no continuous jog of that key runs."""
         with self._lock:
             current = self._continuous
         if current is None or (current.axis, current.direction) != (axis, direction):
@@ -229,8 +239,11 @@ class Jogger(JogPresets):
         if (limited - start[axis]) * step_direction(cfg, direction) <= 0:
             if limited == target_steps:
                 with self._lock:
-                    self._commanded_mm[axis] = wanted_mm  # less than a step: remember it for the next
-            return self._report(JogResult(JogMode.INCREMENTAL, axis, direction, start, start, None, message))
+                    # less than a step: remember it for the next
+                    self._commanded_mm[axis] = wanted_mm
+            return self._report(
+                JogResult(JogMode.INCREMENTAL, axis, direction, start, start, None, message)
+            )
         plan = self._plan(start, target, self.speed(axis))
         motion = self.machine.move(plan.segments)
         with self._lock:
@@ -243,8 +256,17 @@ class Jogger(JogPresets):
         if end.ended_by == "done" and end.position == target:
             with self._lock:
                 self._commanded_mm[axis] = wanted_mm
-        return self._report(JogResult(JogMode.INCREMENTAL, axis, direction, start, target, end,
-                                      message or _end_message(end)))
+        return self._report(
+            JogResult(
+                JogMode.INCREMENTAL,
+                axis,
+                direction,
+                start,
+                target,
+                end,
+                message or _end_message(end),
+            )
+        )
 
     def _start_continuous(self, axis: int, direction: int) -> bool:
         cfg = self.config.axes[axis]
@@ -252,8 +274,17 @@ class Jogger(JogPresets):
         low, high = step_limits(cfg)
         limit = high if step_direction(cfg, direction) > 0 else low
         if (limit - start[axis]) * step_direction(cfg, direction) <= 0:
-            self._report(JogResult(JogMode.CONTINUOUS, axis, direction, start, start, None,
-                                   self._limit_message(axis, direction)))
+            self._report(
+                JogResult(
+                    JogMode.CONTINUOUS,
+                    axis,
+                    direction,
+                    start,
+                    start,
+                    None,
+                    self._limit_message(axis, direction),
+                )
+            )
             return False
         target = _replace(start, axis, limit)
         plan = self._plan(start, target, self.speed(axis))
@@ -291,7 +322,8 @@ class Jogger(JogPresets):
                 pass  # the link is gone; the next connection re-reads the position
 
     def _anchor(self, position: tuple[int, ...]) -> None:
-        """Re-anchor on the machine's rest position: commanded coordinates follow wherever they disagree."""
+        """Re-anchor on the machine's rest position: commanded coordinates follow wherever they
+        disagree."""
         with self._lock:
             old = self._commanded_mm
             self._commanded_mm = [
@@ -307,7 +339,9 @@ class Jogger(JogPresets):
 
     def _limit_message(self, axis: int, direction: int, reached: bool = False) -> str:
         cfg = self.config.axes[axis]
-        name, mm = (("travel_max", cfg.travel_max) if direction > 0 else ("travel_min", cfg.travel_min))
+        name, mm = (
+            ("travel_max", cfg.travel_max) if direction > 0 else ("travel_min", cfg.travel_min)
+        )
         sign = "+" if direction > 0 else "-"
         verb = "reached" if reached else "stops at"
         return f"{cfg.name}{sign}: {verb} the soft limit {name} = {mm:.3f} mm"
@@ -328,7 +362,7 @@ class Jogger(JogPresets):
 
 
 def _replace(values: tuple[int, ...], index: int, value: int) -> tuple[int, ...]:
-    return values[:index] + (value,) + values[index + 1:]
+    return values[:index] + (value,) + values[index + 1 :]
 
 
 def _travel_including(config: MachineConfig, position: tuple[int, ...]) -> MachineConfig:
@@ -341,9 +375,14 @@ def _travel_including(config: MachineConfig, position: tuple[int, ...]) -> Machi
     axes = []
     for axis, steps in zip(config.axes, position):
         mm = axis.to_mm(steps)
-        axes.append(axis.model_copy(update={
-            "travel_min": min(axis.travel_min, mm), "travel_max": max(axis.travel_max, mm),
-        }))
+        axes.append(
+            axis.model_copy(
+                update={
+                    "travel_min": min(axis.travel_min, mm),
+                    "travel_max": max(axis.travel_max, mm),
+                }
+            )
+        )
     return config.model_copy(update={"axes": tuple(axes)})
 
 

@@ -1,5 +1,5 @@
-"""The jog keys' choices: incremental or continuous, the step for X/Y (and other axes) and for Z apart, the
-speed as a fraction of each axis's max_speed."""
+"""The jog keys' choices: incremental or continuous, the step for X/Y (and other axes) and for Z
+apart, the speed as a fraction of each axis's max_speed."""
 
 from __future__ import annotations
 
@@ -55,10 +55,14 @@ class JogPresets:
         self.z_step_index = self._step_preset(index)
 
     def change_z_step(self, delta: int) -> None:
-        self.z_step_index = min(max(self.z_step_index + delta, 0), len(self.settings.step_presets) - 1)
+        self.z_step_index = min(
+            max(self.z_step_index + delta, 0), len(self.settings.step_presets) - 1
+        )
 
     def change_speed(self, delta: int) -> None:
-        self.speed_index = min(max(self.speed_index + delta, 0), len(self.settings.speed_presets) - 1)
+        self.speed_index = min(
+            max(self.speed_index + delta, 0), len(self.settings.speed_presets) - 1
+        )
 
     def toggle_mode(self) -> JogMode:
         self.mode = JogMode.CONTINUOUS if self.mode == JogMode.INCREMENTAL else JogMode.INCREMENTAL
@@ -71,5 +75,7 @@ class JogPresets:
 
     def _step_preset(self, index: int) -> int:
         if not 0 <= index < len(self.settings.step_presets):
-            raise ValueError(f"step preset {index + 1} does not exist (1 … {len(self.settings.step_presets)})")
+            raise ValueError(
+                f"step preset {index + 1} does not exist (1 … {len(self.settings.step_presets)})"
+            )
         return index

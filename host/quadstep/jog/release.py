@@ -17,7 +17,10 @@ class ReleaseDetector:
     """Thread-safe: press() from the UI, deadline()/released() from a watcher thread."""
 
     def __init__(
-        self, first_timeout: float, repeat_timeout: float, clock: Callable[[], float] = time.monotonic
+        self,
+        first_timeout: float,
+        repeat_timeout: float,
+        clock: Callable[[], float] = time.monotonic,
     ) -> None:
         self.first_timeout = first_timeout
         self.repeat_timeout = repeat_timeout

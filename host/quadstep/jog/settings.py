@@ -4,15 +4,20 @@ from __future__ import annotations
 
 from pydantic import BaseModel, ConfigDict, Field, model_validator
 
+
 class JogSettings(BaseModel):
     """What the jog keys do; every value is checked with a message naming it."""
 
     model_config = ConfigDict(extra="forbid", frozen=True)
 
     # Distances of one incremental jog, mm (number keys 1, 2, ... select them).
-    step_presets: tuple[float, ...] = Field(default=(0.01, 0.1, 1.0, 10.0), min_length=1, max_length=9)
+    step_presets: tuple[float, ...] = Field(
+        default=(0.01, 0.1, 1.0, 10.0), min_length=1, max_length=9
+    )
     # Jog speeds as fractions of each axis's max_speed, slowest first.
-    speed_presets: tuple[float, ...] = Field(default=(0.02, 0.1, 0.25, 0.5, 1.0), min_length=1, max_length=9)
+    speed_presets: tuple[float, ...] = Field(
+        default=(0.02, 0.1, 0.25, 0.5, 1.0), min_length=1, max_length=9
+    )
     # A held key repeats only after the terminal's initial delay (typically 250–660 ms),
     # then every 30–50 ms: a continuous jog ends when no repeat came within these.
     first_repeat_timeout: float = Field(default=0.7, gt=0.0, le=5.0, description="s")
@@ -26,10 +31,15 @@ class JogSettings(BaseModel):
     def _presets_in_range(self) -> JogSettings:
         for i, step in enumerate(self.step_presets):
             if not 0.0 < step <= 1000.0:
-                raise ValueError(f"step_presets[{i}] = {step}: must be greater than 0 and at most 1000 mm")
+                raise ValueError(
+                    f"step_presets[{i}] = {step}: must be greater than 0 and at most 1000 mm"
+                )
         for i, speed in enumerate(self.speed_presets):
             if not 0.0 < speed <= 1.0:
-                raise ValueError(f"speed_presets[{i}] = {speed}: must be greater than 0 and at most 1 (the axis max)")
+                raise ValueError(
+                    f"speed_presets[{i}] = {speed}: must be greater than 0 and at most 1 (the axis "
+                    "max)"
+                )
         if self.repeat_timeout > self.first_repeat_timeout:
             raise ValueError(
                 f"repeat_timeout = {self.repeat_timeout}: must be at most first_repeat_timeout = "

@@ -1,9 +1,9 @@
-"""Incremental jog presses waiting for the machine: one press is one step, and presses beyond what the
-machine can run soon (a held key's repeats) are dropped rather than queued.
+"""Incremental jog presses waiting for the machine: one press is one step, and presses beyond what
+the machine can run soon (a held key's repeats) are dropped rather than queued.
 
-A press is taken while nothing waits, or while what waits would run for less than `limit` seconds (its
-steps' durations at the jog speed, estimated as trapezoids), so quick taps of a small step all count and
-a held key with a 10 mm step queues one step behind the one that moves, not twenty.
+A press is taken while nothing waits, or while what waits would run for less than `limit` seconds
+(its steps' durations at the jog speed, estimated as trapezoids), so quick taps of a small step all
+count and a held key with a 10 mm step queues one step behind the one that moves, not twenty.
 """
 
 from __future__ import annotations
@@ -31,7 +31,8 @@ def step_seconds(distance: float, speed: float, accel: float) -> float:
 
 
 class StepQueue:
-    """Thread-safe: offer() from the UI, take() from the worker that runs the step, clear() on a stop."""
+    """Thread-safe: offer() from the UI, take() from the worker that runs the step, clear() on a
+    stop."""
 
     def __init__(self, limit: float = QUEUE_LIMIT) -> None:
         self.limit = limit

@@ -1,8 +1,17 @@
-"""The serial link to a board: a transport (port and threads), a send window with no I/O, the errors,
-the HOLD procedure and the inputs' (a motion until an input's edge)."""
+"""The serial link to a board: a transport (port and threads), a send window with no I/O, the
+errors, the HOLD procedure and the inputs' (a motion until an input's edge)."""
 
 from .connection import DEFAULT_BAUD, Link
-from .errors import AlarmError, BoardReset, BoardSilent, FirmwareError, LinkError, LinkTimeout, ProtocolVersionError, Stopped
+from .errors import (
+    AlarmError,
+    BoardReset,
+    BoardSilent,
+    FirmwareError,
+    LinkError,
+    LinkTimeout,
+    ProtocolVersionError,
+    Stopped,
+)
 from .hold import hold, hold_async, hold_message
 from .inputs import input_status, until_input, wait_rest
 from .ports import Board, PortError, auto_port, find_boards
@@ -10,7 +19,26 @@ from .stats import LinkStats
 from .window import SendWindow
 
 __all__ = [
-    "AlarmError", "Board", "BoardReset", "BoardSilent", "PortError", "auto_port", "find_boards", "DEFAULT_BAUD", "FirmwareError", "Link", "LinkError", "LinkStats", "LinkTimeout",
-    "ProtocolVersionError", "SendWindow", "Stopped", "hold", "hold_async", "hold_message", "input_status",
-    "until_input", "wait_rest",
+    "AlarmError",
+    "Board",
+    "BoardReset",
+    "BoardSilent",
+    "PortError",
+    "auto_port",
+    "find_boards",
+    "DEFAULT_BAUD",
+    "FirmwareError",
+    "Link",
+    "LinkError",
+    "LinkStats",
+    "LinkTimeout",
+    "ProtocolVersionError",
+    "SendWindow",
+    "Stopped",
+    "hold",
+    "hold_async",
+    "hold_message",
+    "input_status",
+    "until_input",
+    "wait_rest",
 ]

@@ -17,15 +17,31 @@ from typing import TypeVar
 import serial
 
 from ..protocol import (
-    Alarm, Identify, IdentifyReply, InputChange, Report, Request, State, Status, StatusReport, Stop, encode,
+    Alarm,
+    Identify,
+    IdentifyReply,
+    InputChange,
+    Report,
+    Request,
+    State,
+    Status,
+    StatusReport,
+    Stop,
+    encode,
 )
 from ..protocol.constants import PROTOCOL_VERSION, is_sequenced
 from ..protocol.messages import queue_slots
 from .errors import (
-    AlarmError, BoardSilent, LinkError, LinkTimeout, ProtocolVersionError, Stopped, known_text,
+    AlarmError,
+    BoardSilent,
+    LinkError,
+    LinkTimeout,
+    ProtocolVersionError,
+    Stopped,
+    known_text,
 )
-from .port_open import open_port
 from .outbox import Outbox
+from .port_open import open_port
 from .reports import Inbox, Waiter
 from .stats import LinkStats
 from .transport import Transport
@@ -59,17 +75,29 @@ class Link:
         self._request_lock = threading.Lock()  # one immediate request at a time
         self._window = SendWindow(clock, rto, retries, self.stats)
         self._callbacks: list[ReportCallback] = []
-        self._in = Inbox(self._window, self.stats)  # these two shared with the threads, guarded by _cond
+        # these two shared with the threads, guarded by _cond
+        self._in = Inbox(self._window, self.stats)
         self._out = Outbox(self._window, self._in, self.stats, poll_interval)
-        self._transport = Transport(port, self._cond, self._on_data, self._next_output, self._port_failed)
+        self._transport = Transport(
+            port, self._cond, self._on_data, self._next_output, self._port_failed
+        )
         self._transport.start()
 
     # --- opening and closing ---------------------------------------------------------------------
 
     @classmethod
-    def open(cls, url: str, baudrate: int = DEFAULT_BAUD, *, rto: float = 0.25, retries: int = 8,
-             request_timeout: float = 0.5, connect: bool = True) -> Link:
-        """Open `url` (a device such as /dev/ttyACM0 or /dev/pts/N, or socket://host:port) and connect."""
+    def open(
+        cls,
+        url: str,
+        baudrate: int = DEFAULT_BAUD,
+        *,
+        rto: float = 0.25,
+        retries: int = 8,
+        request_timeout: float = 0.5,
+        connect: bool = True,
+    ) -> Link:
+        """Open `url` (a device such as /dev/ttyACM0 or /dev/pts/N, or socket://host:port) and
+        connect."""
         try:
             port = open_port(url, baudrate)
         except (serial.SerialException, OSError, ValueError) as exc:
@@ -126,7 +154,8 @@ class Link:
 
     @property
     def generation(self) -> int:
-        """How many times the stream was restarted (STOP, HOLD): a waiter that saw another gives up."""
+        """How many times the stream was restarted (STOP, HOLD): a waiter that saw another gives
+        up."""
         with self._cond:
             return self._in.generation
 
@@ -143,9 +172,12 @@ class Link:
         return self.last_report(Alarm)
 
     def last_report(self, cls: type[R]) -> R | None:
-        """The latest unsolicited report (ALARM, or an EVENT kind such as HoldDone) of class `cls`."""
+        """The latest unsolicited report (ALARM, or an EVENT kind such as HoldDone) of class
+        `cls`."""
         with self._cond:
-            return self._in.latest.get(cls)  # type: ignore[return-value]
+            report = self._in.latest.get(cls)
+        assert report is None or isinstance(report, cls)  # kept by its class
+        return report
 
     @property
     def input_changes(self) -> list[InputChange]:
@@ -165,7 +197,8 @@ class Link:
             return self._in.counts[cls]
 
     def on_report(self, callback: ReportCallback) -> Callable[[], None]:
-        """Call `callback(report)` for every ALARM, ERROR, EVENT and SPACE ack; returns an unregister function.
+        """Call `callback(report)` for every ALARM, ERROR, EVENT and SPACE ack; returns an
+        unregister function.
 
         Callbacks run in the reader thread: they must return quickly and not call the Link.
         """
@@ -188,12 +221,14 @@ class Link:
         return self.request(Status(), StatusReport)
 
     def stop(self) -> StatusReport:
-        """Stop at once: drop every unacknowledged frame, flush the firmware's queue, clear any alarm."""
+        """Stop at once: drop every unacknowledged frame, flush the firmware's queue, clear any
+        alarm."""
         return self.restart(Stop())[0]
 
     def restart(self, message: Request) -> tuple[StatusReport, int]:
-        """Drop every unsent and unacknowledged frame and send `message` (STOP or HOLD), which makes its
-        seq the firmware's next_seq; resynchronise from the answer. Returns it and the new generation."""
+        """Drop every unsent and unacknowledged frame and send `message` (STOP or HOLD), which makes
+        its seq the firmware's next_seq; resynchronise from the answer. Returns it and the new
+        generation."""
         with self._request_lock:
             with self._cond:
                 self._in.generation += 1
@@ -215,7 +250,8 @@ class Link:
             return reply, generation
 
     def request(self, message: Request, reply_type: type[R], seq: int | None = None) -> R:
-        """Send an immediate request and wait for its answer, resending it on timeout (it is idempotent)."""
+        """Send an immediate request and wait for its answer, resending it on timeout (it is
+        idempotent)."""
         with self._request_lock:
             if seq is None:
                 with self._cond:
@@ -232,29 +268,37 @@ class Link:
                     self._raise_if_closed()
                     self._out.urgent.append(data)
                     self._cond.notify_all()
-                    self._cond.wait_for(lambda: waiter.answered or self._transport.closed,
-                                        timeout=self.request_timeout)
+                    self._cond.wait_for(
+                        lambda: waiter.answered or self._transport.closed,
+                        timeout=self.request_timeout,
+                    )
                     waiter.raise_refusal(message.NAME)
-                    if waiter.reply is not None:
-                        return waiter.reply  # type: ignore[return-value]
+                    reply = waiter.reply
+                    if reply is not None:
+                        assert isinstance(reply, reply_type)  # the waiter takes only its CODE
+                        return reply
                     self.stats.timeouts += 1
                 self._raise_if_closed()
                 raise LinkTimeout(
-                    f"no answer to {message.NAME} after {self.retries} tries of {self.request_timeout:g} s "
-                    f"(is the board connected, running quadstep firmware, at this baud rate?)"
+                    f"no answer to {message.NAME} after {self.retries} tries of "
+                    f"{self.request_timeout:g} s (is the board connected, running quadstep "
+                    "firmware, at this baud rate?)"
                     + known_text(self._in.last_status, self._in.last_alarm())
                 )
             finally:
                 self._in.waiter = None
 
-    # --- sequenced messages ------------------------------------------------------------------------
+    # --- sequenced messages -----------------------------------------------------------------------
 
-    def send(self, message: Request, timeout: float | None = None, generation: int | None = None) -> int:
+    def send(
+        self, message: Request, timeout: float | None = None, generation: int | None = None
+    ) -> int:
         """Queue a sequenced message (Segment, SetPosition); blocks while the window is full.
 
-        Returns the seq it was given. Raises the first failure seen since the last stop(): FirmwareError,
-        AlarmError, LinkTimeout; Stopped if stop() is called meanwhile, or if the stream was restarted after
-        `generation` (the one its motion began in: a hold the firmware began at an input ends that stream)."""
+        Returns the seq it was given. Raises the first failure seen since the last stop():
+        FirmwareError, AlarmError, LinkTimeout; Stopped if stop() is called meanwhile, or if the
+        stream was restarted after `generation` (the one its motion began in: a hold the firmware
+        began at an input ends that stream)."""
         if not is_sequenced(message.CODE):
             raise ValueError(f"{message.NAME} is not a sequenced message; use its own method")
         deadline = None if timeout is None else self._clock() + timeout
@@ -277,23 +321,34 @@ class Link:
             generation = self._in.generation if generation is None else generation
             while True:
                 self._raise_failure(generation)
-                if not self._window.in_flight and self._in.refused is None:  # a refusal waits for its status
+                # a refusal waits for its status
+                if not self._window.in_flight and self._in.refused is None:
                     return
                 if not self._wait(deadline):
-                    raise LinkTimeout(f"{self._window.in_flight} frames still unacknowledged after {timeout:g} s")
+                    raise LinkTimeout(
+                        f"{self._window.in_flight} frames still unacknowledged after {timeout:g} s"
+                    )
 
-    def wait_idle(self, timeout: float | None = None, generation: int | None = None) -> StatusReport:
-        """Until every frame is acknowledged and the firmware is IDLE (`generation`: as for send); its status."""
+    def wait_idle(
+        self, timeout: float | None = None, generation: int | None = None
+    ) -> StatusReport:
+        """Until every frame is acknowledged and the firmware is IDLE (`generation`: as for send);
+        its status."""
         deadline = None if timeout is None else self._clock() + timeout
         with self._cond:
             generation = self._in.generation if generation is None else generation
         self.drain(timeout, generation)
         while True:
             with self._cond:
-                remaining = self.poll_interval if deadline is None else max(0.0, deadline - self._clock())
+                remaining = (
+                    self.poll_interval if deadline is None else max(0.0, deadline - self._clock())
+                )
                 self._cond.wait_for(
-                    lambda: self._in.done_total >= self._in.expected_done or self._in.failure is not None
-                    or self._in.generation != generation,
+                    lambda: (
+                        self._in.done_total >= self._in.expected_done
+                        or self._in.failure is not None
+                        or self._in.generation != generation
+                    ),
                     timeout=min(self.poll_interval, remaining),
                 )
                 self._raise_failure(generation)
@@ -303,32 +358,45 @@ class Link:
             if status.state == State.ALARM:
                 alarm = self.last_alarm
                 if alarm is None:
-                    raise LinkError(f"firmware is in ALARM {status.alarm.name if status.alarm else ''}")
+                    raise LinkError(
+                        f"firmware is in ALARM {status.alarm.name if status.alarm else ''}"
+                    )
                 raise AlarmError(alarm)
             if status.state == State.IDLE and status.queue_fill == 0:
                 return status
             time.sleep(0.005)  # the last segment is still running
             if deadline is not None and self._clock() >= deadline:
                 raise LinkTimeout(
-                    f"firmware still {status.state.name} with {status.queue_fill} segments queued after {timeout:g} s"
+                    f"firmware still {status.state.name} with {status.queue_fill} segments queued "
+                    f"after {timeout:g} s"
                 )
 
     def check(self, generation: int) -> None:
-        """Raise the link's failure (an alarm, a reset, a silent board), or Stopped after a restart."""
+        """Raise the link's failure (an alarm, a reset, a silent board), or Stopped after a
+        restart."""
         with self._cond:
             self._raise_failure(generation)
 
-    def wait_report(self, cls: type[R], after: int, generation: int, timeout: float | None) -> R | None:
-        """Until report number `after` + 1 of class `cls` (report_count) arrives: returns the latest one,
-        or None after `timeout`. Raises the link's failure, or Stopped once the stream is restarted."""
+    def wait_report(
+        self, cls: type[R], after: int, generation: int, timeout: float | None
+    ) -> R | None:
+        """Until report number `after` + 1 of class `cls` (report_count) arrives: returns the latest
+        one, or None after `timeout`. Raises the link's failure, or Stopped once the stream is
+        restarted."""
         with self._cond:
             self._cond.wait_for(
-                lambda: self._in.counts[cls] > after or self._in.failure is not None
-                or self._in.generation != generation or self._transport.closed,
+                lambda: (
+                    self._in.counts[cls] > after
+                    or self._in.failure is not None
+                    or self._in.generation != generation
+                    or self._transport.closed
+                ),
                 timeout=timeout,
             )
             if self._in.counts[cls] > after:
-                return self._in.latest[cls]  # type: ignore[return-value]
+                report = self._in.latest[cls]
+                assert isinstance(report, cls)  # kept by its class
+                return report
             self._raise_failure(generation)
             return None
 
@@ -347,7 +415,8 @@ class Link:
 
     def _wait(self, deadline: float | None) -> bool:
         if deadline is None:
-            self._cond.wait(self.poll_interval)  # woken by any change; the slice only bounds a missed one
+            # woken by any change; the slice only bounds a missed one
+            self._cond.wait(self.poll_interval)
             return True
         remaining = deadline - self._clock()
         return remaining > 0 and (self._cond.wait(remaining) or self._clock() < deadline)
@@ -361,9 +430,11 @@ class Link:
         if self._in.failure is not None:
             raise self._in.failure
         if generation != self._in.generation:
-            raise Stopped("stop() or a hold was called: unsent and unacknowledged frames were dropped")
+            raise Stopped(
+                "stop() or a hold was called: unsent and unacknowledged frames were dropped"
+            )
 
-    # --- reader --------------------------------------------------------------------------------------
+    # --- reader -----------------------------------------------------------------------------------
 
     def _on_data(self, data: bytes) -> None:
         with self._cond:
@@ -382,15 +453,17 @@ class Link:
                 self._transport.closed = True
             self._cond.notify_all()
 
-    # --- writer --------------------------------------------------------------------------------------
+    # --- writer -----------------------------------------------------------------------------------
 
     def _next_output(self) -> bytes | None:
         """Wait for something to write and return it; None once closed. Called with _cond held."""
         while not self._transport.closed:
             now = self._clock()
             out = self._out.take(now)
-            if self._in.failure is not None:  # a frame resent too often, or the board silent: wake whoever waits
-                self._transport.closed |= isinstance(self._in.failure, BoardSilent)  # a silent board ends the link
+            # a frame resent too often, or the board silent: wake whoever waits
+            if self._in.failure is not None:
+                # a silent board ends the link
+                self._transport.closed |= isinstance(self._in.failure, BoardSilent)
                 self._cond.notify_all()
             if out:
                 return out

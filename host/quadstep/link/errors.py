@@ -4,7 +4,6 @@ from __future__ import annotations
 
 from ..protocol import Alarm, ErrorReport, State, StatusReport
 
-
 HEARD_BYTES = 512  # bytes kept from before the board identified itself, to name another firmware
 
 
@@ -13,15 +12,19 @@ class LinkError(Exception):
 
     @staticmethod
     def at_connect(heard: bytes, error: BaseException) -> BaseException:
-        """Why connecting failed: a board that answered in another firmware's text (GRBL's banner, its `ok`s)
-        is named, with the fix; otherwise `error` as it was."""
+        """Why connecting failed: a board that answered in another firmware's text (GRBL's banner,
+        its `ok`s) is named, with the fix; otherwise `error` as it was."""
         if not isinstance(error, LinkError):
             return error
         if b"Grbl" in heard or b"grbl" in heard or b"ok\r\n" in heard or b"error:" in heard:
-            return LinkError("this board runs GRBL, not quadstep firmware: flash it with `quadstep flash`")
+            return LinkError(
+                "this board runs GRBL, not quadstep firmware: flash it with `quadstep flash`"
+            )
         if b"Marlin" in heard or b"Klipper" in heard:
-            return LinkError("this board runs 3D-printer firmware, not quadstep firmware: flash it with "
-                             "`quadstep flash`")
+            return LinkError(
+                "this board runs 3D-printer firmware, not quadstep firmware: flash it with "
+                "`quadstep flash`"
+            )
         return error
 
 
@@ -34,32 +37,38 @@ class BoardSilent(LinkTimeout):
 
 
 class BoardReset(LinkError):
-    """The board started afresh (reset button, power, a USB re-enumeration): its queue, its alarm and its step
-    counts are gone; the host cannot know where the machine stands."""
+    """The board started afresh (reset button, power, a USB re-enumeration): its queue, its alarm
+    and its step counts are gone; the host cannot know where the machine stands."""
 
     def __init__(self, done_before: int, before: StatusReport, after: StatusReport) -> None:
         self.before, self.after = before, after
         super().__init__(
-            f"the board was reset: segments done went back from {done_before} to {after.segments_done}, "
-            f"motion ticks from {before.motion_ticks} to {after.motion_ticks}; what was queued is lost and it "
-            f"counts from {list(after.position)} now (last position known before: {list(before.position)} steps); "
-            "home the machine or set its position before going on"
+            f"the board was reset: segments done went back from {done_before} to "
+            f"{after.segments_done}, motion ticks from {before.motion_ticks} to "
+            f"{after.motion_ticks}; what was queued is lost and it counts from "
+            f"{list(after.position)} now (last position known before: {list(before.position)} "
+            "steps); home the machine or set its position before going on"
         )
 
 
 def status_alarm(status: StatusReport) -> AlarmError | None:
-    """The alarm a status shows (its report may have been lost): the board halted, its queue flushed."""
+    """The alarm a status shows (its report may have been lost): the board halted, its queue
+    flushed."""
     if status.state != State.ALARM or status.alarm is None:
         return None
-    return AlarmError(Alarm(code=status.alarm, motion_ticks=status.motion_ticks, position=status.position))
+    return AlarmError(
+        Alarm(code=status.alarm, motion_ticks=status.motion_ticks, position=status.position)
+    )
 
 
 def known_text(status: StatusReport | None, alarm: Alarm | None) -> str:
     """What the host last knew of the board, for an error about a board that stopped answering."""
     parts = []
     if status is not None:
-        parts.append(f"last known state {status.state.name}, position {list(status.position)} steps, "
-                     f"{status.segments_done} segments done")
+        parts.append(
+            f"last known state {status.state.name}, position {list(status.position)} steps, "
+            f"{status.segments_done} segments done"
+        )
     if alarm is not None:
         parts.append(f"last alarm {alarm.code.name} at positions {list(alarm.position)}")
     return f" ({'; '.join(parts)})" if parts else ""
@@ -107,6 +116,15 @@ class AlarmError(LinkError):
         )
 
 
-__all__ = ["AlarmError", "BoardReset", "BoardSilent", "FirmwareError", "LinkError", "LinkTimeout", "ProtocolVersionError",
-           "Stopped", "known_text", "status_alarm"]
-
+__all__ = [
+    "AlarmError",
+    "BoardReset",
+    "BoardSilent",
+    "FirmwareError",
+    "LinkError",
+    "LinkTimeout",
+    "ProtocolVersionError",
+    "Stopped",
+    "known_text",
+    "status_alarm",
+]

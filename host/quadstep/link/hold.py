@@ -16,23 +16,28 @@ from collections.abc import Sequence
 from concurrent.futures import Future
 
 from ..protocol import DECEL_MAX, MAX_AXES, ErrorCode, Hold, HoldDone, State, StatusReport
+from ..protocol.wire import four_axes
 from .connection import Link
 from .errors import AlarmError, FirmwareError, LinkError, LinkTimeout
 
 
 def hold_message(decels: Sequence[int], axis_count: int) -> Hold:
-    """The HOLD for `decels` (one per firmware axis, or one for all); a bad value is a ValueError naming
-    the axis and the limit, before anything is sent."""
+    """The HOLD for `decels` (one per firmware axis, or one for all); a bad value is a ValueError
+    naming the axis and the limit, before anything is sent."""
     values = list(decels)
     if len(values) == 1:
         values *= axis_count
     if len(values) != axis_count:
-        raise ValueError(f"hold needs 1 or {axis_count} decelerations (one per axis), got {len(values)}")
+        raise ValueError(
+            f"hold needs 1 or {axis_count} decelerations (one per axis), got {len(values)}"
+        )
     for axis, d in enumerate(values):
         if not isinstance(d, int) or not 1 <= d <= DECEL_MAX:
-            raise ValueError(f"hold deceleration of axis {axis} is {d!r}; limit 1..{DECEL_MAX} "
-                             "(in 1/2^24 step per tick²)")
-    return Hold(decel=tuple(values + [0] * (MAX_AXES - axis_count)))  # type: ignore[arg-type]
+            raise ValueError(
+                f"hold deceleration of axis {axis} is {d!r}; limit 1..{DECEL_MAX} "
+                "(in 1/2^24 step per tick²)"
+            )
+    return Hold(decel=four_axes(values + [0] * (MAX_AXES - axis_count)))
 
 
 def hold(link: Link, decels: Sequence[int], timeout: float | None = None) -> HoldDone:
@@ -54,7 +59,8 @@ def hold(link: Link, decels: Sequence[int], timeout: float | None = None) -> Hol
             raise _alarm_error(link) from exc
         raise
     done = _wait_hold_done(link, message, seen, generation, timeout)
-    link.resync(link.status(), generation)  # the queue is empty now: adopt its free slots and counts
+    # the queue is empty now: adopt its free slots and counts
+    link.resync(link.status(), generation)
     return done
 
 
@@ -78,17 +84,30 @@ def _alarm_error(link: Link) -> LinkError:
     return AlarmError(alarm) if alarm is not None else LinkError("firmware is in ALARM; a STOP clears it (Ctrl+X in the TUI)")
 
 
-def _wait_hold_done(link: Link, message: Hold, seen: int, generation: int, timeout: float | None) -> HoldDone:
+def _wait_hold_done(
+    link: Link, message: Hold, seen: int, generation: int, timeout: float | None
+) -> HoldDone:
     deadline = None if timeout is None else time.monotonic() + timeout
     while True:
-        wait = link.poll_interval if deadline is None else max(0.0, min(link.poll_interval, deadline - time.monotonic()))
+        wait = (
+            link.poll_interval
+            if deadline is None
+            else max(0.0, min(link.poll_interval, deadline - time.monotonic()))
+        )
         done = link.wait_report(HoldDone, seen, generation, wait)
         if done is not None:
             return done
         if deadline is not None and time.monotonic() >= deadline:
-            raise LinkTimeout(f"no HOLD_DONE within {timeout:g} s (the firmware may still be decelerating)")
+            raise LinkTimeout(
+                f"no HOLD_DONE within {timeout:g} s (the firmware may still be decelerating)"
+            )
         status: StatusReport = link.status()
         if status.state == State.ALARM:
             raise _alarm_error(link)
-        if status.state != State.HOLDING and link.report_count(HoldDone) == seen and link.generation == generation:
-            link.request(message, StatusReport, status.next_seq)  # HOLD again: at rest it repeats HOLD_DONE
+        if (
+            status.state != State.HOLDING
+            and link.report_count(HoldDone) == seen
+            and link.generation == generation
+        ):
+            # HOLD again: at rest it repeats HOLD_DONE
+            link.request(message, StatusReport, status.next_seq)

@@ -1,11 +1,11 @@
-"""The inputs' procedures (PROTOCOL.md §5.4): their state, a motion that ends at an input's edge, and waiting for
-rest after a hold the firmware began itself.
+"""The inputs' procedures (PROTOCOL.md §5.4): their state, a motion that ends at an input's edge,
+and waiting for rest after a hold the firmware began itself.
 
-A PROBE arms an input; the segments that follow run until it reaches its level. At that tick the firmware
-latches every position (EVENT INPUT, cause TRIGGER) and holds, which restarts the stream as a HOLD does (a
-thread waiting in Link.send raises Stopped; the frames in flight are refused, BUSY, and not resent); HOLD_DONE
-follows at rest. If the motion comes to rest first, EVENT PROBE_MISSED says where. Homing and probing are both
-this one procedure.
+A PROBE arms an input; the segments that follow run until it reaches its level. At that tick the
+firmware latches every position (EVENT INPUT, cause TRIGGER) and holds, which restarts the stream as
+a HOLD does (a thread waiting in Link.send raises Stopped; the frames in flight are refused, BUSY,
+and not resent); HOLD_DONE follows at rest. If the motion comes to rest first, EVENT PROBE_MISSED
+says where. Homing and probing are both this one procedure.
 """
 
 from __future__ import annotations
@@ -14,6 +14,7 @@ import time
 from collections.abc import Iterable
 
 from ..protocol import (
+    CubicSegment,
     HoldDone,
     InputCause,
     InputChange,
@@ -34,16 +35,25 @@ def input_status(link: Link) -> InputStatus:
     return link.request(Inputs(), InputStatus)
 
 
-def until_input(link: Link, probe: Probe, segments: Iterable[Segment],
-                timeout: float | None = None) -> InputChange | ProbeMissed:
-    """Arm `probe`, stream `segments` (a motion from rest to rest) and wait for its end: at the armed edge (returns
-    that EVENT INPUT, once the hold after it has come to rest) or at rest without it (returns PROBE_MISSED).
+def until_input(
+    link: Link,
+    probe: Probe,
+    segments: Iterable[Segment | CubicSegment],
+    timeout: float | None = None,
+) -> InputChange | ProbeMissed:
+    """Arm `probe`, stream `segments` (a motion from rest to rest) and wait for its end: at the
+    armed edge (returns that EVENT INPUT, once the hold after it has come to rest) or at rest
+    without it (returns PROBE_MISSED).
 
-    Raises FirmwareError if the PROBE is refused (INPUT_AT_LEVEL: the input is there already; BUSY: not at rest),
-    AlarmError if an alarm (a hard limit on another input, the abort button) ends the motion, LinkTimeout after
-    `timeout` seconds."""
+    Raises FirmwareError if the PROBE is refused (INPUT_AT_LEVEL: the input is there already; BUSY:
+    not at rest), AlarmError if an alarm (a hard limit on another input, the abort button) ends the
+    motion, LinkTimeout after `timeout` seconds."""
     deadline = None if timeout is None else time.monotonic() + timeout
-    holds, missed, triggers = link.report_count(HoldDone), link.report_count(ProbeMissed), link.holds_by_input
+    holds, missed, triggers = (
+        link.report_count(HoldDone),
+        link.report_count(ProbeMissed),
+        link.holds_by_input,
+    )
     stream = link.generation  # the edge ends it: a segment sent after that would open another
     link.send(probe, timeout, stream)
     try:
@@ -52,12 +62,14 @@ def until_input(link: Link, probe: Probe, segments: Iterable[Segment],
     except Stopped:
         if link.holds_by_input == triggers:
             raise  # a STOP or HOLD from elsewhere
+    end: InputChange | ProbeMissed
     while True:
         generation = link.generation
         try:
             if link.holds_by_input == triggers:
-                end = link.wait_report(ProbeMissed, missed, generation, _slice(link, deadline))
-                if end is not None:
+                report = link.wait_report(ProbeMissed, missed, generation, _slice(link, deadline))
+                if report is not None:
+                    end = report
                     break
             elif link.wait_report(HoldDone, holds, generation, _slice(link, deadline)) is not None:
                 end = next(c for c in reversed(link.input_changes) if c.cause == InputCause.TRIGGER)
@@ -66,18 +78,21 @@ def until_input(link: Link, probe: Probe, segments: Iterable[Segment],
             if link.holds_by_input == triggers:
                 raise  # a STOP or HOLD from elsewhere
             continue  # the edge came while waiting: wait for its hold
-        alarm = status_alarm(link.status())  # a board gone silent does not answer; an alarm's report may be lost
+        # a board gone silent does not answer; an alarm's report may be lost
+        alarm = status_alarm(link.status())
         if alarm is not None:
             raise alarm
         if deadline is not None and time.monotonic() >= deadline:
-            raise LinkTimeout(f"the motion after PROBE {probe.input.name} did not end within {timeout:g} s")
+            raise LinkTimeout(
+                f"the motion after PROBE {probe.input.name} did not end within {timeout:g} s"
+            )
     wait_rest(link, timeout)
     return end
 
 
 def wait_rest(link: Link, timeout: float | None = None) -> StatusReport:
-    """Wait until nothing moves (a hold the firmware began itself included) and adopt the firmware's sequence
-    state; returns its status."""
+    """Wait until nothing moves (a hold the firmware began itself included) and adopt the firmware's
+    sequence state; returns its status."""
     deadline = None if timeout is None else time.monotonic() + timeout
     generation = link.generation
     while True:
@@ -92,4 +107,8 @@ def wait_rest(link: Link, timeout: float | None = None) -> StatusReport:
 
 
 def _slice(link: Link, deadline: float | None) -> float:
-    return link.poll_interval if deadline is None else max(0.0, min(link.poll_interval, deadline - time.monotonic()))
+    return (
+        link.poll_interval
+        if deadline is None
+        else max(0.0, min(link.poll_interval, deadline - time.monotonic()))
+    )

@@ -1,11 +1,11 @@
-"""What the writer thread writes next: immediate requests first, then the sequenced frames the window
-says are due, then a STATUS when one is wanted: the window has stayed closed (a SPACE ack lost), the line
-has been quiet on our side while the board may be moving (the keep-alive that the firmware's WATCHDOG
-needs), or an ERROR asked for an explanation (an alarm whose report was lost).
+"""What the writer thread writes next: immediate requests first, then the sequenced frames the
+window says are due, then a STATUS when one is wanted: the window has stayed closed (a SPACE ack
+lost), the line has been quiet on our side while the board may be moving (the keep-alive that the
+firmware's WATCHDOG needs), or an ERROR asked for an explanation (an alarm whose report was lost).
 
-It also notices a silent board: while anything is outstanding (a frame unacknowledged, a segment the board
-has not finished), no good frame back for `silence` seconds fails the link with BoardSilent, which says what
-the board last confirmed.
+It also notices a silent board: while anything is outstanding (a frame unacknowledged, a segment the
+board has not finished), no good frame back for `silence` seconds fails the link with BoardSilent,
+which says what the board last confirmed.
 
 An Outbox is shared state: every method and field is used with the link's condition held.
 """
@@ -26,19 +26,27 @@ SILENCE = 1.5  # s without a good frame, while something is outstanding, before 
 
 
 class Outbox:
-    def __init__(self, window: SendWindow, inbox: Inbox, stats: LinkStats, poll_interval: float,
-                 silence: float = SILENCE) -> None:
+    def __init__(
+        self,
+        window: SendWindow,
+        inbox: Inbox,
+        stats: LinkStats,
+        poll_interval: float,
+        silence: float = SILENCE,
+    ) -> None:
         self.window = window
         self.inbox = inbox
         self.stats = stats
         self.poll_interval = poll_interval
         self.silence = silence
-        self.urgent: deque[bytes] = deque()  # immediate requests, written before any sequenced frame
+        # immediate requests, written before any sequenced frame
+        self.urgent: deque[bytes] = deque()
         self.request_seq = 0x40
         self.last_poll = 0.0
         self.last_write = 0.0
-        # When the board last began to owe an answer: a line quiet while nothing was owed (a job paused at
-        # a prompt) is not a silent board, so the silence counts from here or from the last frame back.
+        # When the board last began to owe an answer: a line quiet while nothing was owed (a job
+        # paused at a prompt) is not a silent board, so the silence counts from here or from the
+        # last frame back.
         self.owed_since = 0.0
         self.owing = False
 
@@ -47,7 +55,8 @@ class Outbox:
         return self.request_seq
 
     def take(self, now: float) -> bytes:
-        """Everything to write now (b"" for nothing); a frame resent too often, or a silent board, fails the link."""
+        """Everything to write now (b"" for nothing); a frame resent too often, or a silent board,
+        fails the link."""
         out = bytearray()
         while self.urgent:
             data = self.urgent.popleft()
@@ -100,7 +109,8 @@ class Outbox:
             or self.inbox.refused is not None)
 
     def _heard_at(self) -> float:
-        """Where the silence counts from: the last good frame, or when the board began to owe one."""
+        """Where the silence counts from: the last good frame, or when the board began to owe
+        one."""
         return max(self.inbox.last_frame_at, self.owed_since if self.owing else 0.0)
 
     def _keepalive_due(self, now: float) -> bool:
@@ -110,12 +120,19 @@ class Outbox:
         return self.inbox.queue_capacity is not None and self.window.stalled
 
     def _stalled(self, now: float) -> bool:
-        """The window closed with nothing awaiting an ACK, and no report for a while (a lost SPACE ack)."""
-        return self._stall_possible() and now - max(self.inbox.last_frame_at, self.last_poll) >= STALL_POLL
+        """The window closed with nothing awaiting an ACK, and no report for a while (a lost SPACE
+        ack)."""
+        return (
+            self._stall_possible()
+            and now - max(self.inbox.last_frame_at, self.last_poll) >= STALL_POLL
+        )
 
     def _silence_text(self, now: float) -> str:
         inbox, window = self.inbox, self.window
-        return (f"the board has not answered for {now - self._heard_at():.1f} s (is it powered, connected, "
-                f"running?): the last frame it confirmed was seq {(window.base - 1) & 0xFF}; "
-                f"{inbox.done_total} segments done, {max(0, inbox.expected_done - inbox.done_total)} more accepted, "
-                f"{window.in_flight} frames unacknowledged" + known_text(inbox.last_status, inbox.last_alarm()))
+        return (
+            f"the board has not answered for {now - self._heard_at():.1f} s (is it powered, "
+            "connected, running?): the last frame it confirmed was seq "
+            f"{(window.base - 1) & 0xFF}; {inbox.done_total} segments done, "
+            f"{max(0, inbox.expected_done - inbox.done_total)} more accepted, {window.in_flight} "
+            "frames unacknowledged" + known_text(inbox.last_status, inbox.last_alarm())
+        )

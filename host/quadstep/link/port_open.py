@@ -19,7 +19,8 @@ import serial
 
 
 def keep_dtr(port: serial.SerialBase) -> None:
-    """Clear HUPCL on an open local port, so closing it leaves DTR asserted (no reset at the next open)."""
+    """Clear HUPCL on an open local port, so closing it leaves DTR asserted (no reset at the next
+    open)."""
     try:
         fd = port.fileno()
     except (AttributeError, serial.SerialException, OSError, ValueError):

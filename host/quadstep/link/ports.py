@@ -1,7 +1,9 @@
-"""Finding the board: the serial ports whose USB identity is an Arduino Uno or Mega, or a clone's USB chip.
+"""Finding the board: the serial ports whose USB identity is an Arduino Uno or Mega, or a clone's
+USB chip.
 
-`--port auto` (and no --port at all) uses the one board found; none or several is an error that lists what
-there is. Identities are USB vendor and product ids as pyserial's port listing reports them.
+`--port auto` (and no --port at all) uses the one board found; none or several is an error that
+lists what there is. Identities are USB vendor and product ids as pyserial's port listing reports
+them.
 """
 
 from __future__ import annotations
@@ -12,11 +14,18 @@ from serial.tools import list_ports
 
 # (vendor, product) → what it is
 BOARDS = {
-    (0x2341, 0x0043): "Arduino Uno", (0x2341, 0x0001): "Arduino Uno", (0x2341, 0x0243): "Arduino Uno",
-    (0x2A03, 0x0043): "Arduino Uno", (0x2341, 0x0042): "Arduino Mega 2560", (0x2341, 0x0010): "Arduino Mega 2560",
-    (0x2341, 0x0242): "Arduino Mega 2560", (0x2A03, 0x0042): "Arduino Mega 2560",
-    (0x1A86, 0x7523): "CH340 (Uno/Nano/Mega clone)", (0x1A86, 0x55D4): "CH9102 (clone)",
-    (0x0403, 0x6001): "FTDI FT232 (clone)", (0x10C4, 0xEA60): "CP210x (clone)",
+    (0x2341, 0x0043): "Arduino Uno",
+    (0x2341, 0x0001): "Arduino Uno",
+    (0x2341, 0x0243): "Arduino Uno",
+    (0x2A03, 0x0043): "Arduino Uno",
+    (0x2341, 0x0042): "Arduino Mega 2560",
+    (0x2341, 0x0010): "Arduino Mega 2560",
+    (0x2341, 0x0242): "Arduino Mega 2560",
+    (0x2A03, 0x0042): "Arduino Mega 2560",
+    (0x1A86, 0x7523): "CH340 (Uno/Nano/Mega clone)",
+    (0x1A86, 0x55D4): "CH9102 (clone)",
+    (0x0403, 0x6001): "FTDI FT232 (clone)",
+    (0x10C4, 0xEA60): "CP210x (clone)",
 }
 
 
@@ -52,6 +61,10 @@ def auto_port() -> str:
     if not boards:
         others = [p.device for p in list_ports.comports()]
         seen = f" (serial ports: {', '.join(others)})" if others else ""
-        raise PortError(f"no Arduino Uno, Mega or clone found on USB{seen}: plug it in, or give --port PORT "
-                        "(or --emulator)")
-    raise PortError(f"{len(boards)} boards found ({', '.join(map(str, boards))}): give --port with one of them")
+        raise PortError(
+            f"no Arduino Uno, Mega or clone found on USB{seen}: plug it in, or give --port PORT "
+            "(or --emulator)"
+        )
+    raise PortError(
+        f"{len(boards)} boards found ({', '.join(map(str, boards))}): give --port with one of them"
+    )

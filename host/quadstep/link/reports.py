@@ -1,5 +1,6 @@
-"""What the reader thread learns from each report: the window's ACKs, how many segments are done, the
-latest unsolicited report of each kind, the answer a waiting request wants, and the first failure.
+"""What the reader thread learns from each report: the window's ACKs, how many segments are done,
+the latest unsolicited report of each kind, the answer a waiting request wants, and the first
+failure.
 
 An Inbox is shared state: every method and field is used with the link's condition held.
 """
@@ -30,9 +31,17 @@ from .errors import AlarmError, BoardReset, FirmwareError, LinkError, ProtocolVe
 from .stats import LinkStats
 from .window import SendWindow
 
-# ERRORs about a frame damaged on the wire (PROTOCOL.md §2): nothing in it could be trusted, not even its seq.
-FRAMING_ERRORS = frozenset({ErrorCode.FRAME_TOO_LONG, ErrorCode.FRAME_TOO_SHORT, ErrorCode.BAD_COBS,
-                            ErrorCode.BAD_CRC, ErrorCode.RX_OVERRUN})
+# ERRORs about a frame damaged on the wire (PROTOCOL.md §2): nothing in it could be trusted, not
+# even its seq.
+FRAMING_ERRORS = frozenset(
+    {
+        ErrorCode.FRAME_TOO_LONG,
+        ErrorCode.FRAME_TOO_SHORT,
+        ErrorCode.BAD_COBS,
+        ErrorCode.BAD_CRC,
+        ErrorCode.RX_OVERRUN,
+    }
+)
 
 
 @dataclass
@@ -44,19 +53,23 @@ class Waiter:
     reply_type: int
     reply: Report | None = None
     error: ErrorReport | None = None
-    unreadable: str | None = None  # an answer this host cannot decode: another protocol version's layout
+    # an answer this host cannot decode: another protocol version's layout
+    unreadable: str | None = None
 
     @property
     def answered(self) -> bool:
         return self.reply is not None or self.error is not None or self.unreadable is not None
 
     def raise_refusal(self, name: str) -> None:
-        """An ERROR for the request, or an answer this host cannot decode (another protocol version's)."""
+        """An ERROR for the request, or an answer this host cannot decode (another protocol
+        version's)."""
         if self.error is not None:
             raise FirmwareError(self.error)
         if self.unreadable is not None:
-            raise ProtocolVersionError(f"the firmware's answer to {name} does not decode ({self.unreadable}): "
-                                       f"it speaks another protocol version than this host's {PROTOCOL_VERSION}")
+            raise ProtocolVersionError(
+                f"the firmware's answer to {name} does not decode ({self.unreadable}): "
+                f"it speaks another protocol version than this host's {PROTOCOL_VERSION}"
+            )
 
 
 class Inbox:
@@ -68,35 +81,44 @@ class Inbox:
         self.queue_capacity: int | None = None  # known once connected
         self.waiter: Waiter | None = None
         self.failure: LinkError | None = None  # raised by every call until the next restart
-        self.stopping = False  # a STOP or HOLD is on its way: ACKs and alarms are about dropped frames
+        # a STOP or HOLD is on its way: ACKs and alarms are about dropped frames
+        self.stopping = False
         self.done16 = 0
         self.done_total = 0  # segments completed since reset (ACK `done` unwrapped)
         self.expected_done = 0  # segments completed once everything accepted has run
         self.latest: dict[type, Report] = {}  # the latest unsolicited report of each class
         self.counts: defaultdict[type, int] = defaultdict(int)
         self.input_changes: deque[InputChange] = deque(maxlen=256)  # the latest EVENT INPUT reports
-        self.held_by_input = 0  # holds the firmware began itself (a PROBE's edge, the feed hold button)
+        # holds the firmware began itself (a PROBE's edge, the feed hold button)
+        self.held_by_input = 0
         self.starved = False  # the latest status said STARVED
         self.last_frame_at = 0.0  # clock time of the last good frame received
         self.want_status = False  # the writer sends a STATUS: something needs explaining
-        self.refused: ErrorReport | None = None  # BUSY or ALARM_ACTIVE for a frame of ours, until a status explains it
-        self.last_status: StatusReport | None = None  # the board's latest STATUS_REPORT (or answer to STOP, HOLD)
+        # BUSY or ALARM_ACTIVE for a frame of ours, until a status explains it
+        self.refused: ErrorReport | None = None
+        # the board's latest STATUS_REPORT (or answer to STOP, HOLD)
+        self.last_status: StatusReport | None = None
 
     def receive(self, data: bytes, now: float) -> list[Report]:
-        """Decode and apply what the reader read at `now`; returns the reports that on_report callbacks want."""
+        """Decode and apply what the reader read at `now`; returns the reports that on_report
+        callbacks want."""
         self.stats.bytes_received += len(data)
         notify: list[Report] = []
         for item in self.decoder.feed(data):
             if isinstance(item, DecodeError):
                 self.stats.decode_errors += 1
                 waiter = self.waiter
-                if waiter is not None and (item.frame_type, item.frame_seq) == (waiter.reply_type, waiter.seq):
+                if waiter is not None and (item.frame_type, item.frame_seq) == (
+                    waiter.reply_type,
+                    waiter.seq,
+                ):
                     waiter.unreadable = item.detail
                 continue
             self.last_frame_at = now
             self.stats.frames_received += 1
-            if self.apply(item):
-                notify.append(item.message)  # type: ignore[arg-type]
+            message = item.message
+            if self.apply(item) and isinstance(message, Report):  # apply() wants only reports
+                notify.append(message)
         return notify
 
     def last_alarm(self) -> Alarm | None:
@@ -138,8 +160,13 @@ class Inbox:
                     self.fail(AlarmError(m))
             return True
         waiter = self.waiter
-        if waiter is not None and frame.seq == waiter.seq and m.CODE == waiter.reply_type:
-            waiter.reply = m  # type: ignore[assignment]
+        if (
+            waiter is not None
+            and frame.seq == waiter.seq
+            and m.CODE == waiter.reply_type
+            and isinstance(m, Report)  # a reply's code is a report's
+        ):
+            waiter.reply = m
         if isinstance(m, StatusReport):
             self._check_reset(m)
             self.last_status = m
@@ -149,13 +176,16 @@ class Inbox:
             if self.starved and not starved and not self.stopping:
                 self._starved()
             if not self.stopping and self.queue_capacity is not None:  # repairs a lost SPACE ack
-                self.expected_done += self.window.on_status(m.next_seq, self.queue_capacity - m.queue_fill)
+                self.expected_done += self.window.on_status(
+                    m.next_seq, self.queue_capacity - m.queue_fill
+                )
                 self._explain(m)
         return False
 
     def _check_reset(self, status: StatusReport) -> None:
-        """The board's segments_done and motion_ticks only grow (motion_ticks wraps after 2^32 ticks): one
-        that went back is a board reset, which fails the link whatever else it was doing."""
+        """The board's segments_done and motion_ticks only grow (motion_ticks wraps after 2^32
+        ticks): one that went back is a board reset, which fails the link whatever else it was
+        doing."""
         last = self.last_status
         if last is None:
             return
@@ -168,24 +198,39 @@ class Inbox:
         """A status while streaming: an alarm whose report was lost, or what a refusal was about."""
         if self.failure is not None:
             return
-        streaming = self.window.in_flight > 0 or self.expected_done > self.done_total or self.refused is not None
+        streaming = (
+            self.window.in_flight > 0
+            or self.expected_done > self.done_total
+            or self.refused is not None
+        )
         if status.state == State.ALARM and status.alarm is not None and streaming:
-            self.fail(AlarmError(Alarm(code=status.alarm, motion_ticks=status.motion_ticks, position=status.position)))
+            self.fail(
+                AlarmError(
+                    Alarm(
+                        code=status.alarm,
+                        motion_ticks=status.motion_ticks,
+                        position=status.position,
+                    )
+                )
+            )
         elif self.refused is not None and status.state != State.HOLDING:
             self.fail(FirmwareError(self.refused))
-        # HOLDING without a HOLD from here: a stop the firmware began itself (an underrun); STARVED follows.
+        # HOLDING without a HOLD from here: a stop the firmware began itself (an underrun); STARVED
+        # follows.
 
     def _held_by_input(self) -> None:
-        """The firmware began a hold itself, at an input (a PROBE's edge, the feed hold button): what is queued
-        or in flight will not run (segments arriving while it holds are refused, BUSY), so the stream restarts
-        as at a STOP or HOLD; a waiter resyncs once it is at rest (inputs.wait_rest)."""
+        """The firmware began a hold itself, at an input (a PROBE's edge, the feed hold button):
+        what is queued or in flight will not run (segments arriving while it holds are refused,
+        BUSY), so the stream restarts as at a STOP or HOLD; a waiter resyncs once it is at rest
+        (inputs.wait_rest)."""
         self.generation += 1
         self.window.restart()
         self.held_by_input += 1
 
     def _starved(self) -> None:
-        """The queue ran dry while moving and the firmware stopped (STARVED): it refuses every segment until a
-        HOLD (or STOP), so the stream restarts as at a hold; whoever streams takes it up with HOLD."""
+        """The queue ran dry while moving and the firmware stopped (STARVED): it refuses every
+        segment until a HOLD (or STOP), so the stream restarts as at a hold; whoever streams takes
+        it up with HOLD."""
         self.generation += 1
         self.window.restart()
         self.refused = None  # the BUSY refusals were this stop's
@@ -206,15 +251,24 @@ class Inbox:
     def _on_error(self, error: ErrorReport) -> None:
         self.stats.errors += 1
         waiter = self.waiter
-        if waiter is not None and error.frame_type == waiter.request_type and error.frame_seq == waiter.seq:
+        if (
+            waiter is not None
+            and error.frame_type == waiter.request_type
+            and error.frame_seq == waiter.seq
+        ):
             waiter.error = error
             return
         if error.code in FRAMING_ERRORS and not self.stopping:
             self.window.on_damaged()
             return
-        if self.window.holds(error.frame_seq) and is_sequenced(error.frame_type) and not self.stopping:
+        if (
+            self.window.holds(error.frame_seq)
+            and is_sequenced(error.frame_type)
+            and not self.stopping
+        ):
             if error.code in (ErrorCode.BUSY, ErrorCode.ALARM_ACTIVE):
-                # Usually a stop the firmware began (an underrun, a silent host): a status says which.
+                # Usually a stop the firmware began (an underrun, a silent host): a status says
+                # which.
                 self.refused = self.refused or error
                 self.want_status = True
             else:

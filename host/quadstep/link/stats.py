@@ -7,7 +7,8 @@ from dataclasses import asdict, dataclass
 
 @dataclass
 class LinkStats:
-    """`retransmits` counts frames written again; `timeouts` retransmission timeouts and unanswered requests."""
+    """`retransmits` counts frames written again; `timeouts` retransmission timeouts and unanswered
+    requests."""
 
     frames_sent: int = 0
     bytes_sent: int = 0
@@ -21,7 +22,8 @@ class LinkStats:
     errors: int = 0
     alarms: int = 0
     decode_errors: int = 0
-    starvations: int = 0  # underruns the board stopped at (STARVED) while streaming; each restarted the stream
+    # underruns the board stopped at (STARVED) while streaming; each restarted the stream
+    starvations: int = 0
 
     def as_dict(self) -> dict[str, int]:
         return asdict(self)

@@ -10,7 +10,8 @@ import serial
 
 from .errors import HEARD_BYTES
 
-# What pyserial raises once the port is gone (TypeError and AttributeError from a port closed under it).
+# What pyserial raises once the port is gone (TypeError and AttributeError from a port closed under
+# it).
 PORT_FAILURES = (serial.SerialException, OSError, TypeError, AttributeError)
 
 
@@ -33,7 +34,8 @@ class Transport:
         self.port = port
         self.cond = cond
         self.closed = False  # guarded by cond
-        self.heard = b""  # the first bytes read (HEARD_BYTES), to name a board that answers in another's text
+        # the first bytes read (HEARD_BYTES), to name a board that answers in another's text
+        self.heard = b""
         self._on_data = on_data
         self._next_output = next_output
         self._on_failure = on_failure

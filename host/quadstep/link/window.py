@@ -28,12 +28,24 @@ from .stats import LinkStats
 Clock = Callable[[], float]
 
 
-MIN_RTO = 0.05  # s: the retransmission timeout never goes below this (a busy host answers late), however short the round trip
+# s: the retransmission timeout never goes below this (a busy host answers late), however short the
+# round trip
+MIN_RTO = 0.05
 GIVE_UP = 2.0  # s: a frame resent `retries` times is given up only once it has waited this long too
 
 
 class _Frame:
-    __slots__ = ("seq", "data", "segments", "transmissions", "pending", "first_sent", "sent_at", "order", "parked")
+    __slots__ = (
+        "seq",
+        "data",
+        "segments",
+        "transmissions",
+        "pending",
+        "first_sent",
+        "sent_at",
+        "order",
+        "parked",
+    )
 
     def __init__(self, seq: int, data: bytes, segments: int) -> None:
         self.seq = seq
@@ -51,7 +63,11 @@ class SendWindow:
     """Sequenced frames from `base` (the firmware's next_seq) on; `free` slots as last reported."""
 
     def __init__(
-        self, clock: Clock, rto: float = 0.25, retries: int = 8, stats: LinkStats | None = None,
+        self,
+        clock: Clock,
+        rto: float = 0.25,
+        retries: int = 8,
+        stats: LinkStats | None = None,
         max_in_flight: int = MAX_IN_FLIGHT,
     ) -> None:
         self.clock = clock
@@ -76,13 +92,15 @@ class SendWindow:
     # --- the firmware's state -----------------------------------------------------------------
 
     def reset(self, next_seq: int, free: int) -> None:
-        """Adopt the firmware's next_seq and free slots (a connection, or the answer to STOP/HOLD)."""
+        """Adopt the firmware's next_seq and free slots (a connection, or the answer to
+        STOP/HOLD)."""
         self._drop()
         self.base = next_seq
         self.free = free
 
     def restart(self) -> int:
-        """Drop every frame, unsent or unacknowledged; returns the seq that a STOP or HOLD must carry."""
+        """Drop every frame, unsent or unacknowledged; returns the seq that a STOP or HOLD must
+        carry."""
         seq = self.next_seq
         self._drop()
         self.base = seq
@@ -95,8 +113,8 @@ class SendWindow:
 
     @property
     def stalled(self) -> bool:
-        """Nothing written awaits an ACK and the firmware reported no free slot: only a SPACE ack (or a
-        STATUS, if that ack was lost) can open the window again."""
+        """Nothing written awaits an ACK and the firmware reported no free slot: only a SPACE ack
+        (or a STATUS, if that ack was lost) can open the window again."""
         return not self._written and self.free == 0
 
     # --- frames -------------------------------------------------------------------------------
@@ -112,24 +130,28 @@ class SendWindow:
         return len(self._frames)
 
     def room(self, segments: int = 1) -> bool:
-        """Whether one more frame, taking `segments` queue slots, fits the flow-control window (every frame
-        counts as at least one slot, as the firmware's free count does for a sequence of single frames)."""
-        return len(self._frames) < self.max_in_flight and self._slots + max(1, segments) <= self.free
+        """Whether one more frame, taking `segments` queue slots, fits the flow-control window
+        (every frame counts as at least one slot, as the firmware's free count does for a sequence
+        of single frames)."""
+        return (
+            len(self._frames) < self.max_in_flight and self._slots + max(1, segments) <= self.free
+        )
 
     def holds(self, seq: int) -> bool:
         """Whether frame `seq` is in the window (pushed, not yet acknowledged)."""
         return (seq - self.base) & 0xFF < len(self._frames)
 
     def push(self, data: bytes, segments: int) -> int:
-        """Queue the frame `data`, encoded with seq `next_seq`, that takes `segments` queue slots; returns
-        that seq."""
+        """Queue the frame `data`, encoded with seq `next_seq`, that takes `segments` queue slots;
+        returns that seq."""
         seq = self.next_seq
         self._frames.append(_Frame(seq, data, segments))
         self._slots += max(1, segments)
         return seq
 
     def resend(self, seq: int) -> None:
-        """Write the unacknowledged frame `seq` again at the next due() (one frame, not go-back-N)."""
+        """Write the unacknowledged frame `seq` again at the next due() (one frame, not
+        go-back-N)."""
         index = (seq - self.base) & 0xFF
         if index < len(self._frames):
             self._mark_pending(index)
@@ -171,10 +193,10 @@ class SendWindow:
         return accepted
 
     def on_damaged(self) -> None:
-        """The firmware got a frame it could not read (a framing ERROR: which frame, it cannot say). Any frame
-        written and not yet acknowledged may be the one: write them again now, as for a GAP (once per
-        next_seq), not at the timeout — with several segments a frame, one lost frame is often the last one
-        in flight, and no GAP would come."""
+        """The firmware got a frame it could not read (a framing ERROR: which frame, it cannot say).
+        Any frame written and not yet acknowledged may be the one: write them again now, as for a
+        GAP (once per next_seq), not at the timeout — with several segments a frame, one lost frame
+        is often the last one in flight, and no GAP would come."""
         if self._written and self._gap_handled_for != self.base:
             self._gap_handled_for = self.base
             self._go_back(parked_too=False)
@@ -182,12 +204,14 @@ class SendWindow:
     # --- writing ---------------------------------------------------------------------------------
 
     def due(self) -> list[bytes]:
-        """The frames to write now, in order; raises LinkTimeout for a frame resent `retries` times."""
+        """The frames to write now, in order; raises LinkTimeout for a frame resent `retries`
+        times."""
         now = self.clock()
         if self._written and now >= self._last_progress + self.rto:
             self.stats.timeouts += 1
             self._gap_handled_for = None
-            self.rto = min(self.max_rto, 2 * self.rto)  # back off until a round trip is measured again
+            # back off until a round trip is measured again
+            self.rto = min(self.max_rto, 2 * self.rto)
             self._go_back(parked_too=True)  # the firmware may have let parked frames go
         frames = self._frames
         stop = min(len(frames), self.max_in_flight)
@@ -200,12 +224,15 @@ class SendWindow:
             slots += max(1, frame.segments)
             if not frame.pending:
                 continue
-            if slots > self.free and not frame.transmissions:  # a frame never written needs free slots
+            # a frame never written needs free slots
+            if slots > self.free and not frame.transmissions:
                 stop = i
                 break
             if frame.transmissions > self.retries and now - frame.first_sent >= GIVE_UP:
-                raise LinkTimeout(f"frame seq {frame.seq} unacknowledged after {frame.transmissions - 1} resends "
-                                  f"over {now - frame.first_sent:.1f} s")
+                raise LinkTimeout(
+                    f"frame seq {frame.seq} unacknowledged after {frame.transmissions - 1} resends "
+                    f"over {now - frame.first_sent:.1f} s"
+                )
             if frame.transmissions:
                 self.stats.retransmits += 1
             else:
@@ -225,7 +252,8 @@ class SendWindow:
         return out
 
     def deadline(self) -> float | None:
-        """The clock time at which due() will resend for the retransmission timeout, if frames wait."""
+        """The clock time at which due() will resend for the retransmission timeout, if frames
+        wait."""
         return self._last_progress + self.rto if self._written else None
 
     # --- internals --------------------------------------------------------------------------------
@@ -246,8 +274,9 @@ class SendWindow:
                 self._mark_pending(i)
 
     def _parked(self, seq: int) -> None:
-        """Selective repeat: frame `seq` waits in the firmware for the ones before it. Those written before
-        it and neither acknowledged nor kept were lost on the way (the line keeps the order): resend them."""
+        """Selective repeat: frame `seq` waits in the firmware for the ones before it. Those written
+        before it and neither acknowledged nor kept were lost on the way (the line keeps the order):
+        resend them."""
         index = (seq - self.base) & 0xFF
         if index >= len(self._frames):
             return

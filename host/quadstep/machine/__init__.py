@@ -16,6 +16,19 @@ from .state import StateError, load_state, save_state, state_path
 from .target import Target, open_machine, start_emulator
 
 __all__ = [
-    "JobProgress", "JobRun", "JobState", "Machine", "MachineError", "Motion", "MotionEnd", "Running", "StateError", "Target",
-    "load_state", "open_machine", "save_state", "start_emulator", "state_path",
+    "JobProgress",
+    "JobRun",
+    "JobState",
+    "Machine",
+    "MachineError",
+    "Motion",
+    "MotionEnd",
+    "Running",
+    "StateError",
+    "Target",
+    "load_state",
+    "open_machine",
+    "save_state",
+    "start_emulator",
+    "state_path",
 ]

@@ -1,4 +1,5 @@
-"""The one check that the firmware can run what the configuration plans, made on every connection."""
+"""The one check that the firmware can run what the configuration plans, made on every
+connection."""
 
 from __future__ import annotations
 
@@ -15,10 +16,16 @@ def check_agreement(identity: IdentifyReply, config: MachineConfig, source: str)
     """
     if identity.tick_hz != config.tick_hz:
         raise MachineError(
-            f"{source}: tick_hz = {config.tick_hz}, but the firmware ticks at {identity.tick_hz} Hz "
-            f"(identify); set tick_hz = {identity.tick_hz} in the configuration"
+            f"{source}: tick_hz = {config.tick_hz}, but the firmware ticks at {identity.tick_hz} "
+            f"Hz (identify); set tick_hz = {identity.tick_hz} in the configuration"
         )
     if identity.axis_count < len(config.axes):
-        raise MachineError(f"{source}: {len(config.axes)} axes configured, the firmware drives {identity.axis_count}")
+        raise MachineError(
+            f"{source}: {len(config.axes)} axes configured, the firmware drives "
+            f"{identity.axis_count}"
+        )
     if identity.n_max < N_MAX:
-        raise MachineError(f"the firmware's n_max is {identity.n_max}; quadstep plans segments of up to {N_MAX} ticks")
+        raise MachineError(
+            f"the firmware's n_max is {identity.n_max}; quadstep plans segments of up to {N_MAX} "
+            "ticks"
+        )

@@ -1,12 +1,13 @@
 """Measuring an axis's backlash from exact latches (docs/BACKLASH.md, "Measuring").
 
-**Probe** (hysteresis-free, independent of the target's size and the probe's tip): a corner of the target —
-a block, a touch plate's edge. The axis touches the face (the carriage is then at the face, pushed toward
-it) and backs off by e steps beyond its overshoot; the test axis then leaves and comes back along the
-neighbouring face, which it can touch only if the carriage is still at the face. A closing edge has no
-hysteresis, and the test asks only "contact or not", so the largest e that still touches is the backlash:
-the first e − B steps of the back-off move the motor inside the band, not the carriage. The largest e is
-found by doubling, then halving (a test that misses needs a new touch; one that hits does not).
+**Probe** (hysteresis-free, independent of the target's size and the probe's tip): a corner of the
+target — a block, a touch plate's edge. The axis touches the face (the carriage is then at the face,
+pushed toward it) and backs off by e steps beyond its overshoot; the test axis then leaves and comes
+back along the neighbouring face, which it can touch only if the carriage is still at the face. A
+closing edge has no hysteresis, and the test asks only "contact or not", so the largest e that still
+touches is the backlash: the first e − B steps of the back-off move the motor inside the band, not
+the carriage. The largest e is found by doubling, then halving (a test that misses needs a new
+touch; one that hits does not).
 
 **Switch**: approach until the switch closes, reverse until it opens, approach again: each interval between
 two edges is the backlash plus the switch's own hysteresis, rounded up by 0 … 2 steps (0 only when
@@ -35,14 +36,16 @@ from .units import step_direction
 
 Progress = Callable[[str], None]
 
-# Per axis, the probe's default corner: the direction toward the face measured, and the axis that tests the
-# neighbouring face (toward +): the −X, −Y corner of a block for X and Y, a plate's −X edge for Z.
+# Per axis, the probe's default corner: the direction toward the face measured, and the axis that
+# tests the neighbouring face (toward +): the −X, −Y corner of a block for X and Y, a plate's −X
+# edge for Z.
 PROBE_SETUP = {"X": (1, "Y"), "Y": (1, "X"), "Z": (-1, "X"), "A": (1, "X")}
 ROUNDING = 1.0  # steps: a result is within this of the backlash, so no try may spread more
 
 
 class MeasureError(MachineError):
-    """The measurement could not be made (no contact, a switch not found, a result too scattered)."""
+    """The measurement could not be made (no contact, a switch not found, a result too
+    scattered)."""
 
 
 @dataclass(frozen=True)
@@ -57,7 +60,8 @@ class Measurement:
     spread_steps: float  # largest − smallest
     spread_mm: float
     bound_mm: float  # the largest spread accepted
-    sum_steps: float | None = None  # switch: backlash + hysteresis, before the hysteresis is taken off
+    # switch: backlash + hysteresis, before the hysteresis is taken off
+    sum_steps: float | None = None
     hysteresis_mm: float | None = None  # switch: the calibrated hysteresis taken off
     negative_steps: float = 0.0  # the mean when it came out below 0 (then steps and mm are 0)
 
@@ -117,76 +121,137 @@ def _axis(machine: Machine, name: str) -> int:
     return names.index(name.upper())
 
 
-def measure_with_probe(machine: Machine, name: str, *, toward: int, test: str, test_toward: int, tries: int = 5,
-                       search: float = 10.0, clear: float = 3.0, largest: float = 1.0, feed: float = 2.0,
-                       max_spread: float = 0.01, on_progress: Progress | None = None) -> Measurement:
-    """The probe at a corner: `name` moves toward (+1/−1, machine direction) the face it measures, `test`
-    moves toward the neighbouring face; the probe starts outside the first face, and less than `clear` mm
-    inside the second's edge along the test axis. Distances in mm, `feed` in mm/s."""
+def measure_with_probe(
+    machine: Machine,
+    name: str,
+    *,
+    toward: int,
+    test: str,
+    test_toward: int,
+    tries: int = 5,
+    search: float = 10.0,
+    clear: float = 3.0,
+    largest: float = 1.0,
+    feed: float = 2.0,
+    max_spread: float = 0.01,
+    on_progress: Progress | None = None,
+) -> Measurement:
+    """The probe at a corner: `name` moves toward (+1/−1, machine direction) the face it measures,
+    `test` moves toward the neighbouring face; the probe starts outside the first face, and less
+    than `clear` mm inside the second's edge along the test axis. Distances in mm, `feed` in
+    mm/s."""
     a, t = _axis(machine, name), _axis(machine, test)
     if a == t:
         raise MeasureError("the test axis must be another axis than the one measured")
     axis, test_axis = machine.config.axes[a], machine.config.axes[t]
     say = on_progress or (lambda text: None)
-    s_a, s_t = step_direction(axis, toward), step_direction(test_axis, test_toward)
-    reach, back = round(search * axis.steps_per_mm), round(clear * test_axis.steps_per_mm)
-    top = round(largest * axis.steps_per_mm)
     values: list[float] = []
     with machine.procedure(f"backlash {axis.name}"):
         moves = RawMoves(machine, feed)
         if input_status(machine.link).is_active(Input.PROBE):
             raise MeasureError("the probe touches already: move it clear of the target")
-
-        def touch() -> int:
-            """Touch the face; the overshoot past the latch (steps)."""
-            if input_status(machine.link).is_active(Input.PROBE):  # in contact from the last test: away first
-                moves.move(a, -s_a * (top + reach // 10))
-            latched = moves.until(a, s_a * reach, Input.PROBE, 1)
-            if latched is None:
-                raise MeasureError(f"{axis.name}: no contact within {search:g} mm")
-            return abs(moves.motor[a] - latched)
-
-        def hits() -> bool:
-            """Away along the test axis and back: does it touch the neighbouring face?"""
-            moves.move(t, -s_t * back)
-            if input_status(machine.link).is_active(Input.PROBE):
-                raise MeasureError(f"{test_axis.name}: the probe still touches {clear:g} mm away from the face")
-            return moves.until(t, s_t * back, Input.PROBE, 1) is not None
-
+        corner = _Corner(
+            machine,
+            moves,
+            a,
+            t,
+            axis,
+            test_axis,
+            s_a=step_direction(axis, toward),
+            s_t=step_direction(test_axis, test_toward),
+            reach=round(search * axis.steps_per_mm),
+            back=round(clear * test_axis.steps_per_mm),
+            top=round(largest * axis.steps_per_mm),
+            search=search,
+            clear=clear,
+            largest=largest,
+        )
         for k in range(tries):
-            overshoot, out = touch(), 0  # out: steps backed off beyond the overshoot
-
-            def back_off(e: int) -> None:
-                nonlocal out
-                moves.move(a, -s_a * (e - out + (overshoot if out == 0 else 0)))
-                out = e
-
-            low, e, high = 0, 1, None
-            while high is None:  # doubling, without a new touch while it still hits
-                if e > top:
-                    raise MeasureError(f"{axis.name}: the backlash is more than {largest:g} mm (--max)")
-                back_off(e)
-                if hits():
-                    low, e = e, e * 2
-                else:
-                    high = e
-            missed = True
-            while high - low > 1:  # halving: a miss needs a new touch first
-                middle = (low + high) // 2
-                if missed:
-                    overshoot, out = touch(), 0
-                back_off(middle)
-                missed = not hits()
-                low, high = (low, middle) if missed else (middle, high)
+            low = corner.measure()
             values.append(float(low))
             say(f"{axis.name}: try {k + 1}/{tries}: {low} steps ({low / axis.steps_per_mm:.4f} mm)")
-        moves.move(a, -s_a * reach // 4)  # leave the target free
+        moves.move(a, -corner.s_a * corner.reach // 4)  # leave the target free
     return _result(axis, "probe", values, max_spread)
 
 
-def switch_sums(machine: Machine, a: int, end: str, tries: int, search: float, feed: float,
-                say: Progress) -> list[float]:
-    """Per try, backlash + the switch's hysteresis in steps: the mean of two intervals between its edges."""
+@dataclass
+class _Corner:
+    """One probe corner's moves (steps): touch the face along axis `a`, back off, test the
+    neighbouring face along axis `t`."""
+
+    machine: Machine
+    moves: RawMoves
+    a: int
+    t: int
+    axis: AxisConfig
+    test_axis: AxisConfig
+    s_a: int
+    s_t: int
+    reach: int
+    back: int
+    top: int
+    search: float
+    clear: float
+    largest: float
+    overshoot: int = 0
+    out: int = 0  # steps backed off beyond the overshoot
+
+    def measure(self) -> int:
+        """One try: the largest back-off (steps) after which the test still touches."""
+        self.touch()
+        low, e, high = 0, 1, None
+        while high is None:  # doubling, without a new touch while it still hits
+            if e > self.top:
+                raise MeasureError(
+                    f"{self.axis.name}: the backlash is more than {self.largest:g} mm (--max)"
+                )
+            self.back_off(e)
+            if self.hits():
+                low, e = e, e * 2
+            else:
+                high = e
+        missed = True
+        while high - low > 1:  # halving: a miss needs a new touch first
+            middle = (low + high) // 2
+            if missed:
+                self.touch()
+            self.back_off(middle)
+            missed = not self.hits()
+            low, high = (low, middle) if missed else (middle, high)
+        return low
+
+    def touch(self) -> None:
+        """Touch the face; the overshoot past the latch (steps)."""
+        # in contact from the last test: away first
+        if input_status(self.machine.link).is_active(Input.PROBE):
+            self.moves.move(self.a, -self.s_a * (self.top + self.reach // 10))
+        latched = self.moves.until(self.a, self.s_a * self.reach, Input.PROBE, 1)
+        if latched is None:
+            raise MeasureError(f"{self.axis.name}: no contact within {self.search:g} mm")
+        self.overshoot, self.out = abs(self.moves.motor[self.a] - latched), 0
+
+    def back_off(self, e: int) -> None:
+        self.moves.move(
+            self.a, -self.s_a * (e - self.out + (self.overshoot if self.out == 0 else 0))
+        )
+        self.out = e
+
+    def hits(self) -> bool:
+        """Away along the test axis and back: does it touch the neighbouring face?"""
+        self.moves.move(self.t, -self.s_t * self.back)
+        if input_status(self.machine.link).is_active(Input.PROBE):
+            raise MeasureError(
+                f"{self.test_axis.name}: the probe still touches {self.clear:g} mm away from the "
+                "face"
+            )
+        return self.moves.until(self.t, self.s_t * self.back, Input.PROBE, 1) is not None
+
+
+def switch_sums(
+    machine: Machine, a: int, end: str, tries: int, search: float, feed: float, say: Progress
+) -> list[float]:
+    """Per try, backlash + the switch's hysteresis in steps: the mean of two intervals between its
+    edges."""
     axis = machine.config.axes[a]
     which = switch_input(input_status(machine.link).present, a, end)
     s = step_direction(axis, -1 if end == "min" else 1)  # toward the switch, in steps
@@ -198,8 +263,10 @@ def switch_sums(machine: Machine, a: int, end: str, tries: int, search: float, f
         def edge(level: int, direction: int) -> int:
             latched = moves.until(a, direction * reach, which, level)
             if latched is None:
-                raise MeasureError(f"{axis.name}: the switch did not {'close' if level else 'open'} within "
-                                   f"{search:g} mm ({which.name})")
+                raise MeasureError(
+                    f"{axis.name}: the switch did not {'close' if level else 'open'} within "
+                    f"{search:g} mm ({which.name})"
+                )
             return latched
 
         try:
@@ -241,9 +308,11 @@ def measure_with_switch(machine: Machine, name: str, *, end: str | None = None, 
     axis = machine.config.axes[a]
     hysteresis = axis.backlash.switch_hysteresis if axis.backlash is not None else None
     if hysteresis is None:
-        raise MeasureError(f"{axis.name}: the switch's hysteresis is not calibrated ([axes.backlash] "
-                           "switch_hysteresis): `quadstep backlash calibrate-switch` finds it once the backlash is "
-                           "known (from the probe)")
+        raise MeasureError(
+            f"{axis.name}: the switch's hysteresis is not calibrated ([axes.backlash] "
+            "switch_hysteresis): `quadstep backlash calibrate-switch` finds it once the backlash "
+            "is known (from the probe)"
+        )
     end = end or (axis.homing.end if axis.homing is not None else "min")
     sums = switch_sums(machine, a, end, tries, search, feed, on_progress or (lambda text: None))
     h = hysteresis * axis.steps_per_mm
@@ -251,9 +320,19 @@ def measure_with_switch(machine: Machine, name: str, *, end: str | None = None, 
     return Measurement(**{**asdict(result), "sum_steps": statistics.fmean(sums)})
 
 
-def calibrate_switch(machine: Machine, name: str, backlash_mm: float, *, end: str | None = None, tries: int = 5,
-                     search: float = 5.0, feed: float = 1.0, on_progress: Progress | None = None) -> float:
-    """The switch's hysteresis (mm): what is left of backlash + hysteresis once the known backlash is taken off."""
+def calibrate_switch(
+    machine: Machine,
+    name: str,
+    backlash_mm: float,
+    *,
+    end: str | None = None,
+    tries: int = 5,
+    search: float = 5.0,
+    feed: float = 1.0,
+    on_progress: Progress | None = None,
+) -> float:
+    """The switch's hysteresis (mm): what is left of backlash + hysteresis once the known backlash
+    is taken off."""
     a = _axis(machine, name)
     axis = machine.config.axes[a]
     end = end or (axis.homing.end if axis.homing is not None else "min")
@@ -262,5 +341,10 @@ def calibrate_switch(machine: Machine, name: str, backlash_mm: float, *, end: st
 
 
 __all__ = [
-    "PROBE_SETUP", "MeasureError", "Measurement", "calibrate_switch", "measure_with_probe", "measure_with_switch",
+    "PROBE_SETUP",
+    "MeasureError",
+    "Measurement",
+    "calibrate_switch",
+    "measure_with_probe",
+    "measure_with_switch",
 ]

@@ -14,9 +14,11 @@ from .board_identity import was_reset
 from .state import StateFile
 
 RESET_NOTICE = "the board was reset since the last command: its position is lost; home it"
-MOVED_NOTICE = ("the board's step counts changed since its state was kept (moved by a command that "
-                "keeps none, or one that ended abruptly): where each carriage sits in its backlash "
-                "is known again once it moves")
+MOVED_NOTICE = (
+    "the board's step counts changed since its state was kept (moved by a command that "
+    "keeps none, or one that ended abruptly): where each carriage sits in its backlash "
+    "is known again once it moves"
+)
 
 
 @dataclass(frozen=True)
@@ -28,8 +30,13 @@ class CarriedOver:
     notice: str | None  # what the user is told at connect (None: nothing lost)
 
 
-def carry_over(kept: StateFile, config: MachineConfig, identity: IdentifyReply,
-               status: StatusReport, new_board: bool = False) -> CarriedOver:
+def carry_over(
+    kept: StateFile,
+    config: MachineConfig,
+    identity: IdentifyReply,
+    status: StatusReport,
+    new_board: bool = False,
+) -> CarriedOver:
     """What of `kept` holds for the board that reports `identity` and `status` at rest; `new_board`:
     one that cannot be the one the state was written for (an emulator started for this machine)."""
     motor = tuple(status.position[: len(config.axes)])

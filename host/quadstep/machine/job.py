@@ -1,11 +1,13 @@
-"""A planned job on its way to the board, run by a thread of its own through the states of job_state.py.
+"""A planned job on its way to the board, run by a thread of its own through the states of
+job_state.py.
 
-The plan is streamed section by section: an M0 (or a move file's pause) ends a section at rest, and the job
-waits there (PAUSED) until resume(). A feed hold brings it to rest (HELD) until resume(); a board that ran dry
-brakes to rest by itself (STARVED) and the job goes on at once. In each case what is left is planned again
-from where the machine rests (RESUMING). A feed override plans the rest again while the board keeps moving
-(OVERRIDING), a G38.x of the program hands the machine to the probe (PROBING). halt() brings the machine to
-rest with HOLD and ends the job (STOPPED). Machine.run_job starts one; the CLI and the TUI both run jobs this way.
+The plan is streamed section by section: an M0 (or a move file's pause) ends a section at rest, and
+the job waits there (PAUSED) until resume(). A feed hold brings it to rest (HELD) until resume(); a
+board that ran dry brakes to rest by itself (STARVED) and the job goes on at once. In each case what
+is left is planned again from where the machine rests (RESUMING). A feed override plans the rest
+again while the board keeps moving (OVERRIDING), a G38.x of the program hands the machine to the
+probe (PROBING). halt() brings the machine to rest with HOLD and ends the job (STOPPED).
+Machine.run_job starts one; the CLI and the TUI both run jobs this way.
 """
 
 from __future__ import annotations
@@ -23,14 +25,19 @@ from ..planner.plan import Plan, plan_program
 from ..planner.program import JobError, Pause, ProbeMove, Program
 from ..protocol import InputCause, InputChange, Report
 from .errors import MachineError
+from .job_legs import (
+    PauseOffer,
+    base_plan,
+    rest_after_pause,
+    rest_after_probe,
+    rest_after_stop,
+    stream_move_ends,
+)
 from .job_outputs import FEED_HOLD, stream_outputs, switch_off
 from .job_state import JobProgress, JobState, JobStates
 from .journal import Journal
 from .motion import CUT, STARVED, Motion, MotionEnd, bring_to_rest
 from .override import Swap, replan_running
-from .job_legs import (
-    PauseOffer, base_plan, rest_after_pause, rest_after_probe, rest_after_stop, stream_move_ends,
-)
 from .standing import Restream
 from .takeups import StreamPlan
 
@@ -46,16 +53,25 @@ def final_state(end: MotionEnd) -> JobState:
 
 
 class JobRun:
-    """One planned job on one link: start() it, then wait(), resume() after a pause or a feed hold, or halt().
+    """One planned job on one link: start() it, then wait(), resume() after a pause or a feed hold,
+    or halt().
 
-    With the job's `program` (and a machine's `restream`), a feed hold or a board that ran dry keeps the rest of
-    the job, and set_feed_override() scales the feeds of what is not yet sent (the plan given is planned at
-    `feed_override` %). Without it a feed hold or running dry ends the job, as halt() does."""
+    With the job's `program` (and a machine's `restream`), a feed hold or a board that ran dry keeps
+    the rest of the job, and set_feed_override() scales the feeds of what is not yet sent (the plan
+    given is planned at `feed_override` %). Without it a feed hold or running dry ends the job, as
+    halt() does."""
 
     def __init__(
-        self, link: Link, plan: Plan | StreamPlan, decels: tuple[int, ...], *,
-        program: Program | None = None, label: str = "line", feed_override: int = 100,
-        restream: Restream | None = None, busy_elsewhere: Callable[[], bool] | None = None,
+        self,
+        link: Link,
+        plan: Plan | StreamPlan,
+        decels: tuple[int, ...],
+        *,
+        program: Program | None = None,
+        label: str = "line",
+        feed_override: int = 100,
+        restream: Restream | None = None,
+        busy_elsewhere: Callable[[], bool] | None = None,
         journal: Journal | None = None,
     ) -> None:
         self.link = link
@@ -63,7 +79,8 @@ class JobRun:
         self.program = program
         self.label = label
         self.decels = decels
-        self.restream = restream  # the machine's: positions, take-ups and probing for a job that goes on
+        # the machine's: positions, take-ups and probing for a job that goes on
+        self.restream = restream
         self.busy_elsewhere = busy_elsewhere  # the machine's: another program runs at a pause
         self.journal = journal  # where each leg of the job is kept for `run --resume`
         self.on_end: Callable[[MotionEnd], None] | None = None  # called once, in the job's thread
@@ -117,7 +134,8 @@ class JobRun:
 
     @property
     def pause(self) -> Pause | None:
-        """What the job waits at, when it waits at an M0 or a tool change (M6: `tool`) of its program."""
+        """What the job waits at, when it waits at an M0 or a tool change (M6: `tool`) of its
+        program."""
         state, line = self.states.snapshot()
         return self._item_at(Pause, line) if state is JobState.PAUSED and line is not None else None
 
@@ -132,10 +150,15 @@ class JobRun:
 
     @property
     def gives_way(self) -> bool:
-        """Waiting at a pause of its program (M0, a tool change) or probing for it on a machine: jogs, probing
-        and work zeros may run meanwhile, and the job goes on from where they leave the machine."""
-        return (self.state in (JobState.PAUSED, JobState.PROBING) and self.restream is not None
-                and self.program is not None and not self._halted)
+        """Waiting at a pause of its program (M0, a tool change) or probing for it on a machine:
+        jogs, probing and work zeros may run meanwhile, and the job goes on from where they leave
+        the machine."""
+        return (
+            self.state in (JobState.PAUSED, JobState.PROBING)
+            and self.restream is not None
+            and self.program is not None
+            and not self._halted
+        )
 
     # --- control ------------------------------------------------------------------------------
 
@@ -144,43 +167,51 @@ class JobRun:
         return self
 
     def wait(self, timeout: float | None = None) -> MotionEnd | None:
-        """How the job ended (`done`, the reason given to halt(), `reset`, or `error`); None on timeout."""
+        """How the job ended (`done`, the reason given to halt(), `reset`, or `error`); None on
+        timeout."""
         self._ended.wait(timeout)
         return self._end
 
     def set_feed_override(self, percent: int) -> int:
-        """Scale every feed (not the rapids) of what is not yet sent by `percent` (10–200, ValueError outside):
-        the rest of the job is planned again from the first move boundary not sent and streamed in place of the
-        old without a stop (from the next pause when the section under way has no boundary left)."""
+        """Scale every feed (not the rapids) of what is not yet sent by `percent` (10–200,
+        ValueError outside): the rest of the job is planned again from the first move boundary not
+        sent and streamed in place of the old without a stop (from the next pause when the section
+        under way has no boundary left)."""
         check_percent(percent)
         if self.plan.config.jerk_limited and percent != self._override:
-            raise MachineError("a jerk-limited job (max_jerk) takes its feed override only as it starts "
-                               "(quadstep run --feed-override)")
+            raise MachineError(
+                "a jerk-limited job (max_jerk) takes its feed override only as it starts "
+                "(quadstep run --feed-override)"
+            )
         with self._lock:
             self._override = percent
         self._wake.set()
         return percent
 
     def interrupt(self) -> None:
-        """Another program is about to run while the job waits (the machine calls this, gives_way being true):
-        the machine takes the job's place and band at the pause as where it stands."""
+        """Another program is about to run while the job waits (the machine calls this, gives_way
+        being true): the machine takes the job's place and band at the pause as where it stands."""
         with self._lock:
             first, self._interrupted = not self._interrupted, True
         if first and self.restream is not None:
             self.restream.at_rest()
 
     def resume(self) -> bool:
-        """Go on after a pause or a feed hold; False when the job waits at neither, or another program runs."""
+        """Go on after a pause or a feed hold; False when the job waits at neither, or another
+        program runs."""
         if self.busy_elsewhere is not None and self.busy_elsewhere():
             return False
-        if not (self.states.leave(JobState.PAUSED, JobState.RESUMING)
-                or self.states.leave(JobState.HELD, JobState.RESUMING)):
+        if not (
+            self.states.leave(JobState.PAUSED, JobState.RESUMING)
+            or self.states.leave(JobState.HELD, JobState.RESUMING)
+        ):
             return False
         self._resume.set()
         return True
 
     def feed_hold(self) -> bool:
-        """Bring the machine to rest (HOLD) and keep the rest of the job for resume(); False when nothing moves."""
+        """Bring the machine to rest (HOLD) and keep the rest of the job for resume(); False when
+        nothing moves."""
         with self._lock:
             motion = self._motion if not self._halted else None
             if motion is not None and motion.end is not None and motion.end.ended_by == CUT:
@@ -225,8 +256,8 @@ class JobRun:
         self._ended.set()
 
     def _after_rest(self, rest: MotionEnd) -> MotionEnd:
-        """At rest after a feed hold (wait for resume()) or after the board ran dry (go on at once): plan what is
-        left from here and stream it."""
+        """At rest after a feed hold (wait for resume()) or after the board ran dry (go on at once):
+        plan what is left from here and stream it."""
         at = min(self._offset, len(self.plan) - 1)
         if rest.ended_by == STARVED:
             self.states.enter(JobState.STARVED)
@@ -237,7 +268,9 @@ class JobRun:
             self._resume.clear()
         with self._lock:
             if self._halted:
-                return replace(rest, ended_by=self._halted, segments_done=self._done_before + self._offset)
+                return replace(
+                    rest, ended_by=self._halted, segments_done=self._done_before + self._offset
+                )
         assert self.program is not None
         if self.restream is not None:  # the machine's positions, the band where the stop left it
             here = self.restream.held(rest)
@@ -261,8 +294,8 @@ class JobRun:
         return None
 
     def _probe(self, probe: ProbeMove) -> MotionEnd:
-        """At rest before a G38.x of the program: the machine probes, then the rest of the program is read and
-        planned from where the probe left it."""
+        """At rest before a G38.x of the program: the machine probes, then the rest of the program
+        is read and planned from where the probe left it."""
         assert self.program is not None
         if self.restream is None or probe.resume is None:
             raise JobError(f"{self.label} {probe.line}: G{probe.code} probes only on a machine")
@@ -275,17 +308,21 @@ class JobRun:
         self.program = rest_after_probe(self.program, probe, rest_mm)
         return self._next_leg(self.restream.position())
 
-    def _after_pause(self, pause: Pause, before: WorkCoordinates, after: WorkCoordinates,
-                     interrupted: bool) -> MotionEnd:
-        """The operator jogged, probed or set a work zero at the pause: the rest of the program from where the
-        machine stands, in the work offsets as they are now."""
+    def _after_pause(
+        self, pause: Pause, before: WorkCoordinates, after: WorkCoordinates, interrupted: bool
+    ) -> MotionEnd:
+        """The operator jogged, probed or set a work zero at the pause: the rest of the program from
+        where the machine stands, in the work offsets as they are now."""
         assert self.program is not None and self.restream is not None
         here = self.restream.at_rest() if not interrupted else self.restream.position()
-        self.program = rest_after_pause(self.program, pause, before, after, base_plan(self.plan).config)
+        self.program = rest_after_pause(
+            self.program, pause, before, after, base_plan(self.plan).config
+        )
         return self._next_leg(here)
 
     def _next_leg(self, here: tuple[int, ...]) -> MotionEnd:
-        """What is left of the program planned from `here` and streamed (its take-ups by the machine's)."""
+        """What is left of the program planned from `here` and streamed (its take-ups by the
+        machine's)."""
         remainder = plan_program(self._scaled(), base_plan(self.plan).config, here, self.label)
         streamed = self.restream.stream(remainder) if self.restream is not None else remainder
         with self._lock:
@@ -296,23 +333,32 @@ class JobRun:
         return self._sections()
 
     def _begin_leg(self) -> None:
-        """The plan now streamed is kept in the journal with the board's count of segments (at rest)."""
+        """The plan now streamed is kept in the journal with the board's count of segments (at
+        rest)."""
         if self.journal is not None and self.program is not None:
             base = base_plan(self.plan)
-            self.journal.begin_leg(self.program, base.start, stream_move_ends(self.plan), len(self.plan),
-                                   self.link.segments_done, self._planned)
+            self.journal.begin_leg(
+                self.program,
+                base.start,
+                stream_move_ends(self.plan),
+                len(self.plan),
+                self.link.segments_done,
+                self._planned,
+            )
 
     def _note_state(self, state: JobState) -> None:
         if self.journal is not None:
             self.journal.note(state, self.states.line)
 
     def _on_report(self, report: Report) -> None:
-        """The board's cycle start button resumes a held job (in the reader thread: only an event is set)."""
+        """The board's cycle start button resumes a held job (in the reader thread: only an event is
+        set)."""
         if isinstance(report, InputChange) and report.cause == InputCause.CYCLE_START and self.held:
             self.resume()
 
     def _sections(self) -> MotionEnd:
-        """The plan streamed; where a feed override cut it short, the plan made then from where it was cut."""
+        """The plan streamed; where a feed override cut it short, the plan made then from where it
+        was cut."""
         begin, follows = 0, None
         while True:
             end = self._sections_from(begin, follows)
@@ -321,16 +367,25 @@ class JobRun:
             swap, self._swap = self._swap, None
             with self._lock:
                 follows, halted = self._motion, self._halted
-                self.plan, self._ticks = swap.plan, list(accumulate(swap.plan.segments.n, initial=0))
+                self.plan, self._ticks = (
+                    swap.plan,
+                    list(accumulate(swap.plan.segments.n, initial=0)),
+                )
             begin = swap.index
-            if halted:  # halted as one motion handed over to the next: the board still runs the first's
+            # halted as one motion handed over to the next: the board still runs the first's
+            if halted:
                 rest = bring_to_rest(self.link, self.decels)
-                return MotionEnd(halted, rest.position[: self.plan.segments.axis_count], begin,
-                                 held=rest.held, hold_tick=rest.hold_tick)
+                return MotionEnd(
+                    halted,
+                    rest.position[: self.plan.segments.axis_count],
+                    begin,
+                    held=rest.held,
+                    hold_tick=rest.hold_tick,
+                )
 
     def _stream(self, motion: Motion) -> MotionEnd:
-        """Start `motion` and wait for its end; meanwhile a changed feed override plans the rest again and cuts
-        the motion short where the new plan goes on (override.py)."""
+        """Start `motion` and wait for its end; meanwhile a changed feed override plans the rest
+        again and cuts the motion short where the new plan goes on (override.py)."""
         motion.on_end = lambda _end: self._wake.set()
         if self.state is not JobState.STREAMING:
             self.states.enter(JobState.STREAMING)
@@ -349,15 +404,22 @@ class JobRun:
         return end
 
     def _override_running(self, motion: Motion) -> None:
-        """The feed override changed while `motion` streams: plan the rest again (OVERRIDING) and have the new
-        plan swapped in where the motion is cut."""
+        """The feed override changed while `motion` streams: plan the rest again (OVERRIDING) and
+        have the new plan swapped in where the motion is cut."""
         if self.program is None:
             return
         self.states.enter(JobState.OVERRIDING)
         running = self.restream if self.restream and isinstance(self.plan, StreamPlan) else None
         percent = self._override
-        self._swap = replan_running(self.program, self.plan, motion, percent, self.label,
-                                    running.restream if running else None, self._ticks)
+        self._swap = replan_running(
+            self.program,
+            self.plan,
+            motion,
+            percent,
+            self.label,
+            running.restream if running else None,
+            self._ticks,
+        )
         if self._swap is not None:
             self._planned = percent
             if running is not None:
@@ -370,8 +432,8 @@ class JobRun:
             self.states.enter(JobState.STREAMING)
 
     def _sections_from(self, begin: int, follows: Motion | None) -> MotionEnd:
-        """Each stretch of segments between pauses, from item `begin` on (after the motion `follows`, cut there),
-        and a wait at each pause (at the start or the end too)."""
+        """Each stretch of segments between pauses, from item `begin` on (after the motion
+        `follows`, cut there), and a wait at each pause (at the start or the end too)."""
         total = len(self.plan)
         end: MotionEnd | None = None
         first = begin
@@ -384,8 +446,16 @@ class JobRun:
                 with self._lock:
                     if self._halted:
                         break
-                    motion = Motion(self.link, self.plan.segments, self.decels, first=first, last=index,
-                                    lookahead_ticks=self.lookahead, outputs=mine, follows=follows)
+                    motion = Motion(
+                        self.link,
+                        self.plan.segments,
+                        self.decels,
+                        first=first,
+                        last=index,
+                        lookahead_ticks=self.lookahead,
+                        outputs=mine,
+                        follows=follows,
+                    )
                     self._motion, self._offset, follows = motion, first, None
                 end = self._stream(motion)
                 if end.ended_by == CUT:
@@ -394,7 +464,9 @@ class JobRun:
                     self._motion = None
                     self._offset = index if end.ended_by == "done" else first + end.segments_done
                 if end.ended_by != "done":
-                    return end  # a feed hold or running dry among them: the caller plans what is left
+                    return (
+                        end  # a feed hold or running dry among them: the caller plans what is left
+                    )
                 first = index
             if line is None:
                 break
@@ -411,9 +483,9 @@ class JobRun:
         return MotionEnd(self._halted or "done", position, self._offset)
 
     def _wait_at_pause(self, line: int) -> MotionEnd | None:
-        """PAUSED at the pause of `line` until resume() or halt(); where the operator moved the machine or
-        changed the work offsets meanwhile, the rest planned again from there (its end returned), else None:
-        the next section follows as planned."""
+        """PAUSED at the pause of `line` until resume() or halt(); where the operator moved the
+        machine or changed the work offsets meanwhile, the rest planned again from there (its end
+        returned), else None: the next section follows as planned."""
         pause = self._item_at(Pause, line)
         with self._lock:
             if self._halted:
@@ -422,7 +494,9 @@ class JobRun:
         self.states.enter(JobState.PAUSED, line)
         restream = self.restream
         program = pause.coordinates if pause is not None else None
-        offer = PauseOffer(program, restream) if program is not None and restream is not None else None
+        offer = (
+            PauseOffer(program, restream) if program is not None and restream is not None else None
+        )
         self._resume.wait()
         self._resume.clear()
         with self._lock:

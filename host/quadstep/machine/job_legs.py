@@ -1,7 +1,7 @@
-"""Where a job's next leg begins: what is left of its program, to be planned again from where the machine rests
-— after a stop that kept the rest of the job (a feed hold, the board running dry), after a probe of the program,
-after a pause where the operator moved the machine or changed the work offsets — and where each leg's moves end
-in the stream the board counts (what the journal keeps)."""
+"""Where a job's next leg begins: what is left of its program, to be planned again from where the
+machine rests — after a stop that kept the rest of the job (a feed hold, the board running dry),
+after a probe of the program, after a pause where the operator moved the machine or changed the work
+offsets — and where each leg's moves end in the stream the board counts (what the journal keeps)."""
 
 from __future__ import annotations
 
@@ -31,15 +31,15 @@ def stream_move_ends(plan: Plan | StreamPlan) -> list[int]:
 
 
 def rest_after_stop(program: Program, plan: Plan | StreamPlan, stopped_at: int) -> Program:
-    """What is left of `program` (streamed as `plan`) stopped during its stream segment `stopped_at`: the move
-    it was in again, then everything after it."""
+    """What is left of `program` (streamed as `plan`) stopped during its stream segment
+    `stopped_at`: the move it was in again, then everything after it."""
     held = plan.segments.origin_of(stopped_at) if isinstance(plan, StreamPlan) else stopped_at
     return remainder_program(program, base_plan(plan), held)
 
 
 def rest_after_probe(program: Program, probe: ProbeMove, rest_mm: Sequence[float]) -> Program:
-    """The rest of `program` read again from where its probe stopped (`rest_mm`, machine mm); the work
-    coordinates it leaves are the caller's object, updated in place."""
+    """The rest of `program` read again from where its probe stopped (`rest_mm`, machine mm); the
+    work coordinates it leaves are the caller's object, updated in place."""
     assert probe.resume is not None
     rest = probe.resume(rest_mm)
     kept = program.coordinates
@@ -50,9 +50,15 @@ def rest_after_probe(program: Program, probe: ProbeMove, rest_mm: Sequence[float
     return rest
 
 
-def rest_after_pause(program: Program, pause: Pause, before: WorkCoordinates, after: WorkCoordinates,
-                     config: MachineConfig) -> Program:
-    """The rest of `program` after `pause`, where the work offsets went from `before` to `after` meanwhile."""
+def rest_after_pause(
+    program: Program,
+    pause: Pause,
+    before: WorkCoordinates,
+    after: WorkCoordinates,
+    config: MachineConfig,
+) -> Program:
+    """The rest of `program` after `pause`, where the work offsets went from `before` to `after`
+    meanwhile."""
     rest = after_pause_program(program, pause.line, before, after, config)
     if program.coordinates is not None:
         carry_changes(program.coordinates, before, after)
@@ -60,8 +66,9 @@ def rest_after_pause(program: Program, pause: Pause, before: WorkCoordinates, af
 
 
 class PauseOffer:
-    """At a pause of the program the machine works in the program's work coordinates there, so that a zero the
-    operator sets at the pause lands in them; where nothing changes, the machine's own come back."""
+    """At a pause of the program the machine works in the program's work coordinates there, so that
+    a zero the operator sets at the pause lands in them; where nothing changes, the machine's own
+    come back."""
 
     def __init__(self, program: WorkCoordinates, restream: Restream) -> None:
         self.program = program
@@ -69,9 +76,10 @@ class PauseOffer:
         self.previous = restream.coordinates()
         restream.adopt(program.model_copy(deep=True))  # in memory only: kept where a zero is set
 
-    def settle(self, interrupted: bool, halted: bool) -> WorkCoordinates | None:
-        """As the job goes on (or is halted): the coordinates the operator left where the rest must be planned
-        again in them (they changed, or another program moved the machine), else None."""
+    def settle(self, interrupted: bool, halted: str | None) -> WorkCoordinates | None:
+        """As the job goes on (or is halted, `halted` the reason): the coordinates the operator left
+        where the rest must be planned again in them (they changed, or another program moved the
+        machine), else None."""
         after = self.restream.coordinates()
         if not halted and (interrupted or after != self.program):
             return after

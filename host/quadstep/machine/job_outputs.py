@@ -1,4 +1,5 @@
-"""A job's OUTPUTS (spindle, laser, coolant) where its stream sends them, and switched off when it stops early."""
+"""A job's OUTPUTS (spindle, laser, coolant) where its stream sends them, and switched off when it
+stops early."""
 
 from __future__ import annotations
 
@@ -15,22 +16,37 @@ FEED_HOLD = "feed hold"  # how a motion held to rest with the rest of the job ke
 
 
 def stream_outputs(plan: Plan | StreamPlan) -> list[tuple[int, int, Outputs]]:
-    """The plan's OUTPUTS at the places of the stream (a take-up's segments run with the move they are in)."""
+    """The plan's OUTPUTS at the places of the stream (a take-up's segments run with the move they
+    are in)."""
     if not isinstance(plan, StreamPlan):
         return plan.outputs
     stream, planned = plan.segments, len(plan.base)
-    return [(bisect_left(stream.origin, index) if index < planned else len(stream), section, message)
-            for index, section, message in plan.base.outputs]
+    return [
+        (bisect_left(stream.origin, index) if index < planned else len(stream), section, message)
+        for index, section, message in plan.base.outputs
+    ]
 
 
 def switch_off(link: Link, end: MotionEnd, outputs: bool) -> MotionEnd:
-    """A job stopped before its end leaves the spindle, laser and coolant off (a feed hold keeps them)."""
+    """A job stopped before its end leaves the spindle, laser and coolant off (a feed hold keeps
+    them)."""
     if end.ended_by in ("done", FEED_HOLD) or not outputs:
         return end
     try:
         link.send(OFF)
         link.drain(timeout=2)
     except LinkError as exc:
-        return end if end.error else MotionEnd(end.ended_by, end.position, end.segments_done, end.stop_event_ns,
-                                               end.held, end.hold_tick, error=f"outputs not switched off: {exc}")
+        return (
+            end
+            if end.error
+            else MotionEnd(
+                end.ended_by,
+                end.position,
+                end.segments_done,
+                end.stop_event_ns,
+                end.held,
+                end.hold_tick,
+                error=f"outputs not switched off: {exc}",
+            )
+        )
     return end

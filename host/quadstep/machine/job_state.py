@@ -1,5 +1,6 @@
-"""The states of a running job and the transitions between them, with no I/O: the job runner (job.py) steps
-this model at every turn of the job, and everything that shows a job (the CLI, the TUI) reads its state.
+"""The states of a running job and the transitions between them, with no I/O: the job runner
+(job.py) steps this model at every turn of the job, and everything that shows a job (the CLI, the
+TUI) reads its state.
 
     STREAMING ──section done, pause next──▶ PAUSED ──resume──▶ RESUMING ──▶ STREAMING
         │  ▲                                  │
@@ -9,9 +10,9 @@ this model at every turn of the job, and everything that shows a job (the CLI, t
         ├──G38.x next──▶ PROBING ──probed──▶ RESUMING
         └──last section done──▶ DONE          any state ──halt──▶ STOPPED, ──error──▶ FAILED
 
-A job waits for nobody but the operator in PAUSED and HELD; STARVED, RESUMING and OVERRIDING are passed
-through by the runner on its own (the rest planned again from where the machine stands or from the first move
-not yet sent).
+A job waits for nobody but the operator in PAUSED and HELD; STARVED, RESUMING and OVERRIDING are
+passed through by the runner on its own (the rest planned again from where the machine stands or
+from the first move not yet sent).
 """
 
 from __future__ import annotations
@@ -24,11 +25,14 @@ from enum import Enum
 
 class JobState(Enum):
     STREAMING = "streaming"  # a stretch of the plan is on its way to the board
-    PAUSED = "paused"  # at rest at an M0, M1 or tool change of the program, waiting for the operator
+    # at rest at an M0, M1 or tool change of the program, waiting for the operator
+    PAUSED = "paused"
     HELD = "held"  # at rest after a feed hold, waiting for the operator
-    STARVED = "starved"  # the board ran dry and braked to rest: the rest is planned again, without the operator
+    # the board ran dry and braked to rest: the rest is planned again, without the operator
+    STARVED = "starved"
     PROBING = "probing"  # the machine probes for a G38.x of the program
-    OVERRIDING = "overriding"  # the rest planned again at a new feed override while the board keeps moving
+    # the rest planned again at a new feed override while the board keeps moving
+    OVERRIDING = "overriding"
     RESUMING = "resuming"  # what is left planned again from where the machine rests
     DONE = "done"
     STOPPED = "stopped"  # halted by the user (HOLD to rest)
@@ -66,7 +70,9 @@ LABELS = {
 
 S = JobState
 TRANSITIONS: dict[JobState, frozenset[JobState]] = {
-    S.STREAMING: frozenset({S.STREAMING, S.PAUSED, S.HELD, S.STARVED, S.PROBING, S.OVERRIDING, S.DONE}),
+    S.STREAMING: frozenset(
+        {S.STREAMING, S.PAUSED, S.HELD, S.STARVED, S.PROBING, S.OVERRIDING, S.DONE}
+    ),
     S.OVERRIDING: frozenset({S.STREAMING, S.HELD, S.STARVED}),
     S.PAUSED: frozenset({S.RESUMING, S.STREAMING, S.PROBING, S.DONE}),
     S.HELD: frozenset({S.RESUMING}),
@@ -99,8 +105,9 @@ class TransitionError(RuntimeError):
 
 
 class JobStates:
-    """The state of one job, changed only through `enter`; thread-safe. `line` is the program line the state
-    concerns (the pause's, the hold's), `starvations` counts the times the board ran dry and the job went on."""
+    """The state of one job, changed only through `enter`; thread-safe. `line` is the program line
+    the state concerns (the pause's, the hold's), `starvations` counts the times the board ran dry
+    and the job went on."""
 
     def __init__(self, on_change: Callable[[JobState], None] | None = None) -> None:
         self._lock = threading.Lock()
@@ -127,7 +134,8 @@ class JobStates:
             return self._state, (self._line if self._state.waiting else None)
 
     def enter(self, state: JobState, line: int | None = None) -> JobState:
-        """Go to `state` (TransitionError where the model has no such step); returns the state left."""
+        """Go to `state` (TransitionError where the model has no such step); returns the state
+        left."""
         with self._lock:
             left = self._set(state, line)
         if self._on_change is not None:
@@ -135,7 +143,8 @@ class JobStates:
         return left
 
     def leave(self, waiting: JobState, to: JobState) -> bool:
-        """Go to `to` if the job is in `waiting` now, as one step (a resume that meets no pause does nothing)."""
+        """Go to `to` if the job is in `waiting` now, as one step (a resume that meets no pause does
+        nothing)."""
         with self._lock:
             if self._state is not waiting:
                 return False

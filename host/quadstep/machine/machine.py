@@ -20,18 +20,28 @@ from __future__ import annotations
 import threading
 from collections.abc import Callable, Sequence
 from pathlib import Path
+from typing import TypeVar
 
+from ..backlash.compensate import Compensated
 from ..config import DEFAULT_CONFIG_NAME, MachineConfig, default_config
 from ..coordinates import WorkCoordinates
 from ..default_machine import default_machine
-from ..backlash.compensate import Compensated
 from ..link import Link, LinkError, LinkStats, hold
 from ..planner.plan import Plan
 from ..planner.program import Program
 from ..planner.segments import SegmentArrays
+from ..planner.stream import Stream
 from ..port_process import PortProcess
 from ..protocol import (
-    Alarm, AlarmCode, Capability, IdentifyReply, Report, Segment, State, StatusReport, Watchdog,
+    Alarm,
+    AlarmCode,
+    Capability,
+    IdentifyReply,
+    Report,
+    Segment,
+    State,
+    StatusReport,
+    Watchdog,
 )
 from .agreement import check_agreement
 from .errors import MachineError
@@ -39,16 +49,17 @@ from .inputs import config_message
 from .job import JobRun
 from .journal import Journal
 from .motion import Motion, MotionEnd, bring_to_rest
+from .standing import Standing, _Restream
 from .state import StateFile, read_state
 from .state_lock import StateLock
-from .standing import Standing, _Restream
 from .takeups import StreamPlan, TakeUps
 from .units import hold_decels
 
 
 def fallback_config(identity: IdentifyReply) -> MachineConfig:
-    """Without a configuration: the default machine where the firmware is the one it describes (the emulator
-    started for it, an Uno at its 32 kHz), else a generic one from what the firmware says."""
+    """Without a configuration: the default machine where the firmware is the one it describes (the
+    emulator started for it, an Uno at its 32 kHz), else a generic one from what the firmware
+    says."""
     default = default_machine()
     if identity.tick_hz == default.tick_hz and identity.axis_count == len(default.axes):
         return default
@@ -56,8 +67,8 @@ def fallback_config(identity: IdentifyReply) -> MachineConfig:
 
 
 class Procedure:
-    """A routine that drives the link itself (homing, probing) while it holds the machine; halt() is the user's
-    stop for it: a HOLD, which ends whatever it streams (it then raises Stopped)."""
+    """A routine that drives the link itself (homing, probing) while it holds the machine; halt() is
+    the user's stop for it: a HOLD, which ends whatever it streams (it then raises Stopped)."""
 
     def __init__(self, machine: Machine, name: str) -> None:
         self.machine = machine
@@ -78,10 +89,12 @@ class Procedure:
 
 
 Running = Motion | JobRun | Procedure  # what the machine runs, one at a time
+Started = TypeVar("Started", Motion, JobRun)  # what _begin() starts (a Procedure claims itself)
 
 
 class Machine(Standing):
-    """The machine behind `link`, described by `config` (None: a generic one, see config.default_config)."""
+    """The machine behind `link`, described by `config` (None: a generic one, see
+    config.default_config)."""
 
     def __init__(
         self,
@@ -99,7 +112,9 @@ class Machine(Standing):
         self.link = link
         self.config_given = config is not None
         self.config = config if config is not None else fallback_config(identity)
-        check_agreement(identity, self.config, source if config is not None else DEFAULT_CONFIG_NAME)
+        check_agreement(
+            identity, self.config, source if config is not None else DEFAULT_CONFIG_NAME
+        )
         self.emulator = emulator  # an emulator this machine started, stopped by close()
         self.decels = hold_decels(self.config)  # HOLD decelerations: each axis's max_accel
         self.state_file = state_file  # where the state is kept (None: in memory only)
@@ -110,21 +125,28 @@ class Machine(Standing):
         self.notice: str | None = None
         self._state_lock = threading.Lock()
         self._ticks = 0
-        self.takeups = TakeUps(self.config)  # the backlash: take-ups in every program, positions without them
+        # the backlash: take-ups in every program, positions without them
+        self.takeups = TakeUps(self.config)
         self._lock = threading.Lock()
         self._running: Running | None = None
         self._waiting: JobRun | None = None  # a job waiting at a pause while another program runs
         self._motor: tuple[int, ...] = ()  # the board's step counts where it last stood still
-        # Machine zero is known once homed; a hard limit or the abort button loses it (as GRBL's alarm).
+        # Machine zero is known once homed; a hard limit or the abort button loses it (as GRBL's
+        # alarm).
         self._homed = False
         self._position_lost = False
         link.on_report(self._watch_alarms)
-        if link.status().state == State.STARVED:  # left dry by a host gone (a killed job): take it up
+        # left dry by a host gone (a killed job): take it up
+        if link.status().state == State.STARVED:
             bring_to_rest(link, self.decels)
-        if identity.capabilities & Capability.LIMIT_INPUTS and link.status().state in (State.IDLE, State.ALARM):
+        if identity.capabilities & Capability.LIMIT_INPUTS and link.status().state in (
+            State.IDLE,
+            State.ALARM,
+        ):
             link.send(config_message(self.config, identity.axis_count))
             link.drain(timeout=5)
-        if identity.capabilities & Capability.CONTROLLED_STOPS:  # the link keeps it fed while anything moves
+        # the link keeps it fed while anything moves
+        if identity.capabilities & Capability.CONTROLLED_STOPS:
             link.request(Watchdog(timeout_ms=round(self.config.host_timeout * 1000)), StatusReport)
         self._carry_over(kept, self.status())
 
@@ -150,7 +172,8 @@ class Machine(Standing):
         return self.coordinates.to_work(self.config.axis_names, self.position_mm)
 
     def set_work_zero(self, axes: Sequence[int]) -> tuple[float, ...]:
-        """Make the current position 0 in the active work coordinates on `axes` (G10 L20 P0), and keep it."""
+        """Make the current position 0 in the active work coordinates on `axes` (G10 L20 P0), and
+        keep it."""
         self._refuse_if_busy("set a work zero")
         self.sync()
         coordinates = self.coordinates.model_copy(deep=True)
@@ -199,37 +222,60 @@ class Machine(Standing):
 
     # --- programs ---------------------------------------------------------------------------------
 
-    def move(self, segments: SegmentArrays, *, lookahead_ticks: int | None = None) -> Motion:
-        """Start streaming planned segments now, the backlash taken up in them; wait() on the Motion."""
+    def move(
+        self, segments: SegmentArrays | Stream, *, lookahead_ticks: int | None = None
+    ) -> Motion:
+        """Start streaming planned segments now, the backlash taken up in them; wait() on the
+        Motion."""
         compensated = self.takeups.compensate(segments)
         motion = Motion(self.link, compensated.stream, self.decels, lookahead_ticks=lookahead_ticks)
-        return self._begin(motion, compensated).start()  # type: ignore[return-value]
+        return self._begin(motion, compensated).start()
 
-    def run_job(self, plan: Plan, program: Program | None = None, label: str = "line",
-                feed_override: int = 100, journal: Journal | None = None) -> JobRun:
-        """Start a planned job now, the backlash taken up in it (pauses wait for JobRun.resume()). With the
-        `program` it was planned from, a feed hold (JobRun.feed_hold, the board's button) keeps the rest of the
-        job for resume(), and JobRun.set_feed_override changes its feeds on the way (the plan is planned at
-        `feed_override` %, the program as written); a `journal` keeps each leg of it for `run --resume`."""
+    def run_job(
+        self,
+        plan: Plan,
+        program: Program | None = None,
+        label: str = "line",
+        feed_override: int = 100,
+        journal: Journal | None = None,
+    ) -> JobRun:
+        """Start a planned job now, the backlash taken up in it (pauses wait for JobRun.resume()).
+        With the `program` it was planned from, a feed hold (JobRun.feed_hold, the board's button)
+        keeps the rest of the job for resume(), and JobRun.set_feed_override changes its feeds on
+        the way (the plan is planned at `feed_override` %, the program as written); a `journal`
+        keeps each leg of it for `run --resume`."""
         if plan.outputs and not self.identity.capabilities & Capability.OUTPUTS:
-            raise MachineError("the job sets the spindle, laser or coolant (M3/M4/M5, M7/M8/M9) and this firmware "
-                               "has no outputs; --skip-unsupported runs it without them")
+            raise MachineError(
+                "the job sets the spindle, laser or coolant (M3/M4/M5, M7/M8/M9) and this firmware "
+                "has no outputs; --skip-unsupported runs it without them"
+            )
         compensated = self.takeups.compensate(plan.segments, plan.pauses)
-        streamed = StreamPlan(plan.config, compensated.stream, compensated.pauses, compensated, plan)
-        job = JobRun(self.link, streamed, self.decels, program=program, label=label,
-                     feed_override=feed_override, restream=_Restream(self),
-                     busy_elsewhere=lambda: self._waiting is job, journal=journal)
-        return self._begin(job, compensated).start()  # type: ignore[return-value]
+        streamed = StreamPlan(
+            plan.config, compensated.stream, compensated.pauses, compensated, plan
+        )
+        job = JobRun(
+            self.link,
+            streamed,
+            self.decels,
+            program=program,
+            label=label,
+            feed_override=feed_override,
+            restream=_Restream(self),
+            busy_elsewhere=lambda: self._waiting is job,
+            journal=journal,
+        )
+        return self._begin(job, compensated).start()
 
     def send_segments(self, segments: Sequence[Segment]) -> Motion:
-        """Start streaming raw segments (every firmware axis) now, as they are (no take-ups added)."""
+        """Start streaming raw segments (every firmware axis) now, as they are (no take-ups
+        added)."""
         arrays = SegmentArrays.of(segments, self.identity.axis_count)
         motion = Motion(self.link, arrays, self.decels)
-        return self._begin(motion, raw=segments).start()  # type: ignore[return-value]
+        return self._begin(motion, raw=segments).start()
 
     def hold(self, reason: str = "stop") -> MotionEnd | None:
-        """The user's stop: bring the running program to rest with HOLD; returns how it ended, with the
-        exact rest position (None when nothing ran)."""
+        """The user's stop: bring the running program to rest with HOLD; returns how it ended, with
+        the exact rest position (None when nothing ran)."""
         program = self.program
         return program.halt(reason) if program is not None else None
 
@@ -239,25 +285,28 @@ class Machine(Standing):
         self._rest(status.position, status.motion_ticks, False)
         return status
 
-    # --- reports from the firmware ------------------------------------------------------------------
+    # --- reports from the firmware ----------------------------------------------------------------
 
     def on_report(self, callback: Callable[[Report], None]) -> Callable[[], None]:
-        """Call `callback` (in the reader thread; keep it short) for every ALARM, ERROR, EVENT and SPACE ack;
-        returns the function that unregisters it."""
+        """Call `callback` (in the reader thread; keep it short) for every ALARM, ERROR, EVENT and
+        SPACE ack; returns the function that unregisters it."""
         return self.link.on_report(callback)
 
     def report_count(self, cls: type[Report]) -> int:
         return self.link.report_count(cls)
 
-    def wait_report(self, cls: type[Report], after: int, timeout: float | None = None) -> Report | None:
-        """Until report number `after` + 1 of class `cls` arrives (see report_count); None on timeout."""
+    def wait_report(
+        self, cls: type[Report], after: int, timeout: float | None = None
+    ) -> Report | None:
+        """Until report number `after` + 1 of class `cls` arrives (see report_count); None on
+        timeout."""
         return self.link.wait_report(cls, after, self.link.generation, timeout)
 
-    # --- closing ------------------------------------------------------------------------------------
+    # --- closing ----------------------------------------------------------------------------------
 
     def close(self, bring_to_rest: bool = True) -> None:
-        """Bring a running program to rest (unless told not to: a link known to be lost), close the link,
-        stop an emulator this machine started."""
+        """Bring a running program to rest (unless told not to: a link known to be lost), close the
+        link, stop an emulator this machine started."""
         try:
             if bring_to_rest:
                 self.hold("quit")
@@ -282,7 +331,7 @@ class Machine(Standing):
     def __exit__(self, *exc: object) -> None:
         self.close()
 
-    # --- internals ----------------------------------------------------------------------------------
+    # --- internals --------------------------------------------------------------------------------
 
     def _refuse_if_busy(self, what: str) -> None:
         with self._lock:
@@ -291,10 +340,15 @@ class Machine(Standing):
             raise MachineError(f"cannot {what}: a program is running (stop it first)")
 
     def _take(self, program: Running) -> None:
-        """Under the lock: `program` runs now. A job waiting at a pause gives way to it, and runs again after."""
+        """Under the lock: `program` runs now. A job waiting at a pause gives way to it, and runs
+        again after."""
         running = self._running
         if running is not None:
-            if not isinstance(running, JobRun) or not running.gives_way or self._waiting is not None:
+            if (
+                not isinstance(running, JobRun)
+                or not running.gives_way
+                or self._waiting is not None
+            ):
                 raise MachineError("a program is running already: one at a time (stop it first)")
             self._waiting = running
         self._running = program
@@ -325,29 +379,37 @@ class Machine(Standing):
             self.sync()
 
     def _interrupt_waiting(self) -> None:
-        """Before another program runs while a job waits at its pause: the machine stands where the job does."""
+        """Before another program runs while a job waits at its pause: the machine stands where the
+        job does."""
         with self._lock:
             running = self._running
         if isinstance(running, JobRun) and running.gives_way:
             running.interrupt()
 
-    def _begin(self, program: Running, compensated: Compensated | None = None,
-               raw: Sequence[Segment] | None = None) -> Running:
+    def _begin(
+        self,
+        program: Started,
+        compensated: Compensated | None = None,
+        raw: Sequence[Segment] | None = None,
+    ) -> Started:
         if self.config.homing_required and not self.homed:
-            raise MachineError("homing_required = true in the configuration: home the machine first "
-                               "(quadstep home, or the TUI's H)")
+            raise MachineError(
+                "homing_required = true in the configuration: home the machine first "
+                "(quadstep home, or the TUI's H)"
+            )
         self._interrupt_waiting()
         with self._lock:
             self._take(program)
         if compensated is not None:
-            status = self.link.status()  # at rest: where the stream begins, in steps and motion ticks
+            # at rest: where the stream begins, in steps and motion ticks
+            status = self.link.status()
             self.takeups.begin(compensated, status.position[: self.axis_count], status.motion_ticks)
-        program.settle = lambda end: self._settle(end, raw)  # type: ignore[union-attr]
+        program.settle = lambda end: self._settle(end, raw)
         program.on_end = lambda end: self._ended(program, end)
         return program
 
     def _ended(self, program: Running, end: MotionEnd) -> None:
-        """In the program's thread, before its waiters wake (after _settle): the machine is free again."""
+        """In the program's thread, before its waiters wake (after _settle): the machine is free
+        again."""
         with self._lock:
             self._free(program)
-

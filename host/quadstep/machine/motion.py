@@ -20,10 +20,19 @@ from typing import Protocol
 from ..link import AlarmError, Link, LinkError, Stopped, hold, wait_rest
 from ..link.errors import status_alarm
 from ..protocol import (
-    DECEL_MAX, AckReason, Capability, CubicSegment, HoldDone, IdentifyReply, InputCause, Outputs, Report, Segment,
+    DECEL_MAX,
+    AckReason,
+    Capability,
+    CubicSegment,
+    HoldDone,
+    IdentifyReply,
+    InputCause,
+    Outputs,
+    Report,
+    Segment,
 )
-from ..protocol.messages import queue_slots
 from ..protocol.frames import next_frame, run_limit
+from ..protocol.messages import queue_slots
 from ..protocol.segment_run import RunChain
 
 # Keep at least this many segments queued, whatever the lookahead, so the board
@@ -31,17 +40,19 @@ from ..protocol.segment_run import RunChain
 MIN_QUEUED_SEGMENTS = 2
 SPACE_WAIT = 0.005  # s between checks while the lookahead is full
 STALL_POLL = 0.25  # s without a completed segment before asking for STATUS
-STARVED = "starved"  # how a motion ends when the board ran dry and braked to rest by itself
-CUT = "cut"  # how a motion whose stream was cut short (cut()) ends: the board still runs its last segments
-STARVED = "starved"  # how a motion ends whose queue ran dry while moving: the board stopped it (a hold), and
-# the motion took it out of STARVED with HOLD, so it is IDLE at the end's position
+# how a motion whose stream was cut short (cut()) ends: the board still runs its last segments
+CUT = "cut"
+# how a motion ends whose queue ran dry while moving: the board stopped it (a hold), and the motion
+# took it out of STARVED with HOLD, so it is IDLE at the end's position
+STARVED = "starved"
 
 
 @dataclass(frozen=True)
 class MotionEnd:
     """How a motion ended and where the machine rests."""
 
-    ended_by: str  # "done", "error", "reset" (a STOP from elsewhere), STARVED, or the reason given to halt()
+    # "done", "error", "reset" (a STOP from elsewhere), STARVED, or the reason given to halt()
+    ended_by: str
     position: tuple[int, ...]  # step positions at rest
     segments_done: int  # segments of this motion the board completed (before any hold)
     stop_event_ns: int | None = None  # time.monotonic_ns() when halt() was called
@@ -65,12 +76,12 @@ def board_run_limit(identity: IdentifyReply) -> int:
 
 
 class RunSize:
-    """How many segments go in the next SEGMENTS frame: `limit` on a clean line. With less than `floor` ticks
-    queued (at a start, or behind) the motion sends one segment a frame, each as soon as it is made. Once the
-    link has had to write a frame again (or a frame was damaged either way), single SEGMENT frames for the
-    next CALM frames: after a lost frame the board keeps the SEGMENT frames behind it (selective repeat) but
-    never SEGMENTS, and a long frame is the likeliest to be damaged, so a noisy line runs as well as it did
-    with one segment a frame."""
+    """How many segments go in the next SEGMENTS frame: `limit` on a clean line. With less than
+    `floor` ticks queued (at a start, or behind) the motion sends one segment a frame, each as soon
+    as it is made. Once the link has had to write a frame again (or a frame was damaged either way),
+    single SEGMENT frames for the next CALM frames: after a lost frame the board keeps the SEGMENT
+    frames behind it (selective repeat) but never SEGMENTS, and a long frame is the likeliest to be
+    damaged, so a noisy line runs as well as it did with one segment a frame."""
 
     CALM = 32
 
@@ -82,7 +93,8 @@ class RunSize:
         self.calm = self.CALM
 
     def _trouble(self) -> int:
-        """Signs of a noisy line so far: frames written again, ERRORs from the board, reports we could not read."""
+        """Signs of a noisy line so far: frames written again, ERRORs from the board, reports we
+        could not read."""
         stats = self.link.stats
         return stats.retransmits + stats.errors + stats.decode_errors
 
@@ -99,7 +111,8 @@ def supports_hold(link: Link) -> bool:
 
 
 def bring_to_rest(link: Link, decels: Sequence[int]) -> Rest:
-    """HOLD: decelerate every axis to rest and drop the queued tail; STOP where the firmware has no HOLD.
+    """HOLD: decelerate every axis to rest and drop the queued tail; STOP where the firmware has no
+    HOLD.
 
     `decels` covers the planned axes; the firmware's others stand still and get the largest.
     """
@@ -112,10 +125,14 @@ def bring_to_rest(link: Link, decels: Sequence[int]) -> Rest:
 
 
 class Segments(Protocol):
-    """What a motion streams from: the planner's arrays, or a stream with take-ups (planner/stream.py)."""
+    """What a motion streams from: the planner's arrays, or a stream with take-ups
+    (planner/stream.py)."""
 
-    axis_count: int
-    n: Sequence[int]
+    @property
+    def axis_count(self) -> int: ...
+
+    @property
+    def n(self) -> Sequence[int]: ...  # each segment's ticks
 
     def __len__(self) -> int: ...
 
@@ -139,14 +156,17 @@ class Motion:
         follows: Motion | None = None,
     ) -> None:
         self.link = link
-        self.on_end = on_end  # called once, in the thread that ends the motion, before wait() returns
-        self.settle: Callable[[MotionEnd], MotionEnd] | None = None  # the machine's view of the end, before that
+        # called once, in the thread that ends the motion, before wait() returns
+        self.on_end = on_end
+        # the machine's view of the end, before that
+        self.settle: Callable[[MotionEnd], MotionEnd] | None = None
         self.segments = segments
         self.decels = tuple(decels)
         self.first = first
         self.last = len(segments) if last is None else last
         self.lookahead_ticks = lookahead_ticks
-        self.outputs = list(outputs)  # (segment index, OUTPUTS): sent before that segment, or after the last
+        # (segment index, OUTPUTS): sent before that segment, or after the last
+        self.outputs = list(outputs)
         self._lock = threading.Lock()
         self._space = threading.Event()
         self._ended = threading.Event()
@@ -156,8 +176,10 @@ class Motion:
         self._base_done = 0
         self._generation = 0  # the link's, when streaming began: a STOP from elsewhere changes it
         self._input_holds = 0  # holds the firmware began itself, when streaming began
-        self._follows = follows  # a motion cut short whose last segments may still be queued: counted first
-        self._cut = False  # streaming ends at `last`, moved down by cut(); the motion ends once that is sent
+        # a motion cut short whose last segments may still be queued: counted first
+        self._follows = follows
+        # streaming ends at `last`, moved down by cut(); the motion ends once that is sent
+        self._cut = False
         self._thread = threading.Thread(target=self._run, name="quadstep-motion", daemon=True)
 
     # --- progress ------------------------------------------------------------------
@@ -179,9 +201,11 @@ class Motion:
 
     def start(self) -> Motion:
         follows = self._follows
-        # after a cut motion, the board completes its segments first: `done` counts from their end (and is
-        # negative while they run)
-        self._base_done = self.link.segments_done if follows is None else follows._base_done + follows.sent
+        # after a cut motion, the board completes its segments first: `done` counts from their end
+        # (and is negative while they run)
+        self._base_done = (
+            self.link.segments_done if follows is None else follows._base_done + follows.sent
+        )
         self._generation = self.link.generation
         self._input_holds = self.link.holds_by_input
         self._starvations = self.link.stats.starvations
@@ -193,11 +217,16 @@ class Motion:
         return self._end
 
     def cut(self, index: int) -> bool:
-        """End streaming before segment `index` instead of at `last`, for what follows to be streamed in its place
-        without a stop (a feed override); False when that segment is sent already or is not before `last`. The
-        motion then ends ("cut") as soon as the segment before it is sent, without waiting for the board."""
+        """End streaming before segment `index` instead of at `last`, for what follows to be
+        streamed in its place without a stop (a feed override); False when that segment is sent
+        already or is not before `last`. The motion then ends ("cut") as soon as the segment before
+        it is sent, without waiting for the board."""
         with self._lock:
-            if self._halting or self._end is not None or not self.first + self._sent <= index < self.last:
+            if (
+                self._halting
+                or self._end is not None
+                or not self.first + self._sent <= index < self.last
+            ):
                 return False
             self.last, self._cut = index, True
             return True
@@ -223,7 +252,9 @@ class Motion:
         except LinkError as exc:
             end = MotionEnd("error", (), done, stop_ns, error=f"could not stop the motion: {exc}")
         else:
-            end = MotionEnd(reason, self._axes(rest.position), done, stop_ns, rest.held, rest.hold_tick)
+            end = MotionEnd(
+                reason, self._axes(rest.position), done, stop_ns, rest.held, rest.hold_tick
+            )
         self._finish(end, from_halt=True)
         return end
 
@@ -244,14 +275,18 @@ class Motion:
             self._finish(self._after_alarm(exc))
         except LinkError as exc:
             self._finish(MotionEnd("error", (), self.done, error=str(exc)))
-        except Exception as exc:  # a fault of this program: end the motion (the board stops at its queue's end)
+        except (
+            Exception
+        ) as exc:  # a fault of this program: end the motion (the board stops at its queue's end)
             self._finish(MotionEnd("error", (), self.done, error=f"streaming failed: {exc!r}"))
             raise
         finally:
             unregister()
 
     def _stream(self) -> None:
-        ticks = list(accumulate((self.segments.n[i] for i in range(self.first, self.last)), initial=0))
+        ticks = list(
+            accumulate((self.segments.n[i] for i in range(self.first, self.last)), initial=0)
+        )
         identity = self.link.identity
         assert identity is not None
         size = RunSize(board_run_limit(identity), self.link, identity.tick_hz)
@@ -262,11 +297,17 @@ class Motion:
         index = self.first
         while index < self.last:
             k = index - self.first
-            batch = size.next() if self._queued_ticks(k, ticks) >= size.floor else min(size.next(), 1)
+            batch = (
+                size.next() if self._queued_ticks(k, ticks) >= size.floor else min(size.next(), 1)
+            )
             end = min(self.last, index + max(1, batch))
-            while (self.lookahead_ticks and end - index > 1
-                   and ticks[end - self.first] - ticks[k] > self.lookahead_ticks // 2):
-                end -= 1  # a frame of at most half the lookahead: the board keeps the other half queued
+            while (
+                self.lookahead_ticks
+                and end - index > 1
+                and ticks[end - self.first] - ticks[k] > self.lookahead_ticks // 2
+            ):
+                # a frame of at most half the lookahead: the board keeps the other half queued
+                end -= 1
             if output is not None and output[0] > index:
                 end = min(end, output[0])  # an output goes out before its segment, between frames
             before = chain.copy()
@@ -277,12 +318,14 @@ class Motion:
             # sent, so no segment can follow its HOLD. The room waited for above makes this
             # send return at once, so halt() never waits long for the lock.
             with self._lock:
-                if self._halting or index >= self.last:  # halted, or cut() ended the stream before this one
+                # halted, or cut() ended the stream before this one
+                if self._halting or index >= self.last:
                     return
                 if index + count > self.last:  # cut() inside this frame: make it again, shorter
                     chain = before
                     continue
-                while output is not None and output[0] <= index:  # in stream order, before the segment
+                # in stream order, before the segment
+                while output is not None and output[0] <= index:
                     self.link.send(output[1], generation=self._generation)
                     output = next(outputs, None)
                 self.link.send(message, generation=self._generation)  # a restart ends this motion
@@ -294,19 +337,22 @@ class Motion:
                 output = next(outputs, None)
 
     def _queued_ticks(self, k: int, ticks: list[int]) -> int:
-        """Ticks of motion sent and not yet finished (the running segment's whole), before segment k."""
+        """Ticks of motion sent and not yet finished (the running segment's whole), before segment
+        k."""
         return ticks[k] - ticks[max(0, min(self.done, k))]
 
     def _wait_for_room(self, first: int, k: int, ticks: list[int], capacity: int) -> None:
-        """Until a frame's segments `first` … `k` fit in the board's queue and within the lookahead, or the
-        board holds fewer than MIN_QUEUED_SEGMENTS before them (a segment longer than the lookahead is
-        running), or a halt."""
+        """Until a frame's segments `first` … `k` fit in the board's queue and within the lookahead,
+        or the board holds fewer than MIN_QUEUED_SEGMENTS before them (a segment longer than the
+        lookahead is running), or a halt."""
         last_done, since = -1, time.monotonic()
         while not self._halting:
             if self.link.generation != self._generation:
                 raise Stopped("the stream was restarted (STOP) while this motion waited for room")
-            self.link.check(self._generation)  # an alarm, a reset or a silent board: no room will come
-            done = self.done  # negative while the motion this one follows (a cut) still runs its last segments
+            # an alarm, a reset or a silent board: no room will come
+            self.link.check(self._generation)
+            # negative while the motion this one follows (a cut) still runs its last segments
+            done = self.done
             queued = k - done
             if queued < capacity and (
                 self.lookahead_ticks is None
@@ -318,7 +364,8 @@ class Motion:
             if done != last_done:
                 last_done, since = done, now
             elif now - since > STALL_POLL:
-                alarm = status_alarm(self.link.status())  # a SPACE ack lost: the status carries the count
+                # a SPACE ack lost: the status carries the count
+                alarm = status_alarm(self.link.status())
                 if alarm is not None:  # the alarm flushed the queue: no room will come
                     raise alarm
                 since = now
@@ -326,8 +373,9 @@ class Motion:
             self._space.clear()
 
     def _after_stop(self) -> None:
-        """A STOP from elsewhere (not halt()) dropped the rest of the motion: end where the board stands. The
-        board's feed hold button (a hold the firmware began itself) ends it as a feed hold, once at rest."""
+        """A STOP from elsewhere (not halt()) dropped the rest of the motion: end where the board
+        stands. The board's feed hold button (a hold the firmware began itself) ends it as a feed
+        hold, once at rest."""
         with self._lock:
             if self._halting is not None:
                 return
@@ -335,12 +383,27 @@ class Motion:
             if self.link.stats.starvations != self._starvations:
                 self._after_starvation()
                 return
-            holding = [c.cause for c in self.link.input_changes if c.cause in (InputCause.FEED_HOLD, InputCause.TRIGGER)]
-            if self.link.holds_by_input != self._input_holds and holding and holding[-1] == InputCause.FEED_HOLD:
+            holding = [
+                c.cause
+                for c in self.link.input_changes
+                if c.cause in (InputCause.FEED_HOLD, InputCause.TRIGGER)
+            ]
+            if (
+                self.link.holds_by_input != self._input_holds
+                and holding
+                and holding[-1] == InputCause.FEED_HOLD
+            ):
                 status = wait_rest(self.link)
                 done = self.link.last_report(HoldDone)
-                self._finish(MotionEnd("feed hold", self._axes(status.position), self.done, held=True,
-                                       hold_tick=done.hold_tick if done is not None else None))
+                self._finish(
+                    MotionEnd(
+                        "feed hold",
+                        self._axes(status.position),
+                        self.done,
+                        held=True,
+                        hold_tick=done.hold_tick if done is not None else None,
+                    )
+                )
                 return
             position = self._axes(self.link.status().position)
         except LinkError as exc:
@@ -349,10 +412,15 @@ class Motion:
         self._finish(MotionEnd("reset", position, self.done))
 
     def _after_starvation(self) -> None:
-        """The queue ran dry while moving: the board stopped under control and refuses segments until a HOLD.
-        The HOLD takes it to IDLE and repeats the stop's HOLD_DONE: its hold_tick and exact rest position."""
+        """The queue ran dry while moving: the board stopped under control and refuses segments
+        until a HOLD. The HOLD takes it to IDLE and repeats the stop's HOLD_DONE: its hold_tick and
+        exact rest position."""
         rest = bring_to_rest(self.link, self.decels)
-        self._finish(MotionEnd(STARVED, self._axes(rest.position), self.done, held=True, hold_tick=rest.hold_tick))
+        self._finish(
+            MotionEnd(
+                STARVED, self._axes(rest.position), self.done, held=True, hold_tick=rest.hold_tick
+            )
+        )
 
     def _after_alarm(self, exc: AlarmError) -> MotionEnd:
         """The board halted on an alarm (positions exact); clear it so the machine can go on."""
@@ -360,7 +428,9 @@ class Motion:
         try:
             status = self.link.stop()
         except LinkError as stop_exc:
-            return MotionEnd("error", self._axes(exc.alarm.position), self.done, error=f"{message}; {stop_exc}")
+            return MotionEnd(
+                "error", self._axes(exc.alarm.position), self.done, error=f"{message}; {stop_exc}"
+            )
         return MotionEnd("error", self._axes(status.position), self.done, error=message)
 
     def _axes(self, position: Sequence[int]) -> tuple[int, ...]:

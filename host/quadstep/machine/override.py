@@ -1,7 +1,7 @@
-"""The feed override (planner/feed_override.py) on a running job: its rest planned again from a move boundary
-not yet sent. The residual chain, the steppers and every axis's speed there are the plan's own and the first
-move is entered at the speed the plan had there, so the new tail follows the sent segments without a stop and
-every move still lands exactly (docs/PLANNER.md, "Feed override")."""
+"""The feed override (planner/feed_override.py) on a running job: its rest planned again from a move
+boundary not yet sent. The residual chain, the steppers and every axis's speed there are the plan's
+own and the first move is entered at the speed the plan had there, so the new tail follows the sent
+segments without a stop and every move still lands exactly (docs/PLANNER.md, "Feed override")."""
 
 from __future__ import annotations
 
@@ -27,19 +27,26 @@ TRIES = 12  # boundaries tried, one after another, before the change waits for t
 
 
 def boundary_at(plan: Plan, move: int) -> Boundary:
-    """The state of the quadratic `plan` where its move `move` (≥ 1) begins: the ideal summed over every segment
-    before, the last segment's speeds, the look-ahead's entry speed."""
+    """The state of the quadratic `plan` where its move `move` (≥ 1) begins: the ideal summed over
+    every segment before, the last segment's speeds, the look-ahead's entry speed."""
     segments = plan.segments
     assert isinstance(segments, SegmentArrays)
     index, count = plan.move_ends[move - 1], segments.axis_count
     arrays = segments.numpy()
     bits = arrays["axes"][:index].astype(np.int64)[:, None]
     sign = np.where((bits >> (4 + np.arange(count))) & 1, -1, 1)
-    travel = arrays["n"][:index].astype(np.int64)[:, None] * (arrays["v0"][:index].astype(np.int64)
-                                                              + arrays["vn"][:index])
+    travel = arrays["n"][:index].astype(np.int64)[:, None] * (
+        arrays["v0"][:index].astype(np.int64) + arrays["vn"][:index]
+    )
     ideal2 = 2 * D * np.asarray(plan.start, dtype=np.int64) + (sign * travel).sum(axis=0)
-    exits = sign[index - 1] * arrays["vn"][index - 1].astype(np.int64) if index else np.zeros(count, np.int64)
-    return Boundary(tuple(int(i) for i in ideal2), tuple(int(v) for v in exits), plan.junctions[move])
+    exits = (
+        sign[index - 1] * arrays["vn"][index - 1].astype(np.int64)
+        if index
+        else np.zeros(count, np.int64)
+    )
+    return Boundary(
+        tuple(int(i) for i in ideal2), tuple(int(v) for v in exits), plan.junctions[move]
+    )
 
 
 def join(plan: Plan, move: int, tail: Plan) -> Plan:
@@ -47,56 +54,90 @@ def join(plan: Plan, move: int, tail: Plan) -> Plan:
     a, t = plan.segments, tail.segments
     assert isinstance(a, SegmentArrays) and isinstance(t, SegmentArrays)
     index, count = plan.move_ends[move - 1], a.axis_count
-    out = SegmentArrays(count, a.n[:index] + t.n, a.axes[:index] + t.axes, a.v0[:index * count] + t.v0,
-                        a.vn[:index * count] + t.vn, a.r[:index * count] + t.r, a.line[:index] + t.line)
+    out = SegmentArrays(
+        count,
+        a.n[:index] + t.n,
+        a.axes[:index] + t.axes,
+        a.v0[: index * count] + t.v0,
+        a.vn[: index * count] + t.vn,
+        a.r[: index * count] + t.r,
+        a.line[:index] + t.line,
+    )
     pauses = [p for p in plan.pauses if p[0] < index]
     outputs = [o for o in plan.outputs if o[0] < index]
     for at, section, message in tail.outputs:
         if not (at == 0 and outputs and outputs[-1][2] == message):  # as they are already
             outputs.append((at + index, section + len(pauses), message))
-    return replace(plan, segments=out, end=tail.end, pauses=pauses + [(i + index, line) for i, line in tail.pauses],
-                   moves=move + tail.moves, max_landing_error=max(plan.max_landing_error, tail.max_landing_error),
-                   move_ends=plan.move_ends[:move] + array("i", (e + index for e in tail.move_ends)),
-                   retries=plan.retries + tail.retries, outputs=outputs,
-                   junctions=plan.junctions[:move] + tail.junctions)
+    return replace(
+        plan,
+        segments=out,
+        end=tail.end,
+        pauses=pauses + [(i + index, line) for i, line in tail.pauses],
+        moves=move + tail.moves,
+        max_landing_error=max(plan.max_landing_error, tail.max_landing_error),
+        move_ends=plan.move_ends[:move] + array("i", (e + index for e in tail.move_ends)),
+        retries=plan.retries + tail.retries,
+        outputs=outputs,
+        junctions=plan.junctions[:move] + tail.junctions,
+    )
 
 
 def replan_from(program: Program, plan: Plan, move: int, percent: int, label: str) -> Plan:
-    """`plan` (of `program`) up to where its move `move` begins, then the rest of `program` with its feeds at
-    `percent` %, going on from there (what lies between the moves, a dwell or a pause, comes with the rest)."""
+    """`plan` (of `program`) up to where its move `move` begins, then the rest of `program` with its
+    feeds at `percent` %, going on from there (what lies between the moves, a dwell or a pause,
+    comes with the rest)."""
     first = move_item(program, plan.config, plan.start, move - 1) + 1
-    tail = plan_program(scale_feeds(rest_of(program, first), percent), plan.config, label=label,
-                        boundary=boundary_at(plan, move))
+    tail = plan_program(
+        scale_feeds(rest_of(program, first), percent),
+        plan.config,
+        label=label,
+        boundary=boundary_at(plan, move),
+    )
     return join(plan, move, tail)
 
 
 def first_difference(old: Stream, new: Stream) -> int:
-    """The first item where the streams differ (their own segments, or another base's); the shorter's length
-    when none does."""
+    """The first item where the streams differ (their own segments, or another base's); the
+    shorter's length when none does."""
     count = min(len(old), len(new))
     a, b = np.frombuffer(old.ref, np.int32)[:count], np.frombuffer(new.ref, np.int32)[:count]
     n_old, n_new = np.frombuffer(old.n, np.uint32)[:count], np.frombuffer(new.n, np.uint32)[:count]
     for i in np.flatnonzero((a != b) | (a < 0) | (n_old != n_new)):
-        if n_old[i] != n_new[i] or a[i] >= 0 or b[i] >= 0 or old.extra[-a[i] - 1] != new.extra[-b[i] - 1]:
+        if (
+            n_old[i] != n_new[i]
+            or a[i] >= 0
+            or b[i] >= 0
+            or old.extra[-a[i] - 1] != new.extra[-b[i] - 1]
+        ):
             return int(i)
     return count
 
 
 @dataclass(frozen=True)
 class Swap:
-    """The job planned again: stream it from item `index` on, after the running plan's items before it."""
+    """The job planned again: stream it from item `index` on, after the running plan's items before
+    it."""
 
     index: int
     plan: Plan | StreamPlan
 
 
-Restreamer = Callable[[Plan, StreamPlan], StreamPlan]  # the machine's: a plan with its take-ups, as one running
+# the machine's: a plan with its take-ups, as one running
+Restreamer = Callable[[Plan, StreamPlan], StreamPlan]
 
 
-def prepare(program: Program, running: Plan | StreamPlan, after: int, before: int, percent: int, label: str,
-            restream: Restreamer | None) -> Swap | None:
-    """`running` planned again at `percent` % from the first move boundary where the new stream leaves the old
-    at or after its item `after` (and before item `before`, the section's end); None when there is none."""
+def prepare(
+    program: Program,
+    running: Plan | StreamPlan,
+    after: int,
+    before: int,
+    percent: int,
+    label: str,
+    restream: Restreamer | None,
+) -> Swap | None:
+    """`running` planned again at `percent` % from the first move boundary where the new stream
+    leaves the old at or after its item `after` (and before item `before`, the section's end); None
+    when there is none."""
     base = running.base if isinstance(running, StreamPlan) else running
     if not isinstance(base.segments, SegmentArrays) or len(base.junctions) <= base.moves:
         return None  # a jerk-limited plan, or one not made by plan_program
@@ -108,10 +149,13 @@ def prepare(program: Program, running: Plan | StreamPlan, after: int, before: in
         except JobError:
             continue  # no whole-tick profile from this boundary: the next one
         at = base.move_ends[move - 1]
+        swapped: Plan | StreamPlan
         if not isinstance(running, StreamPlan) or restream is None:
             index, swapped = at, joined
-        else:  # with the take-ups again: the new stream goes on from where it leaves the old one (a take-up
-            swapped = restream(joined, running)  # across the boundary begins before it)
+        else:
+            # with the take-ups again: the new stream goes on from where it leaves the old one (a
+            # take-up across the boundary begins before it)
+            swapped = restream(joined, running)
             index = first_difference(running.segments, swapped.segments)
         if index >= before:
             return None
@@ -121,11 +165,19 @@ def prepare(program: Program, running: Plan | StreamPlan, after: int, before: in
     return None
 
 
-def replan_running(program: Program, running: Plan | StreamPlan, motion: Motion, percent: int, label: str,
-                   restream: Restreamer | None, ticks: Sequence[int]) -> Swap | None:
-    """`running` planned again at `percent` % from the first move boundary that `motion` (streaming it) has not
-    sent, and the motion cut there. A boundary sent meanwhile is passed by for one twice as far ahead as the
-    planning took. None when the section under way has no boundary left (or the motion ends)."""
+def replan_running(
+    program: Program,
+    running: Plan | StreamPlan,
+    motion: Motion,
+    percent: int,
+    label: str,
+    restream: Restreamer | None,
+    ticks: Sequence[int],
+) -> Swap | None:
+    """`running` planned again at `percent` % from the first move boundary that `motion` (streaming
+    it) has not sent, and the motion cut there. A boundary sent meanwhile is passed by for one twice
+    as far ahead as the planning took. None when the section under way has no boundary left (or the
+    motion ends)."""
     after, hz = motion.first + motion.sent, running.config.tick_hz
     for _ in range(TRIES):
         if motion.end is not None:
@@ -137,5 +189,7 @@ def replan_running(program: Program, running: Plan | StreamPlan, motion: Motion,
         if motion.cut(swap.index):
             return swap
         sent = min(motion.first + motion.sent, len(ticks) - 1)
-        after = max(swap.index + 1, bisect_left(ticks, ticks[sent] + 2.0 * (time.monotonic() - began) * hz))
+        after = max(
+            swap.index + 1, bisect_left(ticks, ticks[sent] + 2.0 * (time.monotonic() - began) * hz)
+        )
     return None

@@ -1,16 +1,19 @@
-"""Where a machine stands: the board's step counts, the backlash's band, and the positions shown without the
-take-ups (docs/BACKLASH.md) — at rest, while a program runs, at a latch — and whether it is
-homed; all of it kept in the state file (state.py) at each change, with the board it belongs to."""
+"""Where a machine stands: the board's step counts, the backlash's band, and the positions shown
+without the take-ups (docs/BACKLASH.md) — at rest, while a program runs, at a latch — and whether it
+is homed; all of it kept in the state file (state.py) at each change, with the board it belongs
+to."""
 
 from __future__ import annotations
 
 import threading
 from collections.abc import Callable, Sequence
+from contextlib import AbstractContextManager
 from dataclasses import replace
-from typing import Protocol
 from pathlib import Path
+from typing import TYPE_CHECKING, Protocol
 
 from ..backlash.band import BandRecord
+from ..config import MachineConfig
 from ..coordinates import WorkCoordinates
 from ..link import Link, LinkError
 from ..planner.plan import Plan
@@ -40,13 +43,30 @@ class Standing:
     _state_lock: threading.Lock  # one write of the state file at a time
     new_board: bool  # cannot be the board the state file was written for (an emulator started anew)
     notice: str | None  # what opening the machine found of the kept state, for the user
-    identity: IdentifyReply  # the Machine's
-    axis_count: int
-    program: object | None  # the program running (machine.Running)
     coordinates: WorkCoordinates  # in force (a job running changes them as it goes)
     _stored_coordinates: WorkCoordinates  # as a work zero or a completed job left them: kept
     adopt_coordinates: Callable[[WorkCoordinates], None]
     _refuse_if_busy: Callable[[str], None]
+    config: MachineConfig
+    decels: tuple[int, ...]  # HOLD decelerations per axis
+
+    if TYPE_CHECKING:  # the Machine's properties and methods (it probes: probing.ProbingMachine)
+
+        @property
+        def identity(self) -> IdentifyReply: ...
+
+        @property
+        def position_mm(self) -> tuple[float, ...]: ...
+
+        def procedure(self, name: str) -> AbstractContextManager[object]: ...
+
+        def sync(self) -> tuple[int, ...]: ...
+
+        @property
+        def axis_count(self) -> int: ...
+
+        @property
+        def program(self) -> object | None: ...  # the program running (machine.Running)
 
     @property
     def homed(self) -> bool:
@@ -71,8 +91,8 @@ class Standing:
 
     @property
     def position(self) -> tuple[int, ...]:
-        """Step position of every configured axis where the machine last stood still, exact, the backlash's
-        take-ups excluded (the carriage's position: docs/BACKLASH.md)."""
+        """Step position of every configured axis where the machine last stood still, exact, the
+        backlash's take-ups excluded (the carriage's position: docs/BACKLASH.md)."""
         with self._lock:
             motor = self._motor
         return self.takeups.position(motor)
@@ -88,13 +108,17 @@ class Standing:
         return self.takeups.position(status.position[: self.axis_count], status.motion_ticks)
 
     def set_position(self, steps: dict[int, int], within: object | None = None) -> tuple[int, ...]:
-        """Redefine the position of some axes (SET_POSITION): only at rest (or by the procedure `within`, which
-        holds the machine). Machine coordinates move with it, so this is for homing and tools; work
-        coordinates are the user's zero."""
+        """Redefine the position of some axes (SET_POSITION): only at rest (or by the procedure
+        `within`, which holds the machine). Machine coordinates move with it, so this is for homing
+        and tools; work coordinates are the user's zero."""
         if within is None or self.program is not within:
             self._refuse_if_busy("set the position")
         offsets = [m - p for m, p in zip(self.motor_position, self.position)]
-        self.link.send(SetPosition(positions={a: s + (offsets[a] if a < len(offsets) else 0) for a, s in steps.items()}))
+        self.link.send(
+            SetPosition(
+                positions={a: s + (offsets[a] if a < len(offsets) else 0) for a, s in steps.items()}
+            )
+        )
         self.link.drain()
         status = self.link.status()
         with self._lock:
@@ -103,15 +127,17 @@ class Standing:
         return self.position
 
     def takeup_stream(self, segments: Sequence[Segment]) -> list[Segment | CubicSegment]:
-        """For a procedure that streams itself (homing, probing), at rest: `segments` with their take-ups. Until
-        `rested()`, positions the firmware reports in between are shown by `live_position`/`shown`."""
+        """For a procedure that streams itself (homing, probing), at rest: `segments` with their
+        take-ups. Until `rested()`, positions the firmware reports in between are shown by
+        `live_position`/`shown`."""
         compensated = self.takeups.compensate(SegmentArrays.of(segments, self.identity.axis_count))
         status = self.link.status()
         self.takeups.begin(compensated, status.position[: self.axis_count], status.motion_ticks)
         return list(compensated.stream.segments())
 
     def raw_moved(self, before: Sequence[int], after: Sequence[int]) -> None:
-        """A procedure's straight move without take-ups took the motors from `before` to `after` (at rest)."""
+        """A procedure's straight move without take-ups took the motors from `before` to `after` (at
+        rest)."""
         self.takeups.moved_straight([a - b for a, b in zip(after, before)])
         with self._lock:
             self._motor = tuple(after[: self.axis_count])
@@ -121,14 +147,19 @@ class Standing:
         return self.takeups.position(motor[: self.axis_count], tick)
 
     def rested(self, hold_tick: int | None = None) -> tuple[int, ...]:
-        """A procedure's motion is at rest: after a hold that began at `hold_tick`, or (None) at its end."""
+        """A procedure's motion is at rest: after a hold that began at `hold_tick`, or (None) at its
+        end."""
         status = self.link.status()
-        self._rest(status.position, hold_tick if hold_tick is not None else status.motion_ticks, hold_tick is None)
+        self._rest(
+            status.position,
+            hold_tick if hold_tick is not None else status.motion_ticks,
+            hold_tick is None,
+        )
         return self.position
 
     def _settle(self, end: MotionEnd, raw: Sequence[Segment] | None) -> MotionEnd:
-        """In the program's thread, before its waiters wake: the exact rest position (motors), the band where
-        the stop left it, and the end as everything above sees it (take-ups excluded)."""
+        """In the program's thread, before its waiters wake: the exact rest position (motors), the
+        band where the stop left it, and the end as everything above sees it (take-ups excluded)."""
         if not end.position:
             try:
                 status = self.link.status()
@@ -176,22 +207,26 @@ class Standing:
         with self._lock:
             motor, ticks = self._motor, self._ticks
         band = self.takeups.band
-        state = StateFile(coordinates=self._stored_coordinates, homed=self._homed,
-                          position_lost=self._position_lost,
-                          band=BandRecord.of(band, motor) if band.active else None,
-                          board=board_mark(self.identity, ticks, motor))
+        state = StateFile(
+            coordinates=self._stored_coordinates,
+            homed=self._homed,
+            position_lost=self._position_lost,
+            band=BandRecord.of(band, motor) if band.active else None,
+            board=board_mark(self.identity, ticks, motor),
+        )
         try:
             with self._state_lock:
                 write_state(self.state_file, state)
         except OSError as exc:
             if strict:
-                raise MachineError(f"cannot write the machine's state to {self.state_file}: "
-                                   f"{exc.strerror or exc}") from None
+                raise MachineError(
+                    f"cannot write the machine's state to {self.state_file}: {exc.strerror or exc}"
+                ) from None
 
 
 class Restream(Protocol):
-    """What the machine does for a job going on after a feed hold: the band where the hold left it and the
-    position at rest (take-ups excluded), then the rest of the job with its take-ups."""
+    """What the machine does for a job going on after a feed hold: the band where the hold left it
+    and the position at rest (take-ups excluded), then the rest of the job with its take-ups."""
 
     def held(self, end: MotionEnd) -> tuple[int, ...]: ...
 
@@ -237,16 +272,16 @@ class _Restream:
 
     def probe(self, probe: ProbeMove) -> tuple[float, ...]:
         """A job's G38.x, as `quadstep probe` runs it; the machine position where it rests (mm)."""
-        run_probe(self.machine, probe.code, probe.target, probe.feed)  # type: ignore[arg-type]
-        return self.machine.position_mm  # type: ignore[attr-defined]
+        run_probe(self.machine, probe.code, probe.target, probe.feed)
+        return self.machine.position_mm
 
     def adopt(self, coordinates: WorkCoordinates) -> None:
         """In memory only: the state file keeps what a work zero or a completed job sets."""
         self.machine.coordinates = coordinates
 
     def restream(self, plan: Plan, running: StreamPlan) -> StreamPlan:
-        """`plan`, which begins as `running` did, with its take-ups from the same band: what follows the part of
-        them that is the same replaces the running program's (a feed override)."""
+        """`plan`, which begins as `running` did, with its take-ups from the same band: what follows
+        the part of them that is the same replaces the running program's (a feed override)."""
         band = running.compensated.band_start
         compensated = self.machine.takeups.compensate(plan.segments, plan.pauses, band)
         return StreamPlan(plan.config, compensated.stream, compensated.pauses, compensated, plan)
@@ -257,5 +292,7 @@ class _Restream:
     def stream(self, plan: Plan) -> StreamPlan:
         compensated = self.machine.takeups.compensate(plan.segments, plan.pauses)
         status = self.machine.link.status()
-        self.machine.takeups.begin(compensated, status.position[: self.machine.axis_count], status.motion_ticks)
+        self.machine.takeups.begin(
+            compensated, status.position[: self.machine.axis_count], status.motion_ticks
+        )
         return StreamPlan(plan.config, compensated.stream, compensated.pauses, compensated, plan)

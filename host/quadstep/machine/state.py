@@ -8,7 +8,8 @@ file was written (board_identity.py tells a board reset since then; carry_over.p
 
 One file per machine configuration, at
 
-    $XDG_STATE_HOME/quadstep/<config name>-<8 hex digits>.json   (XDG_STATE_HOME defaults to ~/.local/state)
+    $XDG_STATE_HOME/quadstep/<config name>-<8 hex digits>.json   (XDG_STATE_HOME defaults to
+    ~/.local/state)
 
 where the digits come from the configuration file's absolute path (two files
 of one name in different folders are two machines), and `default.json` for
@@ -24,21 +25,21 @@ import hashlib
 import json
 import os
 from pathlib import Path
-from typing import Literal
+from typing import Final, Literal
 
 from pydantic import BaseModel, ConfigDict
 
 from ..backlash.band import BandRecord
-from ..validation import validate
 from ..coordinates import WorkCoordinates
 from ..textfile import SETTINGS_MAX_BYTES, parse_nested, read_text, replace_text, strict_json
+from ..validation import validate
 
 
 class StateError(ValueError):
     """A state file that cannot be read; the message names the file and the problem."""
 
 
-VERSION = 2  # version 1 files (coordinates and band only) are read as they are
+VERSION: Final = 2  # version 1 files (coordinates and band only) are read as they are
 
 
 class BoardMark(BaseModel):

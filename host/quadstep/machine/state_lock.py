@@ -76,12 +76,15 @@ def _check_writable(state_file: Path) -> None:
     new files, and the state file, if there, must be a file."""
     if state_file.exists() and not state_file.is_file():
         raise MachineError(f"cannot keep the machine's state in {state_file}: not a file")
-    fd, probe = tempfile.mkstemp(dir=state_file.parent, prefix=f".{state_file.name}.",
-                                 suffix=".tmp")
+    fd, probe = tempfile.mkstemp(
+        dir=state_file.parent, prefix=f".{state_file.name}.", suffix=".tmp"
+    )
     os.close(fd)
     os.unlink(probe)
 
 
 def _unwritable(folder: Path, exc: OSError) -> MachineError:
-    return MachineError(f"cannot keep the machine's state in {folder}: {exc.strerror or exc}; "
-                        "make it writable or set XDG_STATE_HOME to a folder that is")
+    return MachineError(
+        f"cannot keep the machine's state in {folder}: {exc.strerror or exc}; "
+        "make it writable or set XDG_STATE_HOME to a folder that is"
+    )

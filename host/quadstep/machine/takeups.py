@@ -1,9 +1,11 @@
-"""The machine's backlash: its band, the take-ups in what it streams, and the positions that exclude them.
+"""The machine's backlash: its band, the take-ups in what it streams, and the positions that exclude
+them.
 
-Every program the machine runs goes through the compensation stage (backlash/compensate.py) with the band
-as it stands; when the program ends the band is where the motors left it — at the end of the plan, or, after
-a stop, where the stop found it (a take-up cut short leaves the motor inside the band, and the next motion
-takes up the rest). Positions shown while a program runs follow the band tick by tick.
+Every program the machine runs goes through the compensation stage (backlash/compensate.py) with the
+band as it stands; when the program ends the band is where the motors left it — at the end of the
+plan, or, after a stop, where the stop found it (a take-up cut short leaves the motor inside the
+band, and the next motion takes up the rest). Positions shown while a program runs follow the band
+tick by tick.
 """
 
 from __future__ import annotations
@@ -53,14 +55,26 @@ class TakeUps:
             self._band = band if band is not None else Band.of(self.config)
             self._running = None
 
-    def compensate(self, segments: SegmentArrays | Stream, pauses: Sequence[tuple[int, int]] = (),
-                   band: Band | None = None) -> Compensated:
-        """`segments` (planned: quadratic arrays, or a jerk-limited plan's cubic stream) with their take-ups, from
-        the band as it stands (or `band`)."""
-        base = from_arrays(segments) if isinstance(segments, SegmentArrays) else from_items(segments, segments.axis_count)
-        return compensate(base, self.config, self.band if band is None else band, pauses=list(pauses))
+    def compensate(
+        self,
+        segments: SegmentArrays | Stream,
+        pauses: Sequence[tuple[int, int]] = (),
+        band: Band | None = None,
+    ) -> Compensated:
+        """`segments` (planned: quadratic arrays, or a jerk-limited plan's cubic stream) with their
+        take-ups, from the band as it stands (or `band`)."""
+        base = (
+            from_arrays(segments)
+            if isinstance(segments, SegmentArrays)
+            else from_items(segments, segments.axis_count)
+        )
+        return compensate(
+            base, self.config, self.band if band is None else band, pauses=list(pauses)
+        )
 
-    def compensate_items(self, items: Sequence[Segment | CubicSegment], axis_count: int) -> Compensated:
+    def compensate_items(
+        self, items: Sequence[Segment | CubicSegment], axis_count: int
+    ) -> Compensated:
         return compensate(from_items(items, axis_count), self.config, self.band)
 
     def begin(self, compensated: Compensated, motor: Sequence[int], tick: int) -> None:
@@ -68,14 +82,15 @@ class TakeUps:
             self._running = Running(compensated, tuple(motor), tick)
 
     def swap(self, compensated: Compensated) -> None:
-        """The running program goes on as `compensated`, which begins as it did (a job's tail planned again)."""
+        """The running program goes on as `compensated`, which begins as it did (a job's tail
+        planned again)."""
         with self._lock:
             if self._running is not None:
                 self._running = Running(compensated, self._running.motor, self._running.tick)
 
     def end(self, rest: Sequence[int], tick: int | None, done: bool) -> None:
-        """The program ended: `rest` the motors, `tick` the motion tick its motion stopped at (a hold's, an
-        alarm's; None: not known), `done` when every segment ran."""
+        """The program ended: `rest` the motors, `tick` the motion tick its motion stopped at (a
+        hold's, an alarm's; None: not known), `done` when every segment ran."""
         with self._lock:
             running, self._running = self._running, None
             if running is None:
@@ -87,8 +102,11 @@ class TakeUps:
                 self._band = comp.band_end
             elif tick is not None:
                 self._band = comp.band_at(tick - running.tick, moved)
-            else:  # where inside the band each motor stopped is not known: the next motion adopts its side
-                self._band = Band(tuple(BandAxis(a.size, None, a.offset()) for a in comp.band_start.axes))
+            # where inside the band each motor stopped is not known: the next motion adopts its side
+            else:
+                self._band = Band(
+                    tuple(BandAxis(a.size, None, a.offset()) for a in comp.band_start.axes)
+                )
 
     def moved_raw(self, segments: Sequence[Segment | CubicSegment], done: bool) -> None:
         """Raw segments (not compensated) moved the motors: follow them through the band."""
@@ -101,7 +119,9 @@ class TakeUps:
                 return
             steps = predict(segments, axis_count=max(len(band.axes), 1)).steps
             for axis in range(len(band.axes)):
-                band = band.with_axis(axis, band.axes[axis].moved(int(s) for s in steps[steps[:, 1] == axis, 2]))
+                band = band.with_axis(
+                    axis, band.axes[axis].moved(int(s) for s in steps[steps[:, 1] == axis, 2])
+                )
             self._band = band
 
     def moved_straight(self, deltas: Sequence[int]) -> None:
@@ -117,7 +137,8 @@ class TakeUps:
             self._band = self._band.with_axis(axis, state)
 
     def position(self, motor: Sequence[int], tick: int | None = None) -> tuple[int, ...]:
-        """The positions shown for these motors: at rest, or `tick` (a motion tick) into the running program."""
+        """The positions shown for these motors: at rest, or `tick` (a motion tick) into the running
+        program."""
         with self._lock:
             band, running = self._band, self._running
         if running is not None and tick is not None:
@@ -131,7 +152,8 @@ class TakeUps:
 
 @dataclass(frozen=True)
 class StreamPlan:
-    """A planned job as it is streamed: the compensated segments and where the job pauses in them."""
+    """A planned job as it is streamed: the compensated segments and where the job pauses in
+    them."""
 
     config: MachineConfig
     segments: Stream

@@ -33,8 +33,8 @@ class Target:
 
 
 def start_emulator(target: Target, config: MachineConfig | None) -> Emulator:
-    """The emulator of `target`, ticking and with the axes `config` (or the default machine) asks for, unless its
-    options say."""
+    """The emulator of `target`, ticking and with the axes `config` (or the default machine) asks
+    for, unless its options say."""
     options = dict(target.emulator_options)
     config = config if config is not None else default_machine()
     options.setdefault("tick_hz", config.tick_hz)
@@ -43,12 +43,16 @@ def start_emulator(target: Target, config: MachineConfig | None) -> Emulator:
 
 
 def open_machine(
-    target: Target, config: MachineConfig | None = None, *, source: str = "the configuration",
-    emulator: Emulator | None = None, state_file: Path | None = None,
+    target: Target,
+    config: MachineConfig | None = None,
+    *,
+    source: str = "the configuration",
+    emulator: Emulator | None = None,
+    state_file: Path | None = None,
 ) -> Machine:
-    """Connect to `target`. For an emulator target, `emulator` is a running one to use (its owner stops
-    it); without it one is started, and the machine stops it when closed. `state_file` keeps the
-    machine's state (machine.state.state_path gives the usual one); the machine holds its lock
+    """Connect to `target`. For an emulator target, `emulator` is a running one to use (its owner
+    stops it); without it one is started, and the machine stops it when closed. `state_file` keeps
+    the machine's state (machine.state.state_path gives the usual one); the machine holds its lock
     (state_lock.py), taken before anything connects, until closed."""
     label = source if config is not None else DEFAULT_CONFIG_NAME
     lock = StateLock.acquire(state_file, label) if state_file is not None else None
@@ -59,8 +63,14 @@ def open_machine(
         url = emulator.url if target.emulator and emulator is not None else str(target.port)
         link = Link.open(url, target.baud)
         try:
-            return Machine(link, config, source=source, emulator=started, state_file=state_file,
-                           state_lock=lock)
+            return Machine(
+                link,
+                config,
+                source=source,
+                emulator=started,
+                state_file=state_file,
+                state_lock=lock,
+            )
         except BaseException:
             link.close()
             raise

@@ -1,15 +1,22 @@
-"""Machine units (mm, mm/s, mm/s²) as the board's integers: steps, steps per tick, HOLD decelerations."""
+"""Machine units (mm, mm/s, mm/s²) as the board's integers: steps, steps per tick, HOLD
+decelerations."""
 
 from __future__ import annotations
 
 import math
 
 from ..config import AxisConfig, MachineConfig
-from ..protocol import DECEL_MAX, DECEL_SHIFT  # HOLD decelerations: d / 2^DECEL_SHIFT step per tick², 1 … DECEL_MAX
+
+# HOLD decelerations: d / 2^DECEL_SHIFT step per tick², 1 … DECEL_MAX
+from ..protocol import (
+    DECEL_MAX,
+    DECEL_SHIFT,
+)
 
 
 def hold_decel(axis: AxisConfig, tick_hz: int) -> int:
-    """The axis's max_accel as a HOLD deceleration, rounded down so it never brakes harder than allowed.
+    """The axis's max_accel as a HOLD deceleration, rounded down so it never brakes harder than
+    allowed.
 
     Below one unit (about 149 steps/s² at 50 kHz) the firmware's gentlest deceleration, 1, is used.
     """
@@ -28,7 +35,8 @@ def braking_steps(speed: float, decel: int) -> float:
 
 
 def step_limits(axis: AxisConfig) -> tuple[int, int]:
-    """The travel as step positions (low, high): the outermost steps still inside travel_min … travel_max."""
+    """The travel as step positions (low, high): the outermost steps still inside travel_min …
+    travel_max."""
     inner_min = math.ceil(axis.travel_min * axis.steps_per_mm - 1e-9)
     inner_max = math.floor(axis.travel_max * axis.steps_per_mm + 1e-9)
     if axis.invert:

@@ -24,8 +24,17 @@ from collections.abc import Sequence
 from dataclasses import dataclass, replace
 
 from ..config import MachineConfig
-from .program import (Dwell, Item, JobError, LinearMove, OutputState, Pause, ProbeMove, Program,
-                      SetOutputs)
+from .program import (
+    Dwell,
+    Item,
+    JobError,
+    LinearMove,
+    OutputState,
+    Pause,
+    ProbeMove,
+    Program,
+    SetOutputs,
+)
 
 MOTION = (LinearMove, ProbeMove)
 
@@ -55,8 +64,7 @@ def item_at_line(program: Program, line: int, label: str = "line") -> int:
     if line < 1:
         raise JobError(f"{label} {line}: {label}s are counted from 1")
     if line > program.lines:
-        raise JobError(
-            f"{label} {line} is past the end of the job ({program.lines} {label}s)")
+        raise JobError(f"{label} {line} is past the end of the job ({program.lines} {label}s)")
     for index, item in enumerate(program.items):
         if item.line >= line:
             return index
@@ -69,8 +77,14 @@ def _nothing_moves(program: Program, line: int, label: str) -> JobError:
     return JobError(f"{label} {line}: nothing moves from here on ({where})")
 
 
-def approach_to(program: Program, first: int, config: MachineConfig, at: Sequence[float],
-                start: Sequence[float] | None = None, label: str = "line") -> Approach:
+def approach_to(
+    program: Program,
+    first: int,
+    config: MachineConfig,
+    at: Sequence[float],
+    start: Sequence[float] | None = None,
+    label: str = "line",
+) -> Approach:
     """The approach from machine position `at` (mm) to `program`'s item `first`; `start` is where
     the program itself begins (default `at`). Raises JobError naming the line when the program
     cannot start there."""
@@ -78,9 +92,11 @@ def approach_to(program: Program, first: int, config: MachineConfig, at: Sequenc
     shown = items[first].line if first < len(items) else program.lines
     probe = next((item for item in reversed(items[:first]) if isinstance(item, ProbeMove)), None)
     if probe is not None:
-        raise JobError(f"{label} {shown} comes after the probe at {label} {probe.line} "
-                       f"(G{probe.code}): what follows depends on where it stops; start at "
-                       f"{label} {probe.line} or before it")
+        raise JobError(
+            f"{label} {shown} comes after the probe at {label} {probe.line} "
+            f"(G{probe.code}): what follows depends on where it stops; start at "
+            f"{label} {probe.line} or before it"
+        )
     rest = first
     while rest < len(items) and isinstance(items[rest], SetOutputs):
         rest += 1  # output changes before the first motion are made by the approach
@@ -93,8 +109,9 @@ def approach_to(program: Program, first: int, config: MachineConfig, at: Sequenc
     offset: tuple[float, ...] = ()
     if isinstance(motion, LinearMove):
         system, offset = motion.system or "G53", motion.offset
-    tool = next((i for i in reversed(items[:first]) if isinstance(i, Pause) and i.tool is not None),
-                None)
+    tool = next(
+        (i for i in reversed(items[:first]) if isinstance(i, Pause) and i.tool is not None), None
+    )
     steps = _Path(config, at, motion.line, system, offset)
     lift = steps.lift(begin)
     steps.over(begin)
@@ -110,13 +127,30 @@ def approach_to(program: Program, first: int, config: MachineConfig, at: Sequenc
     steps.down(begin, feed)
     if config.spindle.laser:
         steps.items += outputs
-    return Approach(line=shown, rest=rest, items=tuple(steps.items), begin=tuple(begin),
-                    moves=tuple(steps.moves), lift=lift, outputs=state, spin_up_s=spin_up,
-                    feed=feed, tool=tool, system=system, offset=offset)
+    return Approach(
+        line=shown,
+        rest=rest,
+        items=tuple(steps.items),
+        begin=tuple(begin),
+        moves=tuple(steps.moves),
+        lift=lift,
+        outputs=state,
+        spin_up_s=spin_up,
+        feed=feed,
+        tool=tool,
+        system=system,
+        offset=offset,
+    )
 
 
-def program_from(program: Program, first: int, config: MachineConfig, at: Sequence[float],
-                 start: Sequence[float] | None = None, label: str = "line") -> Program:
+def program_from(
+    program: Program,
+    first: int,
+    config: MachineConfig,
+    at: Sequence[float],
+    start: Sequence[float] | None = None,
+    label: str = "line",
+) -> Program:
     """`program` from its item `first` on, after the approach from machine position `at` (mm)."""
     approach = approach_to(program, first, config, at, start, label)
     return with_approach(program, approach)
@@ -124,7 +158,7 @@ def program_from(program: Program, first: int, config: MachineConfig, at: Sequen
 
 def with_approach(program: Program, approach: Approach) -> Program:
     """`program`'s items from where `approach` leads, after it."""
-    return replace(program, items=[*approach.items, *program.items[approach.rest:]])
+    return replace(program, items=[*approach.items, *program.items[approach.rest :]])
 
 
 def _begin(before: Sequence[Item], start: Sequence[float]) -> list[float]:
@@ -136,6 +170,7 @@ def _begin(before: Sequence[Item], start: Sequence[float]) -> list[float]:
 def _plunge_feed(items: Sequence[Item], first: int, rest: int) -> float | None:
     """The feed in force at item `first`: its motion's own if it cuts, else the last cut's before
     it, else the first cut's after it; None (rapid) for a job of rapids only."""
+
     def cut(item: Item) -> float | None:
         return item.feed if isinstance(item, MOTION) else None
 
@@ -157,8 +192,14 @@ def _spinning(state: OutputState | None, config: MachineConfig) -> bool:
 class _Path:
     """The approach's moves, each added only when it moves a step."""
 
-    def __init__(self, config: MachineConfig, at: Sequence[float], line: int, system: str,
-                 offset: tuple[float, ...]) -> None:
+    def __init__(
+        self,
+        config: MachineConfig,
+        at: Sequence[float],
+        line: int,
+        system: str,
+        offset: tuple[float, ...],
+    ) -> None:
         self.config = config
         self.position = list(at)
         self.line, self.system, self.offset = line, system, offset
@@ -172,16 +213,16 @@ class _Path:
         there = self.config.to_steps(tuple(begin))
         return any(a != b for i, (a, b) in enumerate(zip(here, there)) if i != self.z)
 
-    def _go(self, kind: str, target: list[float], feed: float | None,
-            machine: bool = False) -> None:
+    def _go(
+        self, kind: str, target: list[float], feed: float | None, machine: bool = False
+    ) -> None:
         if self.config.to_steps(tuple(target)) == self.config.to_steps(tuple(self.position)):
             return
         self.moves.append(kind)
         offset, system = (self.offset, self.system)
         if machine:
             offset, system = (0.0,) * len(target), "G53"
-        self.items.append(LinearMove(self.line, tuple(target), feed, offset=offset,
-                                     system=system))
+        self.items.append(LinearMove(self.line, tuple(target), feed, offset=offset, system=system))
         self.position = target
 
     def lift(self, begin: Sequence[float]) -> float | None:

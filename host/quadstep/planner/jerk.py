@@ -1,11 +1,12 @@
-"""Jerk-limited speed changes along a path: the closed forms the S-curve planner and its look-ahead use.
+"""Jerk-limited speed changes along a path: the closed forms the S-curve planner and its look-ahead
+use.
 
-A *ramp* changes the path speed from va to vb with the acceleration 0 at both ends: jerk ±J for T1, constant
-acceleration for T2, jerk ∓J for T1. The speed change is J·T1·(T1 + T2); when it is at most A²/J the
-acceleration never reaches A (T2 = 0, T1 = √(Δv/J)), otherwise T1 = A/J and T2 = Δv/A − A/J. The speed is
-point-symmetric about the ramp's middle, so the ramp covers (va + vb)/2 · (2·T1 + T2). Over a distance L,
-the speed reachable from v is therefore not √(v² + 2AL) but the root of that distance equal to L
-(`reachable_speed`). Units: mm and ticks.
+A *ramp* changes the path speed from va to vb with the acceleration 0 at both ends: jerk ±J for T1,
+constant acceleration for T2, jerk ∓J for T1. The speed change is J·T1·(T1 + T2); when it is at most
+A²/J the acceleration never reaches A (T2 = 0, T1 = √(Δv/J)), otherwise T1 = A/J and T2 = Δv/A −
+A/J. The speed is point-symmetric about the ramp's middle, so the ramp covers (va + vb)/2 · (2·T1 +
+T2). Over a distance L, the speed reachable from v is therefore not √(v² + 2AL) but the root of that
+distance equal to L (`reachable_speed`). Units: mm and ticks.
 """
 
 from __future__ import annotations
@@ -27,8 +28,8 @@ def ramp_distance(va: float, vb: float, accel: float, jerk: float) -> float:
 
 
 def reachable_speed(v: float, length: float, accel: float, jerk: float) -> float:
-    """The highest speed a ramp from speed v reaches within `length` (and, the ramp being reversible, the
-    highest speed from which v is reachable)."""
+    """The highest speed a ramp from speed v reaches within `length` (and, the ramp being
+    reversible, the highest speed from which v is reachable)."""
     if math.isinf(jerk):
         return math.sqrt(v * v + 2.0 * accel * length)
     # acceleration below its limit: (2v + Δv)·√(Δv/J) = L, i.e. s³ + 2v·s = L·√J with s = √Δv
@@ -47,8 +48,8 @@ def reachable_speed(v: float, length: float, accel: float, jerk: float) -> float
 
 
 def tick_ramp(dv: float, accel: float, jerk: float) -> tuple[int, int]:
-    """(n1, n2): the ramp's phases in whole ticks, each rounded up, so that the jerk and acceleration it
-    needs for |dv| stay within the limits (none for no change)."""
+    """(n1, n2): the ramp's phases in whole ticks, each rounded up, so that the jerk and
+    acceleration it needs for |dv| stay within the limits (none for no change)."""
     if dv == 0.0:
         return 0, 0
     t1, t2 = ramp_times(dv, accel, jerk)

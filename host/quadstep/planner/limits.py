@@ -22,8 +22,10 @@ MAX_JOB_TICKS = 1 << 32
 
 def _limit(config: MachineConfig) -> str:
     seconds = MAX_JOB_TICKS / config.tick_hz
-    return (f"a job may move for at most {seconds / 3600:.1f} h ({seconds:.0f} s: 2^32 ticks, the "
-            f"range of the board's motion tick counter, at tick_hz {config.tick_hz})")
+    return (
+        f"a job may move for at most {seconds / 3600:.1f} h ({seconds:.0f} s: 2^32 ticks, the "
+        f"range of the board's motion tick counter, at tick_hz {config.tick_hz})"
+    )
 
 
 def move_ticks(length: float, u_in: float, u_out: float, u_max: float, accel: float) -> float:
@@ -38,8 +40,9 @@ def move_ticks(length: float, u_in: float, u_out: float, u_max: float, accel: fl
     return ramps + max(0.0, cruise) / peak
 
 
-def check_duration(table: MoveTable, config: MachineConfig, label: str,
-                   entry: Sequence[float] | None = None) -> None:
+def check_duration(
+    table: MoveTable, config: MachineConfig, label: str, entry: Sequence[float] | None = None
+) -> None:
     """Raise JobError when the job's motion and dwells last more than MAX_JOB_TICKS, naming the
     line where they pass it (and the feed or accel that makes one move alone too long). Without
     `entry` (the junction speeds) each move counts at its top speed only: a bound to check before
@@ -54,8 +57,10 @@ def check_duration(table: MoveTable, config: MachineConfig, label: str,
             if isinstance(stop[1], Dwell):
                 total += stop[1].seconds * hz
                 if total > limit:
-                    raise JobError(f"{label} {stop[1].line}: the job's motion and dwells up to "
-                                   f"here last {total / hz / 3600:.1f} h; {_limit(config)}")
+                    raise JobError(
+                        f"{label} {stop[1].line}: the job's motion and dwells up to "
+                        f"here last {total / hz / 3600:.1f} h; {_limit(config)}"
+                    )
             stop = next(stops, None)
         if k == len(table):
             break
@@ -63,14 +68,17 @@ def check_duration(table: MoveTable, config: MachineConfig, label: str,
             top = table.max_speed[k]
             ticks = table.length[k] / top if top > 0 else math.inf
         else:
-            ticks = move_ticks(table.length[k], entry[k], entry[k + 1], table.max_speed[k],
-                               table.accel[k])
+            ticks = move_ticks(
+                table.length[k], entry[k], entry[k + 1], table.max_speed[k], table.accel[k]
+            )
         if ticks > limit:
             raise JobError(_too_long(table, k, ticks, config, label))
         total += ticks
         if total > limit:
-            raise JobError(f"{label} {table.line[k]}: the job's motion and dwells up to here last "
-                           f"at least {total / hz / 3600:.1f} h; {_limit(config)}")
+            raise JobError(
+                f"{label} {table.line[k]}: the job's motion and dwells up to here last "
+                f"at least {total / hz / 3600:.1f} h; {_limit(config)}"
+            )
 
 
 def _too_long(table: MoveTable, k: int, ticks: float, config: MachineConfig, label: str) -> str:
@@ -84,12 +92,16 @@ def _too_long(table: MoveTable, k: int, ticks: float, config: MachineConfig, lab
     if top <= 0 or length / top > MAX_JOB_TICKS:
         which = "its feed" if table.feed[k] <= top else "max_speed of its axes"
         least = length / (MAX_JOB_TICKS / hz)
-        return (f"{where}: {which}, {_speed(top * hz)}, would make {lasting}: the slowest feed for "
-                f"it is {_speed(least)}; {_limit(config)}")
+        return (
+            f"{where}: {which}, {_speed(top * hz)}, would make {lasting}: the slowest feed for "
+            f"it is {_speed(least)}; {_limit(config)}"
+        )
     which = "its accel" if table.accel_cap[k] <= table.accel[k] else "max_accel of its axes"
     accel = table.accel[k] * hz * hz
-    return (f"{where}: {which}, {accel:.3g} mm/s² along the path, would make {lasting}; "
-            f"{_limit(config)}")
+    return (
+        f"{where}: {which}, {accel:.3g} mm/s² along the path, would make {lasting}; "
+        f"{_limit(config)}"
+    )
 
 
 def _speed(mm_per_s: float) -> str:

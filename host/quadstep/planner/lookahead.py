@@ -19,9 +19,10 @@ from .jerk import reachable_speed
 from .moves import MoveTable
 from .program import JobError, SetOutputs
 
-# An axis whose backlash is taken up (docs/BACKLASH.md) and that turns around sharply at a junction — moving
-# along both moves by more than this share of the path — stops there: the take-up then runs at rest, where it
-# costs no acceleration. (Shallow reversals, as on an arc's chords, take it up on the move.)
+# An axis whose backlash is taken up (docs/BACKLASH.md) and that turns around sharply at a junction
+# — moving along both moves by more than this share of the path — stops there: the take-up then runs
+# at rest, where it costs no acceleration. (Shallow reversals, as on an arc's chords, take it up on
+# the move.)
 SHARP_REVERSAL = 0.25
 
 # Ramps are planned at this fraction of each move's acceleration (and jerk) limit; the
@@ -35,17 +36,23 @@ def _junction_speed(table: MoveTable, k: int, config: MachineConfig, amax: list[
     e2 = table.unit[k]
     cos_theta = -sum(a * b for a, b in zip(e1, e2))
     cap = min(table.max_speed[k - 1], table.max_speed[k])
-    deviation = table.deviation[k] if table.deviation[k] is not None else config.junction_deviation
+    own = table.deviation[k]  # G64 P, or G61's 0
+    deviation = own if own is not None else config.junction_deviation
     if cos_theta > 0.999999 or deviation == 0.0:
         return 0.0  # full reversal, or exact stop (G61)
     for i, axis in enumerate(config.axes):
-        if axis.backlash_steps and e1[i] * e2[i] < 0 and min(abs(e1[i]), abs(e2[i])) > SHARP_REVERSAL:
+        if (
+            axis.backlash_steps
+            and e1[i] * e2[i] < 0
+            and min(abs(e1[i]), abs(e2[i])) > SHARP_REVERSAL
+        ):
             return 0.0  # a sharp reversal of an axis with backlash: its take-up at rest
     if cos_theta < -0.999999:
         return cap  # straight on
     turn = [b - a for a, b in zip(e1, e2)]
     norm = math.sqrt(sum(x * x for x in turn))
-    accel = min(table.accel_cap[k - 1], table.accel_cap[k])  # a move's own lower limit, if it has one
+    # a move's own lower limit, if it has one
+    accel = min(table.accel_cap[k - 1], table.accel_cap[k])
     for i, x in enumerate(turn):
         if abs(x) > 1e-12:
             accel = min(accel, amax[i] * norm / abs(x))
@@ -56,13 +63,18 @@ def _junction_speed(table: MoveTable, k: int, config: MachineConfig, amax: list[
 def junction_speeds(table: MoveTable, config: MachineConfig, entry: float = 0.0) -> list[float]:
     """Entry speed of every move, plus the exit speed of the last (always 0): len(table) + 1 values.
 
-    `entry` pins the first move's entry speed (a plan that goes on from another, moving: a feed override): the
-    junctions after it are raised where it could not slow down to them otherwise. The plan it goes on from
-    slowed down from there to its stops, so the raised speeds stay under that plan's and inside the limits."""
+    `entry` pins the first move's entry speed (a plan that goes on from another, moving: a feed
+    override): the junctions after it are raised where it could not slow down to them otherwise. The
+    plan it goes on from slowed down from there to its stops, so the raised speeds stay under that
+    plan's and inside the limits."""
     count = len(table)
     hz = float(config.tick_hz)
     amax = [a.max_accel / (hz * hz) for a in config.axes]
-    stopped = {index for index, item in table.stops if not (isinstance(item, SetOutputs) and config.spindle.laser)}
+    stopped = {
+        index
+        for index, item in table.stops
+        if not (isinstance(item, SetOutputs) and config.spindle.laser)
+    }
     limit = [0.0] * (count + 1)
     limit[0] = entry
     for k in range(1, count):
@@ -84,6 +96,8 @@ def junction_speeds(table: MoveTable, config: MachineConfig, entry: float = 0.0)
             least = math.sqrt(max(0.0, limit[k] ** 2 - 2.0 * accel[k] * table.length[k]))
             if least > 1e-6 * limit[k] and least > limit[k + 1]:
                 if k + 1 == count or k + 1 in stopped:
-                    raise JobError(f"line {table.line[k]}: cannot slow down to the stop from the pinned speed")
+                    raise JobError(
+                        f"line {table.line[k]}: cannot slow down to the stop from the pinned speed"
+                    )
                 limit[k + 1] = least
     return limit

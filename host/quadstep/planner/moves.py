@@ -31,13 +31,18 @@ class MoveTable:
     unit: list[tuple[float, ...]] = field(default_factory=list)  # direction, mm space
     max_speed: list[float] = field(default_factory=list)  # mm/tick along the path
     accel: list[float] = field(default_factory=list)  # mm/tick² along the path
-    accel_cap: list[float] = field(default_factory=list)  # the move's own accel (mm/tick²), inf if none
-    feed: list[float] = field(default_factory=list)  # the programmed feed (mm/tick), inf for a rapid
-    deviation: list[float | None] = field(default_factory=list)  # G64 P / G61 at the move's start corner
-    # stops: (number of moves before it, item), in order; the machine is at rest there (at an output change
-    # only without laser mode, as GRBL waits for the motion before it changes the spindle or the coolant)
+    # the move's own accel (mm/tick²), inf if none
+    accel_cap: list[float] = field(default_factory=list)
+    # the programmed feed (mm/tick), inf for a rapid
+    feed: list[float] = field(default_factory=list)
+    # G64 P / G61 at the move's start corner
+    deviation: list[float | None] = field(default_factory=list)
+    # stops: (number of moves before it, item), in order; the machine is at rest there (at an output
+    # change only without laser mode, as GRBL waits for the motion before it changes the spindle or
+    # the coolant)
     stops: list[tuple[int, Dwell | Pause | SetOutputs | ProbeMove]] = field(default_factory=list)
-    jerk: list[float] = field(default_factory=list)  # mm/tick³ along the path, inf where no axis limits it
+    # mm/tick³ along the path, inf where no axis limits it
+    jerk: list[float] = field(default_factory=list)
     start: tuple[int, ...] = ()
     skipped_lines: int = 0  # moves too short to make a step
 
@@ -50,8 +55,11 @@ def _check_travel(config: MachineConfig, item: LinearMove, label: str) -> None:
     for i, (axis, x) in enumerate(zip(config.axes, item.target)):
         if not axis.travel_min - 1e-9 <= x <= axis.travel_max + 1e-9:
             work = item.work(i)
-            where = f"{axis.name} {x:.3f} mm" if abs(work - x) < 1e-9 else \
-                f"{axis.name} {work:.3f} mm in {item.system} (machine {x:.3f} mm)"
+            where = (
+                f"{axis.name} {x:.3f} mm"
+                if abs(work - x) < 1e-9
+                else f"{axis.name} {work:.3f} mm in {item.system} (machine {x:.3f} mm)"
+            )
             raise JobError(
                 f"{label} {item.line}: {where} is outside the travel "
                 f"{axis.travel_min:.3f} … {axis.travel_max:.3f} mm"
@@ -61,8 +69,9 @@ def _check_travel(config: MachineConfig, item: LinearMove, label: str) -> None:
 def build_moves(
     program: Program, config: MachineConfig, start_steps: tuple[int, ...], label: str = "line"
 ) -> MoveTable:
-    """Check every target against the travel, then make the move table (nothing planned yet). What follows a
-    probe (G38.x) is checked when the job has probed: its positions depend on where the probe stops."""
+    """Check every target against the travel, then make the move table (nothing planned yet). What
+    follows a probe (G38.x) is checked when the job has probed: its positions depend on where the
+    probe stops."""
     for item in program.items:
         if isinstance(item, ProbeMove):
             break

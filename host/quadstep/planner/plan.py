@@ -10,7 +10,7 @@ import numpy as np
 from ..config import MachineConfig
 from ..protocol import Outputs
 from ..protocol.cubic import SIGMA
-from ..protocol.segment import D
+from ..protocol.segment import D, Segment
 from .limits import check_duration
 from .lookahead import PLAN_ACCEL_FRACTION, junction_speeds
 from .moves import MoveTable, build_moves
@@ -25,9 +25,9 @@ from .stream import Stream
 
 @dataclass(frozen=True)
 class Boundary:
-    """Where a plan goes on from another without stopping (a feed override): the residual chain's ideal
-    (1/8192 step) and each axis's signed speed in the last segment there, and the path speed (mm/tick) the
-    first move is entered at, as the plan before had it."""
+    """Where a plan goes on from another without stopping (a feed override): the residual chain's
+    ideal (1/8192 step) and each axis's signed speed in the last segment there, and the path speed
+    (mm/tick) the first move is entered at, as the plan before had it."""
 
     ideal2: tuple[int, ...]
     exit_speed: tuple[int, ...]
@@ -44,23 +44,35 @@ class Plan:
     """A whole job, planned: its segments, where it starts and ends, and where it pauses."""
 
     config: MachineConfig
-    segments: SegmentArrays | Stream  # quadratic arrays; a stream of cubic segments when jerk-limited
+    # quadratic arrays; a stream of cubic segments when jerk-limited
+    segments: SegmentArrays | Stream
     start: tuple[int, ...]
     end: tuple[int, ...]
-    pauses: list[tuple[int, int]] = field(default_factory=list)  # (segment index, line) before which to wait
+    # (segment index, line) before which to wait
+    pauses: list[tuple[int, int]] = field(default_factory=list)
     moves: int = 0
     distance_mm: float = 0.0
     lines: int = 0
     max_landing_error: int = 0  # largest |ideal − target| at a move end, in 1/8192 step
     move_ends: array = field(default_factory=lambda: array("i"))  # segments planned after each move
     retries: int = 0  # moves whose best profile would have missed a target by rounding
-    # (segment index, pauses before it, message): OUTPUTS sent before that segment (at the end: after the last)
+    # (segment index, pauses before it, message): OUTPUTS sent before that segment (at the end:
+    # after the last)
     outputs: list[tuple[int, int, Outputs]] = field(default_factory=list)
-    peak_advance: tuple[int, ...] = ()  # jerk-limited plans: highest speed per axis, 2^-31 step per tick
-    junctions: array = field(default_factory=lambda: array("d"))  # each move's entry speed (mm/tick), then 0
+    peak_advance: tuple[
+        int, ...
+    ] = ()  # jerk-limited plans: highest speed per axis, 2^-31 step per tick
+    # each move's entry speed (mm/tick), then 0
+    junctions: array = field(default_factory=lambda: array("d"))
 
     def __len__(self) -> int:
         return len(self.segments)
+
+    def quadratic_segments(self) -> list[Segment]:
+        """Every segment of a plan without jerk limits, as protocol models (homing, probing and the
+        backlash measurements stream them themselves; they take no cubic segments)."""
+        assert isinstance(self.segments, SegmentArrays), "a jerk-limited plan has cubic segments"
+        return [self.segments.segment(i) for i in range(len(self))]
 
     @property
     def duration_ticks(self) -> int:
@@ -73,109 +85,178 @@ class Plan:
     def peak_speeds(self) -> list[float]:
         """Highest planned speed per axis, mm/s."""
         if isinstance(self.segments, Stream):
-            return [i / SIGMA * self.config.tick_hz / axis.steps_per_mm for i, axis in zip(self.peak_advance, self.config.axes)]
+            return [
+                i / SIGMA * self.config.tick_hz / axis.steps_per_mm
+                for i, axis in zip(self.peak_advance, self.config.axes)
+            ]
         arrays = self.segments.numpy()
         if len(self) == 0:
             return [0.0] * len(self.config.axes)
         top = np.maximum(arrays["v0"].max(axis=0), arrays["vn"].max(axis=0))
         return [
-            float(top[i]) / D * self.config.tick_hz / axis.steps_per_mm for i, axis in enumerate(self.config.axes)
+            float(top[i]) / D * self.config.tick_hz / axis.steps_per_mm
+            for i, axis in enumerate(self.config.axes)
         ]
 
 
 def plan_program(
-    program: Program, config: MachineConfig, start: tuple[int, ...] | None = None, label: str = "line",
+    program: Program,
+    config: MachineConfig,
+    start: tuple[int, ...] | None = None,
+    label: str = "line",
     boundary: Boundary | None = None,
 ) -> Plan:
-    """Plan every item of `program` from stepper positions `start` (default all 0), or, moving, from a
-    `boundary` of another plan (quadratic plans only)."""
-    begin = boundary.position if boundary is not None else tuple(start) if start is not None else (0,) * len(config.axes)
+    """Plan every item of `program` from stepper positions `start` (default all 0), or, moving, from
+    a `boundary` of another plan (quadratic plans only)."""
+    begin = (
+        boundary.position
+        if boundary is not None
+        else tuple(start)
+        if start is not None
+        else (0,) * len(config.axes)
+    )
     table = build_moves(program, config, begin, label)
     return plan_moves(table, config, program.lines, label, boundary)
 
 
-def plan_moves(table: MoveTable, config: MachineConfig, lines: int = 0, label: str = "line",
-               boundary: Boundary | None = None) -> Plan:
+class _Stops:
+    """The table's stops (dwells, pauses, probes, output changes), put into the plan as the moves
+    reach them, and the OUTPUTS messages the plan sends."""
+
+    def __init__(
+        self,
+        table: MoveTable,
+        config: MachineConfig,
+        out: SegmentArrays | Stream,
+        timing: ScurvePlanner | Quantizer,
+    ) -> None:
+        self.config = config
+        self.out = out
+        self.timing = timing
+        self.pauses: list[tuple[int, int]] = []
+        self.outputs: list[tuple[int, int, Outputs]] = []
+        self.state: OutputState | None = None  # None: the job sets no output
+        self._stops = iter(table.stops)
+        self._next = next(self._stops, None)
+
+    def send(self, message: Outputs) -> None:
+        if not self.outputs or self.outputs[-1][2] != message:
+            self.outputs.append((len(self.out), len(self.pauses), message))
+
+    def flush(self, before: int) -> None:
+        """The stops before move `before`."""
+        while self._next is not None and self._next[0] <= before:
+            item = self._next[1]
+            if isinstance(item, Dwell):
+                self.timing.dwell(round(item.seconds * self.config.tick_hz), item.line)
+            # a probe: the job probes there, then plans again
+            elif isinstance(item, (Pause, ProbeMove)):
+                if isinstance(self.timing, ScurvePlanner):
+                    self.timing.stop(item.line)
+                self.pauses.append((len(self.out), item.line))
+            elif isinstance(item, SetOutputs):
+                self.state = item.state
+                if set_at_rest(self.state, self.config):
+                    self.send(output_message(self.state, self.config))
+            self._next = next(self._stops, None)
+
+
+def _quantized_move(
+    quantizer: Quantizer, table: MoveTable, k: int, entry: list[float], label: str
+) -> int:
+    """Move k in whole-tick segments, from the best profile that lands exactly; returns how many
+    profiles before it missed (retries)."""
+    accel = table.accel[k]
+    profiles = fit_profiles(
+        table.length[k],
+        entry[k],
+        entry[k + 1],
+        table.max_speed[k],
+        accel,
+        accel * PLAN_ACCEL_FRACTION,
+    )
+    for attempt, profile in enumerate(profiles):
+        if quantizer.move(table.target[k], table.length[k], profile, table.line[k]):
+            return attempt
+        if quantizer.move(
+            table.target[k], table.length[k], profile, table.line[k], continuous=False
+        ):
+            return attempt
+    raise JobError(
+        f"{label} {table.line[k]}: no whole-tick profile lands this move exactly; lower max_speed"
+    )
+
+
+def plan_moves(
+    table: MoveTable,
+    config: MachineConfig,
+    lines: int = 0,
+    label: str = "line",
+    boundary: Boundary | None = None,
+) -> Plan:
     if boundary is not None and config.jerk_limited:
         raise JobError("a jerk-limited plan goes on only from rest")
     check_duration(table, config, label)  # each move at its top speed, before the look-ahead
     entry = junction_speeds(table, config, boundary.speed if boundary is not None else 0.0)
     check_duration(table, config, label, entry)  # with its ramps: before anything is planned
     scurve = ScurvePlanner(config, table.start, label) if config.jerk_limited else None
-    out: SegmentArrays | Stream = scurve.out if scurve is not None else SegmentArrays(len(config.axes))
-    quantizer = Quantizer(out, table.start) if scurve is None else None
-    if quantizer is not None and boundary is not None:  # the residual chain and the speeds go on unbroken
+    out: SegmentArrays | Stream
+    quantizer: Quantizer | None = None
+    if scurve is not None:
+        out = scurve.out
+    else:
+        arrays = SegmentArrays(len(config.axes))
+        out, quantizer = arrays, Quantizer(arrays, table.start)
+    # the residual chain and the speeds go on unbroken
+    if quantizer is not None and boundary is not None:
         quantizer.ideal2, quantizer.exit_speed = list(boundary.ideal2), list(boundary.exit_speed)
-    pauses: list[tuple[int, int]] = []
+    timing: ScurvePlanner | Quantizer | None = scurve if scurve is not None else quantizer
+    assert timing is not None
+    stops = _Stops(table, config, out, timing)
     move_ends = array("i")
     retries = 0
-    stops = iter(table.stops)
-    next_stop = next(stops, None)
-    outputs: list[tuple[int, int, Outputs]] = []
-    state: OutputState | None = None  # None: the job sets no output
-
-    def send(message: Outputs) -> None:
-        if not outputs or outputs[-1][2] != message:
-            outputs.append((len(out), len(pauses), message))
-
-    def flush_stops(before: int) -> None:
-        nonlocal next_stop, state
-        while next_stop is not None and next_stop[0] <= before:
-            item = next_stop[1]
-            if isinstance(item, Dwell):
-                (scurve or quantizer).dwell(round(item.seconds * config.tick_hz), item.line)  # type: ignore[union-attr]
-            elif isinstance(item, (Pause, ProbeMove)):  # a probe: the job probes there, then plans again
-                if scurve is not None:
-                    scurve.stop(item.line)
-                pauses.append((len(out), item.line))
-            elif isinstance(item, SetOutputs):
-                state = item.state
-                if set_at_rest(state, config):
-                    send(output_message(state, config))
-            next_stop = next(stops, None)
-
     for k in range(len(table)):
-        flush_stops(k)
-        if state is not None and is_dynamic(state, config):
-            send(output_message(state, config, table.unit[k], table.feed[k]))
+        stops.flush(k)
+        if stops.state is not None and is_dynamic(stops.state, config):
+            stops.send(output_message(stops.state, config, table.unit[k], table.feed[k]))
         if scurve is not None:
             scurve.move(table, k, entry)
-            move_ends.append(len(out))
-            continue
-        assert quantizer is not None
-        accel = table.accel[k]
-        profiles = fit_profiles(
-            table.length[k], entry[k], entry[k + 1], table.max_speed[k], accel, accel * PLAN_ACCEL_FRACTION
-        )
-        for attempt, profile in enumerate(profiles):
-            retries += attempt > 0
-            if quantizer.move(table.target[k], table.length[k], profile, table.line[k]):
-                break
-            if quantizer.move(table.target[k], table.length[k], profile, table.line[k], continuous=False):
-                break
         else:
-            raise JobError(f"{label} {table.line[k]}: no whole-tick profile lands this move exactly; lower max_speed")
+            assert quantizer is not None
+            retries += _quantized_move(quantizer, table, k, entry, label)
         move_ends.append(len(out))
-    flush_stops(len(table))
+    stops.flush(len(table))
     if scurve is not None:
         scurve.stop(table.line[-1] if len(table) else 0)
-        return Plan(config=config, segments=out, start=table.start, end=tuple(scurve.position), pauses=pauses,
-                    moves=len(table), distance_mm=float(sum(table.length)), lines=lines,
-                    max_landing_error=scurve.max_landing >> 18, move_ends=move_ends, retries=scurve.corrections,
-                    outputs=outputs, peak_advance=tuple(scurve.peak), junctions=array("d", entry))
+        return Plan(
+            config=config,
+            segments=out,
+            start=table.start,
+            end=tuple(scurve.position),
+            pauses=stops.pauses,
+            moves=len(table),
+            distance_mm=float(sum(table.length)),
+            lines=lines,
+            max_landing_error=scurve.max_landing >> 18,
+            move_ends=move_ends,
+            retries=scurve.corrections,
+            outputs=stops.outputs,
+            peak_advance=tuple(scurve.peak),
+            junctions=array("d", entry),
+        )
     assert quantizer is not None
     return Plan(
         config=config,
         segments=out,
         start=table.start,
         end=tuple(quantizer.position),
-        pauses=pauses,
+        pauses=stops.pauses,
         moves=len(table),
         distance_mm=float(sum(table.length)),
         lines=lines,
         max_landing_error=quantizer.max_landing_error,
         move_ends=move_ends,
         retries=retries,
-        outputs=outputs,
+        outputs=stops.outputs,
         junctions=array("d", entry),
     )

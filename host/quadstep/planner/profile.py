@@ -49,7 +49,8 @@ def fit_profiles(
     error, in steps of 5% of a tick's travel), then shortest. The caller takes the first
     whose quantised form lands every axis exactly.
     """
-    slowing = u_in > u_max * (1.0 + 1e-9)  # entered faster than this move may go (a lowered feed override): slow down first
+    # entered faster than this move may go (a lowered feed override): slow down first
+    slowing = u_in > u_max * (1.0 + 1e-9)
     u_max = max(u_max, u_out) if slowing else max(u_max, u_in, u_out)  # guard rounding
     peak = math.sqrt(max(0.0, (2.0 * plan_accel * length + u_in * u_in + u_out * u_out) / 2.0))
     peak = max(min(u_max, peak), u_out) if slowing else max(min(u_max, peak), u_in, u_out)
@@ -83,7 +84,11 @@ def _variants(phases: tuple[int, int, int]) -> list[tuple[int, int, int]]:
         found += [(n_a + n_c, 0, n_d), (n_a, 0, n_d + n_c)]
     for short in range(3):
         for donor in range(3):
-            if 0 < phases[short] < SHORT_PHASE and phases[donor] >= 2 * SHORT_PHASE and donor != short:
+            if (
+                0 < phases[short] < SHORT_PHASE
+                and phases[donor] >= 2 * SHORT_PHASE
+                and donor != short
+            ):
                 moved = list(phases)
                 moved[donor] -= SHORT_PHASE - phases[short]
                 moved[short] = SHORT_PHASE
@@ -92,7 +97,15 @@ def _variants(phases: tuple[int, int, int]) -> list[tuple[int, int, int]]:
 
 
 def _candidate(
-    length: float, u_in: float, u_out: float, u_max: float, accel: float, n_a: int, n_c: int, n_d: int, exact: float
+    length: float,
+    u_in: float,
+    u_out: float,
+    u_max: float,
+    accel: float,
+    n_a: int,
+    n_c: int,
+    n_d: int,
+    exact: float,
 ) -> tuple[tuple[int, int, int], tuple[int, int, int], float, float] | None:
     """Phases of whole ticks with the level solved for the distance; None if no level fits."""
     total = n_a + n_c + n_d
@@ -115,7 +128,9 @@ def _candidate(
     return key, (n_a, n_c, n_d), level, error
 
 
-def _build(u_in: float, u_out: float, phases: tuple[int, int, int], level: float, error: float) -> Profile:
+def _build(
+    u_in: float, u_out: float, phases: tuple[int, int, int], level: float, error: float
+) -> Profile:
     """Split the three phases into segments of at most N_MAX ticks."""
     n_a, n_c, n_d = phases
     ticks: list[int] = []

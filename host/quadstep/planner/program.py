@@ -14,7 +14,6 @@ from dataclasses import dataclass, field
 
 from ..coordinates import WorkCoordinates
 
-
 MAX_DWELL_S = 3600.0  # an hour; M0 waits for the operator as long as it takes
 
 
@@ -30,9 +29,11 @@ class LinearMove:
     target: tuple[float, ...]
     feed: float | None  # mm/s along the path
     accel: float | None = None  # mm/s² along the path, None: the machine's limits only
-    offset: tuple[float, ...] = field(default=(), compare=False)  # machine − work per axis; () = none
+    # machine − work per axis; () = none
+    offset: tuple[float, ...] = field(default=(), compare=False)
     system: str = field(default="", compare=False)  # G54 … G59, or G53 for machine coordinates
-    deviation: float | None = None  # mm the path may leave a corner by (G64 P); 0: exact stop (G61); None: config
+    # mm the path may leave a corner by (G64 P); 0: exact stop (G61); None: config
+    deviation: float | None = None
 
     def work(self, axis: int) -> float:
         """The target of `axis` as its line wrote it (work coordinates)."""
@@ -49,7 +50,8 @@ class Dwell:
 
 @dataclass(frozen=True, slots=True)
 class Pause:
-    """Come to rest and wait for the operator: M0, or a tool change (M6, `tool` the T word's number)."""
+    """Come to rest and wait for the operator: M0, or a tool change (M6, `tool` the T word's
+    number)."""
 
     line: int
     tool: int | None = None  # a tool change to this tool; None: a program pause (M0)
@@ -72,7 +74,8 @@ class OutputState:
 
 @dataclass(frozen=True, slots=True)
 class SetOutputs:
-    """From here on the outputs are `state` (what follows runs under it; the machine does not stop)."""
+    """From here on the outputs are `state` (what follows runs under it; the machine does not
+    stop)."""
 
     line: int
     state: OutputState
@@ -80,8 +83,9 @@ class SetOutputs:
 
 @dataclass(frozen=True, slots=True)
 class ProbeMove:
-    """G38.2–G38.5 toward `target` (machine mm) at `feed` (mm/s); the job comes to rest before it, probes, and
-    `resume(rest position in machine mm)` is the rest of the program read from where the probe stopped."""
+    """G38.2–G38.5 toward `target` (machine mm) at `feed` (mm/s); the job comes to rest before it,
+    probes, and `resume(rest position in machine mm)` is the rest of the program read from where the
+    probe stopped."""
 
     line: int
     code: str  # "38.2" … "38.5"
@@ -101,4 +105,5 @@ class Program:
     skipped: list[tuple[int, str]] = field(default_factory=list)  # (line, word)
     lines: int = 0  # source lines (or moves) read
     end_line: int | None = None  # line of M2/M30, if any
-    coordinates: WorkCoordinates | None = None  # the work coordinates as the program leaves them (G-code)
+    # the work coordinates as the program leaves them (G-code)
+    coordinates: WorkCoordinates | None = None

@@ -16,7 +16,7 @@ from __future__ import annotations
 
 import math
 
-from ..protocol.segment import D, N_MAX
+from ..protocol.segment import N_MAX, D
 from .profile import Profile
 from .segments import SegmentArrays
 
@@ -70,7 +70,15 @@ class Quantizer:
             travel = TWO_D * target[i] - self.ideal2[i]
             sign = 1 if travel > 0 else -1
             direction[i] = sign
-            v = self._axis_speeds(abs(travel), abs(travel) / (2.0 * length), sign, ticks, profile.speeds, i, continuous)
+            v = self._axis_speeds(
+                abs(travel),
+                abs(travel) / (2.0 * length),
+                sign,
+                ticks,
+                profile.speeds,
+                i,
+                continuous,
+            )
             miss = abs(travel) - sum(n * (v[j] + v[j + 1]) for j, n in enumerate(ticks))
             if abs(miss) >= D:
                 return False
@@ -79,11 +87,13 @@ class Quantizer:
         self._emit(ticks, columns, direction, line)
         for i in range(axis_count):
             if self.position[i] != target[i]:
-                raise AssertionError(f"line {line}: axis {i} ends at step {self.position[i]}, not {target[i]}")
+                raise AssertionError(
+                    f"line {line}: axis {i} ends at step {self.position[i]}, not {target[i]}"
+                )
         self.max_landing_error = max(self.max_landing_error, landing)
         self.exit_speed = [
-            direction[i] * columns[i][count] if columns[i] is not None else 0  # type: ignore[index]
-            for i in range(axis_count)
+            direction[i] * column[count] if column is not None else 0
+            for i, column in enumerate(columns)
         ]
         return True
 
@@ -124,7 +134,13 @@ class Quantizer:
             error -= weight * (pick - ideal[j])
         return v
 
-    def _emit(self, ticks: tuple[int, ...], columns: list[list[int] | None], direction: list[int], line: int) -> None:
+    def _emit(
+        self,
+        ticks: tuple[int, ...],
+        columns: list[list[int] | None],
+        direction: list[int],
+        line: int,
+    ) -> None:
         axis_count = self.axis_count
         ideal2 = self.ideal2
         position = self.position

@@ -1,10 +1,12 @@
-"""Seed 004's acceleration-ramp move and two-step arrival, for plans of cubic segments (docs/CUBIC.md §6).
+"""Seed 004's acceleration-ramp move and two-step arrival, for plans of cubic segments
+(docs/CUBIC.md §6).
 
 `ramp_move` is a rest-to-rest move of one axis in whole ticks: jerk +r, 0, −r over n1, n2, n1 ticks,
-then −r, 0, +r. Its second half is its first with the jerks negated, so it leaves the axis's speed and
-acceleration exactly as it found them and only moves it by `ramp_distance`: it can be added to any
-axis's segments (`superpose`), which is how a backlash take-up adds steps to one axis around its
-reversal while the other axes' segments run on, split at the ramp's boundaries and otherwise unchanged.
+then −r, 0, +r. Its second half is its first with the jerks negated, so it leaves the axis's speed
+and acceleration exactly as it found them and only moves it by `ramp_distance`: it can be added to
+any axis's segments (`superpose`), which is how a backlash take-up adds steps to one axis around its
+reversal while the other axes' segments run on, split at the ramp's boundaries and otherwise
+unchanged.
 
 `two_step_arrival` is the seed's closed form for arriving at a position at rest in two acceleration
 ramps of equal length; as checked there, it ends with an acceleration step (`a2`), zero only when
@@ -22,7 +24,8 @@ Phase = tuple[int, int]  # (ticks, jerk in 2^-31 step per tick³)
 
 
 def ramp_move(n1: int, n2: int, r: int) -> list[Phase]:
-    """The seed's 7-point ramp (six intervals): +r, 0, −r, −r, 0, +r over n1, n2, n1, n1, n2, n1 ticks."""
+    """The seed's 7-point ramp (six intervals): +r, 0, −r, −r, 0, +r over n1, n2, n1, n1, n2, n1
+    ticks."""
     if n1 < 1 or n2 < 0:
         raise ValueError(f"ramp phases need n1 ≥ 1 and n2 ≥ 0, not {n1}, {n2}")
     phases = [(n1, r), (n2, 0), (n1, -r), (n1, -r), (n2, 0), (n1, r)]
@@ -41,10 +44,12 @@ def ramp_distance(phases: list[Phase]) -> int:
     return x
 
 
-def superpose(segments: list[CubicSegment], axis: int, start: int, phases: list[Phase]) -> list[CubicSegment]:
-    """`segments` with the ramp `phases` added to `axis`'s jerk from tick `start` of the run on: segments are
-    split where a phase begins or ends (a piece keeps its segment's jerks; a state set stays on the first
-    piece), and every other axis moves exactly as before."""
+def superpose(
+    segments: list[CubicSegment], axis: int, start: int, phases: list[Phase]
+) -> list[CubicSegment]:
+    """`segments` with the ramp `phases` added to `axis`'s jerk from tick `start` of the run on:
+    segments are split where a phase begins or ends (a piece keeps its segment's jerks; a state set
+    stays on the first piece), and every other axis moves exactly as before."""
     bounds = [start]
     for n, _ in phases:
         bounds.append(bounds[-1] + n)
@@ -64,8 +69,15 @@ def superpose(segments: list[CubicSegment], axis: int, start: int, phases: list[
                 m = named.get(k)
                 jerk = (m.jerk or 0 if m is not None else 0) + (extra if k == axis else 0)
                 if m is not None and m.speed is not None and a == tick:
-                    axes.append(CubicAxis(axis=k, speed=m.speed, accel=m.accel, direction=m.direction,
-                                          jerk=jerk if m.jerk is not None or jerk else None))
+                    axes.append(
+                        CubicAxis(
+                            axis=k,
+                            speed=m.speed,
+                            accel=m.accel,
+                            direction=m.direction,
+                            jerk=jerk if m.jerk is not None or jerk else None,
+                        )
+                    )
                 elif jerk:
                     axes.append(CubicAxis(axis=k, jerk=jerk))
             out.append(CubicSegment(n=b - a, axes=tuple(axes)))
@@ -73,9 +85,11 @@ def superpose(segments: list[CubicSegment], axis: int, start: int, phases: list[
     return out
 
 
-def two_step_arrival(v0: Fraction, a0: Fraction, p02: Fraction, t: Fraction) -> tuple[Fraction, Fraction]:
-    """Accelerations a1 (at t) and a2 (at 2t) that, with the acceleration linear in between, bring an axis
-    at speed v0 and acceleration a0 to rest at distance p02 after 2t (seed 004, checked)."""
+def two_step_arrival(
+    v0: Fraction, a0: Fraction, p02: Fraction, t: Fraction
+) -> tuple[Fraction, Fraction]:
+    """Accelerations a1 (at t) and a2 (at 2t) that, with the acceleration linear in between, bring
+    an axis at speed v0 and acceleration a0 to rest at distance p02 after 2t (seed 004, checked)."""
     a1 = (3 * p02 - 5 * t * v0 - 2 * t * t * a0) / (2 * t * t)
     a2 = (-3 * p02 + 3 * t * v0 + t * t * a0) / (t * t)
     return a1, a2

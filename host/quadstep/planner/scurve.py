@@ -1,14 +1,15 @@
 """Jerk-limited plans: every move an S-curve of exact cubic segments (docs/PLANNER.md, "S-curves").
 
-Per move the path speed goes v0 → vc in a ramp (jerk +J, 0, −J), cruises at vc, and goes vc → v1 in a
-ramp; the acceleration is 0 at both ends of every ramp, so at every junction. The phases are whole ticks
-(planner/jerk.py rounds them up), vc is then solved so the path's length is covered exactly. Per axis the
-jerk of each ramp is rounded once, R = round(Σ·j); every state after that is the firmware's own exact
-integer chain (protocol/cubic.py): the ramp's symmetric phases bring the acceleration back to exactly 0, a
-state set at the start of a ramp that ends at rest makes the speed end at exactly 0, and a move lands
-exactly when its ideal ends within a quarter step of its target — otherwise a speed set on the cruise
-(at most 2^-12 step per tick of change, spread over the cruise) puts it there. Corners set each axis's
-speed as the junction-deviation rule allows (its acceleration is 0 on both sides).
+Per move the path speed goes v0 → vc in a ramp (jerk +J, 0, −J), cruises at vc, and goes vc → v1 in
+a ramp; the acceleration is 0 at both ends of every ramp, so at every junction. The phases are whole
+ticks (planner/jerk.py rounds them up), vc is then solved so the path's length is covered exactly.
+Per axis the jerk of each ramp is rounded once, R = round(Σ·j); every state after that is the
+firmware's own exact integer chain (protocol/cubic.py): the ramp's symmetric phases bring the
+acceleration back to exactly 0, a state set at the start of a ramp that ends at rest makes the speed
+end at exactly 0, and a move lands exactly when its ideal ends within a quarter step of its target —
+otherwise a speed set on the cruise (at most 2^-12 step per tick of change, spread over the cruise)
+puts it there. Corners set each axis's speed as the junction-deviation rule allows (its acceleration
+is 0 on both sides).
 """
 
 from __future__ import annotations
@@ -19,17 +20,20 @@ from dataclasses import dataclass
 from ..config import MachineConfig
 from ..protocol.constants import CUBIC_N_MAX
 from ..protocol.cubic import SIGMA, AxisState, CubicAxis, CubicChain, CubicRefused, CubicSegment
-from ..protocol.segment import AxisMove, Segment
+from ..protocol.segment import AxisMove, Direction, Segment
 from .moves import MoveTable
 from .program import JobError
 from .scurve_profile import PROFILE_FRACTION, Profile, whole_tick_profile
 from .stream import Stream
 
-SPEED_KEPT = 1 << 15  # a junction keeps an axis's speed without a set when it is this close (2^-16 step/tick)
-LAND_SLACK = SIGMA * 9 // 20  # a move's ideal may end this far from its target (the stepper is on it; the
-# next move starts from the exact ideal)
-JUMP_LIMIT = 1 << 19  # a correction on a cruise may always be this large (2^-12 step per tick), or as large
-# as the speed the ramps' rounded jerks can miss (half a jerk quantum over their phases)
+# a junction keeps an axis's speed without a set when it is this close (2^-16 step/tick)
+SPEED_KEPT = 1 << 15
+# a move's ideal may end this far from its target (the stepper is on it; the next move starts from
+# the exact ideal)
+LAND_SLACK = SIGMA * 9 // 20
+# a correction on a cruise may always be this large (2^-12 step per tick), or as large as the speed
+# the ramps' rounded jerks can miss (half a jerk quantum over their phases)
+JUMP_LIMIT = 1 << 19
 START_JUMP = 1 << 21  # a correction at a move's start (a junction): at most 2^-10 step per tick
 
 
@@ -41,7 +45,8 @@ class _Phase:
 
 
 class ScurvePlanner:
-    """Moves in order → cubic segments, with the firmware's chain carried exactly from move to move."""
+    """Moves in order → cubic segments, with the firmware's chain carried exactly from move to
+    move."""
 
     def __init__(self, config: MachineConfig, start: tuple[int, ...], label: str) -> None:
         self.config = config
@@ -59,24 +64,44 @@ class ScurvePlanner:
         hz = float(config.tick_hz)
         self.speed_limit = [a.max_speed * a.steps_per_mm / hz * SIGMA for a in config.axes]
         self.accel_limit = [a.max_accel * a.steps_per_mm / hz**2 * SIGMA for a in config.axes]
-        self.jerk_limit = [(a.max_jerk or math.inf) * a.steps_per_mm / hz**3 * SIGMA for a in config.axes]
-        # the firmware's chain may hold any residual from before: a 1-tick quadratic at rest puts it on the ideal
-        self.out.add(Segment(n=1, axes=tuple(AxisMove(axis=a, direction=1, v0=0, vn=0, r=0) for a in range(self.count))),
-                     0, 0)
+        self.jerk_limit = [
+            (a.max_jerk or math.inf) * a.steps_per_mm / hz**3 * SIGMA for a in config.axes
+        ]
+        # the firmware's chain may hold any residual from before: a 1-tick quadratic at rest puts it
+        # on the ideal
+        self.out.add(
+            Segment(
+                n=1,
+                axes=tuple(
+                    AxisMove(axis=a, direction=1, v0=0, vn=0, r=0) for a in range(self.count)
+                ),
+            ),
+            0,
+            0,
+        )
 
     # --- one move ---------------------------------------------------------------------------------
 
     def move(self, table: MoveTable, k: int, entry: list[float]) -> None:
-        """Plan move k, from the speed the move before ended at, to at most the look-ahead's junction speed
-        (capped a little under the speed limits too, as the profiles are: room for the landing corrections)."""
-        cap = PROFILE_FRACTION * min(table.max_speed[k], table.max_speed[k + 1] if k + 1 < len(table) else math.inf)
+        """Plan move k, from the speed the move before ended at, to at most the look-ahead's
+        junction speed (capped a little under the speed limits too, as the profiles are: room for
+        the landing corrections)."""
+        cap = PROFILE_FRACTION * min(
+            table.max_speed[k], table.max_speed[k + 1] if k + 1 < len(table) else math.inf
+        )
         v0, v1 = min(self.speed, entry[k]), min(entry[k + 1], cap)
         line = table.line[k]
         vmax = table.max_speed[k]
         for attempt in range(8):
             try:
-                profile = whole_tick_profile(table.length[k], v0, v1, max(vmax * PROFILE_FRACTION, v0, v1),
-                                             table.accel[k] * PROFILE_FRACTION, table.jerk[k] * PROFILE_FRACTION)
+                profile = whole_tick_profile(
+                    table.length[k],
+                    v0,
+                    v1,
+                    max(vmax * PROFILE_FRACTION, v0, v1),
+                    table.accel[k] * PROFILE_FRACTION,
+                    table.jerk[k] * PROFILE_FRACTION,
+                )
             except ValueError:
                 break
             segments = self._segments(table, k, profile)
@@ -86,26 +111,61 @@ class ScurvePlanner:
                 self.speed = profile.v1
                 return
             vmax = profile.vc * 0.97  # no cruise to land on, or one too short: make a longer one
-        raise JobError(f"{self.label} {line}: no whole-tick S-curve lands this move exactly; lower max_speed")
+        raise JobError(
+            f"{self.label} {line}: no whole-tick S-curve lands this move exactly; lower max_speed"
+        )
 
     def _segments(self, table: MoveTable, k: int, p: Profile) -> list[CubicSegment] | None:
         """The move's segments, landing every axis on its target; None when they cannot."""
-        target, delta, length = table.target[k], table.delta[k], table.length[k]
+        target, delta = table.target[k], table.delta[k]
+        shaped = self._shape(table, k, p)
+        if shaped is None:
+            return None
+        phases, exits = shaped
+        built = self._built(phases, target)
+        if built is None:
+            return None
+        if self._retune_starts(p, phases, built[1]):
+            built = self._built(phases, target)
+            if built is None:
+                return None
+        if self._retune_stops(p, phases, built[1], exits):
+            built = self._built(phases, target)
+            if built is None:
+                return None
+        if not self._land(p, phases, *built, delta):
+            return None
+        built = self._built(phases, target)
+        if built is None or any(abs(m) > LAND_SLACK for m in built[1].values()):
+            return None
+        return built[0]
+
+    def _shape(self, table: MoveTable, k: int, p: Profile) -> tuple[list[_Phase], list[int]] | None:
+        """The profile's seven phases with each axis's share of its jerks and speed sets, and each
+        axis's exit speed; None when a last ramp would have to begin below rest."""
+        delta, length = table.delta[k], table.length[k]
         share = [abs(d) / length * SIGMA for d in delta]  # 2^-31 step per mm of path
         ka, kd = p.n1a * (p.n1a + p.n2a), p.n1d * (p.n1d + p.n2d)
-        phases = [_Phase(p.n1a, {}, {}), _Phase(p.n2a, {}, {}), _Phase(p.n1a, {}, {}), _Phase(p.nc, {}, {}),
-                  _Phase(p.n1d, {}, {}), _Phase(p.n2d, {}, {}), _Phase(p.n1d, {}, {})]
+        phases = [
+            _Phase(p.n1a, {}, {}),
+            _Phase(p.n2a, {}, {}),
+            _Phase(p.n1a, {}, {}),
+            _Phase(p.nc, {}, {}),
+            _Phase(p.n1d, {}, {}),
+            _Phase(p.n2d, {}, {}),
+            _Phase(p.n1d, {}, {}),
+        ]
         exits = [0] * self.count
         for axis in range(self.count):
             state = self.chain.axes[axis]
             if not delta[axis]:
                 if not state.at_rest:
-                    phases[0].sets[axis] = CubicAxis(axis=axis, speed=0, direction=state.direction)  # type: ignore[arg-type]
+                    phases[0].sets[axis] = CubicAxis(axis=axis, speed=0, direction=state.direction)
                 continue
-            direction = 1 if delta[axis] > 0 else -1
+            direction: Direction = 1 if delta[axis] > 0 else -1
             entry = round(p.v0 * share[axis])
             if state.direction != direction or abs(state.i - entry) > SPEED_KEPT or state.d:
-                phases[0].sets[axis] = CubicAxis(axis=axis, speed=entry, direction=direction)  # type: ignore[arg-type]
+                phases[0].sets[axis] = CubicAxis(axis=axis, speed=entry, direction=direction)
             ra = round((p.vc - p.v0) * share[axis] / ka) if ka else 0
             rd = round((p.vc - p.v1) * share[axis] / kd) if kd else 0
             phases[0].jerk[axis], phases[2].jerk[axis] = ra, -ra
@@ -114,34 +174,28 @@ class ScurvePlanner:
             if kd:  # the last ramp ends at exactly its exit speed (at rest: 0): set where it begins
                 if exits[axis] + rd * kd < 0:
                     return None
-                phases[4].sets[axis] = CubicAxis(axis=axis, speed=exits[axis] + rd * kd, direction=direction)  # type: ignore[arg-type]
+                phases[4].sets[axis] = CubicAxis(
+                    axis=axis, speed=exits[axis] + rd * kd, direction=direction
+                )
+        return phases, exits
+
+    def _built(
+        self, phases: list[_Phase], target: tuple[int, ...]
+    ) -> tuple[list[CubicSegment], dict[int, int]] | None:
+        """The phases' segments and each moving axis's miss; None when they cannot be built or
+        the chain refuses them."""
         segments = _build(phases)
         if segments is None:
             return None
         misses = self._misses(segments, target)
         if misses is None:
             return None
-        if self._retune_starts(p, phases, misses):
-            segments = _build(phases)
-            misses = self._misses(segments, target) if segments is not None else None
-            if segments is None or misses is None:
-                return None
-        if self._retune_stops(p, phases, misses, exits):
-            segments = _build(phases)
-            misses = self._misses(segments, target) if segments is not None else None
-            if segments is None or misses is None:
-                return None
-        if not self._land(p, phases, segments, misses, delta):
-            return None
-        segments = _build(phases)
-        misses = self._misses(segments, target) if segments is not None else None
-        if misses is None or any(abs(m) > LAND_SLACK for m in misses.values()):
-            return None
-        return segments
+        return segments, misses
 
     def _retune_starts(self, p: Profile, phases: list[_Phase], misses: dict[int, int]) -> bool:
-        """An axis far off its target takes the nearest whole jerk on its first ramp instead: one unit more
-        moves it by the unit ramp's travel and the speed it adds until the last ramp (set to its exit)."""
+        """An axis far off its target takes the nearest whole jerk on its first ramp instead: one
+        unit more moves it by the unit ramp's travel and the speed it adds until the last ramp (set
+        to its exit)."""
         ka = p.n1a * (p.n1a + p.n2a)
         until = p.nc  # the last ramp's start speed is set: the change ends there (or the move does)
         unit = _ramp_travel([(p.n1a, 1), (p.n2a, 0), (p.n1a, -1)]) + ka * until
@@ -151,19 +205,27 @@ class ScurvePlanner:
                 continue
             start = phases[0].sets.get(axis)
             from_rest = (start.speed if start is not None else self.chain.axes[axis].i) == 0
-            # from rest a correction can only add speed: leave the axis short of its target, not past it
+            # from rest a correction can only add speed: leave the axis short of its target, not
+            # past it
             ra = phases[0].jerk.get(axis, 0) + (miss // unit if from_rest else round(miss / unit))
             speed = start.speed if start is not None else self.chain.axes[axis].i
-            if ra == phases[0].jerk.get(axis, 0) or abs(ra) > self.jerk_limit[axis] \
-                    or abs(ra) * p.n1a > self.accel_limit[axis] or (speed or 0) + ra * ka > self.speed_limit[axis]:
+            if (
+                ra == phases[0].jerk.get(axis, 0)
+                or abs(ra) > self.jerk_limit[axis]
+                or abs(ra) * p.n1a > self.accel_limit[axis]
+                or (speed or 0) + ra * ka > self.speed_limit[axis]
+            ):
                 continue
             phases[0].jerk[axis], phases[2].jerk[axis] = ra, -ra
             changed = True
         return changed
 
-    def _retune_stops(self, p: Profile, phases: list[_Phase], misses: dict[int, int], exits: list[int]) -> bool:
-        """An axis lands by its last ramp's jerk first: one unit more moves it by the travel of the unit ramp
-        (its start speed set to keep the exit), so the nearest whole jerk is taken (within the limit)."""
+    def _retune_stops(
+        self, p: Profile, phases: list[_Phase], misses: dict[int, int], exits: list[int]
+    ) -> bool:
+        """An axis lands by its last ramp's jerk first: one unit more moves it by the travel of the
+        unit ramp (its start speed set to keep the exit), so the nearest whole jerk is taken (within
+        the limit)."""
         unit = _unit_ramp_travel(p.n1d, p.n2d)
         changed = False
         for axis, miss in misses.items():
@@ -171,23 +233,36 @@ class ScurvePlanner:
                 continue
             rd = -phases[4].jerk.get(axis, 0)
             extra = round(miss / unit)
-            if not extra or abs(rd + extra) > self.jerk_limit[axis] or abs(rd + extra) * p.n1d > self.accel_limit[axis]:
+            if (
+                not extra
+                or abs(rd + extra) > self.jerk_limit[axis]
+                or abs(rd + extra) * p.n1d > self.accel_limit[axis]
+            ):
                 continue
             rd += extra
             if rd < 0:
                 continue
             set_ = phases[4].sets[axis]
-            phases[4].sets[axis] = CubicAxis(axis=axis, speed=exits[axis] + rd * p.n1d * (p.n1d + p.n2d),
-                                             direction=set_.direction)
+            phases[4].sets[axis] = CubicAxis(
+                axis=axis,
+                speed=exits[axis] + rd * p.n1d * (p.n1d + p.n2d),
+                direction=set_.direction,
+            )
             phases[4].jerk[axis], phases[6].jerk[axis] = -rd, rd
             changed = True
         return changed
 
-    def _land(self, p: Profile, phases: list[_Phase], segments: list[CubicSegment], misses: dict[int, int],
-              delta: tuple[int, ...]) -> bool:
-        """Speed sets that put each axis's ideal on its target, each at the earliest phase start where the
-        change it needs, spread over the rest of the move, is within the limit (on the move's start an axis
-        often has a set anyway: a corner); False when none is."""
+    def _land(
+        self,
+        p: Profile,
+        phases: list[_Phase],
+        segments: list[CubicSegment],
+        misses: dict[int, int],
+        delta: tuple[int, ...],
+    ) -> bool:
+        """Speed sets that put each axis's ideal on its target, each at the earliest phase start
+        where the change it needs, spread over the rest of the move, is within the limit (on the
+        move's start an axis often has a set anyway: a corner); False when none is."""
         limit = max(START_JUMP, p.n1a * (p.n1a + p.n2a) + p.n1d * (p.n1d + p.n2d))
         begins = [sum(ph.n for ph in phases[:at]) for at in range(len(phases) + 1)]
         states = {at: self._state_at(segments, begins[at]) for at in range(1, 7) if phases[at].n}
@@ -195,35 +270,55 @@ class ScurvePlanner:
         for axis, miss in misses.items():
             if abs(miss) <= (0 if axis in phases[0].sets else LAND_SLACK) or not delta[axis]:
                 continue
-            pinned = axis in phases[4].sets  # its last ramp is set to end at its exit: the window ends before it
+            # its last ramp is set to end at its exit: the window ends before it
+            pinned = axis in phases[4].sets
             for at in range(5):
                 if at and (at not in states or (pinned and at == 4)):
                     continue
                 ticks = (begins[4] if pinned else begins[-1]) - begins[at]
                 if at == 0:
                     start = phases[0].sets.get(axis)
-                    speed, accel = (start.speed if start is not None else self.chain.axes[axis].i), 0
+                    speed, accel = (
+                        (start.speed if start is not None else self.chain.axes[axis].i),
+                        0,
+                    )
                 else:
                     speed, accel = states[at][axis].i, states[at][axis].d
                 jump = round(miss / ticks) if ticks else limit + 1
                 if abs(jump) <= limit and speed is not None and speed + jump >= 0:
-                    phases[at].sets[axis] = CubicAxis(axis=axis, speed=speed + jump, accel=accel,  # type: ignore[arg-type]
-                                                      direction=1 if delta[axis] > 0 else -1)
+                    phases[at].sets[axis] = CubicAxis(
+                        axis=axis,
+                        speed=speed + jump,
+                        accel=accel,
+                        direction=1 if delta[axis] > 0 else -1,
+                    )
                     corrected = True
                     break
             else:
-                if abs(miss) > LAND_SLACK and not self._bump(phases, states, axis, miss, limit, delta[axis]):
+                if abs(miss) > LAND_SLACK and not self._bump(
+                    phases, states, axis, miss, limit, delta[axis]
+                ):
                     return False
                 corrected = True
         self.corrections += corrected
         return True
 
     @staticmethod
-    def _bump(phases: list[_Phase], states: dict[int, list[AxisState]], axis: int, miss: int, limit: int,
-              delta: int) -> bool:
-        """A speed change over the longest phase without jerk, set back exactly where it ends (two sets): for a
-        move whose window before its last ramp is too short."""
-        spans = [j for j in (1, 3, 5) if j in states and j + 1 in states and axis not in phases[j + 1].sets]
+    def _bump(
+        phases: list[_Phase],
+        states: dict[int, list[AxisState]],
+        axis: int,
+        miss: int,
+        limit: int,
+        delta: int,
+    ) -> bool:
+        """A speed change over the longest phase without jerk, set back exactly where it ends (two
+        sets): for a move whose window before its last ramp is too short."""
+        spans = [
+            j
+            for j in (1, 3, 5)
+            if j in states and j + 1 in states and axis not in phases[j + 1].sets
+        ]
         if not spans:
             return False
         j = max(spans, key=lambda k: phases[k].n)
@@ -231,13 +326,20 @@ class ScurvePlanner:
         at, back = states[j][axis], states[j + 1][axis]
         if abs(jump) > limit or at.i + jump < 0 or back.i < 0:
             return False
-        direction = 1 if delta > 0 else -1
-        phases[j].sets[axis] = CubicAxis(axis=axis, speed=at.i + jump, accel=at.d, direction=direction)  # type: ignore[arg-type]
-        phases[j + 1].sets[axis] = CubicAxis(axis=axis, speed=back.i, accel=back.d, direction=direction)  # type: ignore[arg-type]
+        direction: Direction = 1 if delta > 0 else -1
+        phases[j].sets[axis] = CubicAxis(
+            axis=axis, speed=at.i + jump, accel=at.d, direction=direction
+        )
+        phases[j + 1].sets[axis] = CubicAxis(
+            axis=axis, speed=back.i, accel=back.d, direction=direction
+        )
         return True
 
-    def _misses(self, segments: list[CubicSegment], target: tuple[int, ...]) -> dict[int, int] | None:
-        """Per moving axis, how far (2^-31 step, along its motion) its ideal would end short of `target`."""
+    def _misses(
+        self, segments: list[CubicSegment], target: tuple[int, ...]
+    ) -> dict[int, int] | None:
+        """Per moving axis, how far (2^-31 step, along its motion) its ideal would end short of
+        `target`."""
         chain = self.chain.copy()
         position = list(self.position)
         try:
@@ -289,7 +391,8 @@ class ScurvePlanner:
 
 
 def _ramp_travel(phases: list[tuple[int, int]], i: int = 0) -> int:
-    """How far (2^-31 step) phases of (ticks, jerk) travel from advance i and no acceleration (exact)."""
+    """How far (2^-31 step) phases of (ticks, jerk) travel from advance i and no acceleration
+    (exact)."""
     d = travel = 0
     for n, r in phases:
         travel += n * i + n * (n - 1) // 2 * d + n * (n - 1) * (n - 2) // 6 * r
@@ -304,8 +407,8 @@ def _unit_ramp_travel(n1: int, n2: int) -> int:
 
 
 def _build(phases: list[_Phase]) -> list[CubicSegment] | None:
-    """The phases as segments: empty ones left out (their sets on the next), long ones split (a set on the
-    first piece only)."""
+    """The phases as segments: empty ones left out (their sets on the next), long ones split (a set
+    on the first piece only)."""
     out = []
     pending: dict[int, CubicAxis] = {}  # sets of an empty phase go to the next one
     try:
@@ -319,8 +422,17 @@ def _build(phases: list[_Phase]) -> list[CubicSegment] | None:
                     r = ph.jerk.get(axis, 0)
                     s = sets.get(axis)
                     jerk = r if r else None
-                    axes.append(CubicAxis(axis=axis, speed=s.speed, accel=s.accel, direction=s.direction, jerk=jerk) if s is not None
-                                else CubicAxis(axis=axis, jerk=jerk))
+                    axes.append(
+                        CubicAxis(
+                            axis=axis,
+                            speed=s.speed,
+                            accel=s.accel,
+                            direction=s.direction,
+                            jerk=jerk,
+                        )
+                        if s is not None
+                        else CubicAxis(axis=axis, jerk=jerk)
+                    )
                 out.append(CubicSegment(n=n, axes=tuple(axes)))
                 left -= n
                 sets = {}

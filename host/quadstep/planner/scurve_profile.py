@@ -1,8 +1,9 @@
-"""A move's S-curve in whole ticks: the path speed v0 → vc → v1 in two jerk-limited ramps and a cruise.
+"""A move's S-curve in whole ticks: the path speed v0 → vc → v1 in two jerk-limited ramps and a
+cruise.
 
-The ramps' phases are rounded up to whole ticks (never more jerk or acceleration than planned) and the cruise
-speed is then solved so that the profile covers the move's length exactly (planner/jerk.py has the closed
-forms). Units: mm and ticks.
+The ramps' phases are rounded up to whole ticks (never more jerk or acceleration than planned) and
+the cruise speed is then solved so that the profile covers the move's length exactly
+(planner/jerk.py has the closed forms). Units: mm and ticks.
 """
 
 from __future__ import annotations
@@ -12,12 +13,14 @@ from dataclasses import dataclass
 
 from .jerk import ramp_distance, ramp_fits, reachable_speed, tick_ramp
 
-PROFILE_FRACTION = 0.995  # each move's profile at this share of its limits (the look-ahead plans at 0.98)
+# each move's profile at this share of its limits (the look-ahead plans at 0.98)
+PROFILE_FRACTION = 0.995
 
 
 @dataclass(frozen=True)
 class Profile:
-    """A move's path speeds (mm/tick) and phases in ticks: ramp (n1a, n2a, n1a), cruise nc, ramp (n1d, n2d, n1d)."""
+    """A move's path speeds (mm/tick) and phases in ticks: ramp (n1a, n2a, n1a), cruise nc, ramp
+    (n1d, n2d, n1d)."""
 
     v0: float
     vc: float
@@ -33,7 +36,9 @@ class Profile:
         return 2 * self.n1a + self.n2a + self.nc + 2 * self.n1d + self.n2d
 
 
-def peak_speed(length: float, v0: float, v1: float, vmax: float, accel: float, jerk: float) -> float:
+def peak_speed(
+    length: float, v0: float, v1: float, vmax: float, accel: float, jerk: float
+) -> float:
     """The highest cruise speed ≤ vmax whose two ramps fit in `length`."""
 
     def distance(vc: float) -> float:
@@ -51,17 +56,21 @@ def peak_speed(length: float, v0: float, v1: float, vmax: float, accel: float, j
     return lo
 
 
-def whole_tick_profile(length: float, v0: float, v1: float, vmax: float, accel: float, jerk: float) -> Profile:
+def whole_tick_profile(
+    length: float, v0: float, v1: float, vmax: float, accel: float, jerk: float
+) -> Profile:
     """The S-curve in whole ticks that covers `length` exactly within the limits.
 
-    The ramps rounded up to whole ticks for a peak speed b are long enough for any lower peak, so with them
-    the cruise is the fewest whole ticks that keep the speed at most b, and the speed that covers `length`
-    exactly is solved. The peak b is the time-optimal one, or lower when the rounding leaves no room. A cruise
-    through (a chord of an arc at speed) keeps its speed within half a tick of travel; a move no ramp fits
-    cruises a little slower than the junctions allow."""
-    v1 = min(v1, reachable_speed(v0, length, accel, jerk) * (1 - 1e-9))  # after a slower exit than planned
+    The ramps rounded up to whole ticks for a peak speed b are long enough for any lower peak, so
+    with them the cruise is the fewest whole ticks that keep the speed at most b, and the speed that
+    covers `length` exactly is solved. The peak b is the time-optimal one, or lower when the
+    rounding leaves no room. A cruise through (a chord of an arc at speed) keeps its speed within
+    half a tick of travel; a move no ramp fits cruises a little slower than the junctions allow."""
+    # after a slower exit than planned
+    v1 = min(v1, reachable_speed(v0, length, accel, jerk) * (1 - 1e-9))
     best = peak_speed(length, v0, v1, vmax, accel, jerk)
-    half_tick = v0 * v0 / (2 * length)  # the speed change that half a tick of travel makes over the move
+    # the speed change that half a tick of travel makes over the move
+    half_tick = v0 * v0 / (2 * length)
     if v0 > 0 and v1 > 0 and best - v0 <= half_tick:
         nc = max(1, round(length / v0))
         if length / nc <= min(vmax / PROFILE_FRACTION, v1 + half_tick):
@@ -79,9 +88,12 @@ def whole_tick_profile(length: float, v0: float, v1: float, vmax: float, accel: 
     raise ValueError("no whole-tick S-curve")
 
 
-def _solved(length: float, v0: float, v1: float, peak: float, vmax: float, accel: float, jerk: float) -> Profile | None:
-    """The profile with the ramps rounded up for this peak speed and the cruise speed solved with them; a start
-    within a tick's travel of the cruise speed takes it without a ramp (at the junction's speed set)."""
+def _solved(
+    length: float, v0: float, v1: float, peak: float, vmax: float, accel: float, jerk: float
+) -> Profile | None:
+    """The profile with the ramps rounded up for this peak speed and the cruise speed solved with
+    them; a start within a tick's travel of the cruise speed takes it without a ramp (at the
+    junction's speed set)."""
     one_tick = v0 * v0 / length  # the speed change that a tick of travel makes over the move
     n1a, n2a = (0, 0) if abs(peak - v0) <= one_tick else tick_ramp(peak - v0, accel, jerk)
     n1d, n2d = tick_ramp(peak - v1, accel, jerk)
@@ -96,8 +108,11 @@ def _solved(length: float, v0: float, v1: float, peak: float, vmax: float, accel
     start = v0 if n1a else vc
     if n1a == 0 and abs(vc - v0) > one_tick:
         return None
-    if 0 < vc <= vmax * (1 + 1e-9) and ramp_fits(vc - start, n1a, n2a, accel, jerk) \
-            and ramp_fits(vc - exit_, n1d, n2d, accel, jerk):
+    if (
+        0 < vc <= vmax * (1 + 1e-9)
+        and ramp_fits(vc - start, n1a, n2a, accel, jerk)
+        and ramp_fits(vc - exit_, n1d, n2d, accel, jerk)
+    ):
         return Profile(start, vc, exit_, n1a, n2a, nc, n1d, n2d)
     return None
 

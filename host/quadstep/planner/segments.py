@@ -21,7 +21,8 @@ class SegmentArrays:
 
     axis_count: int
     n: array = field(default_factory=lambda: array("H"))
-    axes: array = field(default_factory=lambda: array("B"))  # bits 0–3 active, 4–7 negative direction
+    # bits 0–3 active, 4–7 negative direction
+    axes: array = field(default_factory=lambda: array("B"))
     v0: array = field(default_factory=lambda: array("H"))
     vn: array = field(default_factory=lambda: array("H"))
     r: array = field(default_factory=lambda: array("h"))
@@ -42,7 +43,9 @@ class SegmentArrays:
             out.append(seg.n, bits, v0, vn, r, 0)
         return out
 
-    def append(self, n: int, axes: int, v0: list[int], vn: list[int], r: list[int], line: int) -> None:
+    def append(
+        self, n: int, axes: int, v0: list[int], vn: list[int], r: list[int], line: int
+    ) -> None:
         self.n.append(n)
         self.axes.append(axes)
         self.v0.extend(v0)
@@ -76,12 +79,24 @@ class SegmentArrays:
         shape = (len(self), self.axis_count)
         return {
             "n": np.frombuffer(self.n, dtype=np.uint16) if len(self) else np.zeros(0, np.uint16),
-            "axes": np.frombuffer(self.axes, dtype=np.uint8) if len(self) else np.zeros(0, np.uint8),
-            "line": np.frombuffer(self.line, dtype=np.int32) if len(self) else np.zeros(0, np.int32),
-            "v0": (np.frombuffer(self.v0, dtype=np.uint16) if len(self) else np.zeros(0, np.uint16)).reshape(shape),
-            "vn": (np.frombuffer(self.vn, dtype=np.uint16) if len(self) else np.zeros(0, np.uint16)).reshape(shape),
-            "r": (np.frombuffer(self.r, dtype=np.int16) if len(self) else np.zeros(0, np.int16)).reshape(shape),
+            "axes": np.frombuffer(self.axes, dtype=np.uint8)
+            if len(self)
+            else np.zeros(0, np.uint8),
+            "line": np.frombuffer(self.line, dtype=np.int32)
+            if len(self)
+            else np.zeros(0, np.int32),
+            "v0": (
+                np.frombuffer(self.v0, dtype=np.uint16) if len(self) else np.zeros(0, np.uint16)
+            ).reshape(shape),
+            "vn": (
+                np.frombuffer(self.vn, dtype=np.uint16) if len(self) else np.zeros(0, np.uint16)
+            ).reshape(shape),
+            "r": (
+                np.frombuffer(self.r, dtype=np.int16) if len(self) else np.zeros(0, np.int16)
+            ).reshape(shape),
         }
 
     def nbytes(self) -> int:
-        return sum(a.itemsize * len(a) for a in (self.n, self.axes, self.v0, self.vn, self.r, self.line))
+        return sum(
+            a.itemsize * len(a) for a in (self.n, self.axes, self.v0, self.vn, self.r, self.line)
+        )

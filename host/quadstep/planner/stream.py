@@ -1,8 +1,10 @@
-"""A stream of segments as sent: planned quadratic segments with some replaced by others (cubic ones).
+"""A stream of segments as sent: planned quadratic segments with some replaced by others (cubic
+ones).
 
-The planner's arrays stay as they are; a stream refers to their segments by index and holds only what is
-new, so a job of a few hundred thousand segments costs a few bytes per segment here. It offers what the
-machine streams from (`n`, `segment(i)`, `axis_count`) and the source line of each segment.
+The planner's arrays stay as they are; a stream refers to their segments by index and holds only
+what is new, so a job of a few hundred thousand segments costs a few bytes per segment here. It
+offers what the machine streams from (`n`, `segment(i)`, `axis_count`) and the source line of each
+segment.
 """
 
 from __future__ import annotations
@@ -28,7 +30,8 @@ class Stream:
     extra: list[Segment | CubicSegment] = field(default_factory=list)
     n: array = field(default_factory=lambda: array("I"))
     line: array = field(default_factory=lambda: array("i"))
-    origin: array = field(default_factory=lambda: array("i"))  # the base segment each item runs (part of)
+    # the base segment each item runs (part of)
+    origin: array = field(default_factory=lambda: array("i"))
 
     @property
     def axis_count(self) -> int:
@@ -55,7 +58,8 @@ class Stream:
         self.line.append(line)
 
     def origin_of(self, i: int) -> int:
-        """The base segment that item i runs, or part of it (at the end: the number of base segments)."""
+        """The base segment that item i runs, or part of it (at the end: the number of base
+        segments)."""
         return self.origin[i] if i < len(self) else len(self.base)
 
     def segment(self, i: int) -> Segment | CubicSegment:
@@ -80,7 +84,9 @@ class Stream:
         """n and line as numpy views."""
         return {
             "n": np.frombuffer(self.n, dtype=np.uint32) if len(self) else np.zeros(0, np.uint32),
-            "line": np.frombuffer(self.line, dtype=np.int32) if len(self) else np.zeros(0, np.int32),
+            "line": np.frombuffer(self.line, dtype=np.int32)
+            if len(self)
+            else np.zeros(0, np.int32),
         }
 
     @property

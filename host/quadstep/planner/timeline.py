@@ -22,7 +22,8 @@ class Timeline:
     speed1: np.ndarray  # (S, axes) signed speed at the end
     accel: np.ndarray  # (S, axes) at the start of each segment
     position: np.ndarray  # (S + 1, axes) ideal position at every boundary
-    accel1: np.ndarray | None = None  # (S, axes) at the end, where it changes within segments (cubic)
+    # (S, axes) at the end, where it changes within segments (cubic)
+    accel1: np.ndarray | None = None
 
 
 def timeline(plan: Plan) -> Timeline:
@@ -36,7 +37,10 @@ def timeline(plan: Plan) -> Timeline:
     ends = np.cumsum(n)
     bits = a["axes"].astype(np.int64)
     active = np.stack([(bits >> i) & 1 for i in range(count)], axis=1)
-    sign = np.where(np.stack([(bits >> (4 + i)) & 1 for i in range(count)], axis=1) == 1, -1, 1) * active
+    sign = (
+        np.where(np.stack([(bits >> (4 + i)) & 1 for i in range(count)], axis=1) == 1, -1, 1)
+        * active
+    )
     steps_per_mm = np.array([axis.steps_per_mm for axis in config.axes])
     flip = np.array([-1.0 if axis.invert else 1.0 for axis in config.axes])
     per_quantum = hz / D / steps_per_mm * flip  # mm/s per unit of v
@@ -56,7 +60,8 @@ def timeline(plan: Plan) -> Timeline:
 
 
 def _cubic_timeline(plan: Plan) -> Timeline:
-    """A jerk-limited plan: the firmware's chain walked segment by segment (the anchor tick at rest)."""
+    """A jerk-limited plan: the firmware's chain walked segment by segment (the anchor tick at
+    rest)."""
     config = plan.config
     hz = float(config.tick_hz)
     count = len(config.axes)
@@ -66,7 +71,9 @@ def _cubic_timeline(plan: Plan) -> Timeline:
     position = np.array(plan.start, dtype=np.float64)
     positions = [position.copy()]
     for seg in plan.segments.segments():
-        starts = chain.starts(seg) if isinstance(seg, CubicSegment) else [(a, 0) for a in chain.axes]
+        starts = (
+            chain.starts(seg) if isinstance(seg, CubicSegment) else [(a, 0) for a in chain.axes]
+        )
         v0 = np.array([s.direction * s.i for s, _ in starts], dtype=np.float64)
         a0 = np.array([s.direction * s.d for s, _ in starts], dtype=np.float64)
         if isinstance(seg, CubicSegment):

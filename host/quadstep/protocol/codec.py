@@ -84,7 +84,9 @@ def encode(message: Message, seq: int) -> bytes:
 def _message_class(t: int, seq: int, p: bytes, direction: Direction) -> type[WireMessage]:
     cls = message_class(t)
     if cls is None or cls.DIRECTION != direction:
-        raise DecodeError(ErrorCode.UNKNOWN_TYPE, t, seq, detail=f"type 0x{t:02x} unknown {direction}")
+        raise DecodeError(
+            ErrorCode.UNKNOWN_TYPE, t, seq, detail=f"type 0x{t:02x} unknown {direction}"
+        )
     if cls is Event:  # the kind byte says which
         if not p:
             raise DecodeError(ErrorCode.BAD_LENGTH, t, seq, detail="an EVENT needs its kind")
@@ -96,7 +98,8 @@ def _message_class(t: int, seq: int, p: bytes, direction: Direction) -> type[Wir
 
 
 def decode_body(body: bytes, direction: Direction = "to_host", axis_count: int = MAX_AXES) -> Frame:
-    """Decode a checked body (type, seq, payload); raises DecodeError for codes 5–7 and content errors.
+    """Decode a checked body (type, seq, payload); raises DecodeError for codes 5–7 and content
+    errors.
 
     `direction` is where the frame travels: the host decodes "to_host"
     frames; "to_firmware" decoding (with the firmware's validation and its
@@ -106,13 +109,20 @@ def decode_body(body: bytes, direction: Direction = "to_host", axis_count: int =
     cls = _message_class(t, seq, p, direction)
     raw = cls.layout().unpack(p)
     if raw is None:
-        raise DecodeError(ErrorCode.BAD_LENGTH, t, seq, detail=f"{len(p)}-byte payload wrong for {MessageType(t).name}")
+        raise DecodeError(
+            ErrorCode.BAD_LENGTH,
+            t,
+            seq,
+            detail=f"{len(p)}-byte payload wrong for {MessageType(t).name}",
+        )
     try:
         if direction == "to_firmware":
             cls.check_wire(raw, axis_count)  # the firmware's own validation
         return Frame(seq, cls.from_wire(raw))
     except FieldFault as fault:
-        raise DecodeError(ErrorCode.BAD_FIELD, t, seq, fault.field, fault.axis, fault.detail) from None
+        raise DecodeError(
+            ErrorCode.BAD_FIELD, t, seq, fault.field, fault.axis, fault.detail
+        ) from None
 
 
 def decode(frame: bytes, direction: Direction = "to_host", axis_count: int = MAX_AXES) -> Frame:

@@ -1,6 +1,6 @@
 """Every number of the wire protocol (PROTOCOL.md) but the message types and event kinds, which each
-message declares itself (wire.py, messages.py). tests/protocol/test_protocol_c_header.py holds these equal
-to firmware/core/qs_protocol.h."""
+message declares itself (wire.py, messages.py). tests/protocol/test_protocol_c_header.py holds these
+equal to firmware/core/qs_protocol.h."""
 
 from __future__ import annotations
 
@@ -26,16 +26,48 @@ DECEL_MAX = 8191  # largest HOLD deceleration (keeps the hold's per-tick values 
 CUBIC_SHIFT = 31  # a cubic segment's advances are in 2^-31 step (docs/CUBIC.md)
 CUBIC_ACCEL_LIMIT = 1 << 23  # |change of the advance per tick| stays below this (24 bits)
 CUBIC_N_MAX = 65535  # longest cubic segment in ticks (a 16-bit count)
-POSITION_MAX = 2**31 - 2**24  # the firmware keeps every step position within ±this (PROTOCOL.md §5.2)
+# the firmware keeps every step position within ±this (PROTOCOL.md §5.2)
+POSITION_MAX = 2**31 - 2**24
 WATCHDOG_MAX_MS = 4000  # longest WATCHDOG timeout
 
 __all__ = [
-    "AXIS_NAMES", "D", "MAX_AXES", "N_MAX", "R_MAX", "SPEED_SHIFT", "V_MAX", "PROTOCOL_VERSION", "MAX_FRAME", "MIN_FRAME",
-    "DELIMITER", "BROADCAST_SEQ", "NO_FIELD", "NO_AXIS", "MAX_IN_FLIGHT", "DECEL_SHIFT", "DECEL_MAX", "CUBIC_SHIFT", "POSITION_MAX",
+    "AXIS_NAMES",
+    "D",
+    "MAX_AXES",
+    "N_MAX",
+    "R_MAX",
+    "SPEED_SHIFT",
+    "V_MAX",
+    "PROTOCOL_VERSION",
+    "MAX_FRAME",
+    "MIN_FRAME",
+    "DELIMITER",
+    "BROADCAST_SEQ",
+    "NO_FIELD",
+    "NO_AXIS",
+    "MAX_IN_FLIGHT",
+    "DECEL_SHIFT",
+    "DECEL_MAX",
+    "CUBIC_SHIFT",
+    "POSITION_MAX",
     "WATCHDOG_MAX_MS",
-    "CUBIC_ACCEL_LIMIT", "CUBIC_N_MAX",
-    "AckReason", "ErrorCode", "FieldId", "AlarmCode", "State", "Board", "Capability", "TypeClass",
-    "is_immediate", "is_report", "is_sequenced", "Input", "InputCause", "INPUT_COUNT", "Output",
+    "CUBIC_ACCEL_LIMIT",
+    "CUBIC_N_MAX",
+    "AckReason",
+    "ErrorCode",
+    "FieldId",
+    "AlarmCode",
+    "State",
+    "Board",
+    "Capability",
+    "TypeClass",
+    "is_immediate",
+    "is_report",
+    "is_sequenced",
+    "Input",
+    "InputCause",
+    "INPUT_COUNT",
+    "Output",
 ]
 
 
@@ -153,8 +185,8 @@ class Capability(IntFlag):
 
 
 class Output(IntFlag):
-    """The OUTPUTS bits (PROTOCOL.md §5.5): spindle or laser on, its direction, a power that follows an axis's
-    speed, and the coolant outputs."""
+    """The OUTPUTS bits (PROTOCOL.md §5.5): spindle or laser on, its direction, a power that follows
+    an axis's speed, and the coolant outputs."""
 
     ON = 1 << 0
     REVERSE = 1 << 1
@@ -167,8 +199,8 @@ INPUT_COUNT = 12  # inputs the wire names: bit i of every input mask is Input(i)
 
 
 class Input(IntEnum):
-    """The board's inputs (PROTOCOL.md §5.4): an axis's limit (its min switch, or min and max on one pin), its
-    max switch where it has a pin of its own, the probe and the control buttons."""
+    """The board's inputs (PROTOCOL.md §5.4): an axis's limit (its min switch, or min and max on one
+    pin), its max switch where it has a pin of its own, the probe and the control buttons."""
 
     LIMIT_0 = 0
     LIMIT_1 = 1

@@ -1,22 +1,32 @@
-"""The CUBIC_SEGMENT message: n ticks of jerk-limited motion that carries only what changes (PROTOCOL.md §5.2).
+"""The CUBIC_SEGMENT message: n ticks of jerk-limited motion that carries only what changes
+(PROTOCOL.md §5.2).
 
-Per axis, in its direction of motion and in 2^-31 step: the ideal's advance over the next tick (`speed`),
-its change per tick (`accel`) and the change of that per tick (`jerk`, the segment's constant third
-difference). An axis named with a `speed` is *set* (a corner: new speed, acceleration and direction);
-one named with a `jerk` only keeps its state and changes its jerk; one not named keeps its state with no
-jerk. The firmware carries the exact state from segment to segment (docs/CUBIC.md).
+Per axis, in its direction of motion and in 2^-31 step: the ideal's advance over the next tick
+(`speed`), its change per tick (`accel`) and the change of that per tick (`jerk`, the segment's
+constant third difference). An axis named with a `speed` is *set* (a corner: new speed, acceleration
+and direction); one named with a `jerk` only keeps its state and changes its jerk; one not named
+keeps its state with no jerk. The firmware carries the exact state from segment to segment
+(docs/CUBIC.md).
 """
 
 from __future__ import annotations
 
 import struct
 from dataclasses import dataclass, field
-from typing import Annotated, Any, Literal
+from typing import Annotated, Any
 
-from pydantic import BaseModel, ConfigDict, Field, SerializerFunctionWrapHandler, field_validator, model_serializer, model_validator
+from pydantic import (
+    BaseModel,
+    ConfigDict,
+    Field,
+    SerializerFunctionWrapHandler,
+    field_validator,
+    model_serializer,
+    model_validator,
+)
 
 from .constants import CUBIC_ACCEL_LIMIT, CUBIC_N_MAX, CUBIC_SHIFT, MAX_AXES, FieldId
-from .segment import Segment
+from .segment import Direction, Segment
 from .wire import FieldCodec, FieldFault, Int, Request, bits, message
 
 SPEED_BIT = 1 << 31  # in a set's speed word: the axis moves in the negative direction
@@ -30,9 +40,11 @@ class CubicAxis(BaseModel):
     model_config = ConfigDict(frozen=True)
 
     axis: int = Field(ge=0, lt=MAX_AXES)
-    speed: int | None = Field(default=None, ge=0, lt=1 << 31, description="set: advance over the first tick")
+    speed: int | None = Field(
+        default=None, ge=0, lt=1 << 31, description="set: advance over the first tick"
+    )
     accel: int = Field(default=0, gt=-CUBIC_ACCEL_LIMIT, lt=CUBIC_ACCEL_LIMIT)
-    direction: Literal[1, -1] = 1
+    direction: Direction = 1
     jerk: int | None = Field(default=None, ge=-(1 << 15), lt=1 << 15)
 
     @model_validator(mode="after")
@@ -61,8 +73,9 @@ class CubicAxis(BaseModel):
 
 @dataclass(frozen=True)
 class CubicFields(FieldCodec):
-    """The `fields` byte (bits 0–3: axes with a jerk, bits 4–7: axes with a state set), then per named
-    axis in axis order its set (speed:u32 with the direction in bit 31, accel:i24) and its jerk (i16)."""
+    """The `fields` byte (bits 0–3: axes with a jerk, bits 4–7: axes with a state set), then per
+    named axis in axis order its set (speed:u32 with the direction in bit 31, accel:i24) and its
+    jerk (i16)."""
 
     head: int = 1
     named_lengths: tuple[tuple[str, int], ...] = (("SET", SET_BYTES), ("JERK", JERK_BYTES))
@@ -113,8 +126,15 @@ class CubicFields(FieldCodec):
                 axes.append(CubicAxis(axis=axis, jerk=jerk))
             else:
                 word, accel = set_
-                axes.append(CubicAxis(axis=axis, speed=word & (SPEED_BIT - 1), accel=accel,
-                                      direction=-1 if word & SPEED_BIT else 1, jerk=jerk))
+                axes.append(
+                    CubicAxis(
+                        axis=axis,
+                        speed=word & (SPEED_BIT - 1),
+                        accel=accel,
+                        direction=-1 if word & SPEED_BIT else 1,
+                        jerk=jerk,
+                    )
+                )
         return tuple(axes)
 
 
@@ -137,9 +157,9 @@ class CubicSegment(Request):
 
     @classmethod
     def check_wire(cls, raw: dict[str, Any], axis_count: int) -> None:
-        """The firmware's checks in order: N and AXES, then ACCEL and SPEED against the state each axis
-        carries, here that of a freshly started firmware (every axis at rest on the ideal); within a chain,
-        cubic_model.CubicChain checks against the state reached."""
+        """The firmware's checks in order: N and AXES, then ACCEL and SPEED against the state each
+        axis carries, here that of a freshly started firmware (every axis at rest on the ideal);
+        within a chain, cubic_model.CubicChain checks against the state reached."""
         n = raw["n"]
         mask, _ = raw["axes"]
         if n < 1:
@@ -153,7 +173,7 @@ class CubicSegment(Request):
             raise FieldFault(refused.field, refused.axis, str(refused)) from None
 
 
-# --- the firmware's chain of cubic state (the model of its validation; cubic_model.py predicts the steps) ---
+# --- the firmware's chain of cubic state (the model of its validation; cubic_model.py predicts the
 
 SIGMA = 1 << CUBIC_SHIFT
 HALF = SIGMA // 2
@@ -178,12 +198,13 @@ class CubicRefused(ValueError):
 
 @dataclass
 class AxisState:
-    """One axis of the chain: exact integers (i may be out of range: the next segment is then refused)."""
+    """One axis of the chain: exact integers (i may be out of range: the next segment is then
+    refused)."""
 
     e: int = 0
     i: int = 0
     d: int = 0
-    direction: int = 1
+    direction: Direction = 1
 
     @property
     def at_rest(self) -> bool:
@@ -233,7 +254,9 @@ class CubicChain:
         self.axes = [AxisState() for _ in range(self.axis_count)]
 
     def copy(self) -> CubicChain:
-        return CubicChain(self.axis_count, [AxisState(a.e, a.i, a.d, a.direction) for a in self.axes])
+        return CubicChain(
+            self.axis_count, [AxisState(a.e, a.i, a.d, a.direction) for a in self.axes]
+        )
 
     def follow_quadratic(self, seg: Segment, totals: dict[int, int]) -> None:
         """The exact end state of a quadratic segment; `totals` its steps per axis."""
@@ -273,11 +296,20 @@ class CubicChain:
         starts = self.starts(seg)
         n = seg.n
         for axis, (s, r) in enumerate(starts):
-            if not (-CUBIC_ACCEL_LIMIT < s.d < CUBIC_ACCEL_LIMIT and -CUBIC_ACCEL_LIMIT < s.d + n * r < CUBIC_ACCEL_LIMIT):
-                raise CubicRefused(FieldId.ACCEL, axis, f"axis {axis}: acceleration {s.d} … {s.d + n * r} leaves 24 bits")
+            if not (
+                -CUBIC_ACCEL_LIMIT < s.d < CUBIC_ACCEL_LIMIT
+                and -CUBIC_ACCEL_LIMIT < s.d + n * r < CUBIC_ACCEL_LIMIT
+            ):
+                raise CubicRefused(
+                    FieldId.ACCEL,
+                    axis,
+                    f"axis {axis}: acceleration {s.d} … {s.d + n * r} leaves 24 bits",
+                )
         for axis, (s, r) in enumerate(starts):
             if (s.i or s.d or r) and not advances_in_range(s.i, s.d, r, n):
-                raise CubicRefused(FieldId.SPEED, axis, f"axis {axis}: the advance per tick leaves 0 … 1 step")
+                raise CubicRefused(
+                    FieldId.SPEED, axis, f"axis {axis}: the advance per tick leaves 0 … 1 step"
+                )
 
     def advance(self, seg: CubicSegment) -> list[CubicStep]:
         """Check `seg`, move the chain past it, and return what every moving axis does."""
@@ -301,6 +333,12 @@ class CubicChain:
 
 
 __all__ = [
-    "AxisState", "CubicAxis", "CubicChain", "CubicFields", "CubicRefused", "CubicSegment", "CubicStep",
+    "AxisState",
+    "CubicAxis",
+    "CubicChain",
+    "CubicFields",
+    "CubicRefused",
+    "CubicSegment",
+    "CubicStep",
     "advances_in_range",
 ]

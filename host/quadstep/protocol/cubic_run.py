@@ -1,15 +1,16 @@
 """The CUBIC_SEGMENTS message: chained cubic segments, several to a frame (PROTOCOL.md §5.2).
 
-A jerk-limited move is seven phases of one or two jerks per axis: +J, 0, −J, a cruise, −J′, 0, +J′. A record
-says per axis, in two bits, whether its jerk is none, given (a varint), or its last jerk in the frame again
-or negated; n and two flags share one varint; a state set carries its speed as the change from the chain's
-(a corner's new speed, a landing's small correction). So a phase is 2 bytes where it repeats a jerk and a
-three-axis jerk phase about 8, against 15 for a CUBIC_SEGMENT. A frame is read in order once it is taken,
-against the chain its predecessors left, so a resent frame means exactly what it meant the first time.
+A jerk-limited move is seven phases of one or two jerks per axis: +J, 0, −J, a cruise, −J′, 0, +J′.
+A record says per axis, in two bits, whether its jerk is none, given (a varint), or its last jerk in
+the frame again or negated; n and two flags share one varint; a state set carries its speed as the
+change from the chain's (a corner's new speed, a landing's small correction). So a phase is 2 bytes
+where it repeats a jerk and a three-axis jerk phase about 8, against 15 for a CUBIC_SEGMENT. A frame
+is read in order once it is taken, against the chain its predecessors left, so a resent frame means
+exactly what it meant the first time.
 
-`SpeedChain` is what the host knows of the firmware's chain for this (each axis's I, d and direction),
-`pack` the one canonical encoding and `expand` its meaning (the firmware's `qs_cubic_records_next`,
-tests/firmware holds the two equal through protocol/vectors.json).
+`SpeedChain` is what the host knows of the firmware's chain for this (each axis's I, d and
+direction), `pack` the one canonical encoding and `expand` its meaning (the firmware's
+`qs_cubic_records_next`, tests/firmware holds the two equal through protocol/vectors.json).
 """
 
 from __future__ import annotations
@@ -18,12 +19,19 @@ from collections.abc import Sequence
 from dataclasses import dataclass, field
 from typing import Annotated, Any
 
-from pydantic import BaseModel, ConfigDict, Field, SerializerFunctionWrapHandler, model_serializer, model_validator
+from pydantic import (
+    BaseModel,
+    ConfigDict,
+    Field,
+    SerializerFunctionWrapHandler,
+    model_serializer,
+    model_validator,
+)
 
 from .constants import CUBIC_N_MAX, MAX_AXES, MAX_FRAME, FieldId
 from .cubic import SIGMA, CubicAxis, CubicChain, CubicRefused, CubicSegment, choose2
 from .segment import Segment
-from .wire import FieldFault, RecordsField, Request, bits, message
+from .wire import FieldFault, RecordsField, Request, bits, four_axes, message
 
 NONE, GIVEN, NEGATE, SAME = 0, 1, 2, 3  # an axis's jerk code
 SETS = 0x01  # in n's varint: a sets byte follows (bits 0–3 axes set, 4–7 their directions)
@@ -48,7 +56,8 @@ def _zigzag(value: int) -> int:
 
 
 def _read(payload: bytes, at: int, most: int) -> tuple[int, int] | None:
-    """(unsigned value, next offset), or None where the payload ends inside it or it runs past `most` bytes."""
+    """(unsigned value, next offset), or None where the payload ends inside it or it runs past
+    `most` bytes."""
     u = shift = 0
     for k in range(most):
         if at + k >= len(payload):
@@ -72,9 +81,15 @@ class CubicRecord(BaseModel):
     n: int = Field(ge=0, lt=1 << 19)
     codes: tuple[int, int, int, int] = Field(description="per axis: NONE, GIVEN, NEGATE or SAME")
     jerks: tuple[int, ...] = Field(default=(), description="per axis coded GIVEN, in axis order")
-    sets: int | None = Field(default=None, ge=0, le=255, description="bits 0–3 axes set, 4–7 their directions")
-    speeds: tuple[int, ...] = Field(default=(), description="per set axis: the speed less the chain's")
-    accels: tuple[int, ...] | None = Field(default=None, description="per set axis: its acceleration")
+    sets: int | None = Field(
+        default=None, ge=0, le=255, description="bits 0–3 axes set, 4–7 their directions"
+    )
+    speeds: tuple[int, ...] = Field(
+        default=(), description="per set axis: the speed less the chain's"
+    )
+    accels: tuple[int, ...] | None = Field(
+        default=None, description="per set axis: its acceleration"
+    )
 
     @model_validator(mode="after")
     def _whole(self) -> CubicRecord:
@@ -83,7 +98,9 @@ class CubicRecord(BaseModel):
         if any(not -(1 << 20) <= j < 1 << 20 for j in self.jerks):
             raise ValueError("a jerk takes at most 3 bytes")
         count = len(bits((self.sets or 0) & 0x0F))
-        if len(self.speeds) != count or (self.accels is not None and (not count or len(self.accels) != count)):
+        if len(self.speeds) != count or (
+            self.accels is not None and (not count or len(self.accels) != count)
+        ):
             raise ValueError("a speed (and, with accels, an acceleration) for each set axis")
         if any(not -(1 << 31) <= s < 1 << 31 for s in self.speeds):
             raise ValueError("a speed change lies within ±2^31")
@@ -123,7 +140,9 @@ def _parse(payload: bytes, offset: int) -> tuple[list[CubicRecord], int] | None:
         if head is None:
             return None
         value, at = head
-        sets, speeds, accels = None, [], [] if value & ACCEL else None
+        sets: int | None = None
+        speeds: list[int] = []
+        accels: list[int] | None = [] if value & ACCEL else None
         if value & SETS:
             if at >= len(payload):
                 return None
@@ -141,7 +160,7 @@ def _parse(payload: bytes, offset: int) -> tuple[list[CubicRecord], int] | None:
                         return None
                     accels.append(_signed(accel[0]))
                     at = accel[1]
-        codes = tuple(code_byte >> 2 * a & 3 for a in range(MAX_AXES))
+        codes = four_axes([code_byte >> 2 * a & 3 for a in range(MAX_AXES)])
         jerks = []
         for _ in range(codes.count(GIVEN)):
             jerk = _read(payload, at, MOST["jerk"])
@@ -149,8 +168,16 @@ def _parse(payload: bytes, offset: int) -> tuple[list[CubicRecord], int] | None:
                 return None
             jerks.append(_signed(jerk[0]))
             at = jerk[1]
-        records.append(CubicRecord(n=value >> 2, codes=codes, jerks=tuple(jerks), sets=sets, speeds=tuple(speeds),  # type: ignore[arg-type]
-                                   accels=None if sets is None or accels is None or not speeds else tuple(accels)))
+        records.append(
+            CubicRecord(
+                n=value >> 2,
+                codes=codes,
+                jerks=tuple(jerks),
+                sets=sets,
+                speeds=tuple(speeds),
+                accels=None if sets is None or accels is None or not speeds else tuple(accels),
+            )
+        )
     return (records, at) if records else None
 
 
@@ -159,7 +186,7 @@ class Records(RecordsField):
     """The records, to the end of the payload."""
 
     def parse(self, payload: bytes, offset: int) -> tuple[list[Any], int] | None:
-        return _parse(payload, offset)  # type: ignore[return-value]
+        return _parse(payload, offset)
 
     def pack(self, value: tuple[CubicRecord, ...]) -> bytes:
         return b"".join(record.pack() for record in value)
@@ -183,13 +210,13 @@ class CubicSegments(Request):
         return len(self.records)
 
 
-# --- the records' meaning ---------------------------------------------------------------------------------
+# --- the records' meaning -------------------------------------------------------------------------
 
 
 def expand(records: Sequence[CubicRecord], chain: CubicChain) -> list[CubicSegment]:
-    """The cubic segments the records mean, starting from `chain`, which they move on; raises FieldFault as
-    the firmware refuses: N, AXES, DIRECTION, then SPEED per set axis and JERK per axis, then
-    CUBIC_SEGMENT's own checks."""
+    """The cubic segments the records mean, starting from `chain`, which they move on; raises
+    FieldFault as the firmware refuses: N, AXES, DIRECTION, then SPEED per set axis and JERK per
+    axis, then CUBIC_SEGMENT's own checks."""
     out: list[CubicSegment] = []
     last = [0] * MAX_AXES
     for record in records:
@@ -198,18 +225,28 @@ def expand(records: Sequence[CubicRecord], chain: CubicChain) -> list[CubicSegme
         sets = record.sets or 0
         named = bits(sets & 0x0F) + [a for a, c in enumerate(record.codes) if c]
         if any(a >= chain.axis_count for a in named):
-            raise FieldFault(FieldId.AXES, None, f"axes {sorted(set(named))}, firmware has {chain.axis_count}")
+            raise FieldFault(
+                FieldId.AXES, None, f"axes {sorted(set(named))}, firmware has {chain.axis_count}"
+            )
         if sets >> 4 & ~sets & 0x0F:
-            raise FieldFault(FieldId.DIRECTION, None, f"direction bit of an axis not set (sets 0x{sets:02x})")
+            raise FieldFault(
+                FieldId.DIRECTION, None, f"direction bit of an axis not set (sets 0x{sets:02x})"
+            )
         axes: dict[int, dict[str, Any]] = {}
         for k, axis in enumerate(bits(sets & 0x0F)):
             state = chain.axes[axis]
             direction = -1 if sets >> (4 + axis) & 1 else 1
             if not 0 <= state.i <= SIGMA:
-                raise FieldFault(FieldId.SPEED, axis, f"axis {axis}: the chain's speed {state.i} is outside 0 … 1 step")
+                raise FieldFault(
+                    FieldId.SPEED,
+                    axis,
+                    f"axis {axis}: the chain's speed {state.i} is outside 0 … 1 step",
+                )
             speed = (state.i if direction == state.direction else -state.i) + record.speeds[k]
             if not 0 <= speed < SIGMA:
-                raise FieldFault(FieldId.SPEED, axis, f"axis {axis}: a set speed {speed} outside 0 … 1 step")
+                raise FieldFault(
+                    FieldId.SPEED, axis, f"axis {axis}: a set speed {speed} outside 0 … 1 step"
+                )
             accel = record.accels[k] if record.accels is not None else 0
             axes[axis] = {"axis": axis, "speed": speed, "accel": accel, "direction": direction}
         given = iter(record.jerks)
@@ -221,10 +258,17 @@ def expand(records: Sequence[CubicRecord], chain: CubicChain) -> list[CubicSegme
                 raise FieldFault(FieldId.JERK, axis, f"axis {axis}: jerk {jerk}, limit ±2^15")
             last[axis] = jerk
             axes.setdefault(axis, {"axis": axis})["jerk"] = jerk
-        # built unvalidated: CubicChain.check names an acceleration outside 24 bits as the firmware does
+        # built unvalidated: CubicChain.check names an acceleration outside 24 bits as the firmware
+        # does
         segment = CubicSegment.model_construct(
-            n=record.n, axes=tuple(CubicAxis.model_construct(**{"accel": 0, "direction": 1, "speed": None, "jerk": None, **axes[a]})
-                                   for a in sorted(axes)))
+            n=record.n,
+            axes=tuple(
+                CubicAxis.model_construct(
+                    **{"accel": 0, "direction": 1, "speed": None, "jerk": None, **axes[a]}
+                )
+                for a in sorted(axes)
+            ),
+        )
         try:
             chain.advance(segment)
         except CubicRefused as refused:
@@ -233,14 +277,14 @@ def expand(records: Sequence[CubicRecord], chain: CubicChain) -> list[CubicSegme
     return out
 
 
-# --- what the host knows of the chain, and the one canonical packing ---------------------------------------
+# --- what the host knows of the chain, and the one canonical packing ------------------------------
 
 
 @dataclass
 class SpeedChain:
-    """Per axis what a record's set starts from: the firmware chain's I (the advance over the next tick,
-    2^-31 step), its change d and the direction; None where the host cannot know it (before the motion's
-    first segment). A direction is needed only while I is not 0."""
+    """Per axis what a record's set starts from: the firmware chain's I (the advance over the next
+    tick, 2^-31 step), its change d and the direction; None where the host cannot know it (before
+    the motion's first segment). A direction is needed only while I is not 0."""
 
     axis_count: int
     i: list[int | None] = field(default_factory=list)
@@ -264,15 +308,19 @@ class SpeedChain:
         return SpeedChain(self.axis_count, list(self.i), list(self.d), list(self.direction))
 
     def follow(self, segment: Segment | CubicSegment) -> None:
-        """After `segment`: a quadratic one leaves its axes at vn << 19 with no d and stops the others."""
+        """After `segment`: a quadratic one leaves its axes at vn << 19 with no d and stops the
+        others."""
+        if isinstance(segment, Segment):
+            moves = {a.axis: a for a in segment.axes}
+            for axis in range(self.axis_count):
+                move = moves.get(axis)
+                self.i[axis], self.d[axis] = (move.vn << 19, 0) if move is not None else (0, 0)
+                if move is not None:
+                    self.direction[axis] = move.direction
+            return
         named = {a.axis: a for a in segment.axes}
         for axis in range(self.axis_count):
             a = named.get(axis)
-            if isinstance(segment, Segment):
-                self.i[axis], self.d[axis] = (a.vn << 19, 0) if a is not None else (0, 0)
-                if a is not None:
-                    self.direction[axis] = a.direction
-                continue
             r = 0
             if a is not None:
                 if a.speed is not None:
@@ -292,8 +340,9 @@ class SpeedChain:
 
 
 def _record(segment: CubicSegment, chain: SpeedChain, last: list[int]) -> CubicRecord | None:
-    """The canonical record of `segment` from `chain`, `last` each axis's last jerk in the frame (moved
-    on); None where a set cannot start from the chain (send the segment as a CUBIC_SEGMENT)."""
+    """The canonical record of `segment` from `chain`, `last` each axis's last jerk in the frame
+    (moved on); None where a set cannot start from the chain (send the segment as a
+    CUBIC_SEGMENT)."""
     sets, speeds, accels = 0, [], []
     for a in segment.axes:
         if a.speed is None:
@@ -317,13 +366,22 @@ def _record(segment: CubicSegment, chain: SpeedChain, last: list[int]) -> CubicR
             codes[a.axis] = GIVEN
             jerks.append(jerk)
         last[a.axis] = jerk
-    return CubicRecord(n=segment.n, codes=tuple(codes), jerks=tuple(jerks),  # type: ignore[arg-type]
-                       sets=sets if sets else None, speeds=tuple(speeds), accels=tuple(accels) if any(accels) else None)
+    return CubicRecord(
+        n=segment.n,
+        codes=four_axes(codes),
+        jerks=tuple(jerks),
+        sets=sets if sets else None,
+        speeds=tuple(speeds),
+        accels=tuple(accels) if any(accels) else None,
+    )
 
 
-def pack(segments: Sequence[CubicSegment], chain: SpeedChain, limit: int = RECORDS_MAX) -> CubicSegments | None:
-    """As many of `segments` (from the first, at most `limit`) as one frame holds, moving `chain` on past
-    them; None when the first cannot be a record (send it as a CUBIC_SEGMENT, then follow it)."""
+def pack(
+    segments: Sequence[CubicSegment], chain: SpeedChain, limit: int = RECORDS_MAX
+) -> CubicSegments | None:
+    """As many of `segments` (from the first, at most `limit`) as one frame holds, moving `chain` on
+    past them; None when the first cannot be a record (send it as a CUBIC_SEGMENT, then follow
+    it)."""
     records: list[CubicRecord] = []
     size, last = 0, [0] * MAX_AXES
     for segment in segments[: min(limit, RECORDS_MAX)]:

@@ -1,9 +1,9 @@
-"""Which frame sends the next segments of a plan: chained in SEGMENTS or CUBIC_SEGMENTS where the board has them
-and the chain is known, else one segment alone (PROTOCOL.md §5.2)."""
+"""Which frame sends the next segments of a plan: chained in SEGMENTS or CUBIC_SEGMENTS where the
+board has them and the chain is known, else one segment alone (PROTOCOL.md §5.2)."""
 
 from __future__ import annotations
 
-from typing import Protocol
+from typing import Protocol, TypeVar
 
 from .cubic import CubicSegment
 from .cubic_run import CubicSegments
@@ -13,8 +13,8 @@ from .segment_run import RUN_LIMIT, RunChain, Segments, pack
 
 
 def run_limit(queue_capacity: int) -> int:
-    """Segments a host puts in one SEGMENTS frame for a board with this queue: half of it (so the next frame
-    is taken while the other half runs), at most RUN_LIMIT."""
+    """Segments a host puts in one SEGMENTS frame for a board with this queue: half of it (so the
+    next frame is taken while the other half runs), at most RUN_LIMIT."""
     return max(1, min(RUN_LIMIT, queue_capacity // 2))
 
 
@@ -24,31 +24,47 @@ class SegmentSource(Protocol):
     def segment(self, i: int) -> Segment | CubicSegment: ...
 
 
-def next_frame(source: SegmentSource, index: int, end: int, chain: RunChain, limit: int,
-               cubic_runs: bool = True) -> Segment | CubicSegment | Segments | CubicSegments:
-    """The frame that sends segment `index` and what follows it before `end`: segments of its kind chained
-    into SEGMENTS or CUBIC_SEGMENTS (at most `limit`; 0 where the firmware has no SEGMENTS, and cubic ones
-    only with `cubic_runs`) once the chain is known, else segment `index` alone, as its own message (with a
-    limit of 1 too: after a lost frame the board keeps later single-segment frames, never a run);
-    `chain` moves on past what the frame sends."""
+def next_frame(
+    source: SegmentSource,
+    index: int,
+    end: int,
+    chain: RunChain,
+    limit: int,
+    cubic_runs: bool = True,
+) -> Segment | CubicSegment | Segments | CubicSegments:
+    """The frame that sends segment `index` and what follows it before `end`: segments of its kind
+    chained into SEGMENTS or CUBIC_SEGMENTS (at most `limit`; 0 where the firmware has no SEGMENTS,
+    and cubic ones only with `cubic_runs`) once the chain is known, else segment `index` alone, as
+    its own message (with a limit of 1 too: after a lost frame the board keeps later single-segment
+    frames, never a run); `chain` moves on past what the frame sends."""
     first = source.segment(index)
-    kind = type(first)
-    run = [first]
-    for i in range(index + 1, min(end, index + limit)):
-        segment = source.segment(i)
-        if type(segment) is not kind:
-            break
-        run.append(segment)
     if isinstance(first, CubicSegment):
+        cubics = _run(first, source, index, end, limit)
         assert chain.speeds is not None
-        cubic = cubic_pack(run, chain.speeds, limit) if limit > 1 and cubic_runs else None  # type: ignore[arg-type]
+        cubic = cubic_pack(cubics, chain.speeds, limit) if limit > 1 and cubic_runs else None
         if cubic is None:
             chain.follow_cubic(first)
             return first
         chain.forget()
         return cubic
-    packed = pack(run, chain, limit) if limit > 1 else None  # type: ignore[arg-type]
+    run = _run(first, source, index, end, limit)
+    packed = pack(run, chain, limit) if limit > 1 else None
     if packed is None:
         chain.follow(first)
         return first
     return packed
+
+
+Kind = TypeVar("Kind", Segment, CubicSegment)
+
+
+def _run(first: Kind, source: SegmentSource, index: int, end: int, limit: int) -> list[Kind]:
+    """`first` (segment `index`) and the segments of its kind right after it, before `end`: at most
+    `limit` in all."""
+    run = [first]
+    for i in range(index + 1, min(end, index + limit)):
+        segment = source.segment(i)
+        if not isinstance(segment, type(first)):
+            break
+        run.append(segment)
+    return run

@@ -120,7 +120,9 @@ class FrameSplitter:
                 out.append(FramingError(ErrorCode.FRAME_TOO_LONG, raw))
             elif raw:
                 checked = check_block(raw)
-                out.append(FramingError(checked, raw) if isinstance(checked, ErrorCode) else checked)
+                out.append(
+                    FramingError(checked, raw) if isinstance(checked, ErrorCode) else checked
+                )
 
     def _keep(self, chunk: bytes) -> None:
         if self._overlong:
@@ -132,6 +134,12 @@ class FrameSplitter:
 
 
 __all__ = [
-    "BROADCAST_SEQ", "FramingError", "FrameSplitter", "check_block", "cobs_decode", "cobs_encode", "crc16",
+    "BROADCAST_SEQ",
+    "FramingError",
+    "FrameSplitter",
+    "check_block",
+    "cobs_decode",
+    "cobs_encode",
+    "crc16",
     "encode_frame",
 ]

@@ -1,4 +1,5 @@
-"""Every message of PROTOCOL.md §5, each declared once: type code, name, direction, fields and widths.
+"""Every message of PROTOCOL.md §5, each declared once: type code, name, direction, fields and
+widths.
 
 A message is a class declared with `@message(code, NAME)` on `Request` (host
 → firmware) or `Report` (firmware → host); its fields go on the wire in the
@@ -12,8 +13,8 @@ in JSON, which is also the form of protocol/vectors.json.
 
 from __future__ import annotations
 
-from enum import IntEnum
-from typing import Annotated, Any, ClassVar
+from enum import EnumMeta, IntEnum
+from typing import Annotated, Any, ClassVar, TypeVar
 
 from pydantic import (
     Field,
@@ -25,26 +26,25 @@ from pydantic import (
 
 from .constants import (
     DECEL_MAX,
+    INPUT_COUNT,
+    NO_AXIS,
     POSITION_MAX,
     WATCHDOG_MAX_MS,
-    NO_AXIS,
     Board,
     Capability,
-    INPUT_COUNT,
     FieldId,
     Input,
     TypeClass,
 )
 from .cubic import CubicAxis, CubicSegment
 from .cubic_run import CubicRecord, CubicSegments
-from .segment_run import SegmentRecord, Segments
 from .fields import (
+    I32,
     U8,
     U16,
     U32,
     AxisIndex,
     Decels,
-    I32,
     NamedAckReason,
     NamedAlarmCode,
     NamedCause,
@@ -59,8 +59,18 @@ from .fields import (
 )
 from .outputs import Outputs
 from .segment import AxisMove, Segment
+from .segment_run import SegmentRecord, Segments
 from .wire import (
-    FieldFault, Int, Report, Request, WireMessage, bits, declared_event_kinds, declared_messages, event_kind, message,
+    FieldFault,
+    Int,
+    Report,
+    Request,
+    WireMessage,
+    bits,
+    declared_event_kinds,
+    declared_messages,
+    event_kind,
+    message,
 )
 
 # --- host → firmware ----------------------------------------------------------
@@ -103,7 +113,11 @@ def _check_decel(values: Any, axis_count: int) -> None:
         if axis < axis_count and not 1 <= d <= DECEL_MAX:
             raise FieldFault(FieldId.DECEL, axis, f"decel = {d}, limit 1..{DECEL_MAX}")
         if axis >= axis_count and d != 0:
-            raise FieldFault(FieldId.DECEL, axis, f"decel = {d} for an axis the firmware lacks ({axis_count} axes)")
+            raise FieldFault(
+                FieldId.DECEL,
+                axis,
+                f"decel = {d} for an axis the firmware lacks ({axis_count} axes)",
+            )
 
 
 @message(0x06, "INPUTS")
@@ -113,15 +127,19 @@ class Inputs(Request):
 
 @message(0x07, "WATCHDOG")
 class Watchdog(Request):
-    """Stop (a hold at CONFIG's hold_decel, then ALARM HOST_LOST) when no good frame has come for `timeout_ms`
-    while moving; 0 turns it off (PROTOCOL.md §5.1). Answered by STATUS_REPORT."""
+    """Stop (a hold at CONFIG's hold_decel, then ALARM HOST_LOST) when no good frame has come for
+    `timeout_ms` while moving; 0 turns it off (PROTOCOL.md §5.1). Answered by STATUS_REPORT."""
 
     timeout_ms: U16
 
     @classmethod
     def check_wire(cls, raw: dict[str, Any], axis_count: int) -> None:
         if raw["timeout_ms"] > WATCHDOG_MAX_MS:
-            raise FieldFault(FieldId.TIMEOUT, None, f"timeout_ms = {raw['timeout_ms']}, limit 0..{WATCHDOG_MAX_MS}")
+            raise FieldFault(
+                FieldId.TIMEOUT,
+                None,
+                f"timeout_ms = {raw['timeout_ms']}, limit 0..{WATCHDOG_MAX_MS}",
+            )
 
 
 @message(0x11, "SET_POSITION")
@@ -138,14 +156,17 @@ class SetPosition(Request):
             raise FieldFault(FieldId.AXES, None, f"axes {axes}, firmware has {axis_count}")
         for axis, item in zip(axes, items):
             if abs(item[0]) > POSITION_MAX:
-                raise FieldFault(FieldId.POSITION, axis, f"position = {item[0]}, limit ±{POSITION_MAX}")
+                raise FieldFault(
+                    FieldId.POSITION, axis, f"position = {item[0]}, limit ±{POSITION_MAX}"
+                )
 
 
 @message(0x15, "PROBE")
 class Probe(Request):
-    """The motion that follows ends where `input` reaches `level` (1 active, 0 inactive): at that tick the firmware
-    latches every position (EVENT INPUT, cause TRIGGER) and holds at `decel` (HOLD's units; HOLD_DONE follows). If
-    the motion comes to rest first: EVENT PROBE_MISSED. Only while IDLE with nothing queued."""
+    """The motion that follows ends where `input` reaches `level` (1 active, 0 inactive): at that
+    tick the firmware latches every position (EVENT INPUT, cause TRIGGER) and holds at `decel`
+    (HOLD's units; HOLD_DONE follows). If the motion comes to rest first: EVENT PROBE_MISSED. Only
+    while IDLE with nothing queued."""
 
     input: NamedInput
     level: U8
@@ -154,7 +175,11 @@ class Probe(Request):
     @classmethod
     def check_wire(cls, raw: dict[str, Any], axis_count: int) -> None:
         if raw["input"] > Input.PROBE:
-            raise FieldFault(FieldId.INPUT, None, f"input {raw['input']}: only a limit or the probe can end a motion")
+            raise FieldFault(
+                FieldId.INPUT,
+                None,
+                f"input {raw['input']}: only a limit or the probe can end a motion",
+            )
         if raw["level"] > 1:
             raise FieldFault(FieldId.LEVEL, None, f"level = {raw['level']}, limit 0..1")
         _check_decel(raw["decel"], axis_count)
@@ -162,14 +187,18 @@ class Probe(Request):
 
 @message(0x16, "CONFIG")
 class Config(Request):
-    """The inputs' settings: polarity (bit set: active high), which are acted on, hard limits on or off, each
-    input's debounce in ticks, and the feed hold input's decelerations (HOLD's units). Not while moving."""
+    """The inputs' settings: polarity (bit set: active high), which are acted on, hard limits on or
+    off, each input's debounce in ticks, and the feed hold input's decelerations (HOLD's units). Not
+    while moving."""
 
     invert: U16
     enabled: U16
     hard_limits: U8
-    debounce: Annotated[tuple[U8, ...], Field(min_length=INPUT_COUNT, max_length=INPUT_COUNT),
-                        Int("B", count=INPUT_COUNT)]
+    debounce: Annotated[
+        tuple[U8, ...],
+        Field(min_length=INPUT_COUNT, max_length=INPUT_COUNT),
+        Int("B", count=INPUT_COUNT),
+    ]
     hold_decel: Decels
 
     @classmethod
@@ -177,7 +206,9 @@ class Config(Request):
         if (raw["invert"] | raw["enabled"]) >> INPUT_COUNT:
             raise FieldFault(FieldId.INPUTS, None, f"input bits above {INPUT_COUNT - 1}")
         if raw["hard_limits"] > 1:
-            raise FieldFault(FieldId.HARD_LIMITS, None, f"hard_limits = {raw['hard_limits']}, limit 0..1")
+            raise FieldFault(
+                FieldId.HARD_LIMITS, None, f"hard_limits = {raw['hard_limits']}, limit 0..1"
+            )
         _check_decel(raw["hold_decel"], axis_count)
 
 
@@ -214,7 +245,11 @@ class IdentifyReply(Report):
 
     @property
     def board_name(self) -> str:
-        return Board(self.board).name if self.board in Board._value2member_map_ else f"board {self.board}"
+        return (
+            Board(self.board).name
+            if self.board in Board._value2member_map_
+            else f"board {self.board}"
+        )
 
     @property
     def capability_names(self) -> list[str]:
@@ -287,13 +322,16 @@ class Event(Report):
         return data
 
     @model_serializer(mode="wrap")
-    def _with_kind(self, handler: SerializerFunctionWrapHandler, info: SerializationInfo) -> dict[str, Any]:
+    def _with_kind(
+        self, handler: SerializerFunctionWrapHandler, info: SerializationInfo
+    ) -> dict[str, Any]:
         return {"kind": self.KIND_NAME if info.mode == "json" else self.kind, **handler(self)}
 
 
 @event_kind(1, "HOLD_DONE")
 class HoldDone(Event):
-    """A hold began at motion tick `hold_tick`; every axis rests at `position` since `motion_ticks`."""
+    """A hold began at motion tick `hold_tick`; every axis rests at `position` since
+    `motion_ticks`."""
 
     hold_tick: U32
     motion_ticks: U32
@@ -302,8 +340,9 @@ class HoldDone(Event):
 
 @message(0x86, "INPUT_STATUS")
 class InputStatus(Report):
-    """The inputs now: which the firmware has, which are active, the raw pin levels (bit set: high), the settings,
-    the armed PROBE's input and level (None: nothing armed) and latches lost to a full ring."""
+    """The inputs now: which the firmware has, which are active, the raw pin levels (bit set: high),
+    the settings, the armed PROBE's input and level (None: nothing armed) and latches lost to a full
+    ring."""
 
     present: U16
     active: U16
@@ -321,9 +360,9 @@ class InputStatus(Report):
 
 @event_kind(2, "INPUT")
 class InputChange(Event):
-    """An input's accepted change: at motion tick `motion_ticks` every axis was at `position` (exact: the latch of the
-    tick of its first edge); `active` the inputs active after it, `changed` those that changed, `cause` what the
-    firmware did."""
+    """An input's accepted change: at motion tick `motion_ticks` every axis was at `position`
+    (exact: the latch of the tick of its first edge); `active` the inputs active after it, `changed`
+    those that changed, `cause` what the firmware did."""
 
     motion_ticks: U32
     active: U16
@@ -337,7 +376,8 @@ class InputChange(Event):
 
 @event_kind(3, "PROBE_MISSED")
 class ProbeMissed(Event):
-    """The motion after a PROBE came to rest at `position` (motion tick `motion_ticks`) without the edge."""
+    """The motion after a PROBE came to rest at `position` (motion tick `motion_ticks`) without the
+    edge."""
 
     motion_ticks: U32
     position: Positions
@@ -345,10 +385,21 @@ class ProbeMissed(Event):
 
 # --- built from the declarations above ------------------------------------------
 
-MessageType = TypeClass("MessageType", [(d.name, d.code) for d in declared_messages()], module=__name__)  # type: ignore[call-overload]
-EventKind = IntEnum("EventKind", [(d.name, d.code) for d in declared_event_kinds()], module=__name__)  # type: ignore[misc]
+_E = TypeVar("_E", bound=IntEnum)
+
+
+def _enum(base: type[_E], name: str, members: list[tuple[str, int]]) -> type[_E]:
+    """An enum derived from `base` with members made at import: the functional API, spelled as the
+    metaclass call it is, which a type checker can follow."""
+    made = EnumMeta.__call__(base, name, members, module=__name__)
+    assert issubclass(made, base)
+    return made
+
+
+MessageType = _enum(TypeClass, "MessageType", [(d.name, d.code) for d in declared_messages()])
+EventKind = _enum(IntEnum, "EventKind", [(d.name, d.code) for d in declared_event_kinds()])
 for _declared in declared_messages():
-    _declared.cls.TYPE = MessageType(_declared.code)  # type: ignore[attr-defined]
+    _declared.cls.TYPE = MessageType(_declared.code)
 
 Message = WireMessage
 
@@ -361,8 +412,8 @@ def message_type(message: WireMessage) -> Any:
 
 
 def queue_slots(message: WireMessage) -> int:
-    """Queue slots the firmware gives a sequenced message: one a segment, one a record of SEGMENTS and
-    CUBIC_SEGMENTS."""
+    """Queue slots the firmware gives a sequenced message: one a segment, one a record of SEGMENTS
+    and CUBIC_SEGMENTS."""
     if isinstance(message, (Segments, CubicSegments)):
         return len(message.records)
     return 1 if isinstance(message, (Segment, CubicSegment)) else 0
@@ -378,15 +429,47 @@ def message_from_json(fields: dict[str, Any]) -> tuple[int, WireMessage]:
     seq = data.pop("seq")
     cls = declared.cls
     if cls is Event:
-        cls = next((k.cls for k in declared_event_kinds() if k.name == data.get("kind")), None)
-        if cls is None:
+        kind = next((k.cls for k in declared_event_kinds() if k.name == data.get("kind")), None)
+        if kind is None:
             raise ValueError(f"unknown EVENT kind {data.get('kind')!r}")
+        cls = kind
     return seq, cls.model_validate(data)
 
 
 __all__ = [
-    "Ack", "Alarm", "AxisMove", "Config", "CubicAxis", "CubicSegment", "ErrorReport", "Event", "EventKind", "Hold", "HoldDone", "Identify",
-    "IdentifyReply", "InputChange", "InputStatus", "Inputs", "Message", "MessageType", "Outputs", "Probe", "ProbeMissed",
-    "CubicRecord", "CubicSegments", "Report", "Request", "Segment", "SegmentRecord", "Segments", "SetPosition", "Status", "StatusReport", "Stop", "message_from_json",
-    "message_type", "queue_slots",
+    "Ack",
+    "Alarm",
+    "AxisMove",
+    "Config",
+    "CubicAxis",
+    "CubicSegment",
+    "ErrorReport",
+    "Event",
+    "EventKind",
+    "Hold",
+    "HoldDone",
+    "Identify",
+    "IdentifyReply",
+    "InputChange",
+    "InputStatus",
+    "Inputs",
+    "Message",
+    "MessageType",
+    "Outputs",
+    "Probe",
+    "ProbeMissed",
+    "CubicRecord",
+    "CubicSegments",
+    "Report",
+    "Request",
+    "Segment",
+    "SegmentRecord",
+    "Segments",
+    "SetPosition",
+    "Status",
+    "StatusReport",
+    "Stop",
+    "message_from_json",
+    "message_type",
+    "queue_slots",
 ]

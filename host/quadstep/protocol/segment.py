@@ -13,21 +13,28 @@ from .wire import FieldFault, Int, Masked, Request, bits, message
 __all__ = ["D", "MAX_AXES", "N_MAX", "R_MAX", "SPEED_SHIFT", "AxisMove", "Segment"]
 
 
+Direction = Literal[1, -1]  # an axis's sense of motion: +1 toward its positive steps
+
+
 class AxisMove(BaseModel):
     """One axis of a segment: direction, start and end speed, starting residual."""
 
     model_config = ConfigDict(frozen=True)
 
     axis: int = Field(ge=0, lt=MAX_AXES)
-    direction: Literal[1, -1]
+    direction: Direction
     v0: int = Field(ge=0, le=D, description="start speed, v0/4096 steps per tick")
     vn: int = Field(ge=0, le=D, description="end speed, vn/4096 steps per tick")
-    r: int = Field(ge=-R_MAX, le=R_MAX, description="starting residual, 1/8192 step, ahead is positive")
+    r: int = Field(
+        ge=-R_MAX, le=R_MAX, description="starting residual, 1/8192 step, ahead is positive"
+    )
 
     @model_validator(mode="after")
     def _not_trailing_forever(self) -> AxisMove:
         if self.r == R_MAX and self.v0 == D and self.vn == D:
-            raise ValueError("r = 4096 with v0 = vn = 4096 would trail the ideal by ½ step all segment")
+            raise ValueError(
+                "r = 4096 with v0 = vn = 4096 would trail the ideal by ½ step all segment"
+            )
         return self
 
 
@@ -75,13 +82,14 @@ class Segment(Request):
         return axes
 
     def moving_at_end(self) -> bool:
-        """True when some axis still has speed at the end (an empty queue after it is an underrun)."""
+        """True when some axis still has speed at the end (an empty queue after it is an
+        underrun)."""
         return any(a.vn > 0 for a in self.axes)
 
     @classmethod
     def check_wire(cls, raw: dict[str, Any], axis_count: int) -> None:
-        """The firmware's checks, in the order of PROTOCOL.md §5.2: N, AXES, DIRECTION, then field by
-        field (every V0, then every VN, then every RESIDUAL), each in axis order."""
+        """The firmware's checks, in the order of PROTOCOL.md §5.2: N, AXES, DIRECTION, then field
+        by field (every V0, then every VN, then every RESIDUAL), each in axis order."""
         n = raw["n"]
         mask, items = raw["axes"]
         if not 1 <= n <= N_MAX:
@@ -90,7 +98,9 @@ class Segment(Request):
         if any(a >= axis_count for a in active):
             raise FieldFault(FieldId.AXES, None, f"axes {active}, firmware has {axis_count}")
         if mask >> 4 & ~mask & 0x0F:
-            raise FieldFault(FieldId.DIRECTION, None, f"direction bit of an inactive axis (mask 0x{mask:02x})")
+            raise FieldFault(
+                FieldId.DIRECTION, None, f"direction bit of an inactive axis (mask 0x{mask:02x})"
+            )
         fields = [(axis, *item) for axis, item in zip(active, items)]
         for axis, v0, _, _ in fields:
             if v0 > V_MAX:

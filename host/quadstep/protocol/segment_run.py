@@ -1,14 +1,16 @@
 """The SEGMENTS message: chained quadratic segments, several to a frame (PROTOCOL.md §5.2).
 
-The segment before leaves every axis at a speed and a residual, which the firmware keeps exactly (its
-chain); they are the next segment's v0 and r unless its record says otherwise. So a record carries n and
-each axis's change of speed, in variable-length integers: a chained two-axis segment is 4 bytes, a cruise
-2, the same segment again 1; a change close to the negated last one in the frame (a move's deceleration
-after its acceleration) is sent as the difference (MIRROR). A frame is read in order once it is taken (never when parked), against the
-chain its predecessors left, so a resent frame means exactly what it meant the first time.
+The segment before leaves every axis at a speed and a residual, which the firmware keeps exactly
+(its chain); they are the next segment's v0 and r unless its record says otherwise. So a record
+carries n and each axis's change of speed, in variable-length integers: a chained two-axis segment
+is 4 bytes, a cruise 2, the same segment again 1; a change close to the negated last one in the
+frame (a move's deceleration after its acceleration) is sent as the difference (MIRROR). A frame is
+read in order once it is taken (never when parked), against the chain its predecessors left, so a
+resent frame means exactly what it meant the first time.
 
-`RunChain` is the host's model of that chain, `pack` the one canonical encoding and `expand` its meaning
-(the firmware's `qs_segments_next`, tests/firmware holds the two equal through protocol/vectors.json).
+`RunChain` is the host's model of that chain, `pack` the one canonical encoding and `expand` its
+meaning (the firmware's `qs_segments_next`, tests/firmware holds the two equal through
+protocol/vectors.json).
 """
 
 from __future__ import annotations
@@ -17,12 +19,19 @@ from collections.abc import Sequence
 from dataclasses import dataclass, field
 from typing import Annotated, Any
 
-from pydantic import BaseModel, ConfigDict, Field, SerializerFunctionWrapHandler, model_serializer, model_validator
+from pydantic import (
+    BaseModel,
+    ConfigDict,
+    Field,
+    SerializerFunctionWrapHandler,
+    model_serializer,
+    model_validator,
+)
 
-from .constants import D, MAX_FRAME, V_MAX, FieldId
+from .constants import MAX_FRAME, V_MAX, D, FieldId
 from .cubic import CubicSegment
 from .cubic_run import SpeedChain
-from .segment import AxisMove, Segment
+from .segment import AxisMove, Direction, Segment
 from .wire import FieldFault, RecordsField, Request, bits, message
 
 N_HIGH = 0x03  # n's bits 8–9 in the head; its low byte follows
@@ -31,7 +40,9 @@ START = 0x08  # per axis: v0 less the chain's speed
 RESIDUAL = 0x10  # per axis: r
 CRUISE = 0x20  # vn = v0 on every axis: no vn field
 REPEAT = 0x40  # the record before again (n, axes, v0, vn), its residuals from the chain
-MIRROR = 0x80  # per axis: vn − v0 plus the axis's last change in the frame (a deceleration undoing an acceleration)
+# per axis: vn − v0 plus the axis's last change in the frame (a deceleration undoing an
+# acceleration)
+MIRROR = 0x80
 SEGMENTS_MAX = 16  # records in one frame
 RUN_LIMIT = 8  # records a host puts in one frame, at most
 PAYLOAD_MAX = MAX_FRAME - 4  # type, seq and the CRC take the rest of a frame
@@ -66,17 +77,27 @@ class SegmentRecord(BaseModel):
 
     repeat: bool = False
     n: int | None = Field(default=None, ge=0, le=1023)
-    axes: int | None = Field(default=None, ge=0, le=255, description="the axes byte; None: the record before's")
-    start: Deltas | None = Field(default=None, description="per active axis: v0 less the chain's speed")
+    axes: int | None = Field(
+        default=None, ge=0, le=255, description="the axes byte; None: the record before's"
+    )
+    start: Deltas | None = Field(
+        default=None, description="per active axis: v0 less the chain's speed"
+    )
     residual: Deltas | None = Field(default=None, description="per active axis: r")
-    change: Deltas | None = Field(default=None, description="per active axis: vn − v0; None: a cruise")
-    mirror: bool = Field(default=False, description="change is vn − v0 plus the axis's last change in the frame")
+    change: Deltas | None = Field(
+        default=None, description="per active axis: vn − v0; None: a cruise"
+    )
+    mirror: bool = Field(
+        default=False, description="change is vn − v0 plus the axis's last change in the frame"
+    )
 
     @model_validator(mode="after")
     def _whole(self) -> SegmentRecord:
         if self.repeat != (self.n is None):
             raise ValueError("a record is a repeat (alone) or has an n")
-        if self.repeat and ((self.axes, self.start, self.residual, self.change) != (None,) * 4 or self.mirror):
+        if self.repeat and (
+            (self.axes, self.start, self.residual, self.change) != (None,) * 4 or self.mirror
+        ):
             raise ValueError("a repeat carries nothing else")
         if self.mirror and self.change is None:
             raise ValueError("a mirrored change needs a change (not a cruise)")
@@ -88,12 +109,19 @@ class SegmentRecord(BaseModel):
         return {k: v for k, v in handler(self).items() if v is not None and v is not False}
 
     def pack(self, active: int) -> bytes:
-        """Its bytes, `active` axes having fields (the record's own axes byte, or the one before's)."""
+        """Its bytes, `active` axes having fields (the record's own axes byte, or the one
+        before's)."""
         if self.repeat:
             return bytes([REPEAT])
         assert self.n is not None
-        head = self.n >> 8 | (AXES if self.axes is not None else 0) | (START if self.start is not None else 0)
-        head |= (RESIDUAL if self.residual is not None else 0) | (CRUISE if self.change is None else 0)
+        head = (
+            self.n >> 8
+            | (AXES if self.axes is not None else 0)
+            | (START if self.start is not None else 0)
+        )
+        head |= (RESIDUAL if self.residual is not None else 0) | (
+            CRUISE if self.change is None else 0
+        )
         head |= MIRROR if self.mirror else 0
         out = bytearray([head, self.n & 0xFF])
         if self.axes is not None:
@@ -135,21 +163,43 @@ def _parse(payload: bytes, offset: int) -> tuple[list[SegmentRecord], int] | Non
             at += 1
         elif axes is None:
             return None
-        lists: dict[str, list[int] | None] = {
-            name: [] if head & flag else None for name, flag in (("start", START), ("residual", RESIDUAL))}
-        lists["change"] = None if head & CRUISE else []
-        for _ in range(_active_count(axes)):
-            for name in ("start", "residual", "change"):
-                values = lists[name]
-                if values is not None:
-                    read = _read_varint(payload, at)
-                    if read is None:
-                        return None
-                    values.append(read[0])
-                    at = read[1]
-        records.append(SegmentRecord(n=n, axes=own_axes, mirror=bool(head & MIRROR),
-                                     **{k: tuple(v) if v is not None else None for k, v in lists.items()}))
+        read = _read_fields(payload, at, head, _active_count(axes))
+        if read is None:
+            return None
+        fields, at = read
+        records.append(
+            SegmentRecord(
+                n=n,
+                axes=own_axes,
+                mirror=bool(head & MIRROR),
+                start=fields["start"],
+                residual=fields["residual"],
+                change=fields["change"],
+            )
+        )
     return (records, at) if records else None
+
+
+def _read_fields(
+    payload: bytes, at: int, head: int, count: int
+) -> tuple[dict[str, tuple[int, ...] | None], int] | None:
+    """A record's start, residual and change fields (those its head names), one value per active
+    axis each, interleaved by axis; None where one is not whole."""
+    lists: dict[str, list[int] | None] = {
+        name: [] if head & flag else None
+        for name, flag in (("start", START), ("residual", RESIDUAL))
+    }
+    lists["change"] = None if head & CRUISE else []
+    for _ in range(count):
+        for name in ("start", "residual", "change"):
+            values = lists[name]
+            if values is not None:
+                read = _read_varint(payload, at)
+                if read is None:
+                    return None
+                values.append(read[0])
+                at = read[1]
+    return {k: tuple(v) if v is not None else None for k, v in lists.items()}, at
 
 
 @dataclass(frozen=True)
@@ -169,7 +219,8 @@ class Records(RecordsField):
 
 @message(0x18, "SEGMENTS")
 class Segments(Request):
-    """1 … 16 chained quadratic segments (capability bit 11); each takes a queue slot, all or none."""
+    """1 … 16 chained quadratic segments (capability bit 11); each takes a queue slot, all or
+    none."""
 
     model_config = ConfigDict(frozen=True, extra="ignore")
 
@@ -185,15 +236,15 @@ class Segments(Request):
         return len(self.records)
 
 
-# --- the chain, and the records' meaning ------------------------------------------------------------------
+# --- the chain, and the records' meaning ----------------------------------------------------------
 
 
 @dataclass
 class RunChain:
-    """Per axis, what the firmware's chain gives a quadratic segment that starts from it: the speed (1/4096
-    step per tick) and the residual along the positive direction (1/8192 step); None where the host cannot
-    know it (before the motion's first segment, after a cubic one). `speeds` is what it gives a cubic
-    record's sets (CUBIC_SEGMENTS)."""
+    """Per axis, what the firmware's chain gives a quadratic segment that starts from it: the speed
+    (1/4096 step per tick) and the residual along the positive direction (1/8192 step); None where
+    the host cannot know it (before the motion's first segment, after a cubic one). `speeds` is what
+    it gives a cubic record's sets (CUBIC_SEGMENTS)."""
 
     axis_count: int
     speed: list[int | None] = field(default_factory=list)
@@ -223,7 +274,8 @@ class RunChain:
         return RunChain(self.axis_count, list(self.speed), list(self.residual), self.speeds.copy())
 
     def follow(self, segment: Segment) -> None:
-        """After a quadratic segment: named axes end at vn and their exact residual, the others stop."""
+        """After a quadratic segment: named axes end at vn and their exact residual, the others
+        stop."""
         assert self.speeds is not None
         self.speeds.follow(segment)
         named = {a.axis: a for a in segment.axes}
@@ -242,14 +294,21 @@ class RunChain:
         self.speeds.follow(segment)
         self.forget()
 
+    def known_speed(self, axis: int) -> int:
+        """The speed on `axis`, where the chain is ready()."""
+        speed = self.speed[axis]
+        assert speed is not None, "a record starts only where every speed is known"
+        return speed
+
     def ready(self) -> bool:
         """Whether a record can start from here (every speed known)."""
         return all(s is not None for s in self.speed)
 
 
 def expand(records: Sequence[SegmentRecord], chain: RunChain) -> list[Segment]:
-    """The segments the records mean, starting from `chain`, which they move on; raises FieldFault as the
-    firmware refuses (AXES, DIRECTION, V0, VN, RESIDUAL per record, then SEGMENT's own checks)."""
+    """The segments the records mean, starting from `chain`, which they move on; raises FieldFault
+    as the firmware refuses (AXES, DIRECTION, V0, VN, RESIDUAL per record, then SEGMENT's own
+    checks)."""
     out: list[Segment] = []
     n, axes, v0, vn, last = 0, 0, [0] * 4, [0] * 4, [0] * 4
     for record in records:
@@ -257,19 +316,17 @@ def expand(records: Sequence[SegmentRecord], chain: RunChain) -> list[Segment]:
             assert record.n is not None
             n = record.n
             axes = record.axes if record.axes is not None else axes
-        active, negative = bits(axes & 0x0F), axes >> 4
-        if any(a >= chain.axis_count for a in active):
-            raise FieldFault(FieldId.AXES, None, f"axes {active}, firmware has {chain.axis_count}")
-        if negative & ~axes & 0x0F:
-            raise FieldFault(FieldId.DIRECTION, None, f"direction bit of an inactive axis (axes 0x{axes:02x})")
-        moves = []
+        active, negative = _check_axes(axes, chain.axis_count)
+        moves: list[tuple[int, Direction, int, int, int]] = []
         for j, axis in enumerate(active):
-            sign = -1 if negative >> axis & 1 else 1
+            sign: Direction = -1 if negative >> axis & 1 else 1
             residual = chain.residual[axis]
             if not record.repeat:
                 speed = chain.speed[axis]
                 if speed is None:
-                    raise FieldFault(FieldId.V0, axis, "the chain's speed is not on the 1/4096 grid")
+                    raise FieldFault(
+                        FieldId.V0, axis, "the chain's speed is not on the 1/4096 grid"
+                    )
                 v0[axis] = speed + (record.start[j] if record.start is not None else 0)
                 if record.residual is not None:
                     residual = sign * record.residual[j]
@@ -281,16 +338,34 @@ def expand(records: Sequence[SegmentRecord], chain: RunChain) -> list[Segment]:
                 if not 0 <= vn[axis] <= V_MAX:
                     raise FieldFault(FieldId.VN, axis, f"vn = {vn[axis]}, limit 0..{V_MAX}")
             if residual is None:
-                raise FieldFault(FieldId.RESIDUAL, axis, "the chain's residual is not on the 1/8192 grid")
+                raise FieldFault(
+                    FieldId.RESIDUAL, axis, "the chain's residual is not on the 1/8192 grid"
+                )
             moves.append((axis, sign, v0[axis], vn[axis], sign * residual))
             if vn[axis] != v0[axis]:
                 last[axis] = vn[axis] - v0[axis]
         raw = {"n": n, "axes": (axes, [(a, b, r) for _, _, a, b, r in moves])}
         Segment.check_wire(raw, chain.axis_count)
-        segment = Segment(n=n, axes=tuple(AxisMove(axis=a, direction=s, v0=a0, vn=b, r=r) for a, s, a0, b, r in moves))
+        segment = Segment(
+            n=n,
+            axes=tuple(AxisMove(axis=a, direction=s, v0=a0, vn=b, r=r) for a, s, a0, b, r in moves),
+        )
         chain.follow(segment)
         out.append(segment)
     return out
+
+
+def _check_axes(axes: int, axis_count: int) -> tuple[list[int], int]:
+    """The active axes of an axes byte and its direction bits; raises FieldFault as the firmware
+    refuses them (AXES, DIRECTION)."""
+    active, negative = bits(axes & 0x0F), axes >> 4
+    if any(a >= axis_count for a in active):
+        raise FieldFault(FieldId.AXES, None, f"axes {active}, firmware has {axis_count}")
+    if negative & ~axes & 0x0F:
+        raise FieldFault(
+            FieldId.DIRECTION, None, f"direction bit of an inactive axis (axes 0x{axes:02x})"
+        )
+    return active, negative
 
 
 def _axes_byte(segment: Segment) -> int:
@@ -302,15 +377,19 @@ def _shape(segment: Segment) -> tuple[int, int, tuple[tuple[int, int], ...]]:
     return segment.n, _axes_byte(segment), tuple((a.v0, a.vn) for a in segment.axes)
 
 
-def _record(segment: Segment, before: Segment | None, chain: RunChain, last: list[int]) -> SegmentRecord:
+def _record(
+    segment: Segment, before: Segment | None, chain: RunChain, last: list[int]
+) -> SegmentRecord:
     """The canonical record of `segment` after `before` (in the same frame) from `chain`."""
-    residuals = [a.direction * chain.residual[a.axis] if chain.residual[a.axis] is not None else None
-                 for a in segment.axes]
+    residuals = [
+        a.direction * residual if (residual := chain.residual[a.axis]) is not None else None
+        for a in segment.axes
+    ]
     chained = all(r == a.r for r, a in zip(residuals, segment.axes))
     if before is not None and chained and _shape(before) == _shape(segment):
         return SegmentRecord(repeat=True)
     axes = _axes_byte(segment)
-    start = tuple(a.v0 - chain.speed[a.axis] for a in segment.axes)  # type: ignore[operator]
+    start = tuple(a.v0 - chain.known_speed(a.axis) for a in segment.axes)
     change, mirror = _change(segment, last)
     return SegmentRecord(
         n=segment.n,
@@ -323,8 +402,8 @@ def _record(segment: Segment, before: Segment | None, chain: RunChain, last: lis
 
 
 def _change(segment: Segment, last: list[int]) -> tuple[tuple[int, ...] | None, bool]:
-    """The vn fields and whether they are mirrored (against each axis's last change in the frame): mirrored
-    where that takes fewer bytes."""
+    """The vn fields and whether they are mirrored (against each axis's last change in the frame):
+    mirrored where that takes fewer bytes."""
     if all(a.vn == a.v0 for a in segment.axes):
         return None, False
     plain = tuple(a.vn - a.v0 for a in segment.axes)
@@ -334,9 +413,12 @@ def _change(segment: Segment, last: list[int]) -> tuple[tuple[int, ...] | None, 
     return plain, False
 
 
-def pack(segments: Sequence[Segment], chain: RunChain, limit: int = SEGMENTS_MAX) -> Segments | None:
-    """As many of `segments` (from the first, at most `limit`) as one frame holds, moving `chain` on past
-    them; None when the chain cannot start a record (send the first segment as a SEGMENT, then follow it)."""
+def pack(
+    segments: Sequence[Segment], chain: RunChain, limit: int = SEGMENTS_MAX
+) -> Segments | None:
+    """As many of `segments` (from the first, at most `limit`) as one frame holds, moving `chain` on
+    past them; None when the chain cannot start a record (send the first segment as a SEGMENT, then
+    follow it)."""
     if not segments or not chain.ready():
         return None
     records: list[SegmentRecord] = []

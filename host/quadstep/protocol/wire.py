@@ -16,14 +16,14 @@ from __future__ import annotations
 
 import functools
 import struct
-from collections.abc import Callable, Iterator
+from collections.abc import Callable, Iterator, Sequence
 from dataclasses import dataclass
 from enum import IntEnum
 from typing import Any, ClassVar, TypeVar
 
 from pydantic import BaseModel, ConfigDict
 
-from .constants import MAX_AXES, FieldId
+from .constants import MAX_AXES, FieldId, TypeClass
 
 
 class FieldFault(ValueError):
@@ -39,8 +39,13 @@ class FieldFault(ValueError):
 class FieldCodec:
     """One field's bytes: `head` fixed bytes, then `unit` bytes per repeated item (axes)."""
 
-    head: int = 0
-    unit: int = 0
+    @property
+    def head(self) -> int:
+        return 0
+
+    @property
+    def unit(self) -> int:
+        return 0
 
     def length(self, payload: bytes, offset: int) -> int | None:
         """Bytes this field takes at `offset`, or None when the payload cannot hold it."""
@@ -54,13 +59,14 @@ class FieldCodec:
         raise NotImplementedError
 
     def value(self, raw: Any) -> Any:
-        """The model's value for a raw value; raises FieldFault for a value the model has no name for."""
+        """The model's value for a raw value; raises FieldFault for a value the model has no name
+        for."""
         return raw
 
 
 class RecordsField(FieldCodec):
-    """Records to the end of the payload (SEGMENTS, CUBIC_SEGMENTS): `parse` reads them all, or says None
-    where one is not whole (BAD_LENGTH)."""
+    """Records to the end of the payload (SEGMENTS, CUBIC_SEGMENTS): `parse` reads them all, or says
+    None where one is not whole (BAD_LENGTH)."""
 
     def parse(self, payload: bytes, offset: int) -> tuple[list[Any], int] | None:
         raise NotImplementedError
@@ -77,7 +83,8 @@ class RecordsField(FieldCodec):
 
 @dataclass(frozen=True)
 class Int(FieldCodec):
-    """A little-endian integer (struct code B H I b h i), or `count` of them; `none` is the wire value of None."""
+    """A little-endian integer (struct code B H I b h i), or `count` of them; `none` is the wire
+    value of None."""
 
     code: str
     count: int = 1
@@ -85,7 +92,7 @@ class Int(FieldCodec):
     none: int | None = None
 
     @property
-    def head(self) -> int:  # type: ignore[override]
+    def head(self) -> int:
         return struct.calcsize("<" + self.code) * self.count
 
     def value(self, raw: Any) -> Any:
@@ -110,7 +117,7 @@ class PerAxis(FieldCodec):
     code: str = "i"
 
     @property
-    def unit(self) -> int:  # type: ignore[override]
+    def unit(self) -> int:
         return struct.calcsize("<" + self.code)
 
     def length(self, payload: bytes, offset: int) -> int | None:
@@ -125,6 +132,12 @@ class PerAxis(FieldCodec):
         return struct.unpack_from(f"<{size // self.unit}{self.code}", payload, offset)
 
 
+def four_axes(values: Sequence[int]) -> tuple[int, int, int, int]:
+    """One value for each of the MAX_AXES (4) axes a field names, as its model takes them."""
+    first, second, third, fourth = values
+    return first, second, third, fourth
+
+
 def bits(mask: int) -> list[int]:
     """The set bits of an axis mask, lowest first."""
     return [i for i in range(8) if mask >> i & 1]
@@ -132,14 +145,15 @@ def bits(mask: int) -> list[int]:
 
 @dataclass(frozen=True)
 class Masked(FieldCodec):
-    """An axis mask byte, then `unit` bytes for each axis it names (`mask_bits` of the mask count)."""
+    """An axis mask byte, then `unit` bytes for each axis it names (`mask_bits` of the mask
+    count)."""
 
     unit_code: str
     mask_bits: int = 0xFF
     head: int = 1
 
     @property
-    def unit(self) -> int:  # type: ignore[override]
+    def unit(self) -> int:
         return struct.calcsize("<" + self.unit_code)
 
     def length(self, payload: bytes, offset: int) -> int | None:
@@ -155,7 +169,9 @@ class Masked(FieldCodec):
         """(mask, [per-axis tuple for each axis in the mask])."""
         mask = payload[offset]
         width = len(self.unit_code)
-        flat = _repeated(self.unit_code, len(bits(mask & self.mask_bits))).unpack_from(payload, offset)[1:]
+        flat = _repeated(self.unit_code, len(bits(mask & self.mask_bits))).unpack_from(
+            payload, offset
+        )[1:]
         return mask, [flat[i : i + width] for i in range(0, len(flat), width)]
 
 
@@ -263,6 +279,9 @@ class WireMessage(BaseModel):
     CODE: ClassVar[int]
     NAME: ClassVar[str]
     DIRECTION: ClassVar[str]
+    TYPE: ClassVar[TypeClass]  # its member of MessageType (set where messages.py builds it)
+    KIND: ClassVar[int]  # an EVENT kind's code and name (set by @event_kind)
+    KIND_NAME: ClassVar[str]
     PREFIX: ClassVar[bytes] = b""  # bytes before the fields (an EVENT's kind)
 
     @classmethod
@@ -274,7 +293,9 @@ class WireMessage(BaseModel):
             for name, info in cls.model_fields.items():
                 codecs = [m for m in info.metadata if isinstance(m, FieldCodec)]
                 if len(codecs) != 1:
-                    raise TypeError(f"{cls.__name__}.{name} needs exactly one wire form in its annotation")
+                    raise TypeError(
+                        f"{cls.__name__}.{name} needs exactly one wire form in its annotation"
+                    )
                 fields.append((name, codecs[0]))
             layout = _LAYOUTS[cls] = Layout(cls.PREFIX, tuple(fields))
         return layout
@@ -296,7 +317,8 @@ class WireMessage(BaseModel):
 
     @classmethod
     def check_wire(cls, raw: dict[str, Any], axis_count: int) -> None:
-        """The receiver's content checks on raw values, in the order of PROTOCOL.md; raise FieldFault."""
+        """The receiver's content checks on raw values, in the order of PROTOCOL.md; raise
+        FieldFault."""
 
     @classmethod
     def from_wire(cls: type[ModelT], raw: dict[str, Any]) -> ModelT:
@@ -353,7 +375,7 @@ def event_kind(code: int, name: str) -> Callable[[type[ModelT]], type[ModelT]]:
     """Declare an EVENT kind: a subclass of Event, the kind byte first on the wire."""
 
     def declare(cls: type[ModelT]) -> type[ModelT]:
-        cls.KIND, cls.KIND_NAME = code, name  # type: ignore[attr-defined]
+        cls.KIND, cls.KIND_NAME = code, name
         cls.PREFIX = bytes([code])
         _declare(_EVENT_KINDS, code, name, cls)
         cls.layout()  # every field has its wire form, or the declaration fails here

@@ -22,10 +22,16 @@ class QuadstepApp(App[None]):
     BINDINGS = [Binding("ctrl+c", "interrupt", "stop and quit", show=False, priority=True)]
     interrupted = False  # Ctrl-C ended it: `quadstep tui` exits 130, as the other commands do
 
-    def __init__(self, session: Session, job_path: str = "", poll_interval: float | None = None,
-                 ports: Sequence[PortChoice] | None = None, choose: Callable[[str], Target] | None = None) -> None:
-        """Without a target in `session`, the port picker comes first: `ports` (default: pyserial's listing),
-        and `choose` makes the Target of the device picked (or EMULATOR)."""
+    def __init__(
+        self,
+        session: Session,
+        job_path: str = "",
+        poll_interval: float | None = None,
+        ports: Sequence[PortChoice] | None = None,
+        choose: Callable[[str], Target] | None = None,
+    ) -> None:
+        """Without a target in `session`, the port picker comes first: `ports` (default: pyserial's
+        listing), and `choose` makes the Target of the device picked (or EMULATOR)."""
         super().__init__(driver_class=ReleaseDriver)
         self.session = session
         self.ports = ports
@@ -51,11 +57,14 @@ class QuadstepApp(App[None]):
 
     def on_keyboard_flags(self, message: KeyboardFlags) -> None:
         if message.releases:
-            self.machine.log_line("the terminal reports key releases (kitty keyboard protocol): a continuous jog "
-                                  "stops when its key is let go")
+            self.machine.log_line(
+                "the terminal reports key releases (kitty keyboard protocol): a continuous jog "
+                "stops when its key is let go"
+            )
 
     def action_interrupt(self) -> None:
-        """Ctrl-C: as Ctrl+Q, any motion brought to rest with HOLD first (on_unmount); the command prints where."""
+        """Ctrl-C: as Ctrl+Q, any motion brought to rest with HOLD first (on_unmount); the command
+        prints where."""
         self.interrupted = True
         self.exit()
 

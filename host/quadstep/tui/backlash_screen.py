@@ -1,6 +1,7 @@
-"""The backlash screen (b): measure an axis's backlash with the probe or its limit switch, k tries shown as
-they come, the result in mm and steps with its spread, refused over the spread bound, written to the
-configuration after a confirm; d opens the dial-indicator wizard for machines without a probe.
+"""The backlash screen (b): measure an axis's backlash with the probe or its limit switch, k tries
+shown as they come, the result in mm and steps with its spread, refused over the spread bound,
+written to the configuration after a confirm; d opens the dial-indicator wizard for machines without
+a probe.
 
 The measurement runs in a worker thread (machine/backlash.py) and reports back with messages.
 """
@@ -147,8 +148,9 @@ class BacklashScreen(ModalScreen[None]):
         self.query_one("#backlash-result", Static).update("")
         self.say(f"measuring {self.axis} with the {self.method}, {self.tries} tries…")
         axis, method, tries = self.axis, self.method, self.tries
-        threading.Thread(target=lambda: self._measure(axis, method, tries), name="quadstep-backlash",
-                         daemon=True).start()
+        threading.Thread(
+            target=lambda: self._measure(axis, method, tries), name="quadstep-backlash", daemon=True
+        ).start()
 
     def _measure(self, axis: str, method: str, tries: int) -> None:
         machine = self.session.machine
@@ -159,12 +161,21 @@ class BacklashScreen(ModalScreen[None]):
 
         try:
             if method == "switch":
-                result = measure_with_switch(machine, axis, tries=tries, max_spread=self.max_spread,
-                                             on_progress=progress)
+                result = measure_with_switch(
+                    machine, axis, tries=tries, max_spread=self.max_spread, on_progress=progress
+                )
             else:
                 toward, test = PROBE_SETUP[axis]
-                result = measure_with_probe(machine, axis, toward=toward, test=test, test_toward=1, tries=tries,
-                                            max_spread=self.max_spread, on_progress=progress)
+                result = measure_with_probe(
+                    machine,
+                    axis,
+                    toward=toward,
+                    test=test,
+                    test_toward=1,
+                    tries=tries,
+                    max_spread=self.max_spread,
+                    on_progress=progress,
+                )
         except (LinkError, MachineError) as exc:
             self.post_message(Measured(None, str(exc)))
         else:
@@ -204,7 +215,14 @@ class BacklashScreen(ModalScreen[None]):
         if self.running or self.result is None:
             self.say("nothing to write: measure first (a refused result is not written)", True)
             return
-        ask_to_write(self, self.session.config_path, self.result.axis, self.result.mm, self.say, self._written)
+        ask_to_write(
+            self,
+            self.session.config_path,
+            self.result.axis,
+            self.result.mm,
+            self.say,
+            self._written,
+        )
 
     def _written(self, config: MachineConfig) -> None:
         self.session.config_given = config  # the next connection compensates with it

@@ -1,7 +1,8 @@
-"""A braille canvas: every terminal cell holds 2 × 4 dots, so an 38 × 11 cell view draws 76 × 44 points.
+"""A braille canvas: every terminal cell holds 2 × 4 dots, so an 38 × 11 cell view draws 76 × 44
+points.
 
-Dots are set in layers; a cell takes the colour of the highest layer among its dots (the tool over the
-origin over cuts over rapids over the travel box)."""
+Dots are set in layers; a cell takes the colour of the highest layer among its dots (the tool over
+the origin over cuts over rapids over the travel box)."""
 
 from __future__ import annotations
 
@@ -60,5 +61,8 @@ class Canvas:
                     text.append(mark[0], style=self._styles[mark[1]])
                     continue
                 bits, layer = self._bits[row][col], self._layer[row][col]
-                text.append(chr(BRAILLE + bits) if bits else " ", style=self._styles[layer] if layer >= 0 else "")
+                text.append(
+                    chr(BRAILLE + bits) if bits else " ",
+                    style=self._styles[layer] if layer >= 0 else "",
+                )
         return text

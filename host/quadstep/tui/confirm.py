@@ -1,5 +1,6 @@
-"""A yes/no question, and the one way the TUI writes a measured backlash: into the configuration file after
-the user confirms (comments kept, the old file kept as FILE.bak; config_file.set_backlash)."""
+"""A yes/no question, and the one way the TUI writes a measured backlash: into the configuration
+file after the user confirms (comments kept, the old file kept as FILE.bak;
+config_file.set_backlash)."""
 
 from __future__ import annotations
 
@@ -34,10 +35,16 @@ class ConfirmScreen(ModalScreen[bool]):
         self.dismiss(yes)
 
 
-def ask_to_write(screen: Screen, path: Path | None, axis: str, mm: float, say: Callable[[str, bool], None],
-                 written: Callable[[MachineConfig], None]) -> None:
-    """Ask, then write `axis`'s backlash.mm = `mm` to `path`; `say(text, error)` reports, `written` gets the
-    configuration as now written."""
+def ask_to_write(
+    screen: Screen,
+    path: Path | None,
+    axis: str,
+    mm: float,
+    say: Callable[[str, bool], None],
+    written: Callable[[MachineConfig], None],
+) -> None:
+    """Ask, then write `axis`'s backlash.mm = `mm` to `path`; `say(text, error)` reports, `written`
+    gets the configuration as now written."""
     if path is None:
         say("no configuration file (--config FILE) to write the backlash to", True)
         return
@@ -52,8 +59,11 @@ def ask_to_write(screen: Screen, path: Path | None, axis: str, mm: float, say: C
         except (ConfigError, OSError) as exc:
             say(f"not written: {exc}", True)
             return
-        say(f"wrote {what} to {path} (the old file is {backup}); it takes effect at the next connection "
-            "(Ctrl+R)", False)
+        say(
+            f"wrote {what} to {path} (the old file is {backup}); it takes effect at the next "
+            "connection (Ctrl+R)",
+            False,
+        )
         written(config)
 
     screen.app.push_screen(ConfirmScreen(f"Write {what} to {path}?"), answered)

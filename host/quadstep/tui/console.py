@@ -1,7 +1,9 @@
-"""The console line (MDI): `:` focuses it, Enter runs the line typed, ↑/↓ go through the lines run before,
-Esc gives the keys back to jogging."""
+"""The console line (MDI): `:` focuses it, Enter runs the line typed, ↑/↓ go through the lines run
+before, Esc gives the keys back to jogging."""
 
 from __future__ import annotations
+
+from typing import Any
 
 from textual.binding import Binding
 from textual.message import Message
@@ -22,8 +24,10 @@ class ConsoleLine(Input):
             super().__init__()
             self.text = text
 
-    def __init__(self, **kwargs: object) -> None:
-        super().__init__(placeholder=": G-code line (MDI) — Enter runs it, ↑↓ history, Esc back", **kwargs)  # type: ignore[arg-type]
+    def __init__(self, **kwargs: Any) -> None:  # the Input's own options
+        super().__init__(
+            placeholder=": G-code line (MDI) — Enter runs it, ↑↓ history, Esc back", **kwargs
+        )
         self.history: list[str] = []
         self._at = 0  # index into history while browsing; len(history): the line being typed
 

@@ -1,4 +1,5 @@
-"""The dial-indicator wizard: a guided backlash measurement for machines without a probe (backlash/dial.py).
+"""The dial-indicator wizard: a guided backlash measurement for machines without a probe
+(backlash/dial.py).
 
 Set the indicator against the carriage, preload it (p moves the axis toward it), zero it, then either jog back
 (one motor step, or a larger step to get close) until the needle moves, or move back by the same
@@ -235,7 +236,9 @@ class DialWizard(ModalScreen[None]):
         if self.result is None:
             self.say("nothing to write yet", True)
             return
-        ask_to_write(self, self.session.config_path, self.axis, self.result.mm, self.say, self._written)
+        ask_to_write(
+            self, self.session.config_path, self.axis, self.result.mm, self.say, self._written
+        )
 
     def _written(self, config: MachineConfig) -> None:
         self.session.config_given = config

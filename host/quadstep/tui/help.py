@@ -26,7 +26,7 @@ def help_text(settings: JogSettings) -> str:
 
 class HelpScreen(ModalScreen[None]):
     BINDINGS = [
-        Binding("escape,q,question_mark,f1", "dismiss", "close"),
+        Binding("escape,q,question_mark,f1", "close", "close"),
     ]
 
     def __init__(self, settings: JogSettings) -> None:
@@ -42,5 +42,5 @@ class HelpScreen(ModalScreen[None]):
         box.border_title = "help: ↑ ↓ PgUp PgDn scroll, Esc closes"
         box.focus()  # the arrow and page keys scroll it
 
-    def action_dismiss(self) -> None:  # type: ignore[override]
+    def action_close(self) -> None:
         self.dismiss(None)

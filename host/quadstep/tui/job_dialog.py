@@ -22,7 +22,9 @@ class JobDialog(ModalScreen[Path | None]):
 
     def compose(self) -> ComposeResult:
         with Vertical(id="job-dialog"):
-            yield Static("Job file (G-code, or a .json/.yaml move file); Enter runs it, Esc cancels:")
+            yield Static(
+                "Job file (G-code, or a .json/.yaml move file); Enter runs it, Esc cancels:"
+            )
             yield Input(value=self.initial, placeholder="path/to/job.gcode", id="job-path")
 
     def on_input_submitted(self, event: Input.Submitted) -> None:

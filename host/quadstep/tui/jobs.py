@@ -1,6 +1,7 @@
 """The machine screen's job keys: open a job (planned whole, in the work coordinates), run it, go on
-after a pause, hold and resume it (Space; the board's feed hold and cycle start buttons too). Alarms and
-the buttons go to the log. Mixed into MachineScreen, whose log, session and worker threads they use."""
+after a pause, hold and resume it (Space; the board's feed hold and cycle start buttons too). Alarms
+and the buttons go to the log. Mixed into MachineScreen, whose log, session and worker threads they
+use."""
 
 from __future__ import annotations
 
@@ -28,6 +29,7 @@ from .panels import JobPanel
 from .toolpath_view import ToolpathView
 
 if TYPE_CHECKING:
+    from ..jog import Jogger
     from .session import Session
 
 
@@ -53,8 +55,9 @@ class JobKeys(Screen[None]):
     _pause_shown: int | None = None  # the line of the pause last announced
 
     if TYPE_CHECKING:  # MachineScreen's own
+
         def log_line(self, text: str, error: bool = False) -> None: ...
-        def _jogger_ready(self, what: str) -> object: ...
+        def _jogger_ready(self, what: str) -> Jogger | None: ...
         def _thread(self, target: Callable[[], object], name: str) -> object: ...
         def _command(self, command: Callable[[], object], what: str) -> None: ...
 
@@ -75,19 +78,24 @@ class JobKeys(Screen[None]):
         def plan(start: tuple[int, ...]) -> Job:
             return load_job(path, machine.config, start, coordinates=machine.coordinates)
 
-        self._thread(lambda: self._job_worker(machine, path.name, plan, source_lines(path), path),
-                     "quadstep-job")
+        self._thread(
+            lambda: self._job_worker(machine, path.name, plan, source_lines(path), path),
+            "quadstep-job",
+        )
 
     def offer_kept_job(self, machine: Machine) -> None:
-        """On connect: a job that stopped before its end is named, with the key that goes on with it."""
+        """On connect: a job that stopped before its end is named, with the key that goes on with
+        it."""
         try:
             kept = kept_job(machine)
         except MachineError as exc:
             self.log_line(str(exc), error=True)
             return
         if kept is not None:
-            self.log_line(f"{Path(kept.job.path).name} stopped before its end ({kept.state}): R resumes it "
-                          "from where motion stopped")
+            self.log_line(
+                f"{Path(kept.job.path).name} stopped before its end ({kept.state}): R resumes it "
+                "from where motion stopped"
+            )
 
     def action_resume_kept(self) -> None:
         machine = self._machine_free("resume")
@@ -109,8 +117,10 @@ class JobKeys(Screen[None]):
                 self.post_message(Note(line))
             return job
 
-        self._thread(lambda: self._job_worker(machine, path.name, plan, source_lines(path), path),
-                     "quadstep-job")
+        self._thread(
+            lambda: self._job_worker(machine, path.name, plan, source_lines(path), path),
+            "quadstep-job",
+        )
 
     def action_console(self) -> None:
         """`:` gives the keys to the console line (Esc gives them back)."""
@@ -118,7 +128,8 @@ class JobKeys(Screen[None]):
             self.query_one(ConsoleLine).focus()
 
     def on_console_line_run(self, message: ConsoleLine.Run) -> None:
-        """A line typed in the console: planned whole from where the machine stands, then run as a job."""
+        """A line typed in the console: planned whole from where the machine stands, then run as a
+        job."""
         text = message.text
         self.log_line(f"> {text}")
         machine = self._machine_free("MDI") if self._jogger_ready("MDI") is not None else None
@@ -140,8 +151,14 @@ class JobKeys(Screen[None]):
             return None
         return machine
 
-    def _job_worker(self, machine: Machine, name: str, plan: Callable[[tuple[int, ...]], Job],
-                    source: list[str], job_file: Path | None = None) -> None:
+    def _job_worker(
+        self,
+        machine: Machine,
+        name: str,
+        plan: Callable[[tuple[int, ...]], Job],
+        source: list[str],
+        job_file: Path | None = None,
+    ) -> None:
         try:
             start = machine.sync()
             job = plan(start)
@@ -155,13 +172,16 @@ class JobKeys(Screen[None]):
             journal = job_journal(machine, job_file) if job_file is not None else None
             run = machine.run_job(job.plan, job.program, job.label, journal=journal)
         except (JobError, LinkError, MachineError) as exc:
-            self.post_message(Note(f"{name if name == 'MDI' else 'job'} not started: {exc}", error=True))
+            self.post_message(
+                Note(f"{name if name == 'MDI' else 'job'} not started: {exc}", error=True)
+            )
             return
         self.post_message(JobStarted(run, name, path, source))
         end = run.wait()
         assert end is not None
         if end.ended_by == "done":
-            machine.adopt_coordinates(job.end_coordinates)  # what its G10, G92, G54…G59, M2/M30 left
+            # what its G10, G92, G54…G59, M2/M30 left
+            machine.adopt_coordinates(job.end_coordinates)
         self.post_message(JobDone(name, end))
 
     def on_job_started(self, message: JobStarted) -> None:
@@ -171,13 +191,15 @@ class JobKeys(Screen[None]):
         self.job_source = message.source
         if message.path is not None:
             self.query_one(ToolpathView).show_path(message.path)
-        self.log_line(f"running {message.name}: {len(job.plan)} segments, {job.plan.duration_s:.1f} s planned")
+        self.log_line(
+            f"running {message.name}: {len(job.plan)} segments, {job.plan.duration_s:.1f} s planned"
+        )
         self.query_one("#keys", Static).update(JOB_KEY_LINE)
         self.show_job(job.progress)
 
     def show_job(self, progress: JobProgress) -> None:
-        """The job line: name, the line being run and its text, time left, progress; at a pause what it waits
-        for (an M0, a tool change), said once in the log with what the operator may do."""
+        """The job line: name, the line being run and its text, time left, progress; at a pause what
+        it waits for (an M0, a tool change), said once in the log with what the operator may do."""
         line = progress.line
         text = self.job_source[line - 1] if 0 < line <= len(self.job_source) else ""
         pause = self.job.pause if self.job is not None else None
@@ -210,7 +232,8 @@ class JobKeys(Screen[None]):
             self._command(jogger.sync, "sync")
 
     def action_hold_resume(self) -> bool:
-        """Space while a job runs: a feed hold that keeps the rest of the job; again: resume. False: no job."""
+        """Space while a job runs: a feed hold that keeps the rest of the job; again: resume. False:
+        no job."""
         job = self.job
         if job is None:
             return False
@@ -223,15 +246,22 @@ class JobKeys(Screen[None]):
         return True
 
     def action_feed_override(self, delta: int) -> bool:
-        """- + while a job runs: its feed override 10 % lower / higher (within 10–200 %); * (delta 0) back to
-        100 %. It applies to what is not yet sent. False: no job."""
+        """- + while a job runs: its feed override 10 % lower / higher (within 10–200 %); * (delta
+        0) back to 100 %. It applies to what is not yet sent. False: no job."""
         job = self.job
         if job is None:
             return False
-        percent = 100 if delta == 0 else min(MAX_PERCENT, max(MIN_PERCENT, job.feed_override + delta * STEP_PERCENT))
+        percent = (
+            100
+            if delta == 0
+            else min(MAX_PERCENT, max(MIN_PERCENT, job.feed_override + delta * STEP_PERCENT))
+        )
         if percent == job.feed_override:
             if delta:
-                self.log_line(f"feed override: {percent} % is the {'most' if delta > 0 else 'least'}", error=True)
+                self.log_line(
+                    f"feed override: {percent} % is the {'most' if delta > 0 else 'least'}",
+                    error=True,
+                )
             return True
         try:
             job.set_feed_override(percent)
@@ -244,12 +274,24 @@ class JobKeys(Screen[None]):
 
     def watch_reports(self, machine: Machine) -> None:
         """Alarms (E_STOP, HARD_LIMIT, HOST_LOST) and the board's buttons, in the log."""
+
         def note(report: Report) -> None:
             if isinstance(report, Alarm):
-                self.post_message(Note(f"ALARM {report.code.name} at steps {list(report.position)}; "
-                                       "Ctrl+X clears it", error=True))
-            elif isinstance(report, InputChange) and report.cause in (InputCause.FEED_HOLD, InputCause.CYCLE_START):
-                self.post_message(Note(f"board button: {report.cause.name.lower().replace('_', ' ')}"))
+                self.post_message(
+                    Note(
+                        f"ALARM {report.code.name} at steps {list(report.position)}; "
+                        "Ctrl+X clears it",
+                        error=True,
+                    )
+                )
+            elif isinstance(report, InputChange) and report.cause in (
+                InputCause.FEED_HOLD,
+                InputCause.CYCLE_START,
+            ):
+                self.post_message(
+                    Note(f"board button: {report.cause.name.lower().replace('_', ' ')}")
+                )
+
         machine.on_report(note)
 
     def action_resume(self) -> None:

@@ -1,15 +1,16 @@
-"""The machine screen's jog keys: incremental steps (one press, one step; a held key's repeats beyond what
-can run soon dropped), continuous jogs, the step and speed presets (X/Y and Z steps apart), zeroing, the
-stop keys. Mixed into MachineScreen, whose log, session and worker threads they use."""
+"""The machine screen's jog keys: incremental steps (one press, one step; a held key's repeats
+beyond what can run soon dropped), continuous jogs, the step and speed presets (X/Y and Z steps
+apart), zeroing, the stop keys. Mixed into MachineScreen, whose log, session and worker threads they
+use."""
 
 from __future__ import annotations
 
 from collections.abc import Callable
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 from textual.screen import Screen
 
-from ..jog import JogMode, Jogger
+from ..jog import Jogger, JogMode
 from ..link import LinkError
 from ..machine import JobRun, MachineError
 from ..planner.program import JobError
@@ -21,7 +22,13 @@ if TYPE_CHECKING:
     from .session import Session
 
 
-AT_A_PAUSE = ("jog", "zero", "G38.2", "G38.4")  # what may run while a job waits at its pause (M0, M6)
+# what may run while a job waits at its pause (M0, M6)
+AT_A_PAUSE = (
+    "jog",
+    "zero",
+    "G38.2",
+    "G38.4",
+)
 
 
 class JogKeys(Screen[None]):
@@ -31,6 +38,7 @@ class JogKeys(Screen[None]):
     job: JobRun | None
 
     if TYPE_CHECKING:  # MachineScreen's own
+
         def log_line(self, text: str, error: bool = False) -> None: ...
         def refresh_panels(self) -> None: ...
         def _thread(self, target: Callable[[], object], name: str) -> object: ...
@@ -39,12 +47,12 @@ class JogKeys(Screen[None]):
 
     # --- jogging ---------------------------------------------------------------------------
 
-    def check_action(self, action: str, parameters: tuple[object, ...]) -> bool | None:
+    def check_action(self, action: str, parameters: tuple[Any, ...]) -> bool | None:
         if action == "step_preset":
-            return int(parameters[0]) < len(self.session.settings.step_presets)  # type: ignore[call-overload]
+            return int(parameters[0]) < len(self.session.settings.step_presets)
         if action in ("zero",):
             config = self.session.config
-            return config is None or int(parameters[0]) < len(config.axes)  # type: ignore[call-overload]
+            return config is None or int(parameters[0]) < len(config.axes)
         return True
 
     def _jogger_ready(self, what: str) -> Jogger | None:
@@ -73,11 +81,14 @@ class JogKeys(Screen[None]):
         self.refresh_panels()  # the queued distance
 
     def key_released(self, key: str) -> None:
-        """A jog key let go, where the terminal reports it (kitty.py): a continuous jog stops at once."""
+        """A jog key let go, where the terminal reports it (kitty.py): a continuous jog stops at
+        once."""
         jogger = self.session.jogger
         for name, axis, direction, _, _ in JOG_KEYS:
             if name == key and jogger is not None and jogger.mode == JogMode.CONTINUOUS:
-                self._thread(lambda: self._guard_release(jogger, axis, direction), "quadstep-release")
+                self._thread(
+                    lambda: self._guard_release(jogger, axis, direction), "quadstep-release"
+                )
 
     def _guard_release(self, jogger: Jogger, axis: int, direction: int) -> None:
         try:
@@ -124,8 +135,10 @@ class JogKeys(Screen[None]):
             config = self.session.config
             assert config is not None
             axis = config.axes[result.axis]
-            self.log_line(f"{axis.name} at {axis.to_mm(result.position[result.axis]):.3f} mm "
-                          f"({result.position[result.axis]} steps)")
+            self.log_line(
+                f"{axis.name} at {axis.to_mm(result.position[result.axis]):.3f} mm "
+                f"({result.position[result.axis]} steps)"
+            )
         self.refresh_panels()
 
     def action_space(self) -> None:
@@ -134,7 +147,8 @@ class JogKeys(Screen[None]):
             self.action_halt()
 
     def action_halt(self) -> None:
-        """Esc: cancel queued jog presses and bring whatever moves to rest with HOLD (a job ends there)."""
+        """Esc: cancel queued jog presses and bring whatever moves to rest with HOLD (a job ends
+        there)."""
         self._drop_queued()
         machine = self.session.machine
         if machine is not None and machine.busy:
@@ -176,8 +190,12 @@ class JogKeys(Screen[None]):
         def zero() -> None:
             machine = jogger.machine
             machine.set_work_zero(axes)
-            self.post_message(Note(f"zeroed {names} in {machine.coordinates.name} (work offset; "
-                                   "machine coordinates and soft limits unchanged)"))
+            self.post_message(
+                Note(
+                    f"zeroed {names} in {machine.coordinates.name} (work offset; "
+                    "machine coordinates and soft limits unchanged)"
+                )
+            )
 
         self._command(zero, "zero")
 

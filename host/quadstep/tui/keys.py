@@ -1,4 +1,5 @@
-"""The key map: arrows jog X/Y, Page Up/Down jog Z (as in bCNC and most senders), number keys pick the step."""
+"""The key map: arrows jog X/Y, Page Up/Down jog Z (as in bCNC and most senders), number keys pick
+the step."""
 
 from __future__ import annotations
 
@@ -20,13 +21,15 @@ JOG_KEYS = (
 
 
 def bindings(step_presets: int) -> list[BindingType]:
-    """Every binding of the machine screen, in the order the footer and the help screen show them."""
+    """Every binding of the machine screen, in the order the footer and the help screen show
+    them."""
     keys: list[BindingType] = [
         Binding(key, f"jog({axis}, {direction})", label, key_display=display, group=JOG)
         for key, axis, direction, display, label in JOG_KEYS
     ]
     keys += [
-        Binding(str(i + 1), f"step_preset({i})", "step", group=STEP) for i in range(min(step_presets, 9))
+        Binding(str(i + 1), f"step_preset({i})", "step", group=STEP)
+        for i in range(min(step_presets, 9))
     ]
     keys += [
         Binding("left_square_bracket", "z_step(-1)", "Z step down", key_display="[", show=False),
@@ -123,7 +126,11 @@ HELP = """\
 """
 
 # The screen's bottom line: the main keys, within 80 columns; another while a job runs.
-KEY_LINE = ("[b]←→↑↓ PgUp/Dn[/b] jog [b]1-4 \\[ ][/b] XY/Z step [b]-+[/b] speed [b]c[/b] mode "
-            "[b]Esc[/b] stop [b]:[/b] MDI [b]o[/b] job [b]?[/b] help")
-JOB_KEY_LINE = ("[b]Space[/b] hold/resume  [b]Esc[/b] stop  [b]g[/b] go on  [b]- + *[/b] feed −/+10 %, 100 %  "
-                "[b]?[/b] help")
+KEY_LINE = (
+    "[b]←→↑↓ PgUp/Dn[/b] jog [b]1-4 \\[ ][/b] XY/Z step [b]-+[/b] speed [b]c[/b] mode "
+    "[b]Esc[/b] stop [b]:[/b] MDI [b]o[/b] job [b]?[/b] help"
+)
+JOB_KEY_LINE = (
+    "[b]Space[/b] hold/resume  [b]Esc[/b] stop  [b]g[/b] go on  [b]- + *[/b] feed −/+10 %, 100 %  "
+    "[b]?[/b] help"
+)

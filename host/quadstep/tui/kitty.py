@@ -1,11 +1,13 @@
-"""Key releases from terminals that speak the kitty keyboard protocol (kitty, WezTerm, foot, Ghostty).
+"""Key releases from terminals that speak the kitty keyboard protocol (kitty, WezTerm, foot,
+Ghostty).
 
-Textual turns the protocol on without its "report event types" flag, so it never hears a key let go, and its
-parser cannot read a key event that carries an event type. This driver sets that flag as well (flags 1, 2, 8
-and 16: disambiguate, event types, every key as an escape code, the text), asks the terminal which flags it
-took (`CSI ? u`; a terminal without the protocol stays silent) and reads the events itself: a press (type 1)
-or a repeat (type 2) goes on as Textual's key event, a release (type 3) becomes a KeyRelease message. The
-repeat timeouts stay as they are, as the fallback and a safety net.
+Textual turns the protocol on without its "report event types" flag, so it never hears a key let go,
+and its parser cannot read a key event that carries an event type. This driver sets that flag as
+well (flags 1, 2, 8 and 16: disambiguate, event types, every key as an escape code, the text), asks
+the terminal which flags it took (`CSI ? u`; a terminal without the protocol stays silent) and reads
+the events itself: a press (type 1) or a repeat (type 2) goes on as Textual's key event, a release
+(type 3) becomes a KeyRelease message. The repeat timeouts stay as they are, as the fallback and a
+safety net.
 
 Protocol: https://sw.kovidgoyal.net/kitty/keyboard-protocol/ (progressive enhancement, event types).
 """
@@ -55,8 +57,8 @@ class KeyboardFlags(Message):
 
 
 class ReleaseParser(XTermParser):
-    """Textual's parser, with key event types and the flags reply read first. Its messages join the parser's
-    own tokens in the order the terminal sent them (a press before its release)."""
+    """Textual's parser, with key event types and the flags reply read first. Its messages join the
+    parser's own tokens in the order the terminal sent them (a press before its release)."""
 
     def _emit(self, message: Message) -> None:
         self._tokens.append(message)

@@ -39,7 +39,9 @@ class JogDone(Message):
 
 
 class JobStarted(Message):
-    def __init__(self, job: JobRun, name: str, path: Toolpath | None = None, source: list[str] | None = None) -> None:
+    def __init__(
+        self, job: JobRun, name: str, path: Toolpath | None = None, source: list[str] | None = None
+    ) -> None:
         super().__init__()
         self.job = job
         self.name = name

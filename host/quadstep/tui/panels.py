@@ -8,20 +8,31 @@ from textual.containers import Horizontal
 from textual.widgets import ProgressBar, RichLog, Static
 
 from ..config import MachineConfig
-from ..jog import JogMode, Jogger
+from ..jog import Jogger, JogMode
 from ..machine import JobProgress, JobState
 from ..protocol import IdentifyReply, State
 from .session import Snapshot
 
-STATE_STYLE = {State.IDLE: "green", State.RUNNING: "cyan", State.HOLDING: "yellow", State.ALARM: "bold red",
-               State.STARVED: "yellow"}
+STATE_STYLE = {
+    State.IDLE: "green",
+    State.RUNNING: "cyan",
+    State.HOLDING: "yellow",
+    State.ALARM: "bold red",
+    State.STARVED: "yellow",
+}
 # A job's states that the board's own state does not tell (the board is IDLE while a job waits).
-JOB_SHOWN = {JobState.PAUSED: "PAUSED", JobState.HELD: "FEED HOLD", JobState.STARVED: "STARVED",
-             JobState.PROBING: "PROBING", JobState.RESUMING: "RESUMING"}
+JOB_SHOWN = {
+    JobState.PAUSED: "PAUSED",
+    JobState.HELD: "FEED HOLD",
+    JobState.STARVED: "STARVED",
+    JobState.PROBING: "PROBING",
+    JobState.RESUMING: "RESUMING",
+}
 
 
 class Panel(Static):
-    """A Static redrawn often: plain Text (cheap to render), relaid out only when its height changes."""
+    """A Static redrawn often: plain Text (cheap to render), relaid out only when its height
+    changes."""
 
     _lines = -1
 
@@ -32,8 +43,8 @@ class Panel(Static):
 
 
 class PositionPanel(Panel):
-    """Per axis: the work position (active system) and the machine position side by side, the steps, and the
-    soft limits (machine coordinates)."""
+    """Per axis: the work position (active system) and the machine position side by side, the steps,
+    and the soft limits (machine coordinates)."""
 
     def show(self, config: MachineConfig, snapshot: Snapshot | None) -> None:
         system = snapshot.system if snapshot is not None else "work"
@@ -73,7 +84,12 @@ class MachinePanel(Panel):
             elif position_lost:  # a hard limit or the abort button: cleared, but machine zero is gone
                 text.append(" position lost: h homes", style="bold red")
             health = snapshot.link
-            bad = health["retransmits"] or health["errors"] or health["decode_errors"] or health["timeouts"]
+            bad = (
+                health["retransmits"]
+                or health["errors"]
+                or health["decode_errors"]
+                or health["timeouts"]
+            )
             text.append("\nqueue ", style="dim")
             text.append(f"{st.queue_fill}/{identity.queue_capacity}")
             text.append("  feed ", style="dim")
@@ -85,21 +101,32 @@ class MachinePanel(Panel):
 
 
 class JogPanel(Panel):
-    """The jog mode, the X/Y and Z steps, the speed, and the distance still to go of the steps pressed."""
+    """The jog mode, the X/Y and Z steps, the speed, and the distance still to go of the steps
+    pressed."""
 
     def show(self, jogger: Jogger | None) -> None:
         if jogger is None:
             self.show_text(Text(""))
             return
         mode = "CONTINUOUS" if jogger.mode == JogMode.CONTINUOUS else "INCREMENTAL"
-        text = Text.assemble(("jog ", "dim"), (mode, "bold"), ("  XY ", "dim"), f"{jogger.distance:g}",
-                             ("  Z ", "dim"), f"{jogger.z_distance:g} mm", ("  speed ", "dim"),
-                             f"{jogger.speed_fraction * 100:g} %")
+        text = Text.assemble(
+            ("jog ", "dim"),
+            (mode, "bold"),
+            ("  XY ", "dim"),
+            f"{jogger.distance:g}",
+            ("  Z ", "dim"),
+            f"{jogger.z_distance:g} mm",
+            ("  speed ", "dim"),
+            f"{jogger.speed_fraction * 100:g} %",
+        )
         queued = jogger.queue.queued_mm()
         if queued:
             names = jogger.config.axes
             text.append("  to go ", style="dim")
-            text.append(" ".join(f"{names[a].name}{mm:+g}" for a, mm in sorted(queued.items())), style="yellow")
+            text.append(
+                " ".join(f"{names[a].name}{mm:+g}" for a, mm in sorted(queued.items())),
+                style="yellow",
+            )
         else:
             text.append(f"  ({jogger.speed(0) * 60:.0f} mm/min)", style="dim")
         self.show_text(text)
@@ -114,8 +141,15 @@ class JobPanel(Horizontal):
         bar.display = False
         yield bar
 
-    def show(self, name: str | None, progress: JobProgress | None, outcome: str = "", source: str = "",
-             pause: str = "", feed: int = 100) -> None:
+    def show(
+        self,
+        name: str | None,
+        progress: JobProgress | None,
+        outcome: str = "",
+        source: str = "",
+        pause: str = "",
+        feed: int = 100,
+    ) -> None:
         label = self.query_one("#job-label", Static)
         bar = self.query_one("#job-progress", ProgressBar)
         bar.display = name is not None
@@ -134,8 +168,10 @@ class JobPanel(Horizontal):
         if progress.state is JobState.HELD:
             text.append(f"  FEED HOLD at {progress.paused_at}: Space goes on", style="yellow")
         elif progress.paused_at is not None:
-            text.append(f"  PAUSED at {progress.paused_at}{': ' + pause if pause else ''}: g goes on",
-                        style="yellow")
+            text.append(
+                f"  PAUSED at {progress.paused_at}{': ' + pause if pause else ''}: g goes on",
+                style="yellow",
+            )
         elif progress.state is JobState.STARVED or progress.starvations:
             text.append(f"  ran dry {progress.starvations}×, went on", style="yellow")
         label.update(text)

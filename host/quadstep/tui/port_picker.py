@@ -1,5 +1,6 @@
-"""Which board to talk to, when `quadstep tui` is given no --port and not exactly one board is plugged in:
-the serial ports pyserial lists (boards first, named by their USB identity), and the emulator."""
+"""Which board to talk to, when `quadstep tui` is given no --port and not exactly one board is
+plugged in: the serial ports pyserial lists (boards first, named by their USB identity), and the
+emulator."""
 
 from __future__ import annotations
 
@@ -53,11 +54,16 @@ class PortPicker(ModalScreen[str]):
 
     def compose(self) -> ComposeResult:
         boards = sum(c.board is not None for c in self.choices)
-        heading = ("No board found by its USB identity" if boards == 0 else f"{boards} boards found") + \
-            ": pick the port (↑ ↓, Enter), or the emulator (Esc)."
-        options = [Option(f"{c.device:<16} {c.board or '—':<24} {c.description}"[:74], id=c.device)
-                   for c in self.choices]
-        options.append(Option("the emulator (no board: the firmware core on this computer)", id=EMULATOR))
+        heading = (
+            "No board found by its USB identity" if boards == 0 else f"{boards} boards found"
+        ) + ": pick the port (↑ ↓, Enter), or the emulator (Esc)."
+        options = [
+            Option(f"{c.device:<16} {c.board or '—':<24} {c.description}"[:74], id=c.device)
+            for c in self.choices
+        ]
+        options.append(
+            Option("the emulator (no board: the firmware core on this computer)", id=EMULATOR)
+        )
         with Vertical(id="port-picker"):
             yield Static(heading)
             yield OptionList(*options, id="ports")

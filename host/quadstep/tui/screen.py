@@ -47,7 +47,9 @@ class MachineScreen(JobKeys, JogKeys):
     BINDINGS = bindings(9)  # step keys beyond the presets are hidden by check_action
     AUTO_FOCUS = ""  # nothing: every key jogs until `:` focuses the console line
 
-    def __init__(self, session: Session, job_path: str = "", poll_interval: float = POLL_INTERVAL) -> None:
+    def __init__(
+        self, session: Session, job_path: str = "", poll_interval: float = POLL_INTERVAL
+    ) -> None:
         super().__init__()
         self.session = session
         session.on_jog = self.jog_finished
@@ -75,13 +77,21 @@ class MachineScreen(JobKeys, JogKeys):
         yield JobPanel(id="job")
         yield ConsoleLine(id="console")
         with Horizontal(id="bottom"):
-            yield MessageLog(id="log", wrap=True, min_width=20)  # wrapped to its width (RichLog renders at ≥ 78)
+            # wrapped to its width (RichLog renders at ≥ 78)
+            yield MessageLog(id="log", wrap=True, min_width=20)
             yield ToolpathView(id="toolpath")
         yield Static(KEY_LINE, id="keys")
 
+    @property
+    def _target_label(self) -> str:
+        """The board this screen drives: chosen before it opens (the port picker's choice)."""
+        target = self.session.target
+        assert target is not None
+        return target.label
+
     def on_mount(self) -> None:
         self.app.title = "quadstep"
-        self.app.sub_title = self.session.target.label
+        self.app.sub_title = self._target_label
         self.query_one("#banner", Static).display = False
         self.query_one(PositionPanel).border_title = "position"
         self.query_one(MachinePanel).border_title = "machine"
@@ -93,12 +103,16 @@ class MachineScreen(JobKeys, JogKeys):
         self._poll_stop.set()
 
     def log_line(self, text: str, error: bool = False) -> None:
-        """A line in the message log; the same line again (a held key's repeats) is counted, not repeated."""
+        """A line in the message log; the same line again (a held key's repeats) is counted, not
+        repeated."""
         if self.messages and self.messages[-1] == text:
             self._repeats += 1
             return
         if self._repeats:
-            self._write(f"  (the line above {self._repeats} more time{'s' if self._repeats > 1 else ''})", False)
+            self._write(
+                f"  (the line above {self._repeats} more time{'s' if self._repeats > 1 else ''})",
+                False,
+            )
             self._repeats = 0
         self.messages.append(text)
         self._write(text, error)
@@ -118,7 +132,9 @@ class MachineScreen(JobKeys, JogKeys):
         origin = None
         if snapshot is not None:
             origin = tuple(m - w for m, w in zip(snapshot.position_mm, snapshot.work_mm))
-        self.query_one(ToolpathView).show(session.config, snapshot.position_mm if snapshot else None, origin)
+        self.query_one(ToolpathView).show(
+            session.config, snapshot.position_mm if snapshot else None, origin
+        )
 
     # --- connection ------------------------------------------------------------------------
 
@@ -129,7 +145,7 @@ class MachineScreen(JobKeys, JogKeys):
         self._stop_polling()
         self.snapshot = None
         self.refresh_panels()
-        self.log_line(f"connecting to {self.session.target.label}…")
+        self.log_line(f"connecting to {self._target_label}…")
         self._thread(self._connect_worker, "quadstep-connect")
 
     def _connect_worker(self) -> None:
@@ -148,12 +164,19 @@ class MachineScreen(JobKeys, JogKeys):
         assert config is not None
         self.query_one("#banner", Static).display = False
         self.app.sub_title = (
-            f"{self.session.target.label} · firmware {ident.fw_major}.{ident.fw_minor}.{ident.fw_patch} · "
-            f"{len(config.axes)} axes · {ident.tick_hz / 1000:g} kHz"
+            f"{self._target_label} · firmware "
+            f"{ident.fw_major}.{ident.fw_minor}.{ident.fw_patch} · {len(config.axes)} axes · "
+            f"{ident.tick_hz / 1000:g} kHz"
         )
-        given = "" if self.session.config_given is not None else " (no --config: default 80 steps/mm, ±1000 mm)"
-        self.log_line(f"connected: {_board_name(ident.board)}, {ident.axis_count} axes, "
-                      f"queue {ident.queue_capacity}{given}")
+        given = (
+            ""
+            if self.session.config_given is not None
+            else " (no --config: default 80 steps/mm, ±1000 mm)"
+        )
+        self.log_line(
+            f"connected: {_board_name(ident.board)}, {ident.axis_count} axes, "
+            f"queue {ident.queue_capacity}{given}"
+        )
         if self.session.machine is not None:
             if self.session.machine.notice is not None:  # what it found of the kept state
                 self.log_line(self.session.machine.notice)
@@ -203,15 +226,19 @@ class MachineScreen(JobKeys, JogKeys):
     # --- homing and probing -------------------------------------------------------------
 
     def action_home(self) -> None:
-        """H: home every axis with [axes.homing], in the configured order; each phase goes to the log."""
+        """H: home every axis with [axes.homing], in the configured order; each phase goes to the
+        log."""
         if self._jogger_ready("home") is None or self.session.machine is None:
             return
         machine = self.session.machine
         self.log_line("homing…")
-        self._thread(lambda: self._routine(machine, "home", lambda: self._homed(machine)), "quadstep-home")
+        self._thread(
+            lambda: self._routine(machine, "home", lambda: self._homed(machine)), "quadstep-home"
+        )
 
     def action_probe(self, code: str) -> None:
-        """P: G38.2 down Z to its travel_min at 1 mm/s (a touch plate); Shift+P: G38.4 up until it lets go."""
+        """P: G38.2 down Z to its travel_min at 1 mm/s (a touch plate); Shift+P: G38.4 up until it
+        lets go."""
         if self._jogger_ready(f"G{code}") is None or self.session.machine is None:
             return
         machine = self.session.machine
@@ -226,17 +253,24 @@ class MachineScreen(JobKeys, JogKeys):
 
         def run() -> str:
             result = probe(machine, code, target, 1.0)
-            return (f"G{code}: contact at Z {result.machine_mm[z]:.4f} mm (step {result.steps[z]})"
-                    if result.found else f"G{code}: no contact")
+            return (
+                f"G{code}: contact at Z {result.machine_mm[z]:.4f} mm (step {result.steps[z]})"
+                if result.found
+                else f"G{code}: no contact"
+            )
 
         self._thread(lambda: self._routine(machine, f"G{code}", run), "quadstep-probe")
 
     def _homed(self, machine: Machine) -> str:
-        results = home(machine, None, lambda text: self.post_message(Note(f"home: {text}")))
+        def progress(text: str) -> None:
+            self.post_message(Note(f"home: {text}"))
+
+        results = home(machine, None, progress)
         return "homed: " + "  ".join(f"{r.name} {r.position_mm:.3f} mm" for r in results)
 
     def _routine(self, machine: Machine, what: str, body: Callable[[], str]) -> None:
-        """A homing or probing routine in a worker thread: its outcome to the log, then the jogger resyncs."""
+        """A homing or probing routine in a worker thread: its outcome to the log, then the jogger
+        resyncs."""
         try:
             self.post_message(Note(body()))
         except (LinkError, MachineError, JobError) as exc:

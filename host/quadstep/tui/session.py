@@ -29,7 +29,8 @@ LINK_HEALTH = ("retransmits", "timeouts", "errors", "decode_errors", "alarms")
 
 @dataclass(frozen=True)
 class Parting:
-    """Where the machine was left when the session closed: the line a job was stopped at, and the rest."""
+    """Where the machine was left when the session closed: the line a job was stopped at, and the
+    rest."""
 
     machine: Machine
     line: int | None  # the job's line when its hold began (None: no job ran)
@@ -95,14 +96,24 @@ class Session:
             raise LinkError("no port chosen")
         if self.target.emulator and (self.emulator is None or not self.emulator.running):
             self.emulator = start_emulator(self.target, self.config_given)
-        machine = open_machine(self.target, self.config_given, source=self.config_source, emulator=self.emulator,
-                               state_file=self.state_file)
+        machine = open_machine(
+            self.target,
+            self.config_given,
+            source=self.config_source,
+            emulator=self.emulator,
+            state_file=self.state_file,
+        )
         old = self.jogger
         jogger = Jogger(machine, self.settings, on_finish=self.on_jog)
         if old is not None:
             jogger.copy_presets(old)
         with self._lock:
-            self.machine, self.jogger, self.config, self.identity = machine, jogger, machine.config, machine.identity
+            self.machine, self.jogger, self.config, self.identity = (
+                machine,
+                jogger,
+                machine.config,
+                machine.identity,
+            )
             self.lost = None
             self._last_feed_sample = None
         return machine.identity
@@ -111,11 +122,12 @@ class Session:
         with self._lock:
             machine, self.machine = self.machine, None
         if machine is not None:
-            machine.close(bring_to_rest=False)  # the link may be gone; close() brings motion to rest first
+            # the link may be gone; close() brings motion to rest first
+            machine.close(bring_to_rest=False)
 
     def close(self) -> None:
-        """Bring any motion to rest, close the link and stop an emulator this session started; `parting` says
-        where it was left."""
+        """Bring any motion to rest, close the link and stop an emulator this session started;
+        `parting` says where it was left."""
         self.cancel_pending()
         machine = self.machine
         if self.connected and machine is not None:
@@ -141,7 +153,8 @@ class Session:
     # --- reading ------------------------------------------------------------------------
 
     def snapshot(self) -> Snapshot:
-        """Status, link counters and the feed since the last snapshot; raises LinkError when lost."""
+        """Status, link counters and the feed since the last snapshot; raises LinkError when
+        lost."""
         machine = self.machine
         if machine is None or self.lost is not None:
             raise LinkError(self.lost or "not connected")
@@ -170,9 +183,12 @@ class Session:
         last, self._last_feed_sample = self._last_feed_sample, (ticks, position)
         if last is None or ticks <= last[0]:
             return 0.0
-        distance = math.sqrt(sum(
-            ((p - q) / axis.steps_per_mm) ** 2 for axis, p, q in zip(config.axes, position, last[1])
-        ))
+        distance = math.sqrt(
+            sum(
+                ((p - q) / axis.steps_per_mm) ** 2
+                for axis, p, q in zip(config.axes, position, last[1])
+            )
+        )
         return distance / ((ticks - last[0]) / config.tick_hz) * 60.0
 
     # --- commands ------------------------------------------------------------------------

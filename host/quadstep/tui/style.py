@@ -1,5 +1,6 @@
-"""The screen's layout and colours (Textual CSS), kept in the package so it installs with it. Everything fits
-80 × 24: the panels take the lines they need, the messages and the path view share what is left."""
+"""The screen's layout and colours (Textual CSS), kept in the package so it installs with it.
+Everything fits 80 × 24: the panels take the lines they need, the messages and the path view share
+what is left."""
 
 CSS = """
 #banner {

@@ -1,9 +1,11 @@
-"""The toolpath view: the job's X/Y path (cuts solid, rapids dotted), the travel box, the work origin and the
-tool where it stands now. `v` switches between the job's extent and the whole travel."""
+"""The toolpath view: the job's X/Y path (cuts solid, rapids dotted), the travel box, the work
+origin and the tool where it stands now. `v` switches between the job's extent and the whole
+travel."""
 
 from __future__ import annotations
 
 from collections.abc import Sequence
+from typing import Any
 
 from rich.text import Text
 from textual.widget import Widget
@@ -16,15 +18,20 @@ MARGIN = 0.05  # of the extent, around what the view fits
 
 
 class ToolpathView(Widget, can_focus=False):
-    def __init__(self, **kwargs: object) -> None:
-        super().__init__(**kwargs)  # type: ignore[arg-type]
+    def __init__(self, **kwargs: Any) -> None:  # the Widget's own options
+        super().__init__(**kwargs)
         self.config: MachineConfig | None = None
         self.path: Toolpath | None = None
         self.tool: tuple[float, ...] | None = None  # machine mm
         self.origin: tuple[float, ...] | None = None  # the active work zero, machine mm
         self.whole_travel = False
 
-    def show(self, config: MachineConfig | None, tool: Sequence[float] | None, origin: Sequence[float] | None) -> None:
+    def show(
+        self,
+        config: MachineConfig | None,
+        tool: Sequence[float] | None,
+        origin: Sequence[float] | None,
+    ) -> None:
         tool_, origin_ = (tuple(tool) if tool else None), (tuple(origin) if origin else None)
         if (config, tool_, origin_) != (self.config, self.tool, self.origin):
             self.config, self.tool, self.origin = config, tool_, origin_
@@ -53,15 +60,25 @@ class ToolpathView(Widget, can_focus=False):
         def at(x: float, y: float) -> tuple[float, float]:
             return (dots_x - 1) / 2 + (x - cx) * scale, (dots_y - 1) / 2 - (y - cy) * scale
 
-        box, rapid, cut, origin, tool = (canvas.layer(s) for s in ("blue", "yellow", "cyan", "green", "bold red"))
+        box, rapid, cut, origin, tool = (
+            canvas.layer(s) for s in ("blue", "yellow", "cyan", "green", "bold red")
+        )
         x_axis, y_axis = config.axes[0], config.axes[1]
-        corners = [at(x_axis.travel_min, y_axis.travel_min), at(x_axis.travel_max, y_axis.travel_min),
-                   at(x_axis.travel_max, y_axis.travel_max), at(x_axis.travel_min, y_axis.travel_max)]
+        corners = [
+            at(x_axis.travel_min, y_axis.travel_min),
+            at(x_axis.travel_max, y_axis.travel_min),
+            at(x_axis.travel_max, y_axis.travel_max),
+            at(x_axis.travel_min, y_axis.travel_max),
+        ]
         for a, b in zip(corners, corners[1:] + corners[:1]):
             canvas.line(*a, *b, box)
         for piece in self.path.pieces if self.path is not None else ():
-            canvas.line(*at(piece.start[0], piece.start[1]), *at(piece.end[0], piece.end[1]),
-                        rapid if piece.rapid else cut, every=2 if piece.rapid else 1)
+            canvas.line(
+                *at(piece.start[0], piece.start[1]),
+                *at(piece.end[0], piece.end[1]),
+                rapid if piece.rapid else cut,
+                every=2 if piece.rapid else 1,
+            )
         if self.origin is not None:
             canvas.mark(*at(self.origin[0], self.origin[1]), "+", origin)
         if self.tool is not None:
