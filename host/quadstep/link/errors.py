@@ -108,8 +108,11 @@ class AlarmError(LinkError):
     def __init__(self, alarm: Alarm) -> None:
         self.alarm = alarm
         lost = alarm.code.name in ("HARD_LIMIT", "E_STOP")
-        hint = ("machine zero is lost: home the machine (quadstep home, or h in the TUI)" if lost
-                else "a STOP clears it (Ctrl+X in the TUI)")
+        hint = (
+            "machine zero is lost: home the machine (quadstep home, or h in the TUI)"
+            if lost
+            else "a STOP clears it (Ctrl+X in the TUI)"
+        )
         super().__init__(
             f"firmware alarm {alarm.code.name} at motion tick {alarm.motion_ticks}, "
             f"positions {list(alarm.position)}; {hint}"

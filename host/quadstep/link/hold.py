@@ -81,7 +81,11 @@ def hold_async(link: Link, decels: Sequence[int], timeout: float | None = None) 
 
 def _alarm_error(link: Link) -> LinkError:
     alarm = link.last_alarm
-    return AlarmError(alarm) if alarm is not None else LinkError("firmware is in ALARM; a STOP clears it (Ctrl+X in the TUI)")
+    return (
+        AlarmError(alarm)
+        if alarm is not None
+        else LinkError("firmware is in ALARM; a STOP clears it (Ctrl+X in the TUI)")
+    )
 
 
 def _wait_hold_done(

@@ -101,12 +101,14 @@ class Outbox:
         return max(0.001, min(waits))
 
     def _outstanding(self) -> bool:
-        """Something the board owes an answer for: a frame unacknowledged, a segment not yet finished, or a
-        refusal (BUSY) no status has explained yet — refused while the board braked, it is explained only once
-        the board is at rest, so the keep-alive asks again until then."""
+        """Something the board owes an answer for: a frame unacknowledged, a segment not yet
+        finished, or a refusal (BUSY) no status has explained yet — refused while the board braked,
+        it is explained only once the board is at rest, so the keep-alive asks again until then."""
         return self.inbox.queue_capacity is not None and (
-            self.window.in_flight > 0 or self.inbox.expected_done > self.inbox.done_total
-            or self.inbox.refused is not None)
+            self.window.in_flight > 0
+            or self.inbox.expected_done > self.inbox.done_total
+            or self.inbox.refused is not None
+        )
 
     def _heard_at(self) -> float:
         """Where the silence counts from: the last good frame, or when the board began to owe

@@ -9,10 +9,10 @@ touches is the backlash: the first e − B steps of the back-off move the motor 
 the carriage. The largest e is found by doubling, then halving (a test that misses needs a new
 touch; one that hits does not).
 
-**Switch**: approach until the switch closes, reverse until it opens, approach again: each interval between
-two edges is the backlash plus the switch's own hysteresis, rounded up by 0 … 2 steps (0 only when
-both edges fall exactly on a motor step). The hysteresis, calibrated once (`switch_hysteresis`,
-from a backlash known by the probe), is subtracted.
+**Switch**: approach until the switch closes, reverse until it opens, approach again: each interval
+between two edges is the backlash plus the switch's own hysteresis, rounded up by 0 … 2 steps (0
+only when both edges fall exactly on a motor step). The hysteresis, calibrated once
+(`switch_hysteresis`, from a backlash known by the probe), is subtracted.
 
 Both run k tries and refuse a result whose tries spread more than a bound or more than one step
 (latches are exact: a wider spread is a bounce or a loose part, and the mean is no longer within a
@@ -69,10 +69,15 @@ class Measurement:
     def refused(self) -> str:
         """Why the result cannot be trusted ("" when it can)."""
         if self.negative_steps < -ROUNDING - 1e-9:
-            cause = ("the calibrated switch_hysteresis is too large: calibrate it again"
-                     if self.method == "switch" else "check the setup")
-            return (f"the result is {self.negative_steps:g} steps, negative beyond the rounding "
-                    f"(−{ROUNDING:g} step): {cause}")
+            cause = (
+                "the calibrated switch_hysteresis is too large: calibrate it again"
+                if self.method == "switch"
+                else "check the setup"
+            )
+            return (
+                f"the result is {self.negative_steps:g} steps, negative beyond the rounding "
+                f"(−{ROUNDING:g} step): {cause}"
+            )
         if self.spread_mm > self.bound_mm + 1e-12:
             return (
                 f"the tries spread {self.spread_mm:.4f} mm, more than --max-spread "
@@ -96,11 +101,17 @@ class Measurement:
         return max(0, round(self.steps))
 
     def as_dict(self) -> dict[str, object]:
-        return {**asdict(self), "accepted": self.accepted, "refused": self.refused,
-                "whole_steps": self.whole_steps}
+        return {
+            **asdict(self),
+            "accepted": self.accepted,
+            "refused": self.refused,
+            "whole_steps": self.whole_steps,
+        }
 
 
-def _result(axis: AxisConfig, method: str, tries: list[float], bound_mm: float, **extra: float | None) -> Measurement:
+def _result(
+    axis: AxisConfig, method: str, tries: list[float], bound_mm: float, **extra: float | None
+) -> Measurement:
     """The mean and spread of the tries; a negative mean is 0 (a backlash is not below 0) and kept
     to judge whether it is within the rounding."""
     spm = axis.steps_per_mm
@@ -109,7 +120,15 @@ def _result(axis: AxisConfig, method: str, tries: list[float], bound_mm: float, 
     negative = min(mean, 0.0)
     mean = max(mean, 0.0)
     return Measurement(
-        axis.name, method, tries, mean, mean / spm, spread, spread / spm, bound_mm, **extra,
+        axis.name,
+        method,
+        tries,
+        mean,
+        mean / spm,
+        spread,
+        spread / spm,
+        bound_mm,
+        **extra,
         negative_steps=negative,
     )
 
@@ -300,10 +319,19 @@ def bounced(machine: Machine, which: Input, exc: AlarmError) -> str:
     )
 
 
-def measure_with_switch(machine: Machine, name: str, *, end: str | None = None, tries: int = 5, search: float = 5.0,
-                        feed: float = 1.0, max_spread: float = 0.01, on_progress: Progress | None = None) -> Measurement:
-    """The axis's limit switch (at `end`, default its homing end): backlash + hysteresis − the calibrated
-    hysteresis."""
+def measure_with_switch(
+    machine: Machine,
+    name: str,
+    *,
+    end: str | None = None,
+    tries: int = 5,
+    search: float = 5.0,
+    feed: float = 1.0,
+    max_spread: float = 0.01,
+    on_progress: Progress | None = None,
+) -> Measurement:
+    """The axis's limit switch (at `end`, default its homing end): backlash + hysteresis − the
+    calibrated hysteresis."""
     a = _axis(machine, name)
     axis = machine.config.axes[a]
     hysteresis = axis.backlash.switch_hysteresis if axis.backlash is not None else None

@@ -42,8 +42,13 @@ from .standing import Restream
 from .takeups import StreamPlan
 
 PauseOrProbe = TypeVar("PauseOrProbe", Pause, ProbeMove)
-LOOKAHEAD_S = 0.5  # s queued beyond the watchdog's host_timeout: a lost host meets the watchdog first
-AT_REST = (FEED_HOLD, STARVED)  # motion ends after which the rest of the job is planned again from rest
+LOOKAHEAD_S = (
+    0.5  # s queued beyond the watchdog's host_timeout: a lost host meets the watchdog first
+)
+AT_REST = (
+    FEED_HOLD,
+    STARVED,
+)  # motion ends after which the rest of the job is planned again from rest
 
 
 def final_state(end: MotionEnd) -> JobState:
@@ -120,7 +125,9 @@ class JobRun:
         done = min(total, max(0, offset + (motion.done if motion is not None else 0)))
         line = int(plan.segments.line[min(done, total - 1)]) if total else 0
         left = (ticks[-1] - ticks[done]) / plan.config.tick_hz
-        return JobProgress(before + done, before + total, line, left, line_at, state, self.states.starvations)
+        return JobProgress(
+            before + done, before + total, line, left, line_at, state, self.states.starvations
+        )
 
     @property
     def held(self) -> bool:

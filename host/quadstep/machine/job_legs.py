@@ -76,8 +76,8 @@ class PauseOffer:
         self.previous = restream.coordinates()
         restream.adopt(program.model_copy(deep=True))  # in memory only: kept where a zero is set
 
-    def settle(self, interrupted: bool, halted: str | None) -> WorkCoordinates | None:
-        """As the job goes on (or is halted, `halted` the reason): the coordinates the operator left
+    def settle(self, interrupted: bool, halted: bool) -> WorkCoordinates | None:
+        """As the job goes on (or is halted): the coordinates the operator left
         where the rest must be planned again in them (they changed, or another program moved the
         machine), else None."""
         after = self.restream.coordinates()

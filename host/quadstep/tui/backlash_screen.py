@@ -106,8 +106,10 @@ class BacklashScreen(ModalScreen[None]):
         self.query_one("#backlash-setup", Static).update(
             f"[b]Backlash[/b]  axis [b]{self.axis}[/b] (x y z)   method [b]{self.method}[/b] (m): "
             f"{escape(placement(self.axis, self.method))}\n"
-            f"tries [b]{self.tries}[/b] (- +)   refused when they spread more than {self.max_spread:g} mm\n"
-            "Enter: measure   w: write the result   d: dial indicator   Esc: close")
+            f"tries [b]{self.tries}[/b] (- +)   "
+            f"refused when they spread more than {self.max_spread:g} mm\n"
+            "Enter: measure   w: write the result   d: dial indicator   Esc: close"
+        )
 
     def say(self, text: str, error: bool = False) -> None:
         self.lines.append(text)
@@ -209,7 +211,8 @@ class BacklashScreen(ModalScreen[None]):
             )
         self.lines.append(f"{result.axis} backlash: {value}{rest}{after}")  # plain, for scripts
         self.query_one("#backlash-result", Static).update(
-            f"{result.axis} backlash: [b]{value}[/b]{escape(rest)}{marked}")
+            f"{result.axis} backlash: [b]{value}[/b]{escape(rest)}{marked}"
+        )
 
     def action_write(self) -> None:
         if self.running or self.result is None:

@@ -1,10 +1,10 @@
 """The dial-indicator wizard: a guided backlash measurement for machines without a probe
 (backlash/dial.py).
 
-Set the indicator against the carriage, preload it (p moves the axis toward it), zero it, then either jog back
-(one motor step, or a larger step to get close) until the needle moves, or move back by the same
-distance and type the reading; the screen says what to do at each step, computes the backlash,
-refuses a result it cannot trust with the reason, and writes it after a confirm. The moves
+Set the indicator against the carriage, preload it (p moves the axis toward it), zero it, then
+either jog back (one motor step, or a larger step to get close) until the needle moves, or move back
+by the same distance and type the reading; the screen says what to do at each step, computes the
+backlash, refuses a result it cannot trust with the reason, and writes it after a confirm. The moves
 (machine/dial.py) are longer than the backlash: at least twice the configured one and at least
 backlash/dial.py's minimum; + and − change them.
 """
@@ -91,7 +91,8 @@ class DialWizard(ModalScreen[None]):
         self.query_one("#dial-title", Static).update(
             f"[b]Dial indicator[/b]  axis [b]{self.axis}[/b], indicator on its {side} side (f)   "
             f"method [b]{'jog back' if self.mode == 'jog' else 'move back and read'}[/b] (t)   "
-            f"move [b]{move:g} mm[/b] (+ −)")
+            f"move [b]{move:g} mm[/b] (+ −)"
+        )
         back = "−" if self.side > 0 else "+"
         count = self.measurement.count if self.measurement is not None else 0
         text = {
@@ -146,9 +147,9 @@ class DialWizard(ModalScreen[None]):
             self.say(f"dial indicator: {message.error}", True)
         elif self.stage == "back" and self.measurement is not None and self.measurement.overdue:
             self.say(
-                f"jogged back {self.measurement.count} steps, more than the preload: the needle should "
-                "have moved; the backlash is more than the move (+, then p) or the indicator does not "
-                "touch the carriage",
+                f"jogged back {self.measurement.count} steps, more than the preload: the needle "
+                "should have moved; the backlash is more than the move (+, then p) or the "
+                "indicator does not touch the carriage",
                 True,
             )
         self._show()

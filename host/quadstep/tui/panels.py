@@ -66,8 +66,14 @@ class PositionPanel(Panel):
 class MachinePanel(Panel):
     """State, alarm, queue fill, feed and link health."""
 
-    def show(self, identity: IdentifyReply | None, snapshot: Snapshot | None, lost: str | None,
-             job: JobState | None = None, position_lost: bool = False) -> None:
+    def show(
+        self,
+        identity: IdentifyReply | None,
+        snapshot: Snapshot | None,
+        lost: str | None,
+        job: JobState | None = None,
+        position_lost: bool = False,
+    ) -> None:
         text = Text("state ", style="dim")
         if lost is not None:
             text.append("DISCONNECTED", style="bold white on red")
@@ -81,7 +87,9 @@ class MachinePanel(Panel):
                 text.append(st.state.name, style=STATE_STYLE.get(st.state, ""))
             if st.alarm:
                 text.append(f" {st.alarm.name}", style="bold red")
-            elif position_lost:  # a hard limit or the abort button: cleared, but machine zero is gone
+            elif (
+                position_lost
+            ):  # a hard limit or the abort button: cleared, but machine zero is gone
                 text.append(" position lost: h homes", style="bold red")
             health = snapshot.link
             bad = (
