@@ -326,8 +326,11 @@ def scurve_run(config: MachineConfig, p: float, path: Path, seed: int) -> str:
         emu.stop()
     if end.ended_by == "done" and tuple(end.position) == job.plan.end:
         return f"exact ({starved} starvation pauses)" if starved else "exact"
-    named = end.error or end.ended_by
-    return f"stopped at {list(end.position)}: {named.splitlines()[0][:70]}" if end.position else f"NO POSITION: {named}"
+    named = (end.error or end.ended_by).splitlines()[0]
+    if end.position:
+        return f"stopped at {list(end.position)}: {named[:70]}"
+    known = named.find("position [")  # a link that gave up names the last position the board reported
+    return f"stopped, {named[known:].split(' steps')[0]}: {named[:50]}" if known >= 0 else f"NO POSITION: {named}"
 
 
 def bench_scurve(config: MachineConfig, runs: int) -> None:
