@@ -14,6 +14,7 @@ import threading
 import time
 from collections import deque
 from collections.abc import Callable, Sequence
+from typing import Self
 
 import serial
 
@@ -62,7 +63,7 @@ class GrblClient:
         self._thread.join(timeout=5)
         self.port.close()
 
-    def __enter__(self) -> GrblClient:
+    def __enter__(self) -> Self:
         return self
 
     def __exit__(self, *exc: object) -> None:
