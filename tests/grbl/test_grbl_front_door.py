@@ -156,9 +156,11 @@ def test_jog_cancel_stops_a_jog_and_lines_go_on_from_where_it_stopped(
         grbl.realtime(0x85)
         stopped = mpos(grbl.wait_status(at_rest))
         assert 0.5 < stopped[0] < 50
+        steps = timed_door.steps()
         assert grbl.command("G91 G0 X1")[1] == "ok"
         after = mpos(grbl.wait_status(at_rest))
-        assert after == (round(stopped[0] + 1, 3), 0.0, 0.0)
+        assert after[0] == pytest.approx(stopped[0] + 1, abs=0.0011)
+        assert timed_door.steps() == (steps[0] + 400, 0, 0)  # 1 mm from the rest, exactly
 
 
 def test_soft_reset_in_motion_alarms_and_unlock_goes_on(timed_door: FrontDoor) -> None:

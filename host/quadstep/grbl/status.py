@@ -3,19 +3,30 @@ every WCO_EVERY reports (and whenever it changed), as GRBL sends it now and then
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
+from typing import Protocol
 
 from ..link import LinkError
+from ..machine import Machine
+from .executor import Executor
 from .protocol import StatusFields, status_report
-
-if TYPE_CHECKING:
-    from .session import Session
+from .reader import Reader
 
 WCO_EVERY = 10
 
 
+class SessionView(Protocol):
+    """What a report reads of the session."""
+
+    machine: Machine
+    reader: Reader
+    executor: Executor
+    alarm: bool
+    check_mode: bool
+    homing: bool
+
+
 class StatusBuilder:
-    def __init__(self, session: Session) -> None:
+    def __init__(self, session: SessionView) -> None:
         self.session = session
         self._count = 0
         self._last_wco: tuple[float, ...] | None = None
