@@ -4,8 +4,10 @@ where an independent reading of the file says."""
 
 from __future__ import annotations
 
+import queue
 import re
-from collections.abc import Iterator
+import threading
+from collections.abc import Callable, Iterator
 from pathlib import Path
 
 import pytest
@@ -233,3 +235,44 @@ def test_check_mode_reads_lines_and_moves_nothing(free_door: FrontDoor) -> None:
         assert grbl.command("$C") == (["[MSG:Disabled]"], "ok")
         assert at_rest(grbl.status())
     assert free_door.steps() == (0, 0, 0)
+
+
+def test_grbl_streamer_from_pypi_streams_the_cam_job(free_door: FrontDoor, tmp_path: Path) -> None:
+    """An independent sender (`pip install grbl-streamer`), counting characters; skipped without it.
+    Its threads write to the port and count the bytes in flight without a lock, so the job is started
+    from its reading thread once its own $$ is answered, and its polling only after the job."""
+    grbl_streamer = pytest.importorskip("grbl_streamer")
+    events: queue.Queue[tuple[str, tuple[object, ...]]] = queue.Queue()
+    path = tmp_path / "cam.nc"
+    path.write_text(CAM_JOB)
+    end = file_end(tmp_path)
+    booted = threading.Event()
+
+    def callback(event: str, *data: object) -> None:
+        if event == "on_boot":
+            booted.set()
+        elif event == "on_rx_buffer_percent" and booted.is_set() and streamer.buffer_size == 0:
+            streamer.incremental_streaming = False
+            streamer.load_file(str(path))
+            streamer.job_run()
+        events.put((event, data))
+
+    def until(name: str, predicate: Callable[[tuple[object, ...]], bool] = lambda _: True) -> None:
+        while True:
+            event, data = events.get(timeout=20)
+            assert event not in ("on_error", "on_alarm"), data
+            if event == name and predicate(data):
+                return
+
+    streamer = grbl_streamer.GrblStreamer(callback)
+    streamer.cnect(str(free_door.pty.path), 115200)
+    try:
+        until("on_boot")
+        until("on_job_completed")
+        streamer.poll_interval = 0.05
+        streamer.poll_start()
+        expected = tuple(round(x, 3) for x in CONFIG.to_mm(end))
+        until("on_stateupdate", lambda data: data[0] == "Idle" and data[1] == expected)
+    finally:
+        streamer.disconnect()
+    assert free_door.steps() == end

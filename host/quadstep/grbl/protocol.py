@@ -1,5 +1,6 @@
-"""GRBL 1.1's byte stream: lines ended by CR or LF, and realtime commands (one byte each) taken out of the
-stream wherever they arrive, even in the middle of a line; and the text of GRBL's answers."""
+"""GRBL 1.1's byte stream: lines ended by CR or LF (each one: a sender sends LF alone), and realtime
+commands (one byte each) taken out of the stream wherever they arrive, even in the middle of a line; and
+the text of GRBL's answers."""
 
 from __future__ import annotations
 
@@ -49,10 +50,11 @@ class StreamSplitter:
         for byte in data:
             if byte in SIMPLE_REALTIME or is_extended_realtime(byte):
                 yield Realtime(byte)
-            elif byte in (0x0A, 0x0D):
-                if self._line or self._overflow:
-                    text = self._line.decode("ascii", "replace")
-                    yield Line(text, self._overflow)
+            elif byte in (
+                0x0A,
+                0x0D,
+            ):  # each ends a line, an empty one too (answered ok, as GRBL does)
+                yield Line(self._line.decode("ascii", "replace"), self._overflow)
                 self._line.clear()
                 self._overflow = False
             elif len(self._line) < MAX_LINE:

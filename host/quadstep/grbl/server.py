@@ -13,6 +13,7 @@ from collections.abc import Callable
 from pathlib import Path
 
 from ..machine import Machine
+from .protocol import SOFT_RESET
 from .session import Session
 
 POLL_MS = 100
@@ -28,6 +29,7 @@ class PtyServer:
     def __init__(self, machine: Machine, link: Path | None = None) -> None:
         self.machine = machine
         self._master, slave = os.openpty()
+        os.set_blocking(self._master, False)
         tty.setraw(slave)
         self.path = Path(os.ttyname(slave))
         os.close(slave)  # nobody has it open: the master reads POLLHUP until a sender opens it
@@ -53,16 +55,21 @@ class PtyServer:
                 self._hang_up()
                 time.sleep(POLL_MS / 1000)
                 continue
-            if self.session is None:
+            first = self.session is None
+            if first:
                 time.sleep(OPEN_SETTLE_S)
-                self.session = Session(self.machine, self._send).start()
+            try:
+                data = os.read(self._master, 4096) if events or first else b""
+            except BlockingIOError:
+                data = b""
+            except OSError:
+                continue  # closed between poll and read: the next poll says so
+            if (
+                self.session is None
+            ):  # a soft reset sent on opening (as senders do) brings the banner
+                self.session = Session(self.machine, self._send).start(SOFT_RESET not in data)
                 self.connected.set()
-            if events:
-                try:
-                    data = os.read(self._master, 4096)
-                except OSError:
-                    continue  # closed between poll and read: the next poll says so
-                self.session.receive(data)
+            self.session.receive(data)
         self._hang_up()
 
     def _hang_up(self) -> None:

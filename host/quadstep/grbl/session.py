@@ -59,8 +59,10 @@ class Session:
         self._lines: queue.Queue[tuple[int, Line] | None] = queue.Queue()
         self._worker = threading.Thread(target=self._work, name="grbl-lines", daemon=True)
 
-    def start(self) -> Session:
-        self._banner()
+    def start(self, banner: bool = True) -> Session:
+        """Serve; the banner unless the client's first bytes are a soft reset (which brings it)."""
+        if banner:
+            self._banner()
         self._worker.start()
         return self
 
