@@ -276,3 +276,14 @@ def test_grbl_streamer_from_pypi_streams_the_cam_job(free_door: FrontDoor, tmp_p
     finally:
         streamer.disconnect()
     assert free_door.steps() == end
+
+
+def test_a_status_request_in_the_middle_of_a_line_is_answered_at_once(free_door: FrontDoor) -> None:
+    with client(free_door) as grbl:
+        grbl.port.write(b"G0 X")
+        grbl.port.write(b"?")
+        assert REPORT.match(grbl.reports.get(timeout=20))  # before the line is complete
+        assert grbl.answers.empty()
+        grbl.port.write(b"2\n")
+        assert grbl.answer() == "ok"
+        assert mpos(grbl.wait_status(at_rest)) == (2.0, 0.0, 0.0)
