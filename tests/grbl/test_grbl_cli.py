@@ -53,3 +53,13 @@ def test_quadstep_grbl_serves_the_link_path_and_tcp_until_interrupted(tmp_path: 
             process.kill()
     assert process.wait() == 0
     assert not link.is_symlink()
+
+
+def test_a_link_path_that_is_a_file_is_refused_and_kept(tmp_path: Path) -> None:
+    kept = tmp_path / "notes.txt"
+    kept.write_text("mine")
+    process = cli_process("grbl", "--emulator", "--link", str(kept))
+    _, err = process.communicate(timeout=60)
+    assert process.returncode == 1
+    assert f"--link {kept}: a file is there already (not a link)" in err
+    assert kept.read_text() == "mine"

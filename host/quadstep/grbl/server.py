@@ -35,8 +35,11 @@ class PtyServer:
         os.close(slave)  # nobody has it open: the master reads POLLHUP until a sender opens it
         self.link = link
         if link is not None:
-            if link.is_symlink() or link.exists():
-                link.unlink()
+            if link.exists() and not link.is_symlink():
+                os.close(self._master)
+                raise FileExistsError(f"--link {link}: a file is there already (not a link)")
+            if link.is_symlink():
+                link.unlink()  # left by an earlier run
             link.symlink_to(self.path)
         self._stop = threading.Event()
         self.session: Session | None = None
