@@ -3,9 +3,10 @@
 
 from __future__ import annotations
 
-import selectors
+import queue
 import signal
 import subprocess
+import threading
 import time
 from pathlib import Path
 
@@ -13,21 +14,27 @@ from cli_helpers import cli_process
 from grbl_client import GrblClient, mpos, report_fields
 
 
-def printed_line(process: subprocess.Popen[str], timeout: float = 30.0) -> str:
-    assert process.stdout is not None
-    with selectors.DefaultSelector() as selector:
-        selector.register(process.stdout, selectors.EVENT_READ)
-        assert selector.select(timeout), "quadstep grbl printed nothing"
-    return process.stdout.readline().strip()
+def printed_lines(process: subprocess.Popen[str]) -> queue.Queue[str]:
+    """What the command prints, line by line, read by a thread of its own."""
+    lines: queue.Queue[str] = queue.Queue()
+
+    def read() -> None:
+        assert process.stdout is not None
+        for line in process.stdout:
+            lines.put(line.strip())
+
+    threading.Thread(target=read, daemon=True).start()
+    return lines
 
 
 def test_quadstep_grbl_serves_the_link_path_and_tcp_until_interrupted(tmp_path: Path) -> None:
     link = tmp_path / "ttyGRBL"
     process = cli_process("grbl", "--emulator", "--free", "--link", str(link), "--tcp", "0")
     try:
-        served = printed_line(process)
+        printed = printed_lines(process)
+        served = printed.get(timeout=30)
         assert served.startswith("GRBL 1.1 on /dev/pts/") and served.endswith(f"(link {link})")
-        tcp = printed_line(process)
+        tcp = printed.get(timeout=30)
         assert tcp.startswith("GRBL 1.1 on tcp://127.0.0.1:")
         assert link.is_symlink() and str(link.resolve()) == served.split()[3]
         with GrblClient(str(link)) as grbl:
