@@ -1,0 +1,237 @@
+"""What the sender's lines ask for, planned and run on the machine in the order they came.
+
+Lines are answered `ok` as they are queued here (at most QUEUE_LINES wait, so a sender's buffer fills and
+it waits, as with GRBL's planner buffer). The queue is run in batches: the lines received so far are
+planned together, with look-ahead across them, as one job, when the queue is full, when the sender has
+been quiet for QUIET_S, or when a command needs the machine at rest ($H, $C, $X). A batch ends at rest, so
+the machine stops between batches; a sender that streams steadily keeps batches of QUEUE_LINES lines. A
+jog (`$J=`) runs alone, as its own job."""
+
+from __future__ import annotations
+
+import threading
+import time
+from collections import deque
+from collections.abc import Callable
+from dataclasses import dataclass, field
+
+from ..coordinates import WorkCoordinates
+from ..link import LinkError
+from ..machine import JobRun, JobState, Machine, MachineError
+from ..planner.plan import plan_program
+from ..planner.program import Item, JobError, Program
+
+QUEUE_LINES = 64  # lines accepted ahead of the machine
+QUIET_S = 0.05  # a sender quiet this long: what it sent is run
+
+
+@dataclass
+class Work:
+    items: list[Item]
+    coordinates: WorkCoordinates  # after its line
+    line: int
+    jog: bool = False
+
+
+@dataclass
+class Running:
+    run: JobRun
+    jog: bool
+    hold_asked: bool = field(default=False)
+
+
+class Executor:
+    """One thread that takes the queued work and runs it on `machine`; `on_fault` gets the message of a batch
+    that could not be planned or run (the session raises an alarm)."""
+
+    def __init__(self, machine: Machine, on_fault: Callable[[str], None]) -> None:
+        self.machine = machine
+        self.on_fault = on_fault
+        self._cond = threading.Condition()
+        self._queue: deque[Work] = deque()
+        self._running: Running | None = None
+        self._taking = False  # a batch taken from the queue, not yet running
+        self._held = False  # a feed hold with nothing moving: the queue waits for cycle start
+        self._flush = 0  # callers waiting for the machine at rest: run what is queued now
+        self._last = time.monotonic()
+        self.generation = 0  # a soft reset makes a new one; work of an older one is dropped
+        self._closed = False
+        self._thread = threading.Thread(target=self._loop, name="grbl-executor", daemon=True)
+        self._thread.start()
+
+    # --- from the session's line worker -------------------------------------------------------
+
+    def submit(self, work: Work, generation: int) -> bool:
+        """Queue `work` (waiting for room); False when a reset came first (the work is dropped)."""
+        with self._cond:
+            self._cond.wait_for(lambda: len(self._queue) < QUEUE_LINES or self._stale(generation))
+            if self._stale(generation):
+                return False
+            self._queue.append(work)
+            self._last = time.monotonic()
+            self._cond.notify_all()
+            return True
+
+    def wait_idle(self, generation: int) -> bool:
+        """Run what is queued and wait for the machine at rest; False when a reset came first."""
+        with self._cond:
+            self._flush += 1
+            self._cond.notify_all()
+            try:
+                self._cond.wait_for(lambda: self._idle() or self._stale(generation))
+            finally:
+                self._flush -= 1
+            return not self._stale(generation)
+
+    # --- state -----------------------------------------------------------------------------
+
+    @property
+    def idle(self) -> bool:
+        with self._cond:
+            return self._idle()
+
+    @property
+    def jogging(self) -> bool:
+        with self._cond:
+            return self._running is not None and self._running.jog
+
+    def grbl_state(self) -> str | None:
+        """Run, Jog, Hold:0 (at rest, held) or Hold:1 (coming to rest); None when idle."""
+        with self._cond:
+            running, queued, held = self._running, bool(self._queue) or self._taking, self._held
+        if running is None:
+            return ("Hold:0" if held else "Run") if queued else None
+        state = running.run.state
+        if state in (JobState.HELD, JobState.PAUSED):
+            return "Hold:0"
+        if running.hold_asked:
+            return "Hold:1"
+        return "Jog" if running.jog else "Run"
+
+    # --- realtime commands ----------------------------------------------------------------
+
+    def feed_hold(self) -> None:
+        """`!`: the job comes to rest and waits for `~`; a jog is cancelled (as GRBL does)."""
+        with self._cond:
+            running = self._running
+            if running is None:
+                self._held = bool(self._queue) or self._taking
+                return
+            running.hold_asked = True
+        if running.jog:
+            self.cancel_jog()
+        else:
+            running.run.feed_hold()
+
+    def cycle_start(self) -> None:
+        """`~`: go on after a feed hold or an M0."""
+        with self._cond:
+            running, self._held = self._running, False
+            if running is not None:
+                running.hold_asked = False
+            self._cond.notify_all()
+        if running is not None and not running.jog:
+            running.run.resume()
+
+    def cancel_jog(self) -> bool:
+        """0x85: the jog under way comes to rest, the queued jogs are dropped; True if one was stopped."""
+        with self._cond:
+            running = self._running
+            if any(w.jog for w in self._queue):
+                self._queue = deque(w for w in self._queue if not w.jog)
+                self._cond.notify_all()
+        if running is None or not running.jog:
+            return False
+        end = running.run.halt("jog cancel")
+        return end.ended_by != "done"
+
+    def reset(self) -> bool:
+        """A soft reset: the queue dropped, what moves brought to rest; True if it stopped motion."""
+        with self._cond:
+            self.generation += 1
+            self._queue.clear()
+            self._held = False
+            running = self._running
+            self._cond.notify_all()
+        if running is None:
+            return False
+        end = running.run.halt("reset")
+        return end.ended_by != "done"
+
+    def close(self) -> None:
+        self.reset()
+        with self._cond:
+            self._closed = True
+            self._cond.notify_all()
+        self._thread.join(timeout=10)
+
+    # --- the thread ------------------------------------------------------------------------
+
+    def _stale(self, generation: int) -> bool:
+        return generation != self.generation or self._closed
+
+    def _idle(self) -> bool:
+        return not self._queue and self._running is None and not self._taking
+
+    def _ready(self) -> float | None:
+        """Under the lock: None when the head of the queue should run now, else how long to wait."""
+        if not self._queue or self._held:
+            return 1.0
+        if self._queue[0].jog or len(self._queue) >= QUEUE_LINES or self._flush:
+            return None
+        quiet = time.monotonic() - self._last
+        return None if quiet >= QUIET_S else QUIET_S - quiet
+
+    def _take(self) -> list[Work] | None:
+        with self._cond:
+            while not self._closed:
+                wait = self._ready()
+                if wait is None:
+                    break
+                self._cond.wait(wait)
+            if self._closed:
+                return None
+            if self._queue[0].jog:
+                batch = [self._queue.popleft()]
+            else:
+                batch = []
+                while self._queue and not self._queue[0].jog:
+                    batch.append(self._queue.popleft())
+            self._taking = True
+            self._cond.notify_all()
+            return batch
+
+    def _loop(self) -> None:
+        while True:
+            batch = self._take()
+            if batch is None:
+                return
+            try:
+                self._run(batch)
+            except (JobError, MachineError, LinkError) as exc:
+                self.on_fault(str(exc))
+            finally:
+                with self._cond:
+                    self._running, self._taking = None, False
+                    self._cond.notify_all()
+
+    def _run(self, batch: list[Work]) -> None:
+        items = [item for work in batch for item in work.items]
+        machine = self.machine
+        last = batch[-1]
+        with self._cond:
+            generation = self.generation
+        if items:
+            program = Program(items=items, lines=last.line, coordinates=last.coordinates)
+            plan = plan_program(program, machine.config, machine.position, "line")
+            with self._cond:  # a feed hold before it starts waits for cycle start; a reset drops it
+                self._cond.wait_for(lambda: not self._held or self._stale(generation))
+                if self._stale(generation):
+                    return
+                run = machine.run_job(plan, program, label="line")
+                self._running = Running(run, last.jog)
+            end = run.wait()
+            if end is not None and end.ended_by == "error":
+                raise MachineError(end.error or "the job failed")
+        if machine.coordinates != last.coordinates:
+            machine.adopt_coordinates(last.coordinates)

@@ -1,0 +1,179 @@
+"""Each line a sender sends, read as it arrives with the modal state of the lines before it, checked whole
+(words, feed, arcs, the travel) before it is answered `ok`; a line in error leaves no trace, not even its
+modal words. What a line asks for (moves, dwells, outputs, pauses) is handed on to be run (executor.py).
+
+GRBL starts in G0, so a line with axis words and no motion word moves at rapid. M6 is answered and ignored,
+as GRBL does (the sender handles tool changes); probing (G38.x) is not offered here."""
+
+from __future__ import annotations
+
+import re
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+from ..config import MachineConfig
+from ..coordinates import SYSTEMS, WorkCoordinates
+from ..gcode.interpreter import MM_PER_INCH, GcodeInterpreter
+from ..planner.program import Item, JobError, LinearMove
+from .protocol import numbers
+
+TOOL_CHANGE = re.compile(r"M\s*0*6(?![\d.])", re.IGNORECASE)
+PROBING = re.compile(r"G\s*0*38", re.IGNORECASE)
+JOG_WORDS = re.compile(
+    r"^(?:\s*(?:G\s*(?:20|21|90|91|53)(?![\d.])|[A-Z]\s*[-+.\d]+)\s*)*$", re.IGNORECASE
+)
+_MODAL = (
+    "position",
+    "units",
+    "absolute",
+    "plane",
+    "motion",
+    "feed",
+    "deviation",
+    "outputs",
+    "tool",
+)
+
+
+class JogError(JobError):
+    """A `$J=` line GRBL would refuse as a jog (error 16)."""
+
+
+@dataclass(frozen=True)
+class Read:
+    """What one line asks for, and the work coordinates after it."""
+
+    items: list[Item]
+    coordinates: WorkCoordinates
+    line: int
+
+
+def check_travel(config: MachineConfig, items: Sequence[Item], line: int) -> None:
+    for item in items:
+        if not isinstance(item, LinearMove):
+            continue
+        for axis, x in zip(config.axes, item.target):
+            if not axis.travel_min - 1e-9 <= x <= axis.travel_max + 1e-9:
+                raise JobError(
+                    f"line {line}: {axis.name} {x:.3f} (machine) is outside the travel "
+                    f"{axis.travel_min:.3f} … {axis.travel_max:.3f} mm"
+                )
+
+
+class Reader:
+    """The sender's lines, numbered from 1 since the last reset, with their modal state."""
+
+    def __init__(
+        self, config: MachineConfig, position_mm: Sequence[float], coordinates: WorkCoordinates
+    ) -> None:
+        self.config = config
+        self.line = 0
+        self.interpreter = self._fresh(position_mm, coordinates)
+
+    def _fresh(
+        self, position_mm: Sequence[float], coordinates: WorkCoordinates
+    ) -> GcodeInterpreter:
+        config = self.config
+        interpreter = GcodeInterpreter(
+            config.axis_names, position_mm, config.arc_tolerance, coordinates=coordinates
+        )
+        interpreter.motion = 0  # GRBL's power-up motion mode
+        return interpreter
+
+    def reset(self, position_mm: Sequence[float], coordinates: WorkCoordinates) -> None:
+        """A soft reset: the modal state as at power-up, the offsets kept."""
+        self.interpreter = self._fresh(position_mm, coordinates)
+
+    def resync(self, position_mm: Sequence[float]) -> None:
+        """Where the machine rests now (after a stop or a jog cancelled): lines go on from there."""
+        self.interpreter.position = list(position_mm)
+
+    @property
+    def coordinates(self) -> WorkCoordinates:
+        return self.interpreter.coords
+
+    def read(self, text: str) -> Read:
+        """The line's items, checked; raises JobError (and the line leaves nothing) if it is bad."""
+        self.line += 1
+        if PROBING.search(text):
+            raise JobError(
+                f"line {self.line}: probing (G38.x) is not supported through the GRBL "
+                "front door; quadstep probe does it"
+            )
+        return self._read(TOOL_CHANGE.sub("", text), self.interpreter, self.line)
+
+    def jog(self, text: str) -> Read:
+        """A `$J=` line: G1 at its F, G20/G21/G90/G91/G53 for this line only; the modal state stays."""
+        self.line += 1
+        if not JOG_WORDS.match(text) or "F" not in text.upper():
+            raise JogError(
+                f"jog {text!r}: a jog is axis words and F, with G20 G21 G90 G91 G53 only"
+            )
+        base = self.interpreter
+        jog = GcodeInterpreter(
+            self.config.axis_names,
+            base.position,
+            self.config.arc_tolerance,
+            coordinates=base.coords,
+        )
+        jog.units, jog.absolute, jog.motion = base.units, base.absolute, 1
+        read = self._read(text, jog, self.line)
+        base.position = list(jog.position)
+        return Read(read.items, base.coords.model_copy(deep=True), read.line)
+
+    def _read(self, text: str, interpreter: GcodeInterpreter, line: int) -> Read:
+        saved = {name: getattr(interpreter, name) for name in _MODAL}
+        saved["position"] = list(interpreter.position)
+        coordinates = interpreter.coords.model_copy(deep=True)
+        program = interpreter.program
+        try:
+            interpreter.feed_line(text, line)
+            check_travel(self.config, program.items, line)
+        except JobError:
+            for name, value in saved.items():
+                setattr(interpreter, name, value)
+            interpreter.coords = program.coordinates = coordinates
+            program.items.clear()
+            raise
+        finally:
+            program.skipped.clear()
+        items = list(program.items)
+        program.items.clear()
+        return Read(items, interpreter.coords.model_copy(deep=True), line)
+
+    # --- what $G and $# show --------------------------------------------------------------
+
+    def modal_report(self) -> str:
+        i = self.interpreter
+        units = i.units
+        coolant = [m for m, on in (("M7", i.outputs.mist), ("M8", i.outputs.flood)) if on] or ["M9"]
+        words = [
+            f"G{i.motion if i.motion is not None else 80}",
+            i.coords.name,
+            f"G{i.plane}",
+            "G20" if units == MM_PER_INCH else "G21",
+            "G90" if i.absolute else "G91",
+            "G94",
+            f"M{i.outputs.spindle}",
+            *coolant,
+            f"T{i.tool or 0}",
+            f"F{(i.feed or 0.0) * 60 / units:g}",
+            f"S{i.outputs.speed:g}",
+        ]
+        return f"[GC:{' '.join(words)}]"
+
+    def offsets_report(self) -> list[str]:
+        names = self.config.axis_names
+        c = self.interpreter.coords
+        lines = [
+            f"[{system}:{numbers([c.offsets[k].get(a, 0.0) for a in names])}]"
+            for k, system in enumerate(SYSTEMS)
+        ]
+        lines.append(f"[G28:{numbers([c.stored(28, a) for a in names])}]")
+        lines.append(f"[G30:{numbers([c.stored(30, a) for a in names])}]")
+        lines.append(
+            f"[G92:{numbers([c.g92.get(a, 0.0) if c.g92_applied else 0.0 for a in names])}]"
+        )
+        lines.append("[TLO:0.000]")
+        lines.append(f"[PRB:{numbers([0.0] * len(names))}:0]")
+        return lines

@@ -1,0 +1,250 @@
+"""One sender's conversation: its bytes in, GRBL's answers out.
+
+Realtime commands are handled in the receiving thread as they arrive; lines go to a worker thread that
+answers each one, in order, once it is checked and queued (executor.py) or done ($ commands)."""
+
+from __future__ import annotations
+
+import queue
+import threading
+from collections.abc import Callable
+
+from ..link import LinkError
+from ..machine import Machine, MachineError
+from ..machine.homing import home
+from ..planner.program import JobError
+from .errors import GrblAlarm, GrblError, error_for
+from .executor import Executor, Work
+from .protocol import (
+    BANNER,
+    CYCLE_START,
+    FEED_HOLD,
+    JOG_CANCEL,
+    OPTIONS,
+    SOFT_RESET,
+    STATUS,
+    VERSION,
+    Line,
+    Realtime,
+    StreamSplitter,
+)
+from .reader import JogError, Reader
+from .settings import FIXED, SETTING_WRITE, settings_lines
+from .status import StatusBuilder
+
+HELP = "[HLP:$$ $# $G $I $N $x=val $Nx=line $J=line $SLP $C $X $H ~ ! ? ctrl-x]"
+UNLOCK = "[MSG:'$H'|'$X' to unlock]"
+Answer = list[str]
+
+
+def message(text: str) -> str:
+    return f"[MSG:{text.replace(']', ')')}]"
+
+
+class Session:
+    """GRBL 1.1 on `machine` for one client, whose answers go to `write` (bytes, from any thread)."""
+
+    def __init__(self, machine: Machine, write: Callable[[bytes], None]) -> None:
+        self.machine = machine
+        self._write = write
+        self._write_lock = threading.Lock()
+        self._reader_lock = threading.Lock()
+        self.reader = Reader(machine.config, machine.position_mm, machine.coordinates)
+        self.executor = Executor(machine, self._fault)
+        self.status = StatusBuilder(self)
+        self.splitter = StreamSplitter()
+        self.alarm = machine.config.homing_required and not machine.homed
+        self.check_mode = False
+        self.homing = False
+        self._lines: queue.Queue[tuple[int, Line] | None] = queue.Queue()
+        self._worker = threading.Thread(target=self._work, name="grbl-lines", daemon=True)
+
+    def start(self, banner: bool = True) -> Session:
+        """Serve; the banner unless the client's first bytes are a soft reset (which brings it)."""
+        if banner:
+            self._banner()
+        self._worker.start()
+        return self
+
+    def close(self) -> None:
+        """The client has gone: what moves comes to rest, the queue is dropped."""
+        self._lines.put(None)
+        if self.homing:
+            self.machine.hold("quit")
+        self.executor.close()
+        self._worker.join(timeout=10)
+
+    def say(self, *lines: str) -> None:
+        data = (
+            "".join(f"{line}\r\n" for line in lines).replace("…", "...").encode("ascii", "replace")
+        )
+        with self._write_lock:
+            try:
+                self._write(data)
+            except OSError:
+                pass  # the client has gone: close() follows
+
+    def receive(self, data: bytes) -> None:
+        """Bytes from the client (in its receiving thread)."""
+        for event in self.splitter.feed(data):
+            if isinstance(event, Realtime):
+                self._realtime(event.byte)
+            else:
+                self._lines.put((self.executor.generation, event))
+
+    # --- realtime ----------------------------------------------------------------------------
+
+    def _realtime(self, byte: int) -> None:
+        if byte == STATUS:
+            self.say(self.status.report())
+        elif byte == FEED_HOLD:
+            self.executor.feed_hold()
+        elif byte == CYCLE_START:
+            self.executor.cycle_start()
+        elif byte == SOFT_RESET:
+            self._soft_reset()
+        elif byte == JOG_CANCEL and self.executor.cancel_jog():
+            with self._reader_lock:
+                self.reader.resync(self.machine.position_mm)
+
+    def _soft_reset(self) -> None:
+        """0x18: a controlled stop (HOLD), the queue and the modal state dropped, then the banner; ALARM:3
+        when it stopped motion (the position is exact, but the sender's program was cut)."""
+        self.splitter.clear()
+        stopped = self.executor.reset()
+        if self.homing:
+            self.machine.hold("reset")
+            stopped = True
+        with self._reader_lock:
+            self.reader.reset(self.machine.position_mm, self.machine.coordinates)
+        self.check_mode = False
+        if stopped:
+            self.alarm = True
+            self.say(f"ALARM:{GrblAlarm.RESET_IN_MOTION.value}")
+        self._banner()
+
+    def _banner(self) -> None:
+        self.say("", BANNER)
+        if self.alarm:
+            self.say(UNLOCK)
+
+    def _fault(self, text: str) -> None:
+        """A batch that could not be planned or run (its lines were answered already): an alarm, so the
+        sender stops; $X unlocks."""
+        self.alarm = True
+        self.say(message(text), f"ALARM:{GrblAlarm.SOFT_LIMIT.value}")
+
+    # --- lines -------------------------------------------------------------------------------
+
+    def _work(self) -> None:
+        while True:
+            entry = self._lines.get()
+            if entry is None:
+                return
+            generation, line = entry
+            if generation != self.executor.generation:
+                continue  # sent before a soft reset
+            answer = self._answer(line, generation)
+            if generation == self.executor.generation:
+                self.say(*answer)
+
+    def _answer(self, line: Line, generation: int) -> Answer:
+        if line.overflow:
+            return [f"error:{GrblError.LINE_OVERFLOW.value}"]
+        text = line.text.strip()
+        try:
+            if text.startswith("$"):
+                return self._system(text, generation)
+            return self._gcode(text, generation)
+        except (JobError, MachineError, LinkError) as exc:
+            return [message(str(exc)), f"error:{error_for(str(exc)).value}"]
+
+    def _gcode(self, text: str, generation: int) -> Answer:
+        if not text:
+            return ["ok"]
+        if self.alarm:
+            return [f"error:{GrblError.GCODE_LOCK.value}"]
+        with self._reader_lock:
+            read = self.reader.read(text)
+        if not self.check_mode:
+            self.executor.submit(Work(read.items, read.coordinates, read.line), generation)
+        return ["ok"]
+
+    def _system(self, text: str, generation: int) -> Answer:
+        command = text[1:].upper()
+        if command == "":
+            return [HELP, "ok"]
+        if command == "$":
+            return [*settings_lines(self.machine.config), "ok"]
+        if command == "I":
+            return [VERSION, OPTIONS, "ok"]
+        if command == "#":
+            with self._reader_lock:
+                return [*self.reader.offsets_report(), "ok"]
+        if command == "G":
+            with self._reader_lock:
+                return [self.reader.modal_report(), "ok"]
+        if command == "N":
+            return ["$N0=", "$N1=", "ok"]
+        if command == "SLP":
+            return ["ok"]
+        if command.startswith("J="):
+            return self._jog(text[3:], generation)
+        if command == "X":
+            return self._unlock(generation)
+        if command == "H":
+            return self._home(generation)
+        if command == "C":
+            return self._check_mode(generation)
+        if SETTING_WRITE.match(text) or command.startswith(("N", "RST=")):
+            return [FIXED, f"error:{GrblError.INVALID_STATEMENT.value}"]
+        return [f"error:{GrblError.INVALID_STATEMENT.value}"]
+
+    def _jog(self, text: str, generation: int) -> Answer:
+        if self.alarm:
+            return [f"error:{GrblError.GCODE_LOCK.value}"]
+        if not self.executor.idle and not self.executor.jogging:
+            return [f"error:{GrblError.NOT_IDLE.value}"]
+        try:
+            with self._reader_lock:
+                read = self.reader.jog(text)
+        except JogError as exc:
+            return [message(str(exc)), f"error:{GrblError.INVALID_JOG.value}"]
+        self.executor.submit(Work(read.items, read.coordinates, read.line, jog=True), generation)
+        return ["ok"]
+
+    def _unlock(self, generation: int) -> Answer:
+        if not self.executor.wait_idle(generation):
+            return []
+        self.alarm = False
+        return ["[MSG:Caution: Unlocked]", "ok"]
+
+    def _home(self, generation: int) -> Answer:
+        if not any(a.homing is not None for a in self.machine.config.axes):
+            return [f"error:{GrblError.HOMING_DISABLED.value}"]
+        if not self.executor.wait_idle(generation):
+            return []
+        self.homing = True
+        try:
+            home(self.machine)
+        except (MachineError, LinkError) as exc:
+            self.alarm = True
+            return [message(str(exc)), f"ALARM:{GrblAlarm.HOMING_FAIL_APPROACH.value}", "ok"]
+        finally:
+            self.homing = False
+        self.alarm = False
+        with self._reader_lock:
+            self.reader.resync(self.machine.position_mm)
+        return ["ok"]
+
+    def _check_mode(self, generation: int) -> Answer:
+        if not self.executor.wait_idle(generation):
+            return []
+        self.check_mode = not self.check_mode
+        if self.check_mode:
+            return ["[MSG:Enabled]", "ok"]
+        with (
+            self._reader_lock
+        ):  # leaving check mode resets the modal state, as GRBL's soft reset does
+            self.reader.reset(self.machine.position_mm, self.machine.coordinates)
+        return ["[MSG:Disabled]", "ok"]

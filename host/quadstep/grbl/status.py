@@ -1,0 +1,75 @@
+"""The `?` status report: GRBL's state name, the machine position, feed and speed, and the work offset
+every WCO_EVERY reports (and whenever it changed), as GRBL sends it now and then to save bandwidth."""
+
+from __future__ import annotations
+
+from typing import Protocol
+
+from ..link import LinkError
+from ..machine import Machine
+from .executor import Executor
+from .protocol import StatusFields, status_report
+from .reader import Reader
+
+WCO_EVERY = 10
+
+
+class SessionView(Protocol):
+    """What a report reads of the session."""
+
+    machine: Machine
+    reader: Reader
+    executor: Executor
+    alarm: bool
+    check_mode: bool
+    homing: bool
+
+
+class StatusBuilder:
+    def __init__(self, session: SessionView) -> None:
+        self.session = session
+        self._count = 0
+        self._last_wco: tuple[float, ...] | None = None
+
+    def state(self) -> str:
+        session = self.session
+        if session.homing:
+            return "Home"
+        if session.alarm:
+            return "Alarm"
+        moving = session.executor.grbl_state()
+        if moving is not None:
+            return moving
+        return "Check" if session.check_mode else "Idle"
+
+    def position(self) -> tuple[float, ...]:
+        """Machine mm: where it stands, read from the board while a program runs."""
+        machine = self.session.machine
+        if machine.busy:
+            try:
+                return machine.config.to_mm(machine.live_position(machine.status()))
+            except LinkError:
+                pass
+        return machine.position_mm
+
+    def report(self) -> str:
+        session = self.session
+        state = self.state()
+        interpreter = session.reader.interpreter
+        coordinates = interpreter.coords
+        wco = tuple(coordinates.offset(a) for a in session.machine.config.axis_names)
+        running = state in ("Run", "Jog", "Hold:1")
+        feed = (interpreter.feed or 0.0) * 60 if running else 0.0
+        show_wco = self._count % WCO_EVERY == 0 or wco != self._last_wco
+        self._count += 1
+        if show_wco:
+            self._last_wco = wco
+        fields = StatusFields(
+            state,
+            self.position(),
+            feed,
+            interpreter.outputs.speed,
+            wco if show_wco else None,
+            overrides=self._count % WCO_EVERY == 2,
+        )
+        return status_report(fields)
