@@ -238,10 +238,10 @@ def test_check_mode_reads_lines_and_moves_nothing(free_door: FrontDoor) -> None:
 
 
 def test_grbl_streamer_from_pypi_streams_the_cam_job(free_door: FrontDoor, tmp_path: Path) -> None:
-    """An independent sender (`pip install grbl-streamer`), counting characters; skipped without it.
+    """An independent sender from PyPI (grbl-streamer, in the test extra), counting characters.
     Its threads write to the port and count the bytes in flight without a lock, so the job is started
     from its reading thread once its own $$ is answered, and its polling only after the job."""
-    grbl_streamer = pytest.importorskip("grbl_streamer")
+    import grbl_streamer
     events: queue.Queue[tuple[str, tuple[object, ...]]] = queue.Queue()
     path = tmp_path / "cam.nc"
     path.write_text(CAM_JOB)

@@ -1,5 +1,5 @@
-"""GRBL's error and alarm numbers (its interface documentation), and quadstep's errors mapped to them: the
-sender shows GRBL's meaning, quadstep's own message goes with it as a [MSG:…] line."""
+"""GRBL's error and alarm numbers (its interface documentation), and quadstep's errors mapped to
+them: the sender shows GRBL's meaning, quadstep's own message goes with it as a [MSG:…] line."""
 
 from __future__ import annotations
 
@@ -66,7 +66,8 @@ _BY_TEXT: tuple[tuple[str, GrblError], ...] = (
 
 
 def error_for(message: str) -> GrblError:
-    """The GRBL error that says best what `message` (a JobError's) says; an invalid target otherwise."""
+    """The GRBL error that says best what `message` (a JobError's) says; an invalid target
+    otherwise."""
     for text, error in _BY_TEXT:
         if text in message:
             return error

@@ -1,11 +1,11 @@
 """What the sender's lines ask for, planned and run on the machine in the order they came.
 
-Lines are answered `ok` as they are queued here (at most QUEUE_LINES wait, so a sender's buffer fills and
-it waits, as with GRBL's planner buffer). The queue is run in batches: the lines received so far are
-planned together, with look-ahead across them, as one job, when the queue is full, when the sender has
-been quiet for QUIET_S, or when a command needs the machine at rest ($H, $C, $X). A batch ends at rest, so
-the machine stops between batches; a sender that streams steadily keeps batches of QUEUE_LINES lines. A
-jog (`$J=`) runs alone, as its own job."""
+Lines are answered `ok` as they are queued here (at most QUEUE_LINES wait, so a sender's buffer
+fills and it waits, as with GRBL's planner buffer). The queue is run in batches: the lines received
+so far are planned together, with look-ahead across them, as one job, when the queue is full, when
+the sender has been quiet for QUIET_S, or when a command needs the machine at rest ($H, $C, $X). A
+batch ends at rest, so the machine stops between batches; a sender that streams steadily keeps
+batches of QUEUE_LINES lines. A jog (`$J=`) runs alone, as its own job."""
 
 from __future__ import annotations
 
@@ -41,8 +41,8 @@ class Running:
 
 
 class Executor:
-    """One thread that takes the queued work and runs it on `machine`; `on_fault` gets the message of a batch
-    that could not be planned or run (the session raises an alarm)."""
+    """One thread that takes the queued work and runs it on `machine`; `on_fault` gets the message
+    of a batch that could not be planned or run (the session raises an alarm)."""
 
     def __init__(self, machine: Machine, on_fault: Callable[[str], None]) -> None:
         self.machine = machine
@@ -134,7 +134,8 @@ class Executor:
             running.run.resume()
 
     def cancel_jog(self) -> bool:
-        """0x85: the jog under way comes to rest, the queued jogs are dropped; True if one was stopped."""
+        """0x85: the jog under way comes to rest, the queued jogs are dropped; True if one was
+        stopped."""
         with self._cond:
             running = self._running
             if any(w.jog for w in self._queue):
@@ -146,7 +147,8 @@ class Executor:
         return end.ended_by != "done"
 
     def reset(self) -> bool:
-        """A soft reset: the queue dropped, what moves brought to rest; True if it stopped motion."""
+        """A soft reset: the queue dropped, what moves brought to rest; True if it stopped
+        motion."""
         with self._cond:
             self.generation += 1
             self._queue.clear()

@@ -1,6 +1,6 @@
 """GRBL 1.1's byte stream: lines ended by CR or LF (each one: a sender sends LF alone), and realtime
-commands (one byte each) taken out of the stream wherever they arrive, even in the middle of a line; and
-the text of GRBL's answers."""
+commands (one byte each) taken out of the stream wherever they arrive, even in the middle of a line;
+and the text of GRBL's answers."""
 
 from __future__ import annotations
 

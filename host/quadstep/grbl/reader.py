@@ -1,9 +1,10 @@
-"""Each line a sender sends, read as it arrives with the modal state of the lines before it, checked whole
-(words, feed, arcs, the travel) before it is answered `ok`; a line in error leaves no trace, not even its
-modal words. What a line asks for (moves, dwells, outputs, pauses) is handed on to be run (executor.py).
+"""Each line a sender sends, read as it arrives with the modal state of the lines before it, checked
+whole (words, feed, arcs, the travel) before it is answered `ok`; a line in error leaves no trace,
+not even its modal words. What a line asks for (moves, dwells, outputs, pauses) is handed on to be
+run (executor.py).
 
-GRBL starts in G0, so a line with axis words and no motion word moves at rapid. M6 is answered and ignored,
-as GRBL does (the sender handles tool changes); probing (G38.x) is not offered here."""
+GRBL starts in G0, so a line with axis words and no motion word moves at rapid. M6 is answered and
+ignored, as GRBL does (the sender handles tool changes); probing (G38.x) is not offered here."""
 
 from __future__ import annotations
 
@@ -103,7 +104,8 @@ class Reader:
         return self._read(TOOL_CHANGE.sub("", text), self.interpreter, self.line)
 
     def jog(self, text: str) -> Read:
-        """A `$J=` line: G1 at its F, G20/G21/G90/G91/G53 for this line only; the modal state stays."""
+        """A `$J=` line: G1 at its F, G20/G21/G90/G91/G53 for this line only; the modal state
+        stays."""
         self.line += 1
         if not JOG_WORDS.match(text) or "F" not in text.upper():
             raise JogError(

@@ -1,5 +1,5 @@
-"""Serving GRBL on a pseudo-terminal (a sender opens its path like a serial port) and, if asked, on TCP
-127.0.0.1 (one client at a time: a second is told so and closed)."""
+"""Serving GRBL on a pseudo-terminal (a sender opens its path like a serial port) and, if asked, on
+TCP 127.0.0.1 (one client at a time: a second is told so and closed)."""
 
 from __future__ import annotations
 
@@ -22,9 +22,9 @@ BUSY = b"[MSG:quadstep: another sender is connected; one at a time]\r\n"
 
 
 class PtyServer:
-    """A pseudo-terminal whose other end is GRBL; `path` is what a sender opens. A sender opening it gets a
-    session of its own (the banner after OPEN_SETTLE_S, once the sender has flushed its input as serial
-    ports do on opening); closing it ends the session (what moves comes to rest)."""
+    """A pseudo-terminal whose other end is GRBL; `path` is what a sender opens. A sender opening it
+    gets a session of its own (the banner after OPEN_SETTLE_S, once the sender has flushed its input
+    as serial ports do on opening); closing it ends the session (what moves comes to rest)."""
 
     def __init__(self, machine: Machine, link: Path | None = None) -> None:
         self.machine = machine

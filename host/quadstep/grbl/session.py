@@ -1,7 +1,8 @@
 """One sender's conversation: its bytes in, GRBL's answers out.
 
-Realtime commands are handled in the receiving thread as they arrive; lines go to a worker thread that
-answers each one, in order, once it is checked and queued (executor.py) or done ($ commands)."""
+Realtime commands are handled in the receiving thread as they arrive; lines go to a worker thread
+that answers each one, in order, once it is checked and queued (executor.py) or done ($
+commands)."""
 
 from __future__ import annotations
 
@@ -42,7 +43,8 @@ def message(text: str) -> str:
 
 
 class Session:
-    """GRBL 1.1 on `machine` for one client, whose answers go to `write` (bytes, from any thread)."""
+    """GRBL 1.1 on `machine` for one client, whose answers go to `write` (bytes, from any
+    thread)."""
 
     def __init__(self, machine: Machine, write: Callable[[bytes], None]) -> None:
         self.machine = machine
@@ -108,8 +110,8 @@ class Session:
                 self.reader.resync(self.machine.position_mm)
 
     def _soft_reset(self) -> None:
-        """0x18: a controlled stop (HOLD), the queue and the modal state dropped, then the banner; ALARM:3
-        when it stopped motion (the position is exact, but the sender's program was cut)."""
+        """0x18: a controlled stop (HOLD), the queue and the modal state dropped, then the banner;
+        ALARM:3 when it stopped motion (the position is exact, but the sender's program was cut)."""
         self.splitter.clear()
         stopped = self.executor.reset()
         if self.homing:
@@ -129,8 +131,8 @@ class Session:
             self.say(UNLOCK)
 
     def _fault(self, text: str) -> None:
-        """A batch that could not be planned or run (its lines were answered already): an alarm, so the
-        sender stops; $X unlocks."""
+        """A batch that could not be planned or run (its lines were answered already): an alarm, so
+        the sender stops; $X unlocks."""
         self.alarm = True
         self.say(message(text), f"ALARM:{GrblAlarm.SOFT_LIMIT.value}")
 
@@ -172,33 +174,34 @@ class Session:
 
     def _system(self, text: str, generation: int) -> Answer:
         command = text[1:].upper()
-        if command == "":
-            return [HELP, "ok"]
-        if command == "$":
-            return [*settings_lines(self.machine.config), "ok"]
-        if command == "I":
-            return [VERSION, OPTIONS, "ok"]
-        if command == "#":
-            with self._reader_lock:
-                return [*self.reader.offsets_report(), "ok"]
-        if command == "G":
-            with self._reader_lock:
-                return [self.reader.modal_report(), "ok"]
-        if command == "N":
-            return ["$N0=", "$N1=", "ok"]
-        if command == "SLP":
-            return ["ok"]
         if command.startswith("J="):
             return self._jog(text[3:], generation)
-        if command == "X":
-            return self._unlock(generation)
-        if command == "H":
-            return self._home(generation)
-        if command == "C":
-            return self._check_mode(generation)
+        answer = self._system_commands(generation).get(command)
+        if answer is not None:
+            return answer()
         if SETTING_WRITE.match(text) or command.startswith(("N", "RST=")):
             return [FIXED, f"error:{GrblError.INVALID_STATEMENT.value}"]
         return [f"error:{GrblError.INVALID_STATEMENT.value}"]
+
+    def _system_commands(self, generation: int) -> dict[str, Callable[[], Answer]]:
+        """`$` commands by name, each answering when called."""
+        return {
+            "": lambda: [HELP, "ok"],
+            "$": lambda: [*settings_lines(self.machine.config), "ok"],
+            "I": lambda: [VERSION, OPTIONS, "ok"],
+            "#": lambda: [*self._read(self.reader.offsets_report), "ok"],
+            "G": lambda: [*self._read(lambda: [self.reader.modal_report()]), "ok"],
+            "N": lambda: ["$N0=", "$N1=", "ok"],
+            "SLP": lambda: ["ok"],
+            "X": lambda: self._unlock(generation),
+            "H": lambda: self._home(generation),
+            "C": lambda: self._check_mode(generation),
+        }
+
+    def _read(self, report: Callable[[], list[str]]) -> list[str]:
+        """A report of the modal state, taken while no line is being read."""
+        with self._reader_lock:
+            return report()
 
     def _jog(self, text: str, generation: int) -> Answer:
         if self.alarm:

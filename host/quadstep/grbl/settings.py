@@ -1,5 +1,5 @@
-"""`$$`: GRBL's settings as the machine's configuration says them. The configuration file is where they are
-set; `$N=value` is answered with an error that says so (nothing changes)."""
+"""`$$`: GRBL's settings as the machine's configuration says them. The configuration file is where
+they are set; `$N=value` is answered with an error that says so (nothing changes)."""
 
 from __future__ import annotations
 
@@ -20,7 +20,8 @@ def _text(value: float) -> str:
 
 
 def settings(config: MachineConfig) -> list[tuple[int, float]]:
-    """(number, value) of every setting, in GRBL's order; per-axis ones for every configured axis."""
+    """(number, value) of every setting, in GRBL's order; per-axis ones for every configured
+    axis."""
     axes = config.axes
     homing = [a.homing for a in axes if a.homing is not None]
     first = homing[0] if homing else None

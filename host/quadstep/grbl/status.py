@@ -1,5 +1,6 @@
-"""The `?` status report: GRBL's state name, the machine position, feed and speed, and the work offset
-every WCO_EVERY reports (and whenever it changed), as GRBL sends it now and then to save bandwidth."""
+"""The `?` status report: GRBL's state name, the machine position, feed and speed, and the work
+offset every WCO_EVERY reports (and whenever it changed), as GRBL sends it now and then to save
+bandwidth."""
 
 from __future__ import annotations
 
