@@ -11,6 +11,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from modal_job import JOB
+
 from quadstep.cli import main
 from quadstep.config import load_config
 from quadstep.emulator import Emulator
@@ -26,25 +28,6 @@ CONFIG = load_config(ROUTER)
 Capture = pytest.CaptureFixture[str]
 # Inches, relative segments, G55 set by G10, the spindle on, off and on again, a tool change;
 # started at line 14.
-JOB = """\
-G20 G90 G17
-G10 L2 P2 X1 Y1 Z-0.2
-G55
-T2 M6
-M3 S12000
-G0 X0.5 Y0.5 Z0.1
-G1 Z-0.04 F20
-G91 G1 X0.5
-G1 Y0.25
-M5
-G90 G0 Z0.1
-M3 S9000 M8
-G91 G1 Z-0.14 F10
-G1 X-0.5 Y0.25
-G90 G2 X1.5 Y1.0 I0.5 J0
-G0 Z0.1
-M30
-"""
 START = (40000, 60000, -12000)  # steps: machine X 100, Y 150, Z -30 mm
 APPROACH = ("starting at line 14: Z up to 0.000 mm (machine), X 25.400 Y 19.050 mm (G55) at "
             "rapid, spindle M3 S9000 on, flood coolant on, Z down to -1.016 mm (G55) at "

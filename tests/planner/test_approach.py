@@ -8,6 +8,8 @@ from pathlib import Path
 
 import pytest
 
+from modal_job import JOB
+
 from quadstep.config import ConfigError, MachineConfig, load_config, parse_config
 from quadstep.gcode import parse_gcode
 from quadstep.job import read_program
@@ -28,25 +30,6 @@ CONFIG = load_config(ROUTER)
 INCH = 25.4
 # Inches, relative segments, G55 set by G10, the spindle on, off and on again, and a tool change,
 # all before line 14.
-JOB = """\
-G20 G90 G17
-G10 L2 P2 X1 Y1 Z-0.2
-G55
-T2 M6
-M3 S12000
-G0 X0.5 Y0.5 Z0.1
-G1 Z-0.04 F20
-G91 G1 X0.5
-G1 Y0.25
-M5
-G90 G0 Z0.1
-M3 S9000 M8
-G91 G1 Z-0.14 F10
-G1 X-0.5 Y0.25
-G90 G2 X1.5 Y1.0 I0.5 J0
-G0 Z0.1
-M30
-"""
 G55 = (INCH, INCH, -0.2 * INCH)  # G55's origin, machine mm
 AT = (100.0, 150.0, -30.0)  # where the machine stands, machine mm
 ON_AT_14 = OutputState(spindle=3, speed=9000.0, flood=True)  # M3, M5, then M3 S9000 M8

@@ -8,7 +8,7 @@ import argparse
 import signal
 import sys
 import threading
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from contextlib import contextmanager
 from types import FrameType
 from typing import TYPE_CHECKING
@@ -18,6 +18,7 @@ if TYPE_CHECKING:
 
 INTERRUPTED = 130  # the shell's code for a command ended by SIGINT; used for SIGTERM and SIGHUP too
 STOP_SIGNALS = (signal.SIGTERM, signal.SIGHUP)
+Handler = Callable[[int, FrameType | None], None]
 
 
 def _as_interrupt(number: int, frame: FrameType | None) -> None:
@@ -25,21 +26,28 @@ def _as_interrupt(number: int, frame: FrameType | None) -> None:
 
 
 @contextmanager
-def stop_signals_as_interrupt() -> Iterator[None]:
-    """SIGTERM and SIGHUP raise KeyboardInterrupt in the main thread while this lasts (a SIGHUP
-    ignored, as under nohup, stays ignored)."""
-    if threading.current_thread() is not threading.main_thread():
-        yield
-        return
+def stop_signals_handled(handler: Handler) -> Iterator[None]:
+    """SIGTERM and SIGHUP go to `handler` while this lasts (a SIGHUP ignored, as under nohup, stays
+    ignored); the handlers before it come back after."""
     previous = {sig: signal.getsignal(sig) for sig in STOP_SIGNALS}
-    for sig, handler in previous.items():
-        if handler is not signal.SIG_IGN:
-            signal.signal(sig, _as_interrupt)
+    for sig, old in previous.items():
+        if old is not signal.SIG_IGN:
+            signal.signal(sig, handler)
     try:
         yield
     finally:
-        for sig, handler in previous.items():
-            signal.signal(sig, handler)
+        for sig, old in previous.items():
+            signal.signal(sig, old)
+
+
+@contextmanager
+def stop_signals_as_interrupt() -> Iterator[None]:
+    """SIGTERM and SIGHUP raise KeyboardInterrupt in the main thread while this lasts."""
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    with stop_signals_handled(_as_interrupt):
+        yield
 
 
 def why(exc: KeyboardInterrupt) -> str:

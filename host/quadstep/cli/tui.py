@@ -4,7 +4,6 @@ terminal."""
 from __future__ import annotations
 
 import argparse
-import signal
 import threading
 from collections.abc import Iterator
 from contextlib import contextmanager
@@ -19,7 +18,7 @@ from ..jog import JogSettings
 from ..machine import Target, state_path
 from ..validation import describe_validation_error
 from ._jobs import DEFAULT_CONFIG
-from ._stops import STOP_SIGNALS
+from ._stops import stop_signals_handled
 from .options import CliError, add_connection_options, target
 from .run import position_lines
 
@@ -123,15 +122,8 @@ def stops_as_ctrl_c(app: QuadstepApp) -> Iterator[None]:
             target=lambda: app.call_from_thread(app.action_interrupt), daemon=True
         ).start()
 
-    previous = {sig: signal.getsignal(sig) for sig in STOP_SIGNALS}
-    for sig, old in previous.items():
-        if old is not signal.SIG_IGN:
-            signal.signal(sig, handler)
-    try:
+    with stop_signals_handled(handler):
         yield
-    finally:
-        for sig, old in previous.items():
-            signal.signal(sig, old)
 
 
 def _target(device: str, baud: int) -> Target:
