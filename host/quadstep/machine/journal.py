@@ -263,7 +263,10 @@ class Journal:
     def note(self, state: JobState, line: int | None) -> None:
         """The job went to `state` (waiting at `line`): where it waits is kept (a pause is offered
         again on resume, also when the job was stopped there); a done job leaves nothing to
-        resume."""
+        resume. RESUMING is entered by whoever says go on (the TUI's event loop, a signal): nothing
+        is written then; the job's own thread writes the state that follows."""
+        if state is JobState.RESUMING:
+            return
         if state is JobState.DONE:
             self.finish()
         elif state.final:

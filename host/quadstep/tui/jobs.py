@@ -85,42 +85,50 @@ class JobKeys(Screen[None]):
 
     def offer_kept_job(self, machine: Machine) -> None:
         """On connect: a job that stopped before its end is named, with the key that goes on with
-        it."""
-        try:
-            kept = kept_job(machine)
-        except MachineError as exc:
-            self.log_line(str(exc), error=True)
-            return
-        if kept is not None:
-            self.log_line(
-                f"{Path(kept.job.path).name} stopped before its end ({kept.state}): R resumes it "
-                "from where motion stopped"
-            )
+        it (its journal read in a thread of its own, off the event loop)."""
+
+        def offer() -> None:
+            try:
+                kept = kept_job(machine)
+            except MachineError as exc:
+                self.post_message(Note(str(exc), error=True))
+                return
+            if kept is not None:
+                self.post_message(
+                    Note(
+                        f"{Path(kept.job.path).name} stopped before its end ({kept.state}): "
+                        "R resumes it from where motion stopped"
+                    )
+                )
+
+        self._thread(offer, "quadstep-kept-job")
 
     def action_resume_kept(self) -> None:
+        """R: the job kept in the machine's journal, planned from where the machine stands, run."""
         machine = self._machine_free("resume")
         if machine is None or self._jogger_ready("resume") is None:
             return
-        try:
-            kept = kept_job(machine)
-        except MachineError as exc:
-            self.log_line(str(exc), error=True)
-            return
-        if kept is None:
-            self.log_line("resume: no stopped job is kept for this machine", error=True)
-            return
-        path = Path(kept.job.path)
 
-        def plan(_start: tuple[int, ...]) -> Job:
-            job, _, said = resume_job(machine, path)
-            for line in said:
-                self.post_message(Note(line))
-            return job
+        def resume() -> None:
+            try:
+                kept = kept_job(machine)
+            except MachineError as exc:
+                self.post_message(Note(str(exc), error=True))
+                return
+            if kept is None:
+                self.post_message(Note("resume: no stopped job is kept for this machine", True))
+                return
+            path = Path(kept.job.path)
 
-        self._thread(
-            lambda: self._job_worker(machine, path.name, plan, source_lines(path), path),
-            "quadstep-job",
-        )
+            def plan(_start: tuple[int, ...]) -> Job:
+                job, _, said = resume_job(machine, path)
+                for line in said:
+                    self.post_message(Note(line))
+                return job
+
+            self._job_worker(machine, path.name, plan, source_lines(path), path)
+
+        self._thread(resume, "quadstep-job")
 
     def action_console(self) -> None:
         """`:` gives the keys to the console line (Esc gives them back)."""
