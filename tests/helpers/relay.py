@@ -9,7 +9,7 @@ import socket
 import threading
 import time
 
-from quadstep.protocol import Decoder, Frame, StatusReport
+from quadstep.protocol import Ack, Decoder, Frame, StatusReport
 
 
 class Relay:
@@ -22,7 +22,7 @@ class Relay:
         self._listen.settimeout(60)
         self.url = f"socket://127.0.0.1:{self._listen.getsockname()[1]}"
         self.reconnects = 0  # connections to the board after the first
-        self.segments_done = 0  # the most the board has reported done (STATUS_REPORT), read from the line
+        self.segments_done = 0  # the most the board has reported done (STATUS_REPORT, ACK), read from the line
         self._decoder = Decoder("to_host")
         self._closed = threading.Event()
         self._thread = threading.Thread(target=self._run, name="relay", daemon=True)
@@ -47,6 +47,8 @@ class Relay:
         for item in self._decoder.feed(data):
             if isinstance(item, Frame) and isinstance(item.message, StatusReport):
                 self.segments_done = max(self.segments_done, item.message.segments_done)
+            elif isinstance(item, Frame) and isinstance(item.message, Ack):  # SPACE acks count too
+                self.segments_done = max(self.segments_done, item.message.done)
 
     def _board(self) -> socket.socket | None:
         while not self._closed.is_set():
