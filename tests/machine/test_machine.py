@@ -143,8 +143,10 @@ def test_raw_segments_and_waiting_for_an_event(free: Machine) -> None:
     seen = free.report_count(HoldDone)
     reports = []
     unregister = free.on_report(reports.append)
-    motion = free.send_segments([Segment(n=1000, axes=(AxisMove(axis=1, direction=1, v0=0, vn=0, r=0),))])
-    free.hold()
+    # It ends moving, so the free-running board waits for more instead of finishing at once: the
+    # hold always finds it running, however late this thread gets to it.
+    motion = free.send_segments([Segment(n=1000, axes=(AxisMove(axis=1, direction=1, v0=0, vn=2048, r=0),))])
+    assert free.hold() is not None
     done = free.wait_report(HoldDone, seen, timeout=5)
     unregister()
     assert isinstance(done, HoldDone) and done in reports
