@@ -57,6 +57,16 @@ def test_auto_refuses_none_or_several(ports: list[ListPortInfo], capsys: pytest.
     assert capsys.readouterr().out == "/dev/ttyACM0 (Arduino Uno)\n/dev/ttyACM1 (Arduino Mega 2560)\n"
 
 
+def test_flash_without_a_board_names_only_what_flash_takes(ports: list[ListPortInfo], capsys: pytest.CaptureFixture[str]) -> None:
+    hex_file = REPO / "build" / "avr" / "uno.hex"
+    assert main(["flash", "--board", "uno", "--hex", str(hex_file)]) == 1
+    err = capsys.readouterr().err
+    assert err.endswith("no Arduino Uno, Mega or clone found on USB: plug it in, or give --port PORT\n")
+    assert "--emulator" not in err  # flash has no emulator to write to
+    assert main(["flash", "--board", "uno", "--hex", str(hex_file), "--dry-run"]) == 0
+    assert capsys.readouterr().out == f"avrdude -p atmega328p -c arduino -P PORT -b 115200 -D -U flash:w:{hex_file}:i\n"
+
+
 @pytest.fixture
 def fake_grbl() -> Iterator[str]:
     """A pseudo-terminal answering as GRBL does: its banner, then `ok` or `error:` for what it is sent."""

@@ -305,3 +305,21 @@ def test_a_broken_state_file_is_refused_naming_it(start_emulator, tmp_path: Path
     assert code == 1
     assert err == f"quadstep run: error: {path}: coordinates.system = 9: must be at most 6\n"
     assert status_of(emu.url).segments_done == 0
+
+
+def test_check_counts_the_files_lines_and_says_what_follows_its_end(tmp_path: Path, capsys: Capture) -> None:
+    job = tmp_path / "joined.nc"
+    job.write_text("G21 G90\nY2\nG1 X1 F600\nM30\n\nG0 X5\n%\nG0 X6\n")  # two programs, one file
+    code, out, _ = run_cli(["check", str(job), "--config", str(ROUTER), "--json"], capsys)
+    assert code == 0
+    summary = json.loads(out)
+    assert summary["lines"] == 4  # read up to the M30, as run reads it
+    code, out, _ = run_cli(["check", str(job), "--config", str(ROUTER)], capsys)
+    assert code == 0
+    assert out.splitlines()[-1] == "line 4 ends the program (M2/M30): the 2 lines after it are not run"
+    whole = tmp_path / "whole.nc"
+    whole.write_text("G21\nY2\n")  # axis words alone move at rapid, as GRBL starts in G0
+    code, out, _ = run_cli(["check", str(whole), "--config", str(ROUTER), "--json"], capsys)
+    assert code == 0
+    assert json.loads(out)["lines"] == 2  # the final newline ends line 2; it begins no line 3
+    assert json.loads(out)["moves"] == 1

@@ -120,6 +120,18 @@ def skipped_text(job: Job) -> str | None:
     return f"skipped {len(skipped)} unsupported word{'s' if len(skipped) != 1 else ''}: {words}"
 
 
+def after_end_text(job: Job) -> str | None:
+    """A file that goes on after its M2/M30 (several programs joined): what is not run."""
+    program = job.program
+    if not program.after_end or program.end_line is None:
+        return None
+    count = program.after_end
+    return (
+        f"line {program.end_line} ends the program (M2/M30): the {count} line"
+        f"{'s' if count != 1 else ''} after it {'are' if count != 1 else 'is'} not run"
+    )
+
+
 def approach_text(job: Job) -> str | None:
     """What a job started at a line does first (--from-line), or None."""
     if job.approach is None:

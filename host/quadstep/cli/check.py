@@ -8,6 +8,7 @@ import json
 from ..toolpath import Box, toolpath
 from ._jobs import (
     add_job_options,
+    after_end_text,
     approach_text,
     format_duration,
     job_from_args,
@@ -68,9 +69,9 @@ def run(args: argparse.Namespace) -> int:
             f"pauses for the operator at line{'s' if len(summary.pauses) > 1 else ''} "
             f"{', '.join(map(str, summary.pauses))}"
         )
-    skipped = skipped_text(job)
-    if skipped:
-        print(skipped)
+    for note in (skipped_text(job), after_end_text(job)):
+        if note:
+            print(note)
     if job.approach is not None:
         print(approach_text(job))
     return 0

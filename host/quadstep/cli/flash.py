@@ -45,7 +45,9 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         help="the bootloader's baud rate (default 115200; old Nano clones: 57600)",
     )
     parser.add_argument(
-        "--dry-run", action="store_true", help="print the avrdude command instead of running it"
+        "--dry-run",
+        action="store_true",
+        help="print the avrdude command instead of running it (PORT when no board is found)",
     )
     parser.set_defaults(handler=run)
 
@@ -94,10 +96,14 @@ def run(args: argparse.Namespace) -> int:
     hex_file = args.hex if args.hex is not None else built_hex(args.board)
     if not hex_file.is_file():
         raise CliError(f"--hex {hex_file}: no such file")
-    try:
-        port = auto_port() if args.port == "auto" else args.port
-    except PortError as exc:
-        raise CliError(str(exc)) from None
+    port = args.port
+    if port == "auto":
+        try:
+            port = auto_port(instead="give --port PORT")
+        except PortError as exc:
+            if not args.dry_run:
+                raise CliError(str(exc)) from None
+            port = "PORT"  # a dry run shows the command with the port still to fill in
     command = avrdude_command(args.board, port, hex_file, args.bootloader_baud)
     if args.dry_run:
         print(" ".join(command))

@@ -33,6 +33,7 @@ from ..planner.program import JobError, Pause
 from ..protocol import State, StatusReport
 from ._jobs import (
     add_job_options,
+    after_end_text,
     approach_text,
     config_path,
     format_duration,
@@ -172,9 +173,9 @@ def run(args: argparse.Namespace) -> int:
         else:
             job = job_from_args(args, config, machine.position, machine.coordinates)
         if not args.json:
-            skipped = skipped_text(job)
-            if skipped:
-                print(skipped)
+            for note in (skipped_text(job), after_end_text(job)):
+                if note:
+                    print(note)
             override = (
                 f" at feed override {job.feed_override} %" if job.feed_override != 100 else ""
             )

@@ -79,7 +79,7 @@ class GcodeInterpreter:
         self.units = 1.0  # mm per program unit
         self.absolute = True
         self.plane = 17
-        self.motion: int | None = None
+        self.motion: int | None = 0  # G0 at the start, as GRBL and LinuxCNC begin
         self.feed: float | None = None  # mm/s
         # G64 P (mm), 0 after G61, None: the configuration's cornering
         self.deviation: float | None = None
@@ -496,8 +496,12 @@ def parse_gcode(
         axis_names, start or [0.0] * len(axis_names), arc_tolerance, skip_unsupported, coordinates
     )
     # Lines end at a newline only, as an editor counts them (not at \x1c-\x1e, \x85 or \u2028).
-    interpreter.source = [line.removesuffix("\r") for line in text.split("\n")]
+    # A final newline ends the last line; it does not begin another.
+    lines = text.removesuffix("\n").split("\n") if text else []
+    interpreter.source = [line.removesuffix("\r") for line in lines]
     for number, line in enumerate(interpreter.source, start=1):
         if not interpreter.feed_line(line, number):
+            rest = interpreter.source[number:]
+            interpreter.program.after_end = sum(1 for text in rest if text.strip(" \t%"))
             break
     return interpreter.program

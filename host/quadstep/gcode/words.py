@@ -40,6 +40,11 @@ class Word:
         return f"{self.letter}{self.number}"
 
 
+def _is_o_word(text: str, at: int) -> bool:
+    """An O-word's number or its name in angle brackets (`o100 sub`, `o<probe> sub`)."""
+    return text.startswith("<", at) or _NUMBER.match(text, at) is not None
+
+
 def split_words(text: str, line: int) -> list[Word]:
     """The words of one line; `(…)` and `;…` comments are dropped."""
     words: list[Word] = []
@@ -56,7 +61,7 @@ def split_words(text: str, line: int) -> list[Word]:
             if close < 0:
                 raise GcodeError(line, i + 1, "comment '(' is not closed on this line")
             i = close + 1
-        elif c in "oO" and all(w.letter == "N" for w in words) and _NUMBER.match(text, i + 1):
+        elif c in "oO" and all(w.letter == "N" for w in words) and _is_o_word(text, i + 1):
             raise GcodeError(
                 line,
                 i + 1,

@@ -75,11 +75,9 @@ class Reader:
         self, position_mm: Sequence[float], coordinates: WorkCoordinates
     ) -> GcodeInterpreter:
         config = self.config
-        interpreter = GcodeInterpreter(
+        return GcodeInterpreter(
             config.axis_names, position_mm, config.arc_tolerance, coordinates=coordinates
         )
-        interpreter.motion = 0  # GRBL's power-up motion mode
-        return interpreter
 
     def reset(self, position_mm: Sequence[float], coordinates: WorkCoordinates) -> None:
         """A soft reset: the modal state as at power-up, the offsets kept."""

@@ -53,8 +53,9 @@ def find_boards() -> list[Board]:
     return found
 
 
-def auto_port() -> str:
-    """The device of the one board connected; PortError naming what was found otherwise."""
+def auto_port(instead: str = "give --port PORT (or --emulator)") -> str:
+    """The device of the one board connected; PortError naming what was found otherwise, and what
+    the user can do `instead`."""
     boards = find_boards()
     if len(boards) == 1:
         return boards[0].device
@@ -62,8 +63,7 @@ def auto_port() -> str:
         others = [p.device for p in list_ports.comports()]
         seen = f" (serial ports: {', '.join(others)})" if others else ""
         raise PortError(
-            f"no Arduino Uno, Mega or clone found on USB{seen}: plug it in, or give --port PORT "
-            "(or --emulator)"
+            f"no Arduino Uno, Mega or clone found on USB{seen}: plug it in, or {instead}"
         )
     raise PortError(
         f"{len(boards)} boards found ({', '.join(map(str, boards))}): give --port with one of them"

@@ -105,5 +105,6 @@ class Program:
     skipped: list[tuple[int, str]] = field(default_factory=list)  # (line, word)
     lines: int = 0  # source lines (or moves) read
     end_line: int | None = None  # line of M2/M30, if any
+    after_end: int = 0  # lines with words after M2/M30, not run
     # the work coordinates as the program leaves them (G-code)
     coordinates: WorkCoordinates | None = None

@@ -171,7 +171,7 @@ class MachineScreen(JobKeys, JogKeys):
         given = (
             ""
             if self.session.config_given is not None
-            else " (no --config: default 80 steps/mm, ±1000 mm)"
+            else f" (no --config: a default machine, {config.axes[0].steps_per_mm:g} steps/mm)"
         )
         self.log_line(
             f"connected: {_board_name(ident.board)}, {ident.axis_count} axes, "
