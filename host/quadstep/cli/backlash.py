@@ -57,7 +57,13 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         p.add_argument("--yes", action="store_true", help="with --write: do not ask")
         add_connection_options(p)
         add_json_option(p)
-    measure.add_argument("--method", choices=("probe", "switch"), default="probe")
+    measure.add_argument(
+        "--method",
+        choices=("probe", "switch"),
+        default="probe",
+        help="probe: touch a face, then a neighbouring one to check; switch: the axis's limit "
+        "switch (default probe; docs/BACKLASH.md)",
+    )
     measure.add_argument(
         "--toward",
         type=_direction,

@@ -49,7 +49,12 @@ class SegmentsFile(BaseModel):
 
 def register(subparsers: argparse._SubParsersAction) -> None:
     parser = subparsers.add_parser("send", help="stream a JSON file of raw segments")
-    parser.add_argument("file", type=Path, metavar="FILE.json")
+    parser.add_argument(
+        "file",
+        type=Path,
+        metavar="FILE.json",
+        help='raw segments as JSON (docs/HOST.md, "Raw segment files")',
+    )
     add_connection_options(parser)
     add_json_option(parser)
     parser.set_defaults(handler=run)
