@@ -11,12 +11,12 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from host_helpers import assert_trace_is_prediction
 from modal_job import JOB
 
 from quadstep.cli import main
 from quadstep.config import load_config
 from quadstep.emulator import Emulator
-from quadstep.engine_model import predict
 from quadstep.job import load_job
 from quadstep.link import Link
 from quadstep.machine import load_state, state_path
@@ -72,8 +72,7 @@ def test_a_run_from_a_line_ends_exactly_where_the_whole_job_ends(start_emulator,
     assert g55 == pytest.approx({"X": 25.4, "Y": 25.4, "Z": -5.08})
     emu.stop()
     rows = np.loadtxt(trace, delimiter=",", skiprows=1, dtype=np.int64, ndmin=2).reshape(-1, 3)
-    expected = predict(part.segments.segments(), list(START), axis_count=3)
-    assert np.array_equal(rows, expected.steps)
+    assert_trace_is_prediction(rows, part.segments.segments(), START, axis_count=3)
 
 
 def test_the_run_says_how_it_gets_to_the_line(start_emulator, tmp_path: Path,

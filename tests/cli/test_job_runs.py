@@ -19,10 +19,10 @@ import numpy as np
 import pytest
 
 from cli_helpers import cli_process, wait_for_child
+from host_helpers import assert_trace_is_prediction, read_trace
 from quadstep.cli import main
 from quadstep.config import load_config
 from quadstep.coordinates import WorkCoordinates
-from quadstep.engine_model import predict
 from quadstep.job import load_job
 from quadstep.link import Link
 from quadstep.machine import load_state, save_state, state_path
@@ -33,11 +33,6 @@ EXAMPLES = REPO / "examples"
 ROUTER = EXAMPLES / "router-uno.toml"
 CONFIG = load_config(ROUTER)
 Capture = pytest.CaptureFixture[str]
-
-
-def read_trace(path: Path) -> np.ndarray:
-    rows = np.loadtxt(path, delimiter=",", skiprows=1, dtype=np.int64, ndmin=2)
-    return rows.reshape(-1, 3)
 
 
 def run_cli(args: list[str], capsys: Capture) -> tuple[int, str, str]:
@@ -58,10 +53,7 @@ def test_examples_run_exactly_as_predicted(job: str, start_emulator, tmp_path: P
     assert result["positions_steps"] == list(plan.end) == [0, 0, 0]
     assert result["motion_ticks"] == plan.duration_ticks
     summary = emu.stop()
-    expected = predict(plan.segments.segments(), list(plan.start), axis_count=3)
-    steps = read_trace(trace)
-    assert len(steps) == len(expected.steps) > 10000
-    assert np.array_equal(steps, expected.steps)
+    assert_trace_is_prediction(trace, plan.segments.segments(), plan.start, axis_count=3, min_steps=10001)
     assert summary["segments_done"] == len(plan)
 
 
@@ -80,8 +72,7 @@ def test_a_job_starts_where_the_machine_stands(start_emulator, tmp_path: Path, c
     plan = load_job(job, CONFIG, start).plan
     assert json.loads(out)["positions_steps"] == [40000, 20000, 0] == list(plan.end)
     emu.stop()
-    expected = predict(plan.segments.segments(), list(start), axis_count=3)
-    assert np.array_equal(read_trace(trace), expected.steps)
+    assert_trace_is_prediction(trace, plan.segments.segments(), start, axis_count=3)
 
 
 def status_of(url: str) -> StatusReport:

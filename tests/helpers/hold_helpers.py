@@ -8,6 +8,7 @@ import random
 from pathlib import Path
 
 import numpy as np
+from host_helpers import read_trace
 
 from quadstep.engine_model import advance, predict, predict_hold, residual
 from quadstep.protocol import D, DECEL_SHIFT, N_MAX, AxisMove, Event, Segment
@@ -45,16 +46,6 @@ def planned_job(rng: random.Random, ticks: int, axis_count: int = 4) -> list[Seg
         total += n
         if last:
             return segments
-
-
-def read_trace(path: Path) -> np.ndarray:
-    """The emulator's step trace as rows of (tick, axis, direction); none at all is fine."""
-    lines = path.read_text().split("\n", 1)
-    assert lines[0] == "tick,axis,direction"
-    body = lines[1].strip() if len(lines) > 1 else ""
-    if not body:
-        return np.empty((0, 3), dtype=np.int64)
-    return np.array([row.split(",") for row in body.split("\n")], dtype=np.int64).reshape(-1, 3)
 
 
 def read_events(path: Path) -> list[dict[str, str]]:

@@ -1,13 +1,16 @@
-"""Helpers for the loopback tests: random segment streams and emulator traces."""
+"""Helpers for the loopback tests: random segment streams, the emulator's step trace, and the check
+that the trace is, step for step, what the host predicted."""
 
 from __future__ import annotations
 
 import random
+from collections.abc import Iterable, Sequence
 from pathlib import Path
 
 import numpy as np
 
-from quadstep.protocol import D, N_MAX, AxisMove, Segment
+from quadstep.engine_model import Prediction, predict
+from quadstep.protocol import D, N_MAX, AxisMove, CubicSegment, Segment
 
 
 def random_segments(rng: random.Random, count: int, axis_count: int = 4) -> list[Segment]:
@@ -29,11 +32,34 @@ def random_segments(rng: random.Random, count: int, axis_count: int = 4) -> list
 
 
 def read_trace(path: Path) -> np.ndarray:
-    """The emulator's step trace as rows of (tick, axis, direction)."""
-    with path.open() as f:
-        assert f.readline().strip() == "tick,axis,direction"
-        rows = np.loadtxt(f, delimiter=",", dtype=np.int64, ndmin=2)
-    return rows.reshape(-1, 3)
+    """The emulator's step trace as rows of (tick, axis, direction); none at all is fine."""
+    lines = path.read_text().split("\n", 1)
+    assert lines[0] == "tick,axis,direction"
+    body = lines[1].strip() if len(lines) > 1 else ""
+    if not body:
+        return np.empty((0, 3), dtype=np.int64)
+    return np.array([row.split(",") for row in body.split("\n")], dtype=np.int64).reshape(-1, 3)
+
+
+def assert_trace_is_prediction(
+    trace: Path | np.ndarray,
+    segments: Iterable[Segment | CubicSegment],
+    positions: Sequence[int] | None = None,
+    *,
+    axis_count: int | None = None,
+    min_steps: int = 1,
+) -> Prediction:
+    """The emulator's steps (its trace file, or rows already read) are exactly the host's prediction
+    of `segments` from `positions`: the same ticks, axes and directions, at least `min_steps` of
+    them. Returns the prediction for further checks."""
+    expected = predict(segments, positions) if axis_count is None else predict(
+        segments, positions, axis_count=axis_count
+    )
+    got = read_trace(trace) if isinstance(trace, Path) else trace
+    assert got.shape == expected.steps.shape, f"{len(got)} steps traced, {len(expected.steps)} predicted"
+    assert len(got) >= min_steps
+    assert np.array_equal(got, expected.steps)
+    return expected
 
 
 class RawPort:

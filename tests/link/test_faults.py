@@ -10,14 +10,12 @@ import signal
 import time
 from pathlib import Path
 
-import numpy as np
 import pytest
 from byte_faults import FaultyLine
 from fault_jobs import engraving
-from host_helpers import read_trace
+from host_helpers import assert_trace_is_prediction
 
 from quadstep.config import MachineConfig, load_config
-from quadstep.engine_model import predict
 from quadstep.job import load_job
 from quadstep.link import BoardSilent, Link
 from quadstep.machine import Machine
@@ -62,8 +60,7 @@ def test_one_percent_of_the_bytes_damaged_both_ways_changes_nothing(start_emulat
     assert summary["segments_done"] == len(job.plan)
     assert summary["motion_ticks"] == job.plan.duration_ticks
     assert [summary[f"position_{a}"] for a in range(3)] == list(job.plan.end)
-    expected = predict(job.plan.segments.segments(), list(job.plan.start), axis_count=3)
-    assert np.array_equal(read_trace(trace), expected.steps)
+    assert_trace_is_prediction(trace, job.plan.segments.segments(), job.plan.start, axis_count=3)
 
 
 def test_soak_at_a_tenth_of_a_percent(start_emulator, router: MachineConfig, tmp_path: Path) -> None:

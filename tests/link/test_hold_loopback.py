@@ -10,7 +10,8 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from hold_helpers import assert_deceleration_within, check_hold, planned_job, read_events, read_trace
+from hold_helpers import assert_deceleration_within, check_hold, planned_job, read_events
+from host_helpers import read_trace
 from host_helpers import RawPort
 
 from quadstep.engine_model import predict_hold, predict_underrun

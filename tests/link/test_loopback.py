@@ -11,11 +11,11 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from host_helpers import RawPort, random_segments, read_trace
+from host_helpers import RawPort, assert_trace_is_prediction, random_segments, read_trace
 
 from quadstep.emulator import Emulator
 from quadstep.engine_model import predict, predict_underrun
-from quadstep.link import AlarmError, FirmwareError, Link, Stopped, hold
+from quadstep.link import FirmwareError, Link, Stopped, hold
 from quadstep.protocol import (
     D,
     Ack,
@@ -44,13 +44,6 @@ def stream(link: Link, segments: list[Segment]) -> StatusReport:
     for seg in segments:
         link.send(seg)
     return link.wait_idle(timeout=60)
-
-
-def assert_trace_is_prediction(trace: Path, segments: list[Segment], positions: list[int] | None = None) -> None:
-    expected = predict(segments, positions)
-    got = read_trace(trace)
-    assert got.shape == expected.steps.shape
-    assert np.array_equal(got, expected.steps)
 
 
 def test_identify_reports_the_emulator(free_link: Link) -> None:

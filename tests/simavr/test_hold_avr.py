@@ -9,7 +9,8 @@ import subprocess
 from pathlib import Path
 
 import pytest
-from hold_helpers import check_hold, planned_job, read_trace
+from hold_helpers import check_hold, planned_job
+from host_helpers import read_trace
 
 from quadstep.engine_model import predict_hold
 from quadstep.protocol import DECEL_MAX, Decoder, Event, Hold, State, StatusReport, encode
