@@ -69,3 +69,41 @@ def test_a_stop_in_a_terminal_quits_and_prints_the_position(tmp_path: Path, emul
         os.close(fd)
     assert code == 130
     assert b"machine: X 0.000 mm (0 steps)  Y 0.000 mm (0 steps)  Z 0.000 mm (0 steps)" in out
+
+
+def test_closing_the_terminal_ends_the_tui_and_its_emulator(tmp_path: Path, emulator_binary: Path) -> None:
+    """The terminal window closed (its master side gone: SIGHUP, and every write to it fails): the TUI
+    still brings the machine to rest and exits, and its emulator with it; nothing is left running."""
+    config = tmp_path / "machine.toml"
+    config.write_text("tick_hz = 50000\n" + "".join(
+        "[[axes]]\n" + "".join(f"{key} = {value!r}\n" for key, value in axis.items()) for axis in MACHINE["axes"]))
+    pid, fd = pty.fork()
+    if pid == 0:  # the child: quadstep tui in a terminal
+        os.environ["TERM"] = "xterm-256color"
+        os.environ["QUADSTEP_EMULATOR"] = str(emulator_binary)
+        os.execvp(sys.executable, [sys.executable, "-m", "quadstep.cli", "tui", "--emulator", "--config", str(config)])
+    out = bytearray()
+    try:
+        assert read_terminal(fd, out, b"connected: emulator", 60), bytes(out[-2000:])
+        emulators = children_of(pid)
+        assert len(emulators) == 1
+    finally:
+        os.close(fd)  # the window closes
+    code = exit_code(pid, 30)
+    assert code is not None, "quadstep tui was still running 30 s after its terminal closed"
+    assert code == 130
+    assert not os.path.exists(f"/proc/{emulators[0]}") or "Z (zombie)" in Path(f"/proc/{emulators[0]}/status").read_text()
+
+
+def children_of(pid: int) -> list[int]:
+    """The processes whose parent is `pid` (Linux /proc)."""
+    found = []
+    for entry in Path("/proc").iterdir():
+        if entry.name.isdigit():
+            try:
+                fields = (entry / "stat").read_text().rsplit(")", 1)[1].split()
+            except OSError:
+                continue
+            if int(fields[1]) == pid:
+                found.append(int(entry.name))
+    return found

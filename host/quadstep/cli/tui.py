@@ -4,6 +4,9 @@ terminal."""
 from __future__ import annotations
 
 import argparse
+import os
+import select
+import signal
 import threading
 from collections.abc import Iterator
 from contextlib import contextmanager
@@ -119,12 +122,33 @@ def stops_as_ctrl_c(app: QuadstepApp) -> Iterator[None]:
     request to the app."""
 
     def handler(number: int, frame: FrameType | None) -> None:
+        if number == signal.SIGHUP and terminal_hung_up():
+            quiet_terminal()
         threading.Thread(
             target=lambda: app.call_from_thread(app.action_interrupt), daemon=True
         ).start()
 
     with stop_signals_handled(handler):
         yield
+
+
+STDOUT, STDERR = 1, 2
+
+
+def terminal_hung_up() -> bool:
+    """The terminal is gone (its window closed), not just signalled: it polls as hung up."""
+    poller = select.poll()
+    poller.register(STDERR, select.POLLOUT)  # where the screen is drawn
+    return any(events & (select.POLLHUP | select.POLLERR) for _, events in poller.poll(0))
+
+
+def quiet_terminal() -> None:
+    """Every later write to the closed terminal goes nowhere instead of failing: the screen's
+    writer would otherwise die on the first and the app's shutdown wait for it forever."""
+    devnull = os.open(os.devnull, os.O_WRONLY)
+    for fd in (STDOUT, STDERR):
+        os.dup2(devnull, fd)
+    os.close(devnull)
 
 
 def _target(device: str, baud: int) -> Target:
