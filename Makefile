@@ -64,7 +64,7 @@ test-python: setup-python
 
 # The Python tests that start no emulator and no simavr (tests/conftest.py marks the others).
 test-fast: setup-python
-	$(VENV_PYTHON) -m pytest -q -m 'not emulator'
+	$(VENV_PYTHON) -m pytest -q -m 'not emulator and not slow'
 
 bench: setup all harness
 	$(VENV_PYTHON) tests/bench/run_all.py

@@ -7,9 +7,11 @@ from __future__ import annotations
 
 from pathlib import Path
 
+import pytest
 from bad_files import corpus, judge
 
 
+@pytest.mark.slow
 def test_every_bad_file_is_refused_with_one_clear_error(tmp_path: Path) -> None:
     files = corpus()
     assert len(files) > 500

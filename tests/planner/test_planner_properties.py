@@ -130,6 +130,7 @@ def test_the_engine_model_lands_where_the_plan_says(data: st.DataObject) -> None
     assert predicted.motion_ticks == plan.duration_ticks
 
 
+@pytest.mark.slow
 def test_ten_thousand_random_moves_land_exactly() -> None:
     rnd = random.Random(7)
     items: list[LinearMove | Dwell | Pause] = []

@@ -86,6 +86,7 @@ def cubic_streams(draw: st.DrawFn) -> list[Segment | CubicSegment]:
     return out
 
 
+@pytest.mark.slow
 @settings(max_examples=150, deadline=None)
 @given(cubic_streams(), st.integers(2, 16))
 def test_packed_frames_read_back_as_the_stream(stream: list[Segment | CubicSegment], limit: int) -> None:

@@ -7,6 +7,7 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
+import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
@@ -55,6 +56,7 @@ def check(stream: bytes, direction: str, chunk: int) -> None:
         assert len(decoder._splitter._pending) <= _SURELY_TOO_LONG  # bounded, whatever arrives
 
 
+@pytest.mark.slow
 @settings(max_examples=600, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 @given(damaged_streams(), st.sampled_from(["to_host", "to_firmware"]), st.integers(1, 70))
 def test_damaged_vector_frames_decode_or_fail_cleanly(stream: bytes, direction: str, chunk: int) -> None:

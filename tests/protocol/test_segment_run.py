@@ -75,6 +75,7 @@ def chained_streams(draw: st.DrawFn) -> list[Segment]:
     return out
 
 
+@pytest.mark.slow
 @settings(max_examples=150, deadline=None)
 @given(chained_streams(), st.integers(2, 16))
 def test_packed_frames_read_back_as_the_stream(stream: list[Segment], limit: int) -> None:

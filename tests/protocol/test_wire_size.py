@@ -22,6 +22,7 @@ import cam_jobs  # noqa: E402
 
 # The engraving whole (the tightest: three segments a move, half of them at corners); the others, whose
 # margins are wide (0.86 and 0.69 whole, tests/bench/bench_wire.py), cut short to keep the suite quick.
+@pytest.mark.slow
 @pytest.mark.parametrize(("name", "lines"), [("pocket", 3000), ("engraving", 16_000), ("four_axis", 3000)])
 def test_a_cam_job_takes_fewer_bytes_on_the_wire_than_its_gcode(name: str, lines: int) -> None:
     text = cam_jobs.JOBS[name](lines)
