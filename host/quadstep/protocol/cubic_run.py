@@ -31,6 +31,7 @@ from pydantic import (
 from .constants import CUBIC_N_MAX, MAX_AXES, MAX_FRAME, FieldId
 from .cubic import SIGMA, CubicAxis, CubicChain, CubicRefused, CubicSegment, choose2
 from .segment import Segment
+from .varint import read_uvarint, svarint, unzigzag, uvarint
 from .wire import FieldFault, RecordsField, Request, bits, four_axes, message
 
 NONE, GIVEN, NEGATE, SAME = 0, 1, 2, 3  # an axis's jerk code
@@ -40,37 +41,6 @@ RECORDS_MAX = 16  # records in one frame
 PAYLOAD_MAX = MAX_FRAME - 4  # type, seq and the CRC take the rest of a frame
 JERK_LIMIT = 1 << 15
 MOST = {"head": 3, "speed": 5, "accel": 4, "jerk": 3}  # bytes a varint may take
-
-
-def _uvarint(u: int) -> bytes:
-    out = bytearray()
-    while u >= 0x80:
-        out.append(u & 0x7F | 0x80)
-        u >>= 7
-    out.append(u)
-    return bytes(out)
-
-
-def _zigzag(value: int) -> int:
-    return value << 1 if value >= 0 else (-value << 1) - 1
-
-
-def _read(payload: bytes, at: int, most: int) -> tuple[int, int] | None:
-    """(unsigned value, next offset), or None where the payload ends inside it or it runs past
-    `most` bytes."""
-    u = shift = 0
-    for k in range(most):
-        if at + k >= len(payload):
-            return None
-        u |= (payload[at + k] & 0x7F) << shift
-        shift += 7
-        if not payload[at + k] & 0x80:
-            return u, at + k + 1
-    return None
-
-
-def _signed(u: int) -> int:
-    return (u >> 1) ^ -(u & 1)
 
 
 class CubicRecord(BaseModel):
@@ -116,15 +86,15 @@ class CubicRecord(BaseModel):
     def pack(self) -> bytes:
         code_byte = sum(c << 2 * a for a, c in enumerate(self.codes))
         flags = (SETS if self.sets is not None else 0) | (ACCEL if self.accels is not None else 0)
-        out = bytearray([code_byte]) + _uvarint(self.n << 2 | flags)
+        out = bytearray([code_byte]) + uvarint(self.n << 2 | flags)
         if self.sets is not None:
             out.append(self.sets)
             for k, speed in enumerate(self.speeds):
-                out += _uvarint(_zigzag(speed))
+                out += svarint(speed)
                 if self.accels is not None:
-                    out += _uvarint(_zigzag(self.accels[k]))
+                    out += svarint(self.accels[k])
         for jerk in self.jerks:
-            out += _uvarint(_zigzag(jerk))
+            out += svarint(jerk)
         return bytes(out)
 
 
@@ -136,7 +106,7 @@ def _parse(payload: bytes, offset: int) -> tuple[list[CubicRecord], int] | None:
         if len(records) == RECORDS_MAX:
             return None
         code_byte = payload[at]
-        head = _read(payload, at + 1, MOST["head"])
+        head = read_uvarint(payload, at + 1, MOST["head"])
         if head is None:
             return None
         value, at = head
@@ -149,24 +119,24 @@ def _parse(payload: bytes, offset: int) -> tuple[list[CubicRecord], int] | None:
             sets = payload[at]
             at += 1
             for _ in bits(sets & 0x0F):
-                speed = _read(payload, at, MOST["speed"])
+                speed = read_uvarint(payload, at, MOST["speed"])
                 if speed is None or speed[0] >> 32:
                     return None
-                speeds.append(_signed(speed[0]))
+                speeds.append(unzigzag(speed[0]))
                 at = speed[1]
                 if accels is not None:
-                    accel = _read(payload, at, MOST["accel"])
+                    accel = read_uvarint(payload, at, MOST["accel"])
                     if accel is None:
                         return None
-                    accels.append(_signed(accel[0]))
+                    accels.append(unzigzag(accel[0]))
                     at = accel[1]
         codes = four_axes([code_byte >> 2 * a & 3 for a in range(MAX_AXES)])
         jerks = []
         for _ in range(codes.count(GIVEN)):
-            jerk = _read(payload, at, MOST["jerk"])
+            jerk = read_uvarint(payload, at, MOST["jerk"])
             if jerk is None:
                 return None
-            jerks.append(_signed(jerk[0]))
+            jerks.append(unzigzag(jerk[0]))
             at = jerk[1]
         records.append(
             CubicRecord(

@@ -32,6 +32,7 @@ from .constants import MAX_FRAME, V_MAX, D, FieldId
 from .cubic import CubicSegment
 from .cubic_run import SpeedChain
 from .segment import AxisMove, Direction, Segment
+from .varint import read_svarint, svarint
 from .wire import FieldFault, RecordsField, Request, bits, message
 
 N_HIGH = 0x03  # n's bits 8–9 in the head; its low byte follows
@@ -47,24 +48,7 @@ SEGMENTS_MAX = 16  # records in one frame
 RUN_LIMIT = 8  # records a host puts in one frame, at most
 PAYLOAD_MAX = MAX_FRAME - 4  # type, seq and the CRC take the rest of a frame
 VARINT_LIMIT = 1 << 13  # |value| below this: a zigzag varint of at most two bytes
-
-
-def _varint(value: int) -> bytes:
-    u = value << 1 if value >= 0 else (-value << 1) - 1
-    return bytes([u]) if u < 0x80 else bytes([u & 0x7F | 0x80, u >> 7])
-
-
-def _read_varint(payload: bytes, at: int) -> tuple[int, int] | None:
-    """(value, next offset), or None where the payload ends inside it or it runs past two bytes."""
-    if at >= len(payload):
-        return None
-    u = payload[at]
-    if u & 0x80:
-        if at + 1 >= len(payload) or payload[at + 1] & 0x80:
-            return None
-        u = u & 0x7F | payload[at + 1] << 7
-        at += 1
-    return (u >> 1) ^ -(u & 1), at + 1
+VARINT_MOST = 2  # bytes a varint of a record may take
 
 
 Deltas = tuple[Annotated[int, Field(gt=-VARINT_LIMIT, lt=VARINT_LIMIT)], ...]
@@ -129,7 +113,7 @@ class SegmentRecord(BaseModel):
         for j in range(active):
             for values in (self.start, self.residual, self.change):
                 if values is not None:
-                    out += _varint(values[j])
+                    out += svarint(values[j])
         return bytes(out)
 
 
@@ -194,7 +178,7 @@ def _read_fields(
         for name in ("start", "residual", "change"):
             values = lists[name]
             if values is not None:
-                read = _read_varint(payload, at)
+                read = read_svarint(payload, at, VARINT_MOST)
                 if read is None:
                     return None
                 values.append(read[0])
@@ -408,7 +392,7 @@ def _change(segment: Segment, last: list[int]) -> tuple[tuple[int, ...] | None, 
         return None, False
     plain = tuple(a.vn - a.v0 for a in segment.axes)
     mirrored = tuple(c + last[a.axis] for c, a in zip(plain, segment.axes))
-    if sum(map(len, map(_varint, mirrored))) < sum(map(len, map(_varint, plain))):
+    if sum(map(len, map(svarint, mirrored))) < sum(map(len, map(svarint, plain))):
         return mirrored, True
     return plain, False
 
