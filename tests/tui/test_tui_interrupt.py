@@ -44,10 +44,8 @@ async def test_ctrl_c_holds_a_running_job_and_says_where(machine: MachineConfig,
     assert lines[2].startswith(f"machine: X {at / 80:.3f} mm ({at} steps)  Y 0.000 mm (0 steps)")
 
 
-@pytest.mark.parametrize("stop", ["ctrl-c", "SIGTERM", "SIGHUP"])
-def test_a_stop_in_a_terminal_quits_and_prints_the_position(tmp_path: Path, emulator_binary: Path,
-                                                            stop: str) -> None:
-    """Ctrl-C, and SIGTERM or SIGHUP (the terminal closed) likewise."""
+def tui_in_a_terminal(tmp_path: Path, emulator_binary: Path) -> tuple[int, int]:
+    """`quadstep tui --emulator` started in a new pseudo-terminal: its pid and the terminal's master side."""
     config = tmp_path / "machine.toml"
     config.write_text("tick_hz = 50000\n" + "".join(
         "[[axes]]\n" + "".join(f"{key} = {value!r}\n" for key, value in axis.items()) for axis in MACHINE["axes"]))
@@ -56,6 +54,14 @@ def test_a_stop_in_a_terminal_quits_and_prints_the_position(tmp_path: Path, emul
         os.environ["TERM"] = "xterm-256color"
         os.environ["QUADSTEP_EMULATOR"] = str(emulator_binary)
         os.execvp(sys.executable, [sys.executable, "-m", "quadstep.cli", "tui", "--emulator", "--config", str(config)])
+    return pid, fd
+
+
+@pytest.mark.parametrize("stop", ["ctrl-c", "SIGTERM", "SIGHUP"])
+def test_a_stop_in_a_terminal_quits_and_prints_the_position(tmp_path: Path, emulator_binary: Path,
+                                                            stop: str) -> None:
+    """Ctrl-C, and SIGTERM or SIGHUP (the terminal closed) likewise."""
+    pid, fd = tui_in_a_terminal(tmp_path, emulator_binary)
     out = bytearray()
     try:
         assert read_terminal(fd, out, b"connected: emulator", 60), bytes(out[-2000:])
@@ -74,14 +80,7 @@ def test_a_stop_in_a_terminal_quits_and_prints_the_position(tmp_path: Path, emul
 def test_closing_the_terminal_ends_the_tui_and_its_emulator(tmp_path: Path, emulator_binary: Path) -> None:
     """The terminal window closed (its master side gone: SIGHUP, and every write to it fails): the TUI
     still brings the machine to rest and exits, and its emulator with it; nothing is left running."""
-    config = tmp_path / "machine.toml"
-    config.write_text("tick_hz = 50000\n" + "".join(
-        "[[axes]]\n" + "".join(f"{key} = {value!r}\n" for key, value in axis.items()) for axis in MACHINE["axes"]))
-    pid, fd = pty.fork()
-    if pid == 0:  # the child: quadstep tui in a terminal
-        os.environ["TERM"] = "xterm-256color"
-        os.environ["QUADSTEP_EMULATOR"] = str(emulator_binary)
-        os.execvp(sys.executable, [sys.executable, "-m", "quadstep.cli", "tui", "--emulator", "--config", str(config)])
+    pid, fd = tui_in_a_terminal(tmp_path, emulator_binary)
     out = bytearray()
     try:
         assert read_terminal(fd, out, b"connected: emulator", 60), bytes(out[-2000:])
