@@ -12,6 +12,7 @@ from collections.abc import Callable, Iterator
 from pathlib import Path
 
 import pytest
+from hypothesis import settings
 
 from quadstep.config import MachineConfig, parse_config
 from quadstep.emulator import EMULATOR_ENV, Emulator
@@ -19,6 +20,12 @@ from quadstep.link import Link
 from tui_helpers import MACHINE
 
 REPO = Path(__file__).resolve().parents[1]
+
+# Property tests draw the same examples on every run (a suite that passes passes again, on any
+# machine); HYPOTHESIS_PROFILE=explore draws new ones each run, to look for what those miss.
+settings.register_profile("repeatable", derandomize=True, database=None)
+settings.register_profile("explore")
+settings.load_profile(os.environ.get("HYPOTHESIS_PROFILE", "repeatable"))
 # A test that asks for one of these, or lives in tests/simavr, starts an emulator or simavr.
 PROCESS_FIXTURES = frozenset({"emulator_binary", "avr_build"})
 
