@@ -13,9 +13,10 @@ from collections.abc import Callable
 from ..link import LinkError
 from ..machine import Machine, MachineError
 from ..machine.homing import home
-from ..planner.program import JobError
+from ..planner.program import JobError, ProbeMove
 from .errors import GrblAlarm, GrblError, error_for
 from .executor import Executor, Work
+from .probe import no_probe, run_probe, split_probe
 from .protocol import (
     BANNER,
     CYCLE_START,
@@ -46,18 +47,22 @@ class Session:
     """GRBL 1.1 on `machine` for one client, whose answers go to `write` (bytes, from any
     thread)."""
 
-    def __init__(self, machine: Machine, write: Callable[[bytes], None]) -> None:
+    def __init__(
+        self, machine: Machine, write: Callable[[bytes], None], tool_change: str = "ignore"
+    ) -> None:
         self.machine = machine
         self._write = write
         self._write_lock = threading.Lock()
         self._reader_lock = threading.Lock()
-        self.reader = Reader(machine.config, machine.position_mm, machine.coordinates)
+        self.reader = Reader(machine.config, machine.position_mm, machine.coordinates, tool_change)
         self.executor = Executor(machine, self._fault)
         self.status = StatusBuilder(self)
         self.splitter = StreamSplitter()
         self.alarm = machine.config.homing_required and not machine.homed
         self.check_mode = False
         self.homing = False
+        self.probing = False
+        self.last_probe = no_probe(len(machine.config.axes))
         self._lines: queue.Queue[tuple[int, Line] | None] = queue.Queue()
         self._worker = threading.Thread(target=self._work, name="grbl-lines", daemon=True)
 
@@ -71,7 +76,7 @@ class Session:
     def close(self) -> None:
         """The client has gone: what moves comes to rest, the queue is dropped."""
         self._lines.put(None)
-        if self.homing:
+        if self.homing or self.probing:
             self.machine.hold("quit")
         self.executor.close()
         self._worker.join(timeout=10)
@@ -114,7 +119,7 @@ class Session:
         ALARM:3 when it stopped motion (the position is exact, but the sender's program was cut)."""
         self.splitter.clear()
         stopped = self.executor.reset()
-        if self.homing:
+        if self.homing or self.probing:
             self.machine.hold("reset")
             stopped = True
         with self._reader_lock:
@@ -168,9 +173,35 @@ class Session:
             return [f"error:{GrblError.GCODE_LOCK.value}"]
         with self._reader_lock:
             read = self.reader.read(text)
-        if not self.check_mode:
-            self.executor.submit(Work(read.items, read.coordinates, read.line), generation)
+        items, probe = split_probe(read.items)
+        if not self.check_mode and items:
+            self.executor.submit(Work(items, read.coordinates, read.line), generation)
+        if probe is not None and not self.check_mode:
+            return self._probe(probe, generation)
         return ["ok"]
+
+    def _probe(self, move: ProbeMove, generation: int) -> Answer:
+        """G38.x: at rest, the machine probes; the lines that follow go on from where it stopped."""
+        if not self.executor.wait_idle(generation):
+            return []
+        self.probing = True
+        try:
+            outcome = run_probe(self.machine, move, self.last_probe)
+        finally:
+            self.probing = False
+            with self._reader_lock:
+                self.reader.resync(self.machine.position_mm)
+        self.last_probe = outcome.report
+        if outcome.alarm is None:
+            return [outcome.report.line(), "ok"]
+        self.alarm = True
+        assert outcome.message is not None
+        return [
+            message(outcome.message),
+            f"ALARM:{outcome.alarm.value}",
+            outcome.report.line(),
+            "ok",
+        ]
 
     def _system(self, text: str, generation: int) -> Answer:
         command = text[1:].upper()
@@ -189,7 +220,10 @@ class Session:
             "": lambda: [HELP, "ok"],
             "$": lambda: [*settings_lines(self.machine.config), "ok"],
             "I": lambda: [VERSION, OPTIONS, "ok"],
-            "#": lambda: [*self._read(self.reader.offsets_report), "ok"],
+            "#": lambda: [
+                *self._read(lambda: self.reader.offsets_report(self.last_probe.line())),
+                "ok",
+            ],
             "G": lambda: [*self._read(lambda: [self.reader.modal_report()]), "ok"],
             "N": lambda: ["$N0=", "$N1=", "ok"],
             "SLP": lambda: ["ok"],

@@ -24,6 +24,7 @@ class SessionView(Protocol):
     alarm: bool
     check_mode: bool
     homing: bool
+    probing: bool
 
 
 class StatusBuilder:
@@ -38,6 +39,8 @@ class StatusBuilder:
             return "Home"
         if session.alarm:
             return "Alarm"
+        if session.probing:
+            return "Run"
         moving = session.executor.grbl_state()
         if moving is not None:
             return moving
