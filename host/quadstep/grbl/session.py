@@ -16,6 +16,7 @@ from ..machine.homing import home
 from ..planner.program import JobError, ProbeMove
 from .errors import GrblAlarm, GrblError, error_for
 from .executor import Executor, Work
+from .overrides import OVERRIDE_BYTES, Overrides
 from .probe import no_probe, run_probe, split_probe
 from .protocol import (
     BANNER,
@@ -56,6 +57,7 @@ class Session:
         self._reader_lock = threading.Lock()
         self.reader = Reader(machine.config, machine.position_mm, machine.coordinates, tool_change)
         self.executor = Executor(machine, self._fault)
+        self.overrides = Overrides(machine, self.executor)
         self.status = StatusBuilder(self)
         self.splitter = StreamSplitter()
         self.alarm = machine.config.homing_required and not machine.homed
@@ -110,6 +112,8 @@ class Session:
             self.executor.cycle_start()
         elif byte == SOFT_RESET:
             self._soft_reset()
+        elif byte in OVERRIDE_BYTES:
+            self.overrides.realtime(byte)
         elif byte == JOG_CANCEL and self.executor.cancel_jog():
             with self._reader_lock:
                 self.reader.resync(self.machine.position_mm)
@@ -119,6 +123,7 @@ class Session:
         ALARM:3 when it stopped motion (the position is exact, but the sender's program was cut)."""
         self.splitter.clear()
         stopped = self.executor.reset()
+        self.overrides.reset()
         if self.homing or self.probing:
             self.machine.hold("reset")
             stopped = True

@@ -9,6 +9,7 @@ from typing import Protocol
 from ..link import LinkError
 from ..machine import Machine
 from .executor import Executor
+from .overrides import Overrides
 from .protocol import StatusFields, status_report
 from .reader import Reader
 
@@ -21,6 +22,7 @@ class SessionView(Protocol):
     machine: Machine
     reader: Reader
     executor: Executor
+    overrides: Overrides
     alarm: bool
     check_mode: bool
     homing: bool
@@ -63,17 +65,20 @@ class StatusBuilder:
         coordinates = interpreter.coords
         wco = tuple(coordinates.offset(a) for a in session.machine.config.axis_names)
         running = state in ("Run", "Jog", "Hold:1")
-        feed = (interpreter.feed or 0.0) * 60 if running else 0.0
+        ov = session.overrides.values
+        feed = (interpreter.feed or 0.0) * 60 * ov[0] / 100 if running else 0.0
         show_wco = self._count % WCO_EVERY == 0 or wco != self._last_wco
         self._count += 1
         if show_wco:
             self._last_wco = wco
+        show_ov = session.overrides.changed or self._count % WCO_EVERY == 2
+        session.overrides.changed = False
         fields = StatusFields(
             state,
             self.position(),
             feed,
             interpreter.outputs.speed,
             wco if show_wco else None,
-            overrides=self._count % WCO_EVERY == 2,
+            ov if show_ov else None,
         )
         return status_report(fields)

@@ -49,6 +49,7 @@ from .inputs import config_message
 from .job import JobRun
 from .journal import Journal
 from .motion import Motion, MotionEnd, bring_to_rest
+from .speed_overrides import SpeedOverrides
 from .standing import Standing, _Restream
 from .state import StateFile, read_state
 from .state_lock import StateLock
@@ -127,6 +128,7 @@ class Machine(Standing):
         self._ticks = 0
         # the backlash: take-ups in every program, positions without them
         self.takeups = TakeUps(self.config)
+        self.speed_overrides = SpeedOverrides()  # rapid and spindle, for the programs planned next
         self._lock = threading.Lock()
         self._running: Running | None = None
         self._waiting: JobRun | None = None  # a job waiting at a pause while another program runs
@@ -265,6 +267,21 @@ class Machine(Standing):
             journal=journal,
         )
         return self._begin(job, compensated).start()
+
+    def set_rapid_override(self, percent: int) -> int:
+        """The rapids of every program planned from now on at 25, 50 or 100 % (ValueError else);
+        see overridden()."""
+        return self.speed_overrides.set_rapid(percent)
+
+    def set_spindle_override(self, percent: int) -> int:
+        """Every S of the programs planned from now on at 10–200 % (ValueError outside)."""
+        return self.speed_overrides.set_spindle(percent)
+
+    def overridden(self, program: Program) -> Program:
+        """`program`, to be planned from where the machine stands, with the rapid and spindle
+        overrides (a running job keeps those it was planned with; JobRun.set_feed_override changes
+        its feeds on the way)."""
+        return self.speed_overrides.apply(program, self.config, self.position)
 
     def send_segments(self, segments: Sequence[Segment]) -> Motion:
         """Start streaming raw segments (every firmware axis) now, as they are (no take-ups
