@@ -90,6 +90,13 @@ class Reader:
         """A soft reset: the modal state as at power-up, the offsets kept."""
         self.interpreter = self._fresh(position_mm, coordinates)
 
+    def reconfigure(self, config: MachineConfig, position_mm: Sequence[float]) -> None:
+        """A setting written: the lines that follow are read with `config`, from where the machine
+        stands in it (steps/mm may have changed)."""
+        self.config = config
+        self.interpreter.arc_tolerance = config.arc_tolerance
+        self.resync(position_mm)
+
     def resync(self, position_mm: Sequence[float]) -> None:
         """Where the machine rests now (after a stop or a jog cancelled): lines go on from there."""
         self.interpreter.position = list(position_mm)

@@ -9,6 +9,8 @@ from __future__ import annotations
 import queue
 import threading
 from collections.abc import Callable
+from dataclasses import dataclass
+from pathlib import Path
 
 from ..link import LinkError
 from ..machine import Machine, MachineError
@@ -32,7 +34,8 @@ from .protocol import (
     StreamSplitter,
 )
 from .reader import JogError, Reader
-from .settings import FIXED, SETTING_WRITE, settings_lines
+from .settings import NOT_KEPT, settings_lines
+from .settings_write import SettingError, SettingWrite, parse_write, write_setting
 from .status import StatusBuilder
 
 HELP = "[HLP:$$ $# $G $I $N $x=val $Nx=line $J=line $SLP $C $X $H ~ ! ? ctrl-x]"
@@ -41,7 +44,16 @@ Answer = list[str]
 
 
 def message(text: str) -> str:
-    return f"[MSG:{text.replace(']', ')')}]"
+    return f"[MSG:{text.replace('[', '(').replace(']', ')')}]"
+
+
+@dataclass(frozen=True)
+class SessionOptions:
+    """How `quadstep grbl` was started: M6 "ignore" (GRBL's default) or "pause" (held until `~`,
+    as quadstep's tool change); the configuration file that settings writes go to (None: none)."""
+
+    tool_change: str = "ignore"
+    config_path: Path | None = None
 
 
 class Session:
@@ -49,13 +61,19 @@ class Session:
     thread)."""
 
     def __init__(
-        self, machine: Machine, write: Callable[[bytes], None], tool_change: str = "ignore"
+        self,
+        machine: Machine,
+        write: Callable[[bytes], None],
+        options: SessionOptions | None = None,
     ) -> None:
         self.machine = machine
+        self.options = options = options if options is not None else SessionOptions()
         self._write = write
         self._write_lock = threading.Lock()
         self._reader_lock = threading.Lock()
-        self.reader = Reader(machine.config, machine.position_mm, machine.coordinates, tool_change)
+        self.reader = Reader(
+            machine.config, machine.position_mm, machine.coordinates, options.tool_change
+        )
         self.executor = Executor(machine, self._fault)
         self.overrides = Overrides(machine, self.executor)
         self.status = StatusBuilder(self)
@@ -215,9 +233,24 @@ class Session:
         answer = self._system_commands(generation).get(command)
         if answer is not None:
             return answer()
-        if SETTING_WRITE.match(text) or command.startswith(("N", "RST=")):
-            return [FIXED, f"error:{GrblError.INVALID_STATEMENT.value}"]
+        try:
+            write = parse_write(text)
+            if write is not None:
+                return self._write_setting(write)
+        except SettingError as exc:
+            return [message(str(exc)), f"error:{exc.error.value}"]
+        if command.startswith(("N", "RST=")):
+            return [NOT_KEPT, f"error:{GrblError.INVALID_STATEMENT.value}"]
         return [f"error:{GrblError.INVALID_STATEMENT.value}"]
+
+    def _write_setting(self, write: SettingWrite) -> Answer:
+        """At rest (GRBL's error 8 else): the setting into the file, used from the next line."""
+        if not self.executor.idle or self.homing or self.probing:
+            return [f"error:{GrblError.NOT_IDLE.value}"]
+        if write_setting(self.machine, self.options.config_path, write):
+            with self._reader_lock:
+                self.reader.reconfigure(self.machine.config, self.machine.position_mm)
+        return ["ok"]
 
     def _system_commands(self, generation: int) -> dict[str, Callable[[], Answer]]:
         """`$` commands by name, each answering when called."""

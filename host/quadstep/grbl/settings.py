@@ -1,14 +1,13 @@
-"""`$$`: GRBL's settings as the machine's configuration says them. The configuration file is where
-they are set; `$N=value` is answered with an error that says so (nothing changes)."""
+"""`$$`: GRBL's settings as the machine's configuration says them (`$N=value` writes them into the
+configuration file: settings_write.py)."""
 
 from __future__ import annotations
 
-import re
-
 from ..config import MachineConfig
 
-SETTING_WRITE = re.compile(r"^\$(\d+)=(.*)$")
-FIXED = "[MSG:quadstep: settings come from the configuration file; edit it and restart]"
+NOT_KEPT = (
+    "[MSG:quadstep: startup lines and settings resets are not kept; the file is the settings]"
+)
 
 
 def _mask(flags: list[bool]) -> int:
