@@ -45,7 +45,7 @@ M30
 """
 REPORT = re.compile(
     r"^<(Idle|Run|Hold:[01]|Jog|Alarm|Home|Check)\|MPos:-?\d+\.\d{3}(,-?\d+\.\d{3}){2}"
-    r"\|FS:\d+,\d+(\|WCO:-?\d+\.\d{3}(,-?\d+\.\d{3}){2})?(\|Ov:\d+,\d+,\d+)?>$"
+    r"\|FS:\d+,\d+(\|WCO:-?\d+\.\d{3}(,-?\d+\.\d{3}){2})?(\|Ov:\d+,\d+,\d+(\|A:[SCFM]+)?)?>$"
 )
 
 

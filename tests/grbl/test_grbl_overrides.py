@@ -115,3 +115,19 @@ def test_the_spindle_override_scales_the_s_sent() -> None:
         overrides.set_spindle(201)
     with pytest.raises(ValueError, match="25, 50, 100"):
         overrides.set_rapid(75)
+
+
+def test_coolant_toggles_at_rest(door: tuple[Machine, GrblClient]) -> None:
+    _, grbl = door
+    grbl.realtime(0xA0)  # flood on
+    assert grbl.command("$G")[0] == ["[GC:G0 G54 G17 G21 G90 G94 M5 M8 T0 F0 S0]"]
+    assert "|A:F" in grbl.wait_status(lambda r: ov(r) is not None)
+    grbl.realtime(0xA1)  # mist on
+    assert grbl.command("$G")[0] == ["[GC:G0 G54 G17 G21 G90 G94 M5 M7 M8 T0 F0 S0]"]
+    assert grbl.command("M3 S100")[1] == "ok"  # a line keeps them
+    grbl.wait_status(lambda r: r.startswith("<Idle"))
+    report = grbl.wait_status(lambda r: ov(r) is not None)
+    assert report.endswith("|A:SFM>")
+    grbl.realtime(0xA0)
+    grbl.realtime(0xA1)
+    assert grbl.command("$G")[0] == ["[GC:G0 G54 G17 G21 G90 G94 M3 M9 T0 F0 S100]"]

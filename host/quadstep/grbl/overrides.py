@@ -2,12 +2,16 @@
 batch at once, through the job's own feed override (machine/override.py: the rest re-planned from a
 move boundary, moving), and onto every batch planned after; the rapid (100, 50, 25 %) and spindle
 (10–200 %) overrides onto the batches planned after the one running (machine/speed_overrides.py).
-The status report's `Ov:` says what is in force."""
+The status report's `Ov:` says what is in force. The coolant toggles (0xA0 flood, 0xA1 mist) are
+here too: GRBL's accessory overrides."""
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 from ..machine import Machine, MachineError
 from ..planner.feed_override import MAX_PERCENT, MIN_PERCENT
+from ..planner.program import OutputState
 from .executor import Executor
 
 FEED_RESET, FEED_UP_10, FEED_DOWN_10, FEED_UP_1, FEED_DOWN_1 = 0x90, 0x91, 0x92, 0x93, 0x94
@@ -19,6 +23,8 @@ SPINDLE_RESET, SPINDLE_UP_10, SPINDLE_DOWN_10, SPINDLE_UP_1, SPINDLE_DOWN_1 = (
     0x9C,
     0x9D,
 )
+FLOOD_TOGGLE, MIST_TOGGLE = 0xA0, 0xA1
+COOLANT_TOGGLES = frozenset({FLOOD_TOGGLE, MIST_TOGGLE})
 OVERRIDE_BYTES = frozenset(range(0x90, 0x98)) | frozenset(range(0x99, 0x9E))
 _STEPS = {1: 10, 2: -10, 3: 1, 4: -1}  # the offset of a +/- byte from its reset byte
 
@@ -28,6 +34,13 @@ def stepped(percent: int, byte: int, reset: int) -> int:
     if byte == reset:
         return 100
     return min(MAX_PERCENT, max(MIN_PERCENT, percent + _STEPS[byte - reset]))
+
+
+def toggled(state: OutputState, byte: int) -> OutputState:
+    """The outputs with flood (0xA0) or mist (0xA1) the other way."""
+    if byte == FLOOD_TOGGLE:
+        return replace(state, flood=not state.flood)
+    return replace(state, mist=not state.mist)
 
 
 class Overrides:

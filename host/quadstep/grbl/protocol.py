@@ -79,9 +79,8 @@ class StatusFields:
     feed: float  # mm/min
     speed: float  # S
     wco: tuple[float, ...] | None = None  # the work offset, in reports that carry it
-    overrides: tuple[int, int, int] | None = (
-        None  # Ov:feed,rapid,spindle %, in reports that carry it
-    )
+    accessories: str = ""  # A: with Ov:, S/C spindle CW/CCW, F flood, M mist (those on)
+    overrides: tuple[int, int, int] | None = None  # Ov:feed,rapid,spindle % in some reports
 
 
 def status_report(fields: StatusFields) -> str:
@@ -94,4 +93,6 @@ def status_report(fields: StatusFields) -> str:
         parts.append(f"WCO:{numbers(fields.wco)}")
     if fields.overrides is not None:
         parts.append(f"Ov:{','.join(str(v) for v in fields.overrides)}")
+        if fields.accessories:
+            parts.append(f"A:{fields.accessories}")
     return "<" + "|".join(parts) + ">"

@@ -18,7 +18,7 @@ from ..machine.homing import home
 from ..planner.program import JobError, ProbeMove
 from .errors import GrblAlarm, GrblError, error_for
 from .executor import Executor, Work
-from .overrides import OVERRIDE_BYTES, Overrides
+from .overrides import COOLANT_TOGGLES, OVERRIDE_BYTES, Overrides, toggled
 from .probe import no_probe, run_probe, split_probe
 from .protocol import (
     BANNER,
@@ -132,9 +132,24 @@ class Session:
             self._soft_reset()
         elif byte in OVERRIDE_BYTES:
             self.overrides.realtime(byte)
+        elif byte in COOLANT_TOGGLES:
+            self._toggle_coolant(byte)
         elif byte == JOG_CANCEL and self.executor.cancel_jog():
             with self._reader_lock:
                 self.reader.resync(self.machine.position_mm)
+
+    def _toggle_coolant(self, byte: int) -> None:
+        """0xA0 flood, 0xA1 mist: switched now at rest (and kept in the modal state, as M8/M7 and
+        M9 would); ignored while anything moves or the firmware has no outputs."""
+        if not self.executor.idle or self.homing or self.probing or self.check_mode:
+            return
+        with self._reader_lock:
+            state = toggled(self.reader.interpreter.outputs, byte)
+            try:
+                self.machine.set_outputs(state)
+            except (MachineError, LinkError):
+                return
+            self.reader.interpreter.outputs = state
 
     def _soft_reset(self) -> None:
         """0x18: a controlled stop (HOLD), the queue and the modal state dropped, then the banner;

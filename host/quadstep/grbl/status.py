@@ -8,6 +8,7 @@ from typing import Protocol
 
 from ..link import LinkError
 from ..machine import Machine
+from ..planner.program import OutputState
 from .executor import Executor
 from .overrides import Overrides
 from .protocol import StatusFields, status_report
@@ -27,6 +28,12 @@ class SessionView(Protocol):
     check_mode: bool
     homing: bool
     probing: bool
+
+
+def accessories(outputs: OutputState) -> str:
+    """GRBL's A: letters for the outputs as the lines read so far leave them."""
+    spindle = {3: "S", 4: "C"}.get(outputs.spindle, "")
+    return spindle + ("F" if outputs.flood else "") + ("M" if outputs.mist else "")
 
 
 class StatusBuilder:
@@ -79,6 +86,7 @@ class StatusBuilder:
             feed,
             interpreter.outputs.speed,
             wco if show_wco else None,
+            accessories(interpreter.outputs),
             ov if show_ov else None,
         )
         return status_report(fields)

@@ -27,8 +27,9 @@ from ..config import DEFAULT_CONFIG_NAME, MachineConfig, default_config
 from ..coordinates import WorkCoordinates
 from ..default_machine import default_machine
 from ..link import Link, LinkError, LinkStats, hold
+from ..planner.outputs import output_message
 from ..planner.plan import Plan
-from ..planner.program import Program
+from ..planner.program import OutputState, Program
 from ..planner.segments import SegmentArrays
 from ..planner.stream import Stream
 from ..port_process import PortProcess
@@ -282,6 +283,15 @@ class Machine(Standing):
         overrides (a running job keeps those it was planned with; JobRun.set_feed_override changes
         its feeds on the way)."""
         return self.speed_overrides.apply(program, self.config, self.position)
+
+    def set_outputs(self, state: OutputState) -> None:
+        """At rest: the spindle, laser and coolant as `state` says, now (a sender's coolant
+        toggle)."""
+        self._refuse_if_busy("set the outputs")
+        if not self.identity.capabilities & Capability.OUTPUTS:
+            raise MachineError("this firmware has no outputs (spindle, laser, coolant)")
+        self.link.send(output_message(state, self.config))
+        self.link.drain(timeout=2)
 
     def send_segments(self, segments: Sequence[Segment]) -> Motion:
         """Start streaming raw segments (every firmware axis) now, as they are (no take-ups
