@@ -16,6 +16,8 @@ from ..link import LinkError
 from ..machine import Machine, MachineError
 from ..machine.homing import home
 from ..planner.program import JobError, ProbeMove
+from ..protocol import Alarm, Report, State
+from .alarms import FIRMWARE, fault_alarm, firmware_alarm, homing_alarm
 from .errors import GrblAlarm, GrblError, error_for
 from .executor import Executor, Work
 from .overrides import COOLANT_TOGGLES, OVERRIDE_BYTES, Overrides, toggled
@@ -83,8 +85,10 @@ class Session:
         self.homing = False
         self.probing = False
         self.last_probe = no_probe(len(machine.config.axes))
+        self._board_alarm = False  # the firmware raised an alarm; $X clears it
         self._lines: queue.Queue[tuple[int, Line] | None] = queue.Queue()
         self._worker = threading.Thread(target=self._work, name="grbl-lines", daemon=True)
+        self._unwatch = machine.on_report(self._on_report)
 
     def start(self, banner: bool = True) -> Session:
         """Serve; the banner unless the client's first bytes are a soft reset (which brings it)."""
@@ -96,6 +100,7 @@ class Session:
     def close(self) -> None:
         """The client has gone: what moves comes to rest, the queue is dropped."""
         self._lines.put(None)
+        self._unwatch()
         if self.homing or self.probing:
             self.machine.hold("quit")
         self.executor.close()
@@ -175,9 +180,21 @@ class Session:
 
     def _fault(self, text: str) -> None:
         """A batch that could not be planned or run (its lines were answered already): an alarm, so
-        the sender stops; $X unlocks."""
+        the sender stops (said once when the firmware's alarm said it already); $X unlocks."""
         self.alarm = True
-        self.say(message(text), f"ALARM:{GrblAlarm.SOFT_LIMIT.value}")
+        if self._board_alarm and firmware_alarm(text) is not None:
+            self.say(message(text))
+            return
+        self.say(message(text), f"ALARM:{fault_alarm(text).value}")
+
+    def _on_report(self, report: Report) -> None:
+        """The firmware's alarm (in the link's reader thread), told at once as GRBL does."""
+        if isinstance(report, Alarm) and report.code in FIRMWARE:
+            self.alarm = self._board_alarm = True
+            self.say(
+                message(f"quadstep: firmware alarm {report.code.name}"),
+                f"ALARM:{FIRMWARE[report.code].value}",
+            )
 
     # --- lines -------------------------------------------------------------------------------
 
@@ -306,7 +323,9 @@ class Session:
     def _unlock(self, generation: int) -> Answer:
         if not self.executor.wait_idle(generation):
             return []
-        self.alarm = False
+        if self.machine.status().state == State.ALARM:
+            self.machine.emergency_stop()  # at rest already: a STOP clears the board's alarm
+        self.alarm = self._board_alarm = False
         return ["[MSG:Caution: Unlocked]", "ok"]
 
     def _home(self, generation: int) -> Answer:
@@ -319,7 +338,7 @@ class Session:
             home(self.machine)
         except (MachineError, LinkError) as exc:
             self.alarm = True
-            return [message(str(exc)), f"ALARM:{GrblAlarm.HOMING_FAIL_APPROACH.value}", "ok"]
+            return [message(str(exc)), f"ALARM:{homing_alarm(str(exc)).value}", "ok"]
         finally:
             self.homing = False
         self.alarm = False
