@@ -86,8 +86,9 @@ def main(url: str, job: str, probes: list[str]) -> dict[str, object]:
             if kind == Sender.MSG_ERROR:
                 errors.append(str(text))
     finally:
-        sender.thread = None  # ends bCNC's serial thread
-        time.sleep(0.3)
+        thread, sender.thread = sender.thread, None  # ends bCNC's serial thread
+        if thread is not None:
+            thread.join(timeout=5)
         sender.serial.close()
     return {
         "counted": counted,
