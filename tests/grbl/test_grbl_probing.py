@@ -127,3 +127,31 @@ def test_a_g38_2_miss_alarms_and_a_probe_touching_already_too(grbl: GrblClient) 
     assert answer == "ok" and prb(said[-1])[1] == 1
     said, answer = grbl.command("G38.2 Z-50 F100")  # it rests on the plate
     assert answer == "ok" and "ALARM:4" in said
+
+
+def test_a_feed_hold_stops_a_probe_where_it_is(start_emulator, tmp_path: Path) -> None:
+    sim = tmp_path / "machine.toml"
+    sim.write_text(SIM)
+    emu = start_emulator(
+        free=False, tick_hz=CONFIG.tick_hz, axes=3, queue=16, extra_args=["--machine", str(sim)]
+    )
+    with Link.open(emu.url) as link:
+        machine = Machine(link, CONFIG)
+        pty = PtyServer(machine)
+        thread = serve_in_thread(pty)
+        try:
+            with GrblClient(str(pty.path)) as grbl:
+                grbl.wait_banner()
+                grbl.port.write(b"G38.3 Z-30 F120\n")  # 2 mm/s over the bare table: 15 s
+                grbl.wait_status(lambda r: r.startswith("<Run") and mpos(r)[2] < -0.5)
+                grbl.realtime(ord("!"))
+                assert grbl.answer().startswith("error:")
+                rest = mpos(grbl.wait_status(idle))
+                assert -30 < rest[2] < -0.5
+                assert tuple(machine.link.status().position[:3]) == CONFIG.to_steps(rest)
+                assert grbl.command("G0 Z0")[1] == "ok"  # lines go on from where it rests
+                assert mpos(grbl.wait_status(idle)) == (0.0, 0.0, 0.0)
+        finally:
+            pty.stop()
+            thread.join(timeout=10)
+            pty.close()

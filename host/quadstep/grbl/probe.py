@@ -9,11 +9,15 @@ from __future__ import annotations
 from collections.abc import Sequence
 from dataclasses import dataclass
 
-from ..machine import Machine
+from ..link.errors import Stopped
+from ..machine import Machine, MachineError
 from ..machine.probing import ProbeError, probe
 from ..planner.program import Item, ProbeMove
+from ..protocol import HoldDone
 from .errors import GrblAlarm
 from .protocol import numbers
+
+HOLD_TIMEOUT_S = 30.0  # a stop's deceleration to rest, at most
 
 
 @dataclass(frozen=True)
@@ -49,9 +53,18 @@ def split_probe(items: Sequence[Item]) -> tuple[list[Item], ProbeMove | None]:
 
 
 def run_probe(machine: Machine, move: ProbeMove, last: ProbeReport) -> ProbeOutcome:
-    """Probe on `machine` at rest; a probe that fails keeps `last` as the PRB position."""
+    """Probe on `machine` at rest; a probe that fails keeps `last` as the PRB position. A stop
+    (feed hold, reset: the session's HOLD) during it: MachineError, the machine's position taken
+    where that HOLD leaves it."""
+    holds = machine.report_count(HoldDone)
     try:
         result = probe(machine, move.code, move.target, move.feed)
+    except Stopped:
+        stopped = machine.wait_report(HoldDone, holds, timeout=HOLD_TIMEOUT_S)
+        machine.rested(stopped.hold_tick if isinstance(stopped, HoldDone) else None)
+        raise MachineError(
+            f"G{move.code}: stopped before it finished; the machine rests where it stopped"
+        ) from None
     except ProbeError as exc:
         text = str(exc)
         alarm = GrblAlarm.PROBE_FAIL_INITIAL if "already" in text else GrblAlarm.PROBE_FAIL_CONTACT

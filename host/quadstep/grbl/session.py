@@ -129,6 +129,8 @@ class Session:
     def _realtime(self, byte: int) -> None:
         if byte == STATUS:
             self.say(self.status.report())
+        elif byte == FEED_HOLD and self.probing:
+            self.machine.hold("feed hold")  # the probe ends where it rests; its line, an error
         elif byte == FEED_HOLD:
             self.executor.feed_hold()
         elif byte == CYCLE_START:
