@@ -117,3 +117,18 @@ def test_m6_pause_holds_until_cycle_start(start_emulator) -> None:
         assert mpos(held) == (5.0, 0.0, 0.0)
         grbl.realtime(ord("~"))
         assert mpos(grbl.wait_status(idle)) == (10.0, 0.0, 0.0)
+
+
+def test_the_homing_direction_mask_is_grbls_invert_mask(
+    door: tuple[Machine, GrblClient], config_file: Path
+) -> None:
+    _, grbl = door
+    assert "$23=3" in grbl.command("$$")[0]  # X and Y home toward min, Z toward max
+    assert grbl.command("$23=1") == ([], "ok")
+    assert [a.homing.end for a in load_config(config_file).axes if a.homing] == [
+        "min",
+        "max",
+        "max",
+    ]
+    assert grbl.command("$24=120") == ([], "ok")  # the locate speed, mm/min
+    assert {a.homing.locate for a in load_config(config_file).axes if a.homing} == {2.0}

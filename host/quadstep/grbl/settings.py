@@ -39,7 +39,8 @@ def settings(config: MachineConfig) -> list[tuple[int, float]]:
         (20, 1),  # the travel is always checked, before anything moves
         (21, int(config.inputs.hard_limits)),
         (22, int(bool(homing))),
-        (23, _mask([a.homing is not None and a.homing.end == "max" for a in axes])),
+        # GRBL homes toward + unless the axis's bit is set (direction invert)
+        (23, _mask([a.homing is not None and a.homing.end == "min" for a in axes])),
         (24, first.locate * 60 if first else 25),
         (25, first.seek * 60 if first else 500),
         (26, config.inputs.debounce_ms),

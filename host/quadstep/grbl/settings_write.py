@@ -3,10 +3,10 @@ comments kept, the old file as FILE.bak), checked whole first, then used for the
 
 Each writable setting is a key of the file: `$100`… steps/mm, `$110`… max rate (mm/min → max_speed
 mm/s), `$120`… acceleration, `$130`… travel (the end of the travel nearer machine zero kept), `$11`
-junction deviation, `$12` arc tolerance, `$21` hard limits, `$23` homing direction mask, `$24`/`$25`
-homing speeds (mm/min), `$26` debounce, `$27` pull-off, `$30`/`$31` spindle S range, `$32` laser
-mode. The others are fixed: writing the value they show is accepted (a sender restoring settings),
-any other is refused with a message saying so."""
+junction deviation, `$12` arc tolerance, `$21` hard limits, `$23` homing direction invert mask (bit
+set: toward min), `$24`/`$25` homing speeds (mm/min), `$26` debounce, `$27` pull-off, `$30`/`$31`
+spindle S range, `$32` laser mode. The others are fixed: writing the value they show is accepted (a
+sender restoring settings), any other is refused with a message saying so."""
 
 from __future__ import annotations
 
@@ -86,7 +86,7 @@ def _homing(config: MachineConfig, write: SettingWrite) -> Values | None:
     if write.number == 23:
         mask = int(write.value)
         return {
-            ("axes", a.name, "homing", "end"): "max" if mask >> i & 1 else "min"
+            ("axes", a.name, "homing", "end"): "min" if mask >> i & 1 else "max"
             for i, a in enumerate(config.axes)
             if a.homing is not None
         }
