@@ -11,7 +11,7 @@ VENV_PYTHON := $(VENV)/bin/python
 VENV_INSTALLED := $(VENV)/.installed
 SUDO := $(shell [ "$$(id -u)" = 0 ] || echo sudo)
 APT_PACKAGES := gcc make pkg-config gcc-avr avr-libc binutils-avr simavr libsimavr-dev libelf-dev \
-	clang libclang-rt-14-dev avrdude python3-venv
+	clang libclang-rt-14-dev avrdude python3-venv python3-tk
 
 .PHONY: all setup setup-apt setup-python demo lint test test-fast test-firmware test-python bench clean
 
@@ -31,6 +31,7 @@ setup-apt:
 	@if ! command -v avr-gcc >/dev/null || ! command -v gcc >/dev/null || ! command -v clang >/dev/null \
 	    || ! command -v avrdude >/dev/null \
 	    || ! $(PYTHON) -c 'import ensurepip, venv; ensurepip.version()' >/dev/null 2>&1 \
+	    || ! $(PYTHON) -c 'import tkinter' >/dev/null 2>&1 \
 	    || ! pkg-config --exists simavr 2>/dev/null || [ ! -e /usr/include/libelf.h ]; then \
 	  $(SUDO) apt-get update -qq && \
 	  DEBIAN_FRONTEND=noninteractive $(SUDO) apt-get install -y -qq $(APT_PACKAGES); \

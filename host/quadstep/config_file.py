@@ -8,6 +8,7 @@ one is kept beside it as FILE.bak, and the new one replaces it atomically.
 from __future__ import annotations
 
 import shutil
+from collections.abc import Callable
 from pathlib import Path
 
 import tomlkit
@@ -59,4 +60,52 @@ def set_backlash(path: Path, axis: str, **values: float) -> tuple[MachineConfig,
     return config, backup
 
 
-__all__ = ["set_backlash"]
+Key = tuple[str, ...]  # ("axes", "X", "homing", "seek"), ("spindle", "s_max"), ("arc_tolerance",)
+
+
+def _place(document: tomlkit.TOMLDocument, key: Key, path: Path) -> Table | tomlkit.TOMLDocument:
+    """The table that holds `key`'s last part, made where it is missing."""
+    table: Table | tomlkit.TOMLDocument = document
+    parts = key[:-1]
+    if parts and parts[0] == "axes":
+        table, parts = _axis_table(document, parts[1], path), parts[2:]
+    for part in parts:
+        inner = table.get(part)
+        if inner is None:
+            inner = tomlkit.table()
+            table[part] = inner
+        table = inner
+    return table
+
+
+def _value(value: float | bool | str) -> float | bool | str | int:
+    if isinstance(value, float) and value.is_integer() and abs(value) < 1e9:
+        return int(value)
+    return round(value, 6) if isinstance(value, float) else value
+
+
+def set_values(
+    path: Path,
+    values: dict[Key, float | bool | str],
+    check: Callable[[MachineConfig], None] | None = None,
+) -> MachineConfig:
+    """Set `values` in the file at `path` (comments and layout kept): the new configuration is
+    loaded whole, then `check`ed, before the file is replaced (ConfigError, or what `check` raises,
+    and nothing is written); the old file is kept as FILE.bak. Returns the new configuration."""
+    text = read_text(path, ConfigError, SETTINGS_MAX_BYTES)
+    try:
+        document = tomlkit.parse(text)
+    except tomlkit.exceptions.ParseError as exc:
+        raise ConfigError(f"{path}: not valid TOML: {exc}") from None
+    for key, value in values.items():
+        _place(document, key, path)[key[-1]] = _value(value)
+    new_text = tomlkit.dumps(document)
+    config = parse_config(tomlkit.parse(new_text).unwrap(), str(path))
+    if check is not None:
+        check(config)
+    shutil.copy2(path, path.with_name(path.name + ".bak"))
+    replace_text(path, new_text)
+    return config
+
+
+__all__ = ["set_backlash", "set_values"]

@@ -70,3 +70,31 @@ def test_a_link_path_that_is_a_file_is_refused_and_kept(tmp_path: Path) -> None:
     assert process.returncode == 1
     assert f"--link {kept}: a file is there already (not a link)" in err
     assert kept.read_text() == "mine"
+
+
+def test_config_and_m6_pause_reach_the_sender(tmp_path: Path) -> None:
+    config = tmp_path / "quadstep.toml"
+    config.write_text(
+        (Path(__file__).resolve().parents[2] / "examples" / "router-uno.toml").read_text()
+    )
+    process = cli_process(
+        "grbl", "--emulator", "--free", "--config", str(config), "--m6", "pause", "--tcp", "0"
+    )
+    try:
+        printed = printed_lines(process)
+        printed.get(timeout=30)
+        tcp = printed.get(timeout=30)
+        with GrblClient(tcp.split()[-1].replace("tcp://", "socket://")) as grbl:
+            grbl.wait_banner()
+            assert grbl.command("$112=600") == ([], "ok")
+            assert "max_speed = 10" in config.read_text()
+            assert grbl.stream_counting(["G0 X1", "T1 M6", "G0 X2"]) == ["ok"] * 3
+            held = grbl.wait_status(lambda r: report_fields(r)["state"] == "Hold:0")
+            assert mpos(held) == (1.0, 0.0, 0.0)
+            grbl.realtime(ord("~"))
+            report = grbl.wait_status(lambda r: report_fields(r)["state"] == "Idle")
+            assert mpos(report) == (2.0, 0.0, 0.0)
+    finally:
+        process.send_signal(signal.SIGINT)
+        process.communicate(timeout=30)
+    assert process.returncode == 0

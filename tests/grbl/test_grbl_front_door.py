@@ -45,7 +45,7 @@ M30
 """
 REPORT = re.compile(
     r"^<(Idle|Run|Hold:[01]|Jog|Alarm|Home|Check)\|MPos:-?\d+\.\d{3}(,-?\d+\.\d{3}){2}"
-    r"\|FS:\d+,\d+(\|WCO:-?\d+\.\d{3}(,-?\d+\.\d{3}){2})?(\|Ov:\d+,\d+,\d+)?>$"
+    r"\|FS:\d+,\d+(\|WCO:-?\d+\.\d{3}(,-?\d+\.\d{3}){2})?(\|Ov:\d+,\d+,\d+(\|A:[SCFM]+)?)?>$"
 )
 
 
@@ -211,7 +211,7 @@ def test_bad_lines_are_answered_with_grbls_errors_and_nothing_moves(free_door: F
         assert grbl.command("G1 X500 F100")[1] == "error:15"  # beyond the travel
         assert grbl.command("G1 X10")[1] == "error:22"  # no feed yet
         assert grbl.command("G2 X10 Y10 F100")[1] == "error:35"  # no I/J nor R
-        assert grbl.command("G38.2 Z-5 F100")[1] == "error:20"
+        assert grbl.command("G38.2 Z-100 F100")[1] == "error:15"  # a probe beyond the travel
         assert grbl.command("G81 X1 Y1 Z-1 R1")[1] == "error:20"
         assert grbl.command("G0 G1 X1")[1] == "error:21"
         assert grbl.command("G91 X1 X2")[1] == "error:25"
@@ -242,6 +242,7 @@ def test_grbl_streamer_from_pypi_streams_the_cam_job(free_door: FrontDoor, tmp_p
     Its threads write to the port and count the bytes in flight without a lock, so the job is started
     from its reading thread once its own $$ is answered, and its polling only after the job."""
     import grbl_streamer
+
     events: queue.Queue[tuple[str, tuple[object, ...]]] = queue.Queue()
     path = tmp_path / "cam.nc"
     path.write_text(CAM_JOB)

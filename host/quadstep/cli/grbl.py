@@ -9,9 +9,10 @@ import threading
 from pathlib import Path
 
 from ..grbl.server import PtyServer, TcpServer
+from ..grbl.session import SessionOptions
 from ..machine import Machine
 from ._jobs import machine_config
-from .options import CliError, add_connection_options, connect
+from .options import CliError, add_connection_options, config_path, connect
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
@@ -38,6 +39,13 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         metavar="PORT",
         help="also serve on TCP 127.0.0.1:PORT (UGS tcp://, bCNC socket://)",
     )
+    parser.add_argument(
+        "--m6",
+        choices=("ignore", "pause"),
+        default="ignore",
+        help="M6 tool change: answered ok and ignored, the sender handles it (GRBL's default), "
+        "or a pause held until cycle start (~), as quadstep run does",
+    )
     add_connection_options(parser)
     parser.set_defaults(handler=run)
 
@@ -57,14 +65,15 @@ def run(args: argparse.Namespace) -> int:
     config = machine_config(args)
     if args.link is not None and args.link.exists() and not args.link.is_symlink():
         raise CliError(f"--link {args.link}: a file is there already (not a link)")
+    options = SessionOptions(tool_change=args.m6, config_path=config_path(args))
     with connect(args, config, str(args.config or "quadstep.toml")) as machine:
-        pty = PtyServer(machine, args.link)
+        pty = PtyServer(machine, args.link, options)
         tcp = None
         try:
             link = f" (link {args.link})" if args.link else ""
             print(f"GRBL 1.1 on {pty.path}{link}", flush=True)
             if args.tcp is not None:
-                tcp = start_tcp(machine, args.tcp)
+                tcp = start_tcp(machine, args.tcp, options)
                 print(f"GRBL 1.1 on tcp://127.0.0.1:{tcp.port}", flush=True)
             print("Ctrl-C ends it", file=sys.stderr, flush=True)
             pty.serve()
@@ -77,12 +86,12 @@ def run(args: argparse.Namespace) -> int:
     return 0
 
 
-def start_tcp(machine: Machine, port: int) -> TcpServer:
+def start_tcp(machine: Machine, port: int, options: SessionOptions) -> TcpServer:
     def connected(who: str) -> None:
         print(f"sender connected from {who}", file=sys.stderr, flush=True)
 
     try:
-        server = TcpServer(machine, port, on_client=connected)
+        server = TcpServer(machine, port, on_client=connected, options=options)
     except OSError as exc:
         raise CliError(
             f"--tcp {port}: cannot listen on 127.0.0.1:{port} ({exc.strerror})"

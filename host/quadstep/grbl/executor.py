@@ -18,6 +18,7 @@ from dataclasses import dataclass, field
 from ..coordinates import WorkCoordinates
 from ..link import LinkError
 from ..machine import JobRun, JobState, Machine, MachineError
+from ..planner.feed_override import scale_feeds
 from ..planner.plan import plan_program
 from ..planner.program import Item, JobError, Program
 
@@ -54,6 +55,7 @@ class Executor:
         self._held = False  # a feed hold with nothing moving: the queue waits for cycle start
         self._flush = 0  # callers waiting for the machine at rest: run what is queued now
         self._last = time.monotonic()
+        self.feed_override = 100  # %, for the batches planned next (overrides.py)
         self.generation = 0  # a soft reset makes a new one; work of an older one is dropped
         self._closed = False
         self._thread = threading.Thread(target=self._loop, name="grbl-executor", daemon=True)
@@ -107,6 +109,12 @@ class Executor:
         if running.hold_asked:
             return "Hold:1"
         return "Jog" if running.jog else "Run"
+
+    def running_job(self) -> JobRun | None:
+        """The batch running now (not a jog), for the feed override."""
+        with self._cond:
+            running = self._running
+        return running.run if running is not None and not running.jog else None
 
     # --- realtime commands ----------------------------------------------------------------
 
@@ -225,12 +233,16 @@ class Executor:
             generation = self.generation
         if items:
             program = Program(items=items, lines=last.line, coordinates=last.coordinates)
-            plan = plan_program(program, machine.config, machine.position, "line")
+            program = machine.overridden(program) if not last.jog else program
+            feed = 100 if last.jog else self.feed_override
+            plan = plan_program(
+                scale_feeds(program, feed), machine.config, machine.position, "line"
+            )
             with self._cond:  # a feed hold before it starts waits for cycle start; a reset drops it
                 self._cond.wait_for(lambda: not self._held or self._stale(generation))
                 if self._stale(generation):
                     return
-                run = machine.run_job(plan, program, label="line")
+                run = machine.run_job(plan, program, label="line", feed_override=feed)
                 self._running = Running(run, last.jog)
             end = run.wait()
             if end is not None and end.ended_by == "error":

@@ -79,7 +79,8 @@ class StatusFields:
     feed: float  # mm/min
     speed: float  # S
     wco: tuple[float, ...] | None = None  # the work offset, in reports that carry it
-    overrides: bool = False  # Ov:100,100,100 (quadstep's overrides are the job's own)
+    accessories: str = ""  # A: with Ov:, S/C spindle CW/CCW, F flood, M mist (those on)
+    overrides: tuple[int, int, int] | None = None  # Ov:feed,rapid,spindle % in some reports
 
 
 def status_report(fields: StatusFields) -> str:
@@ -90,6 +91,8 @@ def status_report(fields: StatusFields) -> str:
     ]
     if fields.wco is not None:
         parts.append(f"WCO:{numbers(fields.wco)}")
-    if fields.overrides:
-        parts.append("Ov:100,100,100")
+    if fields.overrides is not None:
+        parts.append(f"Ov:{','.join(str(v) for v in fields.overrides)}")
+        if fields.accessories:
+            parts.append(f"A:{fields.accessories}")
     return "<" + "|".join(parts) + ">"

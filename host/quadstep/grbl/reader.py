@@ -4,7 +4,8 @@ not even its modal words. What a line asks for (moves, dwells, outputs, pauses) 
 run (executor.py).
 
 GRBL starts in G0, so a line with axis words and no motion word moves at rapid. M6 is answered and
-ignored, as GRBL does (the sender handles tool changes); probing (G38.x) is not offered here."""
+ignored, as GRBL does (the sender handles tool changes), unless it is asked to pause; a probing line
+(G38.x) is read here and probed by the session (probe.py)."""
 
 from __future__ import annotations
 
@@ -19,7 +20,6 @@ from ..planner.program import Item, JobError, LinearMove
 from .protocol import numbers
 
 TOOL_CHANGE = re.compile(r"M\s*0*6(?![\d.])", re.IGNORECASE)
-PROBING = re.compile(r"G\s*0*38", re.IGNORECASE)
 JOG_WORDS = re.compile(
     r"^(?:\s*(?:G\s*(?:20|21|90|91|53)(?![\d.])|[A-Z]\s*[-+.\d]+)\s*)*$", re.IGNORECASE
 )
@@ -65,9 +65,14 @@ class Reader:
     """The sender's lines, numbered from 1 since the last reset, with their modal state."""
 
     def __init__(
-        self, config: MachineConfig, position_mm: Sequence[float], coordinates: WorkCoordinates
+        self,
+        config: MachineConfig,
+        position_mm: Sequence[float],
+        coordinates: WorkCoordinates,
+        tool_change: str = "ignore",
     ) -> None:
         self.config = config
+        self.tool_change = tool_change  # M6: "ignore" (GRBL's default) or "pause" (as M0)
         self.line = 0
         self.interpreter = self._fresh(position_mm, coordinates)
 
@@ -83,6 +88,13 @@ class Reader:
         """A soft reset: the modal state as at power-up, the offsets kept."""
         self.interpreter = self._fresh(position_mm, coordinates)
 
+    def reconfigure(self, config: MachineConfig, position_mm: Sequence[float]) -> None:
+        """A setting written: the lines that follow are read with `config`, from where the machine
+        stands in it (steps/mm may have changed)."""
+        self.config = config
+        self.interpreter.arc_tolerance = config.arc_tolerance
+        self.resync(position_mm)
+
     def resync(self, position_mm: Sequence[float]) -> None:
         """Where the machine rests now (after a stop or a jog cancelled): lines go on from there."""
         self.interpreter.position = list(position_mm)
@@ -94,12 +106,9 @@ class Reader:
     def read(self, text: str) -> Read:
         """The line's items, checked; raises JobError (and the line leaves nothing) if it is bad."""
         self.line += 1
-        if PROBING.search(text):
-            raise JobError(
-                f"line {self.line}: probing (G38.x) is not supported through the GRBL "
-                "front door; quadstep probe does it"
-            )
-        return self._read(TOOL_CHANGE.sub("", text), self.interpreter, self.line)
+        if self.tool_change == "ignore":
+            text = TOOL_CHANGE.sub("", text)
+        return self._read(text, self.interpreter, self.line)
 
     def jog(self, text: str) -> Read:
         """A `$J=` line: G1 at its F, G20/G21/G90/G91/G53 for this line only; the modal state
@@ -162,7 +171,8 @@ class Reader:
         ]
         return f"[GC:{' '.join(words)}]"
 
-    def offsets_report(self) -> list[str]:
+    def offsets_report(self, probe: str) -> list[str]:
+        """`$#`, with `probe` the PRB line (probe.py)."""
         names = self.config.axis_names
         c = self.interpreter.coords
         lines = [
@@ -175,5 +185,5 @@ class Reader:
             f"[G92:{numbers([c.g92.get(a, 0.0) if c.g92_applied else 0.0 for a in names])}]"
         )
         lines.append("[TLO:0.000]")
-        lines.append(f"[PRB:{numbers([0.0] * len(names))}:0]")
+        lines.append(probe)
         return lines

@@ -14,7 +14,7 @@ from pathlib import Path
 
 from ..machine import Machine
 from .protocol import SOFT_RESET
-from .session import Session
+from .session import Session, SessionOptions
 
 POLL_MS = 100
 OPEN_SETTLE_S = 0.2
@@ -26,8 +26,11 @@ class PtyServer:
     gets a session of its own (the banner after OPEN_SETTLE_S, once the sender has flushed its input
     as serial ports do on opening); closing it ends the session (what moves comes to rest)."""
 
-    def __init__(self, machine: Machine, link: Path | None = None) -> None:
+    def __init__(
+        self, machine: Machine, link: Path | None = None, options: SessionOptions | None = None
+    ) -> None:
         self.machine = machine
+        self.options = options
         self._master, slave = os.openpty()
         os.set_blocking(self._master, False)
         tty.setraw(slave)
@@ -70,7 +73,9 @@ class PtyServer:
             if (
                 self.session is None
             ):  # a soft reset sent on opening (as senders do) brings the banner
-                self.session = Session(self.machine, self._send).start(SOFT_RESET not in data)
+                self.session = Session(self.machine, self._send, self.options).start(
+                    SOFT_RESET not in data
+                )
                 self.connected.set()
             self.session.receive(data)
         self._hang_up()
@@ -95,9 +100,14 @@ class TcpServer:
     """GRBL on 127.0.0.1:`port` (0: any free port, then `port` says which), one client at a time."""
 
     def __init__(
-        self, machine: Machine, port: int, on_client: Callable[[str], None] | None = None
+        self,
+        machine: Machine,
+        port: int,
+        on_client: Callable[[str], None] | None = None,
+        options: SessionOptions | None = None,
     ) -> None:
         self.machine = machine
+        self.options = options
         self._socket = socket.create_server(("127.0.0.1", port))
         self.port = self._socket.getsockname()[1]
         self.on_client = on_client
@@ -134,7 +144,7 @@ class TcpServer:
             ).start()
 
     def _serve(self, client: socket.socket) -> None:
-        session = Session(self.machine, client.sendall).start()
+        session = Session(self.machine, client.sendall, self.options).start()
         try:
             while not self._stop.is_set():
                 ready, _, _ = select.select([client], [], [], 0.2)

@@ -9,13 +9,19 @@ from __future__ import annotations
 import queue
 import threading
 from collections.abc import Callable
+from dataclasses import dataclass
+from pathlib import Path
 
 from ..link import LinkError
 from ..machine import Machine, MachineError
 from ..machine.homing import home
-from ..planner.program import JobError
+from ..planner.program import JobError, ProbeMove
+from ..protocol import Alarm, Report, State
+from .alarms import FIRMWARE, fault_alarm, firmware_alarm, homing_alarm
 from .errors import GrblAlarm, GrblError, error_for
 from .executor import Executor, Work
+from .overrides import COOLANT_TOGGLES, OVERRIDE_BYTES, Overrides, toggled
+from .probe import no_probe, run_probe, split_probe
 from .protocol import (
     BANNER,
     CYCLE_START,
@@ -30,7 +36,8 @@ from .protocol import (
     StreamSplitter,
 )
 from .reader import JogError, Reader
-from .settings import FIXED, SETTING_WRITE, settings_lines
+from .settings import NOT_KEPT, settings_lines
+from .settings_write import SettingError, SettingWrite, parse_write, write_setting
 from .status import StatusBuilder
 
 HELP = "[HLP:$$ $# $G $I $N $x=val $Nx=line $J=line $SLP $C $X $H ~ ! ? ctrl-x]"
@@ -39,27 +46,49 @@ Answer = list[str]
 
 
 def message(text: str) -> str:
-    return f"[MSG:{text.replace(']', ')')}]"
+    return f"[MSG:{text.replace('[', '(').replace(']', ')')}]"
+
+
+@dataclass(frozen=True)
+class SessionOptions:
+    """How `quadstep grbl` was started: M6 "ignore" (GRBL's default) or "pause" (held until `~`,
+    as quadstep's tool change); the configuration file that settings writes go to (None: none)."""
+
+    tool_change: str = "ignore"
+    config_path: Path | None = None
 
 
 class Session:
     """GRBL 1.1 on `machine` for one client, whose answers go to `write` (bytes, from any
     thread)."""
 
-    def __init__(self, machine: Machine, write: Callable[[bytes], None]) -> None:
+    def __init__(
+        self,
+        machine: Machine,
+        write: Callable[[bytes], None],
+        options: SessionOptions | None = None,
+    ) -> None:
         self.machine = machine
+        self.options = options = options if options is not None else SessionOptions()
         self._write = write
         self._write_lock = threading.Lock()
         self._reader_lock = threading.Lock()
-        self.reader = Reader(machine.config, machine.position_mm, machine.coordinates)
+        self.reader = Reader(
+            machine.config, machine.position_mm, machine.coordinates, options.tool_change
+        )
         self.executor = Executor(machine, self._fault)
+        self.overrides = Overrides(machine, self.executor)
         self.status = StatusBuilder(self)
         self.splitter = StreamSplitter()
         self.alarm = machine.config.homing_required and not machine.homed
         self.check_mode = False
         self.homing = False
+        self.probing = False
+        self.last_probe = no_probe(len(machine.config.axes))
+        self._board_alarm = False  # the firmware raised an alarm; $X clears it
         self._lines: queue.Queue[tuple[int, Line] | None] = queue.Queue()
         self._worker = threading.Thread(target=self._work, name="grbl-lines", daemon=True)
+        self._unwatch = machine.on_report(self._on_report)
 
     def start(self, banner: bool = True) -> Session:
         """Serve; the banner unless the client's first bytes are a soft reset (which brings it)."""
@@ -71,7 +100,8 @@ class Session:
     def close(self) -> None:
         """The client has gone: what moves comes to rest, the queue is dropped."""
         self._lines.put(None)
-        if self.homing:
+        self._unwatch()
+        if self.homing or self.probing:
             self.machine.hold("quit")
         self.executor.close()
         self._worker.join(timeout=10)
@@ -99,22 +129,42 @@ class Session:
     def _realtime(self, byte: int) -> None:
         if byte == STATUS:
             self.say(self.status.report())
+        elif byte == FEED_HOLD and self.probing:
+            self.machine.hold("feed hold")  # the probe ends where it rests; its line, an error
         elif byte == FEED_HOLD:
             self.executor.feed_hold()
         elif byte == CYCLE_START:
             self.executor.cycle_start()
         elif byte == SOFT_RESET:
             self._soft_reset()
+        elif byte in OVERRIDE_BYTES:
+            self.overrides.realtime(byte)
+        elif byte in COOLANT_TOGGLES:
+            self._toggle_coolant(byte)
         elif byte == JOG_CANCEL and self.executor.cancel_jog():
             with self._reader_lock:
                 self.reader.resync(self.machine.position_mm)
+
+    def _toggle_coolant(self, byte: int) -> None:
+        """0xA0 flood, 0xA1 mist: switched now at rest (and kept in the modal state, as M8/M7 and
+        M9 would); ignored while anything moves or the firmware has no outputs."""
+        if not self.executor.idle or self.homing or self.probing or self.check_mode:
+            return
+        with self._reader_lock:
+            state = toggled(self.reader.interpreter.outputs, byte)
+            try:
+                self.machine.set_outputs(state)
+            except (MachineError, LinkError):
+                return
+            self.reader.interpreter.outputs = state
 
     def _soft_reset(self) -> None:
         """0x18: a controlled stop (HOLD), the queue and the modal state dropped, then the banner;
         ALARM:3 when it stopped motion (the position is exact, but the sender's program was cut)."""
         self.splitter.clear()
         stopped = self.executor.reset()
-        if self.homing:
+        self.overrides.reset()
+        if self.homing or self.probing:
             self.machine.hold("reset")
             stopped = True
         with self._reader_lock:
@@ -132,9 +182,21 @@ class Session:
 
     def _fault(self, text: str) -> None:
         """A batch that could not be planned or run (its lines were answered already): an alarm, so
-        the sender stops; $X unlocks."""
+        the sender stops (said once when the firmware's alarm said it already); $X unlocks."""
         self.alarm = True
-        self.say(message(text), f"ALARM:{GrblAlarm.SOFT_LIMIT.value}")
+        if self._board_alarm and firmware_alarm(text) is not None:
+            self.say(message(text))
+            return
+        self.say(message(text), f"ALARM:{fault_alarm(text).value}")
+
+    def _on_report(self, report: Report) -> None:
+        """The firmware's alarm (in the link's reader thread), told at once as GRBL does."""
+        if isinstance(report, Alarm) and report.code in FIRMWARE:
+            self.alarm = self._board_alarm = True
+            self.say(
+                message(f"quadstep: firmware alarm {report.code.name}"),
+                f"ALARM:{FIRMWARE[report.code].value}",
+            )
 
     # --- lines -------------------------------------------------------------------------------
 
@@ -168,9 +230,35 @@ class Session:
             return [f"error:{GrblError.GCODE_LOCK.value}"]
         with self._reader_lock:
             read = self.reader.read(text)
-        if not self.check_mode:
-            self.executor.submit(Work(read.items, read.coordinates, read.line), generation)
+        items, probe = split_probe(read.items)
+        if not self.check_mode and items:
+            self.executor.submit(Work(items, read.coordinates, read.line), generation)
+        if probe is not None and not self.check_mode:
+            return self._probe(probe, generation)
         return ["ok"]
+
+    def _probe(self, move: ProbeMove, generation: int) -> Answer:
+        """G38.x: at rest, the machine probes; the lines that follow go on from where it stopped."""
+        if not self.executor.wait_idle(generation):
+            return []
+        self.probing = True
+        try:
+            outcome = run_probe(self.machine, move, self.last_probe)
+        finally:
+            self.probing = False
+            with self._reader_lock:
+                self.reader.resync(self.machine.position_mm)
+        self.last_probe = outcome.report
+        if outcome.alarm is None:
+            return [outcome.report.line(), "ok"]
+        self.alarm = True
+        assert outcome.message is not None
+        return [
+            message(outcome.message),
+            f"ALARM:{outcome.alarm.value}",
+            outcome.report.line(),
+            "ok",
+        ]
 
     def _system(self, text: str, generation: int) -> Answer:
         command = text[1:].upper()
@@ -179,9 +267,24 @@ class Session:
         answer = self._system_commands(generation).get(command)
         if answer is not None:
             return answer()
-        if SETTING_WRITE.match(text) or command.startswith(("N", "RST=")):
-            return [FIXED, f"error:{GrblError.INVALID_STATEMENT.value}"]
+        try:
+            write = parse_write(text)
+            if write is not None:
+                return self._write_setting(write)
+        except SettingError as exc:
+            return [message(str(exc)), f"error:{exc.error.value}"]
+        if command.startswith(("N", "RST=")):
+            return [NOT_KEPT, f"error:{GrblError.INVALID_STATEMENT.value}"]
         return [f"error:{GrblError.INVALID_STATEMENT.value}"]
+
+    def _write_setting(self, write: SettingWrite) -> Answer:
+        """At rest (GRBL's error 8 else): the setting into the file, used from the next line."""
+        if not self.executor.idle or self.homing or self.probing:
+            return [f"error:{GrblError.NOT_IDLE.value}"]
+        if write_setting(self.machine, self.options.config_path, write):
+            with self._reader_lock:
+                self.reader.reconfigure(self.machine.config, self.machine.position_mm)
+        return ["ok"]
 
     def _system_commands(self, generation: int) -> dict[str, Callable[[], Answer]]:
         """`$` commands by name, each answering when called."""
@@ -189,7 +292,10 @@ class Session:
             "": lambda: [HELP, "ok"],
             "$": lambda: [*settings_lines(self.machine.config), "ok"],
             "I": lambda: [VERSION, OPTIONS, "ok"],
-            "#": lambda: [*self._read(self.reader.offsets_report), "ok"],
+            "#": lambda: [
+                *self._read(lambda: self.reader.offsets_report(self.last_probe.line())),
+                "ok",
+            ],
             "G": lambda: [*self._read(lambda: [self.reader.modal_report()]), "ok"],
             "N": lambda: ["$N0=", "$N1=", "ok"],
             "SLP": lambda: ["ok"],
@@ -219,7 +325,9 @@ class Session:
     def _unlock(self, generation: int) -> Answer:
         if not self.executor.wait_idle(generation):
             return []
-        self.alarm = False
+        if self.machine.status().state == State.ALARM:
+            self.machine.emergency_stop()  # at rest already: a STOP clears the board's alarm
+        self.alarm = self._board_alarm = False
         return ["[MSG:Caution: Unlocked]", "ok"]
 
     def _home(self, generation: int) -> Answer:
@@ -232,7 +340,7 @@ class Session:
             home(self.machine)
         except (MachineError, LinkError) as exc:
             self.alarm = True
-            return [message(str(exc)), f"ALARM:{GrblAlarm.HOMING_FAIL_APPROACH.value}", "ok"]
+            return [message(str(exc)), f"ALARM:{homing_alarm(str(exc)).value}", "ok"]
         finally:
             self.homing = False
         self.alarm = False

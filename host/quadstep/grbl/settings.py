@@ -1,14 +1,13 @@
-"""`$$`: GRBL's settings as the machine's configuration says them. The configuration file is where
-they are set; `$N=value` is answered with an error that says so (nothing changes)."""
+"""`$$`: GRBL's settings as the machine's configuration says them (`$N=value` writes them into the
+configuration file: settings_write.py)."""
 
 from __future__ import annotations
 
-import re
-
 from ..config import MachineConfig
 
-SETTING_WRITE = re.compile(r"^\$(\d+)=(.*)$")
-FIXED = "[MSG:quadstep: settings come from the configuration file; edit it and restart]"
+NOT_KEPT = (
+    "[MSG:quadstep: startup lines and settings resets are not kept; the file is the settings]"
+)
 
 
 def _mask(flags: list[bool]) -> int:
@@ -40,7 +39,8 @@ def settings(config: MachineConfig) -> list[tuple[int, float]]:
         (20, 1),  # the travel is always checked, before anything moves
         (21, int(config.inputs.hard_limits)),
         (22, int(bool(homing))),
-        (23, _mask([a.homing is not None and a.homing.end == "max" for a in axes])),
+        # GRBL homes toward + unless the axis's bit is set (direction invert)
+        (23, _mask([a.homing is not None and a.homing.end == "min" for a in axes])),
         (24, first.locate * 60 if first else 25),
         (25, first.seek * 60 if first else 500),
         (26, config.inputs.debounce_ms),

@@ -8,7 +8,9 @@ from typing import Protocol
 
 from ..link import LinkError
 from ..machine import Machine
+from ..planner.program import OutputState
 from .executor import Executor
+from .overrides import Overrides
 from .protocol import StatusFields, status_report
 from .reader import Reader
 
@@ -21,9 +23,17 @@ class SessionView(Protocol):
     machine: Machine
     reader: Reader
     executor: Executor
+    overrides: Overrides
     alarm: bool
     check_mode: bool
     homing: bool
+    probing: bool
+
+
+def accessories(outputs: OutputState) -> str:
+    """GRBL's A: letters for the outputs as the lines read so far leave them."""
+    spindle = {3: "S", 4: "C"}.get(outputs.spindle, "")
+    return spindle + ("F" if outputs.flood else "") + ("M" if outputs.mist else "")
 
 
 class StatusBuilder:
@@ -38,6 +48,8 @@ class StatusBuilder:
             return "Home"
         if session.alarm:
             return "Alarm"
+        if session.probing:
+            return "Run"
         moving = session.executor.grbl_state()
         if moving is not None:
             return moving
@@ -60,17 +72,21 @@ class StatusBuilder:
         coordinates = interpreter.coords
         wco = tuple(coordinates.offset(a) for a in session.machine.config.axis_names)
         running = state in ("Run", "Jog", "Hold:1")
-        feed = (interpreter.feed or 0.0) * 60 if running else 0.0
+        ov = session.overrides.values
+        feed = (interpreter.feed or 0.0) * 60 * ov[0] / 100 if running else 0.0
         show_wco = self._count % WCO_EVERY == 0 or wco != self._last_wco
         self._count += 1
         if show_wco:
             self._last_wco = wco
+        show_ov = session.overrides.changed or self._count % WCO_EVERY == 2
+        session.overrides.changed = False
         fields = StatusFields(
             state,
             self.position(),
             feed,
             interpreter.outputs.speed,
             wco if show_wco else None,
-            overrides=self._count % WCO_EVERY == 2,
+            accessories(interpreter.outputs),
+            ov if show_ov else None,
         )
         return status_report(fields)

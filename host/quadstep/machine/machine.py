@@ -27,8 +27,9 @@ from ..config import DEFAULT_CONFIG_NAME, MachineConfig, default_config
 from ..coordinates import WorkCoordinates
 from ..default_machine import default_machine
 from ..link import Link, LinkError, LinkStats, hold
+from ..planner.outputs import output_message
 from ..planner.plan import Plan
-from ..planner.program import Program
+from ..planner.program import OutputState, Program
 from ..planner.segments import SegmentArrays
 from ..planner.stream import Stream
 from ..port_process import PortProcess
@@ -49,6 +50,7 @@ from .inputs import config_message
 from .job import JobRun
 from .journal import Journal
 from .motion import Motion, MotionEnd, bring_to_rest
+from .speed_overrides import SpeedOverrides
 from .standing import Standing, _Restream
 from .state import StateFile, read_state
 from .state_lock import StateLock
@@ -127,6 +129,7 @@ class Machine(Standing):
         self._ticks = 0
         # the backlash: take-ups in every program, positions without them
         self.takeups = TakeUps(self.config)
+        self.speed_overrides = SpeedOverrides()  # rapid and spindle, for the programs planned next
         self._lock = threading.Lock()
         self._running: Running | None = None
         self._waiting: JobRun | None = None  # a job waiting at a pause while another program runs
@@ -265,6 +268,30 @@ class Machine(Standing):
             journal=journal,
         )
         return self._begin(job, compensated).start()
+
+    def set_rapid_override(self, percent: int) -> int:
+        """The rapids of every program planned from now on at 25, 50 or 100 % (ValueError else);
+        see overridden()."""
+        return self.speed_overrides.set_rapid(percent)
+
+    def set_spindle_override(self, percent: int) -> int:
+        """Every S of the programs planned from now on at 10–200 % (ValueError outside)."""
+        return self.speed_overrides.set_spindle(percent)
+
+    def overridden(self, program: Program) -> Program:
+        """`program`, to be planned from where the machine stands, with the rapid and spindle
+        overrides (a running job keeps those it was planned with; JobRun.set_feed_override changes
+        its feeds on the way)."""
+        return self.speed_overrides.apply(program, self.config, self.position)
+
+    def set_outputs(self, state: OutputState) -> None:
+        """At rest: the spindle, laser and coolant as `state` says, now (a sender's coolant
+        toggle)."""
+        self._refuse_if_busy("set the outputs")
+        if not self.identity.capabilities & Capability.OUTPUTS:
+            raise MachineError("this firmware has no outputs (spindle, laser, coolant)")
+        self.link.send(output_message(state, self.config))
+        self.link.drain(timeout=2)
 
     def send_segments(self, segments: Sequence[Segment]) -> Motion:
         """Start streaming raw segments (every firmware axis) now, as they are (no take-ups
