@@ -191,7 +191,7 @@ class TouchOff:
         return zero_mm
 
     def _result(self, what: str, zero: dict[int, float]) -> TouchOffResult:
-        names = {self.config.axes[i].name: mm for i, mm in zero.items()}
+        names: dict[str, float] = {self.config.axes[i].name: mm for i, mm in zero.items()}
         return TouchOffResult(what, names, self.machine.coordinates.name)
 
     def _axis(self, name: str) -> int:
