@@ -148,3 +148,19 @@ def test_a_boss_centre(start_emulator, tmp_path: Path) -> None:  # noqa: ANN001
         assert machine.position_mm[2] == pytest.approx(0.0)
     finally:
         machine.close()
+
+
+def test_the_touch_off_command(emulator_binary: Path) -> None:
+    import subprocess
+    import sys
+
+    base = [sys.executable, "-m", "quadstep.cli", "touch-off"]
+    where = ["--config", str(REPO / "examples" / "router-uno.toml"), "--sim", str(SIM), "--free"]
+    done = subprocess.run(base + ["z", "--plate", "10"] + where, capture_output=True, text=True,
+                          timeout=120)
+    assert done.returncode == 0, done.stderr
+    surface = met_moving("Z", -16000.5 - 4000, -1)
+    assert done.stdout.splitlines()[-1] == (
+        f"Z on a 10 mm plate: work zero in G54 at machine Z {surface:.4f} mm")
+    bad = subprocess.run(base + ["edge", "X"] + where, capture_output=True, text=True, timeout=120)
+    assert bad.returncode != 0 and "'X': give X+ or X- (the way toward the face)" in bad.stderr
