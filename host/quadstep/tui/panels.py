@@ -116,16 +116,16 @@ class JogPanel(Panel):
         if jogger is None:
             self.show_text(Text(""))
             return
-        mode = "CONTINUOUS" if jogger.mode == JogMode.CONTINUOUS else "INCREMENTAL"
-        text = Text.assemble(
-            ("jog ", "dim"),
-            (mode, "bold"),
-            ("  XY ", "dim"),
-            f"{jogger.distance:g}",
-            ("  Z ", "dim"),
-            f"{jogger.z_distance:g} mm",
-            ("  speed ", "dim"),
-            f"{jogger.speed_fraction * 100:g} %",
+        text = Text.assemble(("jog ", "dim"), (_jog_mode(jogger), "bold"))
+        text.append_text(
+            Text.assemble(
+                ("  XY ", "dim"),
+                f"{jogger.distance:g}",
+                ("  Z ", "dim"),
+                f"{jogger.z_distance:g} mm",
+                ("  speed ", "dim"),
+                f"{jogger.speed_fraction * 100:g} %",
+            )
         )
         queued = jogger.queue.queued_mm()
         if queued:
@@ -138,6 +138,14 @@ class JogPanel(Panel):
         else:
             text.append(f"  ({jogger.speed(0) * 60:.0f} mm/min)", style="dim")
         self.show_text(text)
+
+
+def _jog_mode(jogger: Jogger) -> str:
+    """The mode, and for continuous jogs what the terminal allows: a key held until its release, or
+    (no release reported) a tap that moves a little and repeats that go on."""
+    if jogger.mode != JogMode.CONTINUOUS:
+        return "INCREMENTAL"
+    return "CONTINUOUS (taps: no key-up)" if jogger.taps else "CONTINUOUS (to key-up)"
 
 
 class JobPanel(Horizontal):
