@@ -149,7 +149,7 @@ class Session:
             self.emulator = None
 
     def releases_reported(self) -> None:
-        """The terminal reports key releases: a continuous jog runs from the press to the release."""
+        """The terminal reports key releases: a continuous jog runs from the press to the key-up."""
         self.key_releases = True
         if self.jogger is not None:
             self.jogger.taps = False
