@@ -216,7 +216,9 @@ class JobKeys(Screen[None]):
         self.query_one(JobPanel).show(self.job_name, progress, source=text, pause=reason, feed=feed)
         if pause is not None and self._pause_shown != pause.line:
             self._pause_shown = pause.line
-            self.log_line(f"line {pause.line}: {reason}. Jog, zero (x y z 0), probe (p); g goes on")
+            self.log_line(
+                f"line {pause.line}: {reason}. Jog, zero (x y z 0), probe (p, t); g goes on"
+            )
             jogger = self.session.jogger
             if jogger is not None:
                 jogger.anchor()  # jogs plan from where the job stopped
@@ -250,7 +252,7 @@ class JobKeys(Screen[None]):
             self.log_line("resuming: what is left is planned from here")
         else:
             self._thread(lambda: job.feed_hold(), "quadstep-feed-hold")
-            self.log_line("feed hold: Space resumes, Esc stops the job")
+            self.log_line("feed hold: g goes on (Space too), Esc stops the job")
         return True
 
     def action_feed_override(self, delta: int) -> bool:

@@ -28,6 +28,7 @@ AT_A_PAUSE = (
     "zero",
     "G38.2",
     "G38.4",
+    "touch-off",
 )
 
 

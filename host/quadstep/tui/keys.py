@@ -50,6 +50,7 @@ def bindings(step_presets: int) -> list[BindingType]:
         Binding("h", "home", "home", show=False),
         Binding("p", "probe('38.2')", "probe Z", show=False),
         Binding("P", "probe('38.4')", "probe off", show=False),
+        Binding("t", "touch_off", "touch-off", show=False),
         Binding("b", "backlash", "backlash", show=False),
         Binding("g", "resume", "go on", show=False),
         Binding("R", "resume_kept", "resume the stopped job", show=False),
@@ -96,6 +97,10 @@ HELP = """\
   p              G38.2: Z down toward its travel_min at 1 mm/s until the
                  probe touches (a touch plate); the contact is logged
   P              G38.4: Z up until the probe lets go
+  t              touch-off: Z on a plate (its thickness asked; a fast
+                 touch, back off, a slow one; zero on the surface below),
+                 an edge, a corner (tool diameter asked), a bore's or a
+                 boss's centre; each sets the work zero. Esc stops it
   b              backlash: measure an axis's (probe or switch, k tries) or
                  use a dial indicator (d); written to the configuration
                  after a confirm
@@ -131,6 +136,6 @@ KEY_LINE = (
     "[b]Esc[/b] stop [b]:[/b] MDI [b]o[/b] job [b]?[/b] help"
 )
 JOB_KEY_LINE = (
-    "[b]Space[/b] hold/resume  [b]Esc[/b] stop  [b]g[/b] go on  [b]- + *[/b] feed −/+10 %, 100 %  "
+    "[b]Space[/b] feed hold  [b]g[/b] go on  [b]Esc[/b] stop  [b]- + *[/b] feed −/+10 %, 100 %  "
     "[b]?[/b] help"
 )

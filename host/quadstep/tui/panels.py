@@ -176,19 +176,23 @@ class JobPanel(Horizontal):
             label.update(f"{name}: {outcome}")
             return
         text = Text(f"{name} ", style="bold")
-        text.append(f"{progress.line}", style="bold")
-        if source:
-            text.append(f" {source.strip()}", style="cyan")
-        text.append(f"  feed {feed} %", style="bold yellow" if feed != 100 else "dim")
-        text.append(f"  {progress.seconds_left:.1f} s left", style="dim")
-        if progress.state is JobState.HELD:
-            text.append(f"  FEED HOLD at {progress.paused_at}: Space goes on", style="yellow")
-        elif progress.paused_at is not None:
+        if progress.paused_at is not None:  # what it waits for and the key first: it must show
+            held = progress.state is JobState.HELD
             text.append(
-                f"  PAUSED at {progress.paused_at}{': ' + pause if pause else ''}: g goes on",
+                f"{'FEED HOLD' if held else 'PAUSED'} at {progress.paused_at}"
+                f"{': ' + pause if pause and not held else ''}: g goes on",
                 style="yellow",
             )
-        elif progress.state is JobState.STARVED or progress.starvations:
+        else:
+            text.append(f"{progress.line}", style="bold")
+            if source:
+                text.append(f" {source.strip()}", style="cyan")
+        if feed != 100 or progress.paused_at is None:
+            text.append(f"  feed {feed} %", style="bold yellow" if feed != 100 else "dim")
+        text.append(f"  {progress.seconds_left:.1f} s left", style="dim")
+        if progress.paused_at is None and (
+            progress.state is JobState.STARVED or progress.starvations
+        ):
             text.append(f"  ran dry {progress.starvations}×, went on", style="yellow")
         label.update(text)
         bar.update(total=max(progress.total, 1), progress=progress.done)

@@ -32,6 +32,7 @@ from .messages import Connected, ConnectionLost, JogDone, Note, StatusUpdate
 from .panels import JobPanel, JogPanel, MachinePanel, MessageLog, PositionPanel
 from .session import Session, Snapshot
 from .toolpath_view import ToolpathView
+from .touch_off_screen import TouchOffScreen
 
 POLL_INTERVAL = 0.1  # s between STATUS requests
 
@@ -260,6 +261,24 @@ class MachineScreen(JobKeys, JogKeys):
             )
 
         self._thread(lambda: self._routine(machine, f"G{code}", run), "quadstep-probe")
+
+    def action_touch_off(self) -> None:
+        """t: the touch-off screen (Z on a plate, edges, corners, centres: machine/touch_off.py)."""
+        if self._jogger_ready("touch-off") is None or self.session.machine is None:
+            return
+        if self.session.machine.busy and (self.job is None or not self.job.gives_way):
+            self.log_line("touch-off: the machine is busy", error=True)
+            return
+
+        def note(text: str, error: bool) -> None:
+            self.post_message(Note(text, error))
+
+        def done() -> None:
+            jogger = self.session.jogger
+            if jogger is not None and self.session.connected:
+                self._command(jogger.sync, "sync")
+
+        self.app.push_screen(TouchOffScreen(self.session.machine, note, done))
 
     def _homed(self, machine: Machine) -> str:
         def progress(text: str) -> None:
