@@ -35,8 +35,16 @@ class Console:
             interpreter.feed_line(text, 1)
             plan = plan_program(interpreter.program, config, start, "MDI")
         except JobError as exc:
-            raise JobError(f"MDI: {str(exc).removeprefix('line 1: ')}") from None
+            raise JobError(f"MDI: {_without_line(str(exc))}") from None
         self._modal = {
             name: getattr(interpreter, name) for name in MODAL if hasattr(interpreter, name)
         }
         return Job(path=SOURCE, program=interpreter.program, plan=plan, coordinates=coordinates)
+
+
+def _without_line(message: str) -> str:
+    """A fault in the one line typed, without its line number (the planner's or the reader's)."""
+    for prefix in ("line 1: ", f"{SOURCE} 1: ", "line 1, "):
+        if message.startswith(prefix):
+            return message.removeprefix(prefix)
+    return message

@@ -23,7 +23,6 @@ from ..protocol import Alarm, InputCause, InputChange, Report
 from ..toolpath import toolpath
 from .console import ConsoleLine
 from .job_dialog import JobDialog
-from .keys import JOB_KEY_LINE, KEY_LINE
 from .messages import JobDone, JobStarted, Note
 from .panels import JobPanel
 from .toolpath_view import ToolpathView
@@ -60,6 +59,7 @@ class JobKeys(Screen[None]):
         def _jogger_ready(self, what: str) -> Jogger | None: ...
         def _thread(self, target: Callable[[], object], name: str) -> object: ...
         def _command(self, command: Callable[[], object], what: str) -> None: ...
+        def show_keys(self) -> None: ...
 
     def action_open_job(self) -> None:
         if self._jogger_ready("job") is None:
@@ -180,9 +180,8 @@ class JobKeys(Screen[None]):
             journal = job_journal(machine, job_file) if job_file is not None else None
             run = machine.run_job(job.plan, job.program, job.label, journal=journal)
         except (JobError, LinkError, MachineError) as exc:
-            self.post_message(
-                Note(f"{name if name == 'MDI' else 'job'} not started: {exc}", error=True)
-            )
+            what = "MDI" if name == "MDI" else "job"
+            self.post_message(Note(f"{what} not started: {str(exc).removeprefix('MDI: ')}", True))
             return
         self.post_message(JobStarted(run, name, path, source))
         end = run.wait()
@@ -202,7 +201,7 @@ class JobKeys(Screen[None]):
         self.log_line(
             f"running {message.name}: {len(job.plan)} segments, {job.plan.duration_s:.1f} s planned"
         )
-        self.query_one("#keys", Static).update(JOB_KEY_LINE)
+        self.show_keys()
         self.show_job(job.progress)
 
     def show_job(self, progress: JobProgress) -> None:
@@ -235,7 +234,7 @@ class JobKeys(Screen[None]):
             line = job.progress.line if job is not None else "?"
             outcome = f"stopped near line {line} ({'HOLD' if end.held else 'STOP'})"
         self.log_line(f"{message.name}: {outcome}", error=bool(end.error))
-        self.query_one("#keys", Static).update(KEY_LINE)
+        self.show_keys()
         self.query_one(JobPanel).show(None, None, f"{message.name}: {outcome}")
         jogger = self.session.jogger
         if jogger is not None and self.session.connected:

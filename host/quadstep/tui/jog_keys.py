@@ -11,6 +11,7 @@ from typing import TYPE_CHECKING, Any
 from textual.screen import Screen
 
 from ..jog import Jogger, JogMode
+from ..jog.step_queue import QueuedStep
 from ..link import LinkError
 from ..machine import JobRun, MachineError
 from ..planner.program import JobError
@@ -78,8 +79,17 @@ class JogKeys(Screen[None]):
             return
         step = jogger.queue_step(axis, direction)
         if step is not None:
-            self._command(lambda: jogger.run_queued(step), "jog")
+            self._command(lambda: self._run_step(jogger, step), "jog")
         self.refresh_panels()  # the queued distance
+
+    def _run_step(self, jogger: Jogger, step: QueuedStep) -> None:
+        """A refused step drops those waiting behind it (they would be refused too): the jog line's
+        "to go" goes with them."""
+        try:
+            jogger.run_queued(step)
+        except BaseException:
+            jogger.queue.clear()
+            raise
 
     def key_released(self, key: str) -> None:
         """A jog key let go, where the terminal reports it (kitty.py): a continuous jog stops at

@@ -128,6 +128,7 @@ HELP = """\
   Ctrl+R         reconnect after the link was lost
   ?, F1          this help (↑ ↓ PgUp PgDn scroll);  Esc or q closes it
   Ctrl+Q         quit (brings any motion to rest first)
+  Ctrl+C         the same, and the command exits with 130 (interrupted)
 """
 
 # The screen's bottom line: the main keys, within 80 columns; another while a job runs.
@@ -138,4 +139,8 @@ KEY_LINE = (
 JOB_KEY_LINE = (
     "[b]Space[/b] feed hold  [b]g[/b] go on  [b]Esc[/b] stop  [b]- + *[/b] feed −/+10 %, 100 %  "
     "[b]?[/b] help"
+)
+CONSOLE_KEY_LINE = (
+    "[b reverse] MDI has the keys [/] [b]Enter[/b] runs the line  [b]↑ ↓[/b] history  "
+    "[b]Esc[/b] back to jogging"
 )

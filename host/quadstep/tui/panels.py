@@ -112,9 +112,17 @@ class JogPanel(Panel):
     """The jog mode, the X/Y and Z steps, the speed, and the distance still to go of the steps
     pressed."""
 
-    def show(self, jogger: Jogger | None) -> None:
+    def show(self, jogger: Jogger | None, console: bool = False) -> None:
         if jogger is None:
             self.show_text(Text(""))
+            return
+        if console:  # the jog keys type into the console line now
+            self.show_text(
+                Text.assemble(
+                    ("jog keys off: ", "bold yellow"),
+                    "the console (MDI) has the keys; Esc gives them back",
+                )
+            )
             return
         text = Text.assemble(("jog ", "dim"), (_jog_mode(jogger), "bold"))
         text.append_text(

@@ -12,6 +12,7 @@ from collections.abc import Callable
 from rich.text import Text
 from textual.app import ComposeResult
 from textual.containers import Horizontal
+from textual.reactive import reactive
 from textual.widgets import Header, Static
 
 from ..jog import JogResult
@@ -27,7 +28,7 @@ from .console import ConsoleLine
 from .help import HelpScreen
 from .jobs import JobKeys
 from .jog_keys import JogKeys
-from .keys import KEY_LINE, bindings
+from .keys import CONSOLE_KEY_LINE, JOB_KEY_LINE, KEY_LINE, bindings
 from .messages import Connected, ConnectionLost, JogDone, Note, StatusUpdate
 from .panels import JobPanel, JogPanel, MachinePanel, MessageLog, PositionPanel
 from .session import Session, Snapshot
@@ -47,6 +48,7 @@ def _board_name(board: int) -> str:
 class MachineScreen(JobKeys, JogKeys):
     BINDINGS = bindings(9)  # step keys beyond the presets are hidden by check_action
     AUTO_FOCUS = ""  # nothing: every key jogs until `:` focuses the console line
+    console_has_keys: reactive[bool] = reactive(False)  # the key line and the jog line say so
 
     def __init__(
         self, session: Session, job_path: str = "", poll_interval: float = POLL_INTERVAL
@@ -121,6 +123,28 @@ class MachineScreen(JobKeys, JogKeys):
     def _write(self, text: str, error: bool) -> None:
         self.query_one(MessageLog).write(Text(text, style="red" if error else ""))
 
+    def on_descendant_focus(self) -> None:
+        self.console_has_keys = isinstance(self.focused, ConsoleLine)
+
+    def on_descendant_blur(self) -> None:
+        self.console_has_keys = isinstance(self.focused, ConsoleLine)
+
+    def watch_console_has_keys(self) -> None:
+        self.show_keys()
+        self.refresh_panels()
+
+    def show_keys(self) -> None:
+        """The bottom line: the console's keys while it has them, a job's while one runs, else the
+        main keys."""
+        line = (
+            CONSOLE_KEY_LINE
+            if self.console_has_keys
+            else JOB_KEY_LINE
+            if self.job is not None
+            else KEY_LINE
+        )
+        self.query_one("#keys", Static).update(line)
+
     def refresh_panels(self) -> None:
         session = self.session
         snapshot = self.snapshot if session.connected else None
@@ -129,7 +153,9 @@ class MachineScreen(JobKeys, JogKeys):
         job = self.job.state if self.job is not None else None
         lost = session.machine is not None and session.machine.position_lost
         self.query_one(MachinePanel).show(session.identity, self.snapshot, session.lost, job, lost)
-        self.query_one(JogPanel).show(session.jogger if session.connected else None)
+        self.query_one(JogPanel).show(
+            session.jogger if session.connected else None, self.console_has_keys
+        )
         origin = None
         if snapshot is not None:
             origin = tuple(m - w for m, w in zip(snapshot.position_mm, snapshot.work_mm))
@@ -302,6 +328,7 @@ class MachineScreen(JobKeys, JogKeys):
 
     def on_note(self, message: Note) -> None:
         self.log_line(message.text, message.error)
+        self.refresh_panels()  # what failed may have changed them (a refused jog's "to go")
 
     def action_reconnect(self) -> None:
         if self.job is not None:
