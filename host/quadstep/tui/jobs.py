@@ -149,7 +149,32 @@ class JobKeys(Screen[None]):
         def plan(start: tuple[int, ...]) -> Job:
             return console.plan(text, start, machine.coordinates)
 
-        self._thread(lambda: self._job_worker(machine, "MDI", plan, [text]), "quadstep-mdi")
+        self._thread(
+            lambda: self._job_worker(machine, "MDI", plan, [text], typed=True), "quadstep-mdi"
+        )
+
+    def action_macro(self, index: int) -> None:
+        """A [[macros]] key: its lines planned whole from where the machine stands, in the
+        console's modal state (as typed lines), then run."""
+        macro = self.session.config.macros[index] if self.session.config is not None else None
+        if macro is None:
+            return
+        self.log_line(f"macro {macro.name}: " + " | ".join(macro.gcode))
+        what = f"macro {macro.name}"
+        machine = self._machine_free(what) if self._jogger_ready(what) is not None else None
+        if machine is None:
+            return
+        if self.console is None or self.console.config is not machine.config:
+            self.console = Console(machine.config)
+        console = self.console
+
+        def plan(start: tuple[int, ...]) -> Job:
+            return console.plan_lines(macro.gcode, start, machine.coordinates)
+
+        self._thread(
+            lambda: self._job_worker(machine, what, plan, list(macro.gcode), typed=True),
+            "quadstep-macro",
+        )
 
     def _machine_free(self, what: str) -> Machine | None:
         machine = self.session.machine
@@ -165,21 +190,25 @@ class JobKeys(Screen[None]):
         plan: Callable[[tuple[int, ...]], Job],
         source: list[str],
         job_file: Path | None = None,
+        typed: bool = False,
     ) -> None:
+        """Plan and run a job (a file, or `typed` lines: the console's or a macro's) in this worker
+        thread."""
         try:
             start = machine.sync()
             job = plan(start)
-            if len(job.plan) == 0 and name == "MDI":
+            if len(job.plan) == 0 and typed:
                 machine.adopt_coordinates(job.end_coordinates)  # G10, G92, G54…G59: no motion
-                self.post_message(Note(f"MDI: done (no motion; {machine.coordinates.name} active)"))
+                system = machine.coordinates.name
+                self.post_message(Note(f"{name}: done (no motion; {system} active)"))
                 return
             if len(job.plan) == 0:
                 raise JobError(f"{job.path}: no move leaves the current position")
-            path = toolpath(job.program, machine.config.to_mm(start)) if name != "MDI" else None
+            path = toolpath(job.program, machine.config.to_mm(start)) if not typed else None
             journal = job_journal(machine, job_file) if job_file is not None else None
             run = machine.run_job(job.plan, job.program, job.label, journal=journal)
         except (JobError, LinkError, MachineError) as exc:
-            what = "MDI" if name == "MDI" else "job"
+            what = name if typed else "job"
             self.post_message(Note(f"{what} not started: {str(exc).removeprefix('MDI: ')}", True))
             return
         self.post_message(JobStarted(run, name, path, source))

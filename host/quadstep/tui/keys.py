@@ -3,7 +3,11 @@ the step."""
 
 from __future__ import annotations
 
+from collections.abc import Sequence
+
 from textual.binding import Binding, BindingType
+
+from ..macro_settings import Macro
 
 JOG = Binding.Group("jog", compact=True)
 STEP = Binding.Group("step", compact=True)
@@ -60,6 +64,24 @@ def bindings(step_presets: int) -> list[BindingType]:
         Binding("question_mark,f1", "help", "help", key_display="?"),
     ]
     return keys
+
+
+def taken_keys() -> set[str]:
+    """The keys the machine screen uses itself: a macro may not take them."""
+    taken = set()
+    for binding in bindings(9):
+        assert isinstance(binding, Binding)
+        taken.update(binding.key.split(","))
+    return taken | {"colon", "t"}
+
+
+def macro_key_problems(macros: Sequence[Macro], source: str) -> list[str]:
+    taken = taken_keys()
+    return [
+        f"{source}: macros[{i}] ({m.name}): key {m.key!r} is the TUI's own"
+        for i, m in enumerate(macros)
+        if m.key in taken
+    ]
 
 
 HELP = """\

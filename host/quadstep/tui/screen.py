@@ -66,6 +66,9 @@ class MachineScreen(JobKeys, JogKeys):
         self._poll_stop = threading.Event()
         self._connecting = False
         self.messages: list[str] = []  # every line of the message log, for scripts and tests
+        self.macros = session.config_given.macros if session.config_given is not None else ()
+        for i, macro in enumerate(self.macros):  # [[macros]]: keys checked at load (cli/tui.py)
+            self._bindings.bind(macro.key, f"macro({i})", macro.name, show=False)
         self._repeats = 0  # the last message again, not written again
 
     # --- layout ----------------------------------------------------------------------------
@@ -343,7 +346,7 @@ class MachineScreen(JobKeys, JogKeys):
             self.app.push_screen(BacklashScreen(self.session))
 
     def action_help(self) -> None:
-        self.app.push_screen(HelpScreen(self.session.settings))
+        self.app.push_screen(HelpScreen(self.session.settings, self.macros))
 
     def jog_finished(self, result: JogResult) -> None:
         """Session callback, in a worker thread."""
