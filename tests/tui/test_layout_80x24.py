@@ -56,8 +56,12 @@ async def test_the_machine_screen_and_its_dialogs(
         await until(pilot, lambda: isinstance(app.screen, BacklashScreen), what="back")
         await pilot.press("escape")
         await until(pilot, lambda: app.screen is app.machine, what="the machine screen")
-        # a job at its M0: the job line and the job's keys
-        app.machine._job_chosen(job)
+        # a job shown before it runs, then at its M0: the job line and the job's keys
+        await pilot.press("o", "enter")
+        await until(pilot, lambda: app.machine.preview is not None, what="the job shown")
+        assert "Enter runs it, Esc drops it" in str(app.machine.query_one("#job-label").render())
+        assert_nothing_cut(app)
+        await pilot.press("enter")
         await until(pilot, lambda: app.machine.job is not None
                     and app.machine.job.paused_at is not None, what="the pause")
         await until(pilot, lambda: "PAUSED at 3" in str(app.machine.query_one("#job-label").render()),

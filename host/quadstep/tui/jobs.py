@@ -24,6 +24,7 @@ from .console import ConsoleLine
 from .job_dialog import JobDialog
 from .messages import JobDone, JobStarted, Note
 from .panels import JobPanel
+from .preview import Preview, preview_lines
 from .toolpath_view import ToolpathView
 
 if TYPE_CHECKING:
@@ -50,6 +51,7 @@ class JobKeys(Screen[None]):
     job_path: str
     job_source: list[str]
     console: Console | None
+    preview: Preview | None = None  # a job planned and shown, waiting for Enter
     _pause_shown: int | None = None  # the line of the pause last announced
 
     if TYPE_CHECKING:  # MachineScreen's own
@@ -66,21 +68,68 @@ class JobKeys(Screen[None]):
         self.app.push_screen(JobDialog(self.job_path), self._job_chosen)
 
     def _job_chosen(self, path: Path | None) -> None:
+        """The file typed: read and planned whole (in a worker) and shown; Enter then runs it."""
         if path is None:
             return
         self.job_path = str(path)
         machine = self._machine_free("job")
         if machine is None:
             return
+        self.preview = None
         self.log_line(f"planning {path}…")
+        self.run_worker(lambda: self._plan_preview(machine, path), thread=True, group="preview")
+
+    def _plan_preview(self, machine: Machine, path: Path) -> None:
+        try:
+            start = machine.sync()
+            job = load_job(path, machine.config, start, coordinates=machine.coordinates)
+            if len(job.plan) == 0:
+                raise JobError(f"{job.path}: no move leaves the current position")
+        except (JobError, LinkError, MachineError) as exc:
+            self.post_message(Note(f"job not started: {exc}", error=True))
+            return
+        drawn = toolpath(job.program, machine.config.to_mm(start))
+        preview = Preview(job, path, start, drawn, source_lines(path))
+        self.app.call_from_thread(self._show_preview, preview, preview_lines(preview, machine))
+
+    def _show_preview(self, preview: Preview, lines: list[str]) -> None:
+        self.preview = preview
+        self.query_one(ToolpathView).show_path(preview.toolpath)
+        for line in lines:
+            self.log_line(line)
+        seconds = preview.job.plan.duration_s
+        self.query_one(JobPanel).show(
+            None, None, f"{preview.path.name}: {seconds:.1f} s planned: Enter runs it, Esc drops it"
+        )
+
+    def action_run_preview(self) -> None:
+        """Enter: the job shown runs (planned again if the machine moved since)."""
+        preview, self.preview = self.preview, None
+        if preview is None:
+            return
+        machine = self._machine_free("job")
+        if machine is None or self._jogger_ready("job") is None:
+            return
+        path = preview.path
 
         def plan(start: tuple[int, ...]) -> Job:
+            if start == preview.start and machine.coordinates == preview.job.coordinates:
+                return preview.job
             return load_job(path, machine.config, start, coordinates=machine.coordinates)
 
         self._thread(
-            lambda: self._job_worker(machine, path.name, plan, source_lines(path), path),
+            lambda: self._job_worker(machine, path.name, plan, preview.source, path),
             "quadstep-job",
         )
+
+    def drop_preview(self) -> bool:
+        """Esc with a job shown: it is dropped (False: none was)."""
+        if self.preview is None:
+            return False
+        self.preview = None
+        self.query_one(JobPanel).show(None, None, "job dropped before it ran")
+        self.log_line("job dropped: nothing moved")
+        return True
 
     def offer_kept_job(self, machine: Machine) -> None:
         """On connect: a job that stopped before its end is named, with the key that goes on with

@@ -46,10 +46,13 @@ class JogKeys(Screen[None]):
         def _thread(self, target: Callable[[], object], name: str) -> object: ...
         def action_hold_resume(self) -> bool: ...
         def action_feed_override(self, delta: int) -> bool: ...
+        def drop_preview(self) -> bool: ...
 
     # --- jogging ---------------------------------------------------------------------------
 
     def check_action(self, action: str, parameters: tuple[Any, ...]) -> bool | None:
+        if action == "run_preview":
+            return getattr(self, "preview", None) is not None
         if action == "step_preset":
             return int(parameters[0]) < len(self.session.settings.step_presets)
         if action in ("zero",):
@@ -159,7 +162,8 @@ class JogKeys(Screen[None]):
 
     def action_halt(self) -> None:
         """Esc: cancel queued jog presses and bring whatever moves to rest with HOLD (a job ends
-        there)."""
+        there); a job shown and not started is dropped."""
+        self.drop_preview()
         self._drop_queued()
         machine = self.session.machine
         if machine is not None and machine.busy:

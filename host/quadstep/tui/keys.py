@@ -49,6 +49,7 @@ def bindings(step_presets: int) -> list[BindingType]:
         Binding("a", "zero(3)", "zero A", show=False),
         Binding("0", "zero_all", "zero all"),
         Binding("o", "open_job", "job"),
+        Binding("enter", "run_preview", "run the job shown", show=False),
         Binding("colon", "console", "MDI", key_display=":"),
         Binding("v", "toggle_view", "fit path", show=False),
         Binding("h", "home", "home", show=False),
@@ -128,8 +129,10 @@ HELP = """\
                  after a confirm
 
 [b]Jobs[/b]
-  o              open a G-code or move file and run it (planned first:
-                 nothing moves if any line is wrong)
+  o              open a G-code or move file (→ completes the path): it is
+                 planned whole and shown (path, box, time, warnings);
+                 Enter runs it, Esc drops it. Nothing moves before Enter,
+                 nor at all if any line is wrong
   :              console (MDI): type a G-code line, Enter runs it (checked
                  first), ↑ ↓ earlier lines, Esc back to the jog keys
   v              path view: fit the job ↔ the whole travel (cuts solid,
