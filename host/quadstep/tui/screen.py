@@ -353,6 +353,9 @@ class MachineScreen(JobKeys, JogKeys):
         self.post_message(JogDone(result))
 
     def _thread(self, target: Callable[[], object], name: str) -> threading.Thread:
+        """A thread of its own for what runs long (polling, a job) or must never wait (a stop):
+        Textual's thread workers share the event loop's default executor, a handful of threads,
+        where a HOLD could queue behind a job. Short work uses run_worker (the job preview)."""
         thread = threading.Thread(target=target, name=name, daemon=True)
         thread.start()
         return thread

@@ -5,6 +5,7 @@ shows. Esc stops a routine that runs, else goes back a step."""
 
 from __future__ import annotations
 
+import threading
 from collections.abc import Callable
 from dataclasses import dataclass
 
@@ -149,7 +150,8 @@ class TouchOffScreen(ModalScreen[None]):
 
     def action_back(self) -> None:
         if self.running and self.touch is not None:
-            self.run_worker(self.touch.stop, thread=True)  # HOLD: off the event loop
+            # HOLD off the event loop, in a thread of its own: never behind other workers
+            threading.Thread(target=self.touch.stop, name="quadstep-touch-off-stop").start()
         elif self.query_one("#touch-off-value", Input).display:
             self.query_one("#touch-off-value", Input).display = False
             self.query_one("#touch-off-ask", Static).update("")
