@@ -12,7 +12,7 @@ from quadstep.config import MachineConfig
 from quadstep.jog import JogMode
 from quadstep.tui.panels import JogPanel
 from test_tui import connected, make_app, positions
-from tui_helpers import FAST_RELEASE, hold_key, send_key, until
+from tui_helpers import FAST_RELEASE, hold_key, log_text, send_key, until
 
 
 def jog_line(app) -> str:  # noqa: ANN001
@@ -38,11 +38,12 @@ async def test_a_single_tap_moves_a_short_bounded_distance(
         assert 0 < x <= FAST_RELEASE.tap_max * 80
         assert x == round(min(FAST_RELEASE.tap_max, 50.0 * FAST_RELEASE.tap_time) * 80)
         # held: a tap, then the repeats keep it going until they stop
+        await pilot.press("minus", "minus")  # 25 %: held 0.8 s, it stays short of the soft limit
         await hold_key(app, "right", 0.8)
-        await until(pilot, lambda: not jogger.busy and jogger.last_result is not None
-                    and jogger.last_result.kind == JogMode.CONTINUOUS, what="the held jog")
-        result = jogger.last_result
-        assert result is not None and result.end is not None and result.end.ended_by == "release"
+        # (a loaded machine may deliver a repeat late: a tap again, then the repeats go on)
+        await until(pilot, lambda: "release: decelerated to rest (HOLD)" in log_text(app),
+                    what="the held jog to end on its repeats stopping")
+        await until(pilot, lambda: not jogger.busy, what="rest")
         assert positions(app)[0] > x + 80
 
 
