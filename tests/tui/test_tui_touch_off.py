@@ -19,9 +19,9 @@ CONFIG = load_config(REPO / "examples" / "router-uno.toml")
 SIM = REPO / "examples" / "router-uno-machine.toml"
 
 
-def sim_app(emulator_binary: Path) -> QuadstepApp:
+def sim_app(emulator_binary: Path, free: bool = True) -> QuadstepApp:
     options: dict[str, object] = {
-        "free": True, "binary": emulator_binary, "extra_args": ("--machine", str(SIM))}
+        "free": free, "binary": emulator_binary, "extra_args": ("--machine", str(SIM))}
     session = Session(Target(emulator=True, emulator_options=options), CONFIG,
                       state_file=state_path(None))
     return QuadstepApp(session, poll_interval=0.05)
@@ -49,5 +49,25 @@ async def test_z_touch_off_through_the_screen(emulator_binary: Path) -> None:
         assert "Z: second touch at 0.5 mm/s" in str(app.screen.query_one("#touch-off-status").render()) \
             or "work zero in G54" in str(app.screen.query_one("#touch-off-status").render())
         assert_nothing_cut(app)
+        await pilot.press("escape")
+        await until(pilot, lambda: not isinstance(app.screen, TouchOffScreen), what="closed")
+
+
+async def test_esc_stops_a_touch_off_with_hold(emulator_binary: Path) -> None:
+    app = sim_app(emulator_binary, free=False)  # paced: the first touch takes seconds
+    async with app.run_test(size=(80, 24)) as pilot:
+        await connected(pilot, app)
+        await pilot.press("t", "enter", "enter")
+        screen = app.screen
+        assert isinstance(screen, TouchOffScreen)
+        await until(pilot, lambda: "first touch" in str(screen.query_one("#touch-off-status").render()),
+                    what="the first touch")
+        await pilot.press("escape")
+        await until(pilot, lambda: not screen.running, what="the stop")
+        assert "touch-off: stopped (Esc): brought to rest with HOLD, no zero set" in log_text(app)
+        machine = app.session.machine
+        assert machine is not None and not machine.busy
+        assert machine.coordinates.offset("Z") == 0.0  # no zero set
+        assert -8000 < machine.sync()[2] < 0  # it stopped on the way down, above the plate
         await pilot.press("escape")
         await until(pilot, lambda: not isinstance(app.screen, TouchOffScreen), what="closed")

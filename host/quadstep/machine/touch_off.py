@@ -205,4 +205,4 @@ class TouchOff:
 
     def _check(self) -> None:
         if self._stopped.is_set():
-            raise TouchOffError("stopped")
+            raise TouchOffError("stopped (HOLD), no zero set")

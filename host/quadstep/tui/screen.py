@@ -16,7 +16,7 @@ from textual.reactive import reactive
 from textual.widgets import Header, Static
 
 from ..jog import JogResult
-from ..link import LinkError
+from ..link import LinkError, Stopped
 from ..machine import JobRun, Machine, MachineError
 from ..machine.homing import home
 from ..machine.probing import probe
@@ -321,6 +321,8 @@ class MachineScreen(JobKeys, JogKeys):
         resyncs."""
         try:
             self.post_message(Note(body()))
+        except Stopped:  # Esc: the HOLD ended the move under way
+            self.post_message(Note(f"{what}: stopped (Esc): brought to rest with HOLD", True))
         except (LinkError, MachineError, JobError) as exc:
             self.post_message(Note(f"{what}: {exc}", error=True))
         jogger = self.session.jogger

@@ -18,7 +18,7 @@ from textual.screen import ModalScreen
 from textual.widgets import Input, OptionList, Static
 from textual.widgets.option_list import Option
 
-from ..link import LinkError
+from ..link import LinkError, Stopped
 from ..machine import Machine, MachineError
 from ..machine.touch_off import TouchOff, TouchOffResult
 from ..planner.program import JobError
@@ -46,6 +46,7 @@ ROUTINES = (
 )
 
 Note = Callable[[str, bool], None]
+STOPPED = "touch-off: stopped (Esc): brought to rest with HOLD, no zero set"
 
 
 def _sign(key: str, axis: str) -> int:
@@ -134,6 +135,8 @@ class TouchOffScreen(ModalScreen[None]):
     def _run(self, touch: TouchOff, routine: Routine, value: float) -> None:
         try:
             result = _routine(touch, routine, value)
+        except Stopped:  # Esc: the HOLD ended the move under way
+            self.app.call_from_thread(self._ended, STOPPED, True)
         except (LinkError, MachineError, JobError) as exc:
             self.app.call_from_thread(self._ended, f"touch-off: {exc}", True)
         else:
