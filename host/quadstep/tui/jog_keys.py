@@ -12,7 +12,7 @@ from textual.screen import Screen
 
 from ..jog import Jogger, JogMode
 from ..jog.step_queue import QueuedStep
-from ..link import LinkError
+from ..link import LinkError, Stopped
 from ..machine import JobRun, MachineError
 from ..planner.program import JobError
 from ..protocol import AXIS_NAMES
@@ -221,5 +221,7 @@ class JogKeys(Screen[None]):
         """Run a command in a worker thread; its failure becomes a red line, never a crash."""
         try:
             command()
+        except Stopped:  # a stop key's HOLD ended what this waited for
+            self.post_message(Note(f"{what}: stopped: brought to rest with HOLD", error=True))
         except (LinkError, MachineError, ValueError, JobError) as exc:
             self.post_message(Note(f"{what}: {exc}", error=True))
