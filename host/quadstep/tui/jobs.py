@@ -94,7 +94,12 @@ class JobKeys(Screen[None]):
 
     def _show_preview(self, preview: Preview, lines: list[str]) -> None:
         self.preview = preview
-        self.query_one(ToolpathView).show_path(preview.toolpath)
+        view = self.query_one(ToolpathView)
+        view.show_path(preview.toolpath)
+        box = preview.toolpath.work_box
+        if box is not None and len(box.low) > 1:  # the path view's foot: its size and time
+            size = f"{box.high[0] - box.low[0]:.0f}×{box.high[1] - box.low[1]:.0f} mm"
+            view.border_subtitle = f"{size} · {preview.job.plan.duration_s:.0f} s · Enter runs"
         for line in lines:
             self.log_line(line)
         seconds = preview.job.plan.duration_s
@@ -107,6 +112,7 @@ class JobKeys(Screen[None]):
         preview, self.preview = self.preview, None
         if preview is None:
             return
+        self.query_one(ToolpathView).border_subtitle = ""
         machine = self._machine_free("job")
         if machine is None or self._jogger_ready("job") is None:
             return
@@ -127,6 +133,7 @@ class JobKeys(Screen[None]):
         if self.preview is None:
             return False
         self.preview = None
+        self.query_one(ToolpathView).border_subtitle = ""
         self.query_one(JobPanel).show(None, None, "job dropped before it ran")
         self.log_line("job dropped: nothing moved")
         return True
