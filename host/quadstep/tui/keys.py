@@ -138,8 +138,9 @@ HELP = """\
   v              path view: fit the job ↔ the whole travel (cuts solid,
                  rapids dotted, + the work zero, ● the tool)
   g              go on after a pause (M0, or a tool change: jog, zero,
-                 probe there first)
-  Space          feed hold (keeps the rest of the job), again: resume
+                 probe, touch off there first) or a feed hold
+  Space          feed hold (keeps the rest of the job); g goes on (Space
+                 again too)
   R              resume the job that stopped before its end (the host
                  crashed or quit, the port dropped): offered on connect
   Esc            stop the job (HOLD)
