@@ -20,6 +20,7 @@ if sys.version_info >= (3, 11):
 else:  # the same parser, as a package, before Python 3.11
     import tomli as tomllib
 
+from .macro_settings import Macro
 from .protocol.constants import (
     AXIS_NAMES,
     CUBIC_ACCEL_LIMIT,
@@ -30,6 +31,7 @@ from .protocol.constants import (
     SPEED_SHIFT,
 )
 from .textfile import SETTINGS_MAX_BYTES, parse_nested, read_text
+from .touch_off_settings import TouchOffSettings
 from .validation import validate
 
 AxisName = Literal["X", "Y", "Z", "A"]  # AXIS_NAMES, as pydantic needs them
@@ -275,6 +277,8 @@ class MachineConfig(BaseModel):
     axes: tuple[AxisConfig, ...] = Field(min_length=1, max_length=MAX_AXES)
     inputs: InputsConfig = InputsConfig()
     spindle: SpindleConfig = SpindleConfig()
+    touch_off: TouchOffSettings = TouchOffSettings()  # machine/touch_off.py
+    macros: tuple[Macro, ...] = Field(default=(), max_length=12)  # the TUI's user commands
     homing_order: tuple[AxisName, ...] | None = Field(
         default=None, description="default: Z first, then the others"
     )

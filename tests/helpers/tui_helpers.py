@@ -109,3 +109,14 @@ def exit_code(pid: int, seconds: float) -> int | None:
         os.waitpid(pid, 0)
         return None
     return os.waitstatus_to_exitcode(status)
+
+
+async def open_job(pilot) -> None:  # noqa: ANN001
+    """o, Enter on the path offered: the job is planned and shown; Enter again runs it (unless it was
+    refused: then the log says so, and nothing is shown to run)."""
+    app = pilot.app
+    await pilot.press("o", "enter")
+    await until(pilot, lambda: app.machine.preview is not None or "job not started" in log_text(app),
+                what="the job shown")
+    if app.machine.preview is not None:
+        await pilot.press("enter")

@@ -11,7 +11,7 @@ from quadstep.machine import load_state, state_path
 from quadstep.protocol import State
 from quadstep.tui import QuadstepApp, Session, Target
 from quadstep.tui.help import HelpScreen
-from tui_helpers import FAST_RELEASE, HELD_UNTIL_STOPPED, hold_key, log_text, read_holds, send_key, until
+from tui_helpers import FAST_RELEASE, HELD_UNTIL_STOPPED, hold_key, log_text, read_holds, send_key, until, open_job
 
 
 def make_app(
@@ -95,6 +95,7 @@ async def test_space_stops_a_continuous_jog_with_hold(machine: MachineConfig, em
     app = make_app(machine, emulator_binary, free=False, settings=HELD_UNTIL_STOPPED)
     async with app.run_test(size=(100, 32)) as pilot:
         await connected(pilot, app)
+        app.session.releases_reported()  # a kitty terminal: one press jogs until the stop key
         await pilot.press("c")
         send_key(app, "up")
         await asyncio.sleep(0.3)
@@ -142,7 +143,7 @@ async def test_a_job_runs_from_the_tui_to_its_end(
     app = make_app(machine, emulator_binary, free=True, job_path=str(job))
     async with app.run_test(size=(100, 32)) as pilot:
         await connected(pilot, app)
-        await pilot.press("o", "enter")
+        await open_job(pilot)
         await until(pilot, lambda: "square.gcode: done" in log_text(app), what="the job to finish")
         await shown(pilot, app, (200, 200, 0))
 
@@ -153,7 +154,7 @@ async def test_a_job_waits_at_m0_until_g(machine: MachineConfig, emulator_binary
     app = make_app(machine, emulator_binary, free=True, job_path=str(job))
     async with app.run_test(size=(100, 32)) as pilot:
         await connected(pilot, app)
-        await pilot.press("o", "enter")
+        await open_job(pilot)
         await until(pilot, lambda: app.machine.job is not None and app.machine.job.progress.paused_at == 2,
                     what="the pause at line 2")
         assert positions(app) == (400, 0, 0)
@@ -169,7 +170,7 @@ async def test_a_running_job_holds_with_space_and_stops_with_esc(machine: Machin
     app = make_app(machine, emulator_binary, free=False, job_path=str(job))
     async with app.run_test(size=(100, 32)) as pilot:
         await connected(pilot, app)
-        await pilot.press("o", "enter")
+        await open_job(pilot)
         await until(pilot, lambda: app.machine.job is not None, what="the job to start")
         send_key(app, "right")  # jogging is refused while a job runs
         await asyncio.sleep(0.4)
@@ -196,7 +197,7 @@ async def test_a_bad_job_is_refused_and_nothing_moves(
     app = make_app(machine, emulator_binary, free=True, job_path=str(job))
     async with app.run_test(size=(100, 32)) as pilot:
         await connected(pilot, app)
-        await pilot.press("o", "enter")
+        await pilot.press("o", "enter")  # refused: never shown
         await until(pilot, lambda: "job not started" in log_text(app), what="the refusal")
         assert "line 2: X 50.000 mm is outside the travel 0.000 … 40.000 mm" in log_text(app)
         assert positions(app) == (0, 0, 0)
@@ -248,7 +249,7 @@ async def test_quitting_during_a_job_brings_the_machine_to_rest(
         await connected(pilot, app)
         emulator = app.session.emulator
         assert emulator is not None
-        await pilot.press("o", "enter")
+        await open_job(pilot)
         await until(pilot, lambda: app.machine.job is not None, what="the job to start")
         await asyncio.sleep(0.3)
         await pilot.press("ctrl+q")
@@ -270,7 +271,7 @@ async def test_a_job_runs_in_the_work_coordinates_the_zero_keys_set(
         await shown(pilot, app, (160, 80, 0))
         await pilot.press("0")
         await until(pilot, lambda: "zeroed X, Y, Z in G54" in log_text(app), what="zeroing")
-        await pilot.press("o", "enter")
+        await open_job(pilot)
         await until(pilot, lambda: "work.gcode: done" in log_text(app), what="the job to finish")
         await shown(pilot, app, (560, 80, 0))  # work X5 Y0 is machine X 7, Y 1
         kept = load_state(app.session.state_file)  # type: ignore[arg-type]
@@ -284,7 +285,7 @@ async def test_a_job_stopped_at_its_pause_resumes_with_r(machine: MachineConfig,
     app = make_app(machine, emulator_binary, free=True, job_path=str(job))
     async with app.run_test(size=(100, 32)) as pilot:
         await connected(pilot, app)
-        await pilot.press("o", "enter")
+        await open_job(pilot)
         await until(pilot, lambda: app.machine.job is not None and app.machine.job.progress.paused_at == 2,
                     what="the pause at line 2")
         await pilot.press("escape")

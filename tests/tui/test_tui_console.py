@@ -8,6 +8,12 @@ from quadstep.config import MachineConfig
 from quadstep.tui.console import ConsoleLine
 from test_tui import connected, make_app, positions, shown
 from tui_helpers import log_text, send_key, until
+from tui_layout import plain_lines
+from quadstep.tui.panels import JogPanel
+
+
+def plain(widget) -> str:  # noqa: ANN001
+    return "\n".join(plain_lines(widget))
 
 
 async def type_line(pilot, text: str) -> None:  # noqa: ANN001
@@ -18,9 +24,13 @@ async def test_a_typed_line_runs_checked_whole_with_history(machine: MachineConf
     app = make_app(machine, emulator_binary, free=True)
     async with app.run_test(size=(80, 24)) as pilot:
         await connected(pilot, app)
+        assert "jog keys off" not in plain(app.machine.query_one(JogPanel))
         await pilot.press("colon")
         console = app.machine.query_one(ConsoleLine)
         assert console.has_focus
+        # the key line and the jog line say who has the keys
+        assert plain(app.machine.query_one("#keys")).startswith(" MDI has the keys ")
+        assert plain(app.machine.query_one(JogPanel)).startswith("jog keys off: the console (MDI)")
         await type_line(pilot, "G1 X5 F600")
         await pilot.press("enter")
         await until(pilot, lambda: "MDI: done" in log_text(app), what="the line to run")
@@ -32,7 +42,7 @@ async def test_a_typed_line_runs_checked_whole_with_history(machine: MachineConf
         await type_line(pilot, "G1 X50")  # outside the travel: refused whole, nothing moves
         await pilot.press("enter")
         await until(pilot, lambda: "MDI not started" in log_text(app), what="the refusal")
-        assert "X 50.000 mm is outside the travel 0.000 … 40.000 mm" in log_text(app)
+        assert "MDI not started: X 50.000 mm is outside the travel 0.000 … 40.000 mm" in log_text(app)
         assert positions(app) == (400, 200, 0)
         await pilot.press("up")
         assert console.value == "G1 X50"
@@ -42,6 +52,8 @@ async def test_a_typed_line_runs_checked_whole_with_history(machine: MachineConf
         assert console.value == "Y2.5"
         await pilot.press("escape")  # the keys go back to jogging
         assert not console.has_focus and console.value == ""
+        assert plain(app.machine.query_one("#keys")).startswith("←→↑↓ PgUp/Dn jog")
+        assert plain(app.machine.query_one(JogPanel)).startswith("jog INCREMENTAL")
         await pilot.press("right")
         await shown(pilot, app, (480, 200, 0))
 
@@ -77,3 +89,21 @@ async def test_repeated_messages_are_counted_not_repeated(machine: MachineConfig
         lines = [str(line.text) for line in app.machine.query_one("#log").lines]
         counted = [line for line in lines if "the line above" in line]
         assert len(counted) == 1 and "more times" in counted[0]
+
+
+async def test_a_refused_jog_clears_its_to_go(machine: MachineConfig, emulator_binary: Path) -> None:
+    unhomed = machine.model_copy(update={"homing_required": True})  # every jog refused: not homed
+    app = make_app(unhomed, emulator_binary, free=True)
+    async with app.run_test(size=(80, 24)) as pilot:
+        await connected(pilot, app)
+        await pilot.press("4")
+        for _ in range(3):
+            send_key(app, "right")
+        await until(pilot, lambda: "home the machine first (quadstep home, or h in the TUI)"
+                    in log_text(app), what="the refusal")
+        jogger = app.session.jogger
+        assert jogger is not None
+        await until(pilot, lambda: not jogger.queue.queued_mm(), what="the queue to clear")
+        await until(pilot, lambda: "to go" not in plain(app.machine.query_one(JogPanel)),
+                    what="the jog line")
+        assert positions(app) == (0, 0, 0)

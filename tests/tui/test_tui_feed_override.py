@@ -9,7 +9,7 @@ from pathlib import Path
 from quadstep.config import MachineConfig
 from quadstep.tui.panels import JobPanel
 from test_tui import connected, make_app, positions
-from tui_helpers import log_text, send_key, until
+from tui_helpers import log_text, send_key, until, open_job
 
 
 def job_line(app) -> str:  # noqa: ANN001
@@ -27,7 +27,7 @@ async def test_the_feed_override_keys_change_a_running_job(machine: MachineConfi
         await connected(pilot, app)
         await pilot.press("minus")  # no job: the jog speed, not a feed override
         assert "feed override" not in log_text(app)
-        await pilot.press("o", "enter")
+        await open_job(pilot)
         await until(pilot, lambda: app.machine.job is not None and app.machine.job.progress.line >= 2,
                     what="the job's second line")
         run = app.machine.job

@@ -1,4 +1,4 @@
-"""The TUI's H and P keys, against the emulator with the example router's simulated machine: homing logs each
+"""The TUI's h and p keys, against the emulator with the example router's simulated machine: homing logs each
 phase and ends homed, probing logs the exact contact step."""
 
 from __future__ import annotations

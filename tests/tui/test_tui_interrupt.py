@@ -15,7 +15,7 @@ from quadstep.cli.tui import parting_lines
 from quadstep.config import MachineConfig
 from quadstep.machine import state_path
 from quadstep.tui import QuadstepApp, Session, Target
-from tui_helpers import MACHINE, exit_code, read_terminal, until
+from tui_helpers import MACHINE, exit_code, read_terminal, until, open_job
 
 
 async def test_ctrl_c_holds_a_running_job_and_says_where(machine: MachineConfig, emulator_binary: Path,
@@ -28,7 +28,7 @@ async def test_ctrl_c_holds_a_running_job_and_says_where(machine: MachineConfig,
     async with app.run_test(size=(100, 32)) as pilot:
         await until(pilot, lambda: session.connected and app.machine.snapshot is not None, what="connection")
         emulator = session.emulator
-        await pilot.press("o", "enter")
+        await open_job(pilot)
         await until(pilot, lambda: app.machine.job is not None and app.machine.job.progress.done > 0,
                     what="the job to move")
         await pilot.press("ctrl+c")

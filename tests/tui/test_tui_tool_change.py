@@ -7,7 +7,7 @@ from pathlib import Path
 
 from quadstep.config import MachineConfig
 from test_tui import connected, make_app, positions, shown
-from tui_helpers import log_text, until
+from tui_helpers import log_text, until, open_job
 
 JOB = "G21 G90 G54\nG0 X10 Y10\nG1 Z-5 F600\nG0 Z0\nT2 M6\nG0 X20\nG1 Z-5 F600\nG0 Z-1\nM30\n"
 
@@ -19,7 +19,7 @@ async def test_a_tool_change_waits_for_jog_zero_and_g(machine: MachineConfig, em
     app = make_app(machine, emulator_binary, free=True, job_path=str(job))
     async with app.run_test(size=(80, 24)) as pilot:
         await connected(pilot, app)
-        await pilot.press("o", "enter")
+        await open_job(pilot)
         await until(pilot, lambda: "line 5: tool change to T2" in log_text(app), what="the tool change")
         assert positions(app) == (800, 800, 0)
         assert "PAUSED at 5: tool change to T2" in str(app.machine.query_one("#job-label").render())

@@ -100,6 +100,13 @@ def run(args: argparse.Namespace) -> int:
         config = load_config(path) if path is not None else None
     except ConfigError as exc:
         raise CliError(str(exc)) from None
+    if config is not None:  # its macros checked now: a bad line named before anything opens
+        from ..macro_check import macro_problems
+        from ..tui.keys import macro_key_problems
+
+        problems = macro_problems(config, str(path)) + macro_key_problems(config.macros, str(path))
+        if problems:
+            raise CliError("\n".join(problems))
     session = Session(
         where,
         config,

@@ -60,7 +60,13 @@ class _Continuous:
     """A running continuous jog: its motion and the watcher that ends it on release."""
 
     def __init__(
-        self, jogger: Jogger, axis: int, direction: int, motion: Motion, result: JogResult
+        self,
+        jogger: Jogger,
+        axis: int,
+        direction: int,
+        motion: Motion,
+        result: JogResult,
+        first_timeout: float,
     ) -> None:
         self.jogger = jogger
         self.axis = axis
@@ -68,7 +74,7 @@ class _Continuous:
         self.motion = motion
         self.template = result
         settings = jogger.settings
-        self.release = ReleaseDetector(settings.first_repeat_timeout, settings.repeat_timeout)
+        self.release = ReleaseDetector(first_timeout, settings.repeat_timeout)
         self.release.press()
         self.thread = threading.Thread(target=self._watch, name="quadstep-jog-release", daemon=True)
 
@@ -100,6 +106,10 @@ class Jogger(JogPresets):
         self.on_finish = on_finish
         self.last_result: JogResult | None = None
         self.queue = StepQueue()  # incremental presses waiting
+        # A terminal that reports no key release: a press is a tap (a short step), and only its
+        # key's repeats make the jog continuous (press()).
+        self.taps = False
+        self._tap: tuple[tuple[int, int], float] | None = None  # the last tap's key and time
         self._lock = threading.Lock()  # guards the fields below
         self._run_lock = threading.Lock()  # one motion at a time
         self._motion: Motion | None = None
@@ -176,18 +186,32 @@ class Jogger(JogPresets):
     def press(self, axis: int, direction: int) -> None:
         """A press or repeat of a continuous jog key: starts the jog, or keeps it going."""
         self._check_axis(axis, direction)
+        now = time.monotonic()
+        settings = self.settings
         with self._lock:
             current = self._continuous
             if current is not None and (current.axis, current.direction) == (axis, direction):
                 current.release.press()
                 return
+            last = self._tap
+            repeat = last is not None and last[0] == (axis, direction)
+            repeat = repeat and last is not None and now - last[1] <= settings.first_repeat_timeout
+            tap = self.taps and current is None and not repeat
+            self._tap = ((axis, direction), now) if tap else None
+        if tap:
+            # a tap: a short step; a repeat of its key within the first timeout goes on
+            distance = min(settings.tap_max, self.speed(axis) * settings.tap_time)
+            self.step(axis, direction, distance)
+            return
+        # started by a repeat (taps): the next repeat comes within the repeat timeout
+        first = settings.repeat_timeout if self.taps else settings.first_repeat_timeout
         if current is not None:
             current.motion.halt("stop")  # another key: stop this jog first
             current.thread.join()
         self._run_lock.acquire()  # released when the jog ends (_finish)
         self._idle.clear()
         try:
-            started = self._start_continuous(axis, direction)
+            started = self._start_continuous(axis, direction, first)
         except BaseException:
             self._idle.set()
             self._run_lock.release()
@@ -268,7 +292,7 @@ class Jogger(JogPresets):
             )
         )
 
-    def _start_continuous(self, axis: int, direction: int) -> bool:
+    def _start_continuous(self, axis: int, direction: int, first_timeout: float) -> bool:
         cfg = self.config.axes[axis]
         start = self.position
         low, high = step_limits(cfg)
@@ -291,7 +315,7 @@ class Jogger(JogPresets):
         lookahead = round(self.settings.lookahead * self.config.tick_hz)
         motion = self.machine.move(plan.segments, lookahead_ticks=lookahead)
         template = JogResult(JogMode.CONTINUOUS, axis, direction, start, target, None)
-        jog = _Continuous(self, axis, direction, motion, template)
+        jog = _Continuous(self, axis, direction, motion, template, first_timeout)
         with self._lock:
             self._motion = motion
             self._continuous = jog

@@ -26,6 +26,10 @@ class JogSettings(BaseModel):
     # a host that vanishes leaves at most this much (then the board stops); a
     # busy host must get the next segment out within it, or the board underruns.
     lookahead: float = Field(default=0.25, ge=0.02, le=2.0, description="s")
+    # Where the terminal reports no key release (Jogger.taps): a press moves only what the jog
+    # speed covers in tap_time, at most tap_max; the jog goes on only when the key repeats.
+    tap_time: float = Field(default=0.1, gt=0.0, le=1.0, description="s")
+    tap_max: float = Field(default=1.0, gt=0.0, le=100.0, description="mm")
 
     @model_validator(mode="after")
     def _presets_in_range(self) -> JogSettings:

@@ -422,7 +422,7 @@ class Machine(Standing):
         if self.config.homing_required and not self.homed:
             raise MachineError(
                 "homing_required = true in the configuration: home the machine first "
-                "(quadstep home, or the TUI's H)"
+                "(quadstep home, or h in the TUI)"
             )
         self._interrupt_waiting()
         with self._lock:

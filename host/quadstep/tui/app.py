@@ -13,11 +13,10 @@ from .kitty import KeyboardFlags, KeyRelease, ReleaseDriver
 from .port_picker import EMULATOR, PortChoice, PortPicker, port_choices
 from .screen import MachineScreen
 from .session import Session
-from .style import CSS
 
 
 class QuadstepApp(App[None]):
-    CSS = CSS
+    CSS_PATH = "quadstep.tcss"  # packaged with it (pyproject package-data)
     ENABLE_COMMAND_PALETTE = False
     BINDINGS = [Binding("ctrl+c", "interrupt", "stop and quit", show=False, priority=True)]
     interrupted = False  # Ctrl-C ended it: `quadstep tui` exits 130, as the other commands do
@@ -57,6 +56,8 @@ class QuadstepApp(App[None]):
 
     def on_keyboard_flags(self, message: KeyboardFlags) -> None:
         if message.releases:
+            self.session.releases_reported()
+            self.machine.refresh_panels()
             self.machine.log_line(
                 "the terminal reports key releases (kitty keyboard protocol): a continuous jog "
                 "stops when its key is let go"

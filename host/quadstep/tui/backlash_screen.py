@@ -33,6 +33,8 @@ from .dial_wizard import DialWizard
 from .session import Session
 
 METHODS = ("probe", "switch")
+AXIS = Binding.Group("axis", compact=True)
+TRIES = Binding.Group("tries", compact=True)
 
 
 def placement(axis: str, method: str) -> str:
@@ -65,16 +67,17 @@ class Measured(Message):
 
 class BacklashScreen(ModalScreen[None]):
     BINDINGS: ClassVar[list[BindingType]] = [
-        Binding("x", "axis('X')", "X"),
-        Binding("y", "axis('Y')", "Y"),
-        Binding("z", "axis('Z')", "Z"),
+        # grouped, so that the key line fits 80 columns
+        Binding("x", "axis('X')", "X", group=AXIS),
+        Binding("y", "axis('Y')", "Y", group=AXIS),
+        Binding("z", "axis('Z')", "Z", group=AXIS),
         Binding("m", "method", "probe/switch"),
-        Binding("minus", "tries(-1)", "tries−", key_display="-"),
-        Binding("plus,equals_sign", "tries(1)", "tries+", key_display="+"),
-        Binding("enter,s", "start", "measure"),
+        Binding("minus", "tries(-1)", "tries−", key_display="-", group=TRIES),
+        Binding("plus,equals_sign", "tries(1)", "tries+", key_display="+", group=TRIES),
+        Binding("enter,s", "start", "measure", key_display="Enter"),
         Binding("w", "write", "write"),
-        Binding("d", "dial", "dial indicator"),
-        Binding("escape", "close", "close"),
+        Binding("d", "dial", "dial"),
+        Binding("escape", "close", "close", key_display="Esc"),
     ]
 
     def __init__(self, session: Session, max_spread: float = 0.01) -> None:

@@ -38,18 +38,23 @@ class Moved(Message):
         self.error = error
 
 
+BACK = Binding.Group("back", compact=True)
+MOVE = Binding.Group("move", compact=True)
+
+
 class DialWizard(ModalScreen[None]):
     BINDINGS: ClassVar[list[BindingType]] = [
-        Binding("t", "mode", "jog back / reading"),
-        Binding("f", "flip", "indicator side"),
+        # grouped and short, so that the key line fits 80 columns (the screen says the rest)
+        Binding("t", "mode", "method"),
+        Binding("f", "flip", "side"),
         Binding("p", "preload", "preload"),
-        Binding("j,left", "jog", "one step back"),
-        Binding("k,shift+left", "jog(True)", "larger step back"),
-        Binding("plus,equals_sign", "resize(2)", "longer move", key_display="+"),
-        Binding("minus", "resize(0.5)", "shorter move", key_display="-"),
-        Binding("enter", "next", "next"),
+        Binding("j,left", "jog", "step", group=BACK),
+        Binding("k,shift+left", "jog(True)", "0.01 mm", group=BACK),
+        Binding("plus,equals_sign", "resize(2)", "longer", key_display="+", group=MOVE),
+        Binding("minus", "resize(0.5)", "shorter", key_display="-", group=MOVE),
+        Binding("enter", "next", "next", key_display="Enter"),
         Binding("w", "write", "write"),
-        Binding("escape", "close", "close"),
+        Binding("escape", "close", "close", key_display="Esc"),
     ]
 
     def __init__(self, session: Session, axis: str, jog_mm: float = JOG_MM) -> None:

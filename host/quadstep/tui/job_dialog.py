@@ -1,4 +1,4 @@
-"""Asks for the job file to run."""
+"""Asks for the job file to show and then run (preview.py), completing the path typed."""
 
 from __future__ import annotations
 
@@ -9,6 +9,8 @@ from textual.binding import Binding
 from textual.containers import Vertical
 from textual.screen import ModalScreen
 from textual.widgets import Input, Static
+
+from .preview import PathSuggester
 
 
 class JobDialog(ModalScreen[Path | None]):
@@ -22,10 +24,14 @@ class JobDialog(ModalScreen[Path | None]):
 
     def compose(self) -> ComposeResult:
         with Vertical(id="job-dialog"):
-            yield Static(
-                "Job file (G-code, or a .json/.yaml move file); Enter runs it, Esc cancels:"
+            yield Static("Job file (G-code, or a .json/.yaml move file): → completes the path,")
+            yield Static("Enter shows the job (nothing moves yet), Esc cancels:")
+            yield Input(
+                value=self.initial,
+                placeholder="path/to/job.gcode",
+                id="job-path",
+                suggester=PathSuggester(),
             )
-            yield Input(value=self.initial, placeholder="path/to/job.gcode", id="job-path")
 
     def on_input_submitted(self, event: Input.Submitted) -> None:
         text = event.value.strip()

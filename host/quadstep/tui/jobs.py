@@ -10,7 +10,6 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from textual.screen import Screen
-from textual.widgets import Static
 
 from ..job import Job, is_move_file, load_job
 from ..link import LinkError
@@ -23,9 +22,9 @@ from ..protocol import Alarm, InputCause, InputChange, Report
 from ..toolpath import toolpath
 from .console import ConsoleLine
 from .job_dialog import JobDialog
-from .keys import JOB_KEY_LINE, KEY_LINE
 from .messages import JobDone, JobStarted, Note
 from .panels import JobPanel
+from .preview import Preview, preview_lines
 from .toolpath_view import ToolpathView
 
 if TYPE_CHECKING:
@@ -52,6 +51,7 @@ class JobKeys(Screen[None]):
     job_path: str
     job_source: list[str]
     console: Console | None
+    preview: Preview | None = None  # a job planned and shown, waiting for Enter
     _pause_shown: int | None = None  # the line of the pause last announced
 
     if TYPE_CHECKING:  # MachineScreen's own
@@ -60,6 +60,7 @@ class JobKeys(Screen[None]):
         def _jogger_ready(self, what: str) -> Jogger | None: ...
         def _thread(self, target: Callable[[], object], name: str) -> object: ...
         def _command(self, command: Callable[[], object], what: str) -> None: ...
+        def show_keys(self) -> None: ...
 
     def action_open_job(self) -> None:
         if self._jogger_ready("job") is None:
@@ -67,21 +68,75 @@ class JobKeys(Screen[None]):
         self.app.push_screen(JobDialog(self.job_path), self._job_chosen)
 
     def _job_chosen(self, path: Path | None) -> None:
+        """The file typed: read and planned whole (in a worker) and shown; Enter then runs it."""
         if path is None:
             return
         self.job_path = str(path)
         machine = self._machine_free("job")
         if machine is None:
             return
+        self.preview = None
         self.log_line(f"planning {path}…")
+        self.run_worker(lambda: self._plan_preview(machine, path), thread=True, group="preview")
+
+    def _plan_preview(self, machine: Machine, path: Path) -> None:
+        try:
+            start = machine.sync()
+            job = load_job(path, machine.config, start, coordinates=machine.coordinates)
+            if len(job.plan) == 0:
+                raise JobError(f"{job.path}: no move leaves the current position")
+        except (JobError, LinkError, MachineError) as exc:
+            self.post_message(Note(f"job not started: {exc}", error=True))
+            return
+        drawn = toolpath(job.program, machine.config.to_mm(start))
+        preview = Preview(job, path, start, drawn, source_lines(path))
+        self.app.call_from_thread(self._show_preview, preview, preview_lines(preview, machine))
+
+    def _show_preview(self, preview: Preview, lines: list[str]) -> None:
+        self.preview = preview
+        view = self.query_one(ToolpathView)
+        view.show_path(preview.toolpath)
+        box = preview.toolpath.work_box
+        if box is not None and len(box.low) > 1:  # the path view's foot: its size and time
+            size = f"{box.high[0] - box.low[0]:.0f}×{box.high[1] - box.low[1]:.0f} mm"
+            view.border_subtitle = f"{size} · {preview.job.plan.duration_s:.0f} s · Enter runs"
+        for line in lines:
+            self.log_line(line)
+        seconds = preview.job.plan.duration_s
+        self.query_one(JobPanel).show(
+            None, None, f"{preview.path.name}: {seconds:.1f} s planned: Enter runs it, Esc drops it"
+        )
+
+    def action_run_preview(self) -> None:
+        """Enter: the job shown runs (planned again if the machine moved since)."""
+        preview, self.preview = self.preview, None
+        if preview is None:
+            return
+        self.query_one(ToolpathView).border_subtitle = ""
+        machine = self._machine_free("job")
+        if machine is None or self._jogger_ready("job") is None:
+            return
+        path = preview.path
 
         def plan(start: tuple[int, ...]) -> Job:
+            if start == preview.start and machine.coordinates == preview.job.coordinates:
+                return preview.job
             return load_job(path, machine.config, start, coordinates=machine.coordinates)
 
         self._thread(
-            lambda: self._job_worker(machine, path.name, plan, source_lines(path), path),
+            lambda: self._job_worker(machine, path.name, plan, preview.source, path),
             "quadstep-job",
         )
+
+    def drop_preview(self) -> bool:
+        """Esc with a job shown: it is dropped (False: none was)."""
+        if self.preview is None:
+            return False
+        self.preview = None
+        self.query_one(ToolpathView).border_subtitle = ""
+        self.query_one(JobPanel).show(None, None, "job dropped before it ran")
+        self.log_line("job dropped: nothing moved")
+        return True
 
     def offer_kept_job(self, machine: Machine) -> None:
         """On connect: a job that stopped before its end is named, with the key that goes on with
@@ -150,7 +205,32 @@ class JobKeys(Screen[None]):
         def plan(start: tuple[int, ...]) -> Job:
             return console.plan(text, start, machine.coordinates)
 
-        self._thread(lambda: self._job_worker(machine, "MDI", plan, [text]), "quadstep-mdi")
+        self._thread(
+            lambda: self._job_worker(machine, "MDI", plan, [text], typed=True), "quadstep-mdi"
+        )
+
+    def action_macro(self, index: int) -> None:
+        """A [[macros]] key: its lines planned whole from where the machine stands, in the
+        console's modal state (as typed lines), then run."""
+        macro = self.session.config.macros[index] if self.session.config is not None else None
+        if macro is None:
+            return
+        self.log_line(f"macro {macro.name}: " + " | ".join(macro.gcode))
+        what = f"macro {macro.name}"
+        machine = self._machine_free(what) if self._jogger_ready(what) is not None else None
+        if machine is None:
+            return
+        if self.console is None or self.console.config is not machine.config:
+            self.console = Console(machine.config)
+        console = self.console
+
+        def plan(start: tuple[int, ...]) -> Job:
+            return console.plan_lines(macro.gcode, start, machine.coordinates)
+
+        self._thread(
+            lambda: self._job_worker(machine, what, plan, list(macro.gcode), typed=True),
+            "quadstep-macro",
+        )
 
     def _machine_free(self, what: str) -> Machine | None:
         machine = self.session.machine
@@ -166,23 +246,26 @@ class JobKeys(Screen[None]):
         plan: Callable[[tuple[int, ...]], Job],
         source: list[str],
         job_file: Path | None = None,
+        typed: bool = False,
     ) -> None:
+        """Plan and run a job (a file, or `typed` lines: the console's or a macro's) in this worker
+        thread."""
         try:
             start = machine.sync()
             job = plan(start)
-            if len(job.plan) == 0 and name == "MDI":
+            if len(job.plan) == 0 and typed:
                 machine.adopt_coordinates(job.end_coordinates)  # G10, G92, G54…G59: no motion
-                self.post_message(Note(f"MDI: done (no motion; {machine.coordinates.name} active)"))
+                system = machine.coordinates.name
+                self.post_message(Note(f"{name}: done (no motion; {system} active)"))
                 return
             if len(job.plan) == 0:
                 raise JobError(f"{job.path}: no move leaves the current position")
-            path = toolpath(job.program, machine.config.to_mm(start)) if name != "MDI" else None
+            path = toolpath(job.program, machine.config.to_mm(start)) if not typed else None
             journal = job_journal(machine, job_file) if job_file is not None else None
             run = machine.run_job(job.plan, job.program, job.label, journal=journal)
         except (JobError, LinkError, MachineError) as exc:
-            self.post_message(
-                Note(f"{name if name == 'MDI' else 'job'} not started: {exc}", error=True)
-            )
+            what = name if typed else "job"
+            self.post_message(Note(f"{what} not started: {str(exc).removeprefix('MDI: ')}", True))
             return
         self.post_message(JobStarted(run, name, path, source))
         end = run.wait()
@@ -202,7 +285,7 @@ class JobKeys(Screen[None]):
         self.log_line(
             f"running {message.name}: {len(job.plan)} segments, {job.plan.duration_s:.1f} s planned"
         )
-        self.query_one("#keys", Static).update(JOB_KEY_LINE)
+        self.show_keys()
         self.show_job(job.progress)
 
     def show_job(self, progress: JobProgress) -> None:
@@ -216,7 +299,9 @@ class JobKeys(Screen[None]):
         self.query_one(JobPanel).show(self.job_name, progress, source=text, pause=reason, feed=feed)
         if pause is not None and self._pause_shown != pause.line:
             self._pause_shown = pause.line
-            self.log_line(f"line {pause.line}: {reason}. Jog, zero (x y z 0), probe (p); g goes on")
+            self.log_line(
+                f"line {pause.line}: {reason}. Jog, zero (x y z 0), probe (p, t); g goes on"
+            )
             jogger = self.session.jogger
             if jogger is not None:
                 jogger.anchor()  # jogs plan from where the job stopped
@@ -233,7 +318,7 @@ class JobKeys(Screen[None]):
             line = job.progress.line if job is not None else "?"
             outcome = f"stopped near line {line} ({'HOLD' if end.held else 'STOP'})"
         self.log_line(f"{message.name}: {outcome}", error=bool(end.error))
-        self.query_one("#keys", Static).update(KEY_LINE)
+        self.show_keys()
         self.query_one(JobPanel).show(None, None, f"{message.name}: {outcome}")
         jogger = self.session.jogger
         if jogger is not None and self.session.connected:
@@ -250,7 +335,7 @@ class JobKeys(Screen[None]):
             self.log_line("resuming: what is left is planned from here")
         else:
             self._thread(lambda: job.feed_hold(), "quadstep-feed-hold")
-            self.log_line("feed hold: Space resumes, Esc stops the job")
+            self.log_line("feed hold: g goes on (Space too), Esc stops the job")
         return True
 
     def action_feed_override(self, delta: int) -> bool:

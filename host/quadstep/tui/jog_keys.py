@@ -11,7 +11,8 @@ from typing import TYPE_CHECKING, Any
 from textual.screen import Screen
 
 from ..jog import Jogger, JogMode
-from ..link import LinkError
+from ..jog.step_queue import QueuedStep
+from ..link import LinkError, Stopped
 from ..machine import JobRun, MachineError
 from ..planner.program import JobError
 from ..protocol import AXIS_NAMES
@@ -28,6 +29,7 @@ AT_A_PAUSE = (
     "zero",
     "G38.2",
     "G38.4",
+    "touch-off",
 )
 
 
@@ -44,10 +46,13 @@ class JogKeys(Screen[None]):
         def _thread(self, target: Callable[[], object], name: str) -> object: ...
         def action_hold_resume(self) -> bool: ...
         def action_feed_override(self, delta: int) -> bool: ...
+        def drop_preview(self) -> bool: ...
 
     # --- jogging ---------------------------------------------------------------------------
 
     def check_action(self, action: str, parameters: tuple[Any, ...]) -> bool | None:
+        if action == "run_preview":
+            return getattr(self, "preview", None) is not None
         if action == "step_preset":
             return int(parameters[0]) < len(self.session.settings.step_presets)
         if action in ("zero",):
@@ -77,8 +82,17 @@ class JogKeys(Screen[None]):
             return
         step = jogger.queue_step(axis, direction)
         if step is not None:
-            self._command(lambda: jogger.run_queued(step), "jog")
+            self._command(lambda: self._run_step(jogger, step), "jog")
         self.refresh_panels()  # the queued distance
+
+    def _run_step(self, jogger: Jogger, step: QueuedStep) -> None:
+        """A refused step drops those waiting behind it (they would be refused too): the jog line's
+        "to go" goes with them."""
+        try:
+            jogger.run_queued(step)
+        except BaseException:
+            jogger.queue.clear()
+            raise
 
     def key_released(self, key: str) -> None:
         """A jog key let go, where the terminal reports it (kitty.py): a continuous jog stops at
@@ -148,7 +162,8 @@ class JogKeys(Screen[None]):
 
     def action_halt(self) -> None:
         """Esc: cancel queued jog presses and bring whatever moves to rest with HOLD (a job ends
-        there)."""
+        there); a job shown and not started is dropped."""
+        self.drop_preview()
         self._drop_queued()
         machine = self.session.machine
         if machine is not None and machine.busy:
@@ -206,5 +221,7 @@ class JogKeys(Screen[None]):
         """Run a command in a worker thread; its failure becomes a red line, never a crash."""
         try:
             command()
+        except Stopped:  # a stop key's HOLD ended what this waited for
+            self.post_message(Note(f"{what}: stopped: brought to rest with HOLD", error=True))
         except (LinkError, MachineError, ValueError, JobError) as exc:
             self.post_message(Note(f"{what}: {exc}", error=True))

@@ -3,7 +3,11 @@ the step."""
 
 from __future__ import annotations
 
+from collections.abc import Sequence
+
 from textual.binding import Binding, BindingType
+
+from ..macro_settings import Macro
 
 JOG = Binding.Group("jog", compact=True)
 STEP = Binding.Group("step", compact=True)
@@ -45,11 +49,13 @@ def bindings(step_presets: int) -> list[BindingType]:
         Binding("a", "zero(3)", "zero A", show=False),
         Binding("0", "zero_all", "zero all"),
         Binding("o", "open_job", "job"),
+        Binding("enter", "run_preview", "run the job shown", show=False),
         Binding("colon", "console", "MDI", key_display=":"),
         Binding("v", "toggle_view", "fit path", show=False),
         Binding("h", "home", "home", show=False),
         Binding("p", "probe('38.2')", "probe Z", show=False),
         Binding("P", "probe('38.4')", "probe off", show=False),
+        Binding("t", "touch_off", "touch-off", show=False),
         Binding("b", "backlash", "backlash", show=False),
         Binding("g", "resume", "go on", show=False),
         Binding("R", "resume_kept", "resume the stopped job", show=False),
@@ -59,6 +65,24 @@ def bindings(step_presets: int) -> list[BindingType]:
         Binding("question_mark,f1", "help", "help", key_display="?"),
     ]
     return keys
+
+
+def taken_keys() -> set[str]:
+    """The keys the machine screen uses itself: a macro may not take them."""
+    taken = set()
+    for binding in bindings(9):
+        assert isinstance(binding, Binding)
+        taken.update(binding.key.split(","))
+    return taken | {"colon", "t"}
+
+
+def macro_key_problems(macros: Sequence[Macro], source: str) -> list[str]:
+    taken = taken_keys()
+    return [
+        f"{source}: macros[{i}] ({m.name}): key {m.key!r} is the TUI's own"
+        for i, m in enumerate(macros)
+        if m.key in taken
+    ]
 
 
 HELP = """\
@@ -96,20 +120,27 @@ HELP = """\
   p              G38.2: Z down toward its travel_min at 1 mm/s until the
                  probe touches (a touch plate); the contact is logged
   P              G38.4: Z up until the probe lets go
+  t              touch-off: Z on a plate (its thickness asked; a fast
+                 touch, back off, a slow one; zero on the surface below),
+                 an edge, a corner (tool diameter asked), a bore's or a
+                 boss's centre; each sets the work zero. Esc stops it
   b              backlash: measure an axis's (probe or switch, k tries) or
                  use a dial indicator (d); written to the configuration
                  after a confirm
 
 [b]Jobs[/b]
-  o              open a G-code or move file and run it (planned first:
-                 nothing moves if any line is wrong)
+  o              open a G-code or move file (→ completes the path): it is
+                 planned whole and shown (path, box, time, warnings);
+                 Enter runs it, Esc drops it. Nothing moves before Enter,
+                 nor at all if any line is wrong
   :              console (MDI): type a G-code line, Enter runs it (checked
                  first), ↑ ↓ earlier lines, Esc back to the jog keys
   v              path view: fit the job ↔ the whole travel (cuts solid,
                  rapids dotted, + the work zero, ● the tool)
   g              go on after a pause (M0, or a tool change: jog, zero,
-                 probe there first)
-  Space          feed hold (keeps the rest of the job), again: resume
+                 probe, touch off there first) or a feed hold
+  Space          feed hold (keeps the rest of the job); g goes on (Space
+                 again too)
   R              resume the job that stopped before its end (the host
                  crashed or quit, the port dropped): offered on connect
   Esc            stop the job (HOLD)
@@ -123,6 +154,7 @@ HELP = """\
   Ctrl+R         reconnect after the link was lost
   ?, F1          this help (↑ ↓ PgUp PgDn scroll);  Esc or q closes it
   Ctrl+Q         quit (brings any motion to rest first)
+  Ctrl+C         the same, and the command exits with 130 (interrupted)
 """
 
 # The screen's bottom line: the main keys, within 80 columns; another while a job runs.
@@ -131,6 +163,10 @@ KEY_LINE = (
     "[b]Esc[/b] stop [b]:[/b] MDI [b]o[/b] job [b]?[/b] help"
 )
 JOB_KEY_LINE = (
-    "[b]Space[/b] hold/resume  [b]Esc[/b] stop  [b]g[/b] go on  [b]- + *[/b] feed −/+10 %, 100 %  "
+    "[b]Space[/b] feed hold  [b]g[/b] go on  [b]Esc[/b] stop  [b]- + *[/b] feed −/+10 %, 100 %  "
     "[b]?[/b] help"
+)
+CONSOLE_KEY_LINE = (
+    "[b reverse] MDI has the keys [/] [b]Enter[/b] runs the line  [b]↑ ↓[/b] history  "
+    "[b]Esc[/b] back to jogging"
 )

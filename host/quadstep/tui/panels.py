@@ -112,20 +112,28 @@ class JogPanel(Panel):
     """The jog mode, the X/Y and Z steps, the speed, and the distance still to go of the steps
     pressed."""
 
-    def show(self, jogger: Jogger | None) -> None:
+    def show(self, jogger: Jogger | None, console: bool = False) -> None:
         if jogger is None:
             self.show_text(Text(""))
             return
-        mode = "CONTINUOUS" if jogger.mode == JogMode.CONTINUOUS else "INCREMENTAL"
-        text = Text.assemble(
-            ("jog ", "dim"),
-            (mode, "bold"),
-            ("  XY ", "dim"),
-            f"{jogger.distance:g}",
-            ("  Z ", "dim"),
-            f"{jogger.z_distance:g} mm",
-            ("  speed ", "dim"),
-            f"{jogger.speed_fraction * 100:g} %",
+        if console:  # the jog keys type into the console line now
+            self.show_text(
+                Text.assemble(
+                    ("jog keys off: ", "bold yellow"),
+                    "the console (MDI) has the keys; Esc gives them back",
+                )
+            )
+            return
+        text = Text.assemble(("jog ", "dim"), (_jog_mode(jogger), "bold"))
+        text.append_text(
+            Text.assemble(
+                ("  XY ", "dim"),
+                f"{jogger.distance:g}",
+                ("  Z ", "dim"),
+                f"{jogger.z_distance:g} mm",
+                ("  speed ", "dim"),
+                f"{jogger.speed_fraction * 100:g} %",
+            )
         )
         queued = jogger.queue.queued_mm()
         if queued:
@@ -138,6 +146,14 @@ class JogPanel(Panel):
         else:
             text.append(f"  ({jogger.speed(0) * 60:.0f} mm/min)", style="dim")
         self.show_text(text)
+
+
+def _jog_mode(jogger: Jogger) -> str:
+    """The mode, and for continuous jogs what the terminal allows: a key held until its release, or
+    (no release reported) a tap that moves a little and repeats that go on."""
+    if jogger.mode != JogMode.CONTINUOUS:
+        return "INCREMENTAL"
+    return "CONTINUOUS (taps: no key-up)" if jogger.taps else "CONTINUOUS (to key-up)"
 
 
 class JobPanel(Horizontal):
@@ -168,19 +184,23 @@ class JobPanel(Horizontal):
             label.update(f"{name}: {outcome}")
             return
         text = Text(f"{name} ", style="bold")
-        text.append(f"{progress.line}", style="bold")
-        if source:
-            text.append(f" {source.strip()}", style="cyan")
-        text.append(f"  feed {feed} %", style="bold yellow" if feed != 100 else "dim")
-        text.append(f"  {progress.seconds_left:.1f} s left", style="dim")
-        if progress.state is JobState.HELD:
-            text.append(f"  FEED HOLD at {progress.paused_at}: Space goes on", style="yellow")
-        elif progress.paused_at is not None:
+        if progress.paused_at is not None:  # what it waits for and the key first: it must show
+            held = progress.state is JobState.HELD
             text.append(
-                f"  PAUSED at {progress.paused_at}{': ' + pause if pause else ''}: g goes on",
+                f"{'FEED HOLD' if held else 'PAUSED'} at {progress.paused_at}"
+                f"{': ' + pause if pause and not held else ''}: g goes on",
                 style="yellow",
             )
-        elif progress.state is JobState.STARVED or progress.starvations:
+        else:
+            text.append(f"{progress.line}", style="bold")
+            if source:
+                text.append(f" {source.strip()}", style="cyan")
+        if feed != 100 or progress.paused_at is None:
+            text.append(f"  feed {feed} %", style="bold yellow" if feed != 100 else "dim")
+        text.append(f"  {progress.seconds_left:.1f} s left", style="dim")
+        if progress.paused_at is None and (
+            progress.state is JobState.STARVED or progress.starvations
+        ):
             text.append(f"  ran dry {progress.starvations}×, went on", style="yellow")
         label.update(text)
         bar.update(total=max(progress.total, 1), progress=progress.done)

@@ -12,10 +12,11 @@ from collections.abc import Callable
 from rich.text import Text
 from textual.app import ComposeResult
 from textual.containers import Horizontal
+from textual.reactive import reactive
 from textual.widgets import Header, Static
 
 from ..jog import JogResult
-from ..link import LinkError
+from ..link import LinkError, Stopped
 from ..machine import JobRun, Machine, MachineError
 from ..machine.homing import home
 from ..machine.probing import probe
@@ -27,11 +28,12 @@ from .console import ConsoleLine
 from .help import HelpScreen
 from .jobs import JobKeys
 from .jog_keys import JogKeys
-from .keys import KEY_LINE, bindings
+from .keys import CONSOLE_KEY_LINE, JOB_KEY_LINE, KEY_LINE, bindings
 from .messages import Connected, ConnectionLost, JogDone, Note, StatusUpdate
 from .panels import JobPanel, JogPanel, MachinePanel, MessageLog, PositionPanel
 from .session import Session, Snapshot
 from .toolpath_view import ToolpathView
+from .touch_off_screen import TouchOffScreen
 
 POLL_INTERVAL = 0.1  # s between STATUS requests
 
@@ -46,6 +48,7 @@ def _board_name(board: int) -> str:
 class MachineScreen(JobKeys, JogKeys):
     BINDINGS = bindings(9)  # step keys beyond the presets are hidden by check_action
     AUTO_FOCUS = ""  # nothing: every key jogs until `:` focuses the console line
+    console_has_keys: reactive[bool] = reactive(False)  # the key line and the jog line say so
 
     def __init__(
         self, session: Session, job_path: str = "", poll_interval: float = POLL_INTERVAL
@@ -63,6 +66,9 @@ class MachineScreen(JobKeys, JogKeys):
         self._poll_stop = threading.Event()
         self._connecting = False
         self.messages: list[str] = []  # every line of the message log, for scripts and tests
+        self.macros = session.config_given.macros if session.config_given is not None else ()
+        for i, macro in enumerate(self.macros):  # [[macros]]: keys checked at load (cli/tui.py)
+            self._bindings.bind(macro.key, f"macro({i})", macro.name, show=False)
         self._repeats = 0  # the last message again, not written again
 
     # --- layout ----------------------------------------------------------------------------
@@ -120,6 +126,28 @@ class MachineScreen(JobKeys, JogKeys):
     def _write(self, text: str, error: bool) -> None:
         self.query_one(MessageLog).write(Text(text, style="red" if error else ""))
 
+    def on_descendant_focus(self) -> None:
+        self.console_has_keys = isinstance(self.focused, ConsoleLine)
+
+    def on_descendant_blur(self) -> None:
+        self.console_has_keys = isinstance(self.focused, ConsoleLine)
+
+    def watch_console_has_keys(self) -> None:
+        self.show_keys()
+        self.refresh_panels()
+
+    def show_keys(self) -> None:
+        """The bottom line: the console's keys while it has them, a job's while one runs, else the
+        main keys."""
+        line = (
+            CONSOLE_KEY_LINE
+            if self.console_has_keys
+            else JOB_KEY_LINE
+            if self.job is not None
+            else KEY_LINE
+        )
+        self.query_one("#keys", Static).update(line)
+
     def refresh_panels(self) -> None:
         session = self.session
         snapshot = self.snapshot if session.connected else None
@@ -128,7 +156,9 @@ class MachineScreen(JobKeys, JogKeys):
         job = self.job.state if self.job is not None else None
         lost = session.machine is not None and session.machine.position_lost
         self.query_one(MachinePanel).show(session.identity, self.snapshot, session.lost, job, lost)
-        self.query_one(JogPanel).show(session.jogger if session.connected else None)
+        self.query_one(JogPanel).show(
+            session.jogger if session.connected else None, self.console_has_keys
+        )
         origin = None
         if snapshot is not None:
             origin = tuple(m - w for m, w in zip(snapshot.position_mm, snapshot.work_mm))
@@ -261,6 +291,24 @@ class MachineScreen(JobKeys, JogKeys):
 
         self._thread(lambda: self._routine(machine, f"G{code}", run), "quadstep-probe")
 
+    def action_touch_off(self) -> None:
+        """t: the touch-off screen (Z on a plate, edges, corners, centres: machine/touch_off.py)."""
+        if self._jogger_ready("touch-off") is None or self.session.machine is None:
+            return
+        if self.session.machine.busy and (self.job is None or not self.job.gives_way):
+            self.log_line("touch-off: the machine is busy", error=True)
+            return
+
+        def note(text: str, error: bool) -> None:
+            self.post_message(Note(text, error))
+
+        def done() -> None:
+            jogger = self.session.jogger
+            if jogger is not None and self.session.connected:
+                self._command(jogger.sync, "sync")
+
+        self.app.push_screen(TouchOffScreen(self.session.machine, note, done))
+
     def _homed(self, machine: Machine) -> str:
         def progress(text: str) -> None:
             self.post_message(Note(f"home: {text}"))
@@ -273,6 +321,8 @@ class MachineScreen(JobKeys, JogKeys):
         resyncs."""
         try:
             self.post_message(Note(body()))
+        except Stopped:  # Esc: the HOLD ended the move under way
+            self.post_message(Note(f"{what}: stopped (Esc): brought to rest with HOLD", True))
         except (LinkError, MachineError, JobError) as exc:
             self.post_message(Note(f"{what}: {exc}", error=True))
         jogger = self.session.jogger
@@ -283,6 +333,7 @@ class MachineScreen(JobKeys, JogKeys):
 
     def on_note(self, message: Note) -> None:
         self.log_line(message.text, message.error)
+        self.refresh_panels()  # what failed may have changed them (a refused jog's "to go")
 
     def action_reconnect(self) -> None:
         if self.job is not None:
@@ -297,13 +348,16 @@ class MachineScreen(JobKeys, JogKeys):
             self.app.push_screen(BacklashScreen(self.session))
 
     def action_help(self) -> None:
-        self.app.push_screen(HelpScreen(self.session.settings))
+        self.app.push_screen(HelpScreen(self.session.settings, self.macros))
 
     def jog_finished(self, result: JogResult) -> None:
         """Session callback, in a worker thread."""
         self.post_message(JogDone(result))
 
     def _thread(self, target: Callable[[], object], name: str) -> threading.Thread:
+        """A thread of its own for what runs long (polling, a job) or must never wait (a stop):
+        Textual's thread workers share the event loop's default executor, a handful of threads,
+        where a HOLD could queue behind a job. Short work uses run_worker (the job preview)."""
         thread = threading.Thread(target=target, name=name, daemon=True)
         thread.start()
         return thread

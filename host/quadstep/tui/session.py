@@ -82,6 +82,8 @@ class Session:
         self._lock = threading.Lock()
         self._last_feed_sample: tuple[int, tuple[int, ...]] | None = None
         self.parting: Parting | None = None  # set by close()
+        # the terminal reports key releases (kitty.py); without them a jog press is a tap
+        self.key_releases = False
 
     # --- connection ----------------------------------------------------------------------
 
@@ -105,6 +107,7 @@ class Session:
         )
         old = self.jogger
         jogger = Jogger(machine, self.settings, on_finish=self.on_jog)
+        jogger.taps = not self.key_releases
         if old is not None:
             jogger.copy_presets(old)
         with self._lock:
@@ -144,6 +147,12 @@ class Session:
         if self.emulator is not None:
             self.emulator.stop()
             self.emulator = None
+
+    def releases_reported(self) -> None:
+        """The terminal reports key releases: a continuous jog runs from the press to the key-up."""
+        self.key_releases = True
+        if self.jogger is not None:
+            self.jogger.taps = False
 
     def mark_lost(self, reason: str) -> None:
         with self._lock:
