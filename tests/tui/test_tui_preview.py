@@ -37,8 +37,8 @@ async def test_a_job_is_shown_then_dropped_or_run(
         await pilot.press("right", "enter")  # → takes the completion
         await until(pilot, lambda: app.machine.preview is not None, what="the job shown")
         text = log_text(app)
-        assert f"job {job}: 5 lines, 2 moves" in text
-        assert "  box (G54): X 10.00…10.00  Y 0.00…5.00  Z 0.00…0.00"  # its targets, as check's in text
+        assert f"job {job}: 4 lines, 2 moves" in text
+        assert "  box (G54): X 10.00…10.00  Y 0.00…5.00  Z 0.00…0.00" in text  # its targets, as check's
         assert "  warning: it stops for the operator at line(s) 3 (g goes on)" in text
         view = app.machine.query_one("#toolpath")
         assert view.border_subtitle == "0×5 mm · 1 s · Enter runs"
