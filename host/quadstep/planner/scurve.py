@@ -58,6 +58,7 @@ class ScurvePlanner:
         self.peak = [0] * self.count  # highest advance per tick, 2^-31 step
         self.max_landing = 0  # largest |ideal − target| at a move end, 2^-31 step
         self.corrections = 0  # moves landed by a speed set on the cruise
+        self.steady_moves = 0  # moves no whole-tick S-curve landed: at a constant speed instead
         self.pauses: list[tuple[int, int]] = []  # (segment index, line) before which to wait
         self.profiles: list[Profile] = []  # each move's, as planned
         self.speed = 0.0  # the path speed the last move ended at
@@ -92,6 +93,7 @@ class ScurvePlanner:
         v0, v1 = min(self.speed, entry[k]), min(entry[k + 1], cap)
         line = table.line[k]
         vmax = table.max_speed[k]
+        steady = max(v0, v1)  # the speed to land at without a profile (the last resort)
         for attempt in range(8):
             try:
                 profile = whole_tick_profile(
@@ -110,10 +112,44 @@ class ScurvePlanner:
                 self.profiles.append(profile)
                 self.speed = profile.v1
                 return
+            steady = table.length[k] / profile.ticks
             vmax = profile.vc * 0.97  # no cruise to land on, or one too short: make a longer one
-        raise JobError(
-            f"{self.label} {line}: no whole-tick S-curve lands this move exactly; lower max_speed"
-        )
+        self._steady(table, k, steady or table.max_speed[k] * PROFILE_FRACTION, v1 == 0)
+        self.profiles.append(Profile(self.speed, self.speed, self.speed, 0, 0, 0, 0, 0))
+
+    def _steady(self, table: MoveTable, k: int, speed: float, to_rest: bool) -> None:
+        """The move at one constant speed per axis, set where it begins, when no whole-tick
+        S-curve lands it: each axis's speed is the distance its ideal has left over the move's
+        whole ticks, so it lands within half a tick's advance of its target, whatever came
+        before; the cost is a speed step at both ends. It ends at rest when the move must."""
+        target = table.target[k]
+        ticks = max(1, math.ceil(table.length[k] / speed))
+        remaining: dict[int, tuple[Direction, int]] = {}
+        for axis, state in enumerate(self.chain.axes):
+            if not table.delta[k][axis]:
+                continue
+            direction: Direction = 1 if table.delta[k][axis] > 0 else -1
+            ahead = state.e if state.direction == direction else -state.e
+            left = (target[axis] - self.position[axis]) * direction * SIGMA - ahead
+            remaining[axis] = direction, max(0, left)
+            ticks = max(ticks, math.ceil(left / min(self.speed_limit[axis], SIGMA)))
+        sets = []
+        for axis, state in enumerate(self.chain.axes):
+            if axis in remaining:
+                direction, left = remaining[axis]
+                sets.append(CubicAxis(axis=axis, speed=round(left / ticks), direction=direction))
+            elif not state.at_rest:
+                sets.append(CubicAxis(axis=axis, speed=0, direction=state.direction))
+        segments = []
+        for begin in range(0, ticks, CUBIC_N_MAX):
+            first = tuple(sets) if begin == 0 else ()
+            segments.append(CubicSegment(n=min(CUBIC_N_MAX, ticks - begin), axes=first))
+        if to_rest:
+            stop = tuple(CubicAxis(axis=a.axis, speed=0, direction=a.direction) for a in sets)
+            segments.append(CubicSegment(n=1, axes=stop))
+        self._emit(segments, table.line[k])
+        self.steady_moves += 1
+        self.speed = 0.0 if to_rest else table.length[k] / ticks
 
     def _segments(self, table: MoveTable, k: int, p: Profile) -> list[CubicSegment] | None:
         """The move's segments, landing every axis on its target; None when they cannot."""
@@ -145,7 +181,7 @@ class ScurvePlanner:
         axis's exit speed; None when a last ramp would have to begin below rest."""
         delta, length = table.delta[k], table.length[k]
         share = [abs(d) / length * SIGMA for d in delta]  # 2^-31 step per mm of path
-        ka, kd = p.n1a * (p.n1a + p.n2a), p.n1d * (p.n1d + p.n2d)
+        kd = p.n1d * (p.n1d + p.n2d)
         phases = [
             _Phase(p.n1a, {}, {}),
             _Phase(p.n2a, {}, {}),
@@ -164,13 +200,17 @@ class ScurvePlanner:
                 continue
             direction: Direction = 1 if delta[axis] > 0 else -1
             entry = round(p.v0 * share[axis])
+            start, ahead = state.i, state.e
             if state.direction != direction or abs(state.i - entry) > SPEED_KEPT or state.d:
                 phases[0].sets[axis] = CubicAxis(axis=axis, speed=entry, direction=direction)
-            ra = round((p.vc - p.v0) * share[axis] / ka) if ka else 0
-            rd = round((p.vc - p.v1) * share[axis] / kd) if kd else 0
+                start, ahead = entry, state.e if state.direction == direction else -state.e
+            exits[axis] = round(p.v1 * share[axis])
+            # the ideal's distance to the target from where it is (not the move's nominal steps):
+            # a residual carried from the moves before is not carried on
+            remaining = (table.target[k][axis] - self.position[axis]) * direction * SIGMA - ahead
+            ra, rd = self._aimed_jerks(p, axis, share[axis], (start, exits[axis]), remaining)
             phases[0].jerk[axis], phases[2].jerk[axis] = ra, -ra
             phases[4].jerk[axis], phases[6].jerk[axis] = -rd, rd
-            exits[axis] = round(p.v1 * share[axis])
             if kd:  # the last ramp ends at exactly its exit speed (at rest: 0): set where it begins
                 if exits[axis] + rd * kd < 0:
                     return None
@@ -178,6 +218,39 @@ class ScurvePlanner:
                     axis=axis, speed=exits[axis] + rd * kd, direction=direction
                 )
         return phases, exits
+
+    def _aimed_jerks(
+        self, p: Profile, axis: int, share: float, speeds: tuple[int, int], remaining: int
+    ) -> tuple[int, int]:
+        """The ramps' whole jerks for one axis that bring it from its start speed to one cruise
+        speed and from there to its exit speed, covering `remaining` (2^-31 step) as nearly as
+        whole jerks can: the move's travel is affine in the cruise speed x, solved exactly."""
+        start, exit_ = speeds
+        ka, kd = p.n1a * (p.n1a + p.n2a), p.n1d * (p.n1d + p.n2d)
+        # travel = start·(ta + nc) + ra·ua + exit·td + rd·ud
+        ua = _ramp_travel([(p.n1a, 1), (p.n2a, 0), (p.n1a, -1), (p.nc, 0)]) if ka else 0
+        ud = _unit_ramp_travel(p.n1d, p.n2d) if kd else 0
+        ta, td = 2 * p.n1a + p.n2a, 2 * p.n1d + p.n2d
+        left = remaining - start * (ta + p.nc) - exit_ * td
+        if ka and kd:
+            x = (left + start * ua / ka + exit_ * ud / kd) / (ua / ka + ud / kd)
+            ra, rd = round((x - start) / ka), round((x - exit_) / kd)
+        elif ka:
+            ra, rd = round(left / ua), 0
+            x = start + ra * ka
+        elif kd:
+            x, ra = start, 0
+            rd = round((x - exit_) / kd)
+        else:
+            return 0, 0
+        if (
+            max(abs(ra), abs(rd)) > self.jerk_limit[axis]
+            or max(abs(ra) * p.n1a, abs(rd) * p.n1d) > self.accel_limit[axis]
+            or x > self.speed_limit[axis]
+        ):  # the planned speeds instead (the landing corrects what is left)
+            ra = round((p.vc - p.v0) * share / ka) if ka else 0
+            rd = round((p.vc - p.v1) * share / kd) if kd else 0
+        return ra, rd
 
     def _built(
         self, phases: list[_Phase], target: tuple[int, ...]
