@@ -20,9 +20,9 @@ from quadstep.planner.moves import MoveTable, build_moves
 from quadstep.planner.plan import Plan, plan_moves
 from quadstep.planner.program import LinearMove, Program
 from quadstep.planner.scurve import ScurvePlanner
+from quadstep.planner.scurve_chain import Phase, PhaseRun
 from quadstep.planner.scurve_profile import Profile
 from quadstep.planner.stream import Stream
-from quadstep.protocol.cubic import CubicSegment
 
 
 def router(jerk: float) -> MachineConfig:
@@ -99,7 +99,7 @@ def test_a_move_no_s_curve_lands_runs_at_a_steady_speed_exactly(
 
     def every_other(
         self: ScurvePlanner, table: MoveTable, k: int, p: Profile
-    ) -> list[CubicSegment] | None:
+    ) -> tuple[list[Phase], PhaseRun] | None:
         return None if k % 2 else shaped(self, table, k, p)
 
     monkeypatch.setattr(ScurvePlanner, "_segments", every_other)

@@ -15,14 +15,16 @@ is 0 on both sides).
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from functools import lru_cache
 
 from ..config import MachineConfig
 from ..protocol.constants import CUBIC_N_MAX
-from ..protocol.cubic import SIGMA, AxisState, CubicAxis, CubicChain, CubicRefused, CubicSegment
+from ..protocol.cubic import SIGMA, AxisState, CubicAxis, CubicChain, CubicSegment
 from ..protocol.segment import AxisMove, Direction, Segment
 from .moves import MoveTable
 from .program import JobError
+from .scurve_chain import Phase as _Phase
+from .scurve_chain import PhaseRun, run_phases
 from .scurve_profile import PROFILE_FRACTION, Profile, whole_tick_profile
 from .stream import Stream
 
@@ -35,13 +37,6 @@ LAND_SLACK = SIGMA * 9 // 20
 # the ramps' rounded jerks can miss (half a jerk quantum over their phases)
 JUMP_LIMIT = 1 << 19
 START_JUMP = 1 << 21  # a correction at a move's start (a junction): at most 2^-10 step per tick
-
-
-@dataclass
-class _Phase:
-    n: int
-    jerk: dict[int, int]
-    sets: dict[int, CubicAxis]
 
 
 class ScurvePlanner:
@@ -106,9 +101,9 @@ class ScurvePlanner:
                 )
             except ValueError:
                 break
-            segments = self._segments(table, k, profile)
-            if segments is not None:
-                self._emit(segments, line)
+            landed = self._segments(table, k, profile)
+            if landed is not None:
+                self._emit(*landed, line)
                 self.profiles.append(profile)
                 self.speed = profile.v1
                 return
@@ -140,19 +135,21 @@ class ScurvePlanner:
                 sets.append(CubicAxis(axis=axis, speed=round(left / ticks), direction=direction))
             elif not state.at_rest:
                 sets.append(CubicAxis(axis=axis, speed=0, direction=state.direction))
-        segments = []
-        for begin in range(0, ticks, CUBIC_N_MAX):
-            first = tuple(sets) if begin == 0 else ()
-            segments.append(CubicSegment(n=min(CUBIC_N_MAX, ticks - begin), axes=first))
+        phases = [_Phase(ticks, {}, {a.axis: a for a in sets})]
         if to_rest:
-            stop = tuple(CubicAxis(axis=a.axis, speed=0, direction=a.direction) for a in sets)
-            segments.append(CubicSegment(n=1, axes=stop))
-        self._emit(segments, table.line[k])
+            stop = {a.axis: CubicAxis(axis=a.axis, speed=0, direction=a.direction) for a in sets}
+            phases.append(_Phase(1, {}, stop))
+        run = run_phases(self.chain.axes, phases)
+        assert run is not None, "a steady speed within 0 … 1 step per tick is always taken"
+        self._emit(phases, run, table.line[k])
         self.steady_moves += 1
         self.speed = 0.0 if to_rest else table.length[k] / ticks
 
-    def _segments(self, table: MoveTable, k: int, p: Profile) -> list[CubicSegment] | None:
-        """The move's segments, landing every axis on its target; None when they cannot."""
+    def _segments(
+        self, table: MoveTable, k: int, p: Profile
+    ) -> tuple[list[_Phase], PhaseRun] | None:
+        """The move's phases, landing every axis on its target, and the chain through them; None
+        when they cannot."""
         target, delta = table.target[k], table.delta[k]
         shaped = self._shape(table, k, p)
         if shaped is None:
@@ -169,12 +166,14 @@ class ScurvePlanner:
             built = self._built(phases, target)
             if built is None:
                 return None
+        corrections = self.corrections
         if not self._land(p, phases, *built, delta):
             return None
-        built = self._built(phases, target)
+        if self.corrections != corrections:  # speed sets added: run the phases again
+            built = self._built(phases, target)
         if built is None or any(abs(m) > LAND_SLACK for m in built[1].values()):
             return None
-        return built[0]
+        return phases, built[0]
 
     def _shape(self, table: MoveTable, k: int, p: Profile) -> tuple[list[_Phase], list[int]] | None:
         """The profile's seven phases with each axis's share of its jerks and speed sets, and each
@@ -254,16 +253,13 @@ class ScurvePlanner:
 
     def _built(
         self, phases: list[_Phase], target: tuple[int, ...]
-    ) -> tuple[list[CubicSegment], dict[int, int]] | None:
-        """The phases' segments and each moving axis's miss; None when they cannot be built or
-        the chain refuses them."""
-        segments = _build(phases)
-        if segments is None:
+    ) -> tuple[PhaseRun, dict[int, int]] | None:
+        """The chain through the phases and each moving axis's miss; None when the firmware would
+        refuse their segments."""
+        run = run_phases(self.chain.axes, phases)
+        if run is None:
             return None
-        misses = self._misses(segments, target)
-        if misses is None:
-            return None
-        return segments, misses
+        return run, self._misses(run, target)
 
     def _retune_starts(self, p: Profile, phases: list[_Phase], misses: dict[int, int]) -> bool:
         """An axis far off its target takes the nearest whole jerk on its first ramp instead: one
@@ -329,7 +325,7 @@ class ScurvePlanner:
         self,
         p: Profile,
         phases: list[_Phase],
-        segments: list[CubicSegment],
+        run: PhaseRun,
         misses: dict[int, int],
         delta: tuple[int, ...],
     ) -> bool:
@@ -338,7 +334,11 @@ class ScurvePlanner:
         move's start an axis often has a set anyway: a corner); False when none is."""
         limit = max(START_JUMP, p.n1a * (p.n1a + p.n2a) + p.n1d * (p.n1d + p.n2d))
         begins = [sum(ph.n for ph in phases[:at]) for at in range(len(phases) + 1)]
-        states = {at: self._state_at(segments, begins[at]) for at in range(1, 7) if phases[at].n}
+        states = {
+            at: [AxisState(e, i, d) for e, i, d, _ in run.states[at]]
+            for at in range(1, 7)
+            if phases[at].n
+        }
         corrected = False
         for axis, miss in misses.items():
             if abs(miss) <= (0 if axis in phases[0].sets else LAND_SLACK) or not delta[axis]:
@@ -408,43 +408,24 @@ class ScurvePlanner:
         )
         return True
 
-    def _misses(
-        self, segments: list[CubicSegment], target: tuple[int, ...]
-    ) -> dict[int, int] | None:
+    def _misses(self, run: PhaseRun, target: tuple[int, ...]) -> dict[int, int]:
         """Per moving axis, how far (2^-31 step, along its motion) its ideal would end short of
         `target`."""
-        chain = self.chain.copy()
-        position = list(self.position)
-        try:
-            for seg in segments:
-                for step in chain.advance(seg):
-                    position[step.axis] += step.start.direction * step.steps
-        except CubicRefused:
-            return None
         misses = {}
-        for axis, state in enumerate(chain.axes):
+        for axis, state in enumerate(run.end):
+            position = self.position[axis] + run.moved[axis]
             if target[axis] != self.position[axis] or not state.at_rest:
-                misses[axis] = (target[axis] - position[axis]) * state.direction * SIGMA - state.e
+                misses[axis] = (target[axis] - position) * state.direction * SIGMA - state.e
         return misses
 
-    def _state_at(self, segments: list[CubicSegment], ticks: int) -> list[AxisState]:
-        """Each axis's state `ticks` into `segments` (a segment boundary)."""
-        chain = self.chain.copy()
-        for seg in segments:
-            if ticks <= 0:
-                break
-            chain.advance(seg)
-            ticks -= seg.n
-        return chain.axes
-
-    def _emit(self, segments: list[CubicSegment], line: int) -> None:
-        for seg in segments:
-            for step in self.chain.advance(seg):
-                self.position[step.axis] += step.start.direction * step.steps
-            for axis, state in enumerate(self.chain.axes):
-                self.peak[axis] = max(self.peak[axis], state.i)
+    def _emit(self, phases: list[_Phase], run: PhaseRun, line: int) -> None:
+        """The move's segments out, the chain and the steppers past them."""
+        for seg in _build(phases):
             self.out.add(seg, line, len(self.out))
-        for state in self.chain.axes:
+        self.chain.axes = [AxisState(a.e, a.i, a.d, a.direction) for a in run.end]
+        for axis, state in enumerate(self.chain.axes):
+            self.position[axis] += run.moved[axis]
+            self.peak[axis] = max(self.peak[axis], run.peak[axis])
             self.max_landing = max(self.max_landing, abs(state.e))
 
     # --- stops ------------------------------------------------------------------------------------
@@ -479,38 +460,43 @@ def _unit_ramp_travel(n1: int, n2: int) -> int:
     return _ramp_travel([(n1, -1), (n2, 0), (n1, 1)], n1 * (n1 + n2))
 
 
-def _build(phases: list[_Phase]) -> list[CubicSegment] | None:
+@lru_cache(maxsize=4096)
+def _jerk_only(axis: int, jerk: int) -> CubicAxis:
+    """An axis named only for its jerk (checked by run_phases; jerks repeat: a ramp's ±R)."""
+    return CubicAxis.model_construct(axis=axis, speed=None, accel=0, direction=1, jerk=jerk)
+
+
+def _build(phases: list[_Phase]) -> list[CubicSegment]:
     """The phases as segments: empty ones left out (their sets on the next), long ones split (a set
-    on the first piece only)."""
+    on the first piece only). Built without validation: run_phases has checked every field."""
     out = []
     pending: dict[int, CubicAxis] = {}  # sets of an empty phase go to the next one
-    try:
-        for ph in phases:
-            left, sets = ph.n, {**pending, **ph.sets}
-            pending = sets if left == 0 else {}
-            while left > 0:
-                n = min(left, CUBIC_N_MAX)
-                axes = []
-                for axis in sorted(set(sets) | {a for a, r in ph.jerk.items() if r}):
-                    r = ph.jerk.get(axis, 0)
-                    s = sets.get(axis)
-                    jerk = r if r else None
+    for ph in phases:
+        left, sets = ph.n, {**pending, **ph.sets}
+        pending = sets if left == 0 else {}
+        while left > 0:
+            n = min(left, CUBIC_N_MAX)
+            axes = []
+            for axis in sorted(set(sets) | {a for a, r in ph.jerk.items() if r}):
+                r = ph.jerk.get(axis, 0)
+                s = sets.get(axis)
+                if s is None:
+                    axes.append(_jerk_only(axis, r))
+                elif (s.jerk or 0) == r:
+                    axes.append(s)
+                else:
                     axes.append(
-                        CubicAxis(
+                        CubicAxis.model_construct(
                             axis=axis,
                             speed=s.speed,
                             accel=s.accel,
                             direction=s.direction,
-                            jerk=jerk,
+                            jerk=r if r else None,
                         )
-                        if s is not None
-                        else CubicAxis(axis=axis, jerk=jerk)
                     )
-                out.append(CubicSegment(n=n, axes=tuple(axes)))
-                left -= n
-                sets = {}
-    except ValueError:  # a jerk outside its field
-        return None
+            out.append(CubicSegment.model_construct(n=n, axes=tuple(axes)))
+            left -= n
+            sets = {}
     return out
 
 

@@ -47,12 +47,21 @@ def peak_speed(
     lo, hi = max(v0, v1), max(vmax, v0, v1)
     if distance(hi) <= length:
         return hi
-    for _ in range(60):
-        mid = (lo + hi) / 2
-        if distance(mid) <= length:
-            lo = mid
+    # the distance grows with the peak: regula falsi (Illinois), lo always within the length
+    f_lo, f_hi = distance(lo) - length, distance(hi) - length
+    for _ in range(100):
+        if hi - lo <= 1e-11 * hi:
+            break
+        mid = (lo * f_hi - hi * f_lo) / (f_hi - f_lo)
+        if not lo < mid < hi:
+            mid = (lo + hi) / 2
+        f_mid = distance(mid) - length
+        if f_mid <= 0:
+            lo, f_lo = mid, f_mid
+            f_hi /= 2
         else:
-            hi = mid
+            hi, f_hi = mid, f_mid
+            f_lo /= 2
     return lo
 
 
