@@ -1,8 +1,8 @@
-"""Fine moves under S-curves: chains of moves a few steps long, at any step size, feed and jerk, are
-planned (never refused) and land exactly, checked from the cubic segments the firmware would execute.
+"""Fine moves under S-curves: chains of moves a few steps long, at any step size, feed and jerk,
+are planned (never refused) and land exactly, checked from the cubic segments the firmware runs.
 
-A move no whole-tick S-curve lands is run at one constant speed per axis instead (ScurvePlanner._steady);
-that path is forced here too, so its landing is held to the same checks.
+A move no whole-tick S-curve lands runs at one constant speed per axis instead
+(ScurvePlanner._steady); that path is forced here too, and held to the same checks.
 """
 
 from __future__ import annotations
@@ -58,7 +58,7 @@ def fine_line(
 
 
 def plan_exactly(items: list, config: MachineConfig) -> tuple[Plan, MoveTable]:
-    """Plan the items; the plan must land every move and rest at its end, as the firmware runs it."""
+    """Plan the items; the plan lands every move and rests at its end, as the firmware runs it."""
     table = build_moves(Program(items=items, lines=len(items)), config, (0, 0, 0))
     plan = plan_moves(table, config)
     assert isinstance(plan.segments, Stream)
@@ -94,7 +94,7 @@ def test_fine_moves_at_any_step_feed_and_jerk_land_exactly(
 def test_a_move_no_s_curve_lands_runs_at_a_steady_speed_exactly(
     monkeypatch: pytest.MonkeyPatch,
 ) -> None:
-    """Every other move refused by the S-curve: those run at a constant speed per axis and still land."""
+    """Every other move refused by the S-curve: those run at a constant speed per axis, exactly."""
     shaped = ScurvePlanner._segments
 
     def every_other(
