@@ -24,7 +24,7 @@ from ..protocol.segment import AxisMove, Direction, Segment
 from .moves import MoveTable
 from .program import JobError
 from .scurve_chain import Phase as _Phase
-from .scurve_chain import PhaseRun, run_phases
+from .scurve_chain import PhaseRun, State, run_phases
 from .scurve_profile import PROFILE_FRACTION, Profile, whole_tick_profile
 from .stream import Stream
 
@@ -334,11 +334,7 @@ class ScurvePlanner:
         move's start an axis often has a set anyway: a corner); False when none is."""
         limit = max(START_JUMP, p.n1a * (p.n1a + p.n2a) + p.n1d * (p.n1d + p.n2d))
         begins = [sum(ph.n for ph in phases[:at]) for at in range(len(phases) + 1)]
-        states = {
-            at: [AxisState(e, i, d) for e, i, d, _ in run.states[at]]
-            for at in range(1, 7)
-            if phases[at].n
-        }
+        states = {at: run.states[at] for at in range(1, 7) if phases[at].n}
         corrected = False
         for axis, miss in misses.items():
             if abs(miss) <= (0 if axis in phases[0].sets else LAND_SLACK) or not delta[axis]:
@@ -356,7 +352,7 @@ class ScurvePlanner:
                         0,
                     )
                 else:
-                    speed, accel = states[at][axis].i, states[at][axis].d
+                    _, speed, accel, _ = states[at][axis]
                 jump = round(miss / ticks) if ticks else limit + 1
                 if abs(jump) <= limit and speed is not None and speed + jump >= 0:
                     phases[at].sets[axis] = CubicAxis(
@@ -379,7 +375,7 @@ class ScurvePlanner:
     @staticmethod
     def _bump(
         phases: list[_Phase],
-        states: dict[int, list[AxisState]],
+        states: dict[int, list[State]],
         axis: int,
         miss: int,
         limit: int,
@@ -397,14 +393,14 @@ class ScurvePlanner:
         j = max(spans, key=lambda k: phases[k].n)
         jump = round(miss / phases[j].n)
         at, back = states[j][axis], states[j + 1][axis]
-        if abs(jump) > limit or at.i + jump < 0 or back.i < 0:
+        if abs(jump) > limit or at[1] + jump < 0 or back[1] < 0:
             return False
         direction: Direction = 1 if delta > 0 else -1
         phases[j].sets[axis] = CubicAxis(
-            axis=axis, speed=at.i + jump, accel=at.d, direction=direction
+            axis=axis, speed=at[1] + jump, accel=at[2], direction=direction
         )
         phases[j + 1].sets[axis] = CubicAxis(
-            axis=axis, speed=back.i, accel=back.d, direction=direction
+            axis=axis, speed=back[1], accel=back[2], direction=direction
         )
         return True
 

@@ -82,15 +82,17 @@ def run_phases(start: list[AxisState], phases: list[Phase]) -> PhaseRun | None:
             if not (i or d or r):
                 continue
             d_end = d + n * r
+            i_end = i + n * d + c2 * r  # the advance after the phase: I(n + 1)
             if not (
                 -JERK_LIMIT <= r < JERK_LIMIT
                 and -CUBIC_ACCEL_LIMIT < d_end < CUBIC_ACCEL_LIMIT
-                and advances_in_range(i, d, r, n)
+                and 0 <= i <= SIGMA
+                and 0 <= i_end - d_end + r <= SIGMA  # I(n)
+                and (r == 0 or (r > 0) == (d > 0) or advances_in_range(i, d, r, n))
             ):
                 return None
             total = e + n * i + c2 * d + c3 * r + HALF
             moved[axis] += direction * (total >> CUBIC_SHIFT)
-            i_end = i + n * d + c2 * r
             axes[axis] = ((total & (SIGMA - 1)) - HALF, i_end, d_end, direction)
             # the segments' ends: the phase's own, and where a long one is split
             top = i_end if n <= CUBIC_N_MAX else max(i_end, _split_peak(i, d, r, n))
