@@ -381,20 +381,24 @@ class ScurvePlanner:
         limit: int,
         delta: int,
     ) -> bool:
-        """A speed change over the longest phase without jerk, set back exactly where it ends (two
-        sets): for a move whose window before its last ramp is too short."""
+        """A speed change over the longest phase without jerk where the axis moves fast enough to
+        take it, set back exactly where it ends (two sets): for a move whose window before its
+        last ramp is too short."""
         spans = [
             j
             for j in (1, 3, 5)
-            if j in states and j + 1 in states and axis not in phases[j + 1].sets
+            if j in states
+            and j + 1 in states
+            and axis not in phases[j + 1].sets
+            and abs(round(miss / phases[j].n)) <= limit
+            and states[j][axis][1] + round(miss / phases[j].n) >= 0
+            and states[j + 1][axis][1] >= 0
         ]
         if not spans:
             return False
         j = max(spans, key=lambda k: phases[k].n)
         jump = round(miss / phases[j].n)
         at, back = states[j][axis], states[j + 1][axis]
-        if abs(jump) > limit or at[1] + jump < 0 or back[1] < 0:
-            return False
         direction: Direction = 1 if delta > 0 else -1
         phases[j].sets[axis] = CubicAxis(
             axis=axis, speed=at[1] + jump, accel=at[2], direction=direction
