@@ -463,12 +463,13 @@ def _unit_ramp_travel(n1: int, n2: int) -> int:
 @lru_cache(maxsize=4096)
 def _jerk_only(axis: int, jerk: int) -> CubicAxis:
     """An axis named only for its jerk (checked by run_phases; jerks repeat: a ramp's ±R)."""
-    return CubicAxis.model_construct(axis=axis, speed=None, accel=0, direction=1, jerk=jerk)
+    return CubicAxis(axis=axis, jerk=jerk)
 
 
 def _build(phases: list[_Phase]) -> list[CubicSegment]:
     """The phases as segments: empty ones left out (their sets on the next), long ones split (a set
-    on the first piece only). Built without validation: run_phases has checked every field."""
+    on the first piece only). The segments are built without validation (n within its range, the
+    axes in order, each axis a checked model)."""
     out = []
     pending: dict[int, CubicAxis] = {}  # sets of an empty phase go to the next one
     for ph in phases:
@@ -486,7 +487,7 @@ def _build(phases: list[_Phase]) -> list[CubicSegment]:
                     axes.append(s)
                 else:
                     axes.append(
-                        CubicAxis.model_construct(
+                        CubicAxis(
                             axis=axis,
                             speed=s.speed,
                             accel=s.accel,

@@ -13,7 +13,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from ..protocol.constants import CUBIC_ACCEL_LIMIT, CUBIC_N_MAX, CUBIC_SHIFT
-from ..protocol.cubic import HALF, SIGMA, AxisState, CubicAxis, advances_in_range
+from ..protocol.cubic import HALF, SIGMA, AxisState, CubicAxis
 
 JERK_LIMIT = 1 << 15  # the jerk field is i16
 
@@ -88,7 +88,7 @@ def run_phases(start: list[AxisState], phases: list[Phase]) -> PhaseRun | None:
                 and -CUBIC_ACCEL_LIMIT < d_end < CUBIC_ACCEL_LIMIT
                 and 0 <= i <= SIGMA
                 and 0 <= i_end - d_end + r <= SIGMA  # I(n)
-                and (r == 0 or (r > 0) == (d > 0) or advances_in_range(i, d, r, n))
+                and _extreme_in_range(i, d, r, n)
             ):
                 return None
             total = e + n * i + c2 * d + c3 * r + HALF
@@ -100,6 +100,18 @@ def run_phases(start: list[AxisState], phases: list[Phase]) -> PhaseRun | None:
                 peak[axis] = top
         states.append(axes)
     return PhaseRun(states, moved, peak)
+
+
+def _extreme_in_range(i: int, d: int, r: int, n: int) -> bool:
+    """0 ≤ I(k) ≤ Σ where the advance turns inside the phase (its ends are checked apart):
+    protocol/cubic.py's advances_in_range, for its one interior point."""
+    if r > 0 and d < 0:
+        k = 1 + (-d + r - 1) // r
+    elif r < 0 and d > 0:
+        k = 1 + (d - r - 1) // -r
+    else:
+        return True
+    return k >= n or 0 <= i + (k - 1) * d + (k - 1) * (k - 2) // 2 * r <= SIGMA
 
 
 def _split_peak(i: int, d: int, r: int, n: int) -> int:
