@@ -59,11 +59,17 @@ def main() -> None:
     summed = clock()
     encoded = encoded_count(job)
     by_frames = clock() - summed
-    print(f"pocket: {args.lines:,} lines, {plan.moves:,} moves, {len(plan):,} segments (CPU seconds)")
-    print(f"  read {parsed - began:.2f} s, plan {planned - parsed:.2f} s, "
-          f"summary with the wire count {summed - planned:.2f} s: check {summed - began:.2f} s")
-    print(f"  wire bytes {summary.wire_bytes:,} from the arrays; by encoding every frame "
-          f"{encoded:,} in {by_frames:.2f} s (check would take {summed - began + by_frames:.2f} s)")
+    print(
+        f"pocket: {args.lines:,} lines, {plan.moves:,} moves, {len(plan):,} segments (CPU seconds)"
+    )
+    print(
+        f"  read {parsed - began:.2f} s, plan {planned - parsed:.2f} s, "
+        f"summary with the wire count {summed - planned:.2f} s: check {summed - began:.2f} s"
+    )
+    print(
+        f"  wire bytes {summary.wire_bytes:,} from the arrays; by encoding every frame "
+        f"{encoded:,} in {by_frames:.2f} s (check would take {summed - began + by_frames:.2f} s)"
+    )
 
 
 if __name__ == "__main__":

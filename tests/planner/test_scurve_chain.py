@@ -21,8 +21,11 @@ def phases(draw: st.DrawFn) -> list[Phase]:
     out = []
     for _ in range(draw(st.integers(1, 7))):
         n = draw(st.sampled_from([0, 1, 2, 37, 800, CUBIC_N_MAX + 3]))
-        jerk = {a: draw(st.sampled_from([0, 1, -1, 17, -300, 32767, -32768, 32768]))
-                for a in range(AXES) if draw(st.booleans())}
+        jerk = {
+            a: draw(st.sampled_from([0, 1, -1, 17, -300, 32767, -32768, 32768]))
+            for a in range(AXES)
+            if draw(st.booleans())
+        }
         sets = {}
         for a in range(AXES):
             if draw(st.integers(0, 3)) == 0:
