@@ -21,6 +21,7 @@ from .planner.plan import Plan, plan_program
 from .planner.program import JobError, Program
 from .planner.segments import SegmentArrays
 from .protocol.codec import encode
+from .protocol.cubic_run_size import cubic_wire_bytes
 from .protocol.frames import next_frame, run_limit
 from .protocol.messages import queue_slots
 from .protocol.segment_run import RunChain
@@ -107,6 +108,10 @@ class Job:
         segments = self.plan.segments
         if isinstance(segments, SegmentArrays):  # from the arrays' sizes: no frame is built
             return quadratic_wire_bytes(segments.numpy(), segments.axis_count, run_limit)
+        if isinstance(segments.base, list) and not segments.base:  # a jerk-limited plan's
+            counted = cubic_wire_bytes(segments.extra, segments.axis_count, run_limit)
+            if counted is not None:
+                return counted
         chain = RunChain(segments.axis_count)
         total = index = 0
         while index < len(segments):

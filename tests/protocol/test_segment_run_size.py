@@ -1,6 +1,7 @@
-"""The wire count from a quadratic plan's arrays equals the bytes of the frames it would send, built
-and encoded one by one (frames.next_frame, codec.encode), on CAM-shaped jobs and on random segments
-made to hit every record kind (REPEAT, a new axes byte, start, residual, cruise, MIRROR)."""
+"""The wire count without frames equals the bytes of the frames a plan would send, built and
+encoded one by one (frames.next_frame, codec.encode): from a quadratic plan's arrays on CAM-shaped
+jobs and on random segments made to hit every record kind (REPEAT, a new axes byte, start,
+residual, cruise, MIRROR), and from a jerk-limited plan's cubic segments on the same jobs."""
 
 from __future__ import annotations
 
@@ -14,7 +15,9 @@ from hypothesis import strategies as st
 from quadstep.gcode import parse_gcode
 from quadstep.planner.plan import plan_program
 from quadstep.planner.segments import SegmentArrays
+from quadstep.planner.stream import Stream
 from quadstep.protocol.codec import encode
+from quadstep.protocol.cubic_run_size import cubic_wire_bytes
 from quadstep.protocol.frames import next_frame
 from quadstep.protocol.messages import queue_slots
 from quadstep.protocol.segment_run import RunChain
@@ -29,7 +32,7 @@ import cam_jobs  # noqa: E402
 LIMITS = [0, 1, 2, 7, 8, 16]
 
 
-def encoded_bytes(segments: SegmentArrays, limit: int) -> int:
+def encoded_bytes(segments: SegmentArrays | Stream, limit: int) -> int:
     """Every frame built and encoded, as a motion sends them."""
     chain = RunChain(segments.axis_count)
     total = index = 0
@@ -84,3 +87,16 @@ def test_random_segments_count_equals_their_encoded_frames(
 ) -> None:
     counted = quadratic_wire_bytes(segments.numpy(), segments.axis_count, limit)
     assert counted == encoded_bytes(segments, limit)
+
+
+@pytest.mark.parametrize("name", ["pocket", "engraving", "four_axis"])
+def test_an_scurve_jobs_count_equals_its_encoded_frames(name: str) -> None:
+    text = cam_jobs.JOBS[name](600)
+    names = "XYZA" if name == "four_axis" else "XYZ"
+    config = bench_wire.machine(names, 20000.0)
+    program = parse_gcode(text, config.axis_names, (0.0,) * len(names), config.arc_tolerance, True)
+    segments = plan_program(program, config).segments
+    assert isinstance(segments, Stream) and len(segments) > 500
+    for limit in LIMITS:
+        counted = cubic_wire_bytes(segments.extra, segments.axis_count, limit)
+        assert counted == encoded_bytes(segments, limit), limit
