@@ -227,8 +227,7 @@ class ScurvePlanner:
         start, exit_ = speeds
         ka, kd = p.n1a * (p.n1a + p.n2a), p.n1d * (p.n1d + p.n2d)
         # travel = start·(ta + nc) + ra·ua + exit·td + rd·ud
-        ua = _ramp_travel([(p.n1a, 1), (p.n2a, 0), (p.n1a, -1), (p.nc, 0)]) if ka else 0
-        ud = _unit_ramp_travel(p.n1d, p.n2d) if kd else 0
+        ua, ud = _unit_travels(p)
         ta, td = 2 * p.n1a + p.n2a, 2 * p.n1d + p.n2d
         left = remaining - start * (ta + p.nc) - exit_ * td
         if ka and kd:
@@ -453,6 +452,15 @@ def _ramp_travel(phases: list[tuple[int, int]], i: int = 0) -> int:
         i += n * d + n * (n - 1) // 2 * r
         d += n * r
     return travel
+
+
+@lru_cache(maxsize=64)
+def _unit_travels(p: Profile) -> tuple[int, int]:
+    """How far unit jerks on the first ramp (with the cruise after it) and on the last move an
+    axis (the same for every axis of the move)."""
+    ua = _ramp_travel([(p.n1a, 1), (p.n2a, 0), (p.n1a, -1), (p.nc, 0)]) if p.n1a else 0
+    ud = _unit_ramp_travel(p.n1d, p.n2d) if p.n1d else 0
+    return ua, ud
 
 
 def _unit_ramp_travel(n1: int, n2: int) -> int:
