@@ -19,10 +19,13 @@ from .planner.approach import Approach, approach_to, item_at_line, with_approach
 from .planner.feed_override import scale_feeds
 from .planner.plan import Plan, plan_program
 from .planner.program import JobError, Program
+from .planner.segments import SegmentArrays
 from .protocol.codec import encode
+from .protocol.cubic_run_size import cubic_wire_bytes
 from .protocol.frames import next_frame, run_limit
 from .protocol.messages import queue_slots
 from .protocol.segment_run import RunChain
+from .protocol.segment_run_size import quadratic_wire_bytes
 from .textfile import read_text
 
 MOVE_FILE_SUFFIXES = (".json", ".yaml", ".yml")
@@ -103,6 +106,12 @@ class Job:
         sends them to a board that takes `run_limit` segments a frame (an Uno's, by default; 0: one
         SEGMENT a frame)."""
         segments = self.plan.segments
+        if isinstance(segments, SegmentArrays):  # from the arrays' sizes: no frame is built
+            return quadratic_wire_bytes(segments.numpy(), segments.axis_count, run_limit)
+        if isinstance(segments.base, list) and not segments.base:  # a jerk-limited plan's
+            counted = cubic_wire_bytes(segments.extra, segments.axis_count, run_limit)
+            if counted is not None:
+                return counted
         chain = RunChain(segments.axis_count)
         total = index = 0
         while index < len(segments):

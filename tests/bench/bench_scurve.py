@@ -50,9 +50,11 @@ def ruckig_ticks(length: float, v0: float, v1: float, vmax: float, accel: float,
 def measure(name: str, text: str, config: MachineConfig) -> None:
     start = (0,) * len(config.axes)
     program = parse_gcode(text, config.axis_names, (0.0,) * len(config.axes), config.arc_tolerance)
-    began = time.perf_counter()
-    plan = plan_program(program, config)
-    planning = time.perf_counter() - began
+    planning = float("inf")
+    for _ in range(3):  # the process's CPU time, the best of three: the machine may be shared
+        began = time.process_time()
+        plan = plan_program(program, config)
+        planning = min(planning, time.process_time() - began)
     flat = plan_program(program, config.model_copy(update={"axes": tuple(
         a.model_copy(update={"max_jerk": None}) for a in config.axes)}))
     table = build_moves(program, config, start)
@@ -68,7 +70,8 @@ def measure(name: str, text: str, config: MachineConfig) -> None:
         ours_total += p.ticks
         optimal_total += optimal
     ratios.sort()
-    print(f"{name}: {plan.moves} moves → {len(plan)} segments in {planning:.2f} s ({plan.moves / planning:,.0f} moves/s)")
+    print(f"{name}: {plan.moves} moves → {len(plan)} segments in {planning:.2f} s of CPU "
+          f"({plan.moves / planning:,.0f} moves/s)")
     print(f"  duration {plan.duration_s:.2f} s jerk-limited, {flat.duration_s:.2f} s at constant acceleration "
           f"({plan.duration_s / flat.duration_s:.3f}×); landing corrections on {planner.corrections} moves")
     print(f"  per move against Ruckig (same v0, v1, a = 0 at the ends): median {statistics.median(ratios):.4f}, "

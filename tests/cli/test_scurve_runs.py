@@ -77,3 +77,36 @@ def test_scurve_jobs_run_exactly_as_predicted(job: str, start_emulator, tmp_path
     for axis in range(3):  # the bound is not vacuous: the jerk phases come near it
         change, jerk_term = largest_jerk_phase_change(steps, plan, axis)
         assert change > 0.5 * jerk_term
+
+
+def fine_job(step: float, count: int) -> str:
+    """`count` collinear moves of `step` mm out along X (then back in one move), as a fine engraving's."""
+    lines = ["G21 G90", "G1 F600"] + [f"X{k * step:.4f}" for k in range(1, count + 1)]
+    return "\n".join(lines + ["G1 X0", ""])
+
+
+def test_fine_moves_run_exactly_as_predicted(
+    start_emulator, tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """256 moves of 0.01 mm at F600: planned (never refused) and run on the emulator step for step as
+    predicted, every axis back on its target."""
+    config_path = jerk_config(tmp_path)
+    config = load_config(config_path)
+    source = tmp_path / "fine.gcode"
+    source.write_text(fine_job(0.01, 256))
+    plan = load_job(source, config).plan
+    assert isinstance(plan.segments, Stream) and plan.moves == 257
+    trace = tmp_path / "trace.csv"
+    emu = start_emulator(free=True, trace=trace, axes=3, tick_hz=config.tick_hz)
+    code = main(["run", str(source), "--config", str(config_path), "--port", emu.url, "--json"])
+    out, err = capsys.readouterr()
+    assert code == 0, err
+    result = json.loads(out)
+    assert result["completed"] and result["exact"]
+    assert result["positions_steps"] == list(plan.end) == [0, 0, 0]
+    assert result["motion_ticks"] == plan.duration_ticks
+    emu.stop()
+    expected = predict(plan.segments.segments(), list(plan.start), axis_count=3)
+    steps = read_trace(trace)
+    assert len(steps) == len(expected.steps) == 2 * 256 * 4
+    assert np.array_equal(steps, expected.steps)

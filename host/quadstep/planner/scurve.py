@@ -15,14 +15,16 @@ is 0 on both sides).
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from functools import lru_cache
 
 from ..config import MachineConfig
 from ..protocol.constants import CUBIC_N_MAX
-from ..protocol.cubic import SIGMA, AxisState, CubicAxis, CubicChain, CubicRefused, CubicSegment
+from ..protocol.cubic import SIGMA, AxisState, CubicAxis, CubicChain, CubicSegment
 from ..protocol.segment import AxisMove, Direction, Segment
 from .moves import MoveTable
 from .program import JobError
+from .scurve_chain import Phase as _Phase
+from .scurve_chain import PhaseRun, State, run_phases
 from .scurve_profile import PROFILE_FRACTION, Profile, whole_tick_profile
 from .stream import Stream
 
@@ -35,13 +37,6 @@ LAND_SLACK = SIGMA * 9 // 20
 # the ramps' rounded jerks can miss (half a jerk quantum over their phases)
 JUMP_LIMIT = 1 << 19
 START_JUMP = 1 << 21  # a correction at a move's start (a junction): at most 2^-10 step per tick
-
-
-@dataclass
-class _Phase:
-    n: int
-    jerk: dict[int, int]
-    sets: dict[int, CubicAxis]
 
 
 class ScurvePlanner:
@@ -58,6 +53,7 @@ class ScurvePlanner:
         self.peak = [0] * self.count  # highest advance per tick, 2^-31 step
         self.max_landing = 0  # largest |ideal − target| at a move end, 2^-31 step
         self.corrections = 0  # moves landed by a speed set on the cruise
+        self.steady_moves = 0  # moves no whole-tick S-curve landed: at a constant speed instead
         self.pauses: list[tuple[int, int]] = []  # (segment index, line) before which to wait
         self.profiles: list[Profile] = []  # each move's, as planned
         self.speed = 0.0  # the path speed the last move ended at
@@ -92,6 +88,7 @@ class ScurvePlanner:
         v0, v1 = min(self.speed, entry[k]), min(entry[k + 1], cap)
         line = table.line[k]
         vmax = table.max_speed[k]
+        steady = max(v0, v1)  # the speed to land at without a profile (the last resort)
         for attempt in range(8):
             try:
                 profile = whole_tick_profile(
@@ -104,19 +101,55 @@ class ScurvePlanner:
                 )
             except ValueError:
                 break
-            segments = self._segments(table, k, profile)
-            if segments is not None:
-                self._emit(segments, line)
+            landed = self._segments(table, k, profile)
+            if landed is not None:
+                self._emit(*landed, line)
                 self.profiles.append(profile)
                 self.speed = profile.v1
                 return
+            steady = table.length[k] / profile.ticks
             vmax = profile.vc * 0.97  # no cruise to land on, or one too short: make a longer one
-        raise JobError(
-            f"{self.label} {line}: no whole-tick S-curve lands this move exactly; lower max_speed"
-        )
+        self._steady(table, k, steady or table.max_speed[k] * PROFILE_FRACTION, v1 == 0)
+        self.profiles.append(Profile(self.speed, self.speed, self.speed, 0, 0, 0, 0, 0))
 
-    def _segments(self, table: MoveTable, k: int, p: Profile) -> list[CubicSegment] | None:
-        """The move's segments, landing every axis on its target; None when they cannot."""
+    def _steady(self, table: MoveTable, k: int, speed: float, to_rest: bool) -> None:
+        """The move at one constant speed per axis, set where it begins, when no whole-tick
+        S-curve lands it: each axis's speed is the distance its ideal has left over the move's
+        whole ticks, so it lands within half a tick's advance of its target, whatever came
+        before; the cost is a speed step at both ends. It ends at rest when the move must."""
+        target = table.target[k]
+        ticks = max(1, math.ceil(table.length[k] / speed))
+        remaining: dict[int, tuple[Direction, int]] = {}
+        for axis, state in enumerate(self.chain.axes):
+            if not table.delta[k][axis]:
+                continue
+            direction: Direction = 1 if table.delta[k][axis] > 0 else -1
+            ahead = state.e if state.direction == direction else -state.e
+            left = (target[axis] - self.position[axis]) * direction * SIGMA - ahead
+            remaining[axis] = direction, max(0, left)
+            ticks = max(ticks, math.ceil(left / min(self.speed_limit[axis], SIGMA)))
+        sets = []
+        for axis, state in enumerate(self.chain.axes):
+            if axis in remaining:
+                direction, left = remaining[axis]
+                sets.append(CubicAxis(axis=axis, speed=round(left / ticks), direction=direction))
+            elif not state.at_rest:
+                sets.append(CubicAxis(axis=axis, speed=0, direction=state.direction))
+        phases = [_Phase(ticks, {}, {a.axis: a for a in sets})]
+        if to_rest:
+            stop = {a.axis: CubicAxis(axis=a.axis, speed=0, direction=a.direction) for a in sets}
+            phases.append(_Phase(1, {}, stop))
+        run = run_phases(self.chain.axes, phases)
+        assert run is not None, "a steady speed within 0 … 1 step per tick is always taken"
+        self._emit(phases, run, table.line[k])
+        self.steady_moves += 1
+        self.speed = 0.0 if to_rest else table.length[k] / ticks
+
+    def _segments(
+        self, table: MoveTable, k: int, p: Profile
+    ) -> tuple[list[_Phase], PhaseRun] | None:
+        """The move's phases, landing every axis on its target, and the chain through them; None
+        when they cannot."""
         target, delta = table.target[k], table.delta[k]
         shaped = self._shape(table, k, p)
         if shaped is None:
@@ -133,19 +166,21 @@ class ScurvePlanner:
             built = self._built(phases, target)
             if built is None:
                 return None
+        corrections = self.corrections
         if not self._land(p, phases, *built, delta):
             return None
-        built = self._built(phases, target)
+        if self.corrections != corrections:  # speed sets added: run the phases again
+            built = self._built(phases, target)
         if built is None or any(abs(m) > LAND_SLACK for m in built[1].values()):
             return None
-        return built[0]
+        return phases, built[0]
 
     def _shape(self, table: MoveTable, k: int, p: Profile) -> tuple[list[_Phase], list[int]] | None:
         """The profile's seven phases with each axis's share of its jerks and speed sets, and each
         axis's exit speed; None when a last ramp would have to begin below rest."""
         delta, length = table.delta[k], table.length[k]
         share = [abs(d) / length * SIGMA for d in delta]  # 2^-31 step per mm of path
-        ka, kd = p.n1a * (p.n1a + p.n2a), p.n1d * (p.n1d + p.n2d)
+        kd = p.n1d * (p.n1d + p.n2d)
         phases = [
             _Phase(p.n1a, {}, {}),
             _Phase(p.n2a, {}, {}),
@@ -164,13 +199,17 @@ class ScurvePlanner:
                 continue
             direction: Direction = 1 if delta[axis] > 0 else -1
             entry = round(p.v0 * share[axis])
+            start, ahead = state.i, state.e
             if state.direction != direction or abs(state.i - entry) > SPEED_KEPT or state.d:
                 phases[0].sets[axis] = CubicAxis(axis=axis, speed=entry, direction=direction)
-            ra = round((p.vc - p.v0) * share[axis] / ka) if ka else 0
-            rd = round((p.vc - p.v1) * share[axis] / kd) if kd else 0
+                start, ahead = entry, state.e if state.direction == direction else -state.e
+            exits[axis] = round(p.v1 * share[axis])
+            # the ideal's distance to the target from where it is (not the move's nominal steps):
+            # a residual carried from the moves before is not carried on
+            remaining = (table.target[k][axis] - self.position[axis]) * direction * SIGMA - ahead
+            ra, rd = self._aimed_jerks(p, axis, share[axis], (start, exits[axis]), remaining)
             phases[0].jerk[axis], phases[2].jerk[axis] = ra, -ra
             phases[4].jerk[axis], phases[6].jerk[axis] = -rd, rd
-            exits[axis] = round(p.v1 * share[axis])
             if kd:  # the last ramp ends at exactly its exit speed (at rest: 0): set where it begins
                 if exits[axis] + rd * kd < 0:
                     return None
@@ -179,18 +218,47 @@ class ScurvePlanner:
                 )
         return phases, exits
 
+    def _aimed_jerks(
+        self, p: Profile, axis: int, share: float, speeds: tuple[int, int], remaining: int
+    ) -> tuple[int, int]:
+        """The ramps' whole jerks for one axis that bring it from its start speed to one cruise
+        speed and from there to its exit speed, covering `remaining` (2^-31 step) as nearly as
+        whole jerks can: the move's travel is affine in the cruise speed x, solved exactly."""
+        start, exit_ = speeds
+        ka, kd = p.n1a * (p.n1a + p.n2a), p.n1d * (p.n1d + p.n2d)
+        # travel = start·(ta + nc) + ra·ua + exit·td + rd·ud
+        ua, ud = _unit_travels(p)
+        ta, td = 2 * p.n1a + p.n2a, 2 * p.n1d + p.n2d
+        left = remaining - start * (ta + p.nc) - exit_ * td
+        if ka and kd:
+            x = (left + start * ua / ka + exit_ * ud / kd) / (ua / ka + ud / kd)
+            ra, rd = round((x - start) / ka), round((x - exit_) / kd)
+        elif ka:
+            ra, rd = round(left / ua), 0
+            x = start + ra * ka
+        elif kd:
+            x, ra = start, 0
+            rd = round((x - exit_) / kd)
+        else:
+            return 0, 0
+        if (
+            max(abs(ra), abs(rd)) > self.jerk_limit[axis]
+            or max(abs(ra) * p.n1a, abs(rd) * p.n1d) > self.accel_limit[axis]
+            or x > self.speed_limit[axis]
+        ):  # the planned speeds instead (the landing corrects what is left)
+            ra = round((p.vc - p.v0) * share / ka) if ka else 0
+            rd = round((p.vc - p.v1) * share / kd) if kd else 0
+        return ra, rd
+
     def _built(
         self, phases: list[_Phase], target: tuple[int, ...]
-    ) -> tuple[list[CubicSegment], dict[int, int]] | None:
-        """The phases' segments and each moving axis's miss; None when they cannot be built or
-        the chain refuses them."""
-        segments = _build(phases)
-        if segments is None:
+    ) -> tuple[PhaseRun, dict[int, int]] | None:
+        """The chain through the phases and each moving axis's miss; None when the firmware would
+        refuse their segments."""
+        run = run_phases(self.chain.axes, phases)
+        if run is None:
             return None
-        misses = self._misses(segments, target)
-        if misses is None:
-            return None
-        return segments, misses
+        return run, self._misses(run, target)
 
     def _retune_starts(self, p: Profile, phases: list[_Phase], misses: dict[int, int]) -> bool:
         """An axis far off its target takes the nearest whole jerk on its first ramp instead: one
@@ -256,7 +324,7 @@ class ScurvePlanner:
         self,
         p: Profile,
         phases: list[_Phase],
-        segments: list[CubicSegment],
+        run: PhaseRun,
         misses: dict[int, int],
         delta: tuple[int, ...],
     ) -> bool:
@@ -265,7 +333,7 @@ class ScurvePlanner:
         move's start an axis often has a set anyway: a corner); False when none is."""
         limit = max(START_JUMP, p.n1a * (p.n1a + p.n2a) + p.n1d * (p.n1d + p.n2d))
         begins = [sum(ph.n for ph in phases[:at]) for at in range(len(phases) + 1)]
-        states = {at: self._state_at(segments, begins[at]) for at in range(1, 7) if phases[at].n}
+        states = {at: run.states[at] for at in range(1, 7) if phases[at].n}
         corrected = False
         for axis, miss in misses.items():
             if abs(miss) <= (0 if axis in phases[0].sets else LAND_SLACK) or not delta[axis]:
@@ -283,7 +351,7 @@ class ScurvePlanner:
                         0,
                     )
                 else:
-                    speed, accel = states[at][axis].i, states[at][axis].d
+                    _, speed, accel, _ = states[at][axis]
                 jump = round(miss / ticks) if ticks else limit + 1
                 if abs(jump) <= limit and speed is not None and speed + jump >= 0:
                     phases[at].sets[axis] = CubicAxis(
@@ -306,72 +374,57 @@ class ScurvePlanner:
     @staticmethod
     def _bump(
         phases: list[_Phase],
-        states: dict[int, list[AxisState]],
+        states: dict[int, list[State]],
         axis: int,
         miss: int,
         limit: int,
         delta: int,
     ) -> bool:
-        """A speed change over the longest phase without jerk, set back exactly where it ends (two
-        sets): for a move whose window before its last ramp is too short."""
+        """A speed change over the longest phase without jerk where the axis moves fast enough to
+        take it, set back exactly where it ends (two sets): for a move whose window before its
+        last ramp is too short."""
         spans = [
             j
             for j in (1, 3, 5)
-            if j in states and j + 1 in states and axis not in phases[j + 1].sets
+            if j in states
+            and j + 1 in states
+            and axis not in phases[j + 1].sets
+            and abs(round(miss / phases[j].n)) <= limit
+            and states[j][axis][1] + round(miss / phases[j].n) >= 0
+            and states[j + 1][axis][1] >= 0
         ]
         if not spans:
             return False
         j = max(spans, key=lambda k: phases[k].n)
         jump = round(miss / phases[j].n)
         at, back = states[j][axis], states[j + 1][axis]
-        if abs(jump) > limit or at.i + jump < 0 or back.i < 0:
-            return False
         direction: Direction = 1 if delta > 0 else -1
         phases[j].sets[axis] = CubicAxis(
-            axis=axis, speed=at.i + jump, accel=at.d, direction=direction
+            axis=axis, speed=at[1] + jump, accel=at[2], direction=direction
         )
         phases[j + 1].sets[axis] = CubicAxis(
-            axis=axis, speed=back.i, accel=back.d, direction=direction
+            axis=axis, speed=back[1], accel=back[2], direction=direction
         )
         return True
 
-    def _misses(
-        self, segments: list[CubicSegment], target: tuple[int, ...]
-    ) -> dict[int, int] | None:
+    def _misses(self, run: PhaseRun, target: tuple[int, ...]) -> dict[int, int]:
         """Per moving axis, how far (2^-31 step, along its motion) its ideal would end short of
         `target`."""
-        chain = self.chain.copy()
-        position = list(self.position)
-        try:
-            for seg in segments:
-                for step in chain.advance(seg):
-                    position[step.axis] += step.start.direction * step.steps
-        except CubicRefused:
-            return None
         misses = {}
-        for axis, state in enumerate(chain.axes):
+        for axis, state in enumerate(run.end):
+            position = self.position[axis] + run.moved[axis]
             if target[axis] != self.position[axis] or not state.at_rest:
-                misses[axis] = (target[axis] - position[axis]) * state.direction * SIGMA - state.e
+                misses[axis] = (target[axis] - position) * state.direction * SIGMA - state.e
         return misses
 
-    def _state_at(self, segments: list[CubicSegment], ticks: int) -> list[AxisState]:
-        """Each axis's state `ticks` into `segments` (a segment boundary)."""
-        chain = self.chain.copy()
-        for seg in segments:
-            if ticks <= 0:
-                break
-            chain.advance(seg)
-            ticks -= seg.n
-        return chain.axes
-
-    def _emit(self, segments: list[CubicSegment], line: int) -> None:
-        for seg in segments:
-            for step in self.chain.advance(seg):
-                self.position[step.axis] += step.start.direction * step.steps
-            for axis, state in enumerate(self.chain.axes):
-                self.peak[axis] = max(self.peak[axis], state.i)
+    def _emit(self, phases: list[_Phase], run: PhaseRun, line: int) -> None:
+        """The move's segments out, the chain and the steppers past them."""
+        for seg in _build(phases):
             self.out.add(seg, line, len(self.out))
-        for state in self.chain.axes:
+        self.chain.axes = [AxisState(a.e, a.i, a.d, a.direction) for a in run.end]
+        for axis, state in enumerate(self.chain.axes):
+            self.position[axis] += run.moved[axis]
+            self.peak[axis] = max(self.peak[axis], run.peak[axis])
             self.max_landing = max(self.max_landing, abs(state.e))
 
     # --- stops ------------------------------------------------------------------------------------
@@ -401,43 +454,58 @@ def _ramp_travel(phases: list[tuple[int, int]], i: int = 0) -> int:
     return travel
 
 
+@lru_cache(maxsize=64)
+def _unit_travels(p: Profile) -> tuple[int, int]:
+    """How far unit jerks on the first ramp (with the cruise after it) and on the last move an
+    axis (the same for every axis of the move)."""
+    ua = _ramp_travel([(p.n1a, 1), (p.n2a, 0), (p.n1a, -1), (p.nc, 0)]) if p.n1a else 0
+    ud = _unit_ramp_travel(p.n1d, p.n2d) if p.n1d else 0
+    return ua, ud
+
+
 def _unit_ramp_travel(n1: int, n2: int) -> int:
     """How far a ramp to rest of jerks −1, 0, +1 over n1, n2, n1 ticks travels from its start."""
     return _ramp_travel([(n1, -1), (n2, 0), (n1, 1)], n1 * (n1 + n2))
 
 
-def _build(phases: list[_Phase]) -> list[CubicSegment] | None:
+@lru_cache(maxsize=4096)
+def _jerk_only(axis: int, jerk: int) -> CubicAxis:
+    """An axis named only for its jerk (checked by run_phases; jerks repeat: a ramp's ±R)."""
+    return CubicAxis(axis=axis, jerk=jerk)
+
+
+def _build(phases: list[_Phase]) -> list[CubicSegment]:
     """The phases as segments: empty ones left out (their sets on the next), long ones split (a set
-    on the first piece only)."""
+    on the first piece only). The segments are built without validation (n within its range, the
+    axes in order, each axis a checked model)."""
     out = []
     pending: dict[int, CubicAxis] = {}  # sets of an empty phase go to the next one
-    try:
-        for ph in phases:
-            left, sets = ph.n, {**pending, **ph.sets}
-            pending = sets if left == 0 else {}
-            while left > 0:
-                n = min(left, CUBIC_N_MAX)
-                axes = []
-                for axis in sorted(set(sets) | {a for a, r in ph.jerk.items() if r}):
-                    r = ph.jerk.get(axis, 0)
-                    s = sets.get(axis)
-                    jerk = r if r else None
+    for ph in phases:
+        left, sets = ph.n, {**pending, **ph.sets}
+        pending = sets if left == 0 else {}
+        while left > 0:
+            n = min(left, CUBIC_N_MAX)
+            axes = []
+            for axis in sorted(set(sets) | {a for a, r in ph.jerk.items() if r}):
+                r = ph.jerk.get(axis, 0)
+                s = sets.get(axis)
+                if s is None:
+                    axes.append(_jerk_only(axis, r))
+                elif (s.jerk or 0) == r:
+                    axes.append(s)
+                else:
                     axes.append(
                         CubicAxis(
                             axis=axis,
                             speed=s.speed,
                             accel=s.accel,
                             direction=s.direction,
-                            jerk=jerk,
+                            jerk=r if r else None,
                         )
-                        if s is not None
-                        else CubicAxis(axis=axis, jerk=jerk)
                     )
-                out.append(CubicSegment(n=n, axes=tuple(axes)))
-                left -= n
-                sets = {}
-    except ValueError:  # a jerk outside its field
-        return None
+            out.append(CubicSegment.model_construct(n=n, axes=tuple(axes)))
+            left -= n
+            sets = {}
     return out
 
 

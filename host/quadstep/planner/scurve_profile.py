@@ -47,12 +47,23 @@ def peak_speed(
     lo, hi = max(v0, v1), max(vmax, v0, v1)
     if distance(hi) <= length:
         return hi
-    for _ in range(60):
-        mid = (lo + hi) / 2
-        if distance(mid) <= length:
-            lo = mid
+    # the distance grows with the peak: regula falsi (Illinois), lo always within the length,
+    # until lo covers all but 1e-12 of it
+    f_lo, f_hi = distance(lo) - length, distance(hi) - length
+    side = 0
+    for _ in range(100):
+        if hi - lo <= 1e-13 * hi or f_lo >= -1e-12 * length:
+            break
+        mid = (lo * f_hi - hi * f_lo) / (f_hi - f_lo)
+        if not lo < mid < hi:
+            mid = (lo + hi) / 2
+        f_mid = distance(mid) - length
+        if f_mid <= 0:
+            lo, f_lo = mid, f_mid
+            f_hi, side = (f_hi / 2 if side < 0 else f_hi), -1
         else:
-            hi = mid
+            hi, f_hi = mid, f_mid
+            f_lo, side = (f_lo / 2 if side > 0 else f_lo), 1
     return lo
 
 
