@@ -97,8 +97,13 @@ def _record_bytes(segment: CubicSegment, chain: _Speeds, last: list[int]) -> int
 
 def _single_bytes(segment: CubicSegment) -> int:
     """A CUBIC_SEGMENT: n, the fields byte, 7 bytes a set, 2 a jerk."""
-    return FRAME_OVERHEAD + 3 + sum(
-        (7 if a.speed is not None else 0) + (2 if a.jerk is not None else 0) for a in segment.axes
+    return (
+        FRAME_OVERHEAD
+        + 3
+        + sum(
+            (7 if a.speed is not None else 0) + (2 if a.jerk is not None else 0)
+            for a in segment.axes
+        )
     )
 
 
