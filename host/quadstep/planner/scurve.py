@@ -288,6 +288,11 @@ class ScurvePlanner:
             changed = True
         return changed
 
+    def _resting_until_stop(self, phases: list[_Phase], axis: int) -> bool:
+        start = phases[0].sets.get(axis)
+        speed = start.speed if start is not None else self.chain.axes[axis].i
+        return not speed and not phases[0].jerk.get(axis, 0)
+
     def _retune_stops(
         self, p: Profile, phases: list[_Phase], misses: dict[int, int], exits: list[int]
     ) -> bool:
@@ -300,7 +305,9 @@ class ScurvePlanner:
             if axis not in phases[4].sets or abs(miss) <= LAND_SLACK // 4 or not unit:
                 continue
             rd = -phases[4].jerk.get(axis, 0)
-            extra = round(miss / unit)
+            # an axis still at rest until its last ramp can be corrected only by adding speed:
+            # leave it short of its target, not past it
+            extra = miss // unit if self._resting_until_stop(phases, axis) else round(miss / unit)
             if (
                 not extra
                 or abs(rd + extra) > self.jerk_limit[axis]
