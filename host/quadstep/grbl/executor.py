@@ -24,10 +24,11 @@ from ..planner.plan import plan_program
 from ..planner.program import Item, JobError, Program
 
 QUEUE_LINES = 64  # lines accepted ahead of the machine
-QUIET_S = 0.05  # a sender quiet this long: what it sent is run, and the job ends at rest
-AHEAD_S = (
-    4.0  # planned motion the board has not run, beyond which a running job takes no more lines
-)
+QUIET_S = 0.05  # a sender quiet this long: what it sent is run
+# a running job is closed after this long without a line (its end goes to the board anyway as the
+# board runs out of what comes before it: closing sends it at once)
+STREAM_QUIET_S = 0.5
+AHEAD_S = 4.0  # planned motion the board has not run, beyond which a running job takes no lines
 AHEAD_ITEMS = 64  # items added to a running job and not yet planned, beyond which it takes no more
 POLL_S = 0.01  # s between looks at how far a running job is ahead, while lines wait
 
@@ -196,7 +197,7 @@ class Executor:
         machine at rest, a jog next, a reset)."""
         if self._flush or self._stale(generation) or (self._queue and self._queue[0].jog):
             return True
-        return not self._queue and time.monotonic() - self._last >= QUIET_S
+        return not self._queue and time.monotonic() - self._last >= STREAM_QUIET_S
 
     def _feed(self, run: JobRun, last: Work, generation: int) -> Work:
         """The lines that come while `run` runs, added to it while it is not too far ahead of the

@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import threading
 import time
+from bisect import bisect_left
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from itertools import accumulate
@@ -363,8 +364,12 @@ class Motion:
             return hold_from
         k, identity = index - self.first, self.link.identity
         half = identity.queue_capacity // 2 if identity is not None else 1
-        if (self._queued_ticks(k, ticks) < floor and k - self.done < max(1, half)) or self._halting:
-            return index + 1  # the board would run dry first: one segment more
+        if self._halting:
+            return index + 1
+        if self._queued_ticks(k, ticks) < floor and k - self.done < max(1, half):
+            # the board would run dry first: as much again as the floor
+            upto = bisect_left(ticks, ticks[max(0, min(self.done, k))] + floor) + self.first
+            return min(last, max(index + 1, upto))
         self._space.wait(SPACE_WAIT)
         self._space.clear()
         self.link.check(self._generation)

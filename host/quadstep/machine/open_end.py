@@ -17,7 +17,7 @@ from ..planner.program import Item, Program
 
 # The board is sent the kept-back end only while it holds less than this much motion before it (and
 # less than half its queue): lines arriving in the meantime are planned in its place.
-FLOOR_S = 0.1
+FLOOR_S = 0.25
 # The kept-back end: the longest stop any axis makes from its top speed, with this margin (a stop
 # along several moves may take a little longer than along one), plus the floor.
 STOP_MARGIN = 1.5
