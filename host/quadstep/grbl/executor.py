@@ -28,8 +28,12 @@ QUIET_S = 0.05  # a sender quiet this long: what it sent is run
 # a running job is closed after this long without a line (its end goes to the board anyway as the
 # board runs out of what comes before it: closing sends it at once)
 STREAM_QUIET_S = 0.5
-AHEAD_S = 4.0  # planned motion the board has not run, beyond which a running job takes no lines
+AHEAD_S = 2.5  # planned motion the board has not run, beyond which a running job takes no lines
+AHEAD_SEGMENTS = 400  # nor with this many segments the board has not run (short lines)
 AHEAD_ITEMS = 64  # items added to a running job and not yet planned, beyond which it takes no more
+# lines are added to a running job this many at a time (each addition plans its unsent tail again),
+# fewer once the sender has been quiet for QUIET_S or the job runs short
+ADD_LINES = QUEUE_LINES // 2
 POLL_S = 0.01  # s between looks at how far a running job is ahead, while lines wait
 
 
@@ -209,7 +213,15 @@ class Executor:
                     break
                 if not self._queue or run.pending >= AHEAD_ITEMS:
                     continue
-                if run.progress.seconds_left >= AHEAD_S:
+                progress = run.progress
+                ahead = progress.seconds_left
+                if progress.total - progress.done >= AHEAD_SEGMENTS:
+                    continue
+                if ahead >= AHEAD_S or not (
+                    len(self._queue) >= ADD_LINES
+                    or ahead < AHEAD_S / 2
+                    or time.monotonic() - self._last >= QUIET_S
+                ):
                     continue
                 works = []
                 while self._queue and not self._queue[0].jog:

@@ -114,6 +114,7 @@ class JobRun:
         # plan covers (those after them were added and are planned next)
         self._open_end = OpenEnd(plan.config) if open_end and program is not None else None
         self._planned_items = len(program.items) if program is not None else 0
+        self._swap_items = 0  # the program's items the swap waiting to be streamed covers
         self._thread = threading.Thread(target=self._run, name="quadstep-job", daemon=True)
 
     # --- what the job is doing ---------------------------------------------------------------
@@ -442,8 +443,10 @@ class JobRun:
         while True:
             end = self._sections_from(begin, follows)
             if end.ended_by != CUT or self._swap is None:
+                self._swap = None  # made as the motion ran out: what it planned is planned again
                 return end
             swap, self._swap = self._swap, None
+            self._planned_items = max(self._planned_items, self._swap_items)
             with self._lock:
                 follows, halted = self._motion, self._halted
                 self.plan, self._ticks = (
@@ -502,9 +505,10 @@ class JobRun:
         end (_more_from_rest)."""
         assert self._open_end is not None and self.program is not None
         self.program = self._open_end.merge(self.program)
-        self._override_running(motion, overriding=False)
+        # what comes before the end kept back is planned as it would be again: from there on
+        self._override_running(motion, overriding=False, start_at=motion.held_from or 0)
 
-    def _override_running(self, motion: Motion, overriding: bool = True) -> None:
+    def _override_running(self, motion: Motion, overriding: bool = True, start_at: int = 0) -> None:
         """The feed override changed while `motion` streams: plan the rest again (OVERRIDING) and
         have the new plan swapped in where the motion is cut."""
         if self.program is None:
@@ -521,10 +525,11 @@ class JobRun:
             self.label,
             running.restream if running else None,
             self._ticks,
+            start_at,
         )
         if self._swap is not None:
             self._planned = percent
-            self._planned_items = len(self.program.items)
+            self._swap_items = len(self.program.items)
             if running is not None:
                 assert isinstance(self._swap.plan, StreamPlan)
                 running.swap(self._swap.plan)

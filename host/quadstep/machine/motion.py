@@ -232,8 +232,14 @@ class Motion:
                 or not self.first + self._sent <= index < self.last
             ):
                 return False
-            self.last, self._cut = index, True
+            # what follows goes on from `index`: the segments before it are its own, none kept back
+            self.last, self._cut, self._hold_from = index, True, None
             return True
+
+    @property
+    def held_from(self) -> int | None:
+        """The first segment of the tail kept back (hold_back()), if one is."""
+        return self._hold_from
 
     def hold_back(self, index: int | None, floor_ticks: int = 0) -> None:
         """Send segment `index` and those after it only while the board holds less than
