@@ -30,6 +30,7 @@ COMMANDS: dict[str, list[str]] = {
     "faults": [sys.executable, str(BENCH / "bench_faults.py")],
     "busy": [sys.executable, str(BENCH / "bench_busy_host.py")],
     "resume": [sys.executable, str(BENCH / "bench_resume.py")],
+    "grbl_stream": [sys.executable, str(BENCH / "bench_grbl_stream.py")],
     "fuzz": ["make", "-s", "-C", str(REPO), "fuzz-long"],
 }
 

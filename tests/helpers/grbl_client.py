@@ -73,7 +73,9 @@ class GrblClient:
         pending = b""
         while not self._stop.is_set():
             try:
-                pending += self.port.read(4096)
+                # what has come, as soon as a byte has (a serial read of more waits out its timeout)
+                waiting = self.port.in_waiting if isinstance(self.port, serial.Serial) else 4096
+                pending += self.port.read(max(1, waiting))
             except (serial.SerialException, OSError):
                 return
             while b"\n" in pending:

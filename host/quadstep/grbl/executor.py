@@ -1,11 +1,13 @@
 """What the sender's lines ask for, planned and run on the machine in the order they came.
 
 Lines are answered `ok` as they are queued here (at most QUEUE_LINES wait, so a sender's buffer
-fills and it waits, as with GRBL's planner buffer). The queue is run in batches: the lines received
-so far are planned together, with look-ahead across them, as one job, when the queue is full, when
-the sender has been quiet for QUIET_S, or when a command needs the machine at rest ($H, $C, $X). A
-batch ends at rest, so the machine stops between batches; a sender that streams steadily keeps
-batches of QUEUE_LINES lines. A jog (`$J=`) runs alone, as its own job."""
+fills and it waits, as with GRBL's planner buffer). A job starts with the lines received so far when
+the queue is full, when the sender has been quiet for QUIET_S, or when a command needs the machine
+at rest ($H, $C, $X). It is an open job (machine/open_end.py): the lines that come while it runs are
+added to it and planned onto what the board has not been sent, with look-ahead across them, so the
+machine goes on without a stop; only the end of what was received is kept back. When the sender
+goes quiet, a command needs the machine at rest or a jog comes, the job is closed and comes to rest
+at its end. A jog (`$J=`) runs alone, as its own job."""
 
 from __future__ import annotations
 
@@ -24,6 +26,16 @@ from ..planner.program import Item, JobError, Program
 
 QUEUE_LINES = 64  # lines accepted ahead of the machine
 QUIET_S = 0.05  # a sender quiet this long: what it sent is run
+# a running job is closed after this long without a line (its end goes to the board anyway as the
+# board runs out of what comes before it: closing sends it at once)
+STREAM_QUIET_S = 0.5
+AHEAD_S = 2.5  # planned motion the board has not run, beyond which a running job takes no lines
+AHEAD_SEGMENTS = 400  # nor with this many segments the board has not run (short lines)
+AHEAD_ITEMS = 64  # items added to a running job and not yet planned, beyond which it takes no more
+# lines are added to a running job this many at a time (each addition plans its unsent tail again),
+# fewer once the sender has been quiet for QUIET_S or the job runs short
+ADD_LINES = QUEUE_LINES // 2
+POLL_S = 0.01  # s between looks at how far a running job is ahead, while lines wait
 
 
 @dataclass
@@ -192,6 +204,47 @@ class Executor:
         quiet = time.monotonic() - self._last
         return None if quiet >= QUIET_S else QUIET_S - quiet
 
+    def _ends_stream(self, generation: int) -> bool:
+        """Under the lock: the open job is closed (the sender quiet, a command that needs the
+        machine at rest, a jog next, a reset)."""
+        if self._flush or self._stale(generation) or (self._queue and self._queue[0].jog):
+            return True
+        return not self._queue and time.monotonic() - self._last >= STREAM_QUIET_S
+
+    def _feed(self, run: JobRun, last: Work, generation: int) -> Work:
+        """The lines that come while `run` runs, added to it while it is not too far ahead of the
+        board, until the stream ends (then it is closed) or the job does; the last work added."""
+        while run.end is None:
+            with self._cond:
+                self._cond.wait(POLL_S)
+                if self._ends_stream(generation):
+                    break
+                if not self._queue or run.pending >= AHEAD_ITEMS:
+                    continue
+                progress = run.progress
+                ahead = progress.seconds_left
+                if progress.total - progress.done >= AHEAD_SEGMENTS:
+                    continue
+                if ahead >= AHEAD_S or not (
+                    len(self._queue) >= ADD_LINES
+                    or ahead < AHEAD_S / 2
+                    or time.monotonic() - self._last >= QUIET_S
+                ):
+                    continue
+                works = []
+                while self._queue and not self._queue[0].jog:
+                    works.append(self._queue.popleft())
+                self._cond.notify_all()
+            items = [item for work in works for item in work.items]
+            if not run.extend(items, works[-1].line, works[-1].coordinates):
+                with self._cond:  # the job ended meanwhile: they start the next
+                    self._queue.extendleft(reversed(works))
+                    self._cond.notify_all()
+                return last
+            last = works[-1]
+        run.close()
+        return last
+
     def _take(self) -> list[Work] | None:
         with self._cond:
             while not self._closed:
@@ -242,8 +295,12 @@ class Executor:
                 self._cond.wait_for(lambda: not self._held or self._stale(generation))
                 if self._stale(generation):
                     return
-                run = machine.run_job(plan, program, label="line", feed_override=feed)
+                run = machine.run_job(
+                    plan, program, label="line", feed_override=feed, open_end=not last.jog
+                )
                 self._running = Running(run, last.jog)
+            if not last.jog:
+                last = self._feed(run, last, generation)
             end = run.wait()
             if end is not None and end.ended_by == "error":
                 raise MachineError(end.error or "the job failed")

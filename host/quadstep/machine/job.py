@@ -13,7 +13,7 @@ Machine.run_job starts one; the CLI and the TUI both run jobs this way.
 from __future__ import annotations
 
 import threading
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from dataclasses import replace
 from itertools import accumulate
 from typing import TypeVar
@@ -22,7 +22,7 @@ from ..coordinates import WorkCoordinates
 from ..link import Link, LinkError
 from ..planner.feed_override import check_percent, scale_feeds
 from ..planner.plan import Plan, plan_program
-from ..planner.program import JobError, Pause, ProbeMove, Program
+from ..planner.program import Item, JobError, Pause, ProbeMove, Program
 from ..protocol import InputCause, InputChange, Report
 from .errors import MachineError
 from .job_legs import (
@@ -37,7 +37,9 @@ from .job_outputs import FEED_HOLD, stream_outputs, switch_off
 from .job_state import JobProgress, JobState, JobStates
 from .journal import Journal
 from .motion import CUT, STARVED, Motion, MotionEnd, bring_to_rest
+from .open_end import OpenEnd
 from .override import Swap, replan_running
+from .remainder import rest_of
 from .standing import Restream
 from .takeups import StreamPlan
 
@@ -78,6 +80,7 @@ class JobRun:
         restream: Restream | None = None,
         busy_elsewhere: Callable[[], bool] | None = None,
         journal: Journal | None = None,
+        open_end: bool = False,
     ) -> None:
         self.link = link
         self.plan = plan
@@ -107,6 +110,11 @@ class JobRun:
         self._swap: Swap | None = None  # the plan to go on with where the running motion was cut
         self._wake = threading.Event()  # the motion ended, or the feed override changed
         self._hold_pending = False  # a feed hold asked for while one motion hands over to the next
+        # a job that extend() adds to while it runs (a sender's stream), and the program's items the
+        # plan covers (those after them were added and are planned next)
+        self._open_end = OpenEnd(plan.config) if open_end and program is not None else None
+        self._planned_items = len(program.items) if program is not None else 0
+        self._swap_items = 0  # the program's items the swap waiting to be streamed covers
         self._thread = threading.Thread(target=self._run, name="quadstep-job", daemon=True)
 
     # --- what the job is doing ---------------------------------------------------------------
@@ -228,6 +236,45 @@ class JobRun:
         motion.halt(FEED_HOLD)
         return True
 
+    def extend(
+        self, items: Sequence[Item], lines: int, coordinates: WorkCoordinates | None = None
+    ) -> bool:
+        """Add `items` to the end of an open job (started with `open_end`): they are planned onto
+        what is not yet sent, without a stop where the board has not been sent the end (else from
+        where the machine comes to rest). False when the job takes no more (closed, ended, halted):
+        they belong to a new job."""
+        if (
+            self._open_end is None
+            or self._halted
+            or not self._open_end.add(items, lines, coordinates)
+        ):
+            return False
+        self._wake.set()
+        return True
+
+    def close(self) -> None:
+        """No more lines come for now: the plan runs to its end, where the machine rests, and the
+        job ends there (DONE)."""
+        if self._open_end is None:
+            return
+        with self._lock:
+            self._open_end.close()
+            motion = self._motion
+        if motion is not None:
+            motion.hold_back(None)
+
+    @property
+    def open(self) -> bool:
+        """extend() may still add to the job."""
+        return self._open_end is not None and self._open_end.open and not self._halted
+
+    @property
+    def pending(self) -> int:
+        """Items added and not yet planned."""
+        if self._open_end is None or self.program is None:
+            return 0
+        return self._open_end.pending + len(self.program.items) - self._planned_items
+
     def halt(self, reason: str = "stop") -> MotionEnd:
         """Bring the machine to rest (HOLD) and end the job; returns how it ended."""
         with self._lock:
@@ -247,8 +294,13 @@ class JobRun:
         try:
             self._begin_leg()
             end = self._sections()
-            while end.ended_by in AT_REST and self.program is not None and not self._halted:
-                end = self._after_rest(end)
+            while self.program is not None and not self._halted:
+                if end.ended_by in AT_REST:
+                    end = self._after_rest(end)
+                elif end.ended_by == "done" and self._goes_on():
+                    end = self._more_from_rest()
+                else:
+                    break
         except (LinkError, JobError, MachineError) as exc:
             end = MotionEnd("error", (), self._offset, error=str(exc))
         finally:
@@ -284,6 +336,24 @@ class JobRun:
         else:
             here = tuple(self.link.status().position[: self.plan.segments.axis_count])
         self.program = rest_after_stop(self.program, self.plan, self._offset)
+        return self._next_leg(here)
+
+    def _goes_on(self) -> bool:
+        """Everything planned has run: an open job goes on when more was added meanwhile."""
+        if self._open_end is None or self.program is None:
+            return False
+        return self._open_end.go_on(len(self.program.items) > self._planned_items)
+
+    def _more_from_rest(self) -> MotionEnd:
+        """The lines added after the board was sent the end of the plan: from where it rests."""
+        assert self.program is not None
+        if self.state is not JobState.RESUMING:
+            self.states.enter(JobState.RESUMING)
+        if self.restream is not None:
+            here = self.restream.at_rest()
+        else:
+            here = tuple(self.link.status().position[: self.plan.segments.axis_count])
+        self.program = rest_of(self.program, self._planned_items)
         return self._next_leg(here)
 
     def _scaled(self) -> Program:
@@ -329,7 +399,10 @@ class JobRun:
 
     def _next_leg(self, here: tuple[int, ...]) -> MotionEnd:
         """What is left of the program planned from `here` and streamed (its take-ups by the
-        machine's)."""
+        machine's), with what an open job was given meanwhile."""
+        if self._open_end is not None and self.program is not None:
+            self.program = self._open_end.merge(self.program)
+            self._planned_items = len(self.program.items)
         remainder = plan_program(self._scaled(), base_plan(self.plan).config, here, self.label)
         streamed = self.restream.stream(remainder) if self.restream is not None else remainder
         with self._lock:
@@ -370,8 +443,10 @@ class JobRun:
         while True:
             end = self._sections_from(begin, follows)
             if end.ended_by != CUT or self._swap is None:
+                self._swap = None  # made as the motion ran out: what it planned is planned again
                 return end
             swap, self._swap = self._swap, None
+            self._planned_items = max(self._planned_items, self._swap_items)
             with self._lock:
                 follows, halted = self._motion, self._halted
                 self.plan, self._ticks = (
@@ -402,20 +477,44 @@ class JobRun:
         if hold:
             motion.halt(FEED_HOLD)
         while motion.end is None:
-            self._wake.wait()
-            self._wake.clear()
-            if motion.end is None and self._override != self._planned and self._swap is None:
-                self._override_running(motion)
+            # what changed before this motion began (while another handed over to it) comes first
+            if self._swap is None:
+                if self._override != self._planned:
+                    self._override_running(motion)
+                elif self._extends(motion):
+                    self._extend_running(motion)
+            if motion.end is None:
+                self._wake.wait()
+                self._wake.clear()
         end = motion.wait()
         assert end is not None
         return end
 
-    def _override_running(self, motion: Motion) -> None:
+    def _extends(self, motion: Motion) -> bool:
+        """Lines were added while `motion` streams the last section (after a pause to come they
+        are planned from that pause)."""
+        return (
+            self._open_end is not None
+            and bool(self._open_end.pending)
+            and (motion.last == len(self.plan))
+        )
+
+    def _extend_running(self, motion: Motion) -> None:
+        """The lines added, planned onto what `motion` has not sent (as a feed override plans the
+        rest again) and swapped in where it is cut; where it has sent everything they wait for the
+        end (_more_from_rest)."""
+        assert self._open_end is not None and self.program is not None
+        self.program = self._open_end.merge(self.program)
+        # what comes before the end kept back is planned as it would be again: from there on
+        self._override_running(motion, overriding=False, start_at=motion.held_from or 0)
+
+    def _override_running(self, motion: Motion, overriding: bool = True, start_at: int = 0) -> None:
         """The feed override changed while `motion` streams: plan the rest again (OVERRIDING) and
         have the new plan swapped in where the motion is cut."""
         if self.program is None:
             return
-        self.states.enter(JobState.OVERRIDING)
+        if overriding:
+            self.states.enter(JobState.OVERRIDING)
         running = self.restream if self.restream and isinstance(self.plan, StreamPlan) else None
         percent = self._override
         self._swap = replan_running(
@@ -426,9 +525,11 @@ class JobRun:
             self.label,
             running.restream if running else None,
             self._ticks,
+            start_at,
         )
         if self._swap is not None:
             self._planned = percent
+            self._swap_items = len(self.program.items)
             if running is not None:
                 assert isinstance(self._swap.plan, StreamPlan)
                 running.swap(self._swap.plan)
@@ -464,6 +565,9 @@ class JobRun:
                         follows=follows,
                     )
                     self._motion, self._offset, follows = motion, first, None
+                    if index == total and self._open_end is not None:
+                        kept = self._open_end.kept_back(self._ticks)
+                        motion.hold_back(kept, self._open_end.floor_ticks)
                 end = self._stream(motion)
                 if end.ended_by == CUT:
                     return end  # the rest planned again: _sections goes on with it
@@ -511,7 +615,9 @@ class JobRun:
         after = offer.settle(interrupted, halted is not None) if offer is not None else None
         if after is not None and pause is not None and program is not None:
             return self._after_pause(pause, program, after, interrupted)
-        if halted or pause is None or restream is None or self._planned == self._override:
+        if halted or pause is None or restream is None:
+            return None
+        if self._planned == self._override and not self.pending:
             return None
         now = restream.coordinates()  # the feed override changed too late to be streamed: from here
         return self._after_pause(pause, now, now, interrupted)

@@ -8,7 +8,12 @@ TUI) reads its state.
         ├──feed hold, at rest──▶ HELD ──resume──▶ RESUMING
         ├──queue ran dry, at rest──▶ STARVED ──(by itself)──▶ RESUMING
         ├──G38.x next──▶ PROBING ──probed──▶ RESUMING
+        ├──an open job's lines came after its end was sent, at rest──▶ RESUMING
         └──last section done──▶ DONE          any state ──halt──▶ STOPPED, ──error──▶ FAILED
+
+An open job (a sender's stream, JobRun.extend) plans the lines it is given onto what is not yet sent
+while STREAMING; with nothing left to run and nothing given it ends DONE: a sender's lines that come
+later start a new job, and the machine waits for them at rest, with no job.
 
 A job waits for nobody but the operator in PAUSED and HELD; STARVED, RESUMING and OVERRIDING are
 passed through by the runner on its own (the rest planned again from where the machine stands or
@@ -70,8 +75,9 @@ LABELS = {
 
 S = JobState
 TRANSITIONS: dict[JobState, frozenset[JobState]] = {
+    # RESUMING from STREAMING: an open job's lines that came after the board was sent its end
     S.STREAMING: frozenset(
-        {S.STREAMING, S.PAUSED, S.HELD, S.STARVED, S.PROBING, S.OVERRIDING, S.DONE}
+        {S.STREAMING, S.PAUSED, S.HELD, S.STARVED, S.PROBING, S.OVERRIDING, S.RESUMING, S.DONE}
     ),
     S.OVERRIDING: frozenset({S.STREAMING, S.HELD, S.STARVED}),
     S.PAUSED: frozenset({S.RESUMING, S.STREAMING, S.PROBING, S.DONE}),

@@ -241,12 +241,14 @@ class Machine(Standing):
         label: str = "line",
         feed_override: int = 100,
         journal: Journal | None = None,
+        open_end: bool = False,
     ) -> JobRun:
         """Start a planned job now, the backlash taken up in it (pauses wait for JobRun.resume()).
         With the `program` it was planned from, a feed hold (JobRun.feed_hold, the board's button)
         keeps the rest of the job for resume(), and JobRun.set_feed_override changes its feeds on
         the way (the plan is planned at `feed_override` %, the program as written); a `journal`
-        keeps each leg of it for `run --resume`."""
+        keeps each leg of it for `run --resume`; an `open_end` job takes more lines as it runs
+        (JobRun.extend)."""
         if plan.outputs and not self.identity.capabilities & Capability.OUTPUTS:
             raise MachineError(
                 "the job sets the spindle, laser or coolant (M3/M4/M5, M7/M8/M9) and this firmware "
@@ -266,6 +268,7 @@ class Machine(Standing):
             restream=_Restream(self),
             busy_elsewhere=lambda: self._waiting is job,
             journal=journal,
+            open_end=open_end,
         )
         return self._begin(job, compensated).start()
 

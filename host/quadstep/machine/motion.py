@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import threading
 import time
+from bisect import bisect_left
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from itertools import accumulate
@@ -180,6 +181,9 @@ class Motion:
         self._follows = follows
         # streaming ends at `last`, moved down by cut(); the motion ends once that is sent
         self._cut = False
+        # an open stream's tail (hold_back()): sent only to keep the board from running dry
+        self._hold_from: int | None = None
+        self._hold_floor = 0
         self._thread = threading.Thread(target=self._run, name="quadstep-motion", daemon=True)
 
     # --- progress ------------------------------------------------------------------
@@ -228,8 +232,22 @@ class Motion:
                 or not self.first + self._sent <= index < self.last
             ):
                 return False
-            self.last, self._cut = index, True
+            # what follows goes on from `index`: the segments before it are its own, none kept back
+            self.last, self._cut, self._hold_from = index, True, None
             return True
+
+    @property
+    def held_from(self) -> int | None:
+        """The first segment of the tail kept back (hold_back()), if one is."""
+        return self._hold_from
+
+    def hold_back(self, index: int | None, floor_ticks: int = 0) -> None:
+        """Send segment `index` and those after it only while the board holds less than
+        `floor_ticks` of motion before them (None: send everything): the end of a plan that may yet
+        go on (a sender's stream), kept back so that lines arriving meanwhile can replace it."""
+        with self._lock:
+            self._hold_from, self._hold_floor = index, floor_ticks
+        self._space.set()
 
     def halt(self, reason: str = "stop") -> MotionEnd:
         """Bring the machine to rest now (HOLD) and end the motion; idempotent."""
@@ -297,6 +315,9 @@ class Motion:
         index = self.first
         while index < self.last:
             k = index - self.first
+            limit = self._sendable(index, ticks)
+            if limit <= index:
+                continue  # the tail kept back: waited for the board to run some, a cut or a release
             batch = (
                 size.next() if self._queued_ticks(k, ticks) >= size.floor else min(size.next(), 1)
             )
@@ -310,6 +331,7 @@ class Motion:
                 end -= 1
             if output is not None and output[0] > index:
                 end = min(end, output[0])  # an output goes out before its segment, between frames
+            end = min(end, limit)
             before = chain.copy()
             message = next_frame(self.segments, index, end, chain, batch, cubic_runs)
             count = queue_slots(message)
@@ -335,6 +357,29 @@ class Motion:
             while output is not None and not self._halting:
                 self.link.send(output[1], generation=self._generation)
                 output = next(outputs, None)
+
+    def _sendable(self, index: int, ticks: list[int]) -> int:
+        """The segments from `index` that may be sent now end before the one returned: `last`, or
+        the held-back tail's beginning (hold_back()); `index` itself when none may (after a short
+        wait for the board to run some of its queue)."""
+        with self._lock:
+            hold_from, floor, last = self._hold_from, self._hold_floor, self.last
+        if hold_from is None or hold_from >= last:
+            return last
+        if index < hold_from:
+            return hold_from
+        k, identity = index - self.first, self.link.identity
+        half = identity.queue_capacity // 2 if identity is not None else 1
+        if self._halting:
+            return index + 1
+        if self._queued_ticks(k, ticks) < floor and k - self.done < max(1, half):
+            # the board would run dry first: as much again as the floor
+            upto = bisect_left(ticks, ticks[max(0, min(self.done, k))] + floor) + self.first
+            return min(last, max(index + 1, upto))
+        self._space.wait(SPACE_WAIT)
+        self._space.clear()
+        self.link.check(self._generation)
+        return index
 
     def _queued_ticks(self, k: int, ticks: list[int]) -> int:
         """Ticks of motion sent and not yet finished (the running segment's whole), before segment

@@ -173,12 +173,13 @@ def replan_running(
     label: str,
     restream: Restreamer | None,
     ticks: Sequence[int],
+    start_at: int = 0,
 ) -> Swap | None:
     """`running` planned again at `percent` % from the first move boundary that `motion` (streaming
-    it) has not sent, and the motion cut there. A boundary sent meanwhile is passed by for one twice
-    as far ahead as the planning took. None when the section under way has no boundary left (or the
-    motion ends)."""
-    after, hz = motion.first + motion.sent, running.config.tick_hz
+    it) has not sent (and not before item `start_at`), and the motion cut there. A boundary sent
+    meanwhile is passed by for one twice as far ahead as the planning took. None when the section
+    under way has no boundary left (or the motion ends)."""
+    after, hz = max(motion.first + motion.sent, start_at), running.config.tick_hz
     for _ in range(TRIES):
         if motion.end is not None:
             return None

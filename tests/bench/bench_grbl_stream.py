@@ -1,0 +1,201 @@
+"""`quadstep grbl` streaming, on the emulator paced at the Uno's tick rate (32 kHz, 14-slot queue):
+
+1. short lines a second: a sender streams chords a few steps long by character counting; the lines
+   a second the board ran them at, and whether it kept up (no starvation, no stop between lines);
+2. a file through the front door against `quadstep run` of it: the wall time from the first motion to
+   rest, both ways, and their ratio;
+3. jog cancel (0x85) → the first decelerating tick of the HOLD (the emulator's events log), in ms.
+
+Prints figures; asserts no time."""
+
+from __future__ import annotations
+
+import math
+import statistics
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+REPO = Path(__file__).resolve().parents[2]
+sys.path.insert(0, str(REPO / "tests" / "helpers"))
+
+from grbl_client import GrblClient, mpos, report_fields  # noqa: E402
+
+from quadstep.cli.grbl import serve_in_thread  # noqa: E402
+from quadstep.config import load_config  # noqa: E402
+from quadstep.emulator import Emulator  # noqa: E402
+from quadstep.gcode.interpreter import parse_gcode  # noqa: E402
+from quadstep.grbl.server import PtyServer  # noqa: E402
+from quadstep.link import Link  # noqa: E402
+from quadstep.machine import JobRun, JobState, Machine  # noqa: E402
+from quadstep.planner.plan import plan_program  # noqa: E402
+
+CONFIG = load_config(REPO / "examples" / "router-uno.toml")
+
+
+def chords(count: int, length_mm: float, feed: float) -> list[str]:
+    """A large circle's chords of `length_mm` each (corners too shallow to slow down for)."""
+    radius = 20.0
+    step = length_mm / radius
+    lines = ["G21 G90 G94", f"G0 X{50 + radius:.4f} Y50", f"G1 F{feed:g}"]
+    for k in range(1, count + 1):
+        angle = k * step
+        lines.append(f"X{50 + radius * math.cos(angle):.4f} Y{50 + radius * math.sin(angle):.4f}")
+    return lines
+
+
+class Door:
+    def __init__(self, events: Path) -> None:
+        self.emulator = Emulator(
+            tick_hz=CONFIG.tick_hz, axes=3, queue=14, extra_args=("--events", str(events))
+        ).start()
+        self.link = Link.open(self.emulator.url)
+        self.machine = Machine(self.link, CONFIG)
+        self.jobs: list[JobRun] = []
+        run_job = self.machine.run_job
+
+        def recorded(*args: object, **kwargs: object) -> JobRun:
+            job = run_job(*args, **kwargs)  # type: ignore[arg-type]
+            self.jobs.append(job)
+            return job
+
+        self.machine.run_job = recorded  # type: ignore[method-assign]
+        self.pty = PtyServer(self.machine)
+        self.thread = serve_in_thread(self.pty)
+
+    def close(self) -> None:
+        self.pty.stop()
+        self.thread.join(timeout=10)
+        self.pty.close()
+        self.link.close()
+        self.emulator.stop()
+
+
+def idle(report: str) -> bool:
+    return report_fields(report)["state"] == "Idle"
+
+
+def streamed(grbl: GrblClient, door: Door, lines: list[str]) -> tuple[float, list[JobRun]]:
+    """Wall time from the first line after the rapid to the start to rest, and the jobs it took."""
+    grbl.stream_counting(lines[:2])  # the rapid to the start, alone
+    grbl.wait_status(idle)
+    before = len(door.jobs)
+    begun = time.monotonic()
+    grbl.stream_counting(lines[2:])
+    grbl.wait_status(idle, timeout=600)
+    elapsed = time.monotonic() - begun
+    return elapsed, door.jobs[before:]
+
+
+def run_whole(door: Door, lines: list[str]) -> float:
+    """`quadstep run`'s way: the whole file planned, then run; wall time of the run."""
+    program = parse_gcode(
+        "\n".join(lines[2:]) + "\n",
+        CONFIG.axis_names,
+        CONFIG.to_mm(door.machine.position),
+        CONFIG.arc_tolerance,
+    )
+    plan = plan_program(program, CONFIG, door.machine.position)
+    begun = time.monotonic()
+    job = door.machine.run_job(plan, program)
+    end = job.wait(600)
+    assert end is not None and end.ended_by == "done", end
+    return time.monotonic() - begun
+
+
+def stops(jobs: list[JobRun]) -> str:
+    legs = sum(job.states.history.count(JobState.RESUMING) for job in jobs)
+    starved = sum(job.states.starvations for job in jobs)
+    return f"{len(jobs)} job(s), {legs} leg(s) from rest, {starved} starvation(s)"
+
+
+def bench_lines_per_second(grbl: GrblClient, door: Door) -> None:
+    print("1. short lines through the front door (F2400, 40 mm/s):")
+    for length in (0.05, 0.025, 0.02):
+        lines = chords(3000, length, 2400)
+        elapsed, jobs = streamed(grbl, door, lines)
+        planned = plan_program(
+            parse_gcode(
+                "\n".join(lines) + "\n", CONFIG.axis_names, (0.0, 0.0, 0.0), CONFIG.arc_tolerance
+            ),
+            CONFIG,
+        )
+        print(
+            f"   chords {length} mm: {3000 / elapsed:7.0f} lines/s streamed "
+            f"({elapsed:.2f} s; the whole file planned: {3000 / planned.duration_s:.0f} lines/s); "
+            f"{stops(jobs)}"
+        )
+
+
+def bench_file_ratio(grbl: GrblClient, door: Door) -> None:
+    print("2. a file streamed vs quadstep run (400 chords of a spiral, F2400):")
+    lines = ["G21 G90 G94", "G0 X52 Y50", "G1 F2400"]
+    for k in range(1, 401):
+        angle, radius = k * 0.12, 2.0 + k * 0.02
+        lines.append(f"X{50 + radius * math.cos(angle):.3f} Y{50 + radius * math.sin(angle):.3f}")
+    ratios = []
+    for _ in range(3):
+        front, jobs = streamed(grbl, door, lines)
+        grbl.command("G0 X52 Y50")  # the run from the same start
+        grbl.wait_status(idle)
+        whole = run_whole(door, lines)
+        ratios.append(front / whole)
+        sent = jobs[-1].plan.duration_s / door.jobs[-1].plan.duration_s
+        print(
+            f"   front door {front:.3f} s, run {whole:.3f} s: ratio {front / whole:.4f} "
+            f"(the last leg's stream against run's: {sent:.4f}); {stops(jobs)}"
+        )
+    print(f"   median ratio {statistics.median(ratios):.4f}")
+
+
+def bench_jog_cancel(grbl: GrblClient, events: Path, count: int = 10) -> None:
+    print("3. jog cancel (0x85) → first decelerating tick:")
+    latencies = []
+    if True:
+        grbl.command("G90 G0 X50 Y50")
+        grbl.wait_status(idle)
+        for k in range(count):
+            direction = 1 if k % 2 == 0 else -1
+            grbl.command(f"$J=G91 X{20 * direction} F1200")
+            grbl.wait_status(lambda r: r.startswith("<Jog") and abs(mpos(r)[0] - 50) > 0.5)
+            before = holds(events)
+            sent = time.monotonic_ns()
+            grbl.realtime(0x85)
+            grbl.wait_status(idle)
+            after = holds(events)
+            if len(after) > len(before):
+                latencies.append((after[-1] - sent) / 1e6)
+            grbl.command("G90 G0 X50")
+            grbl.wait_status(idle)
+    print(
+        f"   {len(latencies)} cancels: median {statistics.median(latencies):.2f} ms, "
+        f"max {max(latencies):.2f} ms"
+    )
+
+
+def holds(events: Path) -> list[int]:
+    rows = events.read_text().splitlines()[1:] if events.exists() else []
+    return [int(row.split(",")[2]) for row in rows if row.startswith("hold,")]
+
+
+def main() -> None:
+    with tempfile.TemporaryDirectory() as work:
+        events = Path(work) / "events.csv"
+        door = Door(events)
+        try:
+            with GrblClient(str(door.pty.path)) as grbl:
+                grbl.wait_banner()
+                sections = sys.argv[1:] or ["1", "2", "3"]
+                if "1" in sections:
+                    bench_lines_per_second(grbl, door)
+                if "2" in sections:
+                    bench_file_ratio(grbl, door)
+                if "3" in sections:
+                    bench_jog_cancel(grbl, events)
+        finally:
+            door.close()
+
+
+if __name__ == "__main__":
+    main()
