@@ -85,6 +85,7 @@
 #define QS_LEN_PROBE 10 /* input, level, decel:u16 x 4 */
 #define QS_LEN_CONFIG 25 /* invert, enabled, hard_limits, debounce:u8 x 12, hold_decel:u16 x 4 */
 #define QS_LEN_OUTPUTS 6 /* outputs, power:u16, axis, speed:u16 */
+#define QS_LEN_RASTER 8 /* n:u16, axes, pixel, phase:u16, pitch:u16; then a power per pixel */
 #define QS_LEN_INPUT_STATUS 15
 #define QS_LEN_INPUT_HEAD 10 /* EVENT INPUT: kind, motion_ticks, active, changed, cause */
 #define QS_LEN_INPUT_AXIS 4

@@ -19,7 +19,7 @@
 #endif
 _Static_assert(QS_RASTER_BYTES <= 1024, "a slot keeps a power's index in 10 bits");
 
-#define QS_LEN_RASTER_HEAD 8 /* n:u16, axes, pixel, phase:u16, pitch:u16 */
+#define QS_LEN_RASTER_HEAD QS_LEN_RASTER
 #define QS_RASTER_PIXELS_MAX (QS_MAX_FRAME - 4 - QS_LEN_RASTER_HEAD)
 #define QS_RASTER_WHERE_COUNT_SHIFT 10
 
