@@ -17,7 +17,7 @@ from pydantic import ConfigDict, Field
 
 from .constants import FieldId
 from .fields import U8, U16
-from .segment import D, N_MAX
+from .segment import N_MAX, D
 from .wire import FieldCodec, FieldFault, Request, bits, message
 
 HEAD = 8  # n:u16, axes, pixel, phase:u16, pitch:u16
