@@ -17,7 +17,7 @@ from pydantic import ConfigDict, Field
 
 from .constants import FieldId
 from .fields import U8, U16
-from .segment import N_MAX, D
+from .segment import N_MAX, D, Segment
 from .wire import FieldCodec, FieldFault, Request, bits, message
 
 HEAD = 8  # n:u16, axes, pixel, phase:u16, pitch:u16
@@ -91,3 +91,10 @@ def line_fault(line: Raster, speeds: Sequence[int], residuals: Sequence[int]) ->
     if last and last[-1] > cruise_steps(speeds[axis], residuals[axis], line.n):
         return FieldId.PIXELS
     return None
+
+
+class RasterLine(Segment):
+    """A cruise the plan runs as a RASTER: the segment it is (for predictions and the chain) and
+    the message that sends it."""
+
+    raster: Raster

@@ -1,0 +1,230 @@
+"""Laser rasters: rows of pixels along X, each row a ramp to speed, a run at that speed sent as
+RASTER lines (a power per pixel, switched at the step of each boundary: PROTOCOL.md §5.2), and a
+ramp to rest; between rows a rapid, laser dark, to the next row's run-in.
+
+Every position is exact: the pixel boundaries are the steps the image's mm give (rounded once, as
+every target is), and the host knows every step of the motion from the segments it makes here.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+from ..config import MachineConfig
+from ..protocol import Output, Outputs
+from ..protocol.raster import PIXELS_MAX, STEP, Raster, RasterLine
+from ..protocol.segment import N_MAX, AxisMove, D, Direction, Segment
+from .plan import Plan, plan_program
+from .program import JobError, LinearMove, Program
+from .stream import Stream
+
+TWO_D = 2 * D
+RAMP_FRACTION = 0.8  # of the X axis's acceleration, as the planner leaves a margin too
+RUN_IN_MARGIN = 2  # steps between the end of the ramp and the first boundary
+
+
+@dataclass(frozen=True)
+class RasterImage:
+    """Rows of powers (0 … 255, the duty's high byte) over pixels `pixel_mm` wide, the first row's
+    first pixel starting at machine (`x_mm`, `y_mm`), rows `row_mm` apart (+Y)."""
+
+    rows: list[list[int]]
+    x_mm: float
+    y_mm: float
+    pixel_mm: float
+    row_mm: float
+    feed_mm_s: float
+    bidirectional: bool = True
+
+
+@dataclass
+class _Axis:
+    """An axis's exact state: its step position and the ideal ahead of it in 1/8192 step."""
+
+    position: int
+    ahead: int = 0
+
+    def run(self, direction: Direction, v0: int, vn: int, n: int) -> AxisMove:
+        """One segment of this axis; the state moves on past it."""
+        r = direction * self.ahead
+        travel = r + (v0 + vn) * n
+        steps = (travel + D) // TWO_D
+        self.position += direction * steps
+        self.ahead = direction * (travel - TWO_D * steps)
+        return AxisMove(axis=0, direction=direction, v0=v0, vn=vn, r=r)
+
+
+@dataclass
+class _Builder:
+    config: MachineConfig
+    segments: list[Segment] = field(default_factory=list)
+    pixels: int = 0
+
+    def travel(self, start: tuple[int, ...], target: tuple[int, ...]) -> tuple[int, ...]:
+        """A rapid to `target` (steps), laser dark; returns where it ends."""
+        if start == target:
+            return start
+        move = LinearMove(line=0, target=self.config.to_mm(target), feed=None)
+        plan = plan_program(Program(items=[move]), self.config, start)
+        self.segments += plan.quadratic_segments()
+        return plan.end
+
+
+def _ramp_knots(v: int, accel: float) -> list[tuple[int, int]]:
+    """(ticks, speed at its end) of the segments that take X from rest to `v` at most at `accel`
+    (1/4096 step per tick²)."""
+    ticks = max(1, math.ceil(v / accel))
+    pieces = math.ceil(ticks / N_MAX)
+    out, done = [], 0
+    for j in range(1, pieces + 1):
+        end = ticks * j // pieces
+        out.append((end - done, round(v * j / pieces)))
+        done = end
+    return out
+
+
+def _fit(offsets: list[int], ks: list[int], pitch: int) -> tuple[int, int] | None:
+    """(phase, pitch) near `pitch` (1/256 step) that puts grid point ks[i] at offsets[i]:
+    ⌊(phase + (k − 1)·pitch) / 256⌋ = offset, phase in 256 … pitch."""
+    for p in sorted(range(max(STEP, pitch - 6), pitch + 7), key=lambda q: abs(q - pitch)):
+        lo, hi = STEP, p
+        for o, k in zip(offsets, ks):
+            lo = max(lo, STEP * o - (k - 1) * p)
+            hi = min(hi, STEP * o + STEP - 1 - (k - 1) * p)
+        if lo <= hi and p <= 0xFFFF:
+            return lo, p
+    return None
+
+
+def _cruise(
+    x: _Axis, direction: Direction, v: int, changes: list[tuple[int, int]], end: int, pitch: int
+) -> list[RasterLine]:
+    """RASTER lines at speed `v` from where `x` is: `changes` (absolute step, power from there),
+    in the order the axis meets them; the run ends at the step that reaches `end`."""
+    r0, start = direction * x.ahead, x.position
+
+    def steps(t: int) -> int:
+        return (r0 + 2 * v * t + D) // TWO_D
+
+    def tick_of(offset: int) -> int:
+        return max(0, -(-(TWO_D * offset - D - r0) // (2 * v)))
+
+    rel = [(direction * (s - start), p) for s, p in changes]
+    total = tick_of(direction * (end - start))
+    lines: list[RasterLine] = []
+    t, power, i = 0, 0, 0
+    while t < total:
+        s0 = steps(t)
+        while i < len(rel) and rel[i][0] <= s0:
+            power = rel[i][1]
+            i += 1
+        offsets: list[int] = []
+        ks: list[int] = []
+        powers = [power]
+        fit: tuple[int, int] = (STEP, STEP)
+        stop = min(total, t + N_MAX)
+        j = i
+        while j < len(rel):
+            o = rel[j][0] - s0
+            k = (
+                (ks[-1] + max(1, round((o - offsets[-1]) * STEP / pitch)))
+                if ks
+                else (1 + max(0, -(-(STEP * o - pitch) // pitch)))
+            )
+            found = _fit([*offsets, o], [*ks, k], pitch) if k < PIXELS_MAX else None
+            if found is None or tick_of(rel[j][0]) > stop:
+                stop = min(stop, max(t + 1, tick_of(s0 + o) - 1))
+                break
+            powers += [powers[-1]] * (k - len(powers)) + [rel[j][1]]
+            offsets.append(o)
+            ks.append(k)
+            fit = found
+            j += 1
+        n = stop - t
+        ahead = r0 + 2 * v * t - TWO_D * s0
+        raster = Raster(
+            n=n,
+            axes=0x01 | (0x10 if direction < 0 else 0),
+            pixel=0,
+            phase=fit[0],
+            pitch=fit[1],
+            power=tuple(powers),
+        )
+        axis = AxisMove(axis=0, direction=direction, v0=v, vn=v, r=ahead)
+        lines.append(RasterLine(n=n, axes=(axis,), raster=raster))
+        i = j
+        power = powers[-1]
+        t = stop
+    x.ahead = direction * (r0 + 2 * v * total - TWO_D * steps(total))
+    x.position = start + direction * steps(total)
+    return lines
+
+
+def plan_raster(image: RasterImage, config: MachineConfig, start: tuple[int, ...]) -> Plan:
+    """The whole raster as a plan the machine streams: OUTPUTS on at power 0 first (the pixels
+    give the power), everything off at the end."""
+    ax = config.axes[0]
+    tick = config.tick_hz
+    v = round(image.feed_mm_s * ax.steps_per_mm / tick * D)
+    if not 1 <= v <= D or image.feed_mm_s > ax.max_speed:
+        raise JobError(
+            f"raster feed {image.feed_mm_s:g} mm/s: X allows up to "
+            f"{min(ax.max_speed, D * tick / D / ax.steps_per_mm):g} mm/s"
+        )
+    accel = RAMP_FRACTION * ax.max_accel * ax.steps_per_mm / tick**2 * D
+    knots = _ramp_knots(v, accel)
+    ramp_steps = sum(n * (a + b) for (n, b), a in zip(knots, [0] + [k[1] for k in knots])) // TWO_D
+    pitch = round(image.pixel_mm * ax.steps_per_mm * STEP)
+    if pitch < STEP:
+        raise JobError(
+            f"pixel {image.pixel_mm:g} mm: under one X step ({1 / ax.steps_per_mm:g} mm)"
+        )
+    overscan = round(config.laser.overscan_mm * ax.steps_per_mm)
+    build = _Builder(config)
+    position = tuple(start)
+    for row, powers in enumerate(image.rows):
+        if not powers:
+            continue
+        direction: Direction = -1 if image.bidirectional and row % 2 else 1
+        edges = [ax.to_steps(image.x_mm + j * image.pixel_mm) for j in range(len(powers) + 1)]
+        y = config.axes[1].to_steps(image.y_mm + row * image.row_mm)
+        if direction < 0:
+            edges.reverse()
+            powers = powers[::-1]
+        run_in = edges[0] - direction * (ramp_steps + RUN_IN_MARGIN + overscan)
+        target = (run_in, y, *position[2:])
+        position = build.travel(position, target)
+        x = _Axis(position[0])
+        build.segments += _ramp(x, direction, knots, up=True)
+        changes = [(edges[j], powers[j]) for j in range(len(powers))] + [(edges[-1], 0)]
+        end = edges[-1] + direction * (1 + overscan)
+        build.segments += _cruise(x, direction, v, changes, end, pitch)
+        build.segments += _ramp(x, direction, knots, up=False)
+        build.pixels += len(powers)
+        position = (x.position, *position[1:])
+    stream = Stream(base=list(build.segments), axes=len(config.axes))
+    for i in range(len(build.segments)):
+        stream.add_base(i)
+    on = Outputs(outputs=int(Output.ON), power=0)
+    return Plan(
+        config=config,
+        segments=stream,
+        start=tuple(start),
+        end=position,
+        outputs=[(0, 0, on), (len(stream), 0, Outputs(outputs=0, power=0))],
+        moves=len(image.rows),
+    )
+
+
+def _ramp(x: _Axis, direction: Direction, knots: list[tuple[int, int]], up: bool) -> list[Segment]:
+    """X from rest to the top speed (`up`), or back to rest, along `knots`."""
+    speeds = [0] + [k[1] for k in knots]
+    ticks = [k[0] for k in knots]
+    if not up:
+        speeds.reverse()
+        ticks.reverse()
+    out = []
+    for j, n in enumerate(ticks):
+        out.append(Segment(n=n, axes=(x.run(direction, speeds[j], speeds[j + 1], n),)))
+    return out
