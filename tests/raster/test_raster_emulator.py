@@ -15,7 +15,9 @@ from quadstep.config import load_config
 from quadstep.engine_model import predict
 from quadstep.link import Link
 from quadstep.machine import Machine
+from quadstep.job import load_job
 from quadstep.planner.raster import RasterImage, plan_raster
+from quadstep.planner.raster_gcode import find_runs, plan_with_rasters
 from quadstep.protocol import Capability
 from quadstep.protocol.raster import RasterLine
 
@@ -33,41 +35,43 @@ def read_outputs(path: Path) -> list[tuple[int, int]]:
     return [(int(tick), int(duty)) for tick, _, duty in rows]
 
 
-def expected_switches(
-    segments: list, start: list[int], image: RasterImage
-) -> list[tuple[int, int]]:
-    """(tick, duty) where each power must begin: the tick of the step that reaches the pixel's
-    first boundary on X, in the direction of the row, from the host's own prediction."""
+def row_visits(segments: list, start: list[int]) -> list[dict[int, int]]:
+    """Per row (a run of RASTER lines), the tick at which X stands on each position it passes,
+    from the host's own prediction."""
     steps = predict(segments, start, axis_count=3).steps
+    ends = np.cumsum([s.n for s in segments])
+    group, groups, previous = -1, [], False
+    for s in segments:
+        line = isinstance(s, RasterLine)
+        group += line and not previous
+        groups.append(group if line else -1)
+        previous = line
+    visits: list[dict[int, int]] = [{} for _ in range(group + 1)]
     position = start[0]
-    x_steps = steps[steps[:, 1] == 0]
-    out: list[tuple[int, int]] = []
-    # the tick at which X first stands on each position, row by row (a row's run visits each
-    # position once, in its direction)
-    visits: list[dict[int, int]] = [{}]
-    last_dir = 0
-    for tick, _, direction in x_steps:
-        if last_dir and direction != last_dir:
-            visits.append({})
-        last_dir = direction
+    for tick, axis, direction in steps:
+        if axis != 0:
+            continue
         position += direction
-        visits[-1].setdefault(position, int(tick))
-    rows = [visit for visit in visits if len(visit) > 10]
-    for row, powers in enumerate(image.rows):
-        direction = -1 if image.bidirectional and row % 2 else 1
-        edges = [
-            CONFIG.axes[0].to_steps(image.x_mm + j * image.pixel_mm) for j in range(len(powers) + 1)
-        ]
-        if direction < 0:
-            edges.reverse()
-            powers = powers[::-1]
-        seen = rows[row]
+        g = groups[int(np.searchsorted(ends, tick))]
+        if g >= 0:
+            visits[g].setdefault(position, int(tick))
+    return visits
+
+
+def check_switches(visits: list[dict[int, int]], rows: list, got: dict[int, int]) -> int:
+    """Each row's powers begin within a tick of the tick X reaches their first edge; returns how
+    many were checked."""
+    checked = 0
+    for (edges_mm, powers), seen in zip(rows, visits, strict=True):
+        edges = [CONFIG.axes[0].to_steps(x) for x in edges_mm]
         duty = 0
         for edge, power in zip(edges, [*powers, 0]):
             if power * 257 != duty:
                 duty = power * 257
-                out.append((seen[edge], duty))
-    return out
+                tick = seen[edge]
+                assert duty in [got.get(t) for t in (tick - 1, tick, tick + 1)], (tick, duty)
+                checked += 1
+    return checked
 
 
 def test_a_grayscale_raster_runs_exactly_at_100_mm_s(start_emulator, tmp_path: Path) -> None:
@@ -106,11 +110,52 @@ def test_a_grayscale_raster_runs_exactly_at_100_mm_s(start_emulator, tmp_path: P
     assert sent <= 2 * pixels, (sent, pixels)
     expected = predict(segments, list(plan.start), axis_count=3)
     assert np.array_equal(read_trace(trace), expected.steps)
-    switches = [(t, d) for t, d in read_outputs(outputs)]
-    want = expected_switches(segments, list(plan.start), image)
-    got = {t: d for t, d in switches}
-    assert len(want) > pixels * 0.9  # nearly every pixel differs from the one before
-    for tick, duty in want:
-        near = [got.get(t) for t in (tick - 1, tick, tick + 1)]
-        assert duty in near, (tick, duty, near)
+    rows = []
+    for number, powers in enumerate(image.rows):
+        edges = [image.x_mm + j * image.pixel_mm for j in range(len(powers) + 1)]
+        rows.append((edges[::-1], powers[::-1]) if number % 2 else (edges, powers))
+    checked = check_switches(
+        row_visits(segments, list(plan.start)), rows, dict(read_outputs(outputs))
+    )
+    assert checked > pixels * 0.9  # nearly every pixel differs from the one before
     print(f"raster: {pixels} pixels, {frames} frames, {resent} resent, {sent / pixels:.2f} B/pixel")
+
+
+def test_a_gcode_raster_goes_out_as_raster_lines(start_emulator, tmp_path: Path) -> None:
+    """The corpus's LightBurn-style fill, run as written: each row of G1 moves with its S becomes
+    RASTER lines, every step as predicted and each S switched at the tick of its move's end."""
+    trace, outputs = tmp_path / "trace.csv", tmp_path / "outputs.csv"
+    emu = start_emulator(
+        free=False,
+        trace=trace,
+        axes=3,
+        tick_hz=CONFIG.tick_hz,
+        queue=14,
+        extra_args=["--outputs", str(outputs)],
+    )
+    with Link.open(emu.url) as link:
+        machine = Machine(link, CONFIG)
+        job = load_job(
+            REPO / "tests" / "gcode" / "corpus" / "grbl" / "laser-raster-m4.nc",
+            CONFIG,
+            machine.position,
+        )
+        runs = find_runs(job.program, CONFIG, CONFIG.to_mm(job.plan.start))
+        plan = plan_with_rasters(job.program, CONFIG, job.plan.start)
+        assert plan is not None and len(runs) >= 2
+        before = dict(link.stats.as_dict())
+        end = machine.run_job(job.plan, job.program).wait()
+        after = link.stats.as_dict()
+        machine.close()
+    assert end is not None and end.ended_by == "done", end
+    summary = emu.stop()
+    segments = list(plan.segments.segments())
+    assert sum(isinstance(s, RasterLine) for s in segments) >= len(runs)
+    assert summary["segments_done"] == len(segments)
+    assert [summary[f"position_{a}"] for a in range(3)] == list(plan.end)
+    assert after["retransmits"] - before["retransmits"] == 0
+    expected = predict(segments, list(plan.start), axis_count=3)
+    assert np.array_equal(read_trace(trace), expected.steps)
+    rows = [(run.row.edges_mm, run.row.powers) for run in runs]
+    visits = row_visits(segments, list(plan.start))
+    assert check_switches(visits, rows, dict(read_outputs(outputs))) > 10

@@ -59,7 +59,6 @@ class _Axis:
 class _Builder:
     config: MachineConfig
     segments: list[Segment] = field(default_factory=list)
-    pixels: int = 0
 
     def travel(self, start: tuple[int, ...], target: tuple[int, ...]) -> tuple[int, ...]:
         """A rapid to `target` (steps), laser dark; returns where it ends."""
@@ -161,50 +160,67 @@ def _cruise(
     return lines
 
 
-def plan_raster(image: RasterImage, config: MachineConfig, start: tuple[int, ...]) -> Plan:
-    """The whole raster as a plan the machine streams: OUTPUTS on at power 0 first (the pixels
-    give the power), everything off at the end."""
+@dataclass(frozen=True)
+class RasterRow:
+    """One row: its pixels' edges along X (mm, in the order it burns them), a power (0 … 255)
+    over each pixel, where the other axes stand (`at_mm`), and its feed."""
+
+    edges_mm: list[float]
+    powers: list[int]
+    at_mm: tuple[float, ...]
+    feed_mm_s: float
+
+
+def row_segments(
+    row: RasterRow, config: MachineConfig, start: tuple[int, ...]
+) -> tuple[list[Segment], tuple[int, ...]]:
+    """A rapid to the row's run-in, the ramp to its feed, its RASTER lines, the ramp to rest; and
+    where the machine rests after it."""
     ax = config.axes[0]
     tick = config.tick_hz
-    v = round(image.feed_mm_s * ax.steps_per_mm / tick * D)
-    if not 1 <= v <= D or image.feed_mm_s > ax.max_speed:
-        raise JobError(
-            f"raster feed {image.feed_mm_s:g} mm/s: X allows up to "
-            f"{min(ax.max_speed, D * tick / D / ax.steps_per_mm):g} mm/s"
-        )
-    accel = RAMP_FRACTION * ax.max_accel * ax.steps_per_mm / tick**2 * D
-    knots = _ramp_knots(v, accel)
-    ramp_steps = sum(n * (a + b) for (n, b), a in zip(knots, [0] + [k[1] for k in knots])) // TWO_D
-    pitch = round(image.pixel_mm * ax.steps_per_mm * STEP)
-    if pitch < STEP:
-        raise JobError(
-            f"pixel {image.pixel_mm:g} mm: under one X step ({1 / ax.steps_per_mm:g} mm)"
-        )
+    v = round(row.feed_mm_s * ax.steps_per_mm / tick * D)
+    if not 1 <= v <= D or row.feed_mm_s > ax.max_speed:
+        top = min(ax.max_speed, tick / ax.steps_per_mm)
+        raise JobError(f"raster feed {row.feed_mm_s:g} mm/s: X allows up to {top:g} mm/s")
+    edges = [ax.to_steps(x) for x in row.edges_mm]
+    gaps = [abs(b - a) for a, b in zip(edges, edges[1:]) if b != a]
+    if not gaps:
+        raise JobError("a raster row of pixels under one X step")
+    direction: Direction = 1 if edges[-1] > edges[0] else -1
+    knots = _ramp_knots(v, RAMP_FRACTION * ax.max_accel * ax.steps_per_mm / tick**2 * D)
+    starts = [0] + [k[1] for k in knots]
+    ramp_steps = sum(n * (a + b) for (n, b), a in zip(knots, starts)) // TWO_D
     overscan = round(config.laser.overscan_mm * ax.steps_per_mm)
     build = _Builder(config)
+    run_in = edges[0] - direction * (ramp_steps + RUN_IN_MARGIN + overscan)
+    rest = config.to_steps(row.at_mm)
+    position = build.travel(tuple(start), (run_in, *rest[1:]))
+    x = _Axis(position[0])
+    build.segments += _ramp(x, direction, knots, up=True)
+    changes = [*zip(edges, row.powers), (edges[-1], 0)]
+    end = edges[-1] + direction * (1 + overscan)
+    build.segments += _cruise(x, direction, v, changes, end, min(gaps) * STEP)
+    build.segments += _ramp(x, direction, knots, up=False)
+    return build.segments, (x.position, *position[1:])
+
+
+def plan_raster(image: RasterImage, config: MachineConfig, start: tuple[int, ...]) -> Plan:
+    """The whole image as a plan the machine streams: OUTPUTS on at power 0 first (the pixels
+    give the power), everything off at the end."""
+    segments: list[Segment] = []
     position = tuple(start)
-    for row, powers in enumerate(image.rows):
+    for number, powers in enumerate(image.rows):
         if not powers:
             continue
-        direction: Direction = -1 if image.bidirectional and row % 2 else 1
-        edges = [ax.to_steps(image.x_mm + j * image.pixel_mm) for j in range(len(powers) + 1)]
-        y = config.axes[1].to_steps(image.y_mm + row * image.row_mm)
-        if direction < 0:
-            edges.reverse()
-            powers = powers[::-1]
-        run_in = edges[0] - direction * (ramp_steps + RUN_IN_MARGIN + overscan)
-        target = (run_in, y, *position[2:])
-        position = build.travel(position, target)
-        x = _Axis(position[0])
-        build.segments += _ramp(x, direction, knots, up=True)
-        changes = [(edges[j], powers[j]) for j in range(len(powers))] + [(edges[-1], 0)]
-        end = edges[-1] + direction * (1 + overscan)
-        build.segments += _cruise(x, direction, v, changes, end, pitch)
-        build.segments += _ramp(x, direction, knots, up=False)
-        build.pixels += len(powers)
-        position = (x.position, *position[1:])
-    stream = Stream(base=list(build.segments), axes=len(config.axes))
-    for i in range(len(build.segments)):
+        edges = [image.x_mm + j * image.pixel_mm for j in range(len(powers) + 1)]
+        if image.bidirectional and number % 2:
+            edges, powers = edges[::-1], powers[::-1]
+        at = (image.x_mm, image.y_mm + number * image.row_mm, *config.to_mm(position)[2:])
+        row = RasterRow(edges_mm=edges, powers=powers, at_mm=at, feed_mm_s=image.feed_mm_s)
+        more, position = row_segments(row, config, position)
+        segments += more
+    stream = Stream(base=list(segments), axes=len(config.axes))
+    for i in range(len(segments)):
         stream.add_base(i)
     on = Outputs(outputs=int(Output.ON), power=0)
     return Plan(
