@@ -167,6 +167,13 @@ class SpindleConfig(BaseModel):
         description="s to wait after the spindle is turned on before a job "
         "started at a line plunges (--from-line); 0: none",
     )
+    overscan_mm: float = Field(
+        default=0.0,
+        ge=0,
+        le=100,
+        description="laser rasters: mm a row runs on at its speed, dark, before its first pixel "
+        "and after its last, beyond what its ramps need",
+    )
 
     @model_validator(mode="after")
     def _range_in_order(self) -> SpindleConfig:
@@ -180,20 +187,6 @@ class SpindleConfig(BaseModel):
         if speed <= 0:
             return 0
         return round(65535 * min(1.0, max(speed, self.s_min) / self.s_max))
-
-
-class LaserConfig(BaseModel):
-    """Laser rasters (`quadstep raster`, docs/JOBS.md): the run-in and run-out of every row."""
-
-    model_config = ConfigDict(extra="forbid", frozen=True)
-
-    overscan_mm: float = Field(
-        default=0.0,
-        ge=0,
-        le=100,
-        description="mm a row runs on at its speed, dark, before its first pixel and after its "
-        "last, beyond the ramps' own length",
-    )
 
 
 class AxisConfig(BaseModel):
@@ -289,7 +282,6 @@ class MachineConfig(BaseModel):
     axes: tuple[AxisConfig, ...] = Field(min_length=1, max_length=MAX_AXES)
     inputs: InputsConfig = InputsConfig()
     spindle: SpindleConfig = SpindleConfig()
-    laser: LaserConfig = LaserConfig()
     homing_order: tuple[AxisName, ...] | None = Field(
         default=None, description="default: Z first, then the others"
     )

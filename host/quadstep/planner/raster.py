@@ -178,10 +178,10 @@ def row_segments(
     where the machine rests after it."""
     ax = config.axes[0]
     tick = config.tick_hz
-    v = round(row.feed_mm_s * ax.steps_per_mm / tick * D)
-    if not 1 <= v <= D or row.feed_mm_s > ax.max_speed:
-        top = min(ax.max_speed, tick / ax.steps_per_mm)
-        raise JobError(f"raster feed {row.feed_mm_s:g} mm/s: X allows up to {top:g} mm/s")
+    # the feed, within X's max_speed as the planner keeps every feed
+    v = min(D, round(min(row.feed_mm_s, ax.max_speed) * ax.steps_per_mm / tick * D))
+    if v < 1:
+        raise JobError(f"raster feed {row.feed_mm_s:g} mm/s: under one X step in {D} ticks")
     edges = [ax.to_steps(x) for x in row.edges_mm]
     gaps = [abs(b - a) for a, b in zip(edges, edges[1:]) if b != a]
     if not gaps:
@@ -190,7 +190,7 @@ def row_segments(
     knots = _ramp_knots(v, RAMP_FRACTION * ax.max_accel * ax.steps_per_mm / tick**2 * D)
     starts = [0] + [k[1] for k in knots]
     ramp_steps = sum(n * (a + b) for (n, b), a in zip(knots, starts)) // TWO_D
-    overscan = round(config.laser.overscan_mm * ax.steps_per_mm)
+    overscan = round(config.spindle.overscan_mm * ax.steps_per_mm)
     build = _Builder(config)
     run_in = edges[0] - direction * (ramp_steps + RUN_IN_MARGIN + overscan)
     rest = config.to_steps(row.at_mm)

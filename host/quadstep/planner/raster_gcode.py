@@ -101,6 +101,15 @@ def find_runs(program: Program, config: MachineConfig, start: tuple[float, ...])
     return runs
 
 
+def _returns(items: list[Item]) -> bool:
+    """Whether what follows a row needs the machine where the row's G-code left it: it cuts before
+    it rapids, or the program ends there."""
+    for item in items:
+        if isinstance(item, LinearMove):
+            return item.feed is not None
+    return True
+
+
 def plan_with_rasters(
     program: Program, config: MachineConfig, start: tuple[int, ...], label: str = "line"
 ) -> Plan | None:
@@ -117,9 +126,13 @@ def plan_with_rasters(
     position = tuple(start)
     state: OutputState | None = None
     done = 0
+    back: tuple[float, ...] = ()
     for run in [*runs, None]:
         stop = run.first if run is not None else len(program.items)
         head: list[Item] = [SetOutputs(line=0, state=state)] if state is not None else []
+        if done and _returns(program.items[done:stop]):
+            # the program goes on from the row's end, where the overscan passed: back there, dark
+            head.append(LinearMove(line=0, target=back, feed=None))
         piece = Program(items=head + program.items[done:stop], lines=program.lines)
         if piece.items:
             plan = plan_program(piece, config, position, label)
@@ -140,6 +153,7 @@ def plan_with_rasters(
         )
         outputs.append((len(segments), len(pauses), Outputs(outputs=0, power=0)))
         state, done = run.state, run.last + 1
+        back = (run.row.edges_mm[-1], *run.row.at_mm[1:])
     stream = Stream(base=segments, axes=len(config.axes))
     for k in range(len(segments)):
         stream.add_base(k)
