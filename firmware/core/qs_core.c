@@ -793,7 +793,9 @@ void qs_core_init(qs_core *c)
     c->parked_head = 0;
     c->boot_id = 0;
     qs_outputs_off(&c->outputs);
+#if QS_RASTER_BYTES
     c->raster.write = 0;
+#endif
 }
 
 uint8_t qs_core_configure(qs_core *c, uint8_t axis_count, uint8_t queue_capacity, uint32_t tick_hz)

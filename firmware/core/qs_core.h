@@ -44,7 +44,9 @@ typedef struct {
     uint16_t watchdog;        /* WATCHDOG: silence that stops motion, in port clock counts; 0 off */
     uint16_t heard;           /* port clock at the last good frame */
     qs_outputs outputs;       /* the OUTPUTS settings: segments queued from now on carry the latest */
+#if QS_RASTER_BYTES
     qs_raster raster;         /* the powers of the RASTER lines queued */
+#endif
     uint16_t boot_id;         /* IDENTIFY_REPLY's: the target sets it after qs_core_init, new at each reset */
     uint8_t tx[QS_TX_WIRE];   /* the report being sent, built and sealed in place */
 } qs_core;
