@@ -11,7 +11,7 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import Annotated, Any
+from typing import Annotated, Any, Protocol
 
 from pydantic import ConfigDict, Field
 
@@ -23,6 +23,7 @@ from .wire import FieldCodec, FieldFault, Request, bits, message
 HEAD = 8  # n:u16, axes, pixel, phase:u16, pitch:u16
 PIXELS_MAX = 64 - 4 - HEAD  # a frame's 64 bytes less type, seq and CRC
 STEP = 256  # phase and pitch are in 1/256 step
+RING = 1024  # powers a board with RASTER keeps for the lines queued (PROTOCOL.md §5.2)
 
 
 @dataclass(frozen=True)
@@ -98,3 +99,18 @@ class RasterLine(Segment):
     the message that sends it."""
 
     raster: Raster
+
+
+class _Source(Protocol):
+    def segment(self, i: int) -> Any: ...
+
+
+def ring_fits(source: _Source, start: int, last: int) -> bool:
+    """Whether the powers of the RASTER lines among segments `start` … `last` fit the board's
+    ring together (a line waits for room, else QUEUE_FULL)."""
+    total = 0
+    for i in range(max(0, start), last + 1):
+        segment = source.segment(i)
+        if isinstance(segment, RasterLine):
+            total += len(segment.raster.power)
+    return total <= RING

@@ -166,11 +166,37 @@ static void test_a_line_under_outputs_off_stays_dark(void)
     }
 }
 
+/* The ring keeps QS_RASTER_BYTES powers: a line with no room is QUEUE_FULL (not consumed), and
+ * is taken once a line before it has run. */
+static void test_a_line_without_room_in_the_ring_waits(void)
+{
+    tp_axis up = {0, QS_D, 0};
+    line l = {60, 256, 256, QS_RASTER_PIXELS_MAX, {0}};
+    uint8_t seq = 0, k, fit = (uint8_t)(QS_RASTER_BYTES / QS_RASTER_PIXELS_MAX);
+
+    for (k = 0; k < l.count; k++)
+        l.power[k] = k;
+    tp_send_segment(&core, seq++, 100, 0x01, 0, &up);
+    expect_ack(QS_ACK_ACCEPTED);
+    for (k = 0; k < fit; k++) {
+        send_raster(seq++, 0x01, 0, &l);
+        expect_ack(QS_ACK_ACCEPTED);
+    }
+    send_raster(seq, 0x01, 0, &l);
+    expect_ack(QS_ACK_QUEUE_FULL);
+    tp_ticks(&core, 100 + 60 + 1); /* the ramp and the first line run */
+    qs_core_poll(&core);
+    tp_take_reports(reports, TP_MAX_REPORTS);
+    send_raster(seq, 0x01, 0, &l);
+    expect_ack(QS_ACK_ACCEPTED);
+}
+
 int main(void)
 {
     UNITY_BEGIN();
     RUN_TEST(test_the_power_changes_at_the_step_of_each_boundary);
     RUN_TEST(test_a_diagonal_line_counts_its_pixels_on_the_faster_axis);
     RUN_TEST(test_a_line_under_outputs_off_stays_dark);
+    RUN_TEST(test_a_line_without_room_in_the_ring_waits);
     return UNITY_END();
 }
