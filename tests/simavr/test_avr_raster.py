@@ -32,16 +32,30 @@ def run(avr_build: None, tmp_path_factory: pytest.TempPathFactory) -> tuple[dict
     ramp_up = Segment(n=200, axes=(AxisMove(axis=0, direction=1, v0=0, vn=V, r=0),))
     ramp_down = Segment(n=200, axes=(AxisMove(axis=0, direction=1, v0=V, vn=0, r=0),))
     lines = [line(p) for p in POWERS]
-    messages = [OutputsMessage(outputs=Output.ON, power=0), ramp_up, *(x.raster for x in lines), ramp_down,
-                OutputsMessage(outputs=0, power=0), Segment(n=500, axes=())]
+    messages = [
+        OutputsMessage(outputs=Output.ON, power=0),
+        ramp_up,
+        *(x.raster for x in lines),
+        ramp_down,
+        OutputsMessage(outputs=0, power=0),
+        Segment(n=500, axes=()),
+    ]
     frames = b"".join(encode(m, i) for i, m in enumerate(messages))
     directory = tmp_path_factory.mktemp("raster")
     outputs = Outputs.in_dir(directory)
     pins = directory / "pins.csv"
     feed = outputs.stats.with_suffix(".feed")
     feed.write_bytes(frames)
-    args = [*harness("mega"), "--feed", str(feed), "--max-cycles", str(2 * 16_000_000), "--outputs", str(pins),
-            *outputs.args()]
+    args = [
+        *harness("mega"),
+        "--feed",
+        str(feed),
+        "--max-cycles",
+        str(2 * 16_000_000),
+        "--outputs",
+        str(pins),
+        *outputs.args(),
+    ]
     result = subprocess.run(args, capture_output=True, timeout=120)
     assert result.returncode == 0, result.stderr.decode(errors="replace")
     with pins.open() as f:
@@ -73,8 +87,11 @@ def test_the_pwm_shows_every_pixel_in_order(run) -> None:
     # the pulses on the timer's grid: simavr takes a new OCR at once, not at the period's end as the chip
     # does, which can add a pulse off the grid (test_avr_outputs.py)
     first = pulses[0][0]
-    highs = [f - r for r, f in pulses
-             if min((r - first) % PERIOD, PERIOD - (r - first) % PERIOD) <= 3 and f - r < PERIOD]
+    highs = [
+        f - r
+        for r, f in pulses
+        if min((r - first) % PERIOD, PERIOD - (r - first) % PERIOD) <= 3 and f - r < PERIOD
+    ]
     # a high stretch of (duty byte + 1) / 256 of a period; the byte is the pixel's power
     seen = [round(h * 256 / PERIOD) - 1 for h in highs]
     order = [p for i, p in enumerate(seen) if i == 0 or abs(p - seen[i - 1]) > 1]
