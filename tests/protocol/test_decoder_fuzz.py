@@ -47,23 +47,17 @@ def damaged_streams(draw: st.DrawFn) -> bytes:
 def check(stream: bytes, direction: str, chunk: int) -> None:
     decoder = Decoder(direction)  # type: ignore[arg-type]
     for start in range(0, len(stream), chunk):
-        for item in decoder.feed(stream[start : start + chunk]):
+        for item in decoder.feed(stream[start:start + chunk]):
             assert isinstance(item, (Frame, DecodeError))
             if isinstance(item, Frame):
                 again = Decoder(direction).feed(encode(item.message, item.seq))  # type: ignore[arg-type]
-                assert (
-                    len(again) == 1
-                    and isinstance(again[0], Frame)
-                    and again[0].message == item.message
-                )
+                assert len(again) == 1 and isinstance(again[0], Frame) and again[0].message == item.message
         assert len(decoder._splitter._pending) <= _SURELY_TOO_LONG  # bounded, whatever arrives
 
 
 @settings(max_examples=600, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 @given(damaged_streams(), st.sampled_from(["to_host", "to_firmware"]), st.integers(1, 70))
-def test_damaged_vector_frames_decode_or_fail_cleanly(
-    stream: bytes, direction: str, chunk: int
-) -> None:
+def test_damaged_vector_frames_decode_or_fail_cleanly(stream: bytes, direction: str, chunk: int) -> None:
     check(stream, direction, chunk)
 
 

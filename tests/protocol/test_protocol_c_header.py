@@ -18,13 +18,7 @@ import pytest
 
 from quadstep.protocol import constants as py
 from quadstep.protocol.messages import EventKind, MessageType
-from quadstep.protocol.wire import (
-    Int,
-    PerAxis,
-    WireMessage,
-    declared_event_kinds,
-    declared_messages,
-)
+from quadstep.protocol.wire import Int, PerAxis, WireMessage, declared_event_kinds, declared_messages
 
 REPO = Path(__file__).resolve().parents[2]
 HEADER = REPO / "firmware" / "core" / "qs_protocol.h"
@@ -51,9 +45,7 @@ def c_defines(path: Path) -> dict[str, int]:
                 return None
             text = re.sub(rf"\b{ref}\b", str(values[ref]), text)
         try:
-            values[name] = int(
-                eval(text, {"__builtins__": {}})
-            )  # digits and operators only, checked above
+            values[name] = int(eval(text, {"__builtins__": {}}))  # digits and operators only, checked above
         except SyntaxError:
             return None
         return values[name]
@@ -69,11 +61,7 @@ C = c_defines(HEADER)
 def c_table(prefix: str, *, without: tuple[str, ...] = ()) -> dict[str, int]:
     """QS_<prefix>_<NAME> defines as {NAME: value}."""
     head = f"QS_{prefix}_"
-    return {
-        k[len(head) :]: v
-        for k, v in C.items()
-        if k.startswith(head) and k[len(head) :] not in without
-    }
+    return {k[len(head):]: v for k, v in C.items() if k.startswith(head) and k[len(head):] not in without}
 
 
 def py_table(enum: type[IntEnum]) -> dict[str, int]:
@@ -96,9 +84,7 @@ def py_table(enum: type[IntEnum]) -> dict[str, int]:
         ("CAUSE", py.InputCause, ()),
     ],
 )
-def test_every_code_table_is_the_same_on_both_sides(
-    prefix: str, enum: type[IntEnum], without: tuple[str, ...]
-) -> None:
+def test_every_code_table_is_the_same_on_both_sides(prefix: str, enum: type[IntEnum], without: tuple[str, ...]) -> None:
     assert c_table(prefix, without=without) == py_table(enum)
 
 
@@ -107,21 +93,8 @@ def test_the_none_values_and_protocol_numbers_agree() -> None:
     assert C["QS_FIELD_NONE"] == py.NO_FIELD
     assert C["QS_AXIS_NONE"] == py.NO_AXIS
     assert C["QS_SEQ_UNSOLICITED"] == py.BROADCAST_SEQ
-    for name in (
-        "PROTOCOL_VERSION",
-        "SPEED_SHIFT",
-        "D",
-        "N_MAX",
-        "V_MAX",
-        "R_MAX",
-        "DECEL_SHIFT",
-        "DECEL_MAX",
-        "MAX_FRAME",
-        "MIN_FRAME",
-        "CUBIC_SHIFT",
-        "CUBIC_ACCEL_LIMIT",
-        "CUBIC_N_MAX",
-    ):
+    for name in ("PROTOCOL_VERSION", "SPEED_SHIFT", "D", "N_MAX", "V_MAX", "R_MAX", "DECEL_SHIFT", "DECEL_MAX",
+                 "MAX_FRAME", "MIN_FRAME", "CUBIC_SHIFT", "CUBIC_ACCEL_LIMIT", "CUBIC_N_MAX"):
         assert C[f"QS_{name}"] == getattr(py, name), name
     assert c_defines(MESSAGES_H)["QS_PROTOCOL_AXES"] == py.MAX_AXES
 
@@ -135,9 +108,7 @@ def declared_lengths() -> dict[str, int]:
         if name == "EVENT":
             continue  # each kind has its own layout
         head, unit = cls.wire_head(), cls.wire_unit()
-        named = [
-            pair for _, codec in cls.wire_fields() for pair in getattr(codec, "named_lengths", ())
-        ]
+        named = [pair for _, codec in cls.wire_fields() for pair in getattr(codec, "named_lengths", ())]
         if named:  # a head, then parts of their own sizes
             lengths[f"{name}_HEAD"] = head
             lengths.update({f"{name}_{part}": size for part, size in named})
@@ -153,14 +124,7 @@ def test_every_payload_length_is_the_same_on_both_sides() -> None:
     assert c_table("LEN") == declared_lengths()
 
 
-C_TYPES = {
-    "uint8_t": "B",
-    "uint16_t": "H",
-    "uint32_t": "I",
-    "int8_t": "b",
-    "int16_t": "h",
-    "int32_t": "i",
-}
+C_TYPES = {"uint8_t": "B", "uint16_t": "H", "uint32_t": "I", "int8_t": "b", "int16_t": "h", "int32_t": "i"}
 _STRUCT = re.compile(r"typedef struct \{(.*?)\} (\w+);", re.DOTALL)
 _MEMBER = re.compile(r"^\s*(u?int\d+_t)\s+([\w\s,\[\]]+);", re.MULTILINE)
 
@@ -225,15 +189,8 @@ def test_hold_done_positions_have_the_c_width() -> None:
 
 @pytest.mark.parametrize(
     ("table", "enum"),
-    [
-        ("type", MessageType),
-        ("ack_reason", py.AckReason),
-        ("error_code", py.ErrorCode),
-        ("field", py.FieldId),
-        ("alarm", py.AlarmCode),
-        ("state", py.State),
-        ("event_kind", EventKind),
-    ],
+    [("type", MessageType), ("ack_reason", py.AckReason), ("error_code", py.ErrorCode), ("field", py.FieldId),
+     ("alarm", py.AlarmCode), ("state", py.State), ("event_kind", EventKind)],
 )
 def test_the_vectors_name_tables_match_the_declarations(table: str, enum: type[IntEnum]) -> None:
     assert VECTORS["names"][table] == py_table(enum)

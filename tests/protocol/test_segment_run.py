@@ -21,34 +21,24 @@ from quadstep.protocol.wire import FieldFault
 from frame_helpers import ListSource, read_frame
 
 REPO = Path(__file__).resolve().parents[2]
-VECTORS = [
-    v
-    for v in json.loads((REPO / "protocol" / "vectors.json").read_text())["vectors"]
-    if v["message"] is not None and v["message"]["type"] == "SEGMENTS"
-]
+VECTORS = [v for v in json.loads((REPO / "protocol" / "vectors.json").read_text())["vectors"]
+           if v["message"] is not None and v["message"]["type"] == "SEGMENTS"]
 
 
 def test_there_are_segments_vectors() -> None:
-    assert len(VECTORS) >= 3 and any(
-        any(r.get("mirror") for r in v["message"]["records"]) for v in VECTORS
-    )
+    assert len(VECTORS) >= 3 and any(any(r.get("mirror") for r in v["message"]["records"]) for v in VECTORS)
 
 
 @pytest.mark.parametrize("vector", VECTORS, ids=lambda v: v["name"])
 def test_each_vector_means_what_the_reference_says(vector: dict) -> None:
-    message = decode(
-        bytes.fromhex(vector["frame"]), "to_firmware", vector.get("axis_count", 4)
-    ).message
+    message = decode(bytes.fromhex(vector["frame"]), "to_firmware", vector.get("axis_count", 4)).message
     assert isinstance(message, Segments)
     got = expand(message.records, RunChain.at_rest(4))
     assert got == [Segment.model_validate(s) for s in vector["expands_to"]]
 
 
 def test_a_record_that_leaves_the_speed_range_is_refused_by_field_and_axis() -> None:
-    records = (
-        SegmentRecord(n=10, axes=0x03, change=(5, 100)),
-        SegmentRecord(n=10, change=(0, -101)),
-    )
+    records = (SegmentRecord(n=10, axes=0x03, change=(5, 100)), SegmentRecord(n=10, change=(0, -101)))
     with pytest.raises(FieldFault) as refused:
         expand(records, RunChain.at_rest(3))
     assert (refused.value.field.name, refused.value.axis) == ("VN", 1)
@@ -64,16 +54,8 @@ def chained_streams(draw: st.DrawFn) -> list[Segment]:
     out: list[Segment] = []
     for _ in range(draw(st.integers(1, 40))):
         if out and draw(st.integers(0, 5)) == 0:  # the same segment again
-            moves = [
-                AxisMove(
-                    axis=a.axis,
-                    direction=a.direction,
-                    v0=a.v0,
-                    vn=a.vn,
-                    r=a.direction * chain.residual[a.axis],
-                )
-                for a in out[-1].axes
-            ]
+            moves = [AxisMove(axis=a.axis, direction=a.direction, v0=a.v0, vn=a.vn,
+                              r=a.direction * chain.residual[a.axis]) for a in out[-1].axes]
             segment = Segment(n=out[-1].n, axes=tuple(moves))
         else:
             moves = []
@@ -82,18 +64,8 @@ def chained_streams(draw: st.DrawFn) -> list[Segment]:
                     continue
                 direction = draw(st.sampled_from([1, -1]))
                 v0 = speed[a] if draw(st.integers(0, 3)) else draw(st.integers(0, 4095))
-                vn = draw(
-                    st.one_of(
-                        st.just(v0),
-                        st.integers(0, 4095),
-                        st.integers(max(0, v0 - 40), min(4095, v0 + 40)),
-                    )
-                )
-                moves.append(
-                    AxisMove(
-                        axis=a, direction=direction, v0=v0, vn=vn, r=direction * chain.residual[a]
-                    )
-                )
+                vn = draw(st.one_of(st.just(v0), st.integers(0, 4095), st.integers(max(0, v0 - 40), min(4095, v0 + 40))))
+                moves.append(AxisMove(axis=a, direction=direction, v0=v0, vn=vn, r=direction * chain.residual[a]))
             segment = Segment(n=draw(st.integers(1, 1022)), axes=tuple(moves))
         chain.follow(segment)
         speed = [0] * axes
@@ -145,42 +117,15 @@ def test_after_a_cubic_segment_the_next_frame_states_everything(cubic_runs: bool
 
 def test_a_chained_cruise_is_two_bytes_and_a_repeat_one() -> None:
     chain = RunChain.at_rest(2)
-    first = Segment(
-        n=600,
-        axes=(
-            AxisMove(axis=0, direction=1, v0=0, vn=1000, r=0),
-            AxisMove(axis=1, direction=-1, v0=0, vn=500, r=0),
-        ),
-    )
+    first = Segment(n=600, axes=(AxisMove(axis=0, direction=1, v0=0, vn=1000, r=0),
+                                 AxisMove(axis=1, direction=-1, v0=0, vn=500, r=0)))
     chain_after = chain.copy()
     chain_after.follow(first)
-    cruise = Segment(
-        n=600,
-        axes=tuple(
-            AxisMove(
-                axis=a.axis,
-                direction=a.direction,
-                v0=a.vn,
-                vn=a.vn,
-                r=a.direction * chain_after.residual[a.axis],
-            )
-            for a in first.axes
-        ),
-    )
+    cruise = Segment(n=600, axes=tuple(AxisMove(axis=a.axis, direction=a.direction, v0=a.vn, vn=a.vn,
+                                                r=a.direction * chain_after.residual[a.axis]) for a in first.axes))
     chain_after.follow(cruise)
-    again = Segment(
-        n=600,
-        axes=tuple(
-            AxisMove(
-                axis=a.axis,
-                direction=a.direction,
-                v0=a.v0,
-                vn=a.vn,
-                r=a.direction * chain_after.residual[a.axis],
-            )
-            for a in cruise.axes
-        ),
-    )
+    again = Segment(n=600, axes=tuple(AxisMove(axis=a.axis, direction=a.direction, v0=a.v0, vn=a.vn,
+                                               r=a.direction * chain_after.residual[a.axis]) for a in cruise.axes))
     message = pack([first, cruise, again], chain)
     assert message is not None and len(message) == 3
     sizes = [len(Segments(records=(r,)).records[0].pack(2)) for r in message.records]

@@ -30,9 +30,7 @@ def as_message(vector: dict) -> tuple[int, BaseModel]:
 
 def test_committed_file_is_the_generators_output() -> None:
     generator = REPO / "protocol" / "make_vectors.py"
-    result = subprocess.run(
-        [sys.executable, str(generator), "--check"], capture_output=True, text=True
-    )
+    result = subprocess.run([sys.executable, str(generator), "--check"], capture_output=True, text=True)
     assert result.returncode == 0, result.stderr
 
 
@@ -40,30 +38,15 @@ def test_vectors_cover_every_message_error_and_field() -> None:
     valid_types = {v["message"]["type"] for v in VALID}
     assert valid_types == {t.name for t in MessageType}
     error_codes = {v["error"]["code"] for v in MALFORMED}
-    assert error_codes == {c.name for c in ErrorCode} - {
-        "RX_OVERRUN",
-        "BUSY",
-        "ALARM_ACTIVE",
-        "INPUT_AT_LEVEL",
-    }
-    assert {v["error"]["field"] for v in MALFORMED if v["error"]["field"]} == {
-        f.name for f in FieldId
-    }
+    assert error_codes == {c.name for c in ErrorCode} - {"RX_OVERRUN", "BUSY", "ALARM_ACTIVE", "INPUT_AT_LEVEL"}
+    assert {v["error"]["field"] for v in MALFORMED if v["error"]["field"]} == {f.name for f in FieldId}
     reported = {v["message"]["code"] for v in VALID if v["message"]["type"] == "ERROR"}
     assert reported == {c.name for c in ErrorCode}
     reasons = {v["message"]["reason"] for v in VALID if v["message"]["type"] == "ACK"}
     assert reasons == {"ACCEPTED", "GAP", "DUPLICATE", "QUEUE_FULL", "REJECTED", "SPACE", "PARKED"}
-    status_axes = {
-        len(v["message"]["position"]) for v in VALID if v["message"]["type"] == "STATUS_REPORT"
-    }
+    status_axes = {len(v["message"]["position"]) for v in VALID if v["message"]["type"] == "STATUS_REPORT"}
     assert {3, 4} <= status_axes
-    assert {len(v["message"]["axes"]) for v in VALID if v["message"]["type"] == "SEGMENT"} == {
-        0,
-        1,
-        2,
-        3,
-        4,
-    }
+    assert {len(v["message"]["axes"]) for v in VALID if v["message"]["type"] == "SEGMENT"} == {0, 1, 2, 3, 4}
 
 
 @pytest.mark.parametrize("vector", VALID, ids=[v["name"] for v in VALID])
@@ -75,9 +58,7 @@ def test_valid_vector_decodes_and_encodes(vector: dict) -> None:
     if isinstance(message, Raster):
         assert line_fault(message, *chain_after(vector)) is None
     assert encode(message, seq) == frame  # type: ignore[arg-type]
-    assert message.model_dump(mode="json") == {
-        k: v for k, v in vector["message"].items() if k not in ("type", "seq")
-    }
+    assert message.model_dump(mode="json") == {k: v for k, v in vector["message"].items() if k not in ("type", "seq")}
 
 
 def chain_after(vector: dict) -> tuple[list[int], list[int]]:
@@ -102,18 +83,12 @@ def test_malformed_vector_is_refused_with_its_error(vector: dict) -> None:
         # what the line says against its chain: the decoder has no chain, line_fault has
         decoded = decode(frame, vector["direction"], vector.get("axis_count", 4))
         assert isinstance(decoded.message, Raster)
-        assert (
-            line_fault(decoded.message, *chain_after(vector)) == FieldId[vector["error"]["field"]]
-        )
+        assert line_fault(decoded.message, *chain_after(vector)) == FieldId[vector["error"]["field"]]
         return
     with pytest.raises(DecodeError) as caught:
         decode(frame, vector["direction"], vector.get("axis_count", 4))
     error = caught.value
-    got = {
-        "code": error.code.name,
-        "field": error.field.name if error.field else None,
-        "axis": error.axis,
-    }
+    got = {"code": error.code.name, "field": error.field.name if error.field else None, "axis": error.axis}
     assert got == vector["error"]
     if error.code in (ErrorCode.UNKNOWN_TYPE, ErrorCode.BAD_LENGTH, ErrorCode.BAD_FIELD):
         assert (error.frame_type, error.frame_seq) == (frame_body_type_seq(frame))
@@ -143,6 +118,4 @@ def test_streaming_decoder_on_all_vectors_back_to_back(direction: str, chunk: in
         if vector["message"] is not None:
             assert item == Frame(*as_message(vector))  # type: ignore[arg-type]
         else:
-            assert isinstance(item, DecodeError) and item.code.name == vector["error"]["code"], (
-                vector["name"]
-            )
+            assert isinstance(item, DecodeError) and item.code.name == vector["error"]["code"], vector["name"]

@@ -22,20 +22,13 @@ import cam_jobs  # noqa: E402
 
 # The engraving whole (the tightest: three segments a move, half of them at corners); the others, whose
 # margins are wide (0.86 and 0.69 whole, tests/bench/bench_wire.py), cut short to keep the suite quick.
-@pytest.mark.parametrize(
-    ("name", "lines"), [("pocket", 3000), ("engraving", 16_000), ("four_axis", 3000)]
-)
+@pytest.mark.parametrize(("name", "lines"), [("pocket", 3000), ("engraving", 16_000), ("four_axis", 3000)])
 def test_a_cam_job_takes_fewer_bytes_on_the_wire_than_its_gcode(name: str, lines: int) -> None:
     text = cam_jobs.JOBS[name](lines)
     names = "XYZA" if name == "four_axis" else "XYZ"
     config = bench_wire.machine(names, None)
     program = parse_gcode(text, config.axis_names, (0.0,) * len(names), config.arc_tolerance, True)
-    job = Job(
-        path=Path(name),
-        program=program,
-        plan=plan_program(program, config),
-        coordinates=WorkCoordinates(),
-    )
+    job = Job(path=Path(name), program=program, plan=plan_program(program, config), coordinates=WorkCoordinates())
     wire, single = job.wire_bytes(), job.wire_bytes(run_limit=0)
     assert wire <= len(text.encode()), (wire, len(text.encode()))
     assert wire * 2.5 < single
@@ -47,11 +40,6 @@ def test_an_scurve_job_in_cubic_segments_frames_takes_about_half_the_bytes() -> 
     text = cam_jobs.JOBS["engraving"](1000)
     config = bench_wire.machine("XYZ", 20000.0)
     program = parse_gcode(text, config.axis_names, (0.0,) * 3, config.arc_tolerance, True)
-    job = Job(
-        path=Path("engraving"),
-        program=program,
-        plan=plan_program(program, config),
-        coordinates=WorkCoordinates(),
-    )
+    job = Job(path=Path("engraving"), program=program, plan=plan_program(program, config), coordinates=WorkCoordinates())
     wire, single = job.wire_bytes(), job.wire_bytes(run_limit=0)
     assert wire < 2 * len(text.encode()) and wire * 1.8 < single, (wire, single, len(text.encode()))
