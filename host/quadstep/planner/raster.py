@@ -9,7 +9,9 @@ every target is), and the host knows every step of the motion from the segments 
 from __future__ import annotations
 
 import math
+from bisect import bisect_left
 from dataclasses import dataclass, field
+from itertools import accumulate
 
 from ..config import MachineConfig
 from ..protocol import Output, Outputs
@@ -173,9 +175,10 @@ class RasterRow:
 
 def row_segments(
     row: RasterRow, config: MachineConfig, start: tuple[int, ...]
-) -> tuple[list[Segment], tuple[int, ...]]:
-    """A rapid to the row's run-in, the ramp to its feed, its RASTER lines, the ramp to rest; and
-    where the machine rests after it."""
+) -> tuple[list[Segment], tuple[int, ...], list[int]]:
+    """A rapid to the row's run-in, the ramp to its feed, its RASTER lines, the ramp to rest; where
+    the machine rests after it; and for each pixel the segments up to the one that reaches its
+    end."""
     ax = config.axes[0]
     tick = config.tick_hz
     # the feed, within X's max_speed as the planner keeps every feed
@@ -199,9 +202,19 @@ def row_segments(
     build.segments += _ramp(x, direction, knots, up=True)
     changes = [*zip(edges, row.powers), (edges[-1], 0)]
     end = edges[-1] + direction * (1 + overscan)
-    build.segments += _cruise(x, direction, v, changes, end, min(gaps) * STEP)
+    r0, begin, base = direction * x.ahead, x.position, len(build.segments)
+    lines = _cruise(x, direction, v, changes, end, min(gaps) * STEP)
+    build.segments += lines
     build.segments += _ramp(x, direction, knots, up=False)
-    return build.segments, (x.position, *position[1:])
+    # each pixel's end: the segments up to the line in which X reaches it
+    line_ends = list(accumulate(line.n for line in lines))  # ticks into the run
+    ends = [
+        base
+        + bisect_left(line_ends, max(1, -(-(TWO_D * direction * (e - begin) - D - r0) // (2 * v))))
+        + 1
+        for e in edges[1:]
+    ]
+    return build.segments, (x.position, *position[1:]), ends
 
 
 def plan_raster(image: RasterImage, config: MachineConfig, start: tuple[int, ...]) -> Plan:
@@ -217,7 +230,7 @@ def plan_raster(image: RasterImage, config: MachineConfig, start: tuple[int, ...
             edges, powers = edges[::-1], powers[::-1]
         at = (image.x_mm, image.y_mm + number * image.row_mm, *config.to_mm(position)[2:])
         row = RasterRow(edges_mm=edges, powers=powers, at_mm=at, feed_mm_s=image.feed_mm_s)
-        more, position = row_segments(row, config, position)
+        more, position, _ = row_segments(row, config, position)
         segments += more
     stream = Stream(base=list(segments), axes=len(config.axes))
     for i in range(len(segments)):

@@ -140,17 +140,15 @@ def plan_with_rasters(
             segments += plan.quadratic_segments()
             outputs += [(base + k, p + len(pauses), m) for k, p, m in plan.outputs]
             pauses += [(base + k, line) for k, line in plan.pauses]
-            move_ends.extend(base + e for e in plan.move_ends)
+            returned = len(head) - (state is not None)  # the return is not a move of the program
+            move_ends.extend(base + e for e in plan.move_ends[returned:])
             position = plan.end
         if run is None:
             break
         outputs.append((len(segments), len(pauses), Outputs(outputs=int(Output.ON), power=0)))
-        row, position = row_segments(run.row, config, position)
+        row, position, ends = row_segments(run.row, config, position)
+        move_ends.extend(len(segments) + e for e in ends)  # a move per pixel
         segments += row
-        move_ends.extend(
-            [len(segments)]
-            * sum(isinstance(x, LinearMove) for x in program.items[run.first : run.last + 1])
-        )
         outputs.append((len(segments), len(pauses), Outputs(outputs=0, power=0)))
         state, done = run.state, run.last + 1
         back = (run.row.edges_mm[-1], *run.row.at_mm[1:])
