@@ -6,6 +6,7 @@ boundary step is made."""
 from __future__ import annotations
 
 import random
+import time
 from pathlib import Path
 
 import numpy as np
@@ -159,3 +160,33 @@ def test_a_gcode_raster_goes_out_as_raster_lines(start_emulator, tmp_path: Path)
     rows = [(run.row.edges_mm, run.row.powers) for run in runs]
     visits = row_visits(segments, list(plan.start))
     assert check_switches(visits, rows, dict(read_outputs(outputs))) > 10
+
+
+def test_a_feed_hold_inside_a_row_goes_on_to_the_end(start_emulator, tmp_path: Path) -> None:
+    """The feed hold button inside a raster row: the board holds, and going on
+    finishes the job where its G-code ends."""
+    path = REPO / "tests" / "gcode" / "corpus" / "grbl" / "laser-raster-m4.nc"
+    job = load_job(path, CONFIG, (0, 0, 0))
+    plan = plan_with_rasters(job.program, CONFIG, job.plan.start)
+    assert plan is not None
+    segments = list(plan.segments.segments())
+    first = next(i for i, s in enumerate(segments) if isinstance(s, RasterLine))
+    at_tick = sum(s.n for s in segments[:first]) + segments[first].n // 2
+    sim = tmp_path / "machine.toml"
+    sim.write_text(f'[[press]]\ninput = "feed_hold"\nat_tick = {at_tick}\nticks = 50\n')
+    emu = start_emulator(
+        axes=3, tick_hz=CONFIG.tick_hz, queue=14, extra_args=("--machine", str(sim))
+    )
+    with Link.open(emu.url) as link:
+        machine = Machine(link, CONFIG)
+        run = machine.run_job(job.plan, job.program)
+        deadline = time.monotonic() + 30
+        while not run.held:
+            assert time.monotonic() < deadline, "no hold"
+            assert run.wait(0.01) is None
+        assert run.resume()
+        end = run.wait(60)
+        assert end is not None and end.ended_by == "done", end
+        assert machine.position == job.plan.end
+        machine.close()
+    emu.stop()
