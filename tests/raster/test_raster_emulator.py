@@ -102,6 +102,7 @@ def test_a_grayscale_raster_runs_exactly_at_100_mm_s(start_emulator, tmp_path: P
     pixels = sum(len(row) for row in image.rows)
     assert sum(isinstance(s, RasterLine) for s in segments) >= pixels // 52
     # no underrun: the board never starved (every segment ran, none held)
+    assert after["starvations"] == before["starvations"]
     assert summary["segments_done"] == len(segments)
     assert [summary[f"position_{a}"] for a in range(3)] == list(plan.end)
     frames = after["frames_sent"] - before["frames_sent"]
@@ -155,6 +156,7 @@ def test_a_gcode_raster_goes_out_as_raster_lines(start_emulator, tmp_path: Path)
     assert summary["segments_done"] == len(segments)
     assert [summary[f"position_{a}"] for a in range(3)] == list(plan.end)
     assert after["retransmits"] - before["retransmits"] == 0
+    assert after["starvations"] == before["starvations"]
     expected = predict(segments, list(plan.start), axis_count=3)
     assert np.array_equal(read_trace(trace), expected.steps)
     rows = [(run.row.edges_mm, run.row.powers) for run in runs]
