@@ -25,7 +25,7 @@ MAX_FRAME = 64
 TYPES = {
     "IDENTIFY": 0x01, "STATUS": 0x02, "STOP": 0x03, "HOLD": 0x04, "INPUTS": 0x06, "WATCHDOG": 0x07,
     "SEGMENT": 0x10, "SET_POSITION": 0x11, "CUBIC_SEGMENT": 0x12, "PROBE": 0x15, "CONFIG": 0x16, "OUTPUTS": 0x17,
-    "SEGMENTS": 0x18, "CUBIC_SEGMENTS": 0x19,
+    "SEGMENTS": 0x18, "CUBIC_SEGMENTS": 0x19, "RASTER": 0x1A,
     "ACK": 0x80, "IDENTIFY_REPLY": 0x81, "STATUS_REPORT": 0x82, "ERROR": 0x83, "ALARM": 0x84, "EVENT": 0x85,
     "INPUT_STATUS": 0x86,
 }
@@ -38,7 +38,7 @@ ERROR_CODES = {
 FIELDS = {"N": 1, "AXES": 2, "DIRECTION": 3, "V0": 4, "VN": 5, "RESIDUAL": 6, "DECEL": 7, "INPUT": 8, "LEVEL": 9,
           "INPUTS": 10, "HARD_LIMITS": 11,
           "SPEED": 12, "ACCEL": 13, "POSITION": 14, "TIMEOUT": 15, "OUTPUTS": 16, "REFERENCE": 17,
-          "JERK": 18}
+          "JERK": 18, "RASTER_AXIS": 19, "PIXELS": 20}
 POSITION_MAX = 2**31 - 2**24  # the firmware keeps every position within ±this (§5.2)
 WATCHDOG_MAX_MS = 4000
 ALARMS = {"UNDERRUN": 1, "REJECTED_SEGMENT": 2, "HARD_LIMIT": 3, "HOST_LOST": 4, "E_STOP": 5}
@@ -299,6 +299,9 @@ def payload(msg: dict) -> bytes:
         return records_payload(msg["records"])
     if t == "CUBIC_SEGMENTS":
         return cubic_records_payload(msg["records"])
+    if t == "RASTER":
+        return struct.pack("<HBBHH", msg["n"], msg["axes"], msg["pixel"], msg["phase"], msg["pitch"]) + bytes(
+            msg["power"])
     if t == "SET_POSITION":
         return set_position_payload({int(k): v for k, v in msg["positions"].items()})
     if t == "ACK":
@@ -393,6 +396,25 @@ def bad_cubic(name: str, n: int, axes: list[dict], field: str, axis: int | None,
               seq: int = 9) -> None:
     frame = wire(bytes([TYPES["CUBIC_SEGMENT"], seq]) + cubic_payload(n, axes))
     bad(name, TO_FW, frame, "BAD_FIELD", field, axis, axis_count=axis_count)
+
+
+def raster(seq: int, n: int, axes: int, pixel: int, phase: int, pitch: int, power: list[int]) -> dict:
+    return {"type": "RASTER", "seq": seq, "n": n, "axes": axes, "pixel": pixel, "phase": phase, "pitch": pitch,
+            "power": power}
+
+
+def raster_vector(name: str, after: dict, msg: dict, axis_count: int | None = None) -> None:
+    """A RASTER read against the chain that `after` (a SEGMENT, run first by a fresh firmware) leaves."""
+    valid(name, TO_FW, msg, axis_count)
+    VECTORS[-1]["after"] = after
+
+
+def bad_raster(name: str, after: dict | None, msg: dict, code: str, field: str | None = None,
+               axis: int | None = None, axis_count: int | None = None, cut: int = 0) -> None:
+    frame = body(msg)
+    bad(name, TO_FW, wire(frame[:len(frame) - cut]), code, field, axis, axis_count)
+    if after is not None:
+        VECTORS[-1]["after"] = after
 
 
 def hold(seq: int, *decel: int) -> dict:
@@ -630,7 +652,7 @@ def build() -> list[dict]:
     bad("64 decoded bytes pass framing, then bad length", TO_FW, wire(longest), "BAD_LENGTH")
 
     # Unknown types, immediate and sequenced ranges; reports sent the wrong way.
-    for t in (0x00, 0x05, 0x08, 0x0F, 0x13, 0x14, 0x1A, 0x3F, 0x40, 0x7F, 0x80, 0x82, 0x85, 0x86):
+    for t in (0x00, 0x05, 0x08, 0x0F, 0x13, 0x14, 0x1B, 0x3F, 0x40, 0x7F, 0x80, 0x82, 0x85, 0x86):
         bad(f"unknown type 0x{t:02x} to firmware", TO_FW, wire(bytes([t, 3])), "UNKNOWN_TYPE")
     for t in (0x01, 0x04, 0x06, 0x07, 0x10, 0x15, 0x87, 0xFF):
         bad(f"unknown type 0x{t:02x} to host", TO_HOST, wire(bytes([t, 3, 0, 0, 0, 0, 0])), "UNKNOWN_TYPE")
@@ -871,6 +893,39 @@ def build() -> list[dict]:
         {"n": 10, "codes": [C_GIVEN, 0, 0, 0], "jerks": [3]},
         {"n": 10, "codes": [0, C_GIVEN, 0, 0], "jerks": [-3]}], "BAD_FIELD", "SPEED", 1)
 
+    # RASTER: a line at the speed the segment before leaves, a power per pixel. The segment before
+    # reaches 1024/4096 step per tick on X (and 512 on Y), ending on the ideal.
+    to_x = seg(6, 64, ax(0, 1, 0, 1024, 0))
+    to_xy = seg(6, 64, ax(0, -1, 0, 1024, 0), ax(1, 1, 0, 512, 0))
+    raster_vector("raster, 8 pixels of 2 steps along X", to_x,
+                  raster(7, 64, 0x01, 0, 512, 512, [0, 255, 128, 0, 1, 2, 3, 254]))
+    raster_vector("raster, a diagonal counted on X, reversed, the first pixel a part", to_xy,
+                  raster(7, 100, 0x13, 0, 300, 700, [10, 20, 30, 40]))
+    raster_vector("raster, one pixel", to_x, raster(7, 1, 0x01, 0, 256, 256, [77]))
+    raster_vector("raster, 52 pixels, the most a frame holds", to_x,
+                  raster(7, 900, 0x01, 0, 256, 1024, [(k * 5) & 0xFF for k in range(52)]))
+    bad_raster("raster without a pixel", None, raster(7, 64, 0x01, 0, 512, 512, [1]), "BAD_LENGTH", cut=1)
+    bad_raster("raster, 53 pixels", None, raster(7, 64, 0x01, 0, 512, 512, [1] * 53), "FRAME_TOO_LONG")
+    bad_raster("raster n 0", to_x, raster(7, 0, 0x01, 0, 512, 512, [1]), "BAD_FIELD", "N")
+    bad_raster("raster n 1023", to_x, raster(7, 1023, 0x01, 0, 512, 512, [1]), "BAD_FIELD", "N")
+    bad_raster("raster on axis 3 of a 3-axis firmware", to_x, raster(7, 10, 0x09, 0, 512, 512, [1]),
+               "BAD_FIELD", "AXES", axis_count=3)
+    bad_raster("raster from rest: no speed to cruise at", None, raster(7, 10, 0x01, 0, 512, 512, [1]),
+               "BAD_FIELD", "RASTER_AXIS")
+    bad_raster("raster counted on an axis that does not move", to_x, raster(7, 10, 0x03, 1, 512, 512, [1]),
+               "BAD_FIELD", "RASTER_AXIS")
+    bad_raster("raster counted on the slower axis", to_xy, raster(7, 10, 0x13, 1, 512, 512, [1]),
+               "BAD_FIELD", "RASTER_AXIS")
+    bad_raster("raster pixel byte with a reserved bit", to_x, raster(7, 10, 0x01, 4, 512, 512, [1]),
+               "BAD_FIELD", "RASTER_AXIS")
+    bad_raster("raster, pixels under a step", to_x, raster(7, 10, 0x01, 0, 255, 255, [1, 2]),
+               "BAD_FIELD", "PIXELS")
+    bad_raster("raster, the first boundary past a pixel", to_x, raster(7, 10, 0x01, 0, 1024, 512, [1, 2]),
+               "BAD_FIELD", "PIXELS")
+    # 64 ticks at 1024/4096 step a tick: 16 steps; 10 pixels of 2 steps put the last boundary at 18.
+    bad_raster("raster, a boundary past the line's steps", to_x,
+               raster(7, 64, 0x01, 0, 512, 512, [1] * 9 + [2]), "BAD_FIELD", "PIXELS")
+
     # SET_POSITION content.
     frame = wire(bytes([TYPES["SET_POSITION"], 5]) + set_position_payload({3: 1}))
     bad("set position axis 3 on a 3-axis firmware", TO_FW, frame, "BAD_FIELD", "AXES", None, axis_count=3)
@@ -896,6 +951,8 @@ def document() -> str:
             "firmware's axis count, 0 for the others; BAD_FIELD DECEL names the first axis that breaks it.",
             "SEGMENT fields are checked field by field in the order of the table, each field in "
             "axis order: every axis's V0 before any VN, every VN before any RESIDUAL.",
+            "RASTER vectors with after: a fresh firmware runs that SEGMENT (seq one before) first, "
+            "and the RASTER is read against the chain it leaves.",
             "PROBE and CONFIG vectors assume a firmware with every input (present 0x0FFF); INPUT_STATUS "
             "armed null is 0xFF on the wire.",
         ],

@@ -3,6 +3,7 @@
 #include "qs_protocol.h"
 #include "qs_cubic_records.h"
 #include "qs_segments.h"
+#include "qs_raster.h"
 
 /* ---- sending ----
  * Every report is built in c->tx, after the byte that stuffing needs in
@@ -61,6 +62,7 @@ static void send_identify_reply(qs_core *c, uint8_t seq)
     id.capabilities = QS_CAP_QUADRATIC_SEGMENTS | QS_CAP_SET_POSITION | QS_CAP_HOLD | QS_CAP_LIMIT_INPUTS
                       | QS_CAP_PROBE_INPUT | QS_CAP_HOMING | QS_CAP_CONTROL_INPUTS
                       | QS_CAP_CUBIC_SEGMENTS | QS_CAP_CONTROLLED_STOPS | QS_CAP_OUTPUTS | QS_CAP_SEGMENTS
+                      | (QS_RASTER_BYTES ? QS_CAP_RASTER : 0)
                       | QS_CAP_CUBIC_RUNS | QS_CAP_STARVATION_PAUSES;
     id.next_seq = c->next_seq;
     id.boot_id = c->boot_id;
@@ -302,6 +304,62 @@ static QS_NOINLINE void on_segments(qs_core *c, qs_host_msg *m, uint8_t cubic)
     c->next_seq++;
     send_ack(c, m->seq, QS_ACK_ACCEPTED);
 }
+
+#if QS_RASTER_BYTES
+static uint8_t in_sequence(qs_core *c, const qs_host_msg *m);
+
+/* RASTER: its motion is the chain's cruise, read as a SEGMENTS record that
+ * says nothing but n and the axes; then the line's own checks, and its
+ * powers into the ring beside the slot. */
+static QS_NOINLINE void take_raster(qs_core *c, qs_host_msg *m, const qs_raster_msg *line)
+{
+    qs_engine *e = &c->engine;
+    qs_segment_msg *const s = &m->as.segment;
+    qs_segment *slot;
+    qs_segments_msg run;
+    uint8_t record[3];
+    qs_fault f;
+
+    if (!may_queue(c, m))
+        return;
+    if (qs_queue_free(&e->queue) == 0 || !qs_raster_room(&c->raster, &e->queue, line->count)) {
+        send_ack(c, m->seq, QS_ACK_QUEUE_FULL);
+        return;
+    }
+    record[0] = (uint8_t)(QS_RECORD_AXES | QS_RECORD_CRUISE | ((line->n >> 8) & QS_RECORD_N_HIGH));
+    record[1] = (uint8_t)line->n;
+    record[2] = line->axes;
+    run.next = record;
+    if ((line->n >> 8) > QS_RECORD_N_HIGH) {
+        qs_msg_bad_field(&f, QS_FIELD_N, QS_AXIS_NONE);
+        refuse_segment(c, m, &f);
+        return;
+    }
+    if (qs_segments_next(&run, &e->chain, c->axis_count, s, &f) != QS_ERR_NONE
+        || qs_msg_check_segment(s, c->axis_count, &f) != QS_ERR_NONE || qs_raster_check(line, s, &f) != QS_ERR_NONE
+        || beyond_positions(c, s->active, s->n, &f)) {
+        refuse_segment(c, m, &f);
+        return;
+    }
+    slot = qs_queue_back(&e->queue);
+    qs_segment_prepare(slot, s);
+    qs_cubic_follow_quadratic(&e->chain, slot, s);
+    qs_engine_note_prepared(e, slot);
+    qs_outputs_carry(&c->outputs, slot);
+    qs_raster_store(&c->raster, slot, line);
+    queued(c, m);
+}
+
+static uint8_t on_raster(qs_core *c, qs_host_msg *m, const uint8_t *p, uint8_t plen)
+{
+    qs_raster_msg line;
+    const uint8_t code = qs_raster_parse(p, plen, &line);
+
+    if (code == QS_ERR_NONE && in_sequence(c, m))
+        take_raster(c, m, &line);
+    return code;
+}
+#endif
 
 /* A cubic segment is checked against the chain as it prepares its slot,
  * which moves the chain on: so the queue's room is asked first. */
@@ -689,6 +747,11 @@ static QS_NOINLINE void on_frame(qs_core *c, const uint8_t *body, uint8_t len)
         if (code == QS_ERR_NONE && in_sequence(c, &m))
             on_segments(c, &m, 1);
         break;
+#if QS_RASTER_BYTES
+    case QS_TYPE_RASTER:
+        code = on_raster(c, &m, p, plen);
+        break;
+#endif
     case QS_TYPE_SET_POSITION:
         code = qs_msg_parse_set_position(p, plen, &m.as.set_position);
         if (code == QS_ERR_NONE && in_sequence(c, &m))
@@ -730,6 +793,9 @@ void qs_core_init(qs_core *c)
     c->parked_head = 0;
     c->boot_id = 0;
     qs_outputs_off(&c->outputs);
+#if QS_RASTER_BYTES
+    c->raster.write = 0;
+#endif
 }
 
 uint8_t qs_core_configure(qs_core *c, uint8_t axis_count, uint8_t queue_capacity, uint32_t tick_hz)

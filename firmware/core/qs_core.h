@@ -13,6 +13,7 @@
 #include "qs_messages.h"
 #include "qs_port.h"
 #include "qs_outputs.h"
+#include "qs_raster.h"
 
 /* The longest report, STATUS_REPORT with every axis, as it goes on the wire:
  * the code byte stuffing needs, type and seq, the payload, CRC, delimiter. */
@@ -43,6 +44,9 @@ typedef struct {
     uint16_t watchdog;        /* WATCHDOG: silence that stops motion, in port clock counts; 0 off */
     uint16_t heard;           /* port clock at the last good frame */
     qs_outputs outputs;       /* the OUTPUTS settings: segments queued from now on carry the latest */
+#if QS_RASTER_BYTES
+    qs_raster raster;         /* the powers of the RASTER lines queued */
+#endif
     uint16_t boot_id;         /* IDENTIFY_REPLY's: the target sets it after qs_core_init, new at each reset */
     uint8_t tx[QS_TX_WIRE];   /* the report being sent, built and sealed in place */
 } qs_core;
@@ -121,6 +125,9 @@ void qs_core_status(qs_core *c, qs_status *st);
 static inline void qs_core_outputs(qs_core *c, qs_output_level *out)
 {
     qs_outputs_level(&c->engine, &c->outputs, out);
+#if QS_RASTER_BYTES
+    qs_raster_level(&c->raster, &c->engine, out);
+#endif
 }
 
 #endif

@@ -50,6 +50,7 @@
 #define QS_TYPE_OUTPUTS 0x17
 #define QS_TYPE_SEGMENTS 0x18
 #define QS_TYPE_CUBIC_SEGMENTS 0x19
+#define QS_TYPE_RASTER 0x1A
 #define QS_TYPE_ACK 0x80
 #define QS_TYPE_IDENTIFY_REPLY 0x81
 #define QS_TYPE_STATUS_REPORT 0x82
@@ -84,6 +85,7 @@
 #define QS_LEN_PROBE 10 /* input, level, decel:u16 x 4 */
 #define QS_LEN_CONFIG 25 /* invert, enabled, hard_limits, debounce:u8 x 12, hold_decel:u16 x 4 */
 #define QS_LEN_OUTPUTS 6 /* outputs, power:u16, axis, speed:u16 */
+#define QS_LEN_RASTER 8 /* n:u16, axes, pixel, phase:u16, pitch:u16; then a power per pixel */
 #define QS_LEN_INPUT_STATUS 15
 #define QS_LEN_INPUT_HEAD 10 /* EVENT INPUT: kind, motion_ticks, active, changed, cause */
 #define QS_LEN_INPUT_AXIS 4
@@ -133,6 +135,8 @@
 #define QS_FIELD_OUTPUTS 16 /* OUTPUTS: a bit no output has */
 #define QS_FIELD_REFERENCE 17 /* OUTPUTS: a power following no axis, or a speed outside 1 ... 4096 */
 #define QS_FIELD_JERK 18 /* CUBIC_SEGMENTS: a jerk outside 16 bits */
+#define QS_FIELD_RASTER_AXIS 19 /* RASTER: the pixel axis not moving, or not the one with most steps */
+#define QS_FIELD_PIXELS 20 /* RASTER: a pixel under a step, or a boundary past the line's steps */
 #define QS_AXIS_NONE 0xFF
 
 /* ALARM codes. */
@@ -202,6 +206,7 @@
 #define QS_CAP_SEGMENTS 0x0800 /* chained quadratic segments, several to a frame (SEGMENTS) */
 #define QS_CAP_CUBIC_RUNS 0x1000 /* chained cubic segments, several to a frame (CUBIC_SEGMENTS) */
 #define QS_CAP_STARVATION_PAUSES 0x2000 /* an underrun ends in STARVED, not in an alarm */
+#define QS_CAP_RASTER 0x4000 /* laser lines with a power per pixel (RASTER) */
 
 /* SEGMENTS (section 5.2): records of chained quadratic segments. A record's
  * head byte holds bits 8-9 of n and what follows it. */

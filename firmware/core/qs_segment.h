@@ -30,6 +30,14 @@ typedef struct {
     int8_t e_top[QS_AXIS_COUNT];
 } qs_cubic_run;
 
+/* A RASTER's pixels (qs_raster.h): their powers at start in the core's
+ * ring, and where the boundaries between them fall. */
+typedef struct {
+    uint16_t where; /* bits 0-9: the first power's index in the ring; 10-15: pixels */
+    uint16_t phase; /* the first boundary, in 1/256 step from the segment's start */
+    uint16_t pitch; /* the steps between boundaries, in 1/256 step */
+} qs_raster_pixels;
+
 typedef struct {
     /* First, so that the tick reaches them from the slot with ldd. */
     uint16_t n;
@@ -52,6 +60,7 @@ typedef struct {
             qs_i24 db[QS_AXIS_COUNT];
             qs_i24 two_c2;
             int16_t r[QS_AXIS_COUNT]; /* the segment's residuals */
+            qs_raster_pixels px;      /* a RASTER's pixels (QS_SLOT_RASTER) */
         };
         qs_cubic_run c; /* cubic (CUBIC_SEGMENT) */
     };
@@ -61,6 +70,8 @@ typedef struct {
 #define QS_CUBIC_KIND 0x80
 #define QS_ENDS_MOVING 0x01
 #define QS_SLOT_OUTPUTS_SHIFT 5
+#define QS_SLOT_RASTER 0x02          /* a RASTER: px holds its pixels */
+#define QS_SLOT_RASTER_AXIS_SHIFT 2 /* bits 2-3: the axis that counts them */
 
 /* Fill a slot from a segment that passed qs_msg_check_segment. */
 void qs_segment_prepare(qs_segment *slot, const qs_segment_msg *m);

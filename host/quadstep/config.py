@@ -169,6 +169,13 @@ class SpindleConfig(BaseModel):
         description="s to wait after the spindle is turned on before a job "
         "started at a line plunges (--from-line); 0: none",
     )
+    overscan_mm: float = Field(
+        default=0.0,
+        ge=0,
+        le=100,
+        description="laser rasters: mm a row runs on at its speed, dark, before its first pixel "
+        "and after its last, beyond what its ramps need",
+    )
 
     @model_validator(mode="after")
     def _range_in_order(self) -> SpindleConfig:

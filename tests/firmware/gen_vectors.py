@@ -41,6 +41,7 @@ MESSAGE_KEYS = {
     "SEGMENT": {"n", "axes"},
     "SEGMENTS": {"records"},
     "CUBIC_SEGMENTS": {"records"},
+    "RASTER": {"n", "axes", "pixel", "phase", "pitch", "power"},
     "CUBIC_SEGMENT": {"n", "axes"},
     "SET_POSITION": {"positions"},
     "ACK": {"next_seq", "free", "reason", "done"},
@@ -59,7 +60,7 @@ EVENT_KEYS = {
     "INPUT": {"motion_ticks", "active", "changed", "cause", "position"},
     "PROBE_MISSED": {"motion_ticks", "position"},
 }
-VECTOR_KEYS = {"name", "direction", "frame", "message", "error", "axis_count", "expands_to"}
+VECTOR_KEYS = {"name", "direction", "frame", "message", "error", "axis_count", "expands_to", "after"}
 
 
 class VectorError(Exception):
@@ -98,6 +99,11 @@ def message_fields(msg: dict, axis_count: int) -> list[str]:
         return out  # its meaning is the vector's expands_to (segment_fields, cubic_fields)
     if kind == "SEGMENT":
         return out + [".host = {.segment = %s}" % segment_fields(msg)]
+    if kind == "RASTER":
+        return out + [".raster = {.n = %d, .axes = 0x%02X, .pixel = 0x%02X, .phase = %d, .pitch = %d, "
+                      ".count = %d, .power = {%s}}"
+                      % (msg["n"], msg["axes"], msg["pixel"], msg["phase"], msg["pitch"], len(msg["power"]),
+                         ", ".join(map(str, msg["power"])))]
     return out + other_message_fields(msg, kind)
 
 
@@ -235,6 +241,8 @@ def vector_entry(index: int, v: dict) -> tuple[str, str]:
               f".to_firmware = {int(v['direction'] == 'to_firmware')}",
               f".frame = vector_frame_{index}", f".frame_len = {len(frame)}",
               f".axis_count = {axis_count}"]
+    if "after" in v:
+        fields.append(".has_after = 1, .after = %s" % segment_fields(v["after"]))
     if "expands_to" in v:
         segments = v["expands_to"]
         if v["message"]["type"] == "CUBIC_SEGMENTS":

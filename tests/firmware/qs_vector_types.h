@@ -25,6 +25,16 @@ typedef struct {
         qs_watchdog_msg watchdog;
         qs_outputs_msg outputs;
     } host;
+    /* RASTER: its fields, and the SEGMENT a fresh firmware runs before it (its chain). */
+    struct {
+        uint16_t n;
+        uint8_t axes, pixel;
+        uint16_t phase, pitch;
+        uint8_t count;
+        uint8_t power[64];
+    } raster;
+    uint8_t has_after;
+    qs_segment_msg after;
     /* SEGMENTS and CUBIC_SEGMENTS: what its records mean to a freshly started firmware. */
     uint8_t expands_count;
     qs_segment_msg expands[QS_SEGMENTS_MAX];

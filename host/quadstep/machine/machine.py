@@ -30,6 +30,7 @@ from ..link import Link, LinkError, LinkStats, hold
 from ..planner.outputs import output_message
 from ..planner.plan import Plan
 from ..planner.program import OutputState, Program
+from ..planner.raster_gcode import plan_with_rasters
 from ..planner.segments import SegmentArrays
 from ..planner.stream import Stream
 from ..port_process import PortProcess
@@ -254,6 +255,12 @@ class Machine(Standing):
                 "the job sets the spindle, laser or coolant (M3/M4/M5, M7/M8/M9) and this firmware "
                 "has no outputs; --skip-unsupported runs it without them"
             )
+        if (
+            program is not None
+            and feed_override == 100
+            and self.identity.capabilities & (Capability.RASTER)
+        ):  # laser rasters in the program go out as RASTER lines
+            plan = plan_with_rasters(program, plan.config, plan.start, label) or plan
         compensated = self.takeups.compensate(plan.segments, plan.pauses)
         streamed = StreamPlan(
             plan.config, compensated.stream, compensated.pauses, compensated, plan

@@ -34,6 +34,7 @@ from ..protocol import (
 )
 from ..protocol.frames import next_frame, run_limit
 from ..protocol.messages import queue_slots
+from ..protocol.raster import ring_fits
 from ..protocol.segment_run import RunChain
 
 # Keep at least this many segments queued, whatever the lookahead, so the board
@@ -399,10 +400,14 @@ class Motion:
             # negative while the motion this one follows (a cut) still runs its last segments
             done = self.done
             queued = k - done
-            if queued < capacity and (
-                self.lookahead_ticks is None
-                or first - done < MIN_QUEUED_SEGMENTS
-                or ticks[k] - ticks[max(0, done)] < self.lookahead_ticks
+            if (
+                queued < capacity
+                and ring_fits(self.segments, self.first + done, self.first + k)
+                and (
+                    self.lookahead_ticks is None
+                    or first - done < MIN_QUEUED_SEGMENTS
+                    or ticks[k] - ticks[max(0, done)] < self.lookahead_ticks
+                )
             ):
                 return
             now = time.monotonic()

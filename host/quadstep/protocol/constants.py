@@ -143,6 +143,8 @@ class FieldId(IntEnum):
     OUTPUTS = 16
     REFERENCE = 17
     JERK = 18
+    RASTER_AXIS = 19
+    PIXELS = 20
 
 
 class AlarmCode(IntEnum):
@@ -182,6 +184,7 @@ class Capability(IntFlag):
     SEGMENTS = 1 << 11  # chained quadratic segments, several to a frame (SEGMENTS)
     CUBIC_RUNS = 1 << 12  # chained cubic segments, several to a frame (CUBIC_SEGMENTS)
     STARVATION_PAUSES = 1 << 13  # an underrun ends in STARVED, not in an alarm
+    RASTER = 1 << 14  # laser lines with a power per pixel (RASTER)
 
 
 class Output(IntFlag):

@@ -8,6 +8,7 @@ from typing import Protocol, TypeVar
 from .cubic import CubicSegment
 from .cubic_run import CubicSegments
 from .cubic_run import pack as cubic_pack
+from .raster import Raster, RasterLine
 from .segment import Segment
 from .segment_run import RUN_LIMIT, RunChain, Segments, pack
 
@@ -31,13 +32,16 @@ def next_frame(
     chain: RunChain,
     limit: int,
     cubic_runs: bool = True,
-) -> Segment | CubicSegment | Segments | CubicSegments:
+) -> Segment | CubicSegment | Segments | CubicSegments | Raster:
     """The frame that sends segment `index` and what follows it before `end`: segments of its kind
     chained into SEGMENTS or CUBIC_SEGMENTS (at most `limit`; 0 where the firmware has no SEGMENTS,
     and cubic ones only with `cubic_runs`) once the chain is known, else segment `index` alone, as
     its own message (with a limit of 1 too: after a lost frame the board keeps later single-segment
     frames, never a run); `chain` moves on past what the frame sends."""
     first = source.segment(index)
+    if isinstance(first, RasterLine):  # a laser line: its own frame, read against the chain
+        chain.follow(first)
+        return first.raster
     if isinstance(first, CubicSegment):
         cubics = _run(first, source, index, end, limit)
         assert chain.speeds is not None
@@ -64,7 +68,7 @@ def _run(first: Kind, source: SegmentSource, index: int, end: int, limit: int) -
     run = [first]
     for i in range(index + 1, min(end, index + limit)):
         segment = source.segment(i)
-        if not isinstance(segment, type(first)):
+        if not isinstance(segment, type(first)) or isinstance(segment, RasterLine):
             break
         run.append(segment)
     return run

@@ -58,6 +58,7 @@ from .fields import (
     PositionsByAxis,
 )
 from .outputs import Outputs
+from .raster import Raster
 from .segment import AxisMove, Segment
 from .segment_run import SegmentRecord, Segments
 from .wire import (
@@ -416,7 +417,7 @@ def queue_slots(message: WireMessage) -> int:
     and CUBIC_SEGMENTS."""
     if isinstance(message, (Segments, CubicSegments)):
         return len(message.records)
-    return 1 if isinstance(message, (Segment, CubicSegment)) else 0
+    return 1 if isinstance(message, (Segment, CubicSegment, Raster)) else 0
 
 
 def message_from_json(fields: dict[str, Any]) -> tuple[int, WireMessage]:
@@ -458,6 +459,7 @@ __all__ = [
     "Outputs",
     "Probe",
     "ProbeMissed",
+    "Raster",
     "CubicRecord",
     "CubicSegments",
     "Report",

@@ -10,6 +10,7 @@
 #include "qs_frame.h"
 #include "qs_messages.h"
 #include "qs_cubic_records.h"
+#include "qs_raster.h"
 #include "qs_segments.h"
 #include "qs_test_support.h"
 #include "qs_vectors.h"
@@ -22,6 +23,8 @@ static char where[160];
 static qs_segment_msg expanded[QS_SEGMENTS_MAX];
 static qs_cubic_msg cubic_expanded[QS_SEGMENTS_MAX];
 static uint8_t expanded_count;
+/* A RASTER frame's fields, read while its frame is at hand. */
+static qs_raster_msg raster_line;
 
 void setUp(void)
 {
@@ -94,6 +97,8 @@ static uint8_t parse(const uint8_t *body, uint8_t len, qs_host_msg *m)
         return qs_msg_parse_segments(p, plen, &m->as.segments);
     case QS_TYPE_CUBIC_SEGMENTS:
         return qs_msg_parse_cubic_segments(p, plen, &m->as.segments);
+    case QS_TYPE_RASTER:
+        return qs_raster_parse(p, plen, &raster_line);
     default:
         return QS_ERR_UNKNOWN_TYPE;
     }
@@ -143,6 +148,49 @@ static uint8_t expand_cubic_segments(qs_segments_msg *run, uint8_t axis_count, q
     return QS_ERR_NONE;
 }
 
+/* A fresh core, moving after the vector's SEGMENT (sent with the seq
+ * before seq) if it has one, expecting seq next; reports cleared. */
+static void fresh_core(const qs_vector *v, uint8_t seq)
+{
+    tp_axis axes[QS_PROTOCOL_AXES];
+    uint8_t axis, j = 0;
+
+    qs_core_init(&core);
+    qs_core_configure(&core, v->axis_count, QS_QUEUE_CAPACITY, QS_TICK_HZ);
+    core.next_seq = seq;
+    if (v->has_after) {
+        for (axis = 0; axis < QS_PROTOCOL_AXES; axis++)
+            if (v->after.active & (1u << axis)) {
+                axes[j].v0 = v->after.v0[axis];
+                axes[j].vn = v->after.vn[axis];
+                axes[j].r = v->after.r[axis];
+                j++;
+            }
+        core.next_seq = (uint8_t)(seq - 1u);
+        tp_send_segment(&core, (uint8_t)(seq - 1u), v->after.n, v->after.active, v->after.negative, axes);
+    }
+    tp_clear_sent();
+}
+
+/* A RASTER's content is read against the chain the segment before left:
+ * what a core with that segment queued answers. */
+static uint8_t raster_content(const qs_vector *v, uint8_t seq, qs_fault *f)
+{
+    tp_report r[4];
+    qs_error_report e;
+    uint16_t i;
+
+    fresh_core(v, seq);
+    for (i = 0; i < v->frame_len; i++)
+        qs_core_rx(&core, v->frame[i]);
+    if (tp_reports(r, 4) == 0 || r[0].type != QS_TYPE_ERROR)
+        return QS_ERR_NONE;
+    e = tp_error(&r[0]);
+    f->field = e.field;
+    f->axis = e.axis;
+    return e.code;
+}
+
 /* What decoding a host frame gives: 0 and the message, or an error. */
 static uint8_t decode(const qs_vector *v, qs_host_msg *m, qs_fault *f)
 {
@@ -181,6 +229,8 @@ static uint8_t decode(const qs_vector *v, qs_host_msg *m, qs_fault *f)
         return qs_msg_check_watchdog(&m->as.watchdog, f);
     if (m->type == QS_TYPE_OUTPUTS)
         return qs_msg_check_outputs(&m->as.outputs, v->axis_count, f);
+    if (m->type == QS_TYPE_RASTER)
+        return raster_content(v, m->seq, f);
     return QS_ERR_NONE;
 }
 
@@ -260,6 +310,14 @@ static void check_host_message(const qs_vector *v, const qs_host_msg *m)
         TEST_ASSERT_EQUAL_HEX8_ARRAY_MESSAGE(e->debounce, a->debounce, QS_WIRE_INPUTS, at(v, "debounce"));
         for (axis = 0; axis < QS_PROTOCOL_AXES; axis++)
             TEST_ASSERT_EQUAL_UINT16_MESSAGE(e->hold.decel[axis], a->hold.decel[axis], at(v, "hold_decel"));
+    } else if (m->type == QS_TYPE_RASTER) {
+        TEST_ASSERT_EQUAL_UINT16_MESSAGE(v->raster.n, raster_line.n, at(v, "n"));
+        TEST_ASSERT_EQUAL_HEX8_MESSAGE(v->raster.axes, raster_line.axes, at(v, "axes"));
+        TEST_ASSERT_EQUAL_HEX8_MESSAGE(v->raster.pixel, raster_line.pixel, at(v, "pixel"));
+        TEST_ASSERT_EQUAL_UINT16_MESSAGE(v->raster.phase, raster_line.phase, at(v, "phase"));
+        TEST_ASSERT_EQUAL_UINT16_MESSAGE(v->raster.pitch, raster_line.pitch, at(v, "pitch"));
+        TEST_ASSERT_EQUAL_UINT8_MESSAGE(v->raster.count, raster_line.count, at(v, "pixels"));
+        TEST_ASSERT_EQUAL_HEX8_ARRAY_MESSAGE(v->raster.power, raster_line.power, v->raster.count, at(v, "powers"));
     } else if (m->type == QS_TYPE_OUTPUTS) {
         const qs_outputs_msg *e = &v->host.outputs, *a = &m->as.outputs;
         TEST_ASSERT_EQUAL_HEX8_MESSAGE(e->outputs, a->outputs, at(v, "outputs"));
@@ -281,13 +339,10 @@ static void check_core_accepts(const qs_vector *v)
                                                      : QS_TYPE_ACK;
     uint16_t i;
 
-    qs_core_init(&core);
-    qs_core_configure(&core, v->axis_count, QS_QUEUE_CAPACITY, QS_TICK_HZ);
-    core.next_seq = v->seq;
+    fresh_core(v, v->seq);
     /* A PROBE until an input is released finds it active. */
     if (v->type == QS_TYPE_PROBE && v->host.probe.level == 0)
         core.inputs.active = (uint16_t)(1u << v->host.probe.input);
-    tp_clear_sent();
     for (i = 0; i < v->frame_len; i++)
         qs_core_rx(&core, v->frame[i]);
     count = tp_reports(r, 4);
@@ -311,16 +366,13 @@ static void check_core_refuses(const qs_vector *v)
     uint16_t i;
     uint8_t seq = 0;
 
-    qs_core_init(&core);
-    qs_core_configure(&core, v->axis_count, QS_QUEUE_CAPACITY, QS_TICK_HZ);
     /* Reach the content checks: expect the frame's own seq. */
     {
         qs_frame_rx rx;
         if (feed(v, &rx) == QS_FRAME_READY)
             seq = qs_frame_body(&rx)[1];
     }
-    core.next_seq = seq;
-    tp_clear_sent();
+    fresh_core(v, seq);
     for (i = 0; i < v->frame_len; i++)
         qs_core_rx(&core, v->frame[i]);
     count = tp_reports(r, 4);
@@ -334,7 +386,7 @@ static void check_core_refuses(const qs_vector *v)
         TEST_ASSERT_EQUAL_HEX8_MESSAGE(0xFF, e.seq, at(v, "seq of a framing error"));
         TEST_ASSERT_EQUAL_INT_MESSAGE(1, count, at(v, "reports after a framing error"));
     }
-    /* Nothing of a refused segment runs. */
+    /* Nothing of a refused segment runs (nor the one before it, with the alarm it raises). */
     TEST_ASSERT_EQUAL_INT_MESSAGE(0, qs_queue_count(&core.engine.queue), at(v, "queued"));
 }
 

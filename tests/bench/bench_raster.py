@@ -1,0 +1,157 @@
+"""Raster benchmark: a grayscale image sent as RASTER lines on the real-time emulator (3 axes, 32 kHz,
+an Uno's queue of 14), at 100 mm/s with 0.1 mm pixels and faster: pixels a second, bytes on the wire a
+pixel, retransmits, underruns (a STARVED board) and how far each power switch is from its boundary's
+tick. Nothing is asserted.
+
+Then the real Mega build in simavr, fed RASTER lines as fast as flow control allows: the pixel rate it
+keeps up with. The Uno firmware has no RASTER (no flash left for it: capability bit 14 clear, rasters go
+out as ordinary moves there), so no Uno figure; the bench harness has no GRBL in simavr either
+(tests/bench/bench_avr.py quotes GRBL's published figures).
+
+    python3 tests/bench/bench_raster.py
+"""
+
+from __future__ import annotations
+
+import random
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+REPO = Path(__file__).resolve().parents[2]
+sys.path.insert(0, str(REPO / "host"))
+
+import numpy as np  # noqa: E402
+
+from quadstep.config import load_config  # noqa: E402
+from quadstep.emulator import Emulator  # noqa: E402
+from quadstep.engine_model import predict  # noqa: E402
+from quadstep.link import Link  # noqa: E402
+from quadstep.machine import Machine  # noqa: E402
+from quadstep.planner.raster import RasterImage, plan_raster  # noqa: E402
+from quadstep.protocol.raster import RasterLine  # noqa: E402
+
+CONFIG = load_config(REPO / "examples" / "laser-uno.toml")
+
+
+def run(pixel_mm: float, feed: float, rows: int, columns: int) -> None:
+    rng = random.Random(3)
+    image = RasterImage(
+        rows=[[rng.randrange(256) for _ in range(columns)] for _ in range(rows)],
+        x_mm=20,
+        y_mm=20,
+        pixel_mm=pixel_mm,
+        row_mm=0.1,
+        feed_mm_s=feed,
+    )
+    pixels = rows * columns
+    with tempfile.TemporaryDirectory() as tmp:
+        trace, outputs = Path(tmp) / "trace.csv", Path(tmp) / "outputs.csv"
+        args = ["--outputs", str(outputs)]
+        with Emulator(
+            tick_hz=CONFIG.tick_hz, axes=3, queue=14, trace=trace, extra_args=args
+        ) as emu:
+            with Link.open(emu.url) as link:
+                machine = Machine(link, CONFIG)
+                plan = plan_raster(image, CONFIG, tuple(machine.position))
+                before = dict(link.stats.as_dict())
+                began = time.monotonic()
+                end = machine.run_job(plan).wait()
+                seconds = time.monotonic() - began
+                after = link.stats.as_dict()
+                machine.close()
+        segments = list(plan.segments.segments())
+        lines = [s for s in segments if isinstance(s, RasterLine)]
+        burn_ticks = sum(s.n for s in lines)
+        steps = predict(segments, list(plan.start), axis_count=3).steps
+        exact = np.array_equal(
+            np.loadtxt(trace, delimiter=",", skiprows=1, dtype=np.int64, ndmin=2), steps
+        )
+    frames = after["frames_sent"] - before["frames_sent"]
+    resent = after["retransmits"] - before["retransmits"]
+    sent = after["bytes_sent"] - before["bytes_sent"]
+    raster_bytes = sum(len(s.raster.power) + 14 for s in lines)  # payload, header, framing
+    print(
+        f"  {pixel_mm:g} mm pixels at {feed:g} mm/s: {feed / pixel_mm:,.0f} pixels/s while burning "
+        f"({pixels} pixels, {len(lines)} RASTER lines, {burn_ticks / CONFIG.tick_hz:.2f} s burning of "
+        f"{seconds:.2f} s); ended {end.ended_by if end else None}; steps as predicted: {exact}"
+    )
+    print(
+        f"    wire: {sent / pixels:.2f} B/pixel in all ({raster_bytes / pixels:.2f} in RASTER frames), "
+        f"{frames} frames, {resent} retransmits ({100 * resent / max(1, frames):.2f} %)"
+    )
+
+
+def mega(v: int, steps_per_pixel: int, lines: int = 300, pixels: int = 32) -> None:
+    """The real Mega build in simavr (25 kHz), fed RASTER lines as fast as flow control allows: lines of
+    `pixels` (32: a queue of 32 lines fits its ring of 1,024 powers, as the host paces them)."""
+    sys.path.insert(0, str(REPO / "tests" / "simavr"))
+    import subprocess
+
+    from avr_sim import Outputs, build, harness
+    from quadstep.protocol import AxisMove, Output, Segment, encode
+    from quadstep.protocol import Outputs as OutputsMessage
+    from quadstep.protocol.raster import Raster
+
+    build()
+    rng = random.Random(1)
+    n = -(-pixels * steps_per_pixel * 4096 // v)
+    ramp = 400
+    up = Segment(n=ramp, axes=(AxisMove(axis=0, direction=1, v0=0, vn=v, r=0),))
+    down = Segment(n=ramp, axes=(AxisMove(axis=0, direction=1, v0=v, vn=0, r=0),))
+    pitch = steps_per_pixel * 256
+    messages = [OutputsMessage(outputs=Output.ON, power=0), up]
+    messages += [
+        Raster(
+            n=n,
+            axes=1,
+            pixel=0,
+            phase=pitch,
+            pitch=pitch,
+            power=tuple(rng.randrange(256) for _ in range(pixels)),
+        )
+        for _ in range(lines)
+    ]
+    messages += [down, OutputsMessage(outputs=0, power=0)]
+    with tempfile.TemporaryDirectory() as tmp:
+        outputs = Outputs.in_dir(Path(tmp))
+        feed = Path(tmp) / "frames.feed"
+        feed.write_bytes(b"".join(encode(m, i % 256) for i, m in enumerate(messages)))
+        subprocess.run(
+            [
+                *harness("mega"),
+                "--feed",
+                str(feed),
+                "--max-cycles",
+                str(60 * 16_000_000),
+                *outputs.args(),
+            ],
+            capture_output=True,
+            timeout=600,
+            check=True,
+        )
+        stats = outputs.load_stats()
+    rate = 25000 * v / 4096 / steps_per_pixel
+    f, m = stats["feed"], stats["motion"]
+    print(
+        f"  {rate:,.0f} pixels/s ({lines * pixels} pixels, {steps_per_pixel} step(s) a pixel): "
+        f"{f['accepted']}/{f['frames']} frames taken, {f['gap']} gaps, {f['queue_full']} queue full, "
+        f"{f['holds']} holds (an underrun), ticks missed {m['ticks_missed']}, ended in state {m['state']}"
+    )
+
+
+def main() -> None:
+    print("== RASTER on the real-time emulator (3 axes, 32 kHz, queue 14), laser-uno.toml")
+    run(0.1, 100.0, 8, 400)
+    run(0.05, 200.0, 8, 800)
+    run(0.025, 200.0, 8, 1600)
+    run(0.0125, 200.0, 4, 3200)
+    print("  the Uno's UART at 500 kbaud carries 50,000 B/s: at 1.7 B/pixel about 29,000 pixels/s")
+    print("== RASTER on the real Mega build in simavr (25 kHz; the Uno's build has no RASTER)")
+    mega(2048, 1)
+    mega(4096, 1)
+
+
+if __name__ == "__main__":
+    main()

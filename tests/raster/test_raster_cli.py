@@ -1,0 +1,73 @@
+"""`quadstep raster IMAGE`: an image becomes G-code rows that `quadstep run` finds again as
+rasters, every pixel's power where the image has it."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+from PIL import Image
+
+from quadstep.cli import main
+from quadstep.config import load_config
+from quadstep.job import load_job
+from quadstep.planner.raster_gcode import find_runs, plan_with_rasters
+from quadstep.protocol.raster import RasterLine
+
+REPO = Path(__file__).resolve().parents[2]
+CONFIG = load_config(REPO / "examples" / "laser-uno.toml")
+
+
+def gradient(path: Path, width: int, height: int) -> list[list[int]]:
+    levels = [[(17 * x + 40 * y) % 256 for x in range(width)] for y in range(height)]
+    image = Image.new("L", (width, height))
+    image.putdata([v for row in levels for v in row])
+    image.save(path)
+    return levels
+
+
+def test_an_image_becomes_rows_the_planner_finds_again(tmp_path: Path) -> None:
+    levels = gradient(tmp_path / "in.png", 40, 5)
+    job_file = tmp_path / "out.nc"
+    assert (
+        main(
+            [
+                "raster",
+                str(tmp_path / "in.png"),
+                "-o",
+                str(job_file),
+                "--origin",
+                "10",
+                "20",
+                "--feed",
+                "6000",
+            ]
+        )
+        == 0
+    )
+    job = load_job(job_file, CONFIG, (0, 0, 0))
+    runs = find_runs(job.program, CONFIG, (0.0, 0.0, 0.0))
+    assert len(runs) == 5
+    for number, run in enumerate(runs):
+        row = levels[len(levels) - 1 - number]  # the bottom row first
+        lit = [k for k, v in enumerate(row) if v < 255]
+        expected = [
+            round(CONFIG.spindle.power(round(1000 * (255 - v) / 255, 1)) / 257) for v in row
+        ]
+        widths = [round(abs(b - a) / 0.1) for a, b in zip(run.row.edges_mm, run.row.edges_mm[1:])]
+        powers = [p for p, w in zip(run.row.powers, widths) for _ in range(w)]
+        if number % 2:
+            powers.reverse()
+        assert powers == expected[lit[0] : lit[-1] + 1]
+        assert run.row.at_mm[1] == pytest.approx(20 + 0.1 * number)
+    plan = plan_with_rasters(job.program, CONFIG, (0, 0, 0))
+    assert plan is not None
+    assert sum(isinstance(s, RasterLine) for s in plan.segments.segments()) >= 5
+
+
+def test_a_file_that_is_not_an_image_is_one_clear_error(tmp_path: Path, capsys) -> None:
+    bad = tmp_path / "not.png"
+    bad.write_text("hello")
+    assert main(["raster", str(bad)]) != 0
+    err = capsys.readouterr().err
+    assert "not.png" in err and "image" in err
