@@ -35,6 +35,8 @@ def _summaries(parser: argparse.ArgumentParser) -> dict[str, str]:
 
 def _usage(action: argparse.Action) -> str:
     if not action.option_strings:
+        if action.metavar is None and action.choices is not None:
+            return "{" + ",".join(str(c) for c in action.choices) + "}"
         return str(action.metavar) if action.metavar is not None else action.dest.upper()
     names = ", ".join(action.option_strings)
     if action.nargs == 0:

@@ -18,7 +18,12 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     parser = subparsers.add_parser(
         "touch-off", help="probe Z on a plate, an edge, a corner, a bore or a boss: set work zero"
     )
-    parser.add_argument("kind", choices=KINDS)
+    parser.add_argument(
+        "kind",
+        choices=KINDS,
+        help="what to find: z (the surface under a plate), an edge, a corner, a bore's or a boss's "
+        "centre",
+    )
     parser.add_argument(
         "where",
         nargs="?",
@@ -26,7 +31,12 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         help="edge: the axis and the way toward the face (X+, Y-); corner: both (X+Y-); "
         "boss: its size across in mm",
     )
-    parser.add_argument("--plate", type=float, help="mm, the plate's thickness ([touch_off])")
+    parser.add_argument(
+        "--plate",
+        type=float,
+        metavar="MM",
+        help="the plate's thickness in mm (default: [touch_off] in the configuration)",
+    )
     parser.add_argument("--config", type=Path, metavar="FILE", help="machine configuration")
     add_connection_options(parser)
     parser.set_defaults(handler=run)
