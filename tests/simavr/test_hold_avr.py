@@ -40,7 +40,8 @@ def test_the_board_holds_exactly_as_predicted(avr_build: None, tmp_path: Path, b
                if hasattr(item, "message")]
     answers = [r for r in replies if isinstance(r, StatusReport)]
     events = [r for r in replies if isinstance(r, Event)]
-    assert len(answers) == 1 and answers[0].state == State.HOLDING and answers[0].queue_fill == 1
+    # HOLDING from the HOLD on: the motion runs on through the hold's window, the queue goes at its end
+    assert len(answers) == 1 and answers[0].state == State.HOLDING and answers[0].queue_fill >= 1
     assert len(events) == 1, replies[-3:]
     done = events[0]
     pred = predict_hold(segments, done.hold_tick, decels + [1] * (4 - axes), axis_count=axes)
