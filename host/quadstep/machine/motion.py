@@ -34,6 +34,7 @@ from ..protocol import (
 from ..protocol.frames import next_frame, run_limit
 from ..protocol.messages import queue_slots
 from ..protocol.segment_run import RunChain
+from .frame_choice import frame_choice
 
 # Keep at least this many segments queued, whatever the lookahead, so the board
 # always has the next one when a segment ends.
@@ -291,7 +292,7 @@ class Motion:
         assert identity is not None
         size = RunSize(board_run_limit(identity), self.link, identity.tick_hz)
         chain = RunChain(self.segments.axis_count)
-        cubic_runs = bool(identity.capabilities & Capability.CUBIC_RUNS)
+        choice = frame_choice(identity)  # the frame kinds this board takes fastest
         outputs = iter(self.outputs)
         output = next(outputs, None)
         index = self.first
@@ -311,7 +312,9 @@ class Motion:
             if output is not None and output[0] > index:
                 end = min(end, output[0])  # an output goes out before its segment, between frames
             before = chain.copy()
-            message = next_frame(self.segments, index, end, chain, batch, cubic_runs)
+            message = next_frame(
+                self.segments, index, end, chain, batch, choice.cubic_runs, choice.quadratic_runs
+            )
             count = queue_slots(message)
             self._wait_for_room(k, k + count - 1, ticks, identity.queue_capacity)
             # Checked and sent under the lock: once halt() has set _halting nothing more is
