@@ -60,14 +60,18 @@
  * ticks to compare B (the resting tick, below). Its flag is stale (set at
  * every match while A ran): cleared first. Not if the next match has come
  * already (this tick ran long, as one that takes an input's latch can): A's
- * flag holds it, and A serves it. The rest ends in the resting tick (a byte
- * received, an input changed) or by step_timer_wake. */
+ * flag holds it, and A serves it; A's flag is looked at again after B's is
+ * cleared, as a match between the two would leave only A's up. The rest
+ * ends in the resting tick (a byte received, an input changed) or by
+ * step_timer_wake. */
 #define QS_ENGINE_RESTING()                                                                                   \
     do {                                                                                                      \
         if (!uart_tx_pending && !(PCIFR & QS_INPUT_FLAGS) && !(TIFR1 & _BV(OCF1A))) {                         \
             TIFR1 = _BV(OCF1B);                                                                               \
-            TIMSK1 = _BV(OCIE1B);                                                                             \
-            step_timer_woke = 1; /* the main loop looks once more */                                          \
+            if (!(TIFR1 & _BV(OCF1A))) {                                                                      \
+                TIMSK1 = _BV(OCIE1B);                                                                         \
+                step_timer_woke = 1; /* the main loop looks once more */                                      \
+            }                                                                                                 \
         }                                                                                                     \
     } while (0)
 

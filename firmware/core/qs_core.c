@@ -183,7 +183,7 @@ static uint8_t may_queue(qs_core *c, const qs_host_msg *m)
         reject(c, m, &f);
         return 0;
     }
-    if (c->engine.state == QS_STATE_HOLDING || c->engine.state == QS_STATE_STARVED) {
+    if (c->engine.state == QS_STATE_HOLDING || c->engine.state == QS_STATE_STARVED || c->engine.trigger_window) {
         /* The host learns of the hold's end from HOLD_DONE: a segment sent
          * before that was planned for motion the hold discarded, and must
          * not start from rest. After an underrun's stop (STARVED) a HOLD

@@ -350,7 +350,8 @@ void qs_engine_read(qs_engine *e, qs_engine_view *v)
     uint8_t axis;
     qs_progress p;
 
-    v->state = e->state;
+    /* A hold's window is open: the hold is under way, its deceleration due. */
+    v->state = e->state == QS_STATE_RUNNING && e->trigger_window ? QS_STATE_HOLDING : e->state;
     v->alarm = e->alarm;
     take_progress(e, &p);
     qs_port_unlock(saved);
@@ -398,107 +399,40 @@ static uint8_t begin_slot(qs_engine *e, qs_segment *s)
     return 0;
 }
 
-/* The plan a hold would need if it began now (0: none), so that it is
- * usually made before the lock that begins it. */
-static uint16_t likely_held_n(qs_engine *e)
-{
-    uint8_t saved = qs_port_lock();
-    uint16_t n = 0;
+static QS_ALWAYS_INLINE uint8_t open_hold_window(qs_engine *e);
 
-    if (e->state == QS_STATE_RUNNING) {
-        const qs_segment *s = hold_slot(e);
-        if (s)
-            n = hold_key(s);
-    }
-    qs_port_unlock(saved);
-    return n;
-}
-
+/* A hold begins through the window a trigger's hold takes (qs_engine.h):
+ * the motion runs on for QS_TRIGGER_TICKS decisions while the tick plans
+ * it, then the tick begins it, so that no tick runs twice its length.
+ * The lock here only copies the decelerations and opens the window. */
 QS_NOINLINE uint8_t qs_engine_hold(qs_engine *e, const uint16_t *decel)
 {
-    qs_queue *q = &e->queue;
-    uint16_t guess = likely_held_n(e);
-    qs_segment *s;
-    uint16_t t0;
-    uint8_t saved, moving, tail, at_end;
+    uint8_t saved = lock_retired(e);
+    uint8_t outcome = QS_HOLD_STARTED, axis;
 
-    /* First, so that no trigger begins or plans a hold from the tick while
-     * this one is planned (both plan into e->hold). */
-    saved = qs_port_lock();
-    e->trigger = 0;
-    close_trigger_window(e);
-    qs_port_unlock(saved);
-    e->hold.planned_n = 0;
-    for (;;) {
-        if (guess && e->hold.planned_n != guess)
-            qs_hold_plan(&e->hold, guess, decel);
-        saved = lock_retired(e);
-        if (e->state != QS_STATE_RUNNING) {
-            /* A hold running, or just ended and not yet reported, answers
-             * for this one too. */
-            uint8_t outcome = e->state == QS_STATE_ALARM                     ? QS_HOLD_IN_ALARM
-                              : e->state == QS_STATE_HOLDING || e->hold_report ? QS_HOLD_UNDER_WAY
-                                                                                : QS_HOLD_AT_REST;
-            if (outcome == QS_HOLD_AT_REST) {
-                /* Nothing ran since the last hold ended: repeat its report,
-                 * so that a host that lost HOLD_DONE can simply ask again. */
-                if (e->completed_ticks != e->hold_end_tick)
-                    e->hold_tick = e->completed_ticks;
-                note_hold_done(e);
-            }
-            qs_port_unlock(saved);
-            return outcome;
+    e->trigger = 0; /* HOLD disarms */
+    if (e->trigger_window) {
+        outcome = QS_HOLD_UNDER_WAY; /* a hold's window is open: that hold answers for this one */
+    } else if (e->state == QS_STATE_RUNNING) {
+        for (axis = 0; axis < QS_AXIS_COUNT; axis++)
+            e->trigger_decel[axis] = decel[axis];
+        open_hold_window(e);
+    } else {
+        /* A hold running, or just ended and not yet reported, answers
+         * for this one too. */
+        outcome = e->state == QS_STATE_ALARM                               ? QS_HOLD_IN_ALARM
+                  : e->state == QS_STATE_HOLDING || e->hold_report ? QS_HOLD_UNDER_WAY
+                                                                    : QS_HOLD_AT_REST;
+        if (outcome == QS_HOLD_AT_REST) {
+            /* Nothing ran since the last hold ended: repeat its report,
+             * so that a host that lost HOLD_DONE can simply ask again. */
+            if (e->completed_ticks != e->hold_end_tick)
+                e->hold_tick = e->completed_ticks;
+            note_hold_done(e);
         }
-        s = hold_slot(e);
-        if (!s) {
-            /* Not reached: RUNNING with nothing left would be IDLE. */
-            qs_port_unlock(saved);
-            return QS_HOLD_AT_REST;
-        }
-        if (e->hold.planned_n == hold_key(s))
-            break;
-        /* The segment ended meanwhile: plan for the one now running, out of
-         * the lock, and look again. */
-        guess = hold_key(s);
-        qs_port_unlock(saved);
     }
-    at_end = begin_slot(e, s);
-    moving = qs_hold_begin(&e->hold, s, at_end);
-    e->holds_begun++;
-    t0 = (uint16_t)(s->n - e->left); /* at the end: left is 0, t0 = n */
-    if (at_end)
-        e->left = 1; /* nonzero while a slot is held: the hold releases it */
-    if (!moving) {
-        const uint8_t halted = q->tail;
-        qs_progress p;
-        e->held = s;
-        e->held_t0 = t0;
-        take_progress(e, &p);
-        e->held = 0;
-        flush(e);
-        e->state = QS_STATE_IDLE;
-        qs_port_unlock(saved);
-        e->hold_tick = e->completed_ticks + p.t;
-        resolve_latches(e, halted);
-        add_progress(&p, e->base, &e->completed_ticks);
-        note_hold_done(e);
-        qs_cubic_reset(&e->chain);
-        return QS_HOLD_AT_REST;
-    }
-    tail = q->tail; /* the held slot's: the tick releases it when the hold ends */
-    e->state = QS_STATE_HOLDING;
-    e->hold.moving = moving; /* the next tick decelerates */
-    e->slow_path = 1;
-    e->held = s; /* an input's latch in the tick reads the hold's progress */
-    e->held_t0 = t0;
     qs_port_unlock(saved);
-    /* What only the main loop reads, after the lock: it delays a tick that
-     * falls due meanwhile, so it holds the least. The tick no longer
-     * begins segments (HOLDING), so the queued ones can go now. */
-    q->head = qs_queue_next(q, tail);
-    e->hold_tick = e->completed_ticks + e->held_t0;
-    qs_cubic_reset(&e->chain); /* the chain the queue was planned on is gone */
-    return QS_HOLD_STARTED;
+    return outcome;
 }
 
 int32_t qs_engine_speed_2n_locked(const qs_engine *e, uint8_t axis)
@@ -553,8 +487,10 @@ void qs_engine_finish_freeze_slow(qs_engine *e)
         qs_engine_halt(e, QS_STATE_ALARM, e->alarm);
         return;
     }
-    /* A trigger found every axis at rest: a hold at rest, at that tick. */
-    qs_engine_halt(e, QS_STATE_IDLE, QS_ALARM_NONE);
+    /* A hold's window found every axis at rest: a hold at rest, at that
+     * tick, ending as that hold would (a silent host's in its alarm). */
+    const uint8_t alarm = e->hold_alarm;
+    qs_engine_halt(e, alarm ? QS_STATE_ALARM : QS_STATE_IDLE, alarm);
     e->hold_tick = e->completed_ticks;
     note_hold_done(e);
 }
@@ -601,7 +537,7 @@ static void begin_trigger_hold(qs_engine *e)
  * the window's count of decisions on, or let it run to its end if that comes first
  * (or one decision after: a cut never leaves a single tick, whose count
  * would not move across the cut's tick). */
-static void cut_for_trigger(qs_engine *e)
+static QS_ALWAYS_INLINE void cut_for_trigger(qs_engine *e)
 {
     const uint8_t k = e->trigger_window & QS_TRIGGER_WAIT;
     const uint8_t work = e->trigger_window & (uint8_t)~QS_TRIGGER_WAIT;
@@ -616,6 +552,23 @@ static void cut_for_trigger(qs_engine *e)
     }
 }
 
+/* While RUNNING, with the tick locked out or in it: the window of a hold
+ * at trigger_decel. */
+static QS_ALWAYS_INLINE uint8_t open_hold_window(qs_engine *e)
+{
+    if (e->left == 0 && e->kept) {
+        /* At a kept slot's end the next tick begins the hold there (an
+         * underrun's path), with the window open: as a trigger's hold. */
+        e->trigger_window = QS_TRIGGER_PLAN;
+        return 1;
+    }
+    e->hold.planned_n = 0;
+    e->trigger_window = QS_TRIGGER_PLAN | QS_TRIGGER_PLAN_AT;
+    if (e->left)
+        cut_for_trigger(e); /* else the next segment, begun by the next tick, is cut as it begins */
+    return 1;
+}
+
 uint8_t qs_engine_trigger_in_tick(qs_engine *e)
 {
     e->trigger = 0;
@@ -626,11 +579,23 @@ uint8_t qs_engine_trigger_in_tick(qs_engine *e)
         begin_trigger_hold(e); /* at a kept slot's end: nothing to spread it over */
         return 1;
     }
-    e->hold.planned_n = 0;
-    e->trigger_window = QS_TRIGGER_PLAN | QS_TRIGGER_PLAN_AT;
-    if (e->left)
-        cut_for_trigger(e); /* else the next segment, begun by this tick, is cut as it begins */
-    return 1;
+    return open_hold_window(e);
+}
+
+/* A segment has just begun in the window. The tick that loads it (and
+ * would make a hold's first decision) takes no other work: what is due
+ * waits for its second decision. A plan made for the segment before is
+ * made again, for this one, before its hold begins. */
+static void defer_past_begin(qs_engine *e)
+{
+    uint8_t wait = e->trigger_window & QS_TRIGGER_WAIT;
+    uint8_t work = e->trigger_window & (uint8_t)~QS_TRIGGER_WAIT;
+
+    if (work == QS_TRIGGER_BEGIN && e->hold.planned_n != hold_key(e->seg))
+        work = QS_TRIGGER_PLAN;
+    if (wait < 2)
+        wait = 2;
+    e->trigger_window = (uint8_t)(work | wait);
 }
 
 void qs_engine_trigger_split_in_tick(qs_engine *e)
@@ -651,6 +616,8 @@ void qs_engine_trigger_split_in_tick(qs_engine *e)
     }
     /* A segment runs on past a cut, or has just begun: the work due now,
      * then the next cut. */
+    if (e->left == e->seg->n && e->left > 3)
+        defer_past_begin(e);
     if (!(e->trigger_window & QS_TRIGGER_WAIT)) {
         if (e->trigger_window == QS_TRIGGER_BEGIN) {
             begin_trigger_hold(e);

@@ -24,6 +24,7 @@ from pathlib import Path
 REPO = Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(REPO / "tests" / "simavr"))
 
+import avr_figures  # noqa: E402
 import avr_scenarios  # noqa: E402
 import avr_sim  # noqa: E402
 from quadstep.protocol import (  # noqa: E402
@@ -36,9 +37,12 @@ WORK = avr_sim.BUILD / "bench-avr"
 TICK_RATES = [20_000, 25_000, 31_250, 32_000, 40_000, 50_000]
 TARGET_SEGMENTS = 1_000
 DEFAULT_BAUD = 500_000
+# Published by the projects themselves, not measured here: each with where it is published.
 PEERS = [
-    ("GRBL 1.1, ATmega328P @ 16 MHz", "about 30 kHz step rate (its stated tested limit), 115200 baud"),
-    ("Klipper, 16 MHz AVR (simulavr)", "157K steps/s one stepper, 99K steps/s total with three, 250000 baud"),
+    ("GRBL 1.1, ATmega328P @ 16 MHz", "about 30 kHz step rate, 115200 baud",
+     "GRBL's README (github.com/gnea/grbl), its stated tested limit"),
+    ("Klipper, 16 MHz AVR (simulavr)", "157K steps/s one stepper, 99K steps/s total with three, 250000 baud",
+     "Klipper's docs/Benchmarks.md, AVR step rate table"),
 ]
 
 
@@ -252,7 +256,9 @@ def main() -> None:
     print("AVR firmware on the ATmega328P (Uno, 3 axes) at 16 MHz, measured in simavr")
     print(f"  defaults: Uno {default.tick_hz} Hz, Mega {avr_sim.avr_define('QS_TICK_HZ', 'mega')} Hz, "
           f"{default.baud} baud")
+    figures: dict = {"tick_hz": default.tick_hz, "baud": default.baud, "boards": {}, "rates": {}}
     for board, (flash, ram) in sizes().items():
+        figures["boards"][board] = {"flash": flash, "ram": ram}
         chip = {"uno": "ATmega328P: 32256 flash / 2048 RAM", "mega": "ATmega2560: 253952 flash / 8192 RAM"}[board]
         print(f"  {board:5} flash {flash:6} bytes, static RAM {ram:5} bytes   ({chip})")
 
@@ -262,6 +268,8 @@ def main() -> None:
     print(f"  {'ticks':>16} {'count':>7} {'min':>5} {'mean':>7} {'max':>5}   share of a tick (mean)")
     bins = [("idle", stats["tick_isr"]["idle"])] + [(f"{k} axes stepping", stats["tick_isr"][f"steps{k}"])
                                                     for k in range(4)]
+    figures["isr"] = {name: {"min": b["min"], "mean": round(b["mean"], 1), "max": b["max"]}
+                      for name, b in bins if b["count"]}
     for name, b in bins:
         if b["count"]:
             print(f"  {name:>16} {b['count']:7} {b['min']:5} {b['mean']:7.1f} {b['max']:5}   "
@@ -276,6 +284,8 @@ def main() -> None:
     out = avr_sim.Outputs.in_dir(default.build, "stress")
     st = avr_sim.run_input(avr_scenarios.every_message_kind(3), out, default.build / "stress-replies.bin",
                            elf=default.elf)
+    figures["stack"] = {"max_bytes": st["stack"]["max_bytes"],
+                        "spare": st["stack"]["deepest"] - st["stack"]["static_end"]}
     print(f"  stack high-water mark under every message kind while moving: {st['stack']['max_bytes']} bytes; "
           f"{st['stack']['deepest'] - st['stack']['static_end']} bytes free above static data")
     st = status_while_moving(default)
@@ -307,6 +317,10 @@ def main() -> None:
         rate, st = max_segment_rate(v, seconds)
         isr = st["tick_isr"]["steps3"]
         lock, first, lost = hold_begin(v)
+        figures["rates"][str(tick)] = {
+            "baud": v.baud, "segments_per_s": round(rate), "isr_3_axes_mean": round(isr["mean"]),
+            "main_loop_per_segment": round(main_loop_cycles(st)),
+            "hold": {"lock": lock, "first_tick": first, "periods_lost_in_16": lost}}
         print(f"  {tick:>7} Hz {v.baud:>8} {3 * tick:>14,} {rate:>11,.0f}   "
               f"{isr['mean']:.0f} of {st['tick_cycles']} cycles (max {isr['max']})   "
               f"{main_loop_cycles(st):>9,.0f} cycles       {lock}, {first} cycles, {lost} lost")
@@ -336,8 +350,11 @@ def main() -> None:
           f"(a window of 3-axis frames): {(f['accepted'] - 1) / span:,.0f} ({f['errors']} errors)")
 
     print("\npeers on the same chip (published figures, not measured here):")
-    for name, figure in PEERS:
-        print(f"  {name}: {figure}")
+    for name, figure, source in PEERS:
+        print(f"  {name}: {figure} (source: {source})")
+    figures["idle_segments_per_s"] = round((f["accepted"] - 1) / span)
+    avr_figures.record("avr" if not args.quick else "avr_quick", figures)
+    print(f"\nfigures written to {avr_figures.FIGURES.relative_to(REPO)}")
 
 
 if __name__ == "__main__":

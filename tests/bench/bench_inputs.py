@@ -94,8 +94,10 @@ def trigger_cost() -> None:
     with tempfile.TemporaryDirectory() as tmp:
         path = Path(tmp) / "m.toml"
         path.write_text(machine)
-        print("on the Uno binary in simavr (32 kHz: 500 cycles a tick), a homing seek at 40 mm/s:")
-        for delay in (0, 100, 250, 400, 499):
+        tick_hz = avr_sim.avr_define("QS_TICK_HZ")
+        period = avr_sim.F_CPU // tick_hz
+        print(f"on the Uno binary in simavr ({tick_hz} Hz: {period} cycles a tick), a homing seek at 40 mm/s:")
+        for delay in (0, period // 5, period // 2, 4 * period // 5, period - 1):
             out = avr_sim.Outputs.in_dir(Path(tmp), f"d{delay}")
             with avr_sim.SimAvr(out, board="uno", extra_args=["--machine", str(path), "--input-delay", str(delay)]) as sim:
                 with Link.open(sim.url) as link:

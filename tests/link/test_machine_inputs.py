@@ -193,9 +193,9 @@ ticks = 320000
     assert [c.cause for c in changes] == [InputCause.CYCLE_START, InputCause.REPORT, InputCause.FEED_HOLD,
                                           InputCause.REPORT]
     assert changes[2].motion_ticks == 6000 and changes[0].motion_ticks == 2000
-    # The feed hold is the main loop's HOLD: it begins at the tick boundary after the one it was latched at
-    # (on a board, as soon as the main loop gets to it).
-    assert done is not None and done.hold_tick == 6001 and done.position == held.position
+    # The feed hold is the main loop's HOLD, taken at the tick boundary after the one it was latched at (on
+    # a board, as soon as the main loop gets to it); it begins after its window of 12 decisions.
+    assert done is not None and done.hold_tick == 6001 + 12 and done.position == held.position
     assert held.state.name == "IDLE" and 0 < held.position[0] < 4000
 
 

@@ -36,6 +36,7 @@ from ..protocol.frames import next_frame, run_limit
 from ..protocol.messages import queue_slots
 from ..protocol.raster import ring_fits
 from ..protocol.segment_run import RunChain
+from .frame_choice import frame_choice
 
 # Keep at least this many segments queued, whatever the lookahead, so the board
 # always has the next one when a segment ends.
@@ -310,7 +311,7 @@ class Motion:
         assert identity is not None
         size = RunSize(board_run_limit(identity), self.link, identity.tick_hz)
         chain = RunChain(self.segments.axis_count)
-        cubic_runs = bool(identity.capabilities & Capability.CUBIC_RUNS)
+        choice = frame_choice(identity)  # the frame kinds this board takes fastest
         outputs = iter(self.outputs)
         output = next(outputs, None)
         index = self.first
@@ -334,7 +335,9 @@ class Motion:
                 end = min(end, output[0])  # an output goes out before its segment, between frames
             end = min(end, limit)
             before = chain.copy()
-            message = next_frame(self.segments, index, end, chain, batch, cubic_runs)
+            message = next_frame(
+                self.segments, index, end, chain, batch, choice.cubic_runs, choice.quadratic_runs
+            )
             count = queue_slots(message)
             self._wait_for_room(k, k + count - 1, ticks, identity.queue_capacity)
             # Checked and sent under the lock: once halt() has set _halting nothing more is

@@ -32,10 +32,12 @@ def next_frame(
     chain: RunChain,
     limit: int,
     cubic_runs: bool = True,
+    quadratic_runs: bool = True,
 ) -> Segment | CubicSegment | Segments | CubicSegments | Raster:
     """The frame that sends segment `index` and what follows it before `end`: segments of its kind
     chained into SEGMENTS or CUBIC_SEGMENTS (at most `limit`; 0 where the firmware has no SEGMENTS,
-    and cubic ones only with `cubic_runs`) once the chain is known, else segment `index` alone, as
+    cubic ones only with `cubic_runs`, quadratic ones only with `quadratic_runs`) once the chain is
+    known, else segment `index` alone, as
     its own message (with a limit of 1 too: after a lost frame the board keeps later single-segment
     frames, never a run); `chain` moves on past what the frame sends."""
     first = source.segment(index)
@@ -52,7 +54,7 @@ def next_frame(
         chain.forget()
         return cubic
     run = _run(first, source, index, end, limit)
-    packed = pack(run, chain, limit) if limit > 1 else None
+    packed = pack(run, chain, limit) if limit > 1 and quadratic_runs else None
     if packed is None:
         chain.follow(first)
         return first

@@ -386,6 +386,15 @@ static void test_a_hold_from_a_cubic_state_follows_its_closed_form(void)
             d += m.r[0];
         }
         TEST_ASSERT_EQUAL_INT(QS_HOLD_STARTED, qs_engine_hold(&engine, decels));
+        /* The motion runs on through the hold's window, then the hold begins. */
+        for (t = 0; t < QS_TRIGGER_TICKS; t++) {
+            uint8_t s = qs_engine_tick(&engine) & 1;
+            before += s;
+            e += i - (s ? SIGMA : 0);
+            i += d;
+            d += m.r[0];
+        }
+        TEST_ASSERT_EQUAL_INT(0, engine.trigger_window);
         e_h = tp_floor_div(e, 512);
         i1 = i / 512;
         dd = -(decel >> 2);

@@ -575,7 +575,7 @@ static void test_a_silent_host_stops_the_motion_under_control(void)
     TEST_ASSERT_EQUAL_INT(2, sent());
     TEST_ASSERT_EQUAL_HEX8(QS_TYPE_EVENT, reports[0].type);
     TEST_ASSERT_EQUAL_INT(QS_EVENT_HOLD_DONE, reports[0].payload[0]);
-    TEST_ASSERT_EQUAL_UINT32(200, tp_u32(reports[0].payload + 1));
+    TEST_ASSERT_EQUAL_UINT32(200 + QS_TRIGGER_TICKS, tp_u32(reports[0].payload + 1)); /* after its window */
     TEST_ASSERT_EQUAL_HEX8(QS_TYPE_ALARM, reports[1].type);
     TEST_ASSERT_EQUAL_INT(QS_ALARM_HOST_LOST, reports[1].payload[0]);
     TEST_ASSERT_EQUAL_INT32(status().position[0], (int32_t)tp_u32(reports[1].payload + 5));

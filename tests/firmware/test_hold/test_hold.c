@@ -89,6 +89,25 @@ static void enqueue(const qs_segment_msg *m)
     qs_engine_wake(&engine);
 }
 
+/* HOLD, then the ticks of its window (qs_engine.h): the motion runs on for
+ * QS_TRIGGER_TICKS decisions (more where a segment begins in it), then the
+ * hold begins. Adds the window's ticks to *t. A window that finds every axis
+ * at rest ends as a hold found at rest (QS_HOLD_AT_REST). */
+static uint8_t hold_through_window(const uint16_t *decel, uint16_t *t)
+{
+    uint8_t outcome = qs_engine_hold(&engine, decel);
+
+    while (engine.trigger_window) {
+        qs_engine_tick(&engine);
+        (*t)++;
+    }
+    if (engine.frozen) {
+        qs_engine_finish_freeze(&engine);
+        outcome = QS_HOLD_AT_REST;
+    }
+    return outcome;
+}
+
 static uint16_t rnd_speed(void)
 {
     static const uint16_t extremes[] = {0, 1, 4095, 4096};
@@ -217,8 +236,11 @@ static void test_random_holds_follow_their_closed_form(void)
     for (i = 0; i < 600; i++) {
         qs_segment_msg m, behind;
         uint16_t decel[QS_AXIS_COUNT];
-        uint16_t n = (uint16_t)(i % 5 == 0 ? 1 + tp_rand(8) : 1 + tp_rand(QS_N_MAX));
-        uint16_t t0 = (uint16_t)(i % 7 == 0 ? 0u : i % 7 == 1 ? n - 1u : tp_rand(n));
+        /* The window puts the hold tick 12 decisions after the HOLD, at
+         * most two before the segment's end (a cut never leaves one tick). */
+        uint16_t n = (uint16_t)(i % 5 == 0 ? 14 + tp_rand(8) : 14 + tp_rand(QS_N_MAX - 13));
+        uint16_t t0 = (uint16_t)(i % 7 == 0 ? 12u : i % 7 == 1 ? n - 2u : 12 + tp_rand(n - 13));
+        uint16_t t = (uint16_t)(t0 - QS_TRIGGER_TICKS);
         int32_t made[QS_AXIS_COUNT];
         qs_engine_view v;
         int64_t ticks;
@@ -234,13 +256,14 @@ static void test_random_holds_follow_their_closed_form(void)
             decel[tp_rand(QS_AXIS_COUNT)] = rnd_decel();
         enqueue(&m);
         enqueue(&behind);
-        for (ticks = 0; ticks < t0; ticks++)
+        for (ticks = 0; ticks < t; ticks++)
             qs_engine_tick(&engine);
-        outcome = qs_engine_hold(&engine, decel);
+        outcome = hold_through_window(decel, &t);
+        TEST_ASSERT_EQUAL_UINT16(t0, t);
         qs_engine_read(&engine, &v);
         TEST_ASSERT_EQUAL_UINT32(t0, v.motion_ticks);
-        TEST_ASSERT_EQUAL_INT_MESSAGE(outcome == QS_HOLD_STARTED ? 1 : 0, v.queue_fill,
-                                      "the queued segment was not discarded");
+        /* The segment behind stays queued until the hold ends, and never runs. */
+        TEST_ASSERT_EQUAL_INT(outcome == QS_HOLD_STARTED ? 2 : 0, v.queue_fill);
         if (outcome == QS_HOLD_AT_REST) {
             ticks = 0;
             for (axis = 0; axis < QS_AXIS_COUNT; axis++) {
@@ -291,7 +314,7 @@ static void test_positions_are_exact_at_every_tick_of_a_hold(void)
         ticks++;
     }
     TEST_ASSERT_EQUAL_INT(QS_HOLD_STARTED, qs_engine_hold(&engine, decel));
-    while (engine.state == QS_STATE_HOLDING) {
+    while (engine.state == QS_STATE_HOLDING || engine.trigger_window) {
         qs_engine_read(&engine, &v);
         TEST_ASSERT_EQUAL_INT32(counted, v.position[0]);
         TEST_ASSERT_EQUAL_UINT32(ticks, v.motion_ticks);
@@ -326,7 +349,7 @@ static int64_t largest_hold_value(const qs_segment_msg *m, uint16_t t0, uint16_t
     enqueue(m);
     for (t = 0; t < t0; t++)
         qs_engine_tick(&engine);
-    if (qs_engine_hold(&engine, decels) != QS_HOLD_STARTED)
+    if (hold_through_window(decels, &t) != QS_HOLD_STARTED || !engine.hold.moving)
         return 0;
     limit = engine.hold.two_c2 - engine.hold.db[0];
     for (;;) {
@@ -398,6 +421,7 @@ static void test_stop_detection_at_the_edges(void)
     qs_segment_msg m = {0};
     uint16_t decel[QS_AXIS_COUNT] = {8191, 8191, 8191, 8191};
     qs_engine_view v;
+    uint16_t t = 1;
 
     m.n = 1022;
     m.active = 0x3;
@@ -407,24 +431,25 @@ static void test_stop_detection_at_the_edges(void)
     m.vn[1] = 1;
     enqueue(&m);
     qs_engine_tick(&engine);
-    TEST_ASSERT_EQUAL_INT(QS_HOLD_STARTED, qs_engine_hold(&engine, decel));
+    TEST_ASSERT_EQUAL_INT(QS_HOLD_STARTED, hold_through_window(decel, &t));
     TEST_ASSERT_EQUAL_HEX8(0x2, engine.hold.moving);
     qs_engine_tick(&engine);
     TEST_ASSERT_EQUAL_HEX8(0, engine.hold.moving);
     qs_engine_read(&engine, &v);
     TEST_ASSERT_EQUAL_INT(QS_STATE_IDLE, v.state);
-    TEST_ASSERT_EQUAL_UINT32(2, v.motion_ticks);
+    TEST_ASSERT_EQUAL_UINT32(1 + QS_TRIGGER_TICKS + 1, v.motion_ticks);
     /* Every axis at rest: done at once, no tick. */
     qs_engine_init(&engine, QS_QUEUE_CAPACITY);
     m.active = 0x1;
     enqueue(&m);
     qs_engine_tick(&engine);
-    TEST_ASSERT_EQUAL_INT(QS_HOLD_AT_REST, qs_engine_hold(&engine, decel));
+    t = 1;
+    TEST_ASSERT_EQUAL_INT(QS_HOLD_AT_REST, hold_through_window(decel, &t));
     qs_engine_read(&engine, &v);
     TEST_ASSERT_EQUAL_INT(QS_STATE_IDLE, v.state);
     TEST_ASSERT_EQUAL_INT(0, v.queue_fill);
-    TEST_ASSERT_EQUAL_UINT32(1, v.motion_ticks);
-    TEST_ASSERT_EQUAL_UINT32(1, engine.hold_tick);
+    TEST_ASSERT_EQUAL_UINT32(1 + QS_TRIGGER_TICKS, v.motion_ticks);
+    TEST_ASSERT_EQUAL_UINT32(1 + QS_TRIGGER_TICKS, engine.hold_tick);
     TEST_ASSERT_TRUE(engine.hold_report);
 }
 
@@ -452,13 +477,16 @@ static void test_hold_at_boundaries_and_in_every_state(void)
     for (t = 0; t < 10; t++)
         qs_engine_tick(&engine);
     TEST_ASSERT_EQUAL_INT(0, engine.left); /* a is done, b not begun */
-    TEST_ASSERT_EQUAL_INT(QS_HOLD_STARTED, qs_engine_hold(&engine, decel));
+    /* The window begins b and holds it after its first 12 decisions. */
+    TEST_ASSERT_EQUAL_INT(QS_HOLD_STARTED, hold_through_window(decel, &t));
+    TEST_ASSERT_EQUAL_UINT16(10 + QS_TRIGGER_TICKS, t);
     TEST_ASSERT_EQUAL_INT(QS_HOLD_UNDER_WAY, qs_engine_hold(&engine, decel));
-    TEST_ASSERT_EQUAL_UINT32(10, engine.hold_tick);
-    run_hold_checked(&b, 0, decel, made);
+    run_hold_checked(&b, QS_TRIGGER_TICKS, decel, made);
+    qs_engine_retire(&engine);
+    TEST_ASSERT_EQUAL_UINT32(10 + QS_TRIGGER_TICKS, engine.hold_tick);
     qs_engine_read(&engine, &v);
     TEST_ASSERT_EQUAL_INT32(10 + made[0], v.position[0]);
-    TEST_ASSERT_TRUE(made[0] < 0);
+    TEST_ASSERT_TRUE(made[0] < -QS_TRIGGER_TICKS + 2);
     TEST_ASSERT_EQUAL_UINT32(1, v.segments_done);
 
     qs_engine_init(&engine, QS_QUEUE_CAPACITY);
@@ -466,9 +494,11 @@ static void test_hold_at_boundaries_and_in_every_state(void)
     for (t = 0; t < 10; t++)
         qs_engine_tick(&engine);
     TEST_ASSERT_TRUE(engine.kept);
+    /* From a kept slot's end: the next tick begins the hold there. */
     TEST_ASSERT_EQUAL_INT(QS_HOLD_STARTED, qs_engine_hold(&engine, decel));
+    run_hold_from(&a, 10, decel, made, 1);
+    qs_engine_retire(&engine);
     TEST_ASSERT_EQUAL_UINT32(10, engine.hold_tick);
-    run_hold_checked(&a, 10, decel, made);
     qs_engine_read(&engine, &v);
     TEST_ASSERT_EQUAL_INT(QS_STATE_IDLE, v.state);
     TEST_ASSERT_EQUAL_INT32(made[0], v.position[0]);
@@ -568,8 +598,8 @@ static void test_halt_during_a_hold_keeps_exact_positions(void)
     TEST_ASSERT_EQUAL_INT32(counted, v.position[2]);
     /* Decelerating at one quantum per tick: barely slower after 5000 ticks. */
     {
-        ref_hold r = reference(&m, 2, 100, 1);
-        TEST_ASSERT_EQUAL_INT32(100 + ref_steps(&r, 5000), counted);
+        ref_hold r = reference(&m, 2, 100 + QS_TRIGGER_TICKS, 1); /* begun after its window */
+        TEST_ASSERT_EQUAL_INT32(100 + ref_steps(&r, 5000 - QS_TRIGGER_TICKS) + QS_TRIGGER_TICKS, counted);
         TEST_ASSERT_TRUE(counted > 5090 && counted < 5100);
     }
     TEST_ASSERT_EQUAL_UINT32(5100, v.motion_ticks);

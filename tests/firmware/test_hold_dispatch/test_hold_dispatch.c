@@ -80,7 +80,7 @@ static qs_status status(void)
 static uint32_t run_until_rest(int32_t *moved)
 {
     uint32_t ticks = 0;
-    while (core.engine.state == QS_STATE_HOLDING) {
+    while (core.engine.state == QS_STATE_HOLDING || core.engine.trigger_window) {
         uint8_t bits = qs_engine_tick(&core.engine);
         uint8_t axis;
         for (axis = 0; axis < 4; axis++)
@@ -112,7 +112,8 @@ static void test_hold_while_idle_answers_and_reports_done_at_once(void)
     TEST_ASSERT_EQUAL_INT32(0, ev.position[0]);
 }
 
-/* The full story: running, HOLD, HOLDING with the queued tail discarded and
+/* The full story: running, HOLD, HOLDING (the motion runs on through the
+ * hold's window, the queued tail is discarded when the hold ends) and
  * segments refused, then HOLD_DONE with the steps really made. */
 static void test_hold_while_running_decelerates_and_reports_where_it_rests(void)
 {
@@ -139,7 +140,7 @@ static void test_hold_while_running_decelerates_and_reports_where_it_rests(void)
     p = reports[0].payload;
     TEST_ASSERT_EQUAL_UINT8(99, reports[0].seq);
     TEST_ASSERT_EQUAL_INT(QS_STATE_HOLDING, p[0]);
-    TEST_ASSERT_EQUAL_INT(1, p[2]);  /* the held segment only: the tail is gone */
+    TEST_ASSERT_EQUAL_INT(4, p[2]);  /* the tail goes when the hold ends */
     TEST_ASSERT_EQUAL_INT(99, p[3]);
     TEST_ASSERT_EQUAL_UINT32(1500, tp_u32(p + 8));
     /* A segment while holding: refused, consumed, no alarm. */
@@ -158,7 +159,7 @@ static void test_hold_while_running_decelerates_and_reports_where_it_rests(void)
     ticks += run_until_rest(moved);
     TEST_ASSERT_EQUAL_INT(1, sent());
     ev = event(&reports[0], 4);
-    TEST_ASSERT_EQUAL_UINT32(1500, ev.hold_tick);
+    TEST_ASSERT_EQUAL_UINT32(1500 + QS_TRIGGER_TICKS, ev.hold_tick);
     TEST_ASSERT_EQUAL_UINT32(ticks, ev.motion_ticks);
     TEST_ASSERT_EQUAL_INT32(moved[0], ev.position[0]);
     TEST_ASSERT_EQUAL_INT32(0, ev.position[1]);
@@ -188,7 +189,7 @@ static void test_hold_done_comes_before_any_later_answer(void)
     tp_ticks(&core, 100);
     send_hold(1, 8191, 8191, 8191, 8191);
     sent();
-    while (core.engine.hold.moving)
+    while (core.engine.hold.moving || core.engine.trigger_window)
         tp_ticks(&core, 1);
     tp_send_simple(&core, QS_TYPE_STATUS, 7);
     TEST_ASSERT_EQUAL_INT(2, sent());

@@ -154,6 +154,7 @@ static void test_a_dynamic_power_follows_a_hold_to_rest(void)
     run(500);
     TEST_ASSERT_EQUAL_UINT16(65535, level().duty);
     tp_send(&core, body, sizeof body);
+    run(QS_TRIGGER_TICKS); /* the hold's window: the motion runs on, then decelerates */
     TEST_ASSERT_EQUAL_INT(QS_STATE_HOLDING, core.engine.state);
     previous = level().duty;
     while (core.engine.state == QS_STATE_HOLDING && ticks < 100000) {

@@ -1,0 +1,57 @@
+"""docs/BENCHMARKS.md's AVR rows say what the AVR bench measured: the figures come from one file,
+docs/figures/avr.json, which tests/bench/bench_avr.py writes (`python3 tests/bench/bench_avr.py`)."""
+
+from __future__ import annotations
+
+import json
+
+from avr_sim import REPO
+
+FIGURES = REPO / "docs" / "figures" / "avr.json"
+RATES = ("32000", "40000", "50000")
+
+
+def firmware_table() -> list[list[str]]:
+    """The cells of each row of BENCHMARKS.md's table of firmware figures."""
+    text = (REPO / "docs" / "BENCHMARKS.md").read_text()
+    section = text.split("## Firmware on the ATmega328P", 1)[1].split("\n## ", 1)[0]
+    return [
+        [cell.strip() for cell in line.split("|")[1:-1]]
+        for line in section.splitlines()
+        if line.startswith("| ") and not line.startswith("| figure |")
+    ]
+
+
+def firmware_rows() -> dict[str, str]:
+    return {row[0]: row[1] for row in firmware_table()}
+
+
+def test_the_firmware_rows_are_the_measured_figures() -> None:
+    avr = json.loads(FIGURES.read_text())["avr"]
+    rows = firmware_rows()
+    isr = avr["isr"]
+    assert rows["step interrupt, 3 axes stepping, steady"].startswith(
+        f"{isr['3 axes stepping']['min']} cycles (idle {isr['idle']['mean']:.0f}, resting {isr['idle']['min']})"
+    )
+    uno = avr["boards"]["uno"]
+    assert rows["flash / RAM (Uno)"] == (
+        f"{uno['flash']:,} / {uno['ram']:,} bytes; worst stack "
+        f"{avr['stack']['max_bytes']} bytes, {avr['stack']['spare']} spare"
+    )
+    rates = avr["rates"]
+    assert rows["segments/s taken while 3 axes step every tick"] == "; ".join(
+        f"{rates[r]['segments_per_s']:,} at {int(r) // 1000} kHz" for r in RATES
+    )
+    assert rows[
+        "HOLD begun: longest lock, longest tick, timer periods lost in 16 HOLDs"
+    ] == "; ".join(
+        f"{int(r) // 1000} kHz: {rates[r]['hold']['lock']}, {rates[r]['hold']['first_tick']}, "
+        f"{rates[r]['hold']['periods_lost_in_16']}"
+        for r in RATES
+    )
+
+
+def test_no_peer_figure_without_its_source() -> None:
+    """A peer's figure in the firmware table names where it is published."""
+    for row in firmware_table():
+        assert row[2] == "—" or "(source:" in row[2], row
