@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import copy
 import re
+import tomllib
 from pathlib import Path
 from typing import Any
 
@@ -176,3 +177,13 @@ def test_the_configuration_for_an_unknown_board_loads_at_every_tick_rate(tick_hz
     """Its acceleration is at least what a hold can brake (746 mm/s² at 1 MHz and 80 steps/mm)."""
     axis = default_config(tick_hz, 4).axes[0]
     assert axis.max_accel >= 500 and axis.max_accel * 80 >= tick_hz**2 / 2**24
+
+
+def test_every_commented_setting_of_the_example_can_be_uncommented() -> None:
+    """A user who uncomments a setting of examples/router-uno.toml (and the table it sits in) gets a
+    valid configuration with it, never a key read into the wrong table."""
+    text = (REPO / "examples" / "router-uno.toml").read_text()
+    uncommented = re.sub(r"(?m)^# (\[\[?[a-z_.]+\]\]?|[a-z_]+ = .*)$", r"\1", text)
+    assert uncommented.count("\n") == text.count("\n") and uncommented != text
+    config = parse_config(tomllib.loads(uncommented))
+    assert config.homing_required and config.safe_z == -5
