@@ -370,12 +370,10 @@ class JobKeys(Screen[None]):
 
         def note(report: Report) -> None:
             if isinstance(report, Alarm):
+                # the carriage's steps, as every other position shown (take-ups excluded)
+                steps = machine.shown(report.position, report.motion_ticks)
                 self.post_message(
-                    Note(
-                        f"ALARM {report.code.name} at steps {list(report.position)}; "
-                        "Ctrl+X clears it",
-                        error=True,
-                    )
+                    Note(f"ALARM {report.code.name} at steps {list(steps)}; Ctrl+X clears it", True)
                 )
             elif isinstance(report, InputChange) and report.cause in (
                 InputCause.FEED_HOLD,

@@ -183,8 +183,10 @@ class JogKeys(Screen[None]):
             return
 
         def stop() -> None:
-            status = machine.emergency_stop()
-            self.post_message(Note(f"STOP: stopped at once at steps {list(status.position)}"))
+            machine.emergency_stop()
+            # where the carriage stands, as every position shown (the backlash take-ups excluded)
+            at = list(machine.position)
+            self.post_message(Note(f"STOP: stopped at once at steps {at}"))
 
         self._thread(lambda: self._guard(stop, "STOP"), "quadstep-reset")
 
