@@ -8,11 +8,11 @@ from __future__ import annotations
 from pathlib import Path
 
 from grbl_client import GrblClient, report_fields
-from quadstep.cli.grbl import serve_in_thread
+from grbl_door import serving
+
 from quadstep.config import load_config
 from quadstep.grbl.alarms import FIRMWARE, fault_alarm, homing_alarm
 from quadstep.grbl.errors import GrblAlarm
-from quadstep.grbl.server import PtyServer
 from quadstep.link import Link
 from quadstep.machine import Machine
 from quadstep.protocol import AlarmCode
@@ -43,9 +43,7 @@ def test_a_hard_limit_during_a_batch_is_alarm_1_until_unlocked(
     )
     with Link.open(emu.url) as link:
         machine = Machine(link, CONFIG)
-        pty = PtyServer(machine)
-        thread = serve_in_thread(pty)
-        try:
+        with serving(machine) as pty:
             with GrblClient(str(pty.path)) as grbl:
                 grbl.wait_banner()
                 assert grbl.command("G1 X20 F600")[1] == "ok"
@@ -59,10 +57,6 @@ def test_a_hard_limit_during_a_batch_is_alarm_1_until_unlocked(
                 assert grbl.command("G0 X0")[1] == "ok"
                 report = grbl.wait_status(lambda r: report_fields(r)["state"] == "Idle")
                 assert report_fields(report)["MPos"] == "0.000,0.000,0.000"
-        finally:
-            pty.stop()
-            thread.join(timeout=10)
-            pty.close()
 
 
 def test_every_firmware_alarm_and_homing_failure_has_a_grbl_alarm() -> None:

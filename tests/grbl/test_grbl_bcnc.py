@@ -15,10 +15,11 @@ from collections.abc import Iterator
 from pathlib import Path
 
 import pytest
-from quadstep.cli.grbl import serve_in_thread
+from grbl_door import serving
+
 from quadstep.config import load_config
 from quadstep.coordinates import WorkCoordinates
-from quadstep.grbl.server import PtyServer, TcpServer
+from quadstep.grbl.server import TcpServer
 from quadstep.job import load_job
 from quadstep.link import Link
 from quadstep.machine import Machine
@@ -122,12 +123,6 @@ def test_bcnc_streams_a_cam_job_over_tcp(machine: Machine, tmp_path: Path) -> No
 
 def test_bcnc_streams_a_cam_job_on_the_pseudo_terminal(machine: Machine, tmp_path: Path) -> None:
     (tmp_path / "cam.nc").write_text(CAM_JOB)
-    pty = PtyServer(machine)
-    thread = serve_in_thread(pty)
-    try:
+    with serving(machine) as pty:
         said = bcnc(str(pty.path), tmp_path / "cam.nc")
-    finally:
-        pty.stop()
-        thread.join(timeout=10)
-        pty.close()
     check(machine, said, tmp_path)

@@ -12,7 +12,8 @@ from pathlib import Path
 
 import pytest
 from grbl_client import GrblClient, mpos, report_fields
-from quadstep.cli.grbl import serve_in_thread
+from grbl_door import serving
+
 from quadstep.config import load_config
 from quadstep.coordinates import WorkCoordinates
 from quadstep.grbl.server import PtyServer, TcpServer
@@ -63,14 +64,8 @@ def serve(start_emulator, free: bool) -> Iterator[FrontDoor]:
     emu = start_emulator(axes=3, tick_hz=CONFIG.tick_hz, free=free)
     with Link.open(emu.url) as link:
         machine = Machine(link, CONFIG)
-        pty = PtyServer(machine)
-        thread = serve_in_thread(pty)
-        try:
+        with serving(machine) as pty:
             yield FrontDoor(machine, pty)
-        finally:
-            pty.stop()
-            thread.join(timeout=10)
-            pty.close()
 
 
 @pytest.fixture

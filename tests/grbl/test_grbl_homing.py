@@ -6,9 +6,9 @@ from __future__ import annotations
 from pathlib import Path
 
 from grbl_client import GrblClient, mpos, report_fields
-from quadstep.cli.grbl import serve_in_thread
+from grbl_door import serving
+
 from quadstep.config import load_config
-from quadstep.grbl.server import PtyServer
 from quadstep.link import Link
 from quadstep.machine import Machine
 
@@ -23,9 +23,7 @@ def test_homing_required_starts_in_alarm_and_dollar_h_homes(start_emulator) -> N
     emu = start_emulator(free=True, tick_hz=CONFIG.tick_hz, axes=3, queue=16, extra_args=sim)
     with Link.open(emu.url) as link:
         machine = Machine(link, CONFIG)
-        pty = PtyServer(machine)
-        thread = serve_in_thread(pty)
-        try:
+        with serving(machine) as pty:
             with GrblClient(str(pty.path)) as grbl:
                 said = grbl.expect_other(lambda line: line.startswith("[MSG:"))
                 assert said[-2:] == ["Grbl 1.1h ['$' for help]", "[MSG:'$H'|'$X' to unlock]"]
@@ -38,7 +36,3 @@ def test_homing_required_starts_in_alarm_and_dollar_h_homes(start_emulator) -> N
                 assert grbl.command("G0 X10 Y10")[1] == "ok"
                 report = grbl.wait_status(lambda r: report_fields(r)["state"] == "Idle")
                 assert mpos(report)[:2] == (10.0, 10.0)
-        finally:
-            pty.stop()
-            thread.join(timeout=10)
-            pty.close()

@@ -10,10 +10,10 @@ from pathlib import Path
 
 import pytest
 from grbl_client import GrblClient, mpos, report_fields
-from quadstep.cli.grbl import serve_in_thread
+from grbl_door import serving
+
 from quadstep.config import load_config
 from quadstep.gcode.interpreter import parse_gcode
-from quadstep.grbl.server import PtyServer
 from quadstep.link import Link
 from quadstep.machine import JobRun, Machine
 from quadstep.machine.speed_overrides import SpeedOverrides
@@ -32,16 +32,10 @@ def door(start_emulator) -> Iterator[tuple[Machine, GrblClient]]:
     emu = start_emulator(axes=3, tick_hz=CONFIG.tick_hz, free=False)
     with Link.open(emu.url) as link:
         machine = Machine(link, CONFIG)
-        pty = PtyServer(machine)
-        thread = serve_in_thread(pty)
-        try:
+        with serving(machine) as pty:
             with GrblClient(str(pty.path)) as grbl:
                 grbl.wait_banner()
                 yield machine, grbl
-        finally:
-            pty.stop()
-            thread.join(timeout=10)
-            pty.close()
 
 
 def ov(report: str) -> str | None:

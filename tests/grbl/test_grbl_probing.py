@@ -10,9 +10,9 @@ from pathlib import Path
 
 import pytest
 from grbl_client import GrblClient, mpos, report_fields
-from quadstep.cli.grbl import serve_in_thread
+from grbl_door import serving
+
 from quadstep.config import load_config
-from quadstep.grbl.server import PtyServer
 from quadstep.link import Link
 from quadstep.machine import Machine
 
@@ -57,16 +57,10 @@ def grbl(start_emulator, tmp_path: Path) -> Iterator[GrblClient]:
     )
     with Link.open(emu.url) as link:
         machine = Machine(link, CONFIG)
-        pty = PtyServer(machine)
-        thread = serve_in_thread(pty)
-        try:
+        with serving(machine) as pty:
             with GrblClient(str(pty.path)) as client:
                 client.wait_banner()
                 yield client
-        finally:
-            pty.stop()
-            thread.join(timeout=10)
-            pty.close()
 
 
 def prb(line: str) -> tuple[tuple[float, ...], int]:
@@ -137,9 +131,7 @@ def test_a_feed_hold_stops_a_probe_where_it_is(start_emulator, tmp_path: Path) -
     )
     with Link.open(emu.url) as link:
         machine = Machine(link, CONFIG)
-        pty = PtyServer(machine)
-        thread = serve_in_thread(pty)
-        try:
+        with serving(machine) as pty:
             with GrblClient(str(pty.path)) as grbl:
                 grbl.wait_banner()
                 grbl.port.write(b"G38.3 Z-30 F120\n")  # 2 mm/s over the bare table: 15 s
@@ -151,7 +143,3 @@ def test_a_feed_hold_stops_a_probe_where_it_is(start_emulator, tmp_path: Path) -
                 assert tuple(machine.link.status().position[:3]) == CONFIG.to_steps(rest)
                 assert grbl.command("G0 Z0")[1] == "ok"  # lines go on from where it rests
                 assert mpos(grbl.wait_status(idle)) == (0.0, 0.0, 0.0)
-        finally:
-            pty.stop()
-            thread.join(timeout=10)
-            pty.close()

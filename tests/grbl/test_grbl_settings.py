@@ -11,9 +11,9 @@ from pathlib import Path
 
 import pytest
 from grbl_client import GrblClient, mpos, report_fields
-from quadstep.cli.grbl import serve_in_thread
+from grbl_door import serving
+
 from quadstep.config import load_config
-from quadstep.grbl.server import PtyServer
 from quadstep.grbl.session import SessionOptions
 from quadstep.link import Link
 from quadstep.machine import Machine
@@ -27,16 +27,10 @@ def serve(start_emulator, options: SessionOptions) -> Iterator[tuple[Machine, Gr
     emu = start_emulator(axes=3, tick_hz=config.tick_hz, free=True)
     with Link.open(emu.url) as link:
         machine = Machine(link, config)
-        pty = PtyServer(machine, options=options)
-        thread = serve_in_thread(pty)
-        try:
+        with serving(machine, options=options) as pty:
             with GrblClient(str(pty.path)) as grbl:
                 grbl.wait_banner()
                 yield machine, grbl
-        finally:
-            pty.stop()
-            thread.join(timeout=10)
-            pty.close()
 
 
 @pytest.fixture

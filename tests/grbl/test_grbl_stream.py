@@ -14,9 +14,9 @@ from pathlib import Path
 import numpy as np
 import pytest
 from grbl_client import GrblClient, mpos, report_fields
+from grbl_door import serving
 from host_helpers import read_trace
 
-from quadstep.cli.grbl import serve_in_thread
 from quadstep.config import load_config
 from quadstep.engine_model import predict
 from quadstep.grbl.server import PtyServer
@@ -68,14 +68,8 @@ def door(start_emulator, tmp_path: Path) -> Iterator[Door]:
     emu = start_emulator(axes=3, tick_hz=CONFIG.tick_hz, queue=14, trace=trace)
     with Link.open(emu.url) as link:
         machine = Machine(link, CONFIG)
-        pty = PtyServer(machine)
-        thread = serve_in_thread(pty)
-        try:
+        with serving(machine) as pty:
             yield Door(machine, pty, trace)
-        finally:
-            pty.stop()
-            thread.join(timeout=10)
-            pty.close()
     emu.stop()
 
 
