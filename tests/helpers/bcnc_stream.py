@@ -76,11 +76,19 @@ def main(url: str, job: str, probes: list[str]) -> dict[str, object]:
         work = [CNC.vars["wx"], CNC.vars["wy"], CNC.vars["wz"]]
         probed = []
         for line in probes:
-            sender._probeUpdate = False
-            sender.sendGCode(line)
             if line.upper().startswith("G38"):
-                wait(lambda: sender._probeUpdate, f"the result of {line}")
+                # bCNC asks `$#` itself after offsets change, and a [PRB:] line of its answer may
+                # still be on the way: one `$#` more, answered in line order (its [PRB:] last),
+                # flushes it; then the next [PRB:] is the probe's
+                CNC.vars["PRB"] = None
+                sender.sendGCode("$#")
+                wait(lambda: CNC.vars["PRB"] is not None, "the answer to $#")
+                CNC.vars["PRB"] = None
+                sender.sendGCode(line)
+                wait(lambda: CNC.vars["PRB"] is not None, f"the result of {line}")
                 probed.append([CNC.vars["prbx"], CNC.vars["prby"], CNC.vars["prbz"]])
+            else:
+                sender.sendGCode(line)
         while not sender.log.empty():
             kind, text = sender.log.get()
             if kind == Sender.MSG_ERROR:
