@@ -5,6 +5,7 @@ refuses exactly what the chain refuses, and otherwise ends in the chain's state 
 
 from __future__ import annotations
 
+import pytest
 from hypothesis import event, given, settings
 from hypothesis import strategies as st
 
@@ -37,6 +38,7 @@ def phases(draw: st.DrawFn) -> list[Phase]:
     return out
 
 
+@pytest.mark.slow
 @settings(max_examples=400, deadline=None)
 @given(phases(), st.lists(st.integers(-SIGMA // 2, SIGMA // 2 - 1), min_size=AXES, max_size=AXES))
 def test_the_phase_run_is_the_chains(ph: list[Phase], residuals: list[int]) -> None:

@@ -43,6 +43,7 @@ def encoded_bytes(segments: SegmentArrays | Stream, limit: int) -> int:
     return total
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("name", ["pocket", "engraving", "four_axis"])
 def test_a_cam_jobs_count_equals_its_encoded_frames(name: str) -> None:
     text = cam_jobs.JOBS[name](1500)
@@ -80,6 +81,7 @@ def segment_arrays(draw: st.DrawFn) -> SegmentArrays:
     return out
 
 
+@pytest.mark.slow
 @settings(max_examples=300, deadline=None)
 @given(segment_arrays(), st.sampled_from(LIMITS))
 def test_random_segments_count_equals_their_encoded_frames(
