@@ -9,7 +9,11 @@ from the simulated carriage positions, the job time, and each axis's acceleratio
 the stream's segment states, which the trace matches step for step, and from the trace's own second
 differences).
 
-    python3 tests/bench/bench_backlash.py [--values N] [--tries K] [--quick] [--only jobs|measurement]
+Zigzag: passes back and forth along X that reverse sharply at every tip (a raster's), with a backlash of one
+step, 0.05 mm and 0.2 mm on X: the job time with and without it, the carriage's path error and where the take-ups
+went.
+
+    python3 tests/bench/bench_backlash.py [--values N] [--tries K] [--quick] [--only jobs|zigzag|measurement]
 """
 
 from __future__ import annotations
@@ -26,8 +30,12 @@ import numpy as np
 REPO = Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(REPO / "tests" / "helpers"))
 
-from backlash_helpers import STEPS_PER_MM, TICK_HZ, circle_gcode, pocket_gcode, pocket_path  # noqa: E402
-from backlash_jobs import Ran, circle_error, path_error, run_job, stepper_circle_error, takeup_accel  # noqa: E402
+from backlash_helpers import (  # noqa: E402
+    STEPS_PER_MM, TICK_HZ, circle_gcode, pocket_gcode, pocket_path, zigzag_gcode, zigzag_path,
+)
+from backlash_jobs import (  # noqa: E402
+    Ran, circle_error, path_error, plan_lag, run_job, stepper_circle_error, takeup_accel,
+)
 from backlash_rig import HYSTERESIS, SWITCH_END, probe, rig, rig_config, switch  # noqa: E402
 from quadstep.engine_model import predict  # noqa: E402
 from quadstep.machine.backlash import calibrate_switch  # noqa: E402
@@ -126,17 +134,46 @@ def jobs_figures(quick: bool) -> None:
                           f"differences); limit {limit:g}")
 
 
+def zigzag_figures(quick: bool) -> None:
+    passes, length, step, feed = (6 if quick else 20), 20.0, 0.5, 20.0
+    gcode = zigzag_gcode(passes, length, step, feed)
+    lines = (3, passes + 2)  # the passes: after the G1 to the start, before the rapid home
+    print(f"zigzag: {passes} passes of {length:g} mm along X, {step:g} mm further along Y each, {feed:g} mm/s "
+          "(X reverses sharply at every tip); path error in steps from the simulated carriage")
+    with tempfile.TemporaryDirectory() as tmp:
+        without = run_job(Path(tmp), "zigzag-none", gcode, (0.0, 0.0, 0.0), True)
+        assert without.ended_by == "done", without.ended_by
+        base_error = path_error(without, zigzag_path(passes, length, step), *lines)
+        print(f"  no backlash: job time {without.sent.segments.ticks / TICK_HZ:.4f} s, path error "
+              f"{base_error:.2f} steps (the steppers alone), lag behind the plan {plan_lag(without):.2f}")
+        for mm in (1 / STEPS_PER_MM, 0.05, 0.2):
+            ran = run_job(Path(tmp), f"zigzag-{mm}", gcode, (mm, 0.0, 0.0), True)
+            assert ran.ended_by == "done", ran.ended_by
+            ticks = (ran.sent.segments.ticks, without.sent.segments.ticks)
+            same = np.array_equal(ran.rows[:, :3].astype(np.int64),
+                                  predict(ran.sent.segments.segments(), axis_count=3).steps)
+            kinds = sorted({t.kind for t in ran.sent.compensated.takeups})
+            error = path_error(ran, zigzag_path(passes, length, step), *lines)
+            accel = takeup_accel(ran, SMOOTHING).get(0, (0.0, 0.0))[0]
+            print(f"  backlash {mm:g} mm ({mm * STEPS_PER_MM:g} steps): job time {ticks[0] / TICK_HZ:.4f} s "
+                  f"({100 * (ticks[0] / ticks[1] - 1):+.3f} %), {len(ran.sent.compensated.takeups)} take-ups "
+                  f"({', '.join(kinds)}), path error {error:.2f} steps, lag behind the plan {plan_lag(ran):.2f} steps, X acceleration during take-ups "
+                  f"{accel:.1f} mm/s², trace = prediction: {same}")
+
+
 def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--values", type=int, default=20, help="backlash values per axis (default 20)")
     parser.add_argument("--tries", type=int, default=5, help="tries per measurement (default 5)")
     parser.add_argument("--quick", action="store_true", help="3 values, 2 tries, one backlash for the jobs")
-    parser.add_argument("--only", choices=("jobs", "measurement"), help="one part")
+    parser.add_argument("--only", choices=("jobs", "zigzag", "measurement"), help="one part")
     args = parser.parse_args()
     values, tries = (3, 2) if args.quick else (args.values, args.tries)
-    if args.only != "measurement":
+    if args.only in (None, "jobs"):
         jobs_figures(args.quick)
-    if args.only != "jobs":
+    if args.only in (None, "zigzag"):
+        zigzag_figures(args.quick)
+    if args.only in (None, "measurement"):
         measurement(values, tries)
     return 0
 

@@ -65,6 +65,20 @@ def pocket_gcode(width: float, height: float, stepover: float, feed: float) -> s
     return "\n".join(lines) + "\n"
 
 
+def zigzag_gcode(passes: int, length: float, step: float, feed: float) -> str:
+    """Passes back and forth along X, each `step` further along Y (a raster's zigzag: X reverses sharply at every
+    tip, with no stepover between), from the origin and back."""
+    lines = ["G21 G90", "G1 X0 Y0 F%g" % (feed * 60)]
+    lines += [f"G1 X{length if k % 2 == 0 else 0:.3f} Y{(k + 1) * step:.3f}" for k in range(passes)]
+    lines.append("G0 X0 Y0")
+    return "\n".join(lines) + "\n"
+
+
+def zigzag_path(passes: int, length: float, step: float) -> np.ndarray:
+    """The zigzag's corners in order (mm), for its path error."""
+    return np.array([(0.0, 0.0)] + [(length if k % 2 == 0 else 0.0, (k + 1) * step) for k in range(passes)])
+
+
 def pocket_path(width: float, height: float, stepover: float) -> np.ndarray:
     """The pocket's corners in order (mm), for its path error."""
     points, y, forward = [(0.0, 0.0)], 0.0, True

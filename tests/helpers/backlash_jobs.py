@@ -171,3 +171,33 @@ def takeup_accel(ran: Ran, smoothing_ticks: int) -> dict[int, tuple[float, float
         before = out.get(t.axis, (0.0, 0.0))
         out[t.axis] = (max(before[0], exact), max(before[1], seen))
     return out
+
+
+def plan_lag(ran: Ran) -> float:
+    """The carriage's largest distance (steps) from where the plan has it at the same moment: the stream's ticks
+    mapped back onto the plan's (less the anchor tick and the ticks added for take-ups at rest, in which the plan
+    stands still), the carriage in the motor's frame (it began pushed +). 0 where every take-up runs while its axis
+    stands still; a take-up superposed on the motion makes its carriage lag behind the plan by at most its size."""
+    stream_ticks = int(ran.sent.segments.ticks)
+    added = np.zeros(stream_ticks + 1, dtype=np.int64)  # ticks of the stream that the plan does not have
+    takeups = ran.sent.compensated.takeups
+    if takeups:
+        added[0:] += 1  # the anchor tick
+    blocks = {t.start: t.ticks + 1 for t in takeups if t.kind == "rest"}
+    for start, length in blocks.items():
+        inside = np.arange(start, min(start + length, stream_ticks + 1))
+        added[inside] += inside - start + 1
+        added[start + length :] += length
+    base_tick = np.clip(np.arange(stream_ticks + 1) - added, 0, None)
+    planned_rows = predict(ran.plan.segments.segments(), axis_count=ran.plan.segments.axis_count).steps
+    worst = np.zeros(stream_ticks + 1)
+    for axis in (0, 1):
+        planned = motor_by_tick(planned_rows, axis, int(base_tick.max()))[base_tick]
+        mine = ran.rows[ran.rows[:, 1] == axis]
+        carriage = np.zeros(stream_ticks + 1)
+        if mine.size:
+            change = np.diff(np.concatenate([[-ran.backlash_steps[axis] / 2], mine[:, 4]]))
+            np.add.at(carriage, mine[:, 0].astype(np.int64), change)
+        carriage = np.cumsum(carriage)
+        worst = np.hypot(worst, carriage - planned)
+    return float(np.max(worst))

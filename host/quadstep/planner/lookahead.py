@@ -22,8 +22,11 @@ from .program import JobError, SetOutputs
 # An axis whose backlash is taken up (docs/BACKLASH.md) and that turns around sharply at a junction
 # — moving along both moves by more than this share of the path — stops there: the take-up then runs
 # at rest, where it costs no acceleration. (Shallow reversals, as on an arc's chords, take it up on
-# the move.)
+# the move, and so is a take-up of a step or so at any reversal.)
 SHARP_REVERSAL = 0.25
+# A take-up of at most this many steps is superposed on the motion even there: while it runs the
+# carriage lags the path by at most its size, about what the steppers' own rounding makes it.
+SUPERPOSED_TAKEUP_STEPS = 1
 
 # Ramps are planned at this fraction of each move's acceleration (and jerk) limit; the
 # rest is room for rounding every phase to whole ticks (docs/PLANNER.md).
@@ -42,7 +45,7 @@ def _junction_speed(table: MoveTable, k: int, config: MachineConfig, amax: list[
         return 0.0  # full reversal, or exact stop (G61)
     for i, axis in enumerate(config.axes):
         if (
-            axis.backlash_steps
+            axis.backlash_steps > SUPERPOSED_TAKEUP_STEPS
             and e1[i] * e2[i] < 0
             and min(abs(e1[i]), abs(e2[i])) > SHARP_REVERSAL
         ):
