@@ -136,3 +136,44 @@ async def test_the_dial_wizard_computes_from_jogs_and_readings(tmp_path: Path, e
         assert path.read_text() == before
         await confirm(pilot, app, "y")
         assert load_config(path).axes[0].backlash.mm == 0.05
+
+
+async def test_the_switch_is_calibrated_written_and_then_measures_within_a_step(tmp_path: Path,
+                                                                                emulator_binary: Path) -> None:
+    backlash = 37.3  # steps; the configuration knows it (as the probe measured it), the switch's 6.5 it does not
+    sim = rig_text(0, (backlash, 0.0, 0.0)).replace("start = 3800\n", "start = 2400\n", 1)  # 1.5 mm from the switch
+    app, path = app_on(tmp_path, emulator_binary, sim, mm=backlash / 400)
+    set_backlash(path, "X", switch_hysteresis=0.03)  # a wrong calibration, to be replaced
+    app.session.config_given = load_config(path)
+    async with app.run_test(size=SIZE) as pilot:
+        await until(pilot, lambda: app.session.connected and app.machine.snapshot is not None, what="connection")
+        await pilot.press("b")
+        screen = app.screen
+        assert isinstance(screen, BacklashScreen)
+        await pilot.press("m")  # the switch: where it must be is said
+        assert "X within 5 mm of its homing end's limit switch, off it" in " ".join(
+            shown(screen, "#backlash-setup").split())
+        await pilot.press("minus", "minus", "minus", "c")  # 2 tries
+        await until(pilot, lambda: not screen.running, 60, "the calibration")
+        assert screen.calibration is not None, screen.lines
+        assert "X within 5 mm of it, off it" in screen.lines[0] and f"{backlash / 400:.4f} mm" in screen.lines[0], screen.lines
+        assert abs(screen.calibration.hysteresis_mm * 400 - 6.5) < 1.0
+        assert on_screen(screen, "#backlash-result")
+        drawn = shown(screen, "#backlash-tries") + shown(screen, "#backlash-result")
+        assert drawn.count("X switch hysteresis:") == 1, drawn  # once
+        await confirm(pilot, app, "y")
+        written = load_config(path).axes[0].backlash
+        assert written.switch_hysteresis == round(screen.calibration.hysteresis_mm, 6)
+        assert written.mm == round(backlash / 400, 6)  # the backlash itself kept
+        await pilot.press("escape", "ctrl+r")  # the next connection measures with it
+        await until(pilot, lambda: app.screen is app.machine, what="the machine screen")
+        await until(pilot, lambda: app.session.connected and app.machine.snapshot is not None
+                    and app.session.machine.config.axes[0].backlash.switch_hysteresis == written.switch_hysteresis,
+                    what="the new connection")
+        await pilot.press("b")
+        screen = app.screen
+        assert isinstance(screen, BacklashScreen)
+        await pilot.press("m", "minus", "minus", "minus", "enter")
+        await until(pilot, lambda: not screen.running, 60, "the measurement")
+        assert screen.result is not None, screen.lines
+        assert -1.0 < screen.result.steps - backlash < 1.0, screen.lines

@@ -205,18 +205,9 @@ def _measure(args: argparse.Namespace, machine, name: str, say):
 
 
 def _calibrate(args: argparse.Namespace, machine, name: str, say) -> int:
-    from ..machine.backlash import calibrate_switch
+    from ..machine.backlash import calibrate_switch, known_backlash
 
-    axis = machine.config.axes[machine.config.axis_names.index(name)]
-    known = (
-        args.backlash
-        if args.backlash is not None
-        else (axis.backlash.mm if axis.backlash is not None else None)
-    )
-    if known is None:
-        raise CliError(
-            f"{name}: no backlash known: measure it with the probe first, or give --backlash MM"
-        )
+    known = known_backlash(machine.config, name, args.backlash)
     hysteresis = calibrate_switch(
         machine, name, known, end=args.end, tries=args.tries, on_progress=say
     )

@@ -25,7 +25,7 @@ import statistics
 from collections.abc import Callable
 from dataclasses import asdict, dataclass
 
-from ..config import AxisConfig
+from ..config import AxisConfig, MachineConfig
 from ..link import AlarmError, input_status
 from ..protocol import AlarmCode, Input
 from .errors import MachineError
@@ -341,11 +341,31 @@ def measure_with_switch(
             "switch_hysteresis): `quadstep backlash calibrate-switch` finds it once the backlash "
             "is known (from the probe)"
         )
-    end = end or (axis.homing.end if axis.homing is not None else "min")
+    end = switch_end(machine.config, axis.name, end)
     sums = switch_sums(machine, a, end, tries, search, feed, on_progress or (lambda text: None))
     h = hysteresis * axis.steps_per_mm
     result = _result(axis, "switch", [x - h for x in sums], max_spread, hysteresis_mm=hysteresis)
     return Measurement(**{**asdict(result), "sum_steps": statistics.fmean(sums)})
+
+
+def known_backlash(config: MachineConfig, name: str, given: float | None = None) -> float:
+    """The backlash (mm) a switch's calibration takes off: `given`, else the configuration's (as
+    measured with the probe)."""
+    if given is not None:
+        return given
+    axis = config.axes[config.axis_names.index(name)] if name in config.axis_names else None
+    if axis is None or axis.backlash is None:
+        raise MeasureError(
+            f"{name}: no backlash known: measure it with the probe first, or give --backlash MM"
+        )
+    return axis.backlash.mm
+
+
+def switch_end(config: MachineConfig, name: str, end: str | None = None) -> str:
+    """Which end's switch a switch measurement uses: `end`, else the homing end (min without
+    homing)."""
+    axis = config.axes[config.axis_names.index(name)]
+    return end or (axis.homing.end if axis.homing is not None else "min")
 
 
 def calibrate_switch(
@@ -363,7 +383,7 @@ def calibrate_switch(
     is taken off."""
     a = _axis(machine, name)
     axis = machine.config.axes[a]
-    end = end or (axis.homing.end if axis.homing is not None else "min")
+    end = switch_end(machine.config, axis.name, end)
     sums = switch_sums(machine, a, end, tries, search, feed, on_progress or (lambda text: None))
     return max(0.0, statistics.fmean(sums) / axis.steps_per_mm - backlash_mm)
 
@@ -373,6 +393,8 @@ __all__ = [
     "MeasureError",
     "Measurement",
     "calibrate_switch",
+    "known_backlash",
     "measure_with_probe",
     "measure_with_switch",
+    "switch_end",
 ]

@@ -1,7 +1,8 @@
 """The backlash screen (b): measure an axis's backlash with the probe or its limit switch, k tries
 shown as they come, the result in mm and steps with its spread, refused over the spread bound,
-written to the configuration after a confirm; d opens the dial-indicator wizard for machines without
-a probe.
+written to the configuration after a confirm; c calibrates the limit switch's hysteresis (the
+backlash known), written the same way; d opens the dial-indicator wizard for machines without a
+probe.
 
 The measurement runs in a worker thread (machine/backlash.py) and reports back with messages.
 """
@@ -9,6 +10,7 @@ The measurement runs in a worker thread (machine/backlash.py) and reports back w
 from __future__ import annotations
 
 import threading
+from dataclasses import dataclass
 from typing import ClassVar
 
 from rich.markup import escape
@@ -25,8 +27,11 @@ from ..machine import MachineError
 from ..machine.backlash import (
     PROBE_SETUP,
     Measurement,
+    calibrate_switch,
+    known_backlash,
     measure_with_probe,
     measure_with_switch,
+    switch_end,
 )
 from .confirm import ask_to_write
 from .dial_wizard import DialWizard
@@ -42,7 +47,7 @@ def placement(axis: str, method: str) -> str:
     if method == "switch":
         return (
             f"{axis} within 5 mm of its homing end's limit switch, off it; the switch's "
-            "hysteresis calibrated (quadstep backlash calibrate-switch)"
+            "hysteresis calibrated (c)"
         )
     toward, test = PROBE_SETUP[axis]
     face = f"{'−' if toward > 0 else '+'}{axis}"
@@ -50,6 +55,24 @@ def placement(axis: str, method: str) -> str:
         f"put the probe less than 10 mm outside the target's {face} face and less than 3 mm "
         f"inside its −{test} edge (the corner of those two faces; docs/BACKLASH.md)"
     )
+
+
+@dataclass(frozen=True)
+class Calibration:
+    """A switch's hysteresis found with the backlash known (machine/backlash.py's
+    calibrate_switch)."""
+
+    axis: str
+    hysteresis_mm: float
+    backlash_mm: float  # taken off the switch's sum
+    steps_per_mm: float
+
+
+class Calibrated(Message):
+    def __init__(self, result: Calibration | None, error: str = "") -> None:
+        super().__init__()
+        self.result = result
+        self.error = error
 
 
 class Tried(Message):
@@ -71,10 +94,11 @@ class BacklashScreen(ModalScreen[None]):
         Binding("x", "axis('X')", "X", group=AXIS),
         Binding("y", "axis('Y')", "Y", group=AXIS),
         Binding("z", "axis('Z')", "Z", group=AXIS),
-        Binding("m", "method", "probe/switch"),
+        Binding("m", "method", "method"),
         Binding("minus", "tries(-1)", "tries−", key_display="-", group=TRIES),
         Binding("plus,equals_sign", "tries(1)", "tries+", key_display="+", group=TRIES),
-        Binding("enter,s", "start", "measure", key_display="Enter"),
+        Binding("enter,s", "start", "measure", key_display="⏎"),
+        Binding("c", "calibrate", "calib."),
         Binding("w", "write", "write"),
         Binding("d", "dial", "dial"),
         Binding("escape", "close", "close", key_display="Esc"),
@@ -90,6 +114,7 @@ class BacklashScreen(ModalScreen[None]):
         self.tries = 5
         self.running = False
         self.result: Measurement | None = None
+        self.calibration: Calibration | None = None  # the switch's, once calibrated
         self.lines: list[str] = []  # every line said, the result's too, for scripts and tests
         self.shown: list[str] = []  # the lines under the tries (the result has its own place)
 
@@ -111,7 +136,8 @@ class BacklashScreen(ModalScreen[None]):
             f"{escape(placement(self.axis, self.method))}\n"
             f"tries [b]{self.tries}[/b] (- +)   "
             f"refused when they spread more than {self.max_spread:g} mm\n"
-            "Enter: measure   w: write the result   d: dial indicator   Esc: close"
+            "Enter: measure   c: calibrate the switch's hysteresis   w: write the result\n"
+            "d: dial indicator   Esc: close"
         )
 
     def say(self, text: str, error: bool = False) -> None:
@@ -148,14 +174,81 @@ class BacklashScreen(ModalScreen[None]):
         if machine is None or not self.session.connected:
             self.say("not connected", True)
             return
-        self.running, self.result = True, None
-        self.lines, self.shown = [], []
-        self.query_one("#backlash-result", Static).update("")
+        self._begin()
         self.say(f"measuring {self.axis} with the {self.method}, {self.tries} tries…")
         axis, method, tries = self.axis, self.method, self.tries
         threading.Thread(
             target=lambda: self._measure(axis, method, tries), name="quadstep-backlash", daemon=True
         ).start()
+
+    def _begin(self) -> None:
+        self.running, self.result, self.calibration = True, None, None
+        self.lines, self.shown = [], []
+        self.query_one("#backlash-result", Static).update("")
+
+    def action_calibrate(self) -> None:
+        machine = self.session.machine
+        if self.running:
+            return
+        if machine is None or not self.session.connected:
+            self.say("not connected", True)
+            return
+        axis, tries, config = self.axis, self.tries, machine.config
+        try:
+            known = known_backlash(config, axis)
+        except MachineError as exc:
+            self.say(str(exc), True)
+            return
+        self._begin()
+        self.say(
+            f"calibrating {axis}'s {switch_end(config, axis)} limit switch ({axis} within 5 mm of "
+            f"it, off it), {tries} tries; the backlash {known:.4f} mm (the configuration's) taken "
+            "off…"
+        )
+        threading.Thread(
+            target=lambda: self._calibrate(axis, known, tries),
+            name="quadstep-backlash",
+            daemon=True,
+        ).start()
+
+    def _calibrate(self, axis: str, known: float, tries: int) -> None:
+        machine = self.session.machine
+        assert machine is not None
+
+        def progress(text: str) -> None:
+            self.post_message(Tried(text))
+
+        try:
+            found = calibrate_switch(machine, axis, known, tries=tries, on_progress=progress)
+        except (LinkError, MachineError) as exc:
+            self.post_message(Calibrated(None, str(exc)))
+        else:
+            steps = machine.config.axes[machine.config.axis_names.index(axis)].steps_per_mm
+            self.post_message(Calibrated(Calibration(axis, found, known, steps)))
+        self._resync()
+
+    def _resync(self) -> None:
+        jogger = self.session.jogger
+        if jogger is not None and self.session.connected:
+            self.session.submit(jogger.sync)  # the motors moved under the jogger
+
+    def on_calibrated(self, message: Calibrated) -> None:
+        self.running = False
+        result = message.result
+        if result is None:
+            self.say(f"switch {self.axis}: {message.error}", True)
+            return
+        self.calibration = result
+        value = f"{result.hysteresis_mm:.4f} mm"
+        rest = (
+            f" ({result.hysteresis_mm * result.steps_per_mm:.2f} steps; the backlash "
+            f"{result.backlash_mm:.4f} mm taken off)"
+        )
+        after = "\nw: write it to the configuration (asks first)"
+        self.lines.append(f"{result.axis} switch hysteresis: {value}{rest}{after}")
+        self.query_one("#backlash-result", Static).update(
+            f"{result.axis} switch hysteresis: [b]{value}[/b]{escape(rest)}{after}"
+        )
 
     def _measure(self, axis: str, method: str, tries: int) -> None:
         machine = self.session.machine
@@ -185,9 +278,7 @@ class BacklashScreen(ModalScreen[None]):
             self.post_message(Measured(None, str(exc)))
         else:
             self.post_message(Measured(result))
-        jogger = self.session.jogger
-        if jogger is not None and self.session.connected:
-            self.session.submit(jogger.sync)  # the motors moved under the jogger
+        self._resync()
 
     def on_tried(self, message: Tried) -> None:
         self.say(message.text)
@@ -218,6 +309,18 @@ class BacklashScreen(ModalScreen[None]):
         )
 
     def action_write(self) -> None:
+        if not self.running and self.calibration is not None:
+            found = self.calibration
+            ask_to_write(
+                self,
+                self.session.config_path,
+                found.axis,
+                found.hysteresis_mm,
+                self.say,
+                self._written,
+                key="switch_hysteresis",
+            )
+            return
         if self.running or self.result is None:
             self.say("nothing to write: measure first (a refused result is not written)", True)
             return

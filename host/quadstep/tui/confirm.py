@@ -42,20 +42,23 @@ def ask_to_write(
     mm: float,
     say: Callable[[str, bool], None],
     written: Callable[[MachineConfig], None],
+    key: str = "mm",
 ) -> None:
-    """Ask, then write `axis`'s backlash.mm = `mm` to `path`; `say(text, error)` reports, `written`
-    gets the configuration as now written."""
+    """Ask, then write `axis`'s backlash.`key` = `mm` to `path` (the backlash itself rounded to
+    0.1 µm, as the command writes it); `say(text, error)` reports, `written` gets the configuration
+    as now written."""
     if path is None:
         say("no configuration file (--config FILE) to write the backlash to", True)
         return
-    what = f"{axis} backlash.mm = {mm:.4f}"
+    what = f"{axis} backlash.{key} = {mm:.4f}"
 
     def answered(yes: bool | None) -> None:
         if not yes:
             say(f"not written: {what}", False)
             return
         try:
-            config, backup = set_backlash(path, axis, mm=round(mm, 4))
+            value = round(mm, 4) if key == "mm" else mm
+            config, backup = set_backlash(path, axis, **{key: value})
         except (ConfigError, OSError) as exc:
             say(f"not written: {exc}", True)
             return
