@@ -10,8 +10,8 @@ the stream's segment states, which the trace matches step for step, and from the
 differences).
 
 Zigzag: passes back and forth along X that reverse sharply at every tip (a raster's), with a backlash of one
-step, 0.05 mm and 0.2 mm on X: the job time with and without it, the carriage's path error and where the take-ups
-went.
+step, 0.05 mm and 0.2 mm on X, and a sawtooth whose Y reverses at wide corners, with it on Y: the job time with
+and without it, the carriage's path error, how far it is behind the plan, and where the take-ups went.
 
     python3 tests/bench/bench_backlash.py [--values N] [--tries K] [--quick] [--only jobs|zigzag|measurement]
 """
@@ -134,31 +134,44 @@ def jobs_figures(quick: bool) -> None:
                           f"differences); limit {limit:g}")
 
 
+def sawtooth(teeth: int, pitch: float, height: float, feed: float) -> tuple[str, np.ndarray]:
+    """Teeth along X whose Y reverses at every tip, at a corner the path keeps speed through without backlash
+    (53° turns): its G-code and corners (mm)."""
+    corners = np.array([(0.0, 0.0)] + [(pitch * (k + 1), height if k % 2 == 0 else 0.0) for k in range(teeth)])
+    body = "".join(f"G1 X{x:.3f} Y{y:.3f}\n" for x, y in corners[1:])
+    return f"G21 G90\nG1 X0 Y0 F{feed * 60:g}\n" + body + "G0 X0 Y0\n", corners
+
+
 def zigzag_figures(quick: bool) -> None:
     passes, length, step, feed = (6 if quick else 20), 20.0, 0.5, 20.0
-    gcode = zigzag_gcode(passes, length, step, feed)
-    lines = (3, passes + 2)  # the passes: after the G1 to the start, before the rapid home
-    print(f"zigzag: {passes} passes of {length:g} mm along X, {step:g} mm further along Y each, {feed:g} mm/s "
-          "(X reverses sharply at every tip); path error in steps from the simulated carriage")
+    teeth, pitch, height = (6 if quick else 20), 10.0, 5.0
+    jobs = [(f"zigzag: {passes} passes of {length:g} mm along X, {step:g} mm further along Y each, {feed:g} mm/s "
+             "(X reverses sharply at every tip, backlash on X)", zigzag_gcode(passes, length, step, feed),
+             zigzag_path(passes, length, step), 0, passes + 2),
+            (f"sawtooth: {teeth} teeth {pitch:g} mm long, {height:g} mm high, {feed:g} mm/s (Y reverses sharply at "
+             "every tip, backlash on Y)", *sawtooth(teeth, pitch, height, feed), 1, teeth + 2)]
     with tempfile.TemporaryDirectory() as tmp:
-        without = run_job(Path(tmp), "zigzag-none", gcode, (0.0, 0.0, 0.0), True)
-        assert without.ended_by == "done", without.ended_by
-        base_error = path_error(without, zigzag_path(passes, length, step), *lines)
-        print(f"  no backlash: job time {without.sent.segments.ticks / TICK_HZ:.4f} s, path error "
-              f"{base_error:.2f} steps (the steppers alone), lag behind the plan {plan_lag(without):.2f}")
-        for mm in (1 / STEPS_PER_MM, 0.05, 0.2):
-            ran = run_job(Path(tmp), f"zigzag-{mm}", gcode, (mm, 0.0, 0.0), True)
-            assert ran.ended_by == "done", ran.ended_by
-            ticks = (ran.sent.segments.ticks, without.sent.segments.ticks)
-            same = np.array_equal(ran.rows[:, :3].astype(np.int64),
-                                  predict(ran.sent.segments.segments(), axis_count=3).steps)
-            kinds = sorted({t.kind for t in ran.sent.compensated.takeups})
-            error = path_error(ran, zigzag_path(passes, length, step), *lines)
-            accel = takeup_accel(ran, SMOOTHING).get(0, (0.0, 0.0))[0]
-            print(f"  backlash {mm:g} mm ({mm * STEPS_PER_MM:g} steps): job time {ticks[0] / TICK_HZ:.4f} s "
-                  f"({100 * (ticks[0] / ticks[1] - 1):+.3f} %), {len(ran.sent.compensated.takeups)} take-ups "
-                  f"({', '.join(kinds)}), path error {error:.2f} steps, lag behind the plan {plan_lag(ran):.2f} steps, X acceleration during take-ups "
-                  f"{accel:.1f} mm/s², trace = prediction: {same}")
+        for label, gcode, corners, axis, last_line in jobs:
+            print(label + "; path error in steps from the simulated carriage")
+            lines = (3, last_line)  # after the G1 to the start, before the rapid home
+            without = run_job(Path(tmp), "none", gcode, (0.0, 0.0, 0.0), True)
+            assert without.ended_by == "done", without.ended_by
+            print(f"  no backlash: job time {without.sent.segments.ticks / TICK_HZ:.4f} s, path error "
+                  f"{path_error(without, corners, *lines):.2f} steps (the steppers alone)")
+            for mm in (1 / STEPS_PER_MM, 0.05, 0.2):
+                backlash = tuple(mm if a == axis else 0.0 for a in range(3))
+                ran = run_job(Path(tmp), f"b-{mm}", gcode, backlash, True)
+                assert ran.ended_by == "done", ran.ended_by
+                ticks = (ran.sent.segments.ticks, without.sent.segments.ticks)
+                same = np.array_equal(ran.rows[:, :3].astype(np.int64),
+                                      predict(ran.sent.segments.segments(), axis_count=3).steps)
+                kinds = sorted({t.kind for t in ran.sent.compensated.takeups})
+                accel = takeup_accel(ran, SMOOTHING).get(axis, (0.0, 0.0))[0]
+                print(f"  backlash {mm:g} mm ({mm * STEPS_PER_MM:g} steps): job time {ticks[0] / TICK_HZ:.4f} s "
+                      f"({100 * (ticks[0] / ticks[1] - 1):+.3f} %), {len(ran.sent.compensated.takeups)} take-ups "
+                      f"({', '.join(kinds)}); path error {path_error(ran, corners, *lines):.2f} steps, behind the "
+                      f"plan {plan_lag(ran):.2f} steps; {'XYZ'[axis]} acceleration during take-ups {accel:.1f} "
+                      f"mm/s²; trace = prediction: {same}")
 
 
 def main() -> int:
