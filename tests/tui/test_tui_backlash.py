@@ -156,7 +156,8 @@ async def test_the_switch_is_calibrated_written_and_then_measures_within_a_step(
         await pilot.press("minus", "minus", "minus", "c")  # 2 tries
         await until(pilot, lambda: not screen.running, 60, "the calibration")
         assert screen.calibration is not None, screen.lines
-        assert "X within 5 mm of it, off it" in screen.lines[0] and f"{backlash / 400:.4f} mm" in screen.lines[0], screen.lines
+        said = screen.lines[0]  # where the switch must be, and the backlash taken off
+        assert "X within 5 mm of it, off it" in said and f"{backlash / 400:.4f} mm" in said, screen.lines
         assert abs(screen.calibration.hysteresis_mm * 400 - 6.5) < 1.0
         assert on_screen(screen, "#backlash-result")
         drawn = shown(screen, "#backlash-tries") + shown(screen, "#backlash-result")
