@@ -22,10 +22,12 @@ from .program import JobError, SetOutputs
 # An axis whose backlash is taken up (docs/BACKLASH.md) and that turns around sharply at a junction
 # — moving along both moves by more than this share of the path — stops there: the take-up then runs
 # at rest, where it costs no acceleration. (Shallow reversals, as on an arc's chords, take it up on
-# the move, and so is a take-up of a step or so at any reversal.)
+# the move.)
 SHARP_REVERSAL = 0.25
-# A take-up of at most this many steps is superposed on the motion even there: while it runs the
-# carriage lags the path by at most its size, about what the steppers' own rounding makes it.
+# A take-up of at most this many steps does not stop a sharp reversal: it runs on the move, with the
+# acceleration the plan leaves, and the carriage is at most that far behind the plan meanwhile —
+# the size of the steppers' own rounding. (A larger one would leave it up to the whole backlash
+# behind.)
 SUPERPOSED_TAKEUP_STEPS = 1
 
 # Ramps are planned at this fraction of each move's acceleration (and jerk) limit; the
