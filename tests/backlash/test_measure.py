@@ -17,7 +17,9 @@ from backlash_helpers import STEPS_PER_MM, backlash_config
 from quadstep.config import ConfigError, InputsConfig, load_config
 from quadstep.config_file import set_backlash
 from quadstep.machine import Target, open_machine
-from quadstep.machine.backlash import calibrate_switch, measure_with_probe, measure_with_switch
+from quadstep.machine.backlash import (
+    MeasureError, calibrate_switch, known_backlash, measure_with_probe, measure_with_switch,
+)
 
 REPO = Path(__file__).resolve().parents[2]
 HYSTERESIS = 6.5  # the switch's, steps
@@ -119,3 +121,10 @@ def test_writing_keeps_the_file_when_the_result_would_not_load(tmp_path: Path) -
     assert config.read_text() == before and not (tmp_path / "machine.toml.bak").exists()
     with pytest.raises(ConfigError, match="no \\[\\[axes\\]\\] with name = 'Q'"):
         set_backlash(config, "Q", mm=0.1)
+
+
+def test_the_calibration_takes_off_the_backlash_given_or_configured_and_refuses_none() -> None:
+    config = backlash_config((0.1, 0.0, 0.0))  # Y has no [axes.backlash]
+    assert known_backlash(config, "X") == 0.1 and known_backlash(config, "Y", 0.02) == 0.02
+    with pytest.raises(MeasureError, match="Y: no backlash known: measure it with the probe first"):
+        known_backlash(config, "Y")
