@@ -60,8 +60,9 @@ lint: setup-python
 	$(VENV_PYTHON) -m ruff check host/quadstep
 	$(VENV_PYTHON) -m mypy host/quadstep
 
+# The slowest tests are listed at the end, to see where the suite's time goes.
 test-python: setup-python
-	$(VENV_PYTHON) -m pytest -q
+	$(VENV_PYTHON) -m pytest -q --durations=15
 
 # The Python tests that start no emulator and no simavr (tests/conftest.py marks the others).
 test-fast: setup-python

@@ -9,10 +9,8 @@ from typing import Any
 
 import numpy as np
 
-from ..backlash.band import Band
-from ..backlash.base import from_arrays, from_items
-from ..backlash.compensate import TakeUp, compensate
-from ..planner.segments import SegmentArrays
+from ..backlash.compensate import TakeUp
+from ..machine.takeups import TakeUps
 from ..planner.timeline import Timeline, timeline
 from ..toolpath import Toolpath, toolpath
 from ._jobs import add_job_options, job_from_args, machine_config
@@ -123,12 +121,8 @@ def run(args: argparse.Namespace) -> int:
     if len(job.plan) == 0:
         raise CliError(f"{args.job}: the job has no motion to plot")
     try:
-        base = (
-            from_arrays(job.plan.segments)
-            if isinstance(job.plan.segments, SegmentArrays)
-            else from_items(job.plan.segments, len(config.axes))
-        )
-        takeups = compensate(base, config, Band.of(config)).takeups
+        # the take-ups the machine would add, from the configured backlash
+        takeups = TakeUps(config).compensate(job.plan.segments, job.plan.pauses).takeups
         draw(
             timeline(job.plan),
             list(config.axis_names),

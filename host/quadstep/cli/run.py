@@ -277,7 +277,9 @@ def stream(
 ) -> int:
     config, plan = machine.config, job.plan
     # with its take-ups
-    run_ = machine.run_job(plan, job.program, job.label, job.feed_override, journal)
+    run_ = machine.run_job(
+        plan, job.program, job.label, job.feed_override, journal, leaves=job.end_coordinates
+    )
     console = Console(stderr=True)
     progress = Progress(
         TextColumn("{task.description}"),
@@ -312,8 +314,6 @@ def stream(
     final = machine.status()
     done = run_.progress.done
     completed = end.ended_by == "done" and done >= len(run_.plan)
-    if completed:
-        machine.adopt_coordinates(job.end_coordinates)  # what its G10, G92, G54…G59 and M2/M30 left
     stopped_line = None if completed else run_.progress.line
     positions = list(machine.position)
     exact = completed and tuple(positions) == plan.end

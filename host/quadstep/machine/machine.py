@@ -243,13 +243,15 @@ class Machine(Standing):
         feed_override: int = 100,
         journal: Journal | None = None,
         open_end: bool = False,
+        leaves: WorkCoordinates | None = None,
     ) -> JobRun:
         """Start a planned job now, the backlash taken up in it (pauses wait for JobRun.resume()).
         With the `program` it was planned from, a feed hold (JobRun.feed_hold, the board's button)
         keeps the rest of the job for resume(), and JobRun.set_feed_override changes its feeds on
         the way (the plan is planned at `feed_override` %, the program as written); a `journal`
         keeps each leg of it for `run --resume`; an `open_end` job takes more lines as it runs
-        (JobRun.extend)."""
+        (JobRun.extend); `leaves` are the work coordinates its G10, G92, G54…G59 and M2/M30 leave,
+        the machine's once the job completes."""
         if plan.outputs and not self.identity.capabilities & Capability.OUTPUTS:
             raise MachineError(
                 "the job sets the spindle, laser or coolant (M3/M4/M5, M7/M8/M9) and this firmware "
@@ -277,7 +279,7 @@ class Machine(Standing):
             journal=journal,
             open_end=open_end,
         )
-        return self._begin(job, compensated).start()
+        return self._begin(job, compensated, leaves=leaves).start()
 
     def set_rapid_override(self, percent: int) -> int:
         """The rapids of every program planned from now on at 25, 50 or 100 % (ValueError else);
@@ -428,6 +430,7 @@ class Machine(Standing):
         program: Started,
         compensated: Compensated | None = None,
         raw: Sequence[Segment] | None = None,
+        leaves: WorkCoordinates | None = None,
     ) -> Started:
         if self.config.homing_required and not self.homed:
             raise MachineError(
@@ -442,11 +445,14 @@ class Machine(Standing):
             status = self.link.status()
             self.takeups.begin(compensated, status.position[: self.axis_count], status.motion_ticks)
         program.settle = lambda end: self._settle(end, raw)
-        program.on_end = lambda end: self._ended(program, end)
+        program.on_end = lambda end: self._ended(program, end, leaves)
         return program
 
-    def _ended(self, program: Running, end: MotionEnd) -> None:
+    def _ended(self, program: Running, end: MotionEnd, leaves: WorkCoordinates | None) -> None:
         """In the program's thread, before its waiters wake (after _settle): the machine is free
-        again."""
+        again, with the work coordinates a completed program leaves."""
+        if leaves is not None and end.ended_by == "done":
+            self.coordinates = self._stored_coordinates = leaves
+            self._keep_state()
         with self._lock:
             self._free(program)

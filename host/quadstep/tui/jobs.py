@@ -262,7 +262,9 @@ class JobKeys(Screen[None]):
                 raise JobError(f"{job.path}: no move leaves the current position")
             path = toolpath(job.program, machine.config.to_mm(start)) if not typed else None
             journal = job_journal(machine, job_file) if job_file is not None else None
-            run = machine.run_job(job.plan, job.program, job.label, journal=journal)
+            run = machine.run_job(
+                job.plan, job.program, job.label, journal=journal, leaves=job.end_coordinates
+            )
         except (JobError, LinkError, MachineError) as exc:
             what = name if typed else "job"
             self.post_message(Note(f"{what} not started: {str(exc).removeprefix('MDI: ')}", True))
@@ -270,9 +272,6 @@ class JobKeys(Screen[None]):
         self.post_message(JobStarted(run, name, path, source))
         end = run.wait()
         assert end is not None
-        if end.ended_by == "done":
-            # what its G10, G92, G54…G59, M2/M30 left
-            machine.adopt_coordinates(job.end_coordinates)
         self.post_message(JobDone(name, end))
 
     def on_job_started(self, message: JobStarted) -> None:
