@@ -9,11 +9,11 @@ The measurement runs in a worker thread (machine/backlash.py) and reports back w
 
 from __future__ import annotations
 
-import threading
 from dataclasses import dataclass
 from typing import ClassVar
 
 from rich.markup import escape
+from textual import work
 from textual.app import ComposeResult
 from textual.binding import Binding, BindingType
 from textual.containers import Vertical
@@ -177,9 +177,7 @@ class BacklashScreen(ModalScreen[None]):
         self._begin()
         self.say(f"measuring {self.axis} with the {self.method}, {self.tries} tries…")
         axis, method, tries = self.axis, self.method, self.tries
-        threading.Thread(
-            target=lambda: self._measure(axis, method, tries), name="quadstep-backlash", daemon=True
-        ).start()
+        self._measure(axis, method, tries)
 
     def _begin(self) -> None:
         self.running, self.result, self.calibration = True, None, None
@@ -205,12 +203,9 @@ class BacklashScreen(ModalScreen[None]):
             f"it, off it), {tries} tries; the backlash {known:.4f} mm (the configuration's) taken "
             "off…"
         )
-        threading.Thread(
-            target=lambda: self._calibrate(axis, known, tries),
-            name="quadstep-backlash",
-            daemon=True,
-        ).start()
+        self._calibrate(axis, known, tries)
 
+    @work(thread=True, exclusive=True, group="backlash")
     def _calibrate(self, axis: str, known: float, tries: int) -> None:
         machine = self.session.machine
         assert machine is not None
@@ -250,6 +245,7 @@ class BacklashScreen(ModalScreen[None]):
             f"{result.axis} switch hysteresis: [b]{value}[/b]{escape(rest)}{after}"
         )
 
+    @work(thread=True, exclusive=True, group="backlash")
     def _measure(self, axis: str, method: str, tries: int) -> None:
         machine = self.session.machine
         assert machine is not None

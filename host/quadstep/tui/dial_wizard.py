@@ -11,11 +11,11 @@ backlash/dial.py's minimum; + and − change them.
 
 from __future__ import annotations
 
-import threading
 from collections.abc import Callable
 from typing import ClassVar
 
 from rich.markup import escape
+from textual import work
 from textual.app import ComposeResult
 from textual.binding import Binding, BindingType
 from textual.containers import Vertical
@@ -130,21 +130,21 @@ class DialWizard(ModalScreen[None]):
     # --- motion ----------------------------------------------------------------------------
 
     def _run(self, step: Callable[[DialMeasurement], None]) -> None:
-        """Run one of the measurement's moves in a thread."""
+        """Run one of the measurement's moves in a thread worker."""
         measurement = self.measurement
         if measurement is None:
             return
         self.moving = True
+        self._move(step, measurement)
 
-        def run() -> None:
-            try:
-                step(measurement)
-            except (LinkError, MachineError) as exc:
-                self.post_message(Moved(str(exc)))
-            else:
-                self.post_message(Moved())
-
-        threading.Thread(target=run, name="quadstep-dial", daemon=True).start()
+    @work(thread=True, exclusive=True, group="dial")
+    def _move(self, step: Callable[[DialMeasurement], None], measurement: DialMeasurement) -> None:
+        try:
+            step(measurement)
+        except (LinkError, MachineError) as exc:
+            self.post_message(Moved(str(exc)))
+        else:
+            self.post_message(Moved())
 
     def on_moved(self, message: Moved) -> None:
         self.moving = False
