@@ -151,8 +151,10 @@ static QS_NOINLINE void on_segments(qs_core *c, qs_host_msg *m, uint8_t cubic)
 /* RASTER: its motion is the chain's cruise, read as a SEGMENTS record that
  * says nothing but n and the axes; then the line's own checks, and its
  * powers into the ring beside the slot. */
-static QS_NOINLINE void take_raster(qs_core *c, qs_host_msg *m, const qs_raster_msg *line)
+static QS_NOINLINE void on_raster(qs_core *c, qs_host_msg *m)
 {
+    const qs_raster_msg kept = m->as.raster; /* m's room is the record's below */
+    const qs_raster_msg *const line = &kept;
     qs_engine *e = &c->engine;
     qs_segment_msg *const s = &m->as.segment;
     qs_segment *slot;
@@ -188,16 +190,6 @@ static QS_NOINLINE void take_raster(qs_core *c, qs_host_msg *m, const qs_raster_
     qs_outputs_carry(&c->outputs, slot);
     qs_raster_store(&c->raster, slot, line);
     queued(c, m);
-}
-
-static uint8_t on_raster(qs_core *c, qs_host_msg *m, const uint8_t *p, uint8_t plen)
-{
-    qs_raster_msg line;
-    const uint8_t code = qs_raster_parse(p, plen, &line);
-
-    if (code == QS_ERR_NONE && qs_in_sequence(c, m))
-        take_raster(c, m, &line);
-    return code;
 }
 #endif
 
@@ -376,8 +368,138 @@ static void on_config(qs_core *c, const qs_host_msg *m)
     qs_report_ack(c, m->seq, QS_ACK_ACCEPTED);
 }
 
-/* Every host message, by type (PROTOCOL.md section 5): its parser, then
- * what it does. A new message is one case here. */
+/* ---- the messages ----
+ * Every host message (PROTOCOL.md section 5) is one row of HOST_MESSAGES
+ * below: its type, whether it is sequenced, its parser and its handler. A
+ * new message is a parser, a handler and a row. */
+
+/* The parsers in one form: the payload into the message's own member.
+ * These forms and the handlers' are inlined, so that the switch compiles
+ * as a written-out one would. */
+static QS_ALWAYS_INLINE uint8_t parse_empty(const uint8_t *p, uint8_t len, qs_host_msg *m)
+{
+    (void)p;
+    (void)m;
+    return qs_msg_parse_empty(len);
+}
+
+static QS_ALWAYS_INLINE uint8_t parse_hold(const uint8_t *p, uint8_t len, qs_host_msg *m)
+{
+    return qs_msg_parse_hold(p, len, &m->as.hold);
+}
+
+static QS_ALWAYS_INLINE uint8_t parse_watchdog(const uint8_t *p, uint8_t len, qs_host_msg *m)
+{
+    return qs_msg_parse_watchdog(p, len, &m->as.watchdog);
+}
+
+static QS_ALWAYS_INLINE uint8_t parse_probe(const uint8_t *p, uint8_t len, qs_host_msg *m)
+{
+    return qs_msg_parse_probe(p, len, &m->as.probe);
+}
+
+static QS_ALWAYS_INLINE uint8_t parse_config(const uint8_t *p, uint8_t len, qs_host_msg *m)
+{
+    return qs_msg_parse_config(p, len, &m->as.config);
+}
+
+static QS_ALWAYS_INLINE uint8_t parse_outputs(const uint8_t *p, uint8_t len, qs_host_msg *m)
+{
+    return qs_msg_parse_outputs(p, len, &m->as.outputs);
+}
+
+static QS_ALWAYS_INLINE uint8_t parse_segment(const uint8_t *p, uint8_t len, qs_host_msg *m)
+{
+    return qs_msg_parse_segment(p, len, &m->as.segment);
+}
+
+static QS_ALWAYS_INLINE uint8_t parse_cubic_segment(const uint8_t *p, uint8_t len, qs_host_msg *m)
+{
+    return qs_msg_parse_cubic(p, len, &m->as.cubic);
+}
+
+static QS_ALWAYS_INLINE uint8_t parse_segments(const uint8_t *p, uint8_t len, qs_host_msg *m)
+{
+    return qs_msg_parse_segments(p, len, &m->as.segments);
+}
+
+static QS_ALWAYS_INLINE uint8_t parse_cubic_segments(const uint8_t *p, uint8_t len, qs_host_msg *m)
+{
+    return qs_msg_parse_cubic_segments(p, len, &m->as.segments);
+}
+
+static QS_ALWAYS_INLINE uint8_t parse_set_position(const uint8_t *p, uint8_t len, qs_host_msg *m)
+{
+    return qs_msg_parse_set_position(p, len, &m->as.set_position);
+}
+
+#if QS_RASTER_BYTES
+static QS_ALWAYS_INLINE uint8_t parse_raster(const uint8_t *p, uint8_t len, qs_host_msg *m)
+{
+    return qs_raster_parse(p, len, &m->as.raster);
+}
+#endif
+
+/* The handlers that only answer, and the two kinds of SEGMENTS. */
+static QS_ALWAYS_INLINE void on_identify(qs_core *c, const qs_host_msg *m)
+{
+    qs_report_identify(c, m->seq);
+}
+
+static QS_ALWAYS_INLINE void on_status(qs_core *c, const qs_host_msg *m)
+{
+    qs_report_status(c, m->seq, 1);
+}
+
+static QS_ALWAYS_INLINE void on_inputs(qs_core *c, const qs_host_msg *m)
+{
+    qs_report_input_status(c, m->seq);
+}
+
+static QS_ALWAYS_INLINE void on_quadratic_segments(qs_core *c, qs_host_msg *m)
+{
+    on_segments(c, m, 0);
+}
+
+static QS_ALWAYS_INLINE void on_cubic_segments(qs_core *c, qs_host_msg *m)
+{
+    on_segments(c, m, 1);
+}
+
+/* Type, sequenced (taken only as the seq expected next, qs_in_sequence),
+ * parser, handler. The rows expand into the switch of qs_dispatch_frame,
+ * so every call is direct: the AVR build then keeps the core's address a
+ * constant in each handler, which a table of function pointers would lose
+ * (1.6 KB more flash on the Uno). */
+#if QS_RASTER_BYTES
+#define RASTER_ROW(X) X(QS_TYPE_RASTER, 1, parse_raster, on_raster)
+#else
+#define RASTER_ROW(X)
+#endif
+#define HOST_MESSAGES(X)                                                  \
+    X(QS_TYPE_IDENTIFY, 0, parse_empty, on_identify)                      \
+    X(QS_TYPE_STATUS, 0, parse_empty, on_status)                          \
+    X(QS_TYPE_STOP, 0, parse_empty, on_stop)                              \
+    X(QS_TYPE_HOLD, 0, parse_hold, on_hold)                               \
+    X(QS_TYPE_WATCHDOG, 0, parse_watchdog, on_watchdog)                   \
+    X(QS_TYPE_INPUTS, 0, parse_empty, on_inputs)                          \
+    X(QS_TYPE_PROBE, 1, parse_probe, on_probe)                            \
+    X(QS_TYPE_CONFIG, 1, parse_config, on_config)                         \
+    X(QS_TYPE_OUTPUTS, 1, parse_outputs, on_outputs)                      \
+    X(QS_TYPE_SEGMENT, 1, parse_segment, qs_on_segment)                   \
+    X(QS_TYPE_CUBIC_SEGMENT, 1, parse_cubic_segment, qs_on_cubic_segment) \
+    X(QS_TYPE_SEGMENTS, 1, parse_segments, on_quadratic_segments)         \
+    X(QS_TYPE_CUBIC_SEGMENTS, 1, parse_cubic_segments, on_cubic_segments) \
+    RASTER_ROW(X)                                                         \
+    X(QS_TYPE_SET_POSITION, 1, parse_set_position, on_set_position)
+
+#define DISPATCH_CASE(type, sequenced, parse, handle)                    \
+    case type:                                                           \
+        code = parse(p, plen, &m);                                       \
+        if (code == QS_ERR_NONE && (!(sequenced) || qs_in_sequence(c, &m))) \
+            handle(c, &m);                                               \
+        break;
+
 QS_NOINLINE void qs_dispatch_frame(qs_core *c, const uint8_t *body, uint8_t len)
 {
     const uint8_t *p = body + 2;
@@ -392,81 +514,7 @@ QS_NOINLINE void qs_dispatch_frame(qs_core *c, const uint8_t *body, uint8_t len)
         qs_end_stream(c);
     qs_report_pending_hold(c);
     switch (m.type) {
-    case QS_TYPE_IDENTIFY:
-        code = qs_msg_parse_empty(plen);
-        if (code == QS_ERR_NONE)
-            qs_report_identify(c, m.seq);
-        break;
-    case QS_TYPE_STATUS:
-        code = qs_msg_parse_empty(plen);
-        if (code == QS_ERR_NONE)
-            qs_report_status(c, m.seq, 1);
-        break;
-    case QS_TYPE_STOP:
-        code = qs_msg_parse_empty(plen);
-        if (code == QS_ERR_NONE)
-            on_stop(c, &m);
-        break;
-    case QS_TYPE_HOLD:
-        code = qs_msg_parse_hold(p, plen, &m.as.hold);
-        if (code == QS_ERR_NONE)
-            on_hold(c, &m);
-        break;
-    case QS_TYPE_WATCHDOG:
-        code = qs_msg_parse_watchdog(p, plen, &m.as.watchdog);
-        if (code == QS_ERR_NONE)
-            on_watchdog(c, &m);
-        break;
-    case QS_TYPE_INPUTS:
-        code = qs_msg_parse_empty(plen);
-        if (code == QS_ERR_NONE)
-            qs_report_input_status(c, m.seq);
-        break;
-    case QS_TYPE_PROBE:
-        code = qs_msg_parse_probe(p, plen, &m.as.probe);
-        if (code == QS_ERR_NONE && qs_in_sequence(c, &m))
-            on_probe(c, &m);
-        break;
-    case QS_TYPE_CONFIG:
-        code = qs_msg_parse_config(p, plen, &m.as.config);
-        if (code == QS_ERR_NONE && qs_in_sequence(c, &m))
-            on_config(c, &m);
-        break;
-    case QS_TYPE_OUTPUTS:
-        code = qs_msg_parse_outputs(p, plen, &m.as.outputs);
-        if (code == QS_ERR_NONE && qs_in_sequence(c, &m))
-            on_outputs(c, &m);
-        break;
-    case QS_TYPE_SEGMENT:
-        code = qs_msg_parse_segment(p, plen, &m.as.segment);
-        if (code == QS_ERR_NONE && qs_in_sequence(c, &m))
-            qs_on_segment(c, &m);
-        break;
-    case QS_TYPE_CUBIC_SEGMENT:
-        code = qs_msg_parse_cubic(p, plen, &m.as.cubic);
-        if (code == QS_ERR_NONE && qs_in_sequence(c, &m))
-            qs_on_cubic_segment(c, &m);
-        break;
-    case QS_TYPE_SEGMENTS:
-        code = qs_msg_parse_segments(p, plen, &m.as.segments);
-        if (code == QS_ERR_NONE && qs_in_sequence(c, &m))
-            on_segments(c, &m, 0);
-        break;
-    case QS_TYPE_CUBIC_SEGMENTS:
-        code = qs_msg_parse_cubic_segments(p, plen, &m.as.segments);
-        if (code == QS_ERR_NONE && qs_in_sequence(c, &m))
-            on_segments(c, &m, 1);
-        break;
-#if QS_RASTER_BYTES
-    case QS_TYPE_RASTER:
-        code = on_raster(c, &m, p, plen);
-        break;
-#endif
-    case QS_TYPE_SET_POSITION:
-        code = qs_msg_parse_set_position(p, plen, &m.as.set_position);
-        if (code == QS_ERR_NONE && qs_in_sequence(c, &m))
-            on_set_position(c, &m);
-        break;
+        HOST_MESSAGES(DISPATCH_CASE)
     default:
         code = QS_ERR_UNKNOWN_TYPE;
         break;
@@ -477,4 +525,3 @@ QS_NOINLINE void qs_dispatch_frame(qs_core *c, const uint8_t *body, uint8_t len)
         qs_report_error(c, m.seq, m.type, &f);
     }
 }
-
