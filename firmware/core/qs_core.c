@@ -68,7 +68,6 @@ void qs_core_rx_overrun(qs_core *c)
     qs_frame_rx_overrun(&c->rx);
 }
 
-
 /* What the inputs left for the main loop: a hold to begin, an armed
  * motion that ended without its edge. */
 static void serve_inputs(qs_core *c)

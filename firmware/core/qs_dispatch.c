@@ -14,7 +14,6 @@ static void reject(qs_core *c, const qs_host_msg *m, const qs_fault *f)
     qs_report_ack(c, m->seq, QS_ACK_REJECTED);
 }
 
-
 /* Whether a segment may be taken in this state; refused (consumed) if not. */
 static uint8_t may_queue(qs_core *c, const qs_host_msg *m)
 {

@@ -130,7 +130,6 @@ void qs_report_input_status(qs_core *c, uint8_t seq)
     send_body(c, qs_msg_encode_input_status(tx_body(c), seq, &st));
 }
 
-
 QS_NOINLINE void qs_report_probe_missed(qs_core *c)
 {
     qs_engine_view v;
@@ -140,7 +139,6 @@ QS_NOINLINE void qs_report_probe_missed(qs_core *c)
     send_body(c, qs_msg_encode_probe_missed(tx_body(c), QS_SEQ_UNSOLICITED, v.motion_ticks, c->axis_count,
                                             v.position));
 }
-
 
 void qs_count(uint16_t *counter)
 {
