@@ -1,35 +1,13 @@
 #include "qs_cubic_records.h"
 #include "qs_protocol.h"
-
-/* A varint (parsing checked it: at most 5 bytes, under 2^32). */
-static uint32_t varint(const uint8_t **at)
-{
-    const uint8_t *p = *at;
-    uint32_t u = 0;
-    uint8_t shift = 0;
-
-    do {
-        u |= (uint32_t)(*p & 0x7Fu) << shift;
-        shift = (uint8_t)(shift + 7);
-    } while (*p++ & 0x80u);
-    *at = p;
-    return u;
-}
-
-/* Zigzag: 0, -1, 1, -2, ... from 0, 1, 2, 3, ... */
-static int32_t signed_varint(const uint8_t **at)
-{
-    const uint32_t u = varint(at);
-
-    return (int32_t)((u >> 1) ^ (uint32_t)-(int32_t)(u & 1u));
-}
+#include "qs_varint.h"
 
 uint8_t qs_cubic_records_next(qs_segments_msg *run, qs_cubic_chain *chain, uint8_t axis_count, qs_cubic_msg *m,
                               qs_fault *f)
 {
     const uint8_t *p = run->next;
     const uint8_t jerks = *p++;
-    const uint32_t head = varint(&p);
+    const uint32_t head = qs_varint_read(&p);
     uint8_t sets = 0, named = 0, axis, bit, code;
 
     if (head < 4 || head >> 2 > QS_CUBIC_N_MAX)
@@ -55,7 +33,7 @@ uint8_t qs_cubic_records_next(qs_segments_msg *run, qs_cubic_chain *chain, uint8
             /* the chain's speed, taken in the set's direction, plus the change */
             uint32_t base;
             uint8_t negative;
-            const int32_t change = signed_varint(&p);
+            const int32_t change = qs_varint_read_signed(&p);
 
             base = qs_cubic_speed(chain, axis, &negative);
             if (base > QS_SIGMA)
@@ -78,7 +56,7 @@ uint8_t qs_cubic_records_next(qs_segments_msg *run, qs_cubic_chain *chain, uint8
                 return qs_msg_bad_field(f, QS_FIELD_SPEED, axis);
             m->speed[axis] = base;
             if (head & QS_CUBIC_RECORD_ACCEL)
-                m->accel[axis] = signed_varint(&p);
+                m->accel[axis] = qs_varint_read_signed(&p);
         }
     }
     for (axis = 0, code = jerks; axis < QS_PROTOCOL_AXES; axis++, code >>= 2) {
@@ -86,7 +64,7 @@ uint8_t qs_cubic_records_next(qs_segments_msg *run, qs_cubic_chain *chain, uint8
 
         switch (code & 3u) {
         case QS_CUBIC_JERK_GIVEN:
-            r = signed_varint(&p);
+            r = qs_varint_read_signed(&p);
             break;
         case QS_CUBIC_JERK_NEGATE:
             r = -(int32_t)run->last[axis];

@@ -1,5 +1,6 @@
 #include "qs_messages.h"
 #include "qs_config.h"
+#include "qs_varint.h"
 
 static inline uint16_t get16(const uint8_t *p)
 {
@@ -104,29 +105,14 @@ QS_NOINLINE uint8_t qs_msg_parse_segments(const uint8_t *p, uint8_t len, qs_segm
         fields = (uint8_t)(((head & QS_RECORD_START) ? 1 : 0) + ((head & QS_RECORD_RESIDUAL) ? 1 : 0)
                            + ((head & QS_RECORD_CRUISE) ? 0 : 1));
         fields = (uint8_t)(fields * bit_count(axes & 0x0Fu));
-        while (fields--) {
-            if (p == end)
+        while (fields--)
+            if (!(p = qs_varint_skip(p, end, 2)))
                 return QS_ERR_BAD_LENGTH;
-            if (*p++ & 0x80u) {
-                if (p == end || (*p & 0x80u))
-                    return QS_ERR_BAD_LENGTH;
-                p++;
-            }
-        }
     }
     if (count == 0)
         return QS_ERR_BAD_LENGTH;
     s->count = count;
     return QS_ERR_NONE;
-}
-
-/* Past a varint of at most `most` bytes ending before end, or 0. */
-static const uint8_t *skip_varint(const uint8_t *p, const uint8_t *end, uint8_t most)
-{
-    while (p != end && most--)
-        if (!(*p++ & 0x80u))
-            return p;
-    return 0;
 }
 
 /* Every cubic record whole: its jerks byte, n*4 + flags in at most 3 bytes,
@@ -149,7 +135,7 @@ QS_NOINLINE uint8_t qs_msg_parse_cubic_segments(const uint8_t *p, uint8_t len, q
         if (p == end)
             return QS_ERR_BAD_LENGTH;
         flags = *p;
-        p = skip_varint(p, end, 3);
+        p = qs_varint_skip(p, end, 3);
         if (!p)
             return QS_ERR_BAD_LENGTH;
         if (flags & QS_CUBIC_RECORD_SETS) {
@@ -159,15 +145,15 @@ QS_NOINLINE uint8_t qs_msg_parse_cubic_segments(const uint8_t *p, uint8_t len, q
             while (fields--) {
                 const uint8_t *speed = p;
 
-                p = skip_varint(p, end, 5);
+                p = qs_varint_skip(p, end, 5);
                 if (!p || (p - speed == 5 && p[-1] > 0x0Fu))
                     return QS_ERR_BAD_LENGTH;
-                if ((flags & QS_CUBIC_RECORD_ACCEL) && !(p = skip_varint(p, end, 4)))
+                if ((flags & QS_CUBIC_RECORD_ACCEL) && !(p = qs_varint_skip(p, end, 4)))
                     return QS_ERR_BAD_LENGTH;
             }
         }
         for (fields = 0; fields < QS_PROTOCOL_AXES; fields++, jerks >>= 2)
-            if ((jerks & 3u) == QS_CUBIC_JERK_GIVEN && !(p = skip_varint(p, end, 3)))
+            if ((jerks & 3u) == QS_CUBIC_JERK_GIVEN && !(p = qs_varint_skip(p, end, 3)))
                 return QS_ERR_BAD_LENGTH;
     }
     if (count == 0)

@@ -90,6 +90,17 @@ typedef struct {
     uint16_t speed;
 } qs_outputs_msg;
 
+/* RASTER: a laser line at one speed, a power per pixel (qs_raster.h). */
+typedef struct {
+    uint16_t n;
+    uint8_t axes;  /* as SEGMENT's: active axes, their directions */
+    uint8_t pixel; /* bits 0-1: the axis whose steps count the pixels; others 0 */
+    uint16_t phase;
+    uint16_t pitch;
+    uint8_t count;        /* pixels, 1 ... QS_RASTER_PIXELS_MAX */
+    const uint8_t *power; /* in the frame's body */
+} qs_raster_msg;
+
 typedef struct {
     uint8_t type;
     uint8_t seq;
@@ -103,6 +114,7 @@ typedef struct {
         qs_config_msg config;
         qs_watchdog_msg watchdog;
         qs_outputs_msg outputs;
+        qs_raster_msg raster;
     } as;
 } qs_host_msg;
 
@@ -116,7 +128,7 @@ typedef struct {
 /* Parsing a host message's payload (after type and seq), one function per
  * message: the length check (code 7 of section 2), then the fields as they
  * are. Return QS_ERR_NONE or QS_ERR_BAD_LENGTH. Which function a type
- * needs is the switch in qs_core.c (on_frame). */
+ * needs is the table in qs_dispatch.c. */
 uint8_t qs_msg_parse_empty(uint8_t len);
 uint8_t qs_msg_parse_cubic(const uint8_t *p, uint8_t len, qs_cubic_msg *c);
 uint8_t qs_msg_parse_segment(const uint8_t *p, uint8_t len, qs_segment_msg *s);

@@ -33,8 +33,8 @@
 /* COBS(body || crc) || 0x00: at most one code byte per 254 data bytes. */
 #define QS_MAX_WIRE (QS_MAX_FRAME + 2)
 
-/* Message types (sections 3, 5). Each host message is one case of the
- * switch in qs_core.c (on_frame), each report one encoder in
+/* Message types (sections 3, 5). Each host message is one row of
+ * HOST_MESSAGES in qs_dispatch.c, each report one encoder in
  * qs_messages.c. */
 #define QS_TYPE_IDENTIFY 0x01
 #define QS_TYPE_STATUS 0x02

@@ -24,16 +24,6 @@ _Static_assert(QS_RASTER_BYTES <= 1024, "a slot keeps a power's index in 10 bits
 #define QS_RASTER_WHERE_COUNT_SHIFT 10
 
 typedef struct {
-    uint16_t n;
-    uint8_t axes;  /* as SEGMENT's: active axes, their directions */
-    uint8_t pixel; /* bits 0-1: the axis whose steps count the pixels; others 0 */
-    uint16_t phase;
-    uint16_t pitch;
-    uint8_t count;        /* pixels, 1 ... QS_RASTER_PIXELS_MAX */
-    const uint8_t *power; /* in the frame's body */
-} qs_raster_msg;
-
-typedef struct {
 #if QS_RASTER_BYTES
     uint8_t power[QS_RASTER_BYTES];
 #endif

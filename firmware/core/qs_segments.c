@@ -1,20 +1,6 @@
 #include "qs_segments.h"
 #include "qs_protocol.h"
-
-/* A varint of one or two bytes (parsing checked it), zigzag-decoded:
- * 0, -1, 1, -2, ... from 0, 1, 2, 3, ... */
-static int16_t signed_varint(const uint8_t **at)
-{
-    const uint8_t *p = *at;
-    uint16_t u = p[0] & 0x7Fu;
-
-    if (p[0] & 0x80u) {
-        u |= (uint16_t)((uint16_t)p[1] << 7);
-        p++;
-    }
-    *at = p + 1;
-    return (int16_t)((u >> 1) ^ (uint16_t)-(int16_t)(u & 1u));
-}
+#include "qs_varint.h"
 
 uint8_t qs_segments_next(qs_segments_msg *run, qs_cubic_chain *chain, uint8_t axis_count, qs_segment_msg *s,
                          qs_fault *f)
@@ -52,14 +38,14 @@ uint8_t qs_segments_next(qs_segments_msg *run, qs_cubic_chain *chain, uint8_t ax
                 return qs_msg_bad_field(f, QS_FIELD_V0, axis);
             v0 = (int16_t)speed;
             if (head & QS_RECORD_START)
-                v0 = (int16_t)(v0 + signed_varint(&p));
+                v0 = (int16_t)(v0 + qs_varint_read_signed16(&p));
             if (head & QS_RECORD_RESIDUAL) {
-                residual = signed_varint(&p);
+                residual = qs_varint_read_signed16(&p);
                 known |= QS_CHAIN_RESIDUAL;
             }
             vn = v0;
             if (!(head & QS_RECORD_CRUISE))
-                vn = (int16_t)(vn + signed_varint(&p));
+                vn = (int16_t)(vn + qs_varint_read_signed16(&p));
             if (head & QS_RECORD_MIRROR)
                 vn = (int16_t)(vn - run->last[axis]);
             if (v0 < 0 || v0 > QS_V_MAX)

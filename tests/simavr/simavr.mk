@@ -5,7 +5,7 @@
 
 SIMAVR_OUT := $(BUILD)/simavr
 SIMAVR_SOURCES := $(sort $(wildcard tests/simavr/*.c)) \
-	firmware/core/qs_frame.c firmware/core/qs_cobs.c firmware/core/qs_crc16.c firmware/core/qs_messages.c \
+	firmware/core/qs_frame.c firmware/core/qs_cobs.c firmware/core/qs_crc16.c firmware/core/qs_messages.c firmware/core/qs_varint.c \
 	firmware/native/machine.c firmware/native/machine_file.c firmware/native/toml_lite.c
 SIMAVR_CFLAGS := -std=gnu11 -O2 -g -Wall -Wextra -Werror \
 	$(shell pkg-config --cflags simavr 2>/dev/null || echo -I/usr/include/simavr) \
