@@ -1,7 +1,7 @@
 """GRBL's override bytes (0x90–0x9D) on the machine: the feed override (10–200 %) onto the running
 batch at once, through the job's own feed override (machine/override.py: the rest re-planned from a
 move boundary, moving), and onto every batch planned after; the rapid (100, 50, 25 %) and spindle
-(10–200 %) overrides onto the batches planned after the one running (machine/speed_overrides.py).
+(10–200 %) overrides likewise, through the machine's (machine/speed_overrides.py).
 The status report's `Ov:` says what is in force. The coolant toggles (0xA0 flood, 0xA1 mist) are
 here too: GRBL's accessory overrides."""
 

@@ -1,7 +1,8 @@
-"""The feed override (planner/feed_override.py) on a running job: its rest planned again from a move
-boundary not yet sent. The residual chain, the steppers and every axis's speed there are the plan's
-own and the first move is entered at the speed the plan had there, so the new tail follows the sent
-segments without a stop and every move still lands exactly (docs/PLANNER.md, "Feed override")."""
+"""The overrides (planner/feed_override.py: feed, rapid, spindle) on a running job: its rest
+planned again from a move boundary not yet sent. The residual chain, the steppers and every axis's
+speed there are the plan's own and the first move is entered at the speed the plan had there, so
+the new tail follows the sent segments without a stop and every move still lands exactly
+(docs/PLANNER.md, "Feed override")."""
 
 from __future__ import annotations
 
@@ -82,16 +83,26 @@ def join(plan: Plan, move: int, tail: Plan) -> Plan:
     )
 
 
-def replan_from(program: Program, plan: Plan, move: int, percent: int, label: str) -> Plan:
-    """`plan` (of `program`) up to where its move `move` begins, then the rest of `program` with its
-    feeds at `percent` %, going on from there (what lies between the moves, a dwell or a pause,
-    comes with the rest)."""
+# the rest of a program, beginning at the given stepper positions, at the overrides wanted now
+Scaler = Callable[[Program, tuple[int, ...]], Program]
+
+
+def feeds_at(percent: int) -> Scaler:
+    """The feeds at `percent` % (rapids and S as they are)."""
+    return lambda program, _start: scale_feeds(program, percent)
+
+
+def replan_from(program: Program, plan: Plan, move: int, scale: Scaler, label: str) -> Plan:
+    """`plan` (of `program`) up to where its move `move` begins, then the rest of `program` scaled
+    by `scale` (the overrides), going on from there (what lies between the moves, a dwell or a
+    pause, comes with the rest)."""
     first = move_item(program, plan.config, plan.start, move - 1) + 1
+    boundary = boundary_at(plan, move)
     tail = plan_program(
-        scale_feeds(rest_of(program, first), percent),
+        scale(rest_of(program, first), boundary.position),
         plan.config,
         label=label,
-        boundary=boundary_at(plan, move),
+        boundary=boundary,
     )
     return join(plan, move, tail)
 
@@ -113,6 +124,19 @@ def first_difference(old: Stream, new: Stream) -> int:
     return count
 
 
+def first_output_change(old: Plan, new: Plan, at: int) -> int | None:
+    """The first segment (at or after `at`) where `new` sends other outputs than `old` (a spindle
+    override: the same segments, another power); None where they send the same."""
+    before = [(i, message) for i, _, message in old.outputs if i >= at]
+    after = [(i, message) for i, _, message in new.outputs if i >= at]
+    for a, b in zip(before, after):
+        if a != b:
+            return min(a[0], b[0])
+    if len(before) != len(after):
+        return (before if len(before) > len(after) else after)[min(len(before), len(after))][0]
+    return None
+
+
 @dataclass(frozen=True)
 class Swap:
     """The job planned again: stream it from item `index` on, after the running plan's items before
@@ -131,11 +155,11 @@ def prepare(
     running: Plan | StreamPlan,
     after: int,
     before: int,
-    percent: int,
+    scale: Scaler,
     label: str,
     restream: Restreamer | None,
 ) -> Swap | None:
-    """`running` planned again at `percent` % from the first move boundary where the new stream
+    """`running` planned again with `scale` from the first move boundary where the new stream
     leaves the old at or after its item `after` (and before item `before`, the section's end); None
     when there is none."""
     base = running.base if isinstance(running, StreamPlan) else running
@@ -145,7 +169,7 @@ def prepare(
     move = bisect_left(base.move_ends, origin) + 1
     for move in range(move, min(move + TRIES, base.moves)):
         try:
-            joined = replan_from(program, base, move, percent, label)
+            joined = replan_from(program, base, move, scale, label)
         except JobError:
             continue  # no whole-tick profile from this boundary: the next one
         at = base.move_ends[move - 1]
@@ -157,6 +181,9 @@ def prepare(
             # take-up across the boundary begins before it)
             swapped = restream(joined, running)
             index = first_difference(running.segments, swapped.segments)
+            change = first_output_change(base, joined, at)
+            if change is not None:
+                index = min(index, bisect_left(swapped.segments.origin, change))
         if index >= before:
             return None
         if index < after:
@@ -169,13 +196,13 @@ def replan_running(
     program: Program,
     running: Plan | StreamPlan,
     motion: Motion,
-    percent: int,
+    scale: Scaler,
     label: str,
     restream: Restreamer | None,
     ticks: Sequence[int],
     start_at: int = 0,
 ) -> Swap | None:
-    """`running` planned again at `percent` % from the first move boundary that `motion` (streaming
+    """`running` planned again with `scale` from the first move boundary that `motion` (streaming
     it) has not sent (and not before item `start_at`), and the motion cut there. A boundary sent
     meanwhile is passed by for one twice as far ahead as the planning took. None when the section
     under way has no boundary left (or the motion ends)."""
@@ -184,7 +211,7 @@ def replan_running(
         if motion.end is not None:
             return None
         began = time.monotonic()
-        swap = prepare(program, running, after, motion.last, percent, label, restream)
+        swap = prepare(program, running, after, motion.last, scale, label, restream)
         if swap is None:
             return None
         if motion.cut(swap.index):
