@@ -19,6 +19,7 @@ from quadstep.machine import JobRun, Machine
 from quadstep.machine.speed_overrides import SpeedOverrides
 from quadstep.planner.feed_override import Overrides, apply_overrides
 from quadstep.planner.plan import Plan, plan_program
+from quadstep.protocol import Output
 
 REPO = Path(__file__).resolve().parents[2]
 CONFIG = load_config(REPO / "examples" / "router-uno.toml")
@@ -173,3 +174,44 @@ def test_rapid_and_spindle_overrides_reach_the_running_batch(start_emulator, tmp
     assert changes[0] == (1, round(65535 * 0.5)) and changes[-2:] == [(1, round(65535 * 0.75)), (0, 0)]
     middle = [duty for pins, duty in changes[1:-1]]
     assert all(pins == 1 for pins, _ in changes[1:-1]) and middle == sorted(middle)
+
+
+def test_spindle_stop_during_a_feed_hold_and_back_on_resume(start_emulator, tmp_path: Path) -> None:
+    """0x9E is ignored while the batch runs; during a feed hold it turns the spindle off (the
+    coolant kept) and cycle start brings it back as the job had it; the job ends exactly."""
+    config = CONFIG.model_copy(
+        update={"spindle": CONFIG.spindle.model_copy(update={"s_max": 1000.0})}
+    )
+    outputs = tmp_path / "outputs.csv"
+    emu = start_emulator(
+        axes=3, tick_hz=config.tick_hz, free=False, extra_args=["--outputs", str(outputs)]
+    )
+    lines = ["M8 M3 S500", "G1 X2 F600", *(f"X{x}" for x in range(4, 21, 2))]
+    with Link.open(emu.url) as link:
+        machine = Machine(link, config)
+        with serving(machine) as pty, GrblClient(str(pty.path)) as grbl:
+            grbl.wait_banner()
+            assert grbl.stream_counting(lines) == ["ok"] * len(lines)
+            grbl.wait_status(lambda r: r.startswith("<Run") and mpos(r)[0] > 1)
+            grbl.realtime(0x9E)  # running: ignored
+            grbl.realtime(ord("!"))
+            held = grbl.wait_status(lambda r: r.startswith("<Hold:0") and "|A:" in r)
+            assert report_fields(held)["A"] == "SF"
+            grbl.realtime(0x9E)
+            stopped = grbl.wait_status(lambda r: "|A:" in r)
+            assert report_fields(stopped)["A"] == "F"  # the spindle off, the flood kept
+            grbl.realtime(ord("~"))
+            assert grbl.command("M5 M9")[1] == "ok"
+            done = grbl.wait_status(lambda r: r.startswith("<Idle"), timeout=60)
+            assert mpos(done) == (20.0, 0.0, 0.0)
+            assert tuple(link.status().position[:3]) == config.to_steps((20.0, 0.0, 0.0))
+    emu.stop()
+    rows = [line.split(",") for line in outputs.read_text().splitlines()[1:]]
+    on, flood = int(Output.ON | Output.FLOOD), int(Output.FLOOD)
+    half = round(65535 * 0.5)
+    assert [(int(pins), int(duty)) for _, pins, duty in rows] == [
+        (on, half),  # M3 M8
+        (flood, 0),  # 0x9E in the hold
+        (on, half),  # resumed
+        (0, 0),  # M5 M9
+    ]

@@ -33,7 +33,7 @@ from .job_legs import (
     rest_after_stop,
     stream_move_ends,
 )
-from .job_outputs import FEED_HOLD, stream_outputs, switch_off
+from .job_outputs import FEED_HOLD, outputs_at, spindle_stopped, stream_outputs, switch_off
 from .job_state import JobProgress, JobState, JobStates
 from .journal import Journal
 from .motion import CUT, STARVED, Motion, MotionEnd, bring_to_rest
@@ -249,6 +249,18 @@ class JobRun:
         if motion is None or self.program is None:
             return False
         motion.halt(FEED_HOLD)
+        return True
+
+    def stop_spindle(self, stop: bool) -> bool:
+        """At a feed hold: the spindle (or laser) off, the coolant kept (`stop`), or on again as the
+        job had it. resume() brings it back in any case: the rest is planned from the hold with the
+        outputs the program set. False when the job is not held or sets no outputs."""
+        if not self.held:
+            return False
+        message = outputs_at(self.plan, self._offset)
+        if message is None:
+            return False
+        self.link.send(spindle_stopped(message) if stop else message)
         return True
 
     def extend(
