@@ -197,11 +197,6 @@ class JobRun:
         sent and streamed in place of the old without a stop (from the next pause when the section
         under way has no boundary left)."""
         check_percent(percent)
-        if self.plan.config.jerk_limited and percent != self._override:
-            raise MachineError(
-                "a jerk-limited job (max_jerk) takes its feed override only as it starts "
-                "(quadstep run --feed-override)"
-            )
         with self._lock:
             self._override = percent
         self._wake.set()
@@ -543,7 +538,7 @@ class JobRun:
         if overriding:
             self.states.enter(JobState.OVERRIDING)
         running = self.restream if self.restream and isinstance(self.plan, StreamPlan) else None
-        wanted, config = self._wanted(), base_plan(self.plan).config
+        wanted, planned, config = self._wanted(), self._planned, base_plan(self.plan).config
         self._swap = replan_running(
             self.program,
             self.plan,
@@ -553,6 +548,7 @@ class JobRun:
             running.restream if running else None,
             self._ticks,
             start_at,
+            lambda program, start: apply_overrides(program, planned, config, start),
         )
         if self._swap is not None:
             self._planned = wanted

@@ -16,7 +16,8 @@ import numpy as np
 
 from ..planner.feed_override import scale_feeds
 from ..planner.plan import Boundary, Plan, plan_program
-from ..planner.program import JobError, Program
+from ..planner.program import JobError, LinearMove, Program
+from ..planner.scurve_rest import replan_scurve_from
 from ..planner.segments import SegmentArrays
 from ..planner.stream import Stream
 from ..protocol.segment import D
@@ -107,6 +108,25 @@ def replan_from(program: Program, plan: Plan, move: int, scale: Scaler, label: s
     return join(plan, move, tail)
 
 
+def replan_scurve(
+    program: Program, plan: Plan, move: int, scale: Scaler, planned: Scaler, label: str
+) -> Plan:
+    """The jerk-limited `plan` (of `program` scaled by `planned`) up to where its move `move`
+    begins, then the rest of `program` scaled by `scale`, going on from there."""
+    first = move_item(program, plan.config, plan.start, move - 1) + 1
+    previous = program.items[first - 1]
+    assert isinstance(previous, LinearMove)
+    here = plan.config.to_steps(previous.target)
+    return replan_scurve_from(
+        planned(program, plan.start),
+        plan.start,
+        move,
+        scale(rest_of(program, first), here),
+        plan.config,
+        label,
+    )
+
+
 def first_difference(old: Stream, new: Stream) -> int:
     """The first item where the streams differ (their own segments, or another base's); the
     shorter's length when none does."""
@@ -122,19 +142,6 @@ def first_difference(old: Stream, new: Stream) -> int:
         ):
             return int(i)
     return count
-
-
-def first_output_change(old: Plan, new: Plan, at: int) -> int | None:
-    """The first segment (at or after `at`) where `new` sends other outputs than `old` (a spindle
-    override: the same segments, another power); None where they send the same."""
-    before = [(i, message) for i, _, message in old.outputs if i >= at]
-    after = [(i, message) for i, _, message in new.outputs if i >= at]
-    for a, b in zip(before, after):
-        if a != b:
-            return min(a[0], b[0])
-    if len(before) != len(after):
-        return (before if len(before) > len(after) else after)[min(len(before), len(after))][0]
-    return None
 
 
 @dataclass(frozen=True)
@@ -158,18 +165,27 @@ def prepare(
     scale: Scaler,
     label: str,
     restream: Restreamer | None,
+    planned: Scaler | None = None,
 ) -> Swap | None:
     """`running` planned again with `scale` from the first move boundary where the new stream
     leaves the old at or after its item `after` (and before item `before`, the section's end); None
-    when there is none."""
+    when there is none. A jerk-limited plan is planned again whole (its moves before the boundary
+    as they were: `planned` is how its program was scaled)."""
     base = running.base if isinstance(running, StreamPlan) else running
-    if not isinstance(base.segments, SegmentArrays) or len(base.junctions) <= base.moves:
-        return None  # a jerk-limited plan, or one not made by plan_program
+    scurve = base.config.jerk_limited
+    if len(base.junctions) <= base.moves or (
+        planned is None if scurve else not isinstance(base.segments, SegmentArrays)
+    ):
+        return None  # not made by plan_program
     origin = running.segments.origin_of(after) if isinstance(running, StreamPlan) else after
     move = bisect_left(base.move_ends, origin) + 1
     for move in range(move, min(move + TRIES, base.moves)):
         try:
-            joined = replan_from(program, base, move, scale, label)
+            if scurve:
+                assert planned is not None
+                joined = replan_scurve(program, base, move, scale, planned, label)
+            else:
+                joined = replan_from(program, base, move, scale, label)
         except JobError:
             continue  # no whole-tick profile from this boundary: the next one
         at = base.move_ends[move - 1]
@@ -180,10 +196,11 @@ def prepare(
             # with the take-ups again: the new stream goes on from where it leaves the old one (a
             # take-up across the boundary begins before it)
             swapped = restream(joined, running)
-            index = first_difference(running.segments, swapped.segments)
-            change = first_output_change(base, joined, at)
-            if change is not None:
-                index = min(index, bisect_left(swapped.segments.origin, change))
+            # where the new stream leaves the old, at the latest where the new rest begins
+            index = min(
+                first_difference(running.segments, swapped.segments),
+                bisect_left(swapped.segments.origin, at),
+            )
         if index >= before:
             return None
         if index < after:
@@ -201,6 +218,7 @@ def replan_running(
     restream: Restreamer | None,
     ticks: Sequence[int],
     start_at: int = 0,
+    planned: Scaler | None = None,
 ) -> Swap | None:
     """`running` planned again with `scale` from the first move boundary that `motion` (streaming
     it) has not sent (and not before item `start_at`), and the motion cut there. A boundary sent
@@ -211,7 +229,7 @@ def replan_running(
         if motion.end is not None:
             return None
         began = time.monotonic()
-        swap = prepare(program, running, after, motion.last, scale, label, restream)
+        swap = prepare(program, running, after, motion.last, scale, label, restream, planned)
         if swap is None:
             return None
         if motion.cut(swap.index):
