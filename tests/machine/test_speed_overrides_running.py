@@ -140,3 +140,28 @@ def test_a_spindle_override_mid_job_scales_the_duty_from_the_boundary_on(
     latency = changes[1][0] - asked_tick
     print(f"\nspindle override: move boundary {move}, duty changed {latency} ticks "
           f"({latency / CONFIG.tick_hz * 1000:.0f} ms) after the board's segment when asked")
+
+
+def test_in_laser_mode_the_spindle_override_scales_the_power_of_every_move_not_yet_sent(
+        start_emulator, tmp_path: Path) -> None:
+    """Laser mode: an S per move (400, 800, alternating) that runs on without stopping; at 50 % the
+    moves after the boundary run at 200 and 400, and the motion is the one planned."""
+    laser = CONFIG.model_copy(update={"spindle": CONFIG.spindle.model_copy(
+        update={"s_max": 1000.0, "laser": True})})
+    gcode = "G21 G90 F1200 M3\n" + "".join(
+        f"G1 X{6 * k} Y{k % 2} S{400 if k % 2 else 800}\n" for k in range(1, 11)) + "M5\n"
+    program, plan, run, trace, asked_at, changes = run_job(
+        start_emulator, tmp_path, laser, gcode, 3, lambda m: m.set_spindle_override(50), outputs=True)
+    sent = run.plan.base
+    sent = run.plan.base
+    assert np.array_equal(trace, predict(list(run.plan.segments.segments()), axis_count=3).steps)
+    assert np.array_equal(sent.segments.numpy()["n"], plan.segments.numpy()["n"])  # no stop added
+    ends = np.cumsum(sent.segments.numpy()["n"], dtype=np.int64)
+    duty = {s: round(65535 * s / 1000) for s in (200, 400, 800)}
+    on = [(tick, d) for tick, pins, d in changes if pins & Output.ON]
+    boundary = next(tick for tick, d in on if d == duty[200])  # the first move at 50 %
+    assert boundary in [int(ends[i - 1]) for i in sent.move_ends[:-1]]
+    assert {d for tick, d in on if tick < boundary} == {duty[400], duty[800]}
+    assert {d for tick, d in on if tick >= boundary} == {duty[200], duty[400]}
+    assert boundary > (int(ends[asked_at - 1]) if asked_at else 0)
+    assert changes[-1][1:] == (0, 0)
