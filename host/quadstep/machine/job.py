@@ -548,7 +548,10 @@ class JobRun:
             running.restream if running else None,
             self._ticks,
             start_at,
-            lambda program, start: apply_overrides(program, planned, config, start),
+            # a jerk-limited plan is planned again whole: for an override, not for each added line
+            (lambda program, start: apply_overrides(program, planned, config, start))
+            if overriding
+            else None,
         )
         if self._swap is not None:
             self._planned = wanted
