@@ -215,3 +215,30 @@ def test_spindle_stop_during_a_feed_hold_and_back_on_resume(start_emulator, tmp_
         (on, half),  # resumed
         (0, 0),  # M5 M9
     ]
+
+
+def test_the_feed_override_replans_a_running_s_curve_batch(start_emulator) -> None:
+    """max_jerk set: the running batch's rest is planned again with the S-curve planner from a move
+    boundary, moving, and the job still ends on its exact steps."""
+    config = CONFIG.model_copy(
+        update={"axes": tuple(a.model_copy(update={"max_jerk": 20000.0}) for a in CONFIG.axes)}
+    )
+    emu = start_emulator(axes=3, tick_hz=config.tick_hz, free=False)
+    lines = ["G1 X2 F600", *(f"X{x} Y{x % 4 // 2}" for x in range(4, 31, 2))]
+    with Link.open(emu.url) as link:
+        machine = Machine(link, config)
+        with serving(machine) as pty, GrblClient(str(pty.path)) as grbl:
+            grbl.wait_banner()
+            assert grbl.stream_counting(lines) == ["ok"] * len(lines)
+            grbl.wait_status(lambda r: r.startswith("<Run") and mpos(r)[0] > 1)
+            job = machine.program
+            assert isinstance(job, JobRun)
+            planned = job.plan
+            for _ in range(5):
+                grbl.realtime(0x91)  # +10 % ×5: 150 %
+            assert ov(grbl.wait_status(lambda r: ov(r) is not None)) == "150,100,100"
+            done = grbl.wait_status(lambda r: r.startswith("<Idle"), timeout=60)
+            assert job.plan is not planned and job.feed_override == 150
+            assert mpos(done) == (30.0, 1.0, 0.0)
+            assert tuple(link.status().position[:3]) == config.to_steps((30.0, 1.0, 0.0))
+            assert job.progress.starvations == 0
