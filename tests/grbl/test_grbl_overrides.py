@@ -17,7 +17,9 @@ from quadstep.gcode.interpreter import parse_gcode
 from quadstep.link import Link
 from quadstep.machine import JobRun, Machine
 from quadstep.machine.speed_overrides import SpeedOverrides
-from quadstep.planner.plan import plan_program
+from quadstep.planner.feed_override import Overrides, apply_overrides
+from quadstep.planner.plan import Plan, plan_program
+from quadstep.protocol import Output
 
 REPO = Path(__file__).resolve().parents[2]
 CONFIG = load_config(REPO / "examples" / "router-uno.toml")
@@ -125,3 +127,118 @@ def test_coolant_toggles_at_rest(door: tuple[Machine, GrblClient]) -> None:
     grbl.realtime(0xA0)
     grbl.realtime(0xA1)
     assert grbl.command("$G")[0] == ["[GC:G0 G54 G17 G21 G90 G94 M3 M9 T0 F0 S100]"]
+
+
+def test_rapid_and_spindle_overrides_reach_the_running_batch(start_emulator, tmp_path: Path) -> None:
+    """0x97 and 0x9A while a sender's stream runs: the rapids not yet sent run at a quarter of their
+    speed and the spindle's duty goes to 150 % from a move boundary on; the job ends on its steps."""
+    config = CONFIG.model_copy(
+        update={"spindle": CONFIG.spindle.model_copy(update={"s_max": 1000.0})}
+    )
+    outputs = tmp_path / "outputs.csv"
+    emu = start_emulator(
+        axes=3, tick_hz=config.tick_hz, free=False, extra_args=["--outputs", str(outputs)]
+    )
+    lines = ["M3 S500", "G1 X2 F600", *(f"X{x}" for x in range(4, 21, 2)), "G0 X60", "G0 X0", "M5"]
+    with Link.open(emu.url) as link:
+        machine = Machine(link, config)
+        with serving(machine) as pty, GrblClient(str(pty.path)) as grbl:
+            grbl.wait_banner()
+            assert grbl.stream_counting(lines) == ["ok"] * len(lines)
+            grbl.wait_status(lambda r: r.startswith("<Run") and mpos(r)[0] > 1)
+            job = machine.program
+            assert isinstance(job, JobRun)
+            grbl.realtime(0x97)  # rapids at 25 %
+            for _ in range(5):
+                grbl.realtime(0x9A)  # spindle +10 % ×5: 150 %
+            assert ov(grbl.wait_status(lambda r: ov(r) is not None)) == "100,25,150"
+            done = grbl.wait_status(lambda r: r.startswith("<Idle"), timeout=60)
+            assert mpos(done) == (0.0, 0.0, 0.0)
+            assert tuple(link.status().position[:3]) == (0, 0, 0)
+    emu.stop()
+    plan = job.plan.base if hasattr(job.plan, "base") else job.plan
+    # the last two moves, the rapids, as the job ran them: as long as planned at 25 %
+    program = parse_gcode("G1 X20 F600\nG0 X60\nG0 X0\n", config.axis_names, (0.0, 0.0, 0.0))
+    slow = apply_overrides(program, Overrides(rapid=25), config, (0, 0, 0))
+    full, quarter = plan_program(program, config), plan_program(slow, config)
+
+    def rapid_ticks(p: Plan) -> int:
+        return int(p.segments.numpy()["n"].astype("int64")[p.move_ends[-3] :].sum())
+
+    assert rapid_ticks(plan) == pytest.approx(rapid_ticks(quarter), rel=0.01)
+    assert rapid_ticks(plan) > 3 * rapid_ticks(full)
+    rows = [line.split(",") for line in outputs.read_text().splitlines()[1:]]
+    changes = [(int(pins), int(duty)) for _, pins, duty in rows]
+    # each byte reaches the job: the duty steps up from 50 % to 75 % (some steps may be passed by,
+    # taken over by the next before they were sent), and is off at the end
+    assert changes[0] == (1, round(65535 * 0.5)) and changes[-2:] == [(1, round(65535 * 0.75)), (0, 0)]
+    middle = [duty for pins, duty in changes[1:-1]]
+    assert all(pins == 1 for pins, _ in changes[1:-1]) and middle == sorted(middle)
+
+
+def test_spindle_stop_during_a_feed_hold_and_back_on_resume(start_emulator, tmp_path: Path) -> None:
+    """0x9E is ignored while the batch runs; during a feed hold it turns the spindle off (the
+    coolant kept) and cycle start brings it back as the job had it; the job ends exactly."""
+    config = CONFIG.model_copy(
+        update={"spindle": CONFIG.spindle.model_copy(update={"s_max": 1000.0})}
+    )
+    outputs = tmp_path / "outputs.csv"
+    emu = start_emulator(
+        axes=3, tick_hz=config.tick_hz, free=False, extra_args=["--outputs", str(outputs)]
+    )
+    lines = ["M8 M3 S500", "G1 X2 F600", *(f"X{x}" for x in range(4, 21, 2))]
+    with Link.open(emu.url) as link:
+        machine = Machine(link, config)
+        with serving(machine) as pty, GrblClient(str(pty.path)) as grbl:
+            grbl.wait_banner()
+            assert grbl.stream_counting(lines) == ["ok"] * len(lines)
+            grbl.wait_status(lambda r: r.startswith("<Run") and mpos(r)[0] > 1)
+            grbl.realtime(0x9E)  # running: ignored
+            grbl.realtime(ord("!"))
+            held = grbl.wait_status(lambda r: r.startswith("<Hold:0") and "|A:" in r)
+            assert report_fields(held)["A"] == "SF"
+            grbl.realtime(0x9E)
+            stopped = grbl.wait_status(lambda r: "|A:" in r)
+            assert report_fields(stopped)["A"] == "F"  # the spindle off, the flood kept
+            grbl.realtime(ord("~"))
+            assert grbl.command("M5 M9")[1] == "ok"
+            done = grbl.wait_status(lambda r: r.startswith("<Idle"), timeout=60)
+            assert mpos(done) == (20.0, 0.0, 0.0)
+            assert tuple(link.status().position[:3]) == config.to_steps((20.0, 0.0, 0.0))
+    emu.stop()
+    rows = [line.split(",") for line in outputs.read_text().splitlines()[1:]]
+    on, flood = int(Output.ON | Output.FLOOD), int(Output.FLOOD)
+    half = round(65535 * 0.5)
+    assert [(int(pins), int(duty)) for _, pins, duty in rows] == [
+        (on, half),  # M3 M8
+        (flood, 0),  # 0x9E in the hold
+        (on, half),  # resumed
+        (0, 0),  # M5 M9
+    ]
+
+
+def test_the_feed_override_replans_a_running_s_curve_batch(start_emulator) -> None:
+    """max_jerk set: the running batch's rest is planned again with the S-curve planner from a move
+    boundary, moving, and the job still ends on its exact steps."""
+    config = CONFIG.model_copy(
+        update={"axes": tuple(a.model_copy(update={"max_jerk": 20000.0}) for a in CONFIG.axes)}
+    )
+    emu = start_emulator(axes=3, tick_hz=config.tick_hz, free=False)
+    lines = ["G1 X2 F600", *(f"X{x} Y{x % 4 // 2}" for x in range(4, 31, 2))]
+    with Link.open(emu.url) as link:
+        machine = Machine(link, config)
+        with serving(machine) as pty, GrblClient(str(pty.path)) as grbl:
+            grbl.wait_banner()
+            assert grbl.stream_counting(lines) == ["ok"] * len(lines)
+            grbl.wait_status(lambda r: r.startswith("<Run") and mpos(r)[0] > 1)
+            job = machine.program
+            assert isinstance(job, JobRun)
+            planned = job.plan
+            for _ in range(5):
+                grbl.realtime(0x91)  # +10 % ×5: 150 %
+            assert ov(grbl.wait_status(lambda r: ov(r) is not None)) == "150,100,100"
+            done = grbl.wait_status(lambda r: r.startswith("<Idle"), timeout=60)
+            assert job.plan is not planned and job.feed_override == 150
+            assert mpos(done) == (30.0, 1.0, 0.0)
+            assert tuple(link.status().position[:3]) == config.to_steps((30.0, 1.0, 0.0))
+            assert job.progress.starvations == 0

@@ -15,7 +15,7 @@ from quadstep.config import AxisConfig, BacklashConfig, MachineConfig, load_conf
 from quadstep.engine_model import predict
 from quadstep.gcode.interpreter import parse_gcode
 from quadstep.link import Link
-from quadstep.machine import Machine, MachineError
+from quadstep.machine import Machine
 from quadstep.planner.feed_override import check_percent, scale_feeds
 from quadstep.planner.plan import plan_program
 from quadstep.planner.program import LinearMove
@@ -159,17 +159,28 @@ def test_a_running_job_refuses_an_override_outside_the_bounds(start_emulator, tm
         assert end is not None and end.ended_by == "done"
 
 
-def test_a_jerk_limited_job_takes_its_override_only_as_it_starts(start_emulator, tmp_path: Path) -> None:
-    config = MachineConfig(tick_hz=CONFIG.tick_hz, axes=tuple(a.model_copy(update={"max_jerk": 20000.0})
-                                                              for a in CONFIG.axes))
-    emu = start_emulator(axes=3, tick_hz=config.tick_hz, free=True)
-    with Link.open(emu.url) as link:
-        machine = Machine(link, config)
-        program = parse_gcode("G21 G90 F600\nG1 X2\n", config.axis_names, (0.0, 0.0, 0.0), config.arc_tolerance)
-        run = machine.run_job(plan_program(scale_feeds(program, 50), config, machine.position), program,
-                              feed_override=50)
-        assert run.feed_override == 50
-        with pytest.raises(MachineError, match="only as it starts"):
-            run.set_feed_override(100)
-        end = run.wait(30)
-        assert end is not None and end.ended_by == "done"
+@pytest.mark.parametrize("percent", [60, 150])
+def test_a_jerk_limited_job_takes_an_override_mid_job_and_lands_exactly(
+        start_emulator, tmp_path: Path, percent: int) -> None:
+    """An S-curve job: the rest planned again from a move boundary with the S-curve planner (the
+    moves before it as they were), streamed after what was sent without a stop; the trace is the
+    prediction of the stream as sent, every move lands on its target, and the last feed move
+    cruises at the new feed."""
+    config = MachineConfig(tick_hz=CONFIG.tick_hz, junction_deviation=CONFIG.junction_deviation,
+                           axes=tuple(a.model_copy(update={"max_jerk": 20000.0}) for a in CONFIG.axes))
+    plan, run, trace = run_with_override(start_emulator, tmp_path, config, ZIGZAG, percent, after_line=3)
+    sent = run.plan.base
+    assert len(sent) != len(plan) or not np.array_equal(
+        sent.segments.numpy()["n"], plan.segments.numpy()["n"])  # the tail was planned again
+    predicted = predict(list(run.plan.segments.segments()), axis_count=3)
+    assert np.array_equal(trace, predicted.steps)
+    assert tuple(predicted.positions) == plan.end
+    n = np.fromiter((s.n for s in sent.segments.segments()), dtype=np.int64)
+    ends = np.cumsum(n)[np.asarray(sent.move_ends) - 1]
+    targets = [config.to_steps(i.target) for i in run.program.items if isinstance(i, LinearMove)]
+    for tick, target in zip(ends, targets):
+        done = trace[trace[:, 0] <= tick]
+        assert tuple(int(done[done[:, 1] == a, 2].sum()) for a in range(3)) == target
+    dx = 6 / np.sqrt(37)
+    last = cruise_mm_s(trace, 0, 66 * 400, 72 * 400, config)
+    assert last == pytest.approx(FEED / 60 * dx * percent / 100, rel=0.03)

@@ -20,7 +20,7 @@ from dataclasses import dataclass, field
 from ..coordinates import WorkCoordinates
 from ..link import LinkError
 from ..machine import JobRun, JobState, Machine, MachineError
-from ..planner.feed_override import scale_feeds
+from ..planner.feed_override import Overrides, apply_overrides
 from ..planner.plan import plan_program
 from ..planner.program import Item, JobError, Program
 
@@ -286,17 +286,22 @@ class Executor:
             generation = self.generation
         if items:
             program = Program(items=items, lines=last.line, coordinates=last.coordinates)
-            program = machine.overridden(program) if not last.jog else program
             feed = 100 if last.jog else self.feed_override
-            plan = plan_program(
-                scale_feeds(program, feed), machine.config, machine.position, "line"
-            )
+            start = machine.position
+            overrides = machine.speed_overrides.at(feed) if not last.jog else Overrides()
+            scaled = apply_overrides(program, overrides, machine.config, start)
+            plan = plan_program(scaled, machine.config, start, "line")
             with self._cond:  # a feed hold before it starts waits for cycle start; a reset drops it
                 self._cond.wait_for(lambda: not self._held or self._stale(generation))
                 if self._stale(generation):
                     return
                 run = machine.run_job(
-                    plan, program, label="line", feed_override=feed, open_end=not last.jog
+                    plan,
+                    program,
+                    label="line",
+                    feed_override=feed,
+                    open_end=not last.jog,
+                    overridden=True,  # a jog's moves all have a feed and no S
                 )
                 self._running = Running(run, last.jog)
             if not last.jog:

@@ -20,7 +20,7 @@ from ..protocol import Alarm, Report, State
 from .alarms import FIRMWARE, fault_alarm, firmware_alarm, homing_alarm
 from .errors import GrblAlarm, GrblError, error_for
 from .executor import Executor, Work
-from .overrides import COOLANT_TOGGLES, OVERRIDE_BYTES, Overrides, toggled
+from .overrides import COOLANT_TOGGLES, OVERRIDE_BYTES, SPINDLE_STOP, Overrides, toggled
 from .probe import no_probe, run_probe, split_probe
 from .protocol import (
     BANNER,
@@ -134,11 +134,14 @@ class Session:
         elif byte == FEED_HOLD:
             self.executor.feed_hold()
         elif byte == CYCLE_START:
+            self.overrides.resumed()
             self.executor.cycle_start()
         elif byte == SOFT_RESET:
             self._soft_reset()
         elif byte in OVERRIDE_BYTES:
             self.overrides.realtime(byte)
+        elif byte == SPINDLE_STOP:
+            self.overrides.spindle_stop()
         elif byte in COOLANT_TOGGLES:
             self._toggle_coolant(byte)
         elif byte == JOG_CANCEL and self.executor.cancel_jog():

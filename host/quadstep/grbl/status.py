@@ -4,6 +4,7 @@ bandwidth."""
 
 from __future__ import annotations
 
+from dataclasses import replace
 from typing import Protocol
 
 from ..link import LinkError
@@ -86,7 +87,11 @@ class StatusBuilder:
             feed,
             interpreter.outputs.speed,
             wco if show_wco else None,
-            accessories(interpreter.outputs),
+            accessories(
+                replace(interpreter.outputs, spindle=5)  # 0x9E: stopped during the hold
+                if session.overrides.spindle_stopped
+                else interpreter.outputs
+            ),
             ov if show_ov else None,
         )
         return status_report(fields)

@@ -20,7 +20,7 @@ from typing import TypeVar
 
 from ..coordinates import WorkCoordinates
 from ..link import Link, LinkError
-from ..planner.feed_override import check_percent, scale_feeds
+from ..planner.feed_override import Overrides, apply_overrides, check_percent
 from ..planner.plan import Plan, plan_program
 from ..planner.program import Item, JobError, Pause, ProbeMove, Program
 from ..protocol import InputCause, InputChange, Report
@@ -33,13 +33,14 @@ from .job_legs import (
     rest_after_stop,
     stream_move_ends,
 )
-from .job_outputs import FEED_HOLD, stream_outputs, switch_off
+from .job_outputs import FEED_HOLD, outputs_at, spindle_stopped, stream_outputs, switch_off
 from .job_state import JobProgress, JobState, JobStates
 from .journal import Journal
 from .motion import CUT, STARVED, Motion, MotionEnd, bring_to_rest
 from .open_end import OpenEnd
 from .override import Swap, replan_running
 from .remainder import rest_of
+from .speed_overrides import SpeedOverrides
 from .standing import Restream
 from .takeups import StreamPlan
 
@@ -65,8 +66,9 @@ class JobRun:
 
     With the job's `program` (and a machine's `restream`), a feed hold or a board that ran dry keeps
     the rest of the job, and set_feed_override() scales the feeds of what is not yet sent (the plan
-    given is planned at `feed_override` %). Without it a feed hold or running dry ends the job, as
-    halt() does."""
+    given is planned at `feed_override` % and at the rapid and spindle overrides of
+    `speed_overrides`, whose changes reach the job through overrides_changed()). Without it a feed
+    hold or running dry ends the job, as halt() does."""
 
     def __init__(
         self,
@@ -77,6 +79,7 @@ class JobRun:
         program: Program | None = None,
         label: str = "line",
         feed_override: int = 100,
+        speed_overrides: SpeedOverrides | None = None,
         restream: Restream | None = None,
         busy_elsewhere: Callable[[], bool] | None = None,
         journal: Journal | None = None,
@@ -106,9 +109,10 @@ class JobRun:
         self._offset = 0  # segments of the sections before the current one
         self._interrupted = False  # other programs ran while the job waited at its pause
         self._override = check_percent(feed_override)  # the feed override wanted, %
-        self._planned = self._override  # the one the plan has from the first segment not sent on
+        self._speeds = speed_overrides  # the rapid and spindle overrides wanted (the machine's)
+        self._planned = self._wanted()  # those the plan has from the first segment not sent on
         self._swap: Swap | None = None  # the plan to go on with where the running motion was cut
-        self._wake = threading.Event()  # the motion ended, or the feed override changed
+        self._wake = threading.Event()  # the motion ended, or an override changed
         self._hold_pending = False  # a feed hold asked for while one motion hands over to the next
         # a job that extend() adds to while it runs (a sender's stream), and the program's items the
         # plan covers (those after them were added and are planned next)
@@ -193,15 +197,21 @@ class JobRun:
         sent and streamed in place of the old without a stop (from the next pause when the section
         under way has no boundary left)."""
         check_percent(percent)
-        if self.plan.config.jerk_limited and percent != self._override:
-            raise MachineError(
-                "a jerk-limited job (max_jerk) takes its feed override only as it starts "
-                "(quadstep run --feed-override)"
-            )
         with self._lock:
             self._override = percent
         self._wake.set()
         return percent
+
+    def overrides_changed(self) -> None:
+        """The rapid or spindle override changed: what is not yet sent is planned again at it, as
+        for set_feed_override()."""
+        self._wake.set()
+
+    def _wanted(self) -> Overrides:
+        """The overrides wanted now."""
+        if self._speeds is None:
+            return Overrides(self._override)
+        return self._speeds.at(self._override)
 
     def interrupt(self) -> None:
         """Another program is about to run while the job waits (the machine calls this, gives_way
@@ -234,6 +244,18 @@ class JobRun:
         if motion is None or self.program is None:
             return False
         motion.halt(FEED_HOLD)
+        return True
+
+    def stop_spindle(self, stop: bool) -> bool:
+        """At a feed hold: the spindle (or laser) off, the coolant kept (`stop`), or on again as the
+        job had it. resume() brings it back in any case: the rest is planned from the hold with the
+        outputs the program set. False when the job is not held or sets no outputs."""
+        if not self.held:
+            return False
+        message = outputs_at(self.plan, self._offset)
+        if message is None:
+            return False
+        self.link.send(spindle_stopped(message) if stop else message)
         return True
 
     def extend(
@@ -356,12 +378,12 @@ class JobRun:
         self.program = rest_of(self.program, self._planned_items)
         return self._next_leg(here)
 
-    def _scaled(self) -> Program:
-        """The program to plan (what is left of the job) at the feed override wanted now."""
+    def _scaled(self, here: tuple[int, ...]) -> Program:
+        """The program to plan from `here` (what is left of the job) at the overrides wanted now."""
         assert self.program is not None
         with self._lock:
-            self._planned = self._override
-        return scale_feeds(self.program, self._planned)
+            self._planned = self._wanted()
+        return apply_overrides(self.program, self._planned, base_plan(self.plan).config, here)
 
     def _item_at(self, kind: type[PauseOrProbe], line: int) -> PauseOrProbe | None:
         """The program's pause (or probe) at `line`."""
@@ -403,7 +425,7 @@ class JobRun:
         if self._open_end is not None and self.program is not None:
             self.program = self._open_end.merge(self.program)
             self._planned_items = len(self.program.items)
-        remainder = plan_program(self._scaled(), base_plan(self.plan).config, here, self.label)
+        remainder = plan_program(self._scaled(here), base_plan(self.plan).config, here, self.label)
         streamed = self.restream.stream(remainder) if self.restream is not None else remainder
         with self._lock:
             self._done_before += self._offset
@@ -423,7 +445,7 @@ class JobRun:
                 stream_move_ends(self.plan),
                 len(self.plan),
                 self.link.segments_done,
-                self._planned,
+                self._planned.feed,
             )
 
     def _note_state(self, state: JobState) -> None:
@@ -479,7 +501,7 @@ class JobRun:
         while motion.end is None:
             # what changed before this motion began (while another handed over to it) comes first
             if self._swap is None:
-                if self._override != self._planned:
+                if self._wanted() != self._planned:
                     self._override_running(motion)
                 elif self._extends(motion):
                     self._extend_running(motion)
@@ -509,33 +531,37 @@ class JobRun:
         self._override_running(motion, overriding=False, start_at=motion.held_from or 0)
 
     def _override_running(self, motion: Motion, overriding: bool = True, start_at: int = 0) -> None:
-        """The feed override changed while `motion` streams: plan the rest again (OVERRIDING) and
-        have the new plan swapped in where the motion is cut."""
+        """An override changed while `motion` streams: plan the rest again (OVERRIDING) and have
+        the new plan swapped in where the motion is cut."""
         if self.program is None:
             return
         if overriding:
             self.states.enter(JobState.OVERRIDING)
         running = self.restream if self.restream and isinstance(self.plan, StreamPlan) else None
-        percent = self._override
+        wanted, planned, config = self._wanted(), self._planned, base_plan(self.plan).config
         self._swap = replan_running(
             self.program,
             self.plan,
             motion,
-            percent,
+            lambda program, start: apply_overrides(program, wanted, config, start),
             self.label,
             running.restream if running else None,
             self._ticks,
             start_at,
+            # a jerk-limited plan is planned again whole: for an override, not for each added line
+            (lambda program, start: apply_overrides(program, planned, config, start))
+            if overriding
+            else None,
         )
         if self._swap is not None:
-            self._planned = percent
+            self._planned = wanted
             self._swap_items = len(self.program.items)
             if running is not None:
                 assert isinstance(self._swap.plan, StreamPlan)
                 running.swap(self._swap.plan)
             if self.journal is not None:
                 plan = self._swap.plan
-                self.journal.replan(stream_move_ends(plan), len(plan), percent)
+                self.journal.replan(stream_move_ends(plan), len(plan), wanted.feed)
         if self.state is JobState.OVERRIDING:
             self.states.enter(JobState.STREAMING)
 
@@ -617,7 +643,7 @@ class JobRun:
             return self._after_pause(pause, program, after, interrupted)
         if halted or pause is None or restream is None:
             return None
-        if self._planned == self._override and not self.pending:
+        if self._planned == self._wanted() and not self.pending:
             return None
-        now = restream.coordinates()  # the feed override changed too late to be streamed: from here
+        now = restream.coordinates()  # an override changed too late to be streamed: from here
         return self._after_pause(pause, now, now, interrupted)

@@ -8,7 +8,7 @@ from bisect import bisect_left
 from ..link import Link, LinkError
 from ..planner.outputs import OFF
 from ..planner.plan import Plan
-from ..protocol import Outputs
+from ..protocol import Output, Outputs
 from .motion import MotionEnd
 from .takeups import StreamPlan
 
@@ -25,6 +25,18 @@ def stream_outputs(plan: Plan | StreamPlan) -> list[tuple[int, int, Outputs]]:
         (bisect_left(stream.origin, index) if index < planned else len(stream), section, message)
         for index, section, message in plan.base.outputs
     ]
+
+
+def outputs_at(plan: Plan | StreamPlan, index: int) -> Outputs | None:
+    """The OUTPUTS the board runs under at item `index` of the plan's stream (the last sent at or
+    before it); None when the plan sets none before it."""
+    sent = [message for at, _, message in stream_outputs(plan) if at <= index]
+    return sent[-1] if sent else None
+
+
+def spindle_stopped(message: Outputs) -> Outputs:
+    """`message` with the spindle (or laser) off and the coolant as it is."""
+    return Outputs(outputs=message.outputs & int(Output.FLOOD | Output.MIST), power=0)
 
 
 def switch_off(link: Link, end: MotionEnd, outputs: bool) -> MotionEnd:

@@ -27,8 +27,9 @@ from ..config import DEFAULT_CONFIG_NAME, MachineConfig, default_config
 from ..coordinates import WorkCoordinates
 from ..default_machine import default_machine
 from ..link import Link, LinkError, LinkStats, hold
+from ..planner.feed_override import Overrides, apply_overrides
 from ..planner.outputs import output_message
-from ..planner.plan import Plan
+from ..planner.plan import Plan, plan_program
 from ..planner.program import OutputState, Program
 from ..planner.raster_gcode import plan_with_rasters
 from ..planner.segments import SegmentArrays
@@ -131,6 +132,7 @@ class Machine(Standing):
         # the backlash: take-ups in every program, positions without them
         self.takeups = TakeUps(self.config)
         self.speed_overrides = SpeedOverrides()  # rapid and spindle, for the programs planned next
+        self.speed_overrides.on_change = self._overrides_changed  # and for the job running
         self._lock = threading.Lock()
         self._running: Running | None = None
         self._waiting: JobRun | None = None  # a job waiting at a pause while another program runs
@@ -244,6 +246,7 @@ class Machine(Standing):
         journal: Journal | None = None,
         open_end: bool = False,
         leaves: WorkCoordinates | None = None,
+        overridden: bool = False,
     ) -> JobRun:
         """Start a planned job now, the backlash taken up in it (pauses wait for JobRun.resume()).
         With the `program` it was planned from, a feed hold (JobRun.feed_hold, the board's button)
@@ -251,15 +254,21 @@ class Machine(Standing):
         the way (the plan is planned at `feed_override` %, the program as written); a `journal`
         keeps each leg of it for `run --resume`; an `open_end` job takes more lines as it runs
         (JobRun.extend); `leaves` are the work coordinates its G10, G92, G54…G59 and M2/M30 leave,
-        the machine's once the job completes."""
+        the machine's once the job completes. The plan is planned again at the rapid and spindle
+        overrides unless it is `overridden` (planned at them already); changes to them reach the
+        job on its way."""
         if plan.outputs and not self.identity.capabilities & Capability.OUTPUTS:
             raise MachineError(
                 "the job sets the spindle, laser or coolant (M3/M4/M5, M7/M8/M9) and this firmware "
                 "has no outputs; --skip-unsupported runs it without them"
             )
+        speeds = self.speed_overrides.at(feed_override)
+        if program is not None and not overridden and speeds != Overrides(feed_override):
+            scaled = apply_overrides(program, speeds, plan.config, plan.start)
+            plan = plan_program(scaled, plan.config, plan.start, label)
         if (
             program is not None
-            and feed_override == 100
+            and speeds == Overrides()
             and self.identity.capabilities & (Capability.RASTER)
         ):  # laser rasters in the program go out as RASTER lines
             plan = plan_with_rasters(program, plan.config, plan.start, label) or plan
@@ -274,6 +283,7 @@ class Machine(Standing):
             program=program,
             label=label,
             feed_override=feed_override,
+            speed_overrides=self.speed_overrides,
             restream=_Restream(self),
             busy_elsewhere=lambda: self._waiting is job,
             journal=journal,
@@ -282,19 +292,25 @@ class Machine(Standing):
         return self._begin(job, compensated, leaves=leaves).start()
 
     def set_rapid_override(self, percent: int) -> int:
-        """The rapids of every program planned from now on at 25, 50 or 100 % (ValueError else);
-        see overridden()."""
+        """The rapids at 25, 50 or 100 % (ValueError else): of the job running, from its first move
+        boundary not yet sent, and of every program planned from now on; see overridden()."""
         return self.speed_overrides.set_rapid(percent)
 
     def set_spindle_override(self, percent: int) -> int:
-        """Every S of the programs planned from now on at 10–200 % (ValueError outside)."""
+        """Every S at 10–200 % (ValueError outside): of the job running, from its first move
+        boundary not yet sent, and of every program planned from now on."""
         return self.speed_overrides.set_spindle(percent)
 
     def overridden(self, program: Program) -> Program:
         """`program`, to be planned from where the machine stands, with the rapid and spindle
-        overrides (a running job keeps those it was planned with; JobRun.set_feed_override changes
-        its feeds on the way)."""
+        overrides."""
         return self.speed_overrides.apply(program, self.config, self.position)
+
+    def _overrides_changed(self) -> None:
+        with self._lock:
+            running = self._running
+        if isinstance(running, JobRun):
+            running.overrides_changed()
 
     def set_outputs(self, state: OutputState) -> None:
         """At rest: the spindle, laser and coolant as `state` says, now (a sender's coolant

@@ -358,7 +358,8 @@ class Motion:
                 self._sent = k + count
             index += count
         with self._lock:
-            while output is not None and not self._halting:
+            # the outputs at the end; after a cut, those from the cut on are the follower's
+            while output is not None and not self._halting and not self._cut:
                 self.link.send(output[1], generation=self._generation)
                 output = next(outputs, None)
 

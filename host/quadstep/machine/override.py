@@ -1,7 +1,8 @@
-"""The feed override (planner/feed_override.py) on a running job: its rest planned again from a move
-boundary not yet sent. The residual chain, the steppers and every axis's speed there are the plan's
-own and the first move is entered at the speed the plan had there, so the new tail follows the sent
-segments without a stop and every move still lands exactly (docs/PLANNER.md, "Feed override")."""
+"""The overrides (planner/feed_override.py: feed, rapid, spindle) on a running job: its rest
+planned again from a move boundary not yet sent. The residual chain, the steppers and every axis's
+speed there are the plan's own and the first move is entered at the speed the plan had there, so
+the new tail follows the sent segments without a stop and every move still lands exactly
+(docs/PLANNER.md, "Feed override")."""
 
 from __future__ import annotations
 
@@ -15,7 +16,8 @@ import numpy as np
 
 from ..planner.feed_override import scale_feeds
 from ..planner.plan import Boundary, Plan, plan_program
-from ..planner.program import JobError, Program
+from ..planner.program import JobError, LinearMove, Program
+from ..planner.scurve_rest import replan_scurve_from
 from ..planner.segments import SegmentArrays
 from ..planner.stream import Stream
 from ..protocol.segment import D
@@ -82,18 +84,47 @@ def join(plan: Plan, move: int, tail: Plan) -> Plan:
     )
 
 
-def replan_from(program: Program, plan: Plan, move: int, percent: int, label: str) -> Plan:
-    """`plan` (of `program`) up to where its move `move` begins, then the rest of `program` with its
-    feeds at `percent` %, going on from there (what lies between the moves, a dwell or a pause,
-    comes with the rest)."""
+# the rest of a program, beginning at the given stepper positions, at the overrides wanted now
+Scaler = Callable[[Program, tuple[int, ...]], Program]
+
+
+def feeds_at(percent: int) -> Scaler:
+    """The feeds at `percent` % (rapids and S as they are)."""
+    return lambda program, _start: scale_feeds(program, percent)
+
+
+def replan_from(program: Program, plan: Plan, move: int, scale: Scaler, label: str) -> Plan:
+    """`plan` (of `program`) up to where its move `move` begins, then the rest of `program` scaled
+    by `scale` (the overrides), going on from there (what lies between the moves, a dwell or a
+    pause, comes with the rest)."""
     first = move_item(program, plan.config, plan.start, move - 1) + 1
+    boundary = boundary_at(plan, move)
     tail = plan_program(
-        scale_feeds(rest_of(program, first), percent),
+        scale(rest_of(program, first), boundary.position),
         plan.config,
         label=label,
-        boundary=boundary_at(plan, move),
+        boundary=boundary,
     )
     return join(plan, move, tail)
+
+
+def replan_scurve(
+    program: Program, plan: Plan, move: int, scale: Scaler, planned: Scaler, label: str
+) -> Plan:
+    """The jerk-limited `plan` (of `program` scaled by `planned`) up to where its move `move`
+    begins, then the rest of `program` scaled by `scale`, going on from there."""
+    first = move_item(program, plan.config, plan.start, move - 1) + 1
+    previous = program.items[first - 1]
+    assert isinstance(previous, LinearMove)
+    here = plan.config.to_steps(previous.target)
+    return replan_scurve_from(
+        planned(program, plan.start),
+        plan.start,
+        move,
+        scale(rest_of(program, first), here),
+        plan.config,
+        label,
+    )
 
 
 def first_difference(old: Stream, new: Stream) -> int:
@@ -131,21 +162,30 @@ def prepare(
     running: Plan | StreamPlan,
     after: int,
     before: int,
-    percent: int,
+    scale: Scaler,
     label: str,
     restream: Restreamer | None,
+    planned: Scaler | None = None,
 ) -> Swap | None:
-    """`running` planned again at `percent` % from the first move boundary where the new stream
+    """`running` planned again with `scale` from the first move boundary where the new stream
     leaves the old at or after its item `after` (and before item `before`, the section's end); None
-    when there is none."""
+    when there is none. A jerk-limited plan is planned again whole (its moves before the boundary
+    as they were: `planned` is how its program was scaled)."""
     base = running.base if isinstance(running, StreamPlan) else running
-    if not isinstance(base.segments, SegmentArrays) or len(base.junctions) <= base.moves:
-        return None  # a jerk-limited plan, or one not made by plan_program
+    scurve = base.config.jerk_limited
+    if len(base.junctions) <= base.moves or (
+        planned is None if scurve else not isinstance(base.segments, SegmentArrays)
+    ):
+        return None  # not made by plan_program
     origin = running.segments.origin_of(after) if isinstance(running, StreamPlan) else after
     move = bisect_left(base.move_ends, origin) + 1
     for move in range(move, min(move + TRIES, base.moves)):
         try:
-            joined = replan_from(program, base, move, percent, label)
+            if scurve:
+                assert planned is not None
+                joined = replan_scurve(program, base, move, scale, planned, label)
+            else:
+                joined = replan_from(program, base, move, scale, label)
         except JobError:
             continue  # no whole-tick profile from this boundary: the next one
         at = base.move_ends[move - 1]
@@ -156,7 +196,11 @@ def prepare(
             # with the take-ups again: the new stream goes on from where it leaves the old one (a
             # take-up across the boundary begins before it)
             swapped = restream(joined, running)
-            index = first_difference(running.segments, swapped.segments)
+            # where the new stream leaves the old, at the latest where the new rest begins
+            index = min(
+                first_difference(running.segments, swapped.segments),
+                bisect_left(swapped.segments.origin, at),
+            )
         if index >= before:
             return None
         if index < after:
@@ -169,13 +213,14 @@ def replan_running(
     program: Program,
     running: Plan | StreamPlan,
     motion: Motion,
-    percent: int,
+    scale: Scaler,
     label: str,
     restream: Restreamer | None,
     ticks: Sequence[int],
     start_at: int = 0,
+    planned: Scaler | None = None,
 ) -> Swap | None:
-    """`running` planned again at `percent` % from the first move boundary that `motion` (streaming
+    """`running` planned again with `scale` from the first move boundary that `motion` (streaming
     it) has not sent (and not before item `start_at`), and the motion cut there. A boundary sent
     meanwhile is passed by for one twice as far ahead as the planning took. None when the section
     under way has no boundary left (or the motion ends)."""
@@ -184,7 +229,7 @@ def replan_running(
         if motion.end is not None:
             return None
         began = time.monotonic()
-        swap = prepare(program, running, after, motion.last, percent, label, restream)
+        swap = prepare(program, running, after, motion.last, scale, label, restream, planned)
         if swap is None:
             return None
         if motion.cut(swap.index):

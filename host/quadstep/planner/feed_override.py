@@ -7,8 +7,9 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
-from dataclasses import replace
+from dataclasses import dataclass, replace
 
+from ..config import MachineConfig
 from .program import Item, LinearMove, ProbeMove, Program, SetOutputs
 
 MIN_PERCENT, MAX_PERCENT, STEP_PERCENT = 10, 200, 10
@@ -96,3 +97,27 @@ def scale_spindle(program: Program, percent: int) -> Program:
         for item in program.items
     ]
     return replace(program, items=items)
+
+
+@dataclass(frozen=True)
+class Overrides:
+    """The three overrides a program is planned at, %: feed (10–200), rapid (25, 50, 100) and
+    spindle (10–200)."""
+
+    feed: int = 100
+    rapid: int = 100
+    spindle: int = 100
+
+
+def apply_overrides(
+    program: Program, overrides: Overrides, config: MachineConfig, start: Sequence[int]
+) -> Program:
+    """`program` (beginning at stepper positions `start`) at `overrides`: the feeds scaled first,
+    then the rapids (given a feed of their own, which the feed override then leaves alone), then
+    every S. In laser mode the rapids keep their speed: a move without a feed keeps the laser
+    off."""
+    program = scale_feeds(program, overrides.feed)
+    if not config.spindle.laser:
+        speeds = [a.max_speed for a in config.axes]
+        program = scale_rapids(program, overrides.rapid, speeds, config.to_mm(tuple(start)))
+    return scale_spindle(program, overrides.spindle)

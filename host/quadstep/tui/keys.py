@@ -60,6 +60,13 @@ def bindings(step_presets: int) -> list[BindingType]:
         Binding("g", "resume", "go on", show=False),
         Binding("R", "resume_kept", "resume the stopped job", show=False),
         Binding("asterisk", "feed_override(0)", "feed 100 %", key_display="*", show=False),
+        Binding("r", "rapid_override", "rapid 100/50/25 %", show=False),
+        Binding(
+            "less_than_sign", "spindle_override(-1)", "spindle −10 %", key_display="<", show=False
+        ),
+        Binding(
+            "greater_than_sign", "spindle_override(1)", "spindle +10 %", key_display=">", show=False
+        ),
         Binding("ctrl+x", "reset", "STOP now", show=False),
         Binding("ctrl+r", "reconnect", "reconnect", show=False),
         Binding("question_mark,f1", "help", "help", key_display="?"),
@@ -149,6 +156,11 @@ HELP = """\
                  job line. It applies to what is not yet sent: from the
                  first move boundary after the motion queued on the board
                  (at most host_timeout + 0.5 s: 1.5 s by default)
+  r              rapid override: 100 → 50 → 25 → 100 % (moves without a
+                 feed; not in laser mode, where they keep the laser off)
+  < >            spindle (laser power) override −10 % / +10 % (10 … 200 %)
+                 Both apply to a running job as the feed override does, and
+                 to what runs next; shown on the machine panel's state line
 
 [b]Connection[/b]
   Ctrl+R         reconnect after the link was lost
@@ -163,8 +175,8 @@ KEY_LINE = (
     "[b]Esc[/b] stop [b]:[/b] MDI [b]o[/b] job [b]?[/b] help"
 )
 JOB_KEY_LINE = (
-    "[b]Space[/b] feed hold  [b]g[/b] go on  [b]Esc[/b] stop  [b]- + *[/b] feed −/+10 %, 100 %  "
-    "[b]?[/b] help"
+    "[b]Space[/b] hold  [b]g[/b] go on  [b]Esc[/b] stop  [b]- + *[/b] feed  [b]r[/b] rapid  "
+    "[b]< >[/b] spindle  [b]?[/b] help"
 )
 CONSOLE_KEY_LINE = (
     "[b reverse] MDI has the keys [/] [b]Enter[/b] runs the line  [b]↑ ↓[/b] history  "

@@ -64,7 +64,8 @@ class PositionPanel(Panel):
 
 
 class MachinePanel(Panel):
-    """State, alarm, queue fill, feed and link health."""
+    """State, alarm, the rapid and spindle overrides (when not 100 %), queue fill, feed and link
+    health."""
 
     def show(
         self,
@@ -73,6 +74,7 @@ class MachinePanel(Panel):
         lost: str | None,
         job: JobState | None = None,
         position_lost: bool = False,
+        overrides: tuple[int, int] = (100, 100),
     ) -> None:
         text = Text("state ", style="dim")
         if lost is not None:
@@ -91,6 +93,8 @@ class MachinePanel(Panel):
                 position_lost
             ):  # a hard limit or the abort button: cleared, but machine zero is gone
                 text.append(" position lost: h homes", style="bold red")
+            elif overrides != (100, 100):  # R: rapid, S: spindle, % (fits after FEED HOLD (job))
+                text.append(f" R{overrides[0]} S{overrides[1]}", style="bold yellow")
             health = snapshot.link
             bad = (
                 health["retransmits"]

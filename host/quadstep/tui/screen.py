@@ -30,6 +30,7 @@ from .jobs import JobKeys
 from .jog_keys import JogKeys
 from .keys import CONSOLE_KEY_LINE, JOB_KEY_LINE, KEY_LINE, bindings
 from .messages import Connected, ConnectionLost, JogDone, Note, StatusUpdate
+from .override_keys import OverrideKeys
 from .panels import JobPanel, JogPanel, MachinePanel, MessageLog, PositionPanel
 from .session import Session, Snapshot
 from .toolpath_view import ToolpathView
@@ -45,7 +46,7 @@ def _board_name(board: int) -> str:
         return f"board {board}"
 
 
-class MachineScreen(JobKeys, JogKeys):
+class MachineScreen(JobKeys, JogKeys, OverrideKeys):
     BINDINGS = bindings(9)  # step keys beyond the presets are hidden by check_action
     AUTO_FOCUS = ""  # nothing: every key jogs until `:` focuses the console line
     console_has_keys: reactive[bool] = reactive(False)  # the key line and the jog line say so
@@ -155,7 +156,11 @@ class MachineScreen(JobKeys, JogKeys):
             self.query_one(PositionPanel).show(session.config, snapshot)
         job = self.job.state if self.job is not None else None
         lost = session.machine is not None and session.machine.position_lost
-        self.query_one(MachinePanel).show(session.identity, self.snapshot, session.lost, job, lost)
+        speeds = session.machine.speed_overrides if session.machine is not None else None
+        overrides = (speeds.rapid, speeds.spindle) if speeds is not None else (100, 100)
+        self.query_one(MachinePanel).show(
+            session.identity, self.snapshot, session.lost, job, lost, overrides
+        )
         self.query_one(JogPanel).show(
             session.jogger if session.connected else None, self.console_has_keys
         )
