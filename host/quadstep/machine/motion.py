@@ -320,9 +320,14 @@ class Motion:
             limit = self._sendable(index, ticks)
             if limit <= index:
                 continue  # the tail kept back: waited for the board to run some, a cut or a release
-            batch = (
-                size.next() if self._queued_ticks(k, ticks) >= size.floor else min(size.next(), 1)
-            )
+            batch = size.next()
+            if self._queued_ticks(k, ticks) < size.floor:
+                # little motion queued: a frame of what the board has room for now, out at once
+                # (short segments: one a frame would cost a frame and an ack each), one segment
+                # while it holds almost none
+                queued = k - self.done
+                room = identity.queue_capacity - queued if queued >= MIN_QUEUED_SEGMENTS else 1
+                batch = min(batch, max(1, room))
             end = min(self.last, index + max(1, batch))
             while (
                 self.lookahead_ticks

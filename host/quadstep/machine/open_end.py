@@ -13,6 +13,7 @@ from dataclasses import replace
 
 from ..config import MachineConfig
 from ..coordinates import WorkCoordinates
+from ..planner.plan import Plan
 from ..planner.program import Item, Program
 
 # The board is sent the kept-back end only while it holds less than this much motion before it (and
@@ -93,3 +94,16 @@ class OpenEnd:
             if not self._open:
                 return None
         return bisect_left(ticks, ticks[-1] - self.reserve_ticks)
+
+
+def settled_moves(plan: Plan) -> int:
+    """The moves of `plan` that lines added after its end leave as planned: those before the last
+    stretch whose entry speeds fall all the way to the stop at the end. Further back an entry speed
+    is no higher than the next one, so the look-ahead's backward pass from the end does not limit
+    it, and more moves after the end, which can only raise that pass, change nothing before it."""
+    junctions, move = plan.junctions, plan.moves - 1
+    if len(junctions) <= plan.moves:
+        return 0  # not made by plan_program: everything again
+    while move > 0 and junctions[move] > junctions[move + 1]:
+        move -= 1
+    return max(move, 0)

@@ -20,10 +20,17 @@ from ..planner.segments import SegmentArrays
 from ..planner.stream import Stream
 from ..protocol.segment import D
 from .motion import Motion
+from .move_items import MoveItems
 from .remainder import move_item, rest_of
 from .takeups import StreamPlan
 
 TRIES = 12  # boundaries tried, one after another, before the change waits for the next stop
+
+
+def _signs(axes: np.ndarray, count: int) -> np.ndarray:
+    """Each segment's direction per axis (±1) from its axes byte."""
+    bits = axes.astype(np.int64)[:, None]
+    return np.where((bits >> (4 + np.arange(count))) & 1, -1, 1)
 
 
 def boundary_at(plan: Plan, move: int) -> Boundary:
@@ -33,14 +40,21 @@ def boundary_at(plan: Plan, move: int) -> Boundary:
     assert isinstance(segments, SegmentArrays)
     index, count = plan.move_ends[move - 1], segments.axis_count
     arrays = segments.numpy()
-    bits = arrays["axes"][:index].astype(np.int64)[:, None]
-    sign = np.where((bits >> (4 + np.arange(count))) & 1, -1, 1)
-    travel = arrays["n"][:index].astype(np.int64)[:, None] * (
-        arrays["v0"][:index].astype(np.int64) + arrays["vn"][:index]
-    )
-    ideal2 = 2 * D * np.asarray(plan.start, dtype=np.int64) + (sign * travel).sum(axis=0)
+    # the chain's travel over the segments before the boundary, or back from the end over those
+    # after it (fewer, near the end of a long plan)
+    span = slice(index, None) if plan.end_ideal2 else slice(0, index)
+    travel = (
+        _signs(arrays["axes"][span], count)
+        * arrays["n"][span].astype(np.int64)[:, None]
+        * (arrays["v0"][span].astype(np.int64) + arrays["vn"][span])
+    ).sum(axis=0)
+    if plan.end_ideal2:
+        ideal2 = np.asarray(plan.end_ideal2, dtype=np.int64) - travel
+    else:
+        ideal2 = 2 * D * np.asarray(plan.start, dtype=np.int64) + travel
     exits = (
-        sign[index - 1] * arrays["vn"][index - 1].astype(np.int64)
+        _signs(arrays["axes"][index - 1 : index], count)[0]
+        * arrays["vn"][index - 1].astype(np.int64)
         if index
         else np.zeros(count, np.int64)
     )
@@ -79,16 +93,28 @@ def join(plan: Plan, move: int, tail: Plan) -> Plan:
         retries=plan.retries + tail.retries,
         outputs=outputs,
         junctions=plan.junctions[:move] + tail.junctions,
+        end_ideal2=tail.end_ideal2,
     )
 
 
-def replan_from(program: Program, plan: Plan, move: int, percent: int, label: str) -> Plan:
+def replan_from(
+    program: Program,
+    plan: Plan,
+    move: int,
+    percent: int,
+    label: str,
+    items: MoveItems | None = None,
+) -> Plan:
     """`plan` (of `program`) up to where its move `move` begins, then the rest of `program` with its
     feeds at `percent` %, going on from there (what lies between the moves, a dwell or a pause,
-    comes with the rest)."""
-    first = move_item(program, plan.config, plan.start, move - 1) + 1
+    comes with the rest). `items`: where the plan's moves are in the program, kept from before."""
+    if items is None:
+        first = move_item(program, plan.config, plan.start, move - 1) + 1
+        rest = rest_of(program, first)
+    else:
+        rest = items.rest_of(program, items.item_of(program, move - 1) + 1)
     tail = plan_program(
-        scale_feeds(rest_of(program, first), percent),
+        scale_feeds(rest, percent),
         plan.config,
         label=label,
         boundary=boundary_at(plan, move),
@@ -134,6 +160,7 @@ def prepare(
     percent: int,
     label: str,
     restream: Restreamer | None,
+    items: MoveItems | None = None,
 ) -> Swap | None:
     """`running` planned again at `percent` % from the first move boundary where the new stream
     leaves the old at or after its item `after` (and before item `before`, the section's end); None
@@ -145,7 +172,7 @@ def prepare(
     move = bisect_left(base.move_ends, origin) + 1
     for move in range(move, min(move + TRIES, base.moves)):
         try:
-            joined = replan_from(program, base, move, percent, label)
+            joined = replan_from(program, base, move, percent, label, items)
         except JobError:
             continue  # no whole-tick profile from this boundary: the next one
         at = base.move_ends[move - 1]
@@ -174,6 +201,7 @@ def replan_running(
     restream: Restreamer | None,
     ticks: Sequence[int],
     start_at: int = 0,
+    items: MoveItems | None = None,
 ) -> Swap | None:
     """`running` planned again at `percent` % from the first move boundary that `motion` (streaming
     it) has not sent (and not before item `start_at`), and the motion cut there. A boundary sent
@@ -184,7 +212,7 @@ def replan_running(
         if motion.end is not None:
             return None
         began = time.monotonic()
-        swap = prepare(program, running, after, motion.last, percent, label, restream)
+        swap = prepare(program, running, after, motion.last, percent, label, restream, items)
         if swap is None:
             return None
         if motion.cut(swap.index):
