@@ -48,6 +48,7 @@ PauseOrProbe = TypeVar("PauseOrProbe", Pause, ProbeMove)
 LOOKAHEAD_S = (
     0.5  # s queued beyond the watchdog's host_timeout: a lost host meets the watchdog first
 )
+ADDITION_POLL_S = 0.005  # s between looks at lines added and not planned yet, while the board runs
 AT_REST = (
     FEED_HOLD,
     STARVED,
@@ -490,7 +491,8 @@ class JobRun:
                 elif self._extends(motion):
                     self._extend_running(motion)
             if motion.end is None:
-                self._wake.wait()
+                # lines waiting for enough company are looked at again as the board runs on
+                self._wake.wait(ADDITION_POLL_S if self.pending else None)
                 self._wake.clear()
         end = motion.wait()
         assert end is not None
@@ -499,10 +501,20 @@ class JobRun:
     def _extends(self, motion: Motion) -> bool:
         """Lines were added while `motion` streams the last section (after a pause to come they
         are planned from that pause)."""
+        open_end = self._open_end
+        if open_end is None or not open_end.pending or motion.last != len(self.plan):
+            return False
+        # each addition plans the stop at the end again: worth it for as many lines as that, or
+        # when that stop is about to be sent or run, or when no more lines come
+        if open_end.pending >= open_end.batch or not open_end.open:
+            return True
+        identity = self.link.identity
+        room = identity.queue_capacity if identity is not None else 1
+        start, sent = self._tail_start(), motion.first + motion.sent
+        done = min(max(motion.first + motion.done, 0), len(self._ticks) - 1)
         return (
-            self._open_end is not None
-            and bool(self._open_end.pending)
-            and (motion.last == len(self.plan))
+            start - sent < room
+            or self._ticks[max(start, done)] - self._ticks[done] < open_end.lead_ticks
         )
 
     def _extend_running(self, motion: Motion) -> None:

@@ -378,10 +378,12 @@ class Motion:
         if index < hold_from:
             return hold_from
         k, identity = index - self.first, self.link.identity
-        half = identity.queue_capacity // 2 if identity is not None else 1
+        capacity = identity.queue_capacity if identity is not None else 1
         if self._halting:
             return index + 1
-        if self._queued_ticks(k, ticks) < floor and k - self.done < max(1, half):
+        # the board's whole queue, not only what it runs dry without: short segments fill it in a
+        # few milliseconds, too few for the host to be late by
+        if self._queued_ticks(k, ticks) < floor and k - self.done < capacity:
             # the board would run dry first: as much again as the floor
             upto = bisect_left(ticks, ticks[max(0, min(self.done, k))] + floor) + self.first
             return min(last, max(index + 1, upto))

@@ -19,6 +19,10 @@ from ..planner.program import Item, Program
 # The board is sent the kept-back end only while it holds less than this much motion before it (and
 # less than half its queue): lines arriving in the meantime are planned in its place.
 FLOOR_S = 0.25
+# Lines added are planned onto the job once this many items wait (each addition plans the stop at
+# the end again), or once the board has less than LEAD_S of motion before that stop.
+BATCH_ITEMS = 48
+LEAD_S = 0.08
 # The kept-back end: the longest stop any axis makes from its top speed, with this margin (a stop
 # along several moves may take a little longer than along one), plus the floor.
 STOP_MARGIN = 1.5
@@ -33,6 +37,8 @@ class OpenEnd:
         stop_s = max(axis.max_speed / axis.max_accel for axis in config.axes)
         self.floor_ticks = round(FLOOR_S * hz)
         self.reserve_ticks = round(STOP_MARGIN * stop_s * hz) + self.floor_ticks
+        self.batch = BATCH_ITEMS
+        self.lead_ticks = round(LEAD_S * hz)
         self._lock = threading.Lock()
         self._open = True
         self._items: list[Item] = []
