@@ -512,10 +512,9 @@ class JobRun:
         room = identity.queue_capacity if identity is not None else 1
         start, sent = self._tail_start(), motion.first + motion.sent
         done = min(max(motion.first + motion.done, 0), len(self._ticks) - 1)
-        return (
-            start - sent < room
-            or self._ticks[max(start, done)] - self._ticks[done] < open_end.lead_ticks
-        )
+        # the kept-back end goes to the board once it holds less than the floor before it
+        near = open_end.floor_ticks + open_end.lead_ticks
+        return start - sent < room or self._ticks[max(start, done)] - self._ticks[done] < near
 
     def _extend_running(self, motion: Motion) -> None:
         """The lines added, planned onto what `motion` has not sent (as a feed override plans the

@@ -20,7 +20,7 @@ from ..planner.program import Item, Program
 # less than half its queue): lines arriving in the meantime are planned in its place.
 FLOOR_S = 0.25
 # Lines added are planned onto the job once this many items wait (each addition plans the stop at
-# the end again), or once the board has less than LEAD_S of motion before that stop.
+# the end again), or once that stop is within LEAD_S of being sent (the floor, and this).
 BATCH_ITEMS = 48
 LEAD_S = 0.08
 # The kept-back end: the longest stop any axis makes from its top speed, with this margin (a stop
