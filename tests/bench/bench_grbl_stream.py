@@ -4,7 +4,8 @@
    a second the board ran them at, and whether it kept up (no starvation, no stop between lines);
 2. a file through the front door against `quadstep run` of it: the wall time from the first motion to
    rest, both ways, and their ratio;
-3. jog cancel (0x85) → the first decelerating tick of the HOLD (the emulator's events log), in ms.
+3. jog cancel (0x85) → the first decelerating tick of the HOLD (the emulator's events log), in ms;
+4. the CPU time of planning an addition onto an open job, by the job's length (no board).
 
 Prints figures; asserts no time."""
 
@@ -15,7 +16,10 @@ import statistics
 import sys
 import tempfile
 import time
+from bisect import bisect_left
+from dataclasses import replace
 from pathlib import Path
+from typing import Any
 
 REPO = Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(REPO / "tests" / "helpers"))
@@ -29,7 +33,12 @@ from quadstep.gcode.interpreter import parse_gcode  # noqa: E402
 from quadstep.grbl.server import PtyServer  # noqa: E402
 from quadstep.link import Link  # noqa: E402
 from quadstep.machine import JobRun, JobState, Machine  # noqa: E402
-from quadstep.planner.plan import plan_program  # noqa: E402
+from quadstep.machine import job as job_module  # noqa: E402
+from quadstep.machine.move_items import MoveItems  # noqa: E402
+from quadstep.machine.open_end import settled_moves  # noqa: E402
+from quadstep.machine.override import prepare  # noqa: E402
+from quadstep.machine.takeups import StreamPlan, TakeUps  # noqa: E402
+from quadstep.planner.plan import Plan, plan_program  # noqa: E402
 
 CONFIG = load_config(REPO / "examples" / "router-uno.toml")
 
@@ -43,6 +52,43 @@ def chords(count: int, length_mm: float, feed: float) -> list[str]:
         angle = k * step
         lines.append(f"X{50 + radius * math.cos(angle):.4f} Y{50 + radius * math.sin(angle):.4f}")
     return lines
+
+
+class Additions:
+    """Each planning of a running job's rest again (an open job's lines added): the job's moves
+    then, and the seconds it took."""
+
+    def __init__(self) -> None:
+        self.costs: list[tuple[int, float]] = []
+        replan = job_module.replan_running
+
+        def timed(*args: Any, **kwargs: Any) -> Any:
+            began = time.perf_counter()
+            swap = replan(*args, **kwargs)
+            plan = args[1]
+            moves = plan.base.moves if hasattr(plan, "base") else plan.moves
+            self.costs.append((moves, time.perf_counter() - began))
+            return swap
+
+        setattr(job_module, "replan_running", timed)  # every job made from now on
+
+    def take(self) -> list[tuple[int, float]]:
+        costs, self.costs = self.costs, []
+        return costs
+
+
+def cost_by_length(costs: list[tuple[int, float]]) -> str:
+    """The median planning cost of an addition per 1,000 moves of the job."""
+    bins: dict[int, list[float]] = {}
+    for moves, seconds in costs:
+        bins.setdefault(moves // 1000, []).append(seconds)
+    return ", ".join(
+        f"{k}k–{k + 1}k moves: {1000 * statistics.median(v):.1f} ms (×{len(v)})"
+        for k, v in sorted(bins.items())
+    )
+
+
+ADDITIONS = Additions()
 
 
 class Door:
@@ -126,10 +172,12 @@ def bench_lines_per_second(grbl: GrblClient, door: Door) -> None:
             f"({elapsed:.2f} s; the whole file planned: {3000 / planned.duration_s:.0f} lines/s); "
             f"{stops(jobs)}"
         )
+        print(f"      planning an addition, by job length: {cost_by_length(ADDITIONS.take())}")
 
 
 def bench_file_ratio(grbl: GrblClient, door: Door) -> None:
     print("2. a file streamed vs quadstep run (400 chords of a spiral, F2400):")
+    ADDITIONS.take()
     lines = ["G21 G90 G94", "G0 X52 Y50", "G1 F2400"]
     for k in range(1, 401):
         angle, radius = k * 0.12, 2.0 + k * 0.02
@@ -147,6 +195,50 @@ def bench_file_ratio(grbl: GrblClient, door: Door) -> None:
             f"(the last leg's stream against run's: {sent:.4f}); {stops(jobs)}"
         )
     print(f"   median ratio {statistics.median(ratios):.4f}")
+
+
+def bench_addition_cost(step: int = 32, total: int = 12000) -> None:
+    """An open job's additions without a board: chords given `step` lines at a time, each planned
+    onto the job as a running job does (from the stop at its end, with the take-ups), the CPU time
+    of each by the job's length then."""
+    print(
+        f"4. an addition of {step} lines planned onto an open job, by the job's length (no board):"
+    )
+    takeups = TakeUps(CONFIG)
+    lines = chords(total, 0.02, 2400)
+    program = parse_gcode(
+        "\n".join(lines) + "\n", CONFIG.axis_names, (0.0, 0.0, 0.0), CONFIG.arc_tolerance
+    )
+    head = 2 + step
+    job = replace(program, items=program.items[:head])
+    plan = plan_program(job, CONFIG)
+    compensated = takeups.compensate(plan.segments, plan.pauses)
+    running = StreamPlan(CONFIG, compensated.stream, compensated.pauses, compensated, plan)
+    items = MoveItems(CONFIG, plan.start)
+
+    def restream(joined: Plan, old: StreamPlan) -> StreamPlan:
+        again = takeups.compensate(joined.segments, joined.pauses, old.compensated.band_start)
+        return StreamPlan(CONFIG, again.stream, again.pauses, again, joined)
+
+    costs: list[tuple[int, float]] = []
+    for at in range(head, len(program.items), step):
+        job = replace(job, items=[*job.items, *program.items[at : at + step]])
+        base = running.base
+        move = settled_moves(base)
+        first = bisect_left(running.segments.origin, base.move_ends[move - 1]) if move else 0
+        began = time.process_time()
+        swap = prepare(job, running, first, len(running), 100, "line", restream, items)
+        costs.append((base.moves, time.process_time() - began))
+        assert swap is not None and isinstance(swap.plan, StreamPlan)
+        running = swap.plan
+    print(f"   {cost_by_length(costs[len(costs) // 20 :])}")
+    whole = time.process_time()
+    plan_program(program, CONFIG)
+    whole = time.process_time() - whole
+    print(
+        f"   the whole file ({running.base.moves} moves) planned once: {whole:.2f} s "
+        f"({1000 * whole / running.base.moves:.3f} ms a move)"
+    )
 
 
 def bench_jog_cancel(grbl: GrblClient, events: Path, count: int = 10) -> None:
@@ -180,13 +272,17 @@ def holds(events: Path) -> list[int]:
 
 
 def main() -> None:
+    sections = sys.argv[1:] or ["1", "2", "3", "4"]
+    if "4" in sections:
+        bench_addition_cost()
+    if not {"1", "2", "3"} & set(sections):
+        return
     with tempfile.TemporaryDirectory() as work:
         events = Path(work) / "events.csv"
         door = Door(events)
         try:
             with GrblClient(str(door.pty.path)) as grbl:
                 grbl.wait_banner()
-                sections = sys.argv[1:] or ["1", "2", "3"]
                 if "1" in sections:
                     bench_lines_per_second(grbl, door)
                 if "2" in sections:

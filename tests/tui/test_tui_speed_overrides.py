@@ -46,12 +46,14 @@ async def test_the_rapid_and_spindle_keys_change_a_running_job(machine: MachineC
         await until(pilot, lambda: run.plan is not first_plan, what="the rest planned again")
         await until(pilot, lambda: "rapids.gcode: done" in log_text(app), what="the job to finish")
         assert positions(app) == machine.to_steps((0.0, 0.0, 0.0))
-        # the rapids as run take four times as long as first planned (a quarter of the speed)
+        # the rapids as run take up to four times as long as first planned (a quarter of the speed; less
+        # where they accelerate, and where the board had the first rapid's start before the keys):
+        # more than 2.5 times, which 50 % could not give
         n_first = first_plan.base.segments.numpy()["n"].astype("int64")
         n_run = run.plan.base.segments.numpy()["n"].astype("int64")
         rapids_first = int(n_first[first_plan.base.move_ends[5]:].sum())
         rapids_run = int(n_run[run.plan.base.move_ends[5]:].sum())
-        assert rapids_run > 3 * rapids_first
+        assert rapids_run > 2.5 * rapids_first
         for _ in range(11):  # 150 → 200, then refused
             send_key(app, "greater_than_sign", ">")
         await until(pilot, lambda: "spindle override: 200 % is the most" in log_text(app),

@@ -23,7 +23,7 @@ exclude the take-ups (band.py); `takeups` says where each is, for plots and chec
 from __future__ import annotations
 
 from collections.abc import Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from fractions import Fraction
 
 import numpy as np
@@ -281,6 +281,16 @@ def compensate(
     return _assemble(base, config, band_start, band_end, placed, pauses or [])
 
 
+def unchanged(
+    segments: SegmentArrays | Stream, band: Band, pauses: Sequence[tuple[int, int]]
+) -> Compensated:
+    """A planned stream without take-ups (none placed, or a band without backlash): its segments
+    as they are."""
+    out = Stream(segments)
+    out.add_bases(0, len(segments))
+    return Compensated(out, band, band, pauses=list(pauses))
+
+
 def _assemble(
     base: BaseStream,
     config: MachineConfig,
@@ -289,6 +299,8 @@ def _assemble(
     placed: list[_Placed],
     pauses: list[tuple[int, int]],
 ) -> Compensated:
+    if not placed and isinstance(base.item, (SegmentArrays, Stream)):
+        return replace(unchanged(base.item, band, pauses), band_end=band_end)
     count = len(base)
     blocks, inserted, anchor, seg_start = _time_line(base, placed)
     units = _units(base, blocks, seg_start)

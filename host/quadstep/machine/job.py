@@ -13,6 +13,7 @@ Machine.run_job starts one; the CLI and the TUI both run jobs this way.
 from __future__ import annotations
 
 import threading
+from bisect import bisect_left
 from collections.abc import Callable, Sequence
 from dataclasses import replace
 from itertools import accumulate
@@ -37,9 +38,9 @@ from .job_outputs import FEED_HOLD, outputs_at, spindle_stopped, stream_outputs,
 from .job_state import JobProgress, JobState, JobStates
 from .journal import Journal
 from .motion import CUT, STARVED, Motion, MotionEnd, bring_to_rest
-from .open_end import OpenEnd
+from .move_items import MoveItems
+from .open_end import OpenEnd, settled_moves
 from .override import Swap, replan_running
-from .remainder import rest_of
 from .speed_overrides import SpeedOverrides
 from .standing import Restream
 from .takeups import StreamPlan
@@ -48,6 +49,7 @@ PauseOrProbe = TypeVar("PauseOrProbe", Pause, ProbeMove)
 LOOKAHEAD_S = (
     0.5  # s queued beyond the watchdog's host_timeout: a lost host meets the watchdog first
 )
+ADDITION_POLL_S = 0.005  # s between looks at lines added and not planned yet, while the board runs
 AT_REST = (
     FEED_HOLD,
     STARVED,
@@ -119,6 +121,8 @@ class JobRun:
         self._open_end = OpenEnd(plan.config) if open_end and program is not None else None
         self._planned_items = len(program.items) if program is not None else 0
         self._swap_items = 0  # the program's items the swap waiting to be streamed covers
+        # where the leg's moves are in its program, for planning its rest again from a move
+        self._move_items = MoveItems(plan.config, base_plan(plan).start)
         self._thread = threading.Thread(target=self._run, name="quadstep-job", daemon=True)
 
     # --- what the job is doing ---------------------------------------------------------------
@@ -357,7 +361,7 @@ class JobRun:
             here = self.restream.held(rest)
         else:
             here = tuple(self.link.status().position[: self.plan.segments.axis_count])
-        self.program = rest_after_stop(self.program, self.plan, self._offset)
+        self.program = rest_after_stop(self.program, self.plan, self._offset, self._move_items)
         return self._next_leg(here)
 
     def _goes_on(self) -> bool:
@@ -375,7 +379,7 @@ class JobRun:
             here = self.restream.at_rest()
         else:
             here = tuple(self.link.status().position[: self.plan.segments.axis_count])
-        self.program = rest_of(self.program, self._planned_items)
+        self.program = self._move_items.rest_of(self.program, self._planned_items)
         return self._next_leg(here)
 
     def _scaled(self, here: tuple[int, ...]) -> Program:
@@ -431,6 +435,7 @@ class JobRun:
             self._done_before += self._offset
             self.plan, self._offset = streamed, 0
             self._ticks = list(accumulate(streamed.segments.n, initial=0))
+        self._move_items = MoveItems(remainder.config, remainder.start)
         self._begin_leg()
         return self._sections()
 
@@ -469,12 +474,14 @@ class JobRun:
                 return end
             swap, self._swap = self._swap, None
             self._planned_items = max(self._planned_items, self._swap_items)
+            # the new plan is the old one before the swap's index: only the ticks after it are new
+            ticks = self._ticks[: swap.index + 1]
+            n = swap.plan.segments.n
+            ticks.extend(accumulate((n[i] for i in range(swap.index, len(n))), initial=ticks[-1]))
+            ticks.pop(swap.index + 1)
             with self._lock:
                 follows, halted = self._motion, self._halted
-                self.plan, self._ticks = (
-                    swap.plan,
-                    list(accumulate(swap.plan.segments.n, initial=0)),
-                )
+                self.plan, self._ticks = swap.plan, ticks
             begin = swap.index
             # halted as one motion handed over to the next: the board still runs the first's
             if halted:
@@ -506,7 +513,8 @@ class JobRun:
                 elif self._extends(motion):
                     self._extend_running(motion)
             if motion.end is None:
-                self._wake.wait()
+                # lines waiting for enough company are looked at again as the board runs on
+                self._wake.wait(ADDITION_POLL_S if self.pending else None)
                 self._wake.clear()
         end = motion.wait()
         assert end is not None
@@ -515,11 +523,20 @@ class JobRun:
     def _extends(self, motion: Motion) -> bool:
         """Lines were added while `motion` streams the last section (after a pause to come they
         are planned from that pause)."""
-        return (
-            self._open_end is not None
-            and bool(self._open_end.pending)
-            and (motion.last == len(self.plan))
-        )
+        open_end = self._open_end
+        if open_end is None or not open_end.pending or motion.last != len(self.plan):
+            return False
+        # each addition plans the stop at the end again: worth it for as many lines as that, or
+        # when that stop is about to be sent or run, or when no more lines come
+        if open_end.pending >= open_end.batch or not open_end.open:
+            return True
+        identity = self.link.identity
+        room = identity.queue_capacity if identity is not None else 1
+        start, sent = self._tail_start(), motion.first + motion.sent
+        done = min(max(motion.first + motion.done, 0), len(self._ticks) - 1)
+        # the kept-back end goes to the board once it holds less than the floor before it
+        near = open_end.floor_ticks + open_end.lead_ticks
+        return start - sent < room or self._ticks[max(start, done)] - self._ticks[done] < near
 
     def _extend_running(self, motion: Motion) -> None:
         """The lines added, planned onto what `motion` has not sent (as a feed override plans the
@@ -527,8 +544,20 @@ class JobRun:
         end (_more_from_rest)."""
         assert self._open_end is not None and self.program is not None
         self.program = self._open_end.merge(self.program)
-        # what comes before the end kept back is planned as it would be again: from there on
-        self._override_running(motion, overriding=False, start_at=motion.held_from or 0)
+        # the moves before the stop at the end are planned as they would be again: from there on
+        self._override_running(motion, overriding=False, start_at=self._tail_start())
+
+    def _tail_start(self) -> int:
+        """The first segment (as streamed) of the moves that lines added after the plan's end may
+        change."""
+        base = base_plan(self.plan)
+        move = settled_moves(base)
+        if move == 0:
+            return 0
+        first = base.move_ends[move - 1]
+        if isinstance(self.plan, StreamPlan):
+            return bisect_left(self.plan.segments.origin, first)
+        return first
 
     def _override_running(self, motion: Motion, overriding: bool = True, start_at: int = 0) -> None:
         """An override changed while `motion` streams: plan the rest again (OVERRIDING) and have
@@ -552,6 +581,7 @@ class JobRun:
             (lambda program, start: apply_overrides(program, planned, config, start))
             if overriding
             else None,
+            self._move_items,
         )
         if self._swap is not None:
             self._planned = wanted

@@ -5,13 +5,14 @@ offsets — and where each leg's moves end in the stream the board counts (what 
 
 from __future__ import annotations
 
-from bisect import bisect_left
+from bisect import bisect_left, bisect_right
 from collections.abc import Sequence
 
 from ..config import MachineConfig
 from ..coordinates import WorkCoordinates
 from ..planner.plan import Plan
 from ..planner.program import Pause, ProbeMove, Program
+from .move_items import MoveItems
 from .remainder import after_pause_program, carry_changes, remainder_program
 from .standing import Restream
 from .takeups import StreamPlan
@@ -30,11 +31,17 @@ def stream_move_ends(plan: Plan | StreamPlan) -> list[int]:
     return [bisect_left(origin, end) for end in plan.base.move_ends]
 
 
-def rest_after_stop(program: Program, plan: Plan | StreamPlan, stopped_at: int) -> Program:
+def rest_after_stop(
+    program: Program, plan: Plan | StreamPlan, stopped_at: int, items: MoveItems | None = None
+) -> Program:
     """What is left of `program` (streamed as `plan`) stopped during its stream segment
-    `stopped_at`: the move it was in again, then everything after it."""
+    `stopped_at`: the move it was in again, then everything after it (`items`: where the plan's
+    moves are in the program, kept from before)."""
     held = plan.segments.origin_of(stopped_at) if isinstance(plan, StreamPlan) else stopped_at
-    return remainder_program(program, base_plan(plan), held)
+    if items is None:
+        return remainder_program(program, base_plan(plan), held)
+    move = bisect_right(base_plan(plan).move_ends, held)  # the first move ending past it
+    return items.rest_of(program, items.item_of(program, move))
 
 
 def rest_after_probe(program: Program, probe: ProbeMove, rest_mm: Sequence[float]) -> Program:

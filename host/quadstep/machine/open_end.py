@@ -13,11 +13,16 @@ from dataclasses import replace
 
 from ..config import MachineConfig
 from ..coordinates import WorkCoordinates
+from ..planner.plan import Plan
 from ..planner.program import Item, Program
 
 # The board is sent the kept-back end only while it holds less than this much motion before it (and
 # less than half its queue): lines arriving in the meantime are planned in its place.
 FLOOR_S = 0.25
+# Lines added are planned onto the job once this many items wait (each addition plans the stop at
+# the end again), or once that stop is within LEAD_S of being sent (the floor, and this).
+BATCH_ITEMS = 48
+LEAD_S = 0.08
 # The kept-back end: the longest stop any axis makes from its top speed, with this margin (a stop
 # along several moves may take a little longer than along one), plus the floor.
 STOP_MARGIN = 1.5
@@ -32,6 +37,8 @@ class OpenEnd:
         stop_s = max(axis.max_speed / axis.max_accel for axis in config.axes)
         self.floor_ticks = round(FLOOR_S * hz)
         self.reserve_ticks = round(STOP_MARGIN * stop_s * hz) + self.floor_ticks
+        self.batch = BATCH_ITEMS
+        self.lead_ticks = round(LEAD_S * hz)
         self._lock = threading.Lock()
         self._open = True
         self._items: list[Item] = []
@@ -93,3 +100,16 @@ class OpenEnd:
             if not self._open:
                 return None
         return bisect_left(ticks, ticks[-1] - self.reserve_ticks)
+
+
+def settled_moves(plan: Plan) -> int:
+    """The moves of `plan` that lines added after its end leave as planned: those before the last
+    stretch whose entry speeds fall all the way to the stop at the end. Further back an entry speed
+    is no higher than the next one, so the look-ahead's backward pass from the end does not limit
+    it, and more moves after the end, which can only raise that pass, change nothing before it."""
+    junctions, move = plan.junctions, plan.moves - 1
+    if len(junctions) <= plan.moves:
+        return 0  # not made by plan_program: everything again
+    while move > 0 and junctions[move] > junctions[move + 1]:
+        move -= 1
+    return max(move, 0)

@@ -22,10 +22,17 @@ from ..planner.segments import SegmentArrays
 from ..planner.stream import Stream
 from ..protocol.segment import D
 from .motion import Motion
+from .move_items import MoveItems
 from .remainder import move_item, rest_of
 from .takeups import StreamPlan
 
 TRIES = 12  # boundaries tried, one after another, before the change waits for the next stop
+
+
+def _signs(axes: np.ndarray, count: int) -> np.ndarray:
+    """Each segment's direction per axis (±1) from its axes byte."""
+    bits = axes.astype(np.int64)[:, None]
+    return np.where((bits >> (4 + np.arange(count))) & 1, -1, 1)
 
 
 def boundary_at(plan: Plan, move: int) -> Boundary:
@@ -35,14 +42,21 @@ def boundary_at(plan: Plan, move: int) -> Boundary:
     assert isinstance(segments, SegmentArrays)
     index, count = plan.move_ends[move - 1], segments.axis_count
     arrays = segments.numpy()
-    bits = arrays["axes"][:index].astype(np.int64)[:, None]
-    sign = np.where((bits >> (4 + np.arange(count))) & 1, -1, 1)
-    travel = arrays["n"][:index].astype(np.int64)[:, None] * (
-        arrays["v0"][:index].astype(np.int64) + arrays["vn"][:index]
-    )
-    ideal2 = 2 * D * np.asarray(plan.start, dtype=np.int64) + (sign * travel).sum(axis=0)
+    # the chain's travel over the segments before the boundary, or back from the end over those
+    # after it (fewer, near the end of a long plan)
+    span = slice(index, None) if plan.end_ideal2 else slice(0, index)
+    travel = (
+        _signs(arrays["axes"][span], count)
+        * arrays["n"][span].astype(np.int64)[:, None]
+        * (arrays["v0"][span].astype(np.int64) + arrays["vn"][span])
+    ).sum(axis=0)
+    if plan.end_ideal2:
+        ideal2 = np.asarray(plan.end_ideal2, dtype=np.int64) - travel
+    else:
+        ideal2 = 2 * D * np.asarray(plan.start, dtype=np.int64) + travel
     exits = (
-        sign[index - 1] * arrays["vn"][index - 1].astype(np.int64)
+        _signs(arrays["axes"][index - 1 : index], count)[0]
+        * arrays["vn"][index - 1].astype(np.int64)
         if index
         else np.zeros(count, np.int64)
     )
@@ -81,6 +95,7 @@ def join(plan: Plan, move: int, tail: Plan) -> Plan:
         retries=plan.retries + tail.retries,
         outputs=outputs,
         junctions=plan.junctions[:move] + tail.junctions,
+        end_ideal2=tail.end_ideal2,
     )
 
 
@@ -93,14 +108,26 @@ def feeds_at(percent: int) -> Scaler:
     return lambda program, _start: scale_feeds(program, percent)
 
 
-def replan_from(program: Program, plan: Plan, move: int, scale: Scaler, label: str) -> Plan:
+def replan_from(
+    program: Program,
+    plan: Plan,
+    move: int,
+    scale: Scaler,
+    label: str,
+    items: MoveItems | None = None,
+) -> Plan:
     """`plan` (of `program`) up to where its move `move` begins, then the rest of `program` scaled
     by `scale` (the overrides), going on from there (what lies between the moves, a dwell or a
-    pause, comes with the rest)."""
-    first = move_item(program, plan.config, plan.start, move - 1) + 1
+    pause, comes with the rest). `items`: where the plan's moves are in the program, kept from
+    before."""
+    if items is None:
+        first = move_item(program, plan.config, plan.start, move - 1) + 1
+        rest = rest_of(program, first)
+    else:
+        rest = items.rest_of(program, items.item_of(program, move - 1) + 1)
     boundary = boundary_at(plan, move)
     tail = plan_program(
-        scale(rest_of(program, first), boundary.position),
+        scale(rest, boundary.position),
         plan.config,
         label=label,
         boundary=boundary,
@@ -166,6 +193,7 @@ def prepare(
     label: str,
     restream: Restreamer | None,
     planned: Scaler | None = None,
+    items: MoveItems | None = None,
 ) -> Swap | None:
     """`running` planned again with `scale` from the first move boundary where the new stream
     leaves the old at or after its item `after` (and before item `before`, the section's end); None
@@ -185,7 +213,7 @@ def prepare(
                 assert planned is not None
                 joined = replan_scurve(program, base, move, scale, planned, label)
             else:
-                joined = replan_from(program, base, move, scale, label)
+                joined = replan_from(program, base, move, scale, label, items)
         except JobError:
             continue  # no whole-tick profile from this boundary: the next one
         at = base.move_ends[move - 1]
@@ -219,6 +247,7 @@ def replan_running(
     ticks: Sequence[int],
     start_at: int = 0,
     planned: Scaler | None = None,
+    items: MoveItems | None = None,
 ) -> Swap | None:
     """`running` planned again with `scale` from the first move boundary that `motion` (streaming
     it) has not sent (and not before item `start_at`), and the motion cut there. A boundary sent
@@ -229,7 +258,7 @@ def replan_running(
         if motion.end is not None:
             return None
         began = time.monotonic()
-        swap = prepare(program, running, after, motion.last, scale, label, restream, planned)
+        swap = prepare(program, running, after, motion.last, scale, label, restream, planned, items)
         if swap is None:
             return None
         if motion.cut(swap.index):

@@ -16,7 +16,7 @@ from dataclasses import dataclass
 
 from ..backlash.band import Band, BandAxis
 from ..backlash.base import from_arrays, from_items
-from ..backlash.compensate import Compensated, compensate
+from ..backlash.compensate import Compensated, compensate, unchanged
 from ..config import MachineConfig
 from ..engine_model import predict
 from ..planner.plan import Plan
@@ -63,14 +63,15 @@ class TakeUps:
     ) -> Compensated:
         """`segments` (planned: quadratic arrays, or a jerk-limited plan's cubic stream) with their
         take-ups, from the band as it stands (or `band`)."""
+        band = self.band if band is None else band
+        if not band.active and isinstance(segments, (SegmentArrays, Stream)):
+            return unchanged(segments, band, pauses)  # no backlash: nothing to take up
         base = (
             from_arrays(segments)
             if isinstance(segments, SegmentArrays)
             else from_items(segments, segments.axis_count)
         )
-        return compensate(
-            base, self.config, self.band if band is None else band, pauses=list(pauses)
-        )
+        return compensate(base, self.config, band, pauses=list(pauses))
 
     def compensate_items(
         self, items: Sequence[Segment | CubicSegment], axis_count: int

@@ -64,6 +64,9 @@ class Plan:
     ] = ()  # jerk-limited plans: highest speed per axis, 2^-31 step per tick
     # each move's entry speed (mm/tick), then 0
     junctions: array = field(default_factory=lambda: array("d"))
+    # a quadratic plan's residual chain at its end: each axis's ideal (1/8192 step), for going on
+    # from a move near the end without summing every segment before it
+    end_ideal2: tuple[int, ...] = ()
 
     def __len__(self) -> int:
         return len(self.segments)
@@ -259,4 +262,5 @@ def plan_moves(
         retries=retries,
         outputs=stops.outputs,
         junctions=array("d", entry),
+        end_ideal2=tuple(quantizer.ideal2),
     )

@@ -50,6 +50,18 @@ class Stream:
             self.n.append(self.base[index].n)
             self.line.append(0)
 
+    def add_bases(self, start: int, stop: int) -> None:
+        """Base segments `start` … `stop` − 1, as add_base() of each, at once."""
+        if isinstance(self.base, list):
+            for index in range(start, stop):
+                self.add_base(index)
+            return
+        indices = np.arange(start, stop, dtype=np.int32).tobytes()
+        self.ref.frombytes(indices)
+        self.origin.frombytes(indices)
+        self.n.frombytes(np.asarray(self.base.n[start:stop], dtype=np.uint32).tobytes())
+        self.line.frombytes(np.asarray(self.base.line[start:stop], dtype=np.int32).tobytes())
+
     def add(self, segment: Segment | CubicSegment, line: int, origin: int = 0) -> None:
         self.ref.append(-len(self.extra) - 1)
         self.origin.append(origin)
