@@ -13,7 +13,7 @@ from quadstep.config import load_config
 from quadstep.gcode.interpreter import parse_gcode
 from quadstep.machine.move_items import MoveItems
 from quadstep.machine.open_end import settled_moves
-from quadstep.machine.override import boundary_at, replan_from
+from quadstep.machine.override import boundary_at, feeds_at, replan_from
 from quadstep.machine.remainder import move_item, rest_of
 from quadstep.machine.takeups import TakeUps
 from quadstep.planner.plan import plan_program
@@ -73,7 +73,7 @@ def test_the_boundary_summed_back_from_the_end_is_the_one_summed_from_the_start(
     program = program_of(chords(400))
     plan = plan_program(program, CONFIG, (120, -40, 7))
     assert plan.end_ideal2
-    joined = replan_from(program, plan, 250, 100, "line")  # the tail planned again, joined
+    joined = replan_from(program, plan, 250, feeds_at(100), "line")  # the tail planned again, joined
     for each in (plan, joined):
         from_start = replace(each, end_ideal2=())
         for move in (1, 2, 249, 250, 251, each.moves - 1):
