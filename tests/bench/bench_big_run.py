@@ -53,8 +53,14 @@ def write_job(path: Path, lines: int) -> None:
 def machine_config() -> MachineConfig:
     """A router at 400 steps/mm, 32 kHz, as the Uno."""
     axes = [
-        {"name": n, "steps_per_mm": 400.0, "max_speed": 40.0, "max_accel": 500.0,
-         "travel_min": -10.0, "travel_max": 400.0}
+        {
+            "name": n,
+            "steps_per_mm": 400.0,
+            "max_speed": 40.0,
+            "max_accel": 500.0,
+            "travel_min": -10.0,
+            "travel_max": 400.0,
+        }
         for n in "XYZ"
     ]
     return parse_config({"tick_hz": 32000, "axes": axes})
@@ -74,15 +80,18 @@ def main() -> None:
         job = Path(folder) / "big.gcode"
         write_job(job, args.lines)
         print(f"{args.lines} lines, {job.stat().st_size / 2**20:.1f} MB; peak {peak_mb():.0f} MB")
-        emulator = Emulator(binary=REPO / "build" / "native" / "quadstep-emu", axes=3,
-                            tick_hz=config.tick_hz).start()
+        emulator = Emulator(
+            binary=REPO / "build" / "native" / "quadstep-emu", axes=3, tick_hz=config.tick_hz
+        ).start()
         try:
             with Link.open(emulator.url) as link:
                 machine = Machine(link, config)
                 began = time.monotonic()
                 scan = scan_job(job, config, machine.position)
                 checked = time.monotonic()
-                print(f"check: {checked - began:.2f} s ({scan.moves} moves); peak {peak_mb():.0f} MB")
+                print(
+                    f"check: {checked - began:.2f} s ({scan.moves} moves); peak {peak_mb():.0f} MB"
+                )
                 feed = feed_file(machine, GcodeParts(job, config, machine.position))
                 while link.status().motion_ticks == 0:
                     time.sleep(0.005)
@@ -92,8 +101,10 @@ def main() -> None:
                 while time.monotonic() < deadline and feed.run.end is None:
                     time.sleep(0.1)
                 now = feed.run.progress
-                print(f"after {args.run_s:g} s: line {now.line}, {now.starvations} starvations, "
-                      f"feed error {feed.error}; peak {peak_mb():.0f} MB")
+                print(
+                    f"after {args.run_s:g} s: line {now.line}, {now.starvations} starvations, "
+                    f"feed error {feed.error}; peak {peak_mb():.0f} MB"
+                )
                 feed.run.halt("stop")
                 feed.stop()
         finally:

@@ -393,7 +393,10 @@ def stream_file(args: argparse.Namespace, machine: Machine, scan: Scan, start: S
         progress.update(task, completed=now.line, description=f"line {now.line}/{scan.lines}")
 
     with progress:
-        end, interrupted = follow(feed.run, "line", progress, show)
+        run_: JobRun | None = feed.run
+        while run_ is not None:  # a job after each that ran all it was given before the next part
+            end, interrupted = follow(run_, "line", progress, show)
+            run_ = None if interrupted or end.ended_by != "done" else feed.next_run(run_)
     feed.stop()
     if end.error or feed.error:
         raise CliError(end.error or feed.error or "")
@@ -423,7 +426,7 @@ def streamed_result(
         file=str(args.job),
         completed=completed,
         stopped_at_line=None if completed else now.line,
-        segments=now.total,
+        segments=feed.segments_before + now.total,
         planned_duration_s=ran_s,  # planned a part at a time: the motion it made
         motion_ticks=final.motion_ticks - start.motion_ticks,
         positions_steps=positions,
@@ -440,7 +443,8 @@ def streamed_result(
     else:
         if completed:
             duration = format_duration(ran_s)
-            print(f"done: {scan.lines} lines, {now.total} segments, {duration} of motion")
+            segments = feed.segments_before + now.total
+            print(f"done: {scan.lines} lines, {segments} segments, {duration} of motion")
         else:
             print(f"stopped at line {now.line}{' (HOLD)' if end.held else ''}")
         print("\n".join(position_lines(machine)))
