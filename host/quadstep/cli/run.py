@@ -1,7 +1,9 @@
 """`quadstep run JOB`: plan a whole job, check it against the machine, then stream it.
 
 Nothing is sent until the job has been read, checked against the travel and
-planned completely, and the firmware agrees with the configuration. Ctrl-C
+planned completely (a large G-code file: checked whole, then planned a part at
+a time as it runs; cli/_streamed.py), and the firmware agrees with the
+configuration. Ctrl-C
 brings the machine to rest (HOLD) and reports the line and the exact
 position; exit code 130. A feed hold (SIGUSR1, or the board's feed hold
 button) brings it to rest and keeps the rest of the job; Enter (in a
