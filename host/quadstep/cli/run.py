@@ -395,14 +395,29 @@ def stream_file(args: argparse.Namespace, machine: Machine, scan: Scan, start: S
         progress.update(task, completed=now.line, description=f"line {now.line}/{scan.lines}")
 
     with progress:
-        run_: JobRun | None = feed.run
-        while run_ is not None:  # a job after each that ran all it was given before the next part
-            end, interrupted = follow(run_, "line", progress, show)
-            run_ = None if interrupted or end.ended_by != "done" else feed.next_run(run_)
+        end, interrupted = follow_file(feed, progress, show)
     feed.stop()
     if end.error or feed.error:
         raise CliError(end.error or feed.error or "")
     return streamed_result(args, machine, feed, end, start, scan, interrupted)
+
+
+def follow_file(
+    feed: FileFeed, progress: Progress, show: Callable[[JobProgress], None]
+) -> tuple[MotionEnd, bool]:
+    """follow() the file's job, and the job after it where it ran everything it was given before
+    the next part was planned."""
+    run_: JobRun | None = feed.run
+    while True:
+        assert run_ is not None
+        end, interrupted = follow(run_, "line", progress, show)
+        try:
+            run_ = None if interrupted or end.ended_by != "done" else feed.next_run(run_)
+        except KeyboardInterrupt:  # between two jobs: the next one, if it started, stops too
+            feed.stop()
+            return feed.run.halt("interrupt"), True
+        if run_ is None:
+            return end, interrupted
 
 
 def streamed_result(
