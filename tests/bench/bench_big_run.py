@@ -25,7 +25,7 @@ from quadstep.emulator import Emulator  # noqa: E402
 from quadstep.job_scan import GcodeParts, scan_job  # noqa: E402
 from quadstep.link import Link  # noqa: E402
 from quadstep.machine import Machine  # noqa: E402
-from quadstep.machine.file_feed import feed_file  # noqa: E402
+from quadstep.machine.file_feed import FileFeed, feed_file  # noqa: E402
 
 ROW_MOVES = 250  # 0.4 mm moves a row: 100 mm
 
@@ -70,6 +70,20 @@ def peak_mb() -> float:
     return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
 
 
+def lines_per_s(feed: FileFeed, seconds: float) -> None:
+    """Every `seconds` until the job ends: the line the machine is at, and the memory."""
+    last, began = 0, time.monotonic()
+    while feed.run.end is None and time.monotonic() - began < seconds:
+        time.sleep(min(10.0, seconds))
+        now = feed.run.progress
+        print(
+            f"  {time.monotonic() - began:5.0f} s: line {now.line} ({now.line - last} more), "
+            f"{now.starvations} starvations; peak {peak_mb():.0f} MB",
+            flush=True,
+        )
+        last = now.line
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--lines", type=int, default=2_000_000)
@@ -97,9 +111,7 @@ def main() -> None:
                     time.sleep(0.005)
                 moving = time.monotonic()
                 print(f"first move {moving - checked:.2f} s after the check's end")
-                deadline = moving + args.run_s
-                while time.monotonic() < deadline and feed.run.end is None:
-                    time.sleep(0.1)
+                lines_per_s(feed, args.run_s)
                 now = feed.run.progress
                 print(
                     f"after {args.run_s:g} s: line {now.line}, {now.starvations} starvations, "
