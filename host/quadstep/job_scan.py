@@ -153,27 +153,38 @@ def scan_job(
     label: str = "line",
 ) -> Scan:
     """Check the whole G-code file from `start_steps` in one pass, in bounded memory; JobError
-    naming the file, line, value and limit at the first problem."""
+    naming the file, line, value and limit: as reading and planning it whole would, the first
+    syntax error anywhere, else the first target outside the travel, else where the job passes
+    the duration limit."""
     reader = GcodeParts(path, config, start_steps, skip_unsupported, coordinates)
     at, items, moves, ticks = start_steps, 0, 0, 0.0
     probes = False
+    travel: JobError | None = None  # the first found; the file's syntax is checked to its end
+    duration: JobError | None = None
     coords = coordinates if coordinates is not None else WorkCoordinates()
     for part in reader.parts():
         coords = part.coordinates
         items += len(part.items)
-        if probes:
+        if probes or travel is not None:
             continue  # after a probe its positions depend on where it stops
         probe = next((i for i, item in enumerate(part.items) if isinstance(item, ProbeMove)), None)
         checked = part.items if probe is None else part.items[: probe + 1]
         program = Program(items=checked, lines=part.lines)
         try:
             table = build_moves(scale_feeds(program, feed_override), config, at, label)
-            ticks = check_duration(table, config, label, before=ticks)
         except JobError as exc:
-            raise JobError(f"{path}: {exc}") from None
+            travel = exc
+            continue
+        try:
+            if duration is None:
+                ticks = check_duration(table, config, label, before=ticks)
+        except JobError as exc:
+            duration = exc
         moves += len(table)
         at = table.target[-1] if len(table) else at
         probes = probe is not None
+    if travel is not None or duration is not None:
+        raise JobError(f"{path}: {travel or duration}")
     return Scan(
         lines=reader.lines,
         items=items,
