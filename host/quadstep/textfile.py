@@ -11,7 +11,7 @@ import stat
 import tempfile
 from collections.abc import Callable
 from pathlib import Path
-from typing import Any
+from typing import Any, BinaryIO
 
 # What a file may hold, checked before it is read and while it is (it may grow meanwhile). A job
 # (G-code, a move file, raw segments) may be large; a configuration or a state file is kilobytes.
@@ -39,9 +39,10 @@ def read_text(path: Path, error: type[Exception], max_bytes: int = JOB_MAX_BYTES
         raise error(f"{path}: not a text file ({exc.reason} at byte {exc.start})") from None
 
 
-def _read_regular(path: Path, error: type[Exception], max_bytes: int) -> bytes:
-    """At most `max_bytes` of a regular file: opened without blocking (a pipe would wait for a
-    writer), its kind checked on what was opened, read no further than a byte past the limit."""
+def open_regular(path: Path, error: type[Exception], max_bytes: int) -> BinaryIO:
+    """A regular file of at most `max_bytes`, open for reading in binary: opened without blocking
+    (a pipe would wait for a writer), its kind checked on what was opened; raises `error` (OSError
+    when it cannot be opened)."""
     fd = os.open(path, os.O_RDONLY | getattr(os, "O_NONBLOCK", 0) | getattr(os, "O_CLOEXEC", 0))
     mode = os.fstat(fd).st_mode
     if not stat.S_ISREG(mode):
@@ -50,11 +51,21 @@ def _read_regular(path: Path, error: type[Exception], max_bytes: int) -> bytes:
         raise error(
             f"{path}: {kind}, not a regular file: quadstep reads configurations and jobs from files"
         )
-    with os.fdopen(fd, "rb") as file:
-        limit = f"larger than the {max_bytes / 2**20:g} MB such a file may be"
-        size = os.fstat(fd).st_size
-        if size > max_bytes:
-            raise error(f"{path}: {size / 2**20:.0f} MB, {limit}")
+    size = os.fstat(fd).st_size
+    if size > max_bytes:
+        os.close(fd)
+        raise error(f"{path}: {size / 2**20:.0f} MB, {_too_large(max_bytes)}")
+    return os.fdopen(fd, "rb")
+
+
+def _too_large(max_bytes: int) -> str:
+    return f"larger than the {max_bytes / 2**20:g} MB such a file may be"
+
+
+def _read_regular(path: Path, error: type[Exception], max_bytes: int) -> bytes:
+    """At most `max_bytes` of a regular file, read no further than a byte past the limit."""
+    with open_regular(path, error, max_bytes) as file:
+        limit = _too_large(max_bytes)
         raw = file.read(max_bytes + 1)
         if len(raw) > max_bytes:
             raise error(f"{path}: grew past {max_bytes / 2**20:g} MB while read, {limit}")

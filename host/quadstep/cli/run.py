@@ -1,7 +1,9 @@
 """`quadstep run JOB`: plan a whole job, check it against the machine, then stream it.
 
 Nothing is sent until the job has been read, checked against the travel and
-planned completely, and the firmware agrees with the configuration. Ctrl-C
+planned completely (a large G-code file: checked whole, then planned a part at
+a time as it runs; cli/_streamed.py), and the firmware agrees with the
+configuration. Ctrl-C
 brings the machine to rest (HOLD) and reports the line and the exact
 position; exit code 130. A feed hold (SIGUSR1, or the board's feed hold
 button) brings it to rest and keeps the rest of the job; Enter (in a
@@ -25,7 +27,9 @@ from rich.progress import BarColumn, Progress, TaskProgressColumn, TextColumn
 from ..config import MachineConfig
 from ..default_machine import DEFAULT_MACHINE_NAME
 from ..job import Job, read_program
+from ..job_scan import GcodeParts, Scan
 from ..machine import JobProgress, JobRun, Machine, MachineError, MotionEnd, state_path
+from ..machine.file_feed import FileFeed, feed_file
 from ..machine.journal import Journal
 from ..machine.resume import job_journal, resume_job
 from ..planner.feed_override import MAX_PERCENT, MIN_PERCENT, check_percent
@@ -42,6 +46,7 @@ from ._jobs import (
     skipped_text,
     work_text,
 )
+from ._streamed import check_file, checked_text, notes, streams
 from .options import CliError, add_connection_options, add_json_option, connect
 
 PROGRESS_INTERVAL = 0.1  # s between progress updates
@@ -158,12 +163,20 @@ def run(args: argparse.Namespace) -> int:
     config = machine_config(args)
     path = config_path(args)
     config_name = str(path) if path is not None else DEFAULT_MACHINE_NAME
+    streamed = streams(args, config)
     try:  # syntax errors before touching the machine; the plan needs its position
-        read_program(args.job, config, (0,) * len(config.axes), args.skip_unsupported)
+        if not streamed:  # a large file is checked once, from where the machine stands
+            read_program(args.job, config, (0,) * len(config.axes), args.skip_unsupported)
     except JobError as exc:
         raise CliError(str(exc)) from None
     with connect(args, config, config_name, state_path(config_path(args))) as machine:
         status = machine.status()
+        if streamed and not args.resume:
+            if status.state != State.IDLE or status.queue_fill:
+                raise CliError(f"the firmware is {status.state.name}, not IDLE; nothing was sent")
+            scan = check_file(args, config, machine.position, machine.coordinates)
+            if not scan.probes:
+                return stream_file(args, machine, scan, status)
         journal = machine_call(job_journal, machine, args.job, args.skip_unsupported)
         if args.resume:
             job, status, said = machine_call(resume_job, machine, args.job)
@@ -191,7 +204,7 @@ def run(args: argparse.Namespace) -> int:
 
 
 def follow(
-    run_: JobRun, job: Job, progress: Progress, show: Callable[[JobProgress], None]
+    run_: JobRun, label: str, progress: Progress, show: Callable[[JobProgress], None]
 ) -> tuple[MotionEnd, bool]:
     """Wait for the job in this (the main) thread, so that Ctrl-C lands here and nowhere in the
     link: then HOLD. SIGUSR1 is a feed hold, SIGUSR2 resumes. Returns how the job ended and whether
@@ -204,7 +217,7 @@ def follow(
         for sig in (signal.SIGUSR1, signal.SIGUSR2)
     }
     try:
-        return _follow(run_, job, progress, show, asked)
+        return _follow(run_, label, progress, show, asked)
     finally:
         for sig, handler in previous.items():
             signal.signal(sig, handler)
@@ -212,7 +225,7 @@ def follow(
 
 def _follow(
     run_: JobRun,
-    job: Job,
+    label: str,
     progress: Progress,
     show: Callable[[JobProgress], None],
     asked: list[str],
@@ -226,7 +239,7 @@ def _follow(
             if now.starvations > starvations:
                 starvations = now.starvations
                 print(
-                    f"the board ran dry near {job.label} {now.line} (the computer fell behind): "
+                    f"the board ran dry near {label} {now.line} (the computer fell behind): "
                     "braked to rest, starved, going on",
                     file=sys.stderr,
                     flush=True,
@@ -243,7 +256,7 @@ def _follow(
                 if not prompted:
                     prompted = True
                     print(
-                        f"feed hold at {job.label} {line}: Enter, SIGUSR2 or cycle start resumes; "
+                        f"feed hold at {label} {line}: Enter, SIGUSR2 or cycle start resumes; "
                         "Ctrl-C stops",
                         file=sys.stderr,
                         flush=True,
@@ -259,7 +272,7 @@ def _follow(
             if line is not None:
                 progress.stop()  # the prompt must not be drawn over
                 try:
-                    answered = ask_operator(job.label, line, run_.pause)
+                    answered = ask_operator(label, line, run_.pause)
                 finally:
                     progress.start()
                 if not answered or not run_.resume():
@@ -305,7 +318,7 @@ def stream(
         )
 
     with progress:
-        end, interrupted = follow(run_, job, progress, show)
+        end, interrupted = follow(run_, job.label, progress, show)
     if end.error:
         resume = (
             f"; once the board answers, quadstep run {args.job} --resume goes on" if journal else ""
@@ -352,6 +365,112 @@ def stream(
                 "every axis is exactly where the job put it"
                 if exact
                 else f"position differs from the plan: {positions_text(config, list(plan.end))}"
+            )
+    if interrupted:
+        return 130
+    return 0 if exact else 1
+
+
+def stream_file(args: argparse.Namespace, machine: Machine, scan: Scan, start: StatusReport) -> int:
+    """A large file, checked whole (`scan`): planned and sent a part at a time
+    (machine/file_feed.py; no journal is kept for --resume)."""
+    config = machine.config
+    if not args.json:
+        print("\n".join([*notes(scan), checked_text(args.job, scan, args.feed_override)]))
+    reader = GcodeParts(
+        args.job, config, machine.position, args.skip_unsupported, machine.coordinates
+    )
+    feed = machine_call(feed_file, machine, reader, args.feed_override)
+    console = Console(stderr=True)
+    progress = Progress(
+        TextColumn("{task.description}"),
+        BarColumn(),
+        TaskProgressColumn(),
+        console=console,
+        disable=args.json or not console.is_terminal,
+    )
+    task = progress.add_task(f"line 0/{scan.lines}", total=max(scan.lines, 1))
+
+    def show(now: JobProgress) -> None:
+        progress.update(task, completed=now.line, description=f"line {now.line}/{scan.lines}")
+
+    with progress:
+        end, interrupted = follow_file(feed, progress, show)
+    feed.stop()
+    if end.error or feed.error:
+        raise CliError(end.error or feed.error or "")
+    return streamed_result(args, machine, feed, end, start, scan, interrupted)
+
+
+def follow_file(
+    feed: FileFeed, progress: Progress, show: Callable[[JobProgress], None]
+) -> tuple[MotionEnd, bool]:
+    """follow() the file's job, and the job after it where it ran everything it was given before
+    the next part was planned."""
+    run_: JobRun | None = feed.run
+    while True:
+        assert run_ is not None
+        end, interrupted = follow(run_, "line", progress, show)
+        try:
+            run_ = None if interrupted or end.ended_by != "done" else feed.next_run(run_)
+        except KeyboardInterrupt:  # between two jobs: the next one, if it started, stops too
+            feed.stop()
+            return feed.run.halt("interrupt"), True
+        if run_ is None:
+            return end, interrupted
+
+
+def streamed_result(
+    args: argparse.Namespace,
+    machine: Machine,
+    feed: FileFeed,
+    end: MotionEnd,
+    start: StatusReport,
+    scan: Scan,
+    interrupted: bool,
+) -> int:
+    """What a streamed job did, said as a job planned whole says it."""
+    config, run_ = machine.config, feed.run
+    final = machine.status()
+    now = run_.progress
+    completed = end.ended_by == "done" and now.done >= now.total
+    if completed:
+        machine.adopt_coordinates(scan.coordinates)
+    positions = list(machine.position)
+    exact = completed and tuple(positions) == scan.end_steps
+    ran_s = (final.motion_ticks - start.motion_ticks) / config.tick_hz
+    result = RunResult(
+        file=str(args.job),
+        completed=completed,
+        stopped_at_line=None if completed else now.line,
+        segments=feed.segments_before + now.total,
+        planned_duration_s=ran_s,  # planned a part at a time: the motion it made
+        motion_ticks=final.motion_ticks - start.motion_ticks,
+        positions_steps=positions,
+        positions_mm=[axis.to_mm(s) for axis, s in zip(config.axes, positions)],
+        work_system=machine.coordinates.name,
+        positions_work_mm=list(machine.work_position),
+        planned_steps=list(scan.end_steps),
+        exact=exact,
+        starvations=now.starvations,
+        link=machine.stats.as_dict(),
+    )
+    if args.json:
+        print(result.model_dump_json())
+    else:
+        if completed:
+            duration = format_duration(ran_s)
+            segments = feed.segments_before + now.total
+            print(f"done: {scan.lines} lines, {segments} segments, {duration} of motion")
+        else:
+            print(f"stopped at line {now.line}{' (HOLD)' if end.held else ''}")
+        print("\n".join(position_lines(machine)))
+        if completed:
+            print(
+                "every axis is exactly where the job put it"
+                if exact
+                else "position differs from the plan: "
+                f"{positions_text(config, list(scan.end_steps))}"
             )
     if interrupted:
         return 130

@@ -196,6 +196,8 @@ class GcodeInterpreter:
     def _spindle_words(self, p: Line, line: int) -> None:
         """S, T, M6, M3/M4/M5, M7/M8/M9, in that order."""
         speed_word, tool_word = p.values.get("S"), p.values.get("T")
+        if speed_word is None and tool_word is None and not p.m:
+            return  # most lines: nothing to change
         speed = self.outputs.speed
         if speed_word is not None:
             if speed_word.value < 0:

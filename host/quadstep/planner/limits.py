@@ -41,15 +41,20 @@ def move_ticks(length: float, u_in: float, u_out: float, u_max: float, accel: fl
 
 
 def check_duration(
-    table: MoveTable, config: MachineConfig, label: str, entry: Sequence[float] | None = None
-) -> None:
+    table: MoveTable,
+    config: MachineConfig,
+    label: str,
+    entry: Sequence[float] | None = None,
+    before: float = 0.0,
+) -> float:
     """Raise JobError when the job's motion and dwells last more than MAX_JOB_TICKS, naming the
     line where they pass it (and the feed or accel that makes one move alone too long). Without
     `entry` (the junction speeds) each move counts at its top speed only: a bound to check before
-    the look-ahead runs."""
+    the look-ahead runs. `before`: the ticks of the job before the table (a file checked a part at a
+    time); returns the ticks up to the table's end."""
     limit = float(MAX_JOB_TICKS)
     hz = float(config.tick_hz)
-    total = 0.0
+    total = before
     stops = iter(table.stops)
     stop = next(stops, None)
     for k in range(len(table) + 1):
@@ -79,6 +84,7 @@ def check_duration(
                 f"{label} {table.line[k]}: the job's motion and dwells up to here last "
                 f"at least {total / hz / 3600:.1f} h; {_limit(config)}"
             )
+    return total
 
 
 def _too_long(table: MoveTable, k: int, ticks: float, config: MachineConfig, label: str) -> str:
