@@ -320,14 +320,9 @@ class Motion:
             limit = self._sendable(index, ticks)
             if limit <= index:
                 continue  # the tail kept back: waited for the board to run some, a cut or a release
-            batch = size.next()
-            if self._queued_ticks(k, ticks) < size.floor:
-                # little motion queued: a frame of what the board has room for now, out at once
-                # (short segments: one a frame would cost a frame and an ack each), one segment
-                # while it holds almost none
-                queued = k - self.done
-                room = identity.queue_capacity - queued if queued >= MIN_QUEUED_SEGMENTS else 1
-                batch = min(batch, max(1, room))
+            batch = (
+                size.next() if self._queued_ticks(k, ticks) >= size.floor else min(size.next(), 1)
+            )
             end = min(self.last, index + max(1, batch))
             while (
                 self.lookahead_ticks
@@ -379,12 +374,10 @@ class Motion:
         if index < hold_from:
             return hold_from
         k, identity = index - self.first, self.link.identity
-        capacity = identity.queue_capacity if identity is not None else 1
+        half = identity.queue_capacity // 2 if identity is not None else 1
         if self._halting:
             return index + 1
-        # the board's whole queue, not only what it runs dry without: short segments fill it in a
-        # few milliseconds, too few for the host to be late by
-        if self._queued_ticks(k, ticks) < floor and k - self.done < capacity:
+        if self._queued_ticks(k, ticks) < floor and k - self.done < max(1, half):
             # the board would run dry first: as much again as the floor
             upto = bisect_left(ticks, ticks[max(0, min(self.done, k))] + floor) + self.first
             return min(last, max(index + 1, upto))
