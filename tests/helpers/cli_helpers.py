@@ -13,10 +13,12 @@ REPO = Path(__file__).resolve().parents[2]
 
 def cli_process(*args: str, stdin: int | None = None, env: dict[str, str] | None = None) -> subprocess.Popen[str]:
     """`quadstep ARGS` in the repository, using this checkout's package, as the foreground process group of a
-    terminal of its own would run it. Ctrl-C is given its usual meaning even when the tests run where SIGINT
-    is ignored (a background job inherits that)."""
+    terminal of its own would run it. Ctrl-C and SIGHUP are given their usual meanings even when the tests
+    run where they are ignored (a background job inherits an ignored SIGINT, a run under nohup an ignored
+    SIGHUP)."""
     env = dict(os.environ, PYTHONPATH=str(REPO / "host"), **(env or {}))
     launch = "import signal, sys; signal.signal(signal.SIGINT, signal.default_int_handler); " \
+             "signal.signal(signal.SIGHUP, signal.SIG_DFL); " \
              "from quadstep.cli import main; sys.exit(main())"
     return subprocess.Popen(
         [sys.executable, "-c", launch, *args],

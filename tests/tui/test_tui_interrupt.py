@@ -50,7 +50,8 @@ def tui_in_a_terminal(tmp_path: Path, emulator_binary: Path) -> tuple[int, int]:
     config.write_text("tick_hz = 50000\n" + "".join(
         "[[axes]]\n" + "".join(f"{key} = {value!r}\n" for key, value in axis.items()) for axis in MACHINE["axes"]))
     pid, fd = pty.fork()
-    if pid == 0:  # the child: quadstep tui in a terminal
+    if pid == 0:  # the child: quadstep tui in a terminal, SIGHUP as a terminal gives it (not ignored as under nohup)
+        signal.signal(signal.SIGHUP, signal.SIG_DFL)
         os.environ["TERM"] = "xterm-256color"
         os.environ["QUADSTEP_EMULATOR"] = str(emulator_binary)
         os.execvp(sys.executable, [sys.executable, "-m", "quadstep.cli", "tui", "--emulator", "--config", str(config)])
