@@ -30,8 +30,12 @@ QUIET_S = 0.05  # a sender quiet this long: what it sent is run
 # board runs out of what comes before it: closing sends it at once)
 STREAM_QUIET_S = 0.5
 AHEAD_S = 2.5  # planned motion the board has not run, beyond which a running job takes no lines
-AHEAD_SEGMENTS = 400  # nor with this many segments the board has not run (short lines)
-AHEAD_ITEMS = 64  # items added to a running job and not yet planned, beyond which it takes no more
+# nor with this many segments the board has not run, or this many items added and not yet planned.
+# Short lines need room here: the end of a running job is kept back from the board (about 0.4 s
+# on the router), and with less than that planned ahead the board is sent only a trickle that a
+# small queue of 1 ms segments runs through (an Uno: 14 segments)
+AHEAD_SEGMENTS = 4000
+AHEAD_ITEMS = 1000
 # lines are added to a running job this many at a time (each addition plans its unsent tail again),
 # fewer once the sender has been quiet for QUIET_S or the job runs short
 ADD_LINES = QUEUE_LINES // 2
