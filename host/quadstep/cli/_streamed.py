@@ -2,8 +2,9 @@
 
 A G-code file larger than STREAM_BYTES is checked whole in one pass (job_scan.py), then planned and
 sent a part at a time (machine/file_feed.py): its first move starts as soon as the check ends, and
-memory stays bounded however long the file. Smaller files, move files, --from-line, --resume,
-jerk-limited machines and files that probe (G38.x) are planned whole before anything is sent.
+the check's memory stays the same however long the file (the running job keeps what it was given:
+docs/JOBS.md, "Large files"). Smaller files, move files, --from-line, --resume, jerk-limited
+machines and files that probe (G38.x) are planned whole before anything is sent.
 """
 
 from __future__ import annotations
