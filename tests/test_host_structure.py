@@ -1,5 +1,6 @@
 """The host package's shape: its import graph has no cycle (a module importing another, even inside a
-function, counts), and ruff (format and lint) and mypy find nothing in it (pyproject.toml: [tool.ruff],
+function, counts), no layer imports one above it (the fixed-point kernel at the bottom, imports nothing
+of quadstep), and ruff (format and lint) and mypy find nothing in it (pyproject.toml: [tool.ruff],
 [tool.mypy]; `make lint` runs the same)."""
 
 from __future__ import annotations
@@ -66,6 +67,50 @@ def test_the_host_package_has_no_import_cycle() -> None:
     print(f"\nhost package: {len(paths)} modules, {sum(len(t) for t in graph.values())} imports, "
           f"{len(cycles)} cycles")
     assert cycles == []
+
+
+# Lowest first: a module of the package may import only from layers below its own (and from its own
+# package). A new top-level module or package is placed here, or this test fails.
+LAYERS: tuple[frozenset[str], ...] = tuple(frozenset(names.split()) for names in (
+    "quadstep kernel",  # the fixed-point numbers, motion models, cubic chain and step prediction
+    "protocol coordinates textfile validation macro_settings touch_off_settings port_process raster_image",
+    "config link",
+    "config_file default_machine emulator planner",
+    "backlash gcode movefile toolpath",
+    "job job_scan macro_check",
+    "machine mdi",
+    "jog grbl",
+    "tui",
+    "cli",
+))
+
+
+def layer_of(module: str) -> str:
+    """The package's top-level module or package that `module` belongs to ("quadstep" for its face)."""
+    parts = module.split(".")
+    return parts[1] if len(parts) > 1 else parts[0]
+
+
+def test_no_layer_imports_one_above_it() -> None:
+    paths = sorted(PACKAGE.rglob("*.py"))
+    modules = {module_name(p) for p in paths}
+    rank = {name: i for i, layer in enumerate(LAYERS) for name in layer}
+    unplaced = sorted({layer_of(m) for m in modules} - set(rank))
+    assert unplaced == [], f"place these in LAYERS: {unplaced}"
+    upward = []
+    edges = 0
+    for path in paths:
+        source = layer_of(module_name(path))
+        for target in imports(path, modules):
+            if layer_of(target) == source:
+                continue
+            edges += 1
+            if rank[layer_of(target)] >= rank[source]:
+                upward.append(f"{module_name(path)} -> {target}")
+    print(f"\nhost package: {len(LAYERS)} layers, {edges} imports between them, {len(upward)} not downward")
+    assert upward == []
+    kernel_imports = {t for p in PACKAGE.joinpath("kernel").rglob("*.py") for t in imports(p, modules)}
+    assert {layer_of(t) for t in kernel_imports} <= {"kernel"}
 
 
 def run_tool(*args: str) -> subprocess.CompletedProcess[str]:

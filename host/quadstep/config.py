@@ -20,16 +20,16 @@ if sys.version_info >= (3, 11):
 else:  # the same parser, as a package, before Python 3.11
     import tomli as tomllib
 
-from .macro_settings import Macro
-from .protocol.constants import (
-    AXIS_NAMES,
+from .kernel.fixed import (
     CUBIC_ACCEL_LIMIT,
     CUBIC_SHIFT,
     DECEL_SHIFT,
+    JERK_LIMIT,
     MAX_AXES,
-    POSITION_MAX,
     SPEED_SHIFT,
 )
+from .macro_settings import Macro
+from .protocol.constants import AXIS_NAMES, POSITION_MAX
 from .textfile import SETTINGS_MAX_BYTES, parse_nested, read_text
 from .touch_off_settings import TouchOffSettings
 from .validation import validate
@@ -40,7 +40,7 @@ AxisName = Literal["X", "Y", "Z", "A"]  # AXIS_NAMES, as pydantic needs them
 # 3/4 step per tick (docs/PLANNER.md, "Landing"); the firmware's own limit is 1.
 MAX_STEPS_PER_TICK = 0.75
 SIGMA = 1 << CUBIC_SHIFT  # one step in a cubic segment's units
-CUBIC_JERK_LIMIT = (1 << 15) - 1  # a cubic segment's jerk field is an i16 (PROTOCOL.md §5.2)
+CUBIC_JERK_LIMIT = JERK_LIMIT - 1  # a cubic segment's jerk field is an i16 (PROTOCOL.md §5.2)
 # the smallest max_jerk, in units of the cubic segment's jerk (2^-31 step per tick³)
 MIN_JERK_QUANTA = 64
 MIN_STEPS_PER_MM = 1.0  # below it a 1 mm move may round to no step at all

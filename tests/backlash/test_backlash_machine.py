@@ -13,7 +13,7 @@ from backlash_helpers import (
     STEPS_PER_MM, backlash_config, carriage_xy, circle_gcode, pushed_plus, radial_error, write_sim,
 )
 from machine_helpers import read_trace_with_carriage
-from quadstep.engine_model import predict
+from quadstep.kernel.engine_model import predict
 from quadstep.gcode import parse_gcode
 from quadstep.machine import Target, open_machine
 from quadstep.planner.plan import plan_program

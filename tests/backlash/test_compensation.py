@@ -13,10 +13,11 @@ from quadstep.backlash.base import from_arrays, from_items
 from quadstep.backlash.compensate import compensate
 from quadstep.backlash.takeup import design
 from quadstep.config import MachineConfig
-from quadstep.engine_model import predict
+from quadstep.kernel.engine_model import predict
 from quadstep.gcode import parse_gcode
 from quadstep.planner.plan import Plan, plan_program
-from quadstep.protocol.cubic import SIGMA, CubicSegment
+from quadstep.protocol.cubic import CubicSegment
+from quadstep.kernel.fixed import SIGMA
 
 
 def plan_of(gcode: str, config: MachineConfig) -> Plan:

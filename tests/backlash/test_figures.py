@@ -13,7 +13,7 @@ import numpy as np
 from backlash_helpers import STEPS_PER_MM, TICK_HZ, backlash_config, circle_gcode, pocket_gcode, pocket_path
 from backlash_jobs import Ran, path_error, run_job, takeup_accel
 from backlash_rig import HYSTERESIS, SWITCH_END, probe, rig, rig_config, switch
-from quadstep.engine_model import predict
+from quadstep.kernel.engine_model import predict
 from quadstep.gcode import parse_gcode
 from quadstep.machine.backlash import calibrate_switch
 from quadstep.planner.plan import plan_program

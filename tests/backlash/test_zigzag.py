@@ -12,7 +12,7 @@ from backlash_helpers import STEPS_PER_MM, backlash_config, pushed_plus, zigzag_
 from backlash_jobs import path_error, plan_lag, run_job
 from quadstep.backlash.base import from_arrays
 from quadstep.backlash.compensate import compensate
-from quadstep.engine_model import predict
+from quadstep.kernel.engine_model import predict
 from quadstep.gcode import parse_gcode
 from quadstep.planner.plan import plan_program
 

@@ -27,9 +27,9 @@ sys.path.insert(0, str(REPO / "tests" / "simavr"))
 import avr_figures  # noqa: E402
 import avr_scenarios  # noqa: E402
 import avr_sim  # noqa: E402
-from quadstep.protocol import (  # noqa: E402
-    AxisMove, Config, Hold, Identify, Segment, Status, encode)
-from quadstep.protocol.segment import D, N_MAX  # noqa: E402
+from quadstep.protocol import Config, Hold, Identify, Segment, Status, encode
+from quadstep.kernel.motion import AxisMove
+from quadstep.kernel.fixed import D, N_MAX
 
 F_CPU = avr_sim.F_CPU
 WORK = avr_sim.BUILD / "bench-avr"

@@ -37,7 +37,7 @@ from backlash_jobs import (  # noqa: E402
     Ran, circle_error, path_error, plan_lag, run_job, stepper_circle_error, takeup_accel,
 )
 from backlash_rig import HYSTERESIS, SWITCH_END, probe, rig, rig_config, switch  # noqa: E402
-from quadstep.engine_model import predict  # noqa: E402
+from quadstep.kernel.engine_model import predict
 from quadstep.machine.backlash import calibrate_switch  # noqa: E402
 
 AXES = "XYZ"

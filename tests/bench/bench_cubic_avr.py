@@ -21,7 +21,8 @@ sys.path.insert(0, str(REPO / "tests" / "simavr"))
 import avr_scenarios  # noqa: E402
 import avr_sim  # noqa: E402
 from quadstep.protocol import encode  # noqa: E402
-from quadstep.protocol.cubic import CubicAxis, CubicSegment  # noqa: E402
+from quadstep.protocol.cubic import CubicSegment
+from quadstep.kernel.motion import CubicAxis
 from quadstep.protocol.cubic_run import CubicSegments, SpeedChain, pack  # noqa: E402
 from quadstep.protocol.frames import run_limit  # noqa: E402
 

@@ -38,12 +38,14 @@ from host_helpers import read_trace  # noqa: E402
 
 from quadstep.config import MachineConfig, load_config  # noqa: E402
 from quadstep.emulator import Emulator  # noqa: E402
-from quadstep.engine_model import predict, predict_hold, predict_underrun, segment_steps  # noqa: E402
+from quadstep.kernel.engine_model import predict, predict_hold, predict_underrun, segment_steps
 from quadstep.job import Job, load_job  # noqa: E402
 from quadstep.link import BoardSilent, Link, LinkError  # noqa: E402
 from quadstep.machine import Machine  # noqa: E402
 from quadstep.machine.units import hold_decels  # noqa: E402
-from quadstep.protocol import D, N_MAX, AxisMove, HoldDone, Segment  # noqa: E402
+from quadstep.protocol import HoldDone, Segment
+from quadstep.kernel.fixed import D, N_MAX
+from quadstep.kernel.motion import AxisMove
 
 ROUTER = REPO / "examples" / "router-uno.toml"
 RATES = (0.0, 1e-4, 1e-3, 3e-3, 5e-3, 1e-2, 2e-2)

@@ -20,7 +20,9 @@ from pathlib import Path
 
 from quadstep.emulator import Emulator
 from quadstep.link import Link, hold_async
-from quadstep.protocol import D, N_MAX, AxisMove, Hold, Segment, encode
+from quadstep.protocol import Hold, Segment, encode
+from quadstep.kernel.fixed import D, N_MAX
+from quadstep.kernel.motion import AxisMove
 
 REPO = Path(__file__).resolve().parents[2]
 JOG = Segment(n=N_MAX, axes=(AxisMove(axis=0, direction=1, v0=D // 2, vn=D // 2, r=0),

@@ -14,7 +14,9 @@ import time
 
 from quadstep.emulator import Emulator
 from quadstep.link import Link
-from quadstep.protocol import D, Ack, AckReason, AxisMove, Decoder, Segment, encode
+from quadstep.protocol import Ack, AckReason, Decoder, Segment, encode
+from quadstep.kernel.fixed import D
+from quadstep.kernel.motion import AxisMove
 
 
 def three_axis_segments(count: int, seed: int = 1) -> list[Segment]:

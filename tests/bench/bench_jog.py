@@ -36,7 +36,8 @@ from quadstep.jog import JogMode, Jogger, JogSettings
 from quadstep.machine import Machine
 from quadstep.machine.units import DECEL_SHIFT, braking_steps, hold_decels
 from quadstep.link import Link
-from quadstep.protocol import D, SetPosition
+from quadstep.protocol import SetPosition
+from quadstep.kernel.fixed import D
 
 from bench_release import release_latencies
 

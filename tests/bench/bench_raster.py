@@ -26,7 +26,7 @@ import numpy as np  # noqa: E402
 
 from quadstep.config import load_config  # noqa: E402
 from quadstep.emulator import Emulator  # noqa: E402
-from quadstep.engine_model import predict  # noqa: E402
+from quadstep.kernel.engine_model import predict
 from quadstep.link import Link  # noqa: E402
 from quadstep.machine import Machine  # noqa: E402
 from quadstep.planner.raster import RasterImage, plan_raster  # noqa: E402
@@ -90,7 +90,8 @@ def mega(v: int, steps_per_pixel: int, lines: int = 300, pixels: int = 32) -> No
     import subprocess
 
     from avr_sim import Outputs, build, harness
-    from quadstep.protocol import AxisMove, Output, Segment, encode
+    from quadstep.protocol import Output, Segment, encode
+    from quadstep.kernel.motion import AxisMove
     from quadstep.protocol import Outputs as OutputsMessage
     from quadstep.protocol.raster import Raster
 

@@ -21,7 +21,9 @@ from fractions import Fraction
 
 import numpy as np
 
-from quadstep.cubic_model import SIGMA, AxisState, CubicStep, cubic_steps_by_tick
+from quadstep.kernel.fixed import SIGMA
+from quadstep.kernel.cubic_chain import AxisState, CubicStep
+from quadstep.kernel.cubic_model import cubic_steps_by_tick
 
 LENGTHS = (16, 32, 44, 64, 75, 128, 256, 512, 1022)
 

@@ -12,7 +12,7 @@ import pytest
 from quadstep.cli import build_parser, info, main, send
 from quadstep.cli.send import load
 from quadstep.config import load_config
-from quadstep.engine_model import predict
+from quadstep.kernel.engine_model import predict
 
 REPO = Path(__file__).resolve().parents[2]
 EXAMPLE = REPO / "examples" / "raw-segments.json"

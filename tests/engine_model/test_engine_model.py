@@ -10,8 +10,10 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from quadstep.engine_model import advance, predict, residual, segment_steps, step_ticks, steps_by_tick
-from quadstep.protocol import D, N_MAX, AxisMove, Segment
+from quadstep.kernel.engine_model import advance, predict, residual, segment_steps, step_ticks, steps_by_tick
+from quadstep.protocol import Segment
+from quadstep.kernel.fixed import D, N_MAX
+from quadstep.kernel.motion import AxisMove
 
 LIMIT = 2 * N_MAX * D + 3 * D  # no per-tick value may leave ±LIMIT (it is < 2^23)
 

@@ -11,16 +11,10 @@ import random
 import numpy as np
 import pytest
 
-from quadstep.engine_model import (
-    advance,
-    axis_hold,
-    hold_shift,
-    hold_step_change,
-    predict,
-    predict_hold,
-    residual,
-)
-from quadstep.protocol import D, DECEL_MAX, N_MAX, AxisMove, Segment
+from quadstep.kernel.engine_model import advance, axis_hold, hold_shift, hold_step_change, predict, predict_hold, residual
+from quadstep.protocol import Segment
+from quadstep.kernel.fixed import D, DECEL_MAX, N_MAX
+from quadstep.kernel.motion import AxisMove
 
 BUDGET = 1 << 23
 

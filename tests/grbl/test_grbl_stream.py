@@ -18,7 +18,7 @@ from grbl_door import serving
 from host_helpers import read_trace
 
 from quadstep.config import load_config
-from quadstep.engine_model import predict
+from quadstep.kernel.engine_model import predict
 from quadstep.grbl.server import PtyServer
 from quadstep.job import load_job
 from quadstep.link import Link

@@ -16,15 +16,17 @@ from backlash_helpers import (
 from machine_helpers import read_trace_with_carriage
 from quadstep.config import MachineConfig
 from quadstep.emulator import Emulator
-from quadstep.engine_model import predict, segment_steps
+from quadstep.kernel.engine_model import predict, segment_steps
 from quadstep.gcode import parse_gcode
 from quadstep.machine import Target, open_machine
 from quadstep.machine.takeups import StreamPlan
 from quadstep.planner.plan import Plan, plan_program
 from quadstep.planner.segments import SegmentArrays
 from quadstep.planner.stream import Stream
-from quadstep.protocol.constants import D
-from quadstep.protocol.cubic import SIGMA, CubicChain, CubicSegment
+from quadstep.kernel.fixed import D
+from quadstep.protocol.cubic import CubicSegment
+from quadstep.kernel.fixed import SIGMA
+from quadstep.kernel.cubic_chain import CubicChain
 from quadstep.protocol.segment import Segment
 
 

@@ -10,8 +10,10 @@ from pathlib import Path
 import numpy as np
 from host_helpers import read_trace
 
-from quadstep.engine_model import advance, predict, predict_hold, residual
-from quadstep.protocol import D, DECEL_SHIFT, N_MAX, AxisMove, Event, Segment
+from quadstep.kernel.engine_model import advance, predict, predict_hold, residual
+from quadstep.protocol import Event, Segment
+from quadstep.kernel.fixed import D, DECEL_SHIFT, N_MAX
+from quadstep.kernel.motion import AxisMove
 
 
 def planned_job(rng: random.Random, ticks: int, axis_count: int = 4) -> list[Segment]:

@@ -9,8 +9,10 @@ from pathlib import Path
 
 import numpy as np
 
-from quadstep.engine_model import Prediction, predict
-from quadstep.protocol import D, N_MAX, AxisMove, CubicSegment, Segment
+from quadstep.kernel.engine_model import Prediction, predict
+from quadstep.protocol import CubicSegment, Segment
+from quadstep.kernel.fixed import D, N_MAX
+from quadstep.kernel.motion import AxisMove
 
 
 def random_segments(rng: random.Random, count: int, axis_count: int = 4) -> list[Segment]:

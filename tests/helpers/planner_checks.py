@@ -14,7 +14,7 @@ import numpy as np
 from quadstep.config import MachineConfig
 from quadstep.planner.moves import CARRY_STEPS, MoveTable
 from quadstep.planner.plan import Plan
-from quadstep.protocol.segment import D, N_MAX
+from quadstep.kernel.fixed import D, N_MAX
 
 # Per segment, a speed may differ from the exact plan by less than one 1/4096 step/tick at
 # each end, so a speed change may exceed the acceleration limit by less than two quanta.

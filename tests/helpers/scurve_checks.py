@@ -14,7 +14,9 @@ from quadstep.config import MachineConfig
 from quadstep.planner.moves import MoveTable
 from quadstep.planner.plan import Plan
 from quadstep.planner.scurve import START_JUMP
-from quadstep.protocol.cubic import SIGMA, CubicChain, CubicSegment
+from quadstep.protocol.cubic import CubicSegment
+from quadstep.kernel.fixed import SIGMA
+from quadstep.kernel.cubic_chain import CubicChain
 from quadstep.protocol.segment import Segment
 
 WINDOW = 640  # ticks: 20 ms at 32 kHz

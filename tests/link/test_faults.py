@@ -19,7 +19,9 @@ from quadstep.config import MachineConfig, load_config
 from quadstep.job import load_job
 from quadstep.link import BoardSilent, Link
 from quadstep.machine import Machine
-from quadstep.protocol import D, N_MAX, AxisMove, CubicSegment, Segment
+from quadstep.protocol import CubicSegment, Segment
+from quadstep.kernel.fixed import D, N_MAX
+from quadstep.kernel.motion import AxisMove
 
 REPO = Path(__file__).resolve().parents[2]
 

@@ -14,28 +14,11 @@ from hold_helpers import assert_deceleration_within, check_hold, planned_job, re
 from host_helpers import read_trace
 from host_helpers import RawPort
 
-from quadstep.engine_model import predict_hold, predict_underrun
+from quadstep.kernel.engine_model import predict_hold, predict_underrun
 from quadstep.link import AlarmError, FirmwareError, Link, Stopped, hold, hold_async
-from quadstep.protocol import (
-    D,
-    DECEL_MAX,
-    POSITION_MAX,
-    AlarmCode,
-    N_MAX,
-    AxisMove,
-    Capability,
-    ErrorCode,
-    ErrorReport,
-    Event,
-    FieldId,
-    Hold,
-    Segment,
-    SetPosition,
-    State,
-    Status,
-    StatusReport,
-    encode,
-)
+from quadstep.protocol import POSITION_MAX, AlarmCode, Capability, ErrorCode, ErrorReport, Event, FieldId, Hold, Segment, SetPosition, State, Status, StatusReport, encode
+from quadstep.kernel.fixed import D, DECEL_MAX, N_MAX
+from quadstep.kernel.motion import AxisMove
 
 
 def test_the_deceleration_check_catches_a_hold_twice_as_hard() -> None:

@@ -11,9 +11,11 @@ import time
 import pytest
 from host_helpers import random_segments
 
-from quadstep.engine_model import predict
+from quadstep.kernel.engine_model import predict
 from quadstep.link import AlarmError, BoardSilent, FirmwareError, Link, LinkError, LinkTimeout
-from quadstep.protocol import D, POSITION_MAX, AxisMove, Segment, SetPosition, State
+from quadstep.protocol import POSITION_MAX, Segment, SetPosition, State
+from quadstep.kernel.fixed import D
+from quadstep.kernel.motion import AxisMove
 
 SEGMENT = Segment(n=100, axes=(AxisMove(axis=0, direction=1, v0=4096, vn=0, r=0),))
 

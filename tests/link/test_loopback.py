@@ -14,29 +14,11 @@ import pytest
 from host_helpers import RawPort, assert_trace_is_prediction, random_segments, read_trace
 
 from quadstep.emulator import Emulator
-from quadstep.engine_model import predict, predict_underrun
+from quadstep.kernel.engine_model import predict, predict_underrun
 from quadstep.link import FirmwareError, Link, Stopped, hold
-from quadstep.protocol import (
-    D,
-    Ack,
-    AckReason,
-    Alarm,
-    AlarmCode,
-    AxisMove,
-    ErrorCode,
-    ErrorReport,
-    FieldId,
-    Frame,
-    HoldDone,
-    POSITION_MAX,
-    Segment,
-    SetPosition,
-    State,
-    Status,
-    StatusReport,
-    Stop,
-    encode,
-)
+from quadstep.protocol import Ack, AckReason, Alarm, AlarmCode, ErrorCode, ErrorReport, FieldId, Frame, HoldDone, POSITION_MAX, Segment, SetPosition, State, Status, StatusReport, Stop, encode
+from quadstep.kernel.fixed import D
+from quadstep.kernel.motion import AxisMove
 from quadstep.protocol.framing import cobs_encode, encode_frame
 
 

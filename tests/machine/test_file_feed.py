@@ -13,7 +13,7 @@ from host_helpers import read_trace
 
 from quadstep.cli import _streamed, main
 from quadstep.config import load_config
-from quadstep.engine_model import predict
+from quadstep.kernel.engine_model import predict
 from quadstep.job import load_job
 from quadstep.job_scan import GcodeParts, scan_job
 from quadstep.link import Link

@@ -5,7 +5,7 @@ from __future__ import annotations
 from quadstep.machine.frame_choice import frame_choice
 from quadstep.protocol import Board, Capability, IdentifyReply, Segment
 from quadstep.protocol.frames import next_frame
-from quadstep.protocol.segment import AxisMove
+from quadstep.kernel.motion import AxisMove
 from quadstep.protocol.segment_run import RunChain, Segments
 
 EVERY_FRAME = Capability.QUADRATIC_SEGMENTS | Capability.SEGMENTS | Capability.CUBIC_RUNS

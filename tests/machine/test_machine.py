@@ -12,7 +12,8 @@ from quadstep.config import MachineConfig, parse_config
 from quadstep.job import load_job
 from quadstep.link import Link
 from quadstep.machine import Machine, MachineError, Target, open_machine
-from quadstep.protocol import AxisMove, HoldDone, Segment, State
+from quadstep.protocol import HoldDone, Segment, State
+from quadstep.kernel.motion import AxisMove
 
 CONFIG: MachineConfig = parse_config({
     "tick_hz": 50000,

@@ -12,7 +12,7 @@ import numpy as np
 from host_helpers import read_trace
 
 from quadstep.config import load_config
-from quadstep.engine_model import predict
+from quadstep.kernel.engine_model import predict
 from quadstep.gcode.interpreter import parse_gcode
 from quadstep.link import Link
 from quadstep.machine import JobState, Machine

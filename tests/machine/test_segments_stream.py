@@ -9,7 +9,7 @@ import numpy as np
 from host_helpers import read_trace
 
 from quadstep.config import load_config
-from quadstep.engine_model import predict
+from quadstep.kernel.engine_model import predict
 from quadstep.job import load_job
 from quadstep.link import Link
 from quadstep.machine import Machine

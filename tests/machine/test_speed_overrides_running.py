@@ -15,7 +15,7 @@ import pytest
 from host_helpers import read_trace
 
 from quadstep.config import MachineConfig, load_config
-from quadstep.engine_model import predict
+from quadstep.kernel.engine_model import predict
 from quadstep.gcode.interpreter import parse_gcode
 from quadstep.link import Link
 from quadstep.machine import JobRun, Machine

@@ -19,13 +19,13 @@ from hypothesis import strategies as st
 from planner_checks import check_plan, feed_problems
 
 from quadstep.config import MachineConfig, load_config, parse_config
-from quadstep.engine_model import advance, predict, residual
+from quadstep.kernel.engine_model import advance, predict, residual
 from quadstep.planner.lookahead import PLAN_ACCEL_FRACTION
 from quadstep.planner.moves import MoveTable, build_moves
 from quadstep.planner.plan import Plan, plan_moves
 from quadstep.planner.profile import fit_profiles
 from quadstep.planner.program import Dwell, Item, JobError, LinearMove, Pause, Program
-from quadstep.protocol.segment import D
+from quadstep.kernel.fixed import D
 
 REPO = Path(__file__).resolve().parents[2]
 ROUTER = load_config(REPO / "examples" / "router-uno.toml")

@@ -6,10 +6,11 @@ from fractions import Fraction
 
 import pytest
 
-from quadstep.cubic_model import CubicChain
-from quadstep.engine_model import predict
+from quadstep.kernel.cubic_chain import CubicChain
+from quadstep.kernel.engine_model import predict
 from quadstep.planner.ramps import ramp_distance, ramp_move, superpose, two_step_arrival
-from quadstep.protocol.cubic import CubicAxis, CubicSegment
+from quadstep.protocol.cubic import CubicSegment
+from quadstep.kernel.motion import CubicAxis
 
 SIGMA = 1 << 31
 

@@ -11,8 +11,10 @@ from hypothesis import strategies as st
 
 from quadstep.planner.scurve import _build
 from quadstep.planner.scurve_chain import Phase, run_phases
-from quadstep.protocol.constants import CUBIC_N_MAX
-from quadstep.protocol.cubic import SIGMA, AxisState, CubicAxis, CubicChain, CubicRefused
+from quadstep.kernel.fixed import CUBIC_N_MAX
+from quadstep.kernel.fixed import SIGMA
+from quadstep.kernel.cubic_chain import AxisState, CubicChain, CubicRefused
+from quadstep.kernel.motion import CubicAxis
 
 AXES = 3
 

@@ -15,7 +15,7 @@ from hypothesis import strategies as st
 from scurve_checks import check_scurve_plan
 
 from quadstep.config import MachineConfig, parse_config
-from quadstep.engine_model import predict
+from quadstep.kernel.engine_model import predict
 from quadstep.planner.moves import MoveTable, build_moves
 from quadstep.planner.plan import Plan, plan_moves
 from quadstep.planner.program import LinearMove, Program

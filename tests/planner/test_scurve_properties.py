@@ -20,7 +20,7 @@ from ruckig import InputParameter, Result, Ruckig, Trajectory
 from scurve_checks import check_scurve_plan
 
 from quadstep.config import ConfigError, MachineConfig, parse_config
-from quadstep.engine_model import predict
+from quadstep.kernel.engine_model import predict
 from quadstep.planner.jerk import ramp_distance, reachable_speed
 from quadstep.planner.moves import MoveTable, build_moves
 from quadstep.planner.plan import Plan, plan_moves

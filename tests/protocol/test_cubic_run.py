@@ -12,9 +12,11 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from quadstep.protocol import MAX_FRAME, AxisMove, CubicAxis, CubicSegment, Segment, encode
+from quadstep.protocol import MAX_FRAME, CubicSegment, Segment, encode
+from quadstep.kernel.motion import AxisMove, CubicAxis
 from quadstep.protocol.codec import decode
-from quadstep.protocol.cubic import SIGMA, CubicChain, CubicRefused
+from quadstep.kernel.fixed import SIGMA
+from quadstep.kernel.cubic_chain import CubicChain, CubicRefused
 from quadstep.protocol.cubic_run import CubicSegments, SpeedChain, expand, pack
 from quadstep.protocol.frames import next_frame
 from quadstep.protocol.messages import queue_slots

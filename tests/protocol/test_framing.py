@@ -7,7 +7,8 @@ import struct
 from hypothesis import given
 from hypothesis import strategies as st
 
-from quadstep.protocol import AxisMove, DecodeError, Decoder, ErrorCode, Frame, Identify, Segment, encode
+from quadstep.protocol import DecodeError, Decoder, ErrorCode, Frame, Identify, Segment, encode
+from quadstep.kernel.motion import AxisMove
 from quadstep.protocol.framing import (
     FrameSplitter,
     FramingError,

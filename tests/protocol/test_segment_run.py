@@ -11,7 +11,8 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from quadstep.protocol import MAX_FRAME, AxisMove, CubicSegment, Segment, encode
+from quadstep.protocol import MAX_FRAME, CubicSegment, Segment, encode
+from quadstep.kernel.motion import AxisMove
 from quadstep.protocol.codec import decode
 from quadstep.protocol.frames import next_frame
 from quadstep.protocol.messages import queue_slots

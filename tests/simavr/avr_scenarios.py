@@ -11,11 +11,13 @@ from __future__ import annotations
 import random
 from dataclasses import dataclass, field
 
-from quadstep.engine_model import advance, residual
-from quadstep.cubic_model import CubicChain
-from quadstep.protocol.cubic import CubicAxis, CubicSegment
-from quadstep.protocol import AxisMove, Segment
-from quadstep.protocol.segment import D, N_MAX
+from quadstep.kernel.engine_model import advance, residual
+from quadstep.kernel.cubic_chain import CubicChain
+from quadstep.protocol.cubic import CubicSegment
+from quadstep.kernel.motion import CubicAxis
+from quadstep.protocol import Segment
+from quadstep.kernel.motion import AxisMove
+from quadstep.kernel.fixed import D, N_MAX
 
 # Per axis: (direction, v0, vn); an axis left out does not move.
 Moves = dict[int, tuple[int, int, int]]

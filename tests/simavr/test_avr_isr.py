@@ -10,7 +10,7 @@ import pytest
 
 import avr_scenarios
 from avr_sim import Outputs, run_feed, run_input
-from quadstep.engine_model import predict
+from quadstep.kernel.engine_model import predict
 from quadstep.protocol import Ack, AckReason, Decoder, Frame, encode
 from quadstep.protocol.cubic import CubicSegment
 

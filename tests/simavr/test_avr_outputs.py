@@ -13,7 +13,8 @@ from pathlib import Path
 import pytest
 
 from avr_sim import Outputs, harness
-from quadstep.protocol import AxisMove, Output, Outputs as OutputsMessage, Segment, encode
+from quadstep.protocol import Output, Outputs as OutputsMessage, Segment, encode
+from quadstep.kernel.motion import AxisMove
 
 PERIOD = 64 * 256  # cycles per PWM period: clock / 64, 8-bit fast PWM
 TICK = 500  # cycles per motion tick at the Uno's 32 kHz

@@ -16,9 +16,9 @@ import numpy as np
 
 import avr_scenarios
 from avr_sim import Outputs, run_input
-from quadstep.engine_model import predict, predict_underrun
+from quadstep.kernel.engine_model import predict, predict_underrun
 from quadstep.protocol import Ack, AckReason, Decoder, ErrorCode, ErrorReport, Identify, Status, encode
-from quadstep.protocol.segment import D
+from quadstep.kernel.fixed import D
 
 
 def test_flood_loses_bytes_loudly_and_runs_only_accepted_segments(avr_build: None, tmp_path: Path) -> None:

@@ -9,7 +9,7 @@ import pytest
 
 import avr_scenarios
 from avr_sim import F_CPU, Outputs, avr_define, run_feed
-from quadstep.engine_model import predict
+from quadstep.kernel.engine_model import predict
 from quadstep.protocol import encode
 
 US = F_CPU // 1_000_000  # cycles per microsecond

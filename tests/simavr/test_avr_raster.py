@@ -12,8 +12,9 @@ import numpy as np
 import pytest
 
 from avr_sim import Outputs, harness
-from quadstep.engine_model import predict
-from quadstep.protocol import AxisMove, Output, Outputs as OutputsMessage, Segment, encode
+from quadstep.kernel.engine_model import predict
+from quadstep.protocol import Output, Outputs as OutputsMessage, Segment, encode
+from quadstep.kernel.motion import AxisMove
 from quadstep.protocol.raster import Raster, RasterLine
 
 PERIOD = 64 * 256  # cycles per PWM period

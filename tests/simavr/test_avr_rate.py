@@ -13,9 +13,9 @@ import pytest
 
 import avr_scenarios
 from avr_sim import F_CPU, Outputs, avr_define, run_feed
-from quadstep.engine_model import predict
+from quadstep.kernel.engine_model import predict
 from quadstep.protocol import encode
-from quadstep.protocol.segment import D
+from quadstep.kernel.fixed import D
 
 SEGMENTS_PER_SECOND = 1_000
 SECONDS = 0.25

@@ -13,7 +13,7 @@ import pytest
 
 import avr_scenarios
 from avr_sim import Outputs, SimAvr, load_trace
-from quadstep.engine_model import predict
+from quadstep.kernel.engine_model import predict
 from quadstep.link import Link
 from quadstep.protocol import Segment, State, StatusReport
 

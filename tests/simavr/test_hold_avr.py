@@ -12,8 +12,10 @@ import pytest
 from hold_helpers import check_hold, planned_job
 from host_helpers import read_trace
 
-from quadstep.engine_model import predict_hold
-from quadstep.protocol import D, DECEL_MAX, AxisMove, Decoder, Event, Hold, Segment, State, StatusReport, encode
+from quadstep.kernel.engine_model import predict_hold
+from quadstep.protocol import Decoder, Event, Hold, Segment, State, StatusReport, encode
+from quadstep.kernel.fixed import D, DECEL_MAX
+from quadstep.kernel.motion import AxisMove
 
 import avr_sim
 

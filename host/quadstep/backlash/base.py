@@ -16,12 +16,15 @@ from fractions import Fraction
 
 import numpy as np
 
-from ..cubic_model import cubic_step_ticks
-from ..engine_model import step_ticks
+from ..kernel.cubic_chain import AxisState, CubicChain, CubicStep, choose2
+from ..kernel.cubic_model import cubic_step_ticks
+from ..kernel.engine_model import step_ticks
+from ..kernel.fixed import SIGMA, D
+from ..kernel.motion import AxisMove
 from ..planner.segments import SegmentArrays
 from ..planner.stream import Stream
-from ..protocol.cubic import SIGMA, AxisState, CubicChain, CubicSegment, CubicStep, choose2
-from ..protocol.segment import AxisMove, D, Segment
+from ..protocol.cubic import CubicSegment
+from ..protocol.segment import Segment
 
 # advance over tick k: α + β·(k−1) + γ·C(k−1, 2), signed, 2^-31 step
 Poly = tuple[Fraction, Fraction, Fraction]

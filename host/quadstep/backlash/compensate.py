@@ -29,11 +29,12 @@ from fractions import Fraction
 import numpy as np
 
 from ..config import MachineConfig
-from ..engine_model import predict
+from ..kernel.cubic_chain import CubicChain
+from ..kernel.engine_model import predict
+from ..kernel.motion import AxisMove
 from ..planner.segments import SegmentArrays
 from ..planner.stream import Stream
-from ..protocol.cubic import CubicChain
-from ..protocol.segment import AxisMove, Segment
+from ..protocol.segment import Segment
 from .band import Band
 from .base import BaseStream, Poly
 from .fit import FitError, Span, fit_window

@@ -17,18 +17,10 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 from fractions import Fraction
 
-from ..protocol.constants import CUBIC_ACCEL_LIMIT
-from ..protocol.cubic import (
-    SIGMA,
-    AxisState,
-    CubicAxis,
-    CubicChain,
-    CubicSegment,
-    advances_in_range,
-    choose2,
-    choose3,
-)
-from ..protocol.segment import Direction
+from ..kernel.cubic_chain import AxisState, CubicChain, advances_in_range, choose2, choose3
+from ..kernel.fixed import CUBIC_ACCEL_LIMIT, SIGMA
+from ..kernel.motion import CubicAxis, Direction
+from ..protocol.cubic import CubicSegment
 from .base import Poly
 
 MAX_PIECE = 2048  # ticks: keeps a rounded jerk's effect inside a piece below 10^-2 step

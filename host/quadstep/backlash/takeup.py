@@ -15,8 +15,9 @@ import math
 from dataclasses import dataclass
 from fractions import Fraction
 
+from ..kernel.cubic_chain import choose2, choose3
+from ..kernel.fixed import SIGMA
 from ..planner.ramps import Phase, ramp_distance, ramp_move
-from ..protocol.cubic import SIGMA, choose2, choose3
 
 # the jerk in 2^-31 step per tick³ is kept at least this large: its rounding stays tiny
 MIN_JERK_UNITS = 1024

@@ -15,7 +15,8 @@ import time
 from collections.abc import Sequence
 from concurrent.futures import Future
 
-from ..protocol import DECEL_MAX, MAX_AXES, ErrorCode, Hold, HoldDone, State, StatusReport
+from ..kernel.fixed import DECEL_MAX, MAX_AXES
+from ..protocol import ErrorCode, Hold, HoldDone, State, StatusReport
 from ..protocol.wire import four_axes
 from .connection import Link
 from .errors import AlarmError, FirmwareError, LinkError, LinkTimeout

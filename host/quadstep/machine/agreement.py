@@ -4,8 +4,8 @@ connection."""
 from __future__ import annotations
 
 from ..config import MachineConfig
+from ..kernel.fixed import N_MAX
 from ..protocol import IdentifyReply
-from ..protocol.constants import N_MAX
 from .errors import MachineError
 
 

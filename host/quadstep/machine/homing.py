@@ -15,10 +15,11 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 
 from ..config import AxisConfig, MachineConfig
+from ..kernel.fixed import MAX_AXES
 from ..link import input_status, until_input
 from ..planner.plan import plan_program
 from ..planner.program import LinearMove, Program
-from ..protocol import MAX_AXES, Probe, ProbeMissed, Segment
+from ..protocol import Probe, ProbeMissed, Segment
 from ..protocol.wire import four_axes
 from .errors import MachineError
 from .inputs import switch_input

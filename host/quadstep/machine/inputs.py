@@ -6,7 +6,8 @@ from __future__ import annotations
 import math
 
 from ..config import MachineConfig
-from ..protocol import MAX_AXES, Config, Input
+from ..kernel.fixed import MAX_AXES
+from ..protocol import Config, Input
 from ..protocol.constants import INPUT_COUNT
 from ..protocol.wire import four_axes
 from .units import hold_decels

@@ -18,10 +18,10 @@ from dataclasses import dataclass
 from itertools import accumulate
 from typing import Protocol
 
+from ..kernel.fixed import DECEL_MAX
 from ..link import AlarmError, Link, LinkError, Stopped, hold, wait_rest
 from ..link.errors import status_alarm
 from ..protocol import (
-    DECEL_MAX,
     AckReason,
     Capability,
     CubicSegment,

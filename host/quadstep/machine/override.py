@@ -14,13 +14,13 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
+from ..kernel.fixed import D
 from ..planner.feed_override import scale_feeds
 from ..planner.plan import Boundary, Plan, plan_program
 from ..planner.program import JobError, LinearMove, Program
 from ..planner.scurve_rest import replan_scurve_from
 from ..planner.segments import SegmentArrays
 from ..planner.stream import Stream
-from ..protocol.segment import D
 from .motion import Motion
 from .move_items import MoveItems
 from .remainder import move_item, rest_of

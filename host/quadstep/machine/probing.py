@@ -16,10 +16,11 @@ from dataclasses import dataclass
 from typing import Protocol
 
 from ..config import MachineConfig
+from ..kernel.fixed import MAX_AXES
 from ..link import Link, hold, input_status, until_input
 from ..planner.plan import plan_program
 from ..planner.program import LinearMove, Program
-from ..protocol import MAX_AXES, CubicSegment, Input, InputChange, Probe, Segment
+from ..protocol import CubicSegment, Input, InputChange, Probe, Segment
 from ..protocol.wire import four_axes
 from .errors import MachineError
 

@@ -8,10 +8,11 @@ input's edge goes on the same way and the band's state after it is exact (band.p
 
 from __future__ import annotations
 
+from ..kernel.fixed import MAX_AXES
 from ..link import until_input
 from ..planner.plan import plan_program
 from ..planner.program import LinearMove, Program
-from ..protocol import MAX_AXES, Input, InputChange, Probe, ProbeMissed, Segment
+from ..protocol import Input, InputChange, Probe, ProbeMissed, Segment
 from ..protocol.wire import four_axes
 from .homing import TIMEOUT, unbounded
 from .machine import Machine

@@ -18,7 +18,7 @@ from ..backlash.band import Band, BandAxis
 from ..backlash.base import from_arrays, from_items
 from ..backlash.compensate import Compensated, compensate, unchanged
 from ..config import MachineConfig
-from ..engine_model import predict
+from ..kernel.engine_model import predict
 from ..planner.plan import Plan
 from ..planner.segments import SegmentArrays
 from ..planner.stream import Stream

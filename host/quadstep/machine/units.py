@@ -8,10 +8,7 @@ import math
 from ..config import AxisConfig, MachineConfig
 
 # HOLD decelerations: d / 2^DECEL_SHIFT step per tick², 1 … DECEL_MAX
-from ..protocol import (
-    DECEL_MAX,
-    DECEL_SHIFT,
-)
+from ..kernel.fixed import DECEL_MAX, DECEL_SHIFT
 
 
 def hold_decel(axis: AxisConfig, tick_hz: int) -> int:

@@ -14,8 +14,8 @@ from __future__ import annotations
 from collections.abc import Sequence
 
 from ..config import MachineConfig
+from ..kernel.fixed import D
 from ..protocol import Output, Outputs
-from ..protocol.segment import D
 from .program import OutputState
 
 OFF = Outputs(outputs=0, power=0)

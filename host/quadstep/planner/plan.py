@@ -8,9 +8,9 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..config import MachineConfig
+from ..kernel.fixed import SIGMA, D
 from ..protocol import Outputs
-from ..protocol.cubic import SIGMA
-from ..protocol.segment import D, Segment
+from ..protocol.segment import Segment
 from .limits import check_duration
 from .lookahead import PLAN_ACCEL_FRACTION, junction_speeds
 from .moves import MoveTable, build_moves

@@ -15,7 +15,7 @@ import math
 from collections.abc import Iterator
 from dataclasses import dataclass
 
-from ..protocol.segment import N_MAX
+from ..kernel.fixed import N_MAX
 
 # Phases shorter than this many ticks are worth avoiding: over a tick or two, the
 # unavoidable ±1 rounding of a speed looks like a large (if harmless) acceleration.

@@ -16,7 +16,7 @@ from __future__ import annotations
 
 import math
 
-from ..protocol.segment import N_MAX, D
+from ..kernel.fixed import N_MAX, D
 from .profile import Profile
 from .segments import SegmentArrays
 

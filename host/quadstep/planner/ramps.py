@@ -17,8 +17,9 @@ from __future__ import annotations
 
 from fractions import Fraction
 
-from ..cubic_model import AxisState, CubicChain
-from ..protocol.cubic import CubicAxis, CubicSegment
+from ..kernel.cubic_chain import AxisState, CubicChain
+from ..kernel.motion import CubicAxis
+from ..protocol.cubic import CubicSegment
 
 Phase = tuple[int, int]  # (ticks, jerk in 2^-31 step per tick³)
 

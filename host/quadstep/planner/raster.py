@@ -14,9 +14,11 @@ from dataclasses import dataclass, field
 from itertools import accumulate
 
 from ..config import MachineConfig
+from ..kernel.fixed import N_MAX, D
+from ..kernel.motion import AxisMove, Direction
 from ..protocol import Output, Outputs
 from ..protocol.raster import PIXELS_MAX, STEP, Raster, RasterLine
-from ..protocol.segment import N_MAX, AxisMove, D, Direction, Segment
+from ..protocol.segment import Segment
 from .plan import Plan, plan_program
 from .program import JobError, LinearMove, Program
 from .stream import Stream

@@ -18,9 +18,11 @@ import math
 from functools import lru_cache
 
 from ..config import MachineConfig
-from ..protocol.constants import CUBIC_N_MAX
-from ..protocol.cubic import SIGMA, AxisState, CubicAxis, CubicChain, CubicSegment
-from ..protocol.segment import AxisMove, Direction, Segment
+from ..kernel.cubic_chain import AxisState, CubicChain
+from ..kernel.fixed import CUBIC_N_MAX, SIGMA
+from ..kernel.motion import AxisMove, CubicAxis, Direction
+from ..protocol.cubic import CubicSegment
+from ..protocol.segment import Segment
 from .moves import MoveTable
 from .program import JobError
 from .scurve_chain import Phase as _Phase

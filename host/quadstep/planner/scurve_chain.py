@@ -12,10 +12,9 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from ..protocol.constants import CUBIC_ACCEL_LIMIT, CUBIC_N_MAX, CUBIC_SHIFT
-from ..protocol.cubic import HALF, SIGMA, AxisState, CubicAxis
-
-JERK_LIMIT = 1 << 15  # the jerk field is i16
+from ..kernel.cubic_chain import AxisState
+from ..kernel.fixed import CUBIC_ACCEL_LIMIT, CUBIC_N_MAX, CUBIC_SHIFT, HALF, JERK_LIMIT, SIGMA
+from ..kernel.motion import CubicAxis
 
 
 @dataclass

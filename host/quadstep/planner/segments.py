@@ -12,7 +12,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..protocol.segment import AxisMove, Segment
+from ..kernel.motion import AxisMove
+from ..protocol.segment import Segment
 
 
 @dataclass

@@ -6,8 +6,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..protocol.cubic import SIGMA, CubicChain, CubicSegment
-from ..protocol.segment import D
+from ..kernel.cubic_chain import CubicChain
+from ..kernel.fixed import SIGMA, D
+from ..protocol.cubic import CubicSegment
 from .plan import Plan
 from .stream import Stream
 

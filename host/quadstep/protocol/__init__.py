@@ -3,8 +3,6 @@
 from .codec import DecodeError, Decoder, Frame, decode, decode_body, encode, payload
 from .constants import (
     AXIS_NAMES,
-    DECEL_MAX,
-    DECEL_SHIFT,
     MAX_FRAME,
     POSITION_MAX,
     PROTOCOL_VERSION,
@@ -20,7 +18,7 @@ from .constants import (
     Output,
     State,
 )
-from .cubic import CubicAxis, CubicSegment
+from .cubic import CubicSegment
 from .messages import (
     Ack,
     Alarm,
@@ -48,7 +46,7 @@ from .messages import (
     Watchdog,
     message_type,
 )
-from .segment import MAX_AXES, N_MAX, R_MAX, AxisMove, D, Segment
+from .segment import Segment
 from .segment_run import RunChain, SegmentRecord, Segments
 from .wire import Report, Request
 
@@ -58,15 +56,10 @@ __all__ = [
     "AckReason",
     "Alarm",
     "AlarmCode",
-    "AxisMove",
-    "CubicAxis",
     "CubicSegment",
     "Board",
     "Capability",
     "Config",
-    "D",
-    "DECEL_MAX",
-    "DECEL_SHIFT",
     "Input",
     "InputCause",
     "InputChange",
@@ -89,13 +82,10 @@ __all__ = [
     "Frame",
     "Identify",
     "IdentifyReply",
-    "MAX_AXES",
     "MAX_FRAME",
     "Message",
     "MessageType",
-    "N_MAX",
     "PROTOCOL_VERSION",
-    "R_MAX",
     "Report",
     "Request",
     "RunChain",

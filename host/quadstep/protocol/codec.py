@@ -12,7 +12,8 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Literal
 
-from .constants import BROADCAST_SEQ, MAX_AXES, ErrorCode, FieldId
+from ..kernel.fixed import MAX_AXES
+from .constants import BROADCAST_SEQ, ErrorCode, FieldId
 from .framing import FrameSplitter, FramingError, check_block, encode_frame
 from .messages import Event, Message, MessageType
 from .wire import FieldFault, WireMessage, event_class, message_class

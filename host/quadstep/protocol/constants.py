@@ -6,13 +6,22 @@ from __future__ import annotations
 
 from enum import IntEnum, IntFlag
 
+# The fixed-point numbers go on the wire as they are: the kernel owns them, the wire names them.
+from ..kernel.fixed import (
+    CUBIC_ACCEL_LIMIT,
+    CUBIC_N_MAX,
+    CUBIC_SHIFT,
+    DECEL_MAX,
+    DECEL_SHIFT,
+    MAX_AXES,
+    N_MAX,
+    R_MAX,
+    SPEED_SHIFT,
+    V_MAX,
+    D,
+)
+
 PROTOCOL_VERSION = 2
-SPEED_SHIFT = 12
-D = 1 << SPEED_SHIFT  # speed denominator: a speed v means v/D steps per tick
-V_MAX = D  # one step per tick
-N_MAX = 1022  # longest segment in ticks; keeps every per-tick value inside 24 bits
-R_MAX = D  # residual limit, in 1/(2D) step
-MAX_AXES = 4  # axes the wire format can name
 AXIS_NAMES = ("X", "Y", "Z", "A")  # axis i of every axis mask (PROTOCOL.md §1)
 MAX_FRAME = 64  # decoded bytes (body ‖ crc16) per frame
 MIN_FRAME = 4  # type, seq, crc16
@@ -21,11 +30,6 @@ BROADCAST_SEQ = 0xFF  # seq of unsolicited reports, and of errors about untruste
 NO_FIELD = 0  # ERROR field when no field is named
 NO_AXIS = 0xFF  # ERROR axis when no axis is named
 MAX_IN_FLIGHT = 127  # sequenced frames outstanding at once
-DECEL_SHIFT = 24  # a HOLD deceleration d means d / 2^24 step per tick²
-DECEL_MAX = 8191  # largest HOLD deceleration (keeps the hold's per-tick values inside 24 bits)
-CUBIC_SHIFT = 31  # a cubic segment's advances are in 2^-31 step (docs/CUBIC.md)
-CUBIC_ACCEL_LIMIT = 1 << 23  # |change of the advance per tick| stays below this (24 bits)
-CUBIC_N_MAX = 65535  # longest cubic segment in ticks (a 16-bit count)
 # the firmware keeps every step position within ±this (PROTOCOL.md §5.2)
 POSITION_MAX = 2**31 - 2**24
 WATCHDOG_MAX_MS = 4000  # longest WATCHDOG timeout

@@ -28,8 +28,11 @@ from pydantic import (
     model_validator,
 )
 
-from .constants import CUBIC_N_MAX, MAX_AXES, MAX_FRAME, FieldId
-from .cubic import SIGMA, CubicAxis, CubicChain, CubicRefused, CubicSegment, choose2
+from ..kernel.cubic_chain import CubicChain, CubicRefused, choose2
+from ..kernel.fixed import CUBIC_N_MAX, JERK_LIMIT, MAX_AXES, SIGMA
+from ..kernel.motion import CubicAxis
+from .constants import MAX_FRAME, FieldId
+from .cubic import CubicSegment
 from .segment import Segment
 from .varint import read_uvarint, svarint, unzigzag, uvarint
 from .wire import FieldFault, RecordsField, Request, bits, four_axes, message
@@ -39,7 +42,6 @@ SETS = 0x01  # in n's varint: a sets byte follows (bits 0–3 axes set, 4–7 th
 ACCEL = 0x02  # in n's varint: each set axis has an acceleration after its speed
 RECORDS_MAX = 16  # records in one frame
 PAYLOAD_MAX = MAX_FRAME - 4  # type, seq and the CRC take the rest of a frame
-JERK_LIMIT = 1 << 15
 MOST = {"head": 3, "speed": 5, "accel": 4, "jerk": 3}  # bytes a varint may take
 
 
@@ -242,7 +244,7 @@ def expand(records: Sequence[CubicRecord], chain: CubicChain) -> list[CubicSegme
         try:
             chain.advance(segment)
         except CubicRefused as refused:
-            raise FieldFault(refused.field, refused.axis, str(refused)) from None
+            raise FieldFault(FieldId[refused.field], refused.axis, str(refused)) from None
         out.append(CubicSegment.model_validate(segment.model_dump()))
     return out
 

@@ -14,8 +14,9 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 
-from .constants import MAX_AXES
-from .cubic import SIGMA, CubicSegment, choose2
+from ..kernel.cubic_chain import choose2
+from ..kernel.fixed import MAX_AXES, SIGMA
+from .cubic import CubicSegment
 from .cubic_run import ACCEL, PAYLOAD_MAX, RECORDS_MAX, SETS
 from .segment import Segment
 from .segment_run_size import FRAME_OVERHEAD

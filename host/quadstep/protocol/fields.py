@@ -13,10 +13,9 @@ from typing import Annotated, Any, TypeVar
 
 from pydantic import BeforeValidator, Field, PlainSerializer
 
+from ..kernel.fixed import DECEL_MAX, MAX_AXES
 from .constants import (
-    DECEL_MAX,
     INPUT_COUNT,
-    MAX_AXES,
     NO_AXIS,
     NO_FIELD,
     AckReason,

@@ -24,8 +24,9 @@ from pydantic import (
     model_validator,
 )
 
+from ..kernel.fixed import DECEL_MAX
+from ..kernel.motion import AxisMove, CubicAxis
 from .constants import (
-    DECEL_MAX,
     INPUT_COUNT,
     NO_AXIS,
     POSITION_MAX,
@@ -36,7 +37,7 @@ from .constants import (
     Input,
     TypeClass,
 )
-from .cubic import CubicAxis, CubicSegment
+from .cubic import CubicSegment
 from .cubic_run import CubicRecord, CubicSegments
 from .fields import (
     I32,
@@ -59,7 +60,7 @@ from .fields import (
 )
 from .outputs import Outputs
 from .raster import Raster
-from .segment import AxisMove, Segment
+from .segment import Segment
 from .segment_run import SegmentRecord, Segments
 from .wire import (
     FieldFault,

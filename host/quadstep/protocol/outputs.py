@@ -5,9 +5,9 @@ from __future__ import annotations
 
 from typing import Any
 
+from ..kernel.fixed import D
 from .constants import FieldId, Output
 from .fields import U8, U16
-from .segment import D
 from .wire import FieldFault, Request, message
 
 VALID_BITS = int(Output.ON | Output.REVERSE | Output.DYNAMIC | Output.MIST | Output.FLOOD)

@@ -15,9 +15,10 @@ from typing import Annotated, Any, Protocol
 
 from pydantic import ConfigDict, Field
 
+from ..kernel.fixed import N_MAX, D
 from .constants import FieldId
 from .fields import U8, U16
-from .segment import N_MAX, D, Segment
+from .segment import Segment
 from .wire import FieldCodec, FieldFault, Request, bits, message
 
 HEAD = 8  # n:u16, axes, pixel, phase:u16, pitch:u16

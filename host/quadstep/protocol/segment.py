@@ -3,39 +3,16 @@
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Annotated, Any, Literal
+from typing import Annotated, Any
 
-from pydantic import BaseModel, ConfigDict, Field, field_validator, model_validator
+from pydantic import ConfigDict
 
-from .constants import MAX_AXES, N_MAX, R_MAX, SPEED_SHIFT, V_MAX, D, FieldId
+from ..kernel.fixed import N_MAX, R_MAX, V_MAX
+from ..kernel.motion import AxisMove, Quadratic, Ticks
+from .constants import FieldId
 from .wire import FieldFault, Int, Masked, Request, bits, message
 
-__all__ = ["D", "MAX_AXES", "N_MAX", "R_MAX", "SPEED_SHIFT", "AxisMove", "Segment"]
-
-
-Direction = Literal[1, -1]  # an axis's sense of motion: +1 toward its positive steps
-
-
-class AxisMove(BaseModel):
-    """One axis of a segment: direction, start and end speed, starting residual."""
-
-    model_config = ConfigDict(frozen=True)
-
-    axis: int = Field(ge=0, lt=MAX_AXES)
-    direction: Direction
-    v0: int = Field(ge=0, le=D, description="start speed, v0/4096 steps per tick")
-    vn: int = Field(ge=0, le=D, description="end speed, vn/4096 steps per tick")
-    r: int = Field(
-        ge=-R_MAX, le=R_MAX, description="starting residual, 1/8192 step, ahead is positive"
-    )
-
-    @model_validator(mode="after")
-    def _not_trailing_forever(self) -> AxisMove:
-        if self.r == R_MAX and self.v0 == D and self.vn == D:
-            raise ValueError(
-                "r = 4096 with v0 = vn = 4096 would trail the ideal by ½ step all segment"
-            )
-        return self
+__all__ = ["Segment", "SegmentAxes"]
 
 
 @dataclass(frozen=True)
@@ -65,26 +42,13 @@ class SegmentAxes(Masked):
 
 
 @message(0x10, "SEGMENT")
-class Segment(Request):
-    """n ticks of motion; axes not listed stay still."""
+class Segment(Quadratic, Request):
+    """A quadratic segment (kernel/motion.py) on the wire: n:u16, then the axes."""
 
     model_config = ConfigDict(frozen=True, extra="ignore")
 
-    n: Annotated[int, Field(ge=1, le=N_MAX), Int("H")]
+    n: Annotated[Ticks, Int("H")]
     axes: Annotated[tuple[AxisMove, ...], SegmentAxes()] = ()
-
-    @field_validator("axes")
-    @classmethod
-    def _ascending_unique(cls, axes: tuple[AxisMove, ...]) -> tuple[AxisMove, ...]:
-        order = [a.axis for a in axes]
-        if order != sorted(set(order)):
-            raise ValueError(f"axes must be listed once each in ascending order, got {order}")
-        return axes
-
-    def moving_at_end(self) -> bool:
-        """True when some axis still has speed at the end (an empty queue after it is an
-        underrun)."""
-        return any(a.vn > 0 for a in self.axes)
 
     @classmethod
     def check_wire(cls, raw: dict[str, Any], axis_count: int) -> None:

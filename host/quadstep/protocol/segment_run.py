@@ -28,10 +28,12 @@ from pydantic import (
     model_validator,
 )
 
-from .constants import MAX_FRAME, V_MAX, D, FieldId
+from ..kernel.fixed import V_MAX, D
+from ..kernel.motion import AxisMove, Direction
+from .constants import MAX_FRAME, FieldId
 from .cubic import CubicSegment
 from .cubic_run import SpeedChain
-from .segment import AxisMove, Direction, Segment
+from .segment import Segment
 from .varint import read_svarint, svarint
 from .wire import FieldFault, RecordsField, Request, bits, message
 

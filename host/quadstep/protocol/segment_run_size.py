@@ -13,7 +13,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from .constants import MAX_FRAME, D
+from ..kernel.fixed import D
+from .constants import MAX_FRAME
 from .segment_run import PAYLOAD_MAX, SEGMENTS_MAX
 
 # type and seq, the CRC-16, COBS's one code byte (a frame is far below 254 bytes), the delimiter

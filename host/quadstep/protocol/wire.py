@@ -23,7 +23,8 @@ from typing import Any, ClassVar, TypeVar
 
 from pydantic import BaseModel, ConfigDict
 
-from .constants import MAX_AXES, FieldId, TypeClass
+from ..kernel.fixed import MAX_AXES
+from .constants import FieldId, TypeClass
 
 
 class FieldFault(ValueError):

@@ -21,10 +21,10 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .cubic_model import CubicChain, cubic_step_ticks
-from .protocol.constants import DECEL_SHIFT
-from .protocol.cubic import CubicSegment
-from .protocol.segment import MAX_AXES, N_MAX, SPEED_SHIFT, AxisMove, D, Segment
+from .cubic_chain import CubicChain
+from .cubic_model import cubic_step_ticks
+from .fixed import DECEL_SHIFT, MAX_AXES, N_MAX, SPEED_SHIFT, D
+from .motion import AxisMove, Cubic, Quadratic
 
 
 def steps_by_tick(n: int, mv: AxisMove, ticks: np.ndarray) -> np.ndarray:
@@ -84,7 +84,7 @@ class Prediction:
 
 
 def predict(
-    segments: Iterable[Segment | CubicSegment],
+    segments: Iterable[Quadratic | Cubic],
     positions: Sequence[int] | None = None,
     start_tick: int = 0,
     axis_count: int = MAX_AXES,
@@ -102,7 +102,7 @@ def predict(
     count = 0
     chain = chain if chain is not None else CubicChain(axis_count)
     for seg in segments:
-        if isinstance(seg, CubicSegment):
+        if isinstance(seg, Cubic):
             for step in chain.advance(seg):
                 ticks = cubic_step_ticks(seg.n, step)
                 if ticks.size:
@@ -219,7 +219,7 @@ class HoldPrediction:
 
 
 def predict_hold(
-    segments: Sequence[Segment],
+    segments: Sequence[Quadratic],
     hold_tick: int,
     decels: Sequence[int],
     positions: Sequence[int] | None = None,
@@ -256,7 +256,7 @@ def predict_hold(
 
 
 def predict_underrun(
-    segments: Sequence[Segment],
+    segments: Sequence[Quadratic],
     decels: Sequence[int],
     positions: Sequence[int] | None = None,
     start_tick: int = 0,
@@ -270,7 +270,7 @@ def predict_underrun(
 
 
 def _hold_segment(
-    seg: Segment, index: int, t0: int, hold_tick: int, decels: Sequence[int], pos: list[int]
+    seg: Quadratic, index: int, t0: int, hold_tick: int, decels: Sequence[int], pos: list[int]
 ) -> HoldPrediction:
     chunks: list[np.ndarray] = []
     last = 0

@@ -6,27 +6,15 @@ ideal ahead of the stepper, i the next advance, d its change per tick. The stepp
 floor((e + X(t) + Σ/2)/Σ) steps by tick t ≥ 1 of the segment, X(t) = t·i + C(t,2)·d + C(t,3)·r, and
 the state after it is exact, so a chain of any length predicts every step.
 
-`CubicChain` is the firmware's chain: it checks a segment exactly as the firmware does (the same
-fields, in the same order) and advances.
+The chain of state itself, checked and advanced as the firmware does, is cubic_chain.py.
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-from .protocol.constants import CUBIC_SHIFT
-
-# The chain is the firmware's validation of CUBIC_SEGMENT, so it lives with the message
-# (protocol/cubic.py).
-from .protocol.cubic import (
-    HALF,
-    SIGMA,
-    AxisState,
-    CubicChain,
-    CubicRefused,
-    CubicStep,
-    advances_in_range,
-)
+from .cubic_chain import CubicStep
+from .fixed import CUBIC_SHIFT, HALF
 
 
 def cubic_steps_by_tick(step: CubicStep, ticks: np.ndarray) -> np.ndarray:
@@ -44,13 +32,4 @@ def cubic_step_ticks(n: int, step: CubicStep) -> np.ndarray:
     return np.flatnonzero(np.diff(made)) + 1
 
 
-__all__ = [
-    "AxisState",
-    "CubicChain",
-    "CubicRefused",
-    "CubicStep",
-    "SIGMA",
-    "advances_in_range",
-    "cubic_step_ticks",
-    "cubic_steps_by_tick",
-]
+__all__ = ["cubic_step_ticks", "cubic_steps_by_tick"]
