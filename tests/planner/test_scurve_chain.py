@@ -1,5 +1,5 @@
 """The S-curve planner's closed-form run of a move's phases (planner/scurve_chain.py) against the
-firmware's chain model (protocol/cubic.py): on random phases — sets with direction changes, jerks
+firmware's chain model (kernel/cubic_chain.py): on random phases — sets with direction changes, jerks
 near their field's edge, phases longer than one segment, advances leaving 0 … 1 step — the run
 refuses exactly what the chain refuses, and otherwise ends in the chain's state with its steps."""
 

@@ -4,7 +4,7 @@ Per move the path speed goes v0 → vc in a ramp (jerk +J, 0, −J), cruises at 
 a ramp; the acceleration is 0 at both ends of every ramp, so at every junction. The phases are whole
 ticks (planner/jerk.py rounds them up), vc is then solved so the path's length is covered exactly.
 Per axis the jerk of each ramp is rounded once, R = round(Σ·j); every state after that is the
-firmware's own exact integer chain (protocol/cubic.py): the ramp's symmetric phases bring the
+firmware's own exact integer chain (kernel/cubic_chain.py): the ramp's symmetric phases bring the
 acceleration back to exactly 0, a state set at the start of a ramp that ends at rest makes the speed
 end at exactly 0, and a move lands exactly when its ideal ends within a quarter step of its target —
 otherwise a speed set on the cruise (at most 2^-12 step per tick of change, spread over the cruise)

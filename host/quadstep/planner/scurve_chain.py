@@ -1,11 +1,11 @@
 """A move's phases run through the firmware's cubic chain in plain integers (docs/CUBIC.md §2–3).
 
-The planner tries several versions of each move before one lands; running every version through
-protocol/cubic.py's CubicChain (one message model per segment) is what made S-curve planning slow.
-Here each phase is checked and advanced in closed form, with the checks the firmware makes on the
-segments the phases become (planner/scurve.py `_build`: a phase longer than CUBIC_N_MAX ticks is
-several segments of the same cubic, so its ends decide the same checks), and the segments are
-built once, for the version that lands.
+The planner tries several versions of each move before one lands; running every version through the
+kernel's CubicChain (kernel/cubic_chain.py: one message model per segment) is what made S-curve
+planning slow. Here each phase is checked and advanced in closed form, with the checks the firmware
+makes on the segments the phases become (planner/scurve.py `_build`: a phase longer than CUBIC_N_MAX
+ticks is several segments of the same cubic, so its ends decide the same checks), and the segments
+are built once, for the version that lands.
 """
 
 from __future__ import annotations
@@ -103,7 +103,7 @@ def run_phases(start: list[AxisState], phases: list[Phase]) -> PhaseRun | None:
 
 def _extreme_in_range(i: int, d: int, r: int, n: int) -> bool:
     """0 ≤ I(k) ≤ Σ where the advance turns inside the phase (its ends are checked apart):
-    protocol/cubic.py's advances_in_range, for its one interior point."""
+    kernel/cubic_chain.py's advances_in_range, for its one interior point."""
     if r > 0 and d < 0:
         k = 1 + (-d + r - 1) // r
     elif r < 0 and d > 0:
