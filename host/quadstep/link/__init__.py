@@ -14,16 +14,16 @@ from .errors import (
 )
 from .hold import hold, hold_async, hold_message
 from .inputs import input_status, until_input, wait_rest
-from .ports import Board, PortError, auto_port, find_boards
+from .ports import PortError, UsbBoard, auto_port, find_boards
 from .stats import LinkStats
 from .window import SendWindow
 
 __all__ = [
     "AlarmError",
-    "Board",
     "BoardReset",
     "BoardSilent",
     "PortError",
+    "UsbBoard",
     "auto_port",
     "find_boards",
     "DEFAULT_BAUD",

@@ -34,7 +34,9 @@ class PortError(Exception):
 
 
 @dataclass(frozen=True)
-class Board:
+class UsbBoard:
+    """A serial port whose USB identity is a board quadstep runs on."""
+
     device: str  # /dev/ttyUSB0
     kind: str  # what its USB identity says it is
     serial_number: str | None = None
@@ -43,13 +45,13 @@ class Board:
         return f"{self.device} ({self.kind})"
 
 
-def find_boards() -> list[Board]:
+def find_boards() -> list[UsbBoard]:
     """Every serial port whose USB identity is a board quadstep runs on, in device order."""
     found = []
     for port in sorted(list_ports.comports(), key=lambda p: p.device):
         kind = BOARDS.get((port.vid, port.pid)) if port.vid is not None else None
         if kind is not None:
-            found.append(Board(port.device, kind, port.serial_number))
+            found.append(UsbBoard(port.device, kind, port.serial_number))
     return found
 
 
