@@ -76,9 +76,10 @@ test-python: setup-python
 test-offline: setup-python test-firmware
 	$(VENV_PYTHON) -m pytest -q -m 'not realtime' --basetemp=$(BUILD)/pytest-offline --durations=5
 
-# The Python tests that start no emulator and no simavr (tests/conftest.py marks the others).
+# The Python tests that start no emulator and no simavr (tests/conftest.py marks the others), on
+# every core.
 test-fast: setup-python
-	$(VENV_PYTHON) -m pytest -q -m 'not emulator and not slow'
+	$(VENV_PYTHON) -m pytest -q -n auto -m 'not emulator and not slow'
 
 bench: setup all harness
 	$(VENV_PYTHON) tests/bench/run_all.py
