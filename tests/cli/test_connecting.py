@@ -57,8 +57,10 @@ def test_auto_refuses_none_or_several(ports: list[ListPortInfo], capsys: pytest.
     assert capsys.readouterr().out == "/dev/ttyACM0 (Arduino Uno)\n/dev/ttyACM1 (Arduino Mega 2560)\n"
 
 
-def test_flash_without_a_board_names_only_what_flash_takes(ports: list[ListPortInfo], capsys: pytest.CaptureFixture[str]) -> None:
-    hex_file = REPO / "build" / "avr" / "uno.hex"
+def test_flash_without_a_board_names_only_what_flash_takes(ports: list[ListPortInfo], tmp_path: Path,
+                                                           capsys: pytest.CaptureFixture[str]) -> None:
+    hex_file = tmp_path / "uno.hex"  # any image: the board is looked for before it is read
+    hex_file.write_text(":00000001FF\n")
     assert main(["flash", "--board", "uno", "--hex", str(hex_file)]) == 1
     err = capsys.readouterr().err
     assert err.endswith("no Arduino Uno, Mega or clone found on USB: plug it in, or give --port PORT\n")
