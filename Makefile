@@ -63,8 +63,8 @@ lint: setup-python
 # The real-time tests (an emulator paced at its tick rate, with a host that must keep up) run in
 # the foreground; the ones that need no wall clock (the firmware's unit tests, simavr's cycle-exact
 # runs, the host's unit tests: test-offline) run beside them under SCHED_IDLE, so they get a core
-# only while the real-time ones leave it idle (nice 19 was not enough: a front-door stream of 0.5 ms
-# segments ran the board dry beside them). Both must pass; the slowest tests are listed, to see
+# only while the real-time ones leave it idle (under nice 19 a front-door stream of 0.5 ms segments
+# once came to rest mid-stream beside them). Both must pass; the slowest tests are listed, to see
 # where the time goes.
 test-python: setup-python
 	@mkdir -p $(BUILD)
