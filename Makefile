@@ -13,7 +13,7 @@ SUDO := $(shell [ "$$(id -u)" = 0 ] || echo sudo)
 APT_PACKAGES := gcc make pkg-config gcc-avr avr-libc binutils-avr simavr libsimavr-dev libelf-dev \
 	clang libclang-rt-14-dev avrdude python3-venv python3-tk
 
-.PHONY: all setup setup-apt setup-python demo lint test test-fast test-firmware test-python test-offline bench clean
+.PHONY: all setup setup-apt setup-python demo lint test test-fast test-firmware test-python bench clean
 
 all: emulator firmware
 
@@ -51,7 +51,7 @@ $(VENV_INSTALLED): pyproject.toml | $(VENV_PYTHON)
 demo: setup emulator
 	$(VENV_PYTHON) -m quadstep.cli run examples/demo.gcode --config examples/router-uno.toml --emulator
 
-test: setup lint all harness fuzz-short test-python
+test: setup lint all harness test-firmware fuzz-short test-python
 
 # The host package's style and types (pyproject.toml: [tool.ruff], [tool.mypy]); `ruff format
 # host/quadstep` fixes the first.
@@ -60,22 +60,9 @@ lint: setup-python
 	$(VENV_PYTHON) -m ruff check host/quadstep
 	$(VENV_PYTHON) -m mypy host/quadstep
 
-# The real-time tests (an emulator paced at its tick rate, with a host that must keep up) run in
-# the foreground; the ones that need no wall clock (the firmware's unit tests, simavr's cycle-exact
-# runs, the host's unit tests: test-offline) run beside them under SCHED_IDLE, so they get a core
-# only while the real-time ones leave it idle (under nice 19 a front-door stream of 0.5 ms segments
-# once came to rest mid-stream beside them). Both must pass; the slowest tests are listed, to see
-# where the time goes.
+# The slowest tests are listed at the end, to see where the suite's time goes.
 test-python: setup-python
-	@mkdir -p $(BUILD)
-	@chrt --idle 0 $(MAKE) -s test-offline > $(BUILD)/test-offline.log 2>&1 & offline=$$!; \
-	$(VENV_PYTHON) -m pytest -q -m realtime --basetemp=$(BUILD)/pytest-realtime --durations=15; \
-	realtime=$$?; wait $$offline; offline=$$?; \
-	echo "== the tests without a wall clock ($(BUILD)/test-offline.log):"; cat $(BUILD)/test-offline.log; \
-	[ $$realtime -eq 0 ] && [ $$offline -eq 0 ]
-
-test-offline: setup-python test-firmware
-	$(VENV_PYTHON) -m pytest -q -m 'not realtime' --basetemp=$(BUILD)/pytest-offline --durations=5
+	$(VENV_PYTHON) -m pytest -q --durations=15
 
 # The Python tests that start no emulator and no simavr (tests/conftest.py marks the others), on
 # every core.

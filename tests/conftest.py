@@ -31,17 +31,11 @@ PROCESS_FIXTURES = frozenset({"emulator_binary", "avr_build"})
 
 
 def pytest_collection_modifyitems(items: list[pytest.Item]) -> None:
-    """Mark `emulator` every test that starts a board process, so `-m 'not emulator'` runs the others;
-    and `realtime` those of them outside simavr (whose board runs in simulated time): an emulator
-    paced at its tick rate, with a host that must keep up, which `make test` runs apart from the
-    others."""
+    """Mark `emulator` every test that starts a board process, so `-m 'not emulator'` runs the others."""
     for item in items:
         fixtures = set(getattr(item, "fixturenames", ()))
-        simavr = item.path.is_relative_to(REPO / "tests" / "simavr")
-        if fixtures & PROCESS_FIXTURES or simavr:
+        if fixtures & PROCESS_FIXTURES or item.path.is_relative_to(REPO / "tests" / "simavr"):
             item.add_marker(pytest.mark.emulator)
-            if not simavr:
-                item.add_marker(pytest.mark.realtime)
 
 
 @pytest.fixture(autouse=True)
