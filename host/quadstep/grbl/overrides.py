@@ -12,7 +12,7 @@ from dataclasses import replace
 
 from ..link import LinkError
 from ..machine import Machine, MachineError
-from ..planner.feed_override import MAX_PERCENT, MIN_PERCENT
+from ..planner.feed_override import clamped
 from ..planner.program import OutputState
 from .executor import Executor
 
@@ -36,7 +36,7 @@ def stepped(percent: int, byte: int, reset: int) -> int:
     """The percentage after `byte` (reset, ±10, ±1), kept within 10–200 %."""
     if byte == reset:
         return 100
-    return min(MAX_PERCENT, max(MIN_PERCENT, percent + _STEPS[byte - reset]))
+    return clamped(percent + _STEPS[byte - reset])
 
 
 def toggled(state: OutputState, byte: int) -> OutputState:

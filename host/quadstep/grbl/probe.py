@@ -61,7 +61,7 @@ def run_probe(machine: Machine, move: ProbeMove, last: ProbeReport) -> ProbeOutc
         result = probe(machine, move.code, move.target, move.feed)
     except Stopped:
         stopped = machine.wait_report(HoldDone, holds, timeout=HOLD_TIMEOUT_S)
-        machine.rested(stopped.hold_tick if isinstance(stopped, HoldDone) else None)
+        machine.standing.rested(stopped.hold_tick if isinstance(stopped, HoldDone) else None)
         raise MachineError(
             f"G{move.code}: stopped before it finished; the machine rests where it stopped"
         ) from None

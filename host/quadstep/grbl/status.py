@@ -61,7 +61,7 @@ class StatusBuilder:
         machine = self.session.machine
         if machine.busy:
             try:
-                return machine.config.to_mm(machine.live_position(machine.status()))
+                return machine.config.to_mm(machine.standing.live_position(machine.status()))
             except LinkError:
                 pass
         return machine.position_mm

@@ -90,7 +90,7 @@ def home(
     with machine.procedure("home") as procedure:
         for i in order:
             results.append(_home_axis(machine, procedure, i, say))
-    machine.set_homed(len(order) == len([a for a in config.axes if a.homing is not None]))
+    machine.standing.set_homed(len(order) == len([a for a in config.axes if a.homing is not None]))
     return results
 
 
@@ -116,7 +116,7 @@ def _home_axis(machine: Machine, procedure: Procedure, i: int, say: Progress) ->
 
     def approach(level: int, mm: float, feed: float, what: str) -> tuple[int, ...]:
         """Where (take-ups excluded) the switch reached `level` on a move of `mm`."""
-        segments = machine.takeup_stream(straight(free, at(), i, mm, feed, n))
+        segments = machine.standing.takeup_stream(straight(free, at(), i, mm, feed, n))
         end = until_input(
             link,
             Probe(input=which, level=level, decel=decel),
@@ -124,18 +124,18 @@ def _home_axis(machine: Machine, procedure: Procedure, i: int, say: Progress) ->
             TIMEOUT,
         )
         if isinstance(end, ProbeMissed):
-            machine.rested()
+            machine.standing.rested()
             raise HomingError(f"axis {axis.name}: {what} within {abs(mm):.1f} mm ({which.name})")
-        latched = machine.shown(end.position, end.motion_ticks)
-        machine.rested(end.motion_ticks)
+        latched = machine.standing.shown(end.position, end.motion_ticks)
+        machine.standing.rested(end.motion_ticks)
         return latched
 
     def move(mm: float, feed: float) -> None:
         stream = link.generation  # a hold from elsewhere (the feed hold button) ends the move
-        for segment in machine.takeup_stream(straight(free, at(), i, mm, feed, n)):
+        for segment in machine.standing.takeup_stream(straight(free, at(), i, mm, feed, n)):
             link.send(segment, TIMEOUT, stream)
         link.wait_idle(TIMEOUT, stream)
-        machine.rested()
+        machine.standing.rested()
 
     if input_status(link).is_active(which):
         say(f"{axis.name}: switch closed already, pulling off")

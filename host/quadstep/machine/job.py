@@ -41,8 +41,8 @@ from .motion import CUT, STARVED, Motion, MotionEnd, bring_to_rest
 from .move_items import MoveItems
 from .open_end import OpenEnd, settled_moves
 from .override import Swap, replan_running
+from .restream import Restream
 from .speed_overrides import SpeedOverrides
-from .standing import Restream
 from .takeups import StreamPlan
 
 PauseOrProbe = TypeVar("PauseOrProbe", Pause, ProbeMove)

@@ -14,7 +14,7 @@ from ..planner.plan import Plan
 from ..planner.program import Pause, ProbeMove, Program
 from .move_items import MoveItems
 from .remainder import after_pause_program, carry_changes, remainder_program
-from .standing import Restream
+from .restream import Restream
 from .takeups import StreamPlan
 
 

@@ -42,6 +42,7 @@ from ..protocol import (
     IdentifyReply,
     Report,
     Segment,
+    SetPosition,
     State,
     StatusReport,
     Watchdog,
@@ -52,8 +53,9 @@ from .inputs import config_message
 from .job import JobRun
 from .journal import Journal
 from .motion import Motion, MotionEnd, bring_to_rest
+from .restream import MachineRestream
 from .speed_overrides import SpeedOverrides
-from .standing import Standing, _Restream
+from .standing import Standing
 from .state import StateFile, read_state
 from .state_lock import StateLock
 from .takeups import StreamPlan, TakeUps
@@ -96,7 +98,7 @@ Running = Motion | JobRun | Procedure  # what the machine runs, one at a time
 Started = TypeVar("Started", Motion, JobRun)  # what _begin() starts (a Procedure claims itself)
 
 
-class Machine(Standing):
+class Machine:
     """The machine behind `link`, described by `config` (None: a generic one, see
     config.default_config)."""
 
@@ -124,23 +126,17 @@ class Machine(Standing):
         self.state_file = state_file  # where the state is kept (None: in memory only)
         self.state_lock = state_lock  # held while open (open_machine takes it), released by close()
         kept = read_state(state_file) if state_file is not None else StateFile()
-        self.coordinates = self._stored_coordinates = kept.coordinates
-        self.new_board = emulator is not None
-        self.notice: str | None = None
-        self._state_lock = threading.Lock()
-        self._ticks = 0
+        self.coordinates = kept.coordinates  # in force (a job running changes them as it goes)
+        self.new_board = emulator is not None  # cannot be the board the state file was written for
+        self.notice: str | None = None  # what opening the machine found of the kept state
         # the backlash: take-ups in every program, positions without them
         self.takeups = TakeUps(self.config)
+        self.standing = Standing(link, self.takeups, state_file, kept)
         self.speed_overrides = SpeedOverrides()  # rapid and spindle, for the programs planned next
         self.speed_overrides.on_change = self._overrides_changed  # and for the job running
         self._lock = threading.Lock()
         self._running: Running | None = None
         self._waiting: JobRun | None = None  # a job waiting at a pause while another program runs
-        self._motor: tuple[int, ...] = ()  # the board's step counts where it last stood still
-        # Machine zero is known once homed; a hard limit or the abort button loses it (as GRBL's
-        # alarm).
-        self._homed = False
-        self._position_lost = False
         link.on_report(self._watch_alarms)
         # left dry by a host gone (a killed job): take it up
         if link.status().state == State.STARVED:
@@ -154,7 +150,8 @@ class Machine(Standing):
         # the link keeps it fed while anything moves
         if identity.capabilities & Capability.CONTROLLED_STOPS:
             link.request(Watchdog(timeout_ms=round(self.config.host_timeout * 1000)), StatusReport)
-        self._carry_over(kept, self.status())
+        carried = self.standing.carry_over(kept, self.status(), self.new_board)
+        self.coordinates, self.notice = carried.coordinates, carried.notice
 
     # --- what the machine is and where it stands ----------------------------------------------
 
@@ -167,6 +164,27 @@ class Machine(Standing):
     def axis_count(self) -> int:
         """Configured axes (the firmware may drive more)."""
         return len(self.config.axes)
+
+    @property
+    def position(self) -> tuple[int, ...]:
+        """Step position of every configured axis where the machine last stood still, exact, the
+        backlash's take-ups excluded (standing.py)."""
+        return self.standing.position
+
+    @property
+    def motor_position(self) -> tuple[int, ...]:
+        """The board's own step counts there (take-ups included)."""
+        return self.standing.motor_position
+
+    @property
+    def homed(self) -> bool:
+        """Machine zero is known: found by homing since the board's last reset, not lost since."""
+        return self.standing.homed
+
+    @property
+    def position_lost(self) -> bool:
+        """A hard limit or the abort button (or a reset) lost machine zero since it was found."""
+        return self.standing.position_lost
 
     @property
     def position_mm(self) -> tuple[float, ...]:
@@ -189,10 +207,26 @@ class Machine(Standing):
         self.adopt_coordinates(coordinates)
         return self.work_position
 
+    def set_position(self, steps: dict[int, int], within: object | None = None) -> tuple[int, ...]:
+        """Redefine the position of some axes (SET_POSITION): only at rest (or by the procedure
+        `within`, which holds the machine). Machine coordinates move with it, so this is for homing
+        and tools; work coordinates are the user's zero."""
+        if within is None or self.program is not within:
+            self._refuse_if_busy("set the position")
+        offsets = [m - p for m, p in zip(self.motor_position, self.position)]
+        self.link.send(
+            SetPosition(
+                positions={a: s + (offsets[a] if a < len(offsets) else 0) for a, s in steps.items()}
+            )
+        )
+        self.link.drain()
+        self.standing.set_motors(self.link.status().position)
+        return self.position
+
     def adopt_coordinates(self, coordinates: WorkCoordinates) -> None:
         """Take the work coordinates a job left (or any others) and keep them in the state file."""
-        self.coordinates = self._stored_coordinates = coordinates
-        self._keep_state(strict=True)
+        self.coordinates = coordinates
+        self.standing.store(coordinates)
 
     @property
     def stats(self) -> LinkStats:
@@ -217,8 +251,7 @@ class Machine(Standing):
         if status.state == State.IDLE and status.queue_fill == 0:
             with self._lock:
                 if self._running is None:
-                    self._motor = tuple(status.position[: self.axis_count])
-                    self._ticks = max(self._ticks, status.motion_ticks)
+                    self.standing.seen_at_rest(status)
         return status
 
     def sync(self) -> tuple[int, ...]:
@@ -284,7 +317,7 @@ class Machine(Standing):
             label=label,
             feed_override=feed_override,
             speed_overrides=self.speed_overrides,
-            restream=_Restream(self),
+            restream=MachineRestream(self),
             busy_elsewhere=lambda: self._waiting is job,
             journal=journal,
             open_end=open_end,
@@ -337,7 +370,7 @@ class Machine(Standing):
     def emergency_stop(self) -> StatusReport:
         """Immediate STOP, no deceleration (positions stay exact); also clears an alarm."""
         status = self.link.stop()
-        self._rest(status.position, status.motion_ticks, False)
+        self.standing.rest(status.position, status.motion_ticks, False)
         return status
 
     # --- reports from the firmware ----------------------------------------------------------------
@@ -373,7 +406,7 @@ class Machine(Standing):
                     self.status()
             except LinkError:
                 pass
-            self._keep_state()
+            self.standing.keep()
             self.link.close()
             if self.emulator is not None:
                 self.emulator.stop()
@@ -419,7 +452,7 @@ class Machine(Standing):
 
     def _watch_alarms(self, report: Report) -> None:
         if isinstance(report, Alarm) and report.code in (AlarmCode.HARD_LIMIT, AlarmCode.E_STOP):
-            self.lose_position()
+            self.standing.lose_position()
 
     def _claim(self, program: Running) -> None:
         self._interrupt_waiting()
@@ -460,7 +493,7 @@ class Machine(Standing):
             # at rest: where the stream begins, in steps and motion ticks
             status = self.link.status()
             self.takeups.begin(compensated, status.position[: self.axis_count], status.motion_ticks)
-        program.settle = lambda end: self._settle(end, raw)
+        program.settle = lambda end: self.standing.settle(end, raw)
         program.on_end = lambda end: self._ended(program, end, leaves)
         return program
 
@@ -468,7 +501,7 @@ class Machine(Standing):
         """In the program's thread, before its waiters wake (after _settle): the machine is free
         again, with the work coordinates a completed program leaves."""
         if leaves is not None and end.ended_by == "done":
-            self.coordinates = self._stored_coordinates = leaves
-            self._keep_state()
+            self.coordinates = self.standing.stored_coordinates = leaves
+            self.standing.keep()
         with self._lock:
             self._free(program)

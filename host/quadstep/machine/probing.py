@@ -20,9 +20,10 @@ from ..kernel.fixed import MAX_AXES
 from ..link import Link, hold, input_status, until_input
 from ..planner.plan import plan_program
 from ..planner.program import LinearMove, Program
-from ..protocol import CubicSegment, Input, InputChange, Probe, Segment
+from ..protocol import Input, InputChange, Probe
 from ..protocol.wire import four_axes
 from .errors import MachineError
+from .standing import Standing
 
 
 class ProbingMachine(Protocol):
@@ -31,6 +32,7 @@ class ProbingMachine(Protocol):
     config: MachineConfig
     link: Link
     decels: tuple[int, ...]
+    standing: Standing  # the take-ups streamed, the positions latched and where it rests
 
     @property
     def position(self) -> tuple[int, ...]: ...
@@ -38,12 +40,6 @@ class ProbingMachine(Protocol):
     def procedure(self, name: str) -> AbstractContextManager[object]: ...
 
     def sync(self) -> tuple[int, ...]: ...
-
-    def takeup_stream(self, segments: Sequence[Segment]) -> list[Segment | CubicSegment]: ...
-
-    def shown(self, motor: Sequence[int], tick: int) -> tuple[int, ...]: ...
-
-    def rested(self, hold_tick: int | None = None) -> tuple[int, ...]: ...
 
 
 # level, error if missed
@@ -91,7 +87,7 @@ def probe(
         # a target outside the travel: JobError
         plan = plan_program(program, config, machine.position)
         decel = four_axes(list(machine.decels) + [0] * (MAX_AXES - len(machine.decels)))
-        segments = machine.takeup_stream(plan.quadratic_segments())
+        segments = machine.standing.takeup_stream(plan.quadratic_segments())
         end = until_input(
             link,
             Probe(input=Input.PROBE, level=level, decel=decel),
@@ -99,8 +95,8 @@ def probe(
             timeout,
         )
         found = isinstance(end, InputChange)
-        steps = machine.shown(end.position, end.motion_ticks) if found else ()
-        rest = machine.rested(end.motion_ticks if found else None)
+        steps = machine.standing.shown(end.position, end.motion_ticks) if found else ()
+        rest = machine.standing.rested(end.motion_ticks if found else None)
     if must and not found:
         raise ProbeError(
             f"G{code}: no contact {'made' if level else 'lost'} on the way to "
@@ -117,4 +113,4 @@ def hold_to_rest(machine: ProbingMachine) -> tuple[int, ...]:
     """The user's stop after a procedure was interrupted (Ctrl-C): HOLD, so that an axis decelerates
     to rest now instead of running out its queue; returns where it rests (take-ups excluded)."""
     done = hold(machine.link, machine.decels)
-    return machine.rested(done.hold_tick)
+    return machine.standing.rested(done.hold_tick)

@@ -71,7 +71,7 @@ class RawMoves:
     def _rested(self) -> None:
         before = self.motor
         self.motor = list(self.link.status().position[: self.count])
-        self.machine.raw_moved(before, self.motor)
+        self.machine.standing.raw_moved(before, self.motor)
 
 
 __all__ = ["RawMoves"]

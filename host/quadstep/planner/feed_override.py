@@ -22,6 +22,11 @@ def check_percent(percent: int) -> int:
     return percent
 
 
+def clamped(percent: int) -> int:
+    """`percent` brought within MIN_PERCENT–MAX_PERCENT (an override key pressed past a bound)."""
+    return min(MAX_PERCENT, max(MIN_PERCENT, percent))
+
+
 def scale_feeds(program: Program, percent: int) -> Program:
     """`program` with every feed move's feed times `percent` % (rapids, dwells and probes as they
     are)."""

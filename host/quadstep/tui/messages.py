@@ -1,4 +1,5 @@
-"""Messages that worker threads post to the machine screen (post_message is thread-safe)."""
+"""Messages that worker threads post to the machine screen (post_message is thread-safe): the only
+way their outcomes reach it."""
 
 from __future__ import annotations
 
@@ -8,6 +9,7 @@ from ..jog import JogResult
 from ..machine import JobProgress, JobRun, MotionEnd
 from ..protocol import IdentifyReply
 from ..toolpath import Toolpath
+from .preview import Preview
 from .session import Snapshot
 
 
@@ -63,3 +65,12 @@ class Note(Message):
         super().__init__()
         self.text = text
         self.error = error
+
+
+class PreviewReady(Message):
+    """A job planned whole and drawn, to be shown until Enter runs it or Esc drops it."""
+
+    def __init__(self, preview: Preview, lines: list[str]) -> None:
+        super().__init__()
+        self.preview = preview
+        self.lines = lines  # what the log says of it

@@ -173,7 +173,7 @@ class Session:
             self.mark_lost(str(exc))
             raise
         config = machine.config
-        position = machine.live_position(status)
+        position = machine.standing.live_position(status)
         stats = machine.stats.as_dict()
         position_mm = config.to_mm(position)
         coordinates = machine.coordinates
