@@ -48,19 +48,19 @@ class AxisState:
 
 def advances_in_range(i: int, d: int, r: int, n: int) -> bool:
     """0 ≤ I(k) ≤ Σ for k = 1..n (the ends, and the extreme where the differences change sign)."""
+    end = i + (n - 1) * d + choose2(n - 1) * r
+    return 0 <= i <= SIGMA and 0 <= end <= SIGMA and extreme_in_range(i, d, r, n)
 
-    def at(k: int) -> int:
-        return i + (k - 1) * d + choose2(k - 1) * r
 
-    if not (0 <= i <= SIGMA and 0 <= at(n) <= SIGMA):
-        return False
+def extreme_in_range(i: int, d: int, r: int, n: int) -> bool:
+    """0 ≤ I(k) ≤ Σ where the advance turns inside k = 1..n (its ends are checked apart)."""
     if r > 0 and d < 0:
         k = 1 + (-d + r - 1) // r
     elif r < 0 and d > 0:
         k = 1 + (d - r - 1) // -r
     else:
         return True
-    return k >= n or 0 <= at(k) <= SIGMA
+    return k >= n or 0 <= i + (k - 1) * d + choose2(k - 1) * r <= SIGMA
 
 
 @dataclass
@@ -176,4 +176,5 @@ __all__ = [
     "advances_in_range",
     "choose2",
     "choose3",
+    "extreme_in_range",
 ]

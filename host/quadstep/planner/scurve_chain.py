@@ -12,7 +12,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from ..kernel.cubic_chain import AxisState
+from ..kernel.cubic_chain import AxisState, extreme_in_range
 from ..kernel.fixed import CUBIC_ACCEL_LIMIT, CUBIC_N_MAX, CUBIC_SHIFT, HALF, JERK_LIMIT, SIGMA
 from ..kernel.motion import CubicAxis
 
@@ -87,7 +87,7 @@ def run_phases(start: list[AxisState], phases: list[Phase]) -> PhaseRun | None:
                 and -CUBIC_ACCEL_LIMIT < d_end < CUBIC_ACCEL_LIMIT
                 and 0 <= i <= SIGMA
                 and 0 <= i_end - d_end + r <= SIGMA  # I(n)
-                and _extreme_in_range(i, d, r, n)
+                and extreme_in_range(i, d, r, n)
             ):
                 return None
             total = e + n * i + c2 * d + c3 * r + HALF
@@ -99,18 +99,6 @@ def run_phases(start: list[AxisState], phases: list[Phase]) -> PhaseRun | None:
                 peak[axis] = top
         states.append(axes)
     return PhaseRun(states, moved, peak)
-
-
-def _extreme_in_range(i: int, d: int, r: int, n: int) -> bool:
-    """0 ≤ I(k) ≤ Σ where the advance turns inside the phase (its ends are checked apart):
-    kernel/cubic_chain.py's advances_in_range, for its one interior point."""
-    if r > 0 and d < 0:
-        k = 1 + (-d + r - 1) // r
-    elif r < 0 and d > 0:
-        k = 1 + (d - r - 1) // -r
-    else:
-        return True
-    return k >= n or 0 <= i + (k - 1) * d + (k - 1) * (k - 2) // 2 * r <= SIGMA
 
 
 def _split_peak(i: int, d: int, r: int, n: int) -> int:
