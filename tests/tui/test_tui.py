@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import asyncio
 from pathlib import Path
 
 from quadstep.config import MachineConfig
@@ -98,9 +97,9 @@ async def test_space_stops_a_continuous_jog_with_hold(machine: MachineConfig, em
         app.session.releases_reported()  # a kitty terminal: one press jogs until the stop key
         await pilot.press("c")
         send_key(app, "up")
-        await asyncio.sleep(0.3)
         jogger = app.session.jogger
-        assert jogger is not None and jogger.busy
+        assert jogger is not None
+        await until(pilot, lambda: jogger.busy and positions(app)[1] > 0, what="the jog to move")
         send_key(app, "space", " ")
         await until(pilot, lambda: jogger.last_result is not None and not jogger.busy, what="the jog to end")
         result = jogger.last_result
@@ -173,7 +172,8 @@ async def test_a_running_job_holds_with_space_and_stops_with_esc(machine: Machin
         await open_job(pilot)
         await until(pilot, lambda: app.machine.job is not None, what="the job to start")
         send_key(app, "right")  # jogging is refused while a job runs
-        await asyncio.sleep(0.4)
+        await until(pilot, lambda: "jog: a job is running" in log_text(app) and positions(app)[0] > 0,
+                    what="the refusal, and the job under way")
         send_key(app, "space", " ")  # a feed hold: at rest, the rest of the job kept
         await until(pilot, lambda: app.machine.job is not None and app.machine.job.held, what="the feed hold")
         assert "jog: a job is running (Space holds it, Esc stops it)" in log_text(app)
@@ -250,8 +250,8 @@ async def test_quitting_during_a_job_brings_the_machine_to_rest(
         emulator = app.session.emulator
         assert emulator is not None
         await open_job(pilot)
-        await until(pilot, lambda: app.machine.job is not None, what="the job to start")
-        await asyncio.sleep(0.3)
+        await until(pilot, lambda: app.machine.job is not None and positions(app)[0] > 0,
+                    what="the job under way")
         await pilot.press("ctrl+q")
     # HOLD before the link closed: at rest, no underrun from a host that left mid-job
     assert emulator.summary is not None
