@@ -80,7 +80,7 @@ class MachineScreen(Screen[None]):
         self.session = session
         session.on_jog = self.jog_finished
         self.commands = Commands(session, self.post_message)
-        self.jobs = JobStarter(self.post_message)
+        self.job_start = JobStarter(self.post_message)
         self.job_path = job_path
         self.poll_interval = poll_interval
         self.snapshot: Snapshot | None = None
@@ -266,9 +266,9 @@ class MachineScreen(Screen[None]):
         if machine is not None:
             if machine.notice is not None:  # what it found of the kept state
                 self.log_line(machine.notice)
-            self.jobs.watch_reports(machine)
+            self.job_start.watch_reports(machine)
             # a job that stopped before its end is named (its journal read off the event loop)
-            self.commands.thread(lambda: self.jobs.offer_kept(machine), "quadstep-kept-job")
+            self.commands.thread(lambda: self.job_start.offer_kept(machine), "quadstep-kept-job")
         self._start_polling()
         self.refresh_panels()
 
@@ -552,7 +552,9 @@ class MachineScreen(Screen[None]):
             return
         self.preview = None
         self.log_line(f"planning {path}…")
-        self.run_worker(lambda: self.jobs.plan_preview(machine, path), thread=True, group="preview")
+        self.run_worker(
+            lambda: self.job_start.plan_preview(machine, path), thread=True, group="preview"
+        )
 
     def on_preview_ready(self, message: PreviewReady) -> None:
         preview = self.preview = message.preview
@@ -586,7 +588,8 @@ class MachineScreen(Screen[None]):
             return load_job(path, machine.config, start, coordinates=machine.coordinates)
 
         self.commands.thread(
-            lambda: self.jobs.run(machine, path.name, plan, preview.source, path), "quadstep-job"
+            lambda: self.job_start.run(machine, path.name, plan, preview.source, path),
+            "quadstep-job",
         )
 
     def drop_preview(self) -> bool:
@@ -603,7 +606,7 @@ class MachineScreen(Screen[None]):
         """R: the job kept in the machine's journal, planned from where the machine stands, run."""
         machine = self._machine_free("resume")
         if machine is not None and self._jogger_ready("resume") is not None:
-            self.commands.thread(lambda: self.jobs.resume_kept(machine), "quadstep-job")
+            self.commands.thread(lambda: self.job_start.resume_kept(machine), "quadstep-job")
 
     def action_console(self) -> None:
         """`:` gives the keys to the console line (Esc gives them back)."""
@@ -653,7 +656,7 @@ class MachineScreen(Screen[None]):
     def _run_typed(self, machine: Machine, what: str, lines: list[str], plan: Plan) -> None:
         """Typed lines (the console's, a macro's) run as a job."""
         self.commands.thread(
-            lambda: self.jobs.run(machine, what, plan, lines, typed=True),
+            lambda: self.job_start.run(machine, what, plan, lines, typed=True),
             "quadstep-mdi" if what == "MDI" else "quadstep-macro",
         )
 
