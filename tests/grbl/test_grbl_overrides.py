@@ -217,6 +217,7 @@ def test_spindle_stop_during_a_feed_hold_and_back_on_resume(start_emulator, tmp_
     ]
 
 
+@pytest.mark.realtime
 def test_the_feed_override_replans_a_running_s_curve_batch(start_emulator) -> None:
     """max_jerk set: the running batch's rest is planned again with the S-curve planner from a move
     boundary, moving, and the job still ends on its exact steps."""

@@ -114,6 +114,7 @@ def check_exact(door: Door, job: JobRun) -> None:
         assert tuple(int(done[done[:, 1] == a, 2].sum()) for a in range(3)) == target
 
 
+@pytest.mark.realtime
 def test_a_streamed_file_runs_as_one_job_without_a_stop_and_lands_exactly(
     door: Door, tmp_path: Path
 ) -> None:
@@ -130,6 +131,7 @@ def test_a_streamed_file_runs_as_one_job_without_a_stop_and_lands_exactly(
     check_exact(door, job)
 
 
+@pytest.mark.realtime
 def test_a_dwell_in_the_stream_is_the_only_rest(door: Door, tmp_path: Path) -> None:
     lines = spiral(200, dwell_at=150)
     with client(door) as grbl:

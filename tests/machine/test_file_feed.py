@@ -39,6 +39,7 @@ def back_and_forth(lines: int, step: float = 0.05) -> str:
     return "\n".join(out) + "\n"
 
 
+@pytest.mark.realtime
 @pytest.mark.slow
 def test_a_streamed_file_ends_on_its_targets_as_predicted(
     start_emulator, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
