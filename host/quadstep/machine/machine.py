@@ -157,13 +157,12 @@ class Machine:
 
     @property
     def identity(self) -> IdentifyReply:
-        assert self.link.identity is not None
-        return self.link.identity
+        return self.standing.identity
 
     @property
     def axis_count(self) -> int:
         """Configured axes (the firmware may drive more)."""
-        return len(self.config.axes)
+        return self.standing.axis_count
 
     @property
     def position(self) -> tuple[int, ...]:
