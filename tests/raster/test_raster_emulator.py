@@ -155,7 +155,11 @@ def test_a_gcode_raster_goes_out_as_raster_lines(start_emulator, tmp_path: Path)
     assert sum(isinstance(s, RasterLine) for s in segments) >= len(runs)
     assert summary["segments_done"] == len(segments)
     assert [summary[f"position_{a}"] for a in range(3)] == list(plan.end)
-    assert after["retransmits"] - before["retransmits"] == 0
+    # a clean line: the board never asked for a frame again nor refused one (a frame written again
+    # because its answer came late, on a busy computer, is the host's timeout, not the line's)
+    for counter in ("gaps", "queue_full", "errors", "decode_errors"):
+        assert after[counter] == before[counter], counter
+    assert after["retransmits"] == before["retransmits"] or after["timeouts"] > before["timeouts"]
     assert after["starvations"] == before["starvations"]
     expected = predict(segments, list(plan.start), axis_count=3)
     assert np.array_equal(read_trace(trace), expected.steps)
