@@ -60,12 +60,12 @@ lint: setup-python
 	$(VENV_PYTHON) -m ruff check host/quadstep
 	$(VENV_PYTHON) -m mypy host/quadstep
 
-# Four at a time, on any number of cores: most tests wait on an emulator paced in real time
-# rather than compute (docs/HOST.md). Then, one at a time, those whose host plans while the board
-# runs and must keep it from running dry (marked realtime). The slowest tests are listed, to see
-# where the suite's time goes.
+# Three at a time, on any number of cores: most tests wait on an emulator paced in real time
+# rather than compute (docs/HOST.md). Then, one at a time, those whose host must keep a board
+# running in real time from running dry while it plans or resends (marked realtime). The slowest
+# tests are listed, to see where the suite's time goes.
 test-python: setup-python
-	$(VENV_PYTHON) -m pytest -q -n 4 --dist worksteal -m 'not realtime' --durations=15
+	$(VENV_PYTHON) -m pytest -q -n 3 --dist worksteal -m 'not realtime' --durations=15
 	$(VENV_PYTHON) -m pytest -q -m realtime --durations=5
 
 # The Python tests that start no emulator and no simavr (tests/conftest.py marks the others), on

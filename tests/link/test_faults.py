@@ -41,6 +41,7 @@ def run_through(line_p: float, emu, config: MachineConfig, job_path: Path, seed:
     return job, end, stats, line
 
 
+@pytest.mark.realtime
 @pytest.mark.parametrize("jerk", [None, 20000.0], ids=["constant acceleration", "S-curve"])
 def test_one_percent_of_the_bytes_damaged_both_ways_changes_nothing(start_emulator, router: MachineConfig,
                                                                      tmp_path: Path, jerk: float | None) -> None:
