@@ -8,21 +8,25 @@ from __future__ import annotations
 from collections.abc import Iterator
 from pathlib import Path
 
+import numpy as np
 import pytest
 from grbl_client import GrblClient, mpos, report_fields
 from grbl_door import serving
+from host_helpers import read_trace
 
 from quadstep.config import load_config
 from quadstep.gcode.interpreter import parse_gcode
+from quadstep.kernel.engine_model import predict
 from quadstep.link import Link
-from quadstep.machine import JobRun, Machine
+from quadstep.machine import JobRun, JobState, Machine
 from quadstep.machine.speed_overrides import SpeedOverrides
 from quadstep.planner.feed_override import Overrides, apply_overrides
-from quadstep.planner.plan import Plan, plan_program
+from quadstep.planner.plan import plan_program
 from quadstep.protocol import Output
 
 REPO = Path(__file__).resolve().parents[2]
 CONFIG = load_config(REPO / "examples" / "router-uno.toml")
+STEPS_PER_MM = round(CONFIG.axes[0].steps_per_mm)  # X's
 CONFIG_S = CONFIG.model_copy(
     update={"spindle": CONFIG.spindle.model_copy(update={"s_max": 10000.0})}
 )
@@ -129,15 +133,28 @@ def test_coolant_toggles_at_rest(door: tuple[Machine, GrblClient]) -> None:
     assert grbl.command("$G")[0] == ["[GC:G0 G54 G17 G21 G90 G94 M3 M9 T0 F0 S100]"]
 
 
+def rapids(steps: np.ndarray) -> tuple[int, int]:
+    """Of a step trace whose X goes to 20 mm and on in rapids: the ticks from the step that reaches
+    X20 to the last one, and the fewest ticks any millimetre of the rapids took (their top speed)."""
+    x = steps[steps[:, 1] == 0]
+    position = np.cumsum(x[:, 2])
+    ticks = x[int(np.argmax(position == 20 * STEPS_PER_MM)) :, 0]
+    return int(ticks[-1] - ticks[0]), int((ticks[STEPS_PER_MM:] - ticks[:-STEPS_PER_MM]).min())
+
+
 def test_rapid_and_spindle_overrides_reach_the_running_batch(start_emulator, tmp_path: Path) -> None:
     """0x97 and 0x9A while a sender's stream runs: the rapids not yet sent run at a quarter of their
     speed and the spindle's duty goes to 150 % from a move boundary on; the job ends on its steps."""
     config = CONFIG.model_copy(
         update={"spindle": CONFIG.spindle.model_copy(update={"s_max": 1000.0})}
     )
-    outputs = tmp_path / "outputs.csv"
+    outputs, trace = tmp_path / "outputs.csv", tmp_path / "trace.csv"
     emu = start_emulator(
-        axes=3, tick_hz=config.tick_hz, free=False, extra_args=["--outputs", str(outputs)]
+        axes=3,
+        tick_hz=config.tick_hz,
+        free=False,
+        trace=trace,
+        extra_args=["--outputs", str(outputs)],
     )
     lines = ["M3 S500", "G1 X2 F600", *(f"X{x}" for x in range(4, 21, 2)), "G0 X60", "G0 X0", "M5"]
     with Link.open(emu.url) as link:
@@ -156,17 +173,20 @@ def test_rapid_and_spindle_overrides_reach_the_running_batch(start_emulator, tmp
             assert mpos(done) == (0.0, 0.0, 0.0)
             assert tuple(link.status().position[:3]) == (0, 0, 0)
     emu.stop()
-    plan = job.plan.base if hasattr(job.plan, "base") else job.plan
-    # the last two moves, the rapids, as the job ran them: as long as planned at 25 %
+    # the rapids as the board ran them, against the same moves planned at 100 % and at 25 %
     program = parse_gcode("G1 X20 F600\nG0 X60\nG0 X0\n", config.axis_names, (0.0, 0.0, 0.0))
     slow = apply_overrides(program, Overrides(rapid=25), config, (0, 0, 0))
-    full, quarter = plan_program(program, config), plan_program(slow, config)
-
-    def rapid_ticks(p: Plan) -> int:
-        return int(p.segments.numpy()["n"].astype("int64")[p.move_ends[-3] :].sum())
-
-    assert rapid_ticks(plan) == pytest.approx(rapid_ticks(quarter), rel=0.01)
-    assert rapid_ticks(plan) > 3 * rapid_ticks(full)
+    full, quarter = (
+        rapids(predict(list(plan_program(p, config).segments.segments()), axis_count=3).steps)
+        for p in (program, slow)
+    )
+    ran = rapids(read_trace(trace))
+    assert ran[1] >= 0.99 * quarter[1] and ran[1] > 3 * full[1]  # never faster than 25 %
+    if JobState.STARVED in job.states.history:  # a busy computer: a stop on the way, no faster
+        assert ran[0] >= 0.99 * quarter[0]
+    else:
+        assert ran[0] == pytest.approx(quarter[0], rel=0.01)
+    assert ran[0] > 3 * full[0]
     rows = [line.split(",") for line in outputs.read_text().splitlines()[1:]]
     changes = [(int(pins), int(duty)) for _, pins, duty in rows]
     # each byte reaches the job: the duty steps up from 50 % to 75 % (some steps may be passed by,

@@ -15,11 +15,13 @@ from tui_helpers import FAST_RELEASE, HELD_UNTIL_STOPPED, hold_key, log_text, re
 
 def make_app(
     machine: MachineConfig, emulator_binary: Path, *, free: bool, settings: JogSettings | None = None,
-    events: Path | None = None, job_path: str = "", queue: int | None = None,
+    events: Path | None = None, job_path: str = "", queue: int | None = None, trace: Path | None = None,
 ) -> QuadstepApp:
     options: dict[str, object] = {"free": free, "binary": emulator_binary}
     if queue is not None:
         options["queue"] = queue
+    if trace is not None:
+        options["trace"] = trace
     if events is not None:
         options["extra_args"] = ("--events", str(events))
     session = Session(Target(emulator=True, emulator_options=options), machine, settings,
