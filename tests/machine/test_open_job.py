@@ -5,7 +5,9 @@ given after the board was sent the end, they go on from rest."""
 
 from __future__ import annotations
 
+import gc
 import time
+import weakref
 from pathlib import Path
 
 import numpy as np
@@ -47,10 +49,16 @@ def test_lines_given_while_it_runs_go_on_without_a_stop(start_emulator, tmp_path
         whole = head + zigzag(11, 30)
         items = parse_gcode(whole, CONFIG.axis_names, (0.0, 0.0, 0.0), CONFIG.arc_tolerance).items
         assert items[: len(program.items)] == program.items
+        streams = [weakref.ref(run.plan.segments)]  # the stream of each plan the job ran
         for first in (11, 21, 31):  # ten lines at a time, each while the last ten still run
             wait_until(lambda: run.progress.line >= first - 6)
             at = len(program.items) + first - 11
             assert run.extend(items[at : at + 10], first + 10)
+            wait_until(lambda: run.plan.segments is not streams[-1]())  # planned onto the job
+            streams.append(weakref.ref(run.plan.segments))
+        gc.collect()
+        # the plans run past are let go (a long stream would keep a copy of itself per addition)
+        assert streams[0]() is None and streams[1]() is None
         run.close()
         end = run.wait(60)
         assert end is not None and end.ended_by == "done", end

@@ -87,6 +87,9 @@ class GcodeInterpreter:
         self.tool: int | None = None  # the tool T selected
         self.program = Program(coordinates=self.coords)
         self.source: list[str] = []  # the file's lines, for reading on after a probe
+        # the work offsets of the last move: the moves between two changes share one tuple (a long
+        # running job keeps every move)
+        self._offsets_in_force: tuple[float, ...] = ()
 
     # -- reading -------------------------------------------------------------
 
@@ -310,9 +313,14 @@ class GcodeInterpreter:
         return target
 
     def _offsets(self, machine: bool) -> tuple[tuple[float, ...], str]:
-        if machine:
-            return (0.0,) * len(self.axis_names), "G53"
-        return tuple(self.coords.offset(a) for a in self.axis_names), self.coords.name
+        offsets = (
+            (0.0,) * len(self.axis_names)
+            if machine
+            else tuple(self.coords.offset(a) for a in self.axis_names)
+        )
+        if offsets != self._offsets_in_force:
+            self._offsets_in_force = offsets
+        return self._offsets_in_force, "G53" if machine else self.coords.name
 
     def _move(
         self, target: list[float], feed: float | None, line: int, machine: bool = False

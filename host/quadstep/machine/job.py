@@ -13,6 +13,7 @@ Machine.run_job starts one; the CLI and the TUI both run jobs this way.
 from __future__ import annotations
 
 import threading
+from array import array
 from bisect import bisect_left
 from collections.abc import Callable, Sequence
 from dataclasses import replace
@@ -100,7 +101,7 @@ class JobRun:
         self.settle: Callable[[MotionEnd], MotionEnd] | None = None  # the machine's view of the end
         self.states = JobStates(on_change=self._note_state)
         self.lookahead = round((plan.config.host_timeout + LOOKAHEAD_S) * plan.config.tick_hz)
-        self._ticks = list(accumulate(plan.segments.n, initial=0))
+        self._ticks = array("q", accumulate(plan.segments.n, initial=0))  # 8 bytes a segment
         self._done_before = 0  # segments of the job run before the plan now streamed (a re-plan)
         self._lock = threading.Lock()
         self._resume = threading.Event()
@@ -434,7 +435,7 @@ class JobRun:
         with self._lock:
             self._done_before += self._offset
             self.plan, self._offset = streamed, 0
-            self._ticks = list(accumulate(streamed.segments.n, initial=0))
+            self._ticks = array("q", accumulate(streamed.segments.n, initial=0))
         self._move_items = MoveItems(remainder.config, remainder.start)
         self._begin_leg()
         return self._sections()

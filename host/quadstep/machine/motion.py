@@ -206,7 +206,7 @@ class Motion:
     # --- control -------------------------------------------------------------------
 
     def start(self) -> Motion:
-        follows = self._follows
+        follows, self._follows = self._follows, None  # not kept: each would keep all before it
         # after a cut motion, the board completes its segments first: `done` counts from their end
         # (and is negative while they run)
         self._base_done = (

@@ -4,6 +4,7 @@ rest again from a move without reading the program from its start each time."""
 
 from __future__ import annotations
 
+from array import array
 from bisect import bisect_left
 from dataclasses import replace
 
@@ -24,8 +25,8 @@ class MoveItems:
 
     def _reset(self) -> None:
         self._current = self.start
-        self._moves: list[int] = []  # item index of each move
-        self._outputs: list[int] = []  # item index of each SetOutputs
+        self._moves = array("i")  # item index of each move
+        self._outputs = array("i")  # item index of each SetOutputs
         self._read = 0
         self._last: Item | None = None  # the last item read, to know the program again
 
