@@ -204,7 +204,9 @@ def test_stop_during_a_long_hold_stops_at_once(start_emulator, tmp_path: Path) -
     with Link.open(emu.url) as link:
         for _ in range(20):
             link.send(Segment(n=N_MAX, axes=(cruise,)))
-        time.sleep(0.1)
+        deadline = time.monotonic() + 5
+        while link.status().state != State.RUNNING:  # under way: the hold comes to a moving axis
+            assert time.monotonic() < deadline
         future = hold_async(link, [1])  # a step per tick, losing one quantum per tick: minutes to stop
         deadline = time.monotonic() + 5
         while link.status().state != State.HOLDING:
