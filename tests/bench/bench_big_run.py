@@ -1,5 +1,6 @@
 """`quadstep run` of a large G-code file: the whole-file check's time, the time from its end to the
-first move, and the host's peak memory, on the real emulator (in real time).
+first move, the host's peak memory, and how much the running job's resident memory grows per
+1,000 lines, on the real emulator (in real time).
 
 The file is made here, line by line: rows of short G1 moves along X (0.4 mm), each row's end turned
 by a G3 half circle, as a raster-like CAM pocket. After the first move the job runs for --run-s
@@ -70,6 +71,12 @@ def peak_mb() -> float:
     return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
 
 
+def resident_mb() -> float:
+    """Resident memory now (Linux), where the peak would hide what the check freed."""
+    pages = int(Path("/proc/self/statm").read_text().split()[1])
+    return pages * resource.getpagesize() / 2**20
+
+
 def lines_per_s(feed: FileFeed, seconds: float) -> None:
     """Every `seconds` until the job ends: the line the machine is at, and the memory."""
     last, began = 0, time.monotonic()
@@ -109,13 +116,18 @@ def main() -> None:
                 feed = feed_file(machine, GcodeParts(job, config, machine.position))
                 while link.status().motion_ticks == 0:
                     time.sleep(0.005)
-                moving = time.monotonic()
+                moving, resident = time.monotonic(), resident_mb()
                 print(f"first move {moving - checked:.2f} s after the check's end")
                 lines_per_s(feed, args.run_s)
                 now = feed.run.progress
+                grown = resident_mb() - resident
                 print(
                     f"after {args.run_s:g} s: line {now.line}, {now.starvations} starvations, "
                     f"feed error {feed.error}; peak {peak_mb():.0f} MB"
+                )
+                print(
+                    f"the running job's resident memory: {grown:+.1f} MB over {now.line} lines, "
+                    f"{1000 * grown / max(now.line, 1):.2f} MB per 1,000 lines"
                 )
                 feed.run.halt("stop")
                 feed.stop()
