@@ -1,13 +1,14 @@
 """What the sender's lines ask for, planned and run on the machine in the order they came.
 
-Lines are answered `ok` as they are queued here (at most QUEUE_LINES wait, so a sender's buffer
-fills and it waits, as with GRBL's planner buffer). A job starts with the lines received so far when
-the queue is full, when the sender has been quiet for QUIET_S, or when a command needs the machine
-at rest ($H, $C, $X). It is an open job (machine/open_end.py): the lines that come while it runs are
-added to it and planned onto what the board has not been sent, with look-ahead across them, so the
-machine goes on without a stop; only the end of what was received is kept back. When the sender
-goes quiet, a command needs the machine at rest or a jog comes, the job is closed and comes to rest
-at its end. A jog (`$J=`) runs alone, as its own job."""
+Lines are answered `ok` as they are queued here (at most QUEUE_LINES wait while a job runs, so a
+sender's buffer fills and it waits, as with GRBL's planner buffer). A job starts with the lines
+received so far once they hold more motion than a running job keeps back from the board
+(queued_motion.py) or AHEAD_ITEMS of them wait, when the sender has been quiet for QUIET_S, or when
+a command needs the machine at rest ($H, $C, $X). It is an open job (machine/open_end.py): the
+lines that come while it runs are added to it and planned onto what the board has not been sent,
+with look-ahead across them, so the machine goes on without a stop; only the end of what was
+received is kept back. When the sender goes quiet, a command needs the machine at rest or a jog
+comes, the job is closed and comes to rest at its end. A jog (`$J=`) runs alone, as its own job."""
 
 from __future__ import annotations
 
@@ -23,8 +24,9 @@ from ..machine import JobRun, JobState, Machine, MachineError
 from ..planner.feed_override import Overrides, apply_overrides
 from ..planner.plan import plan_program
 from ..planner.program import Item, JobError, Program
+from .queued_motion import QueuedMotion
 
-QUEUE_LINES = 64  # lines accepted ahead of the machine
+QUEUE_LINES = 64  # lines accepted ahead of the machine while a job runs (AHEAD_ITEMS before)
 QUIET_S = 0.05  # a sender quiet this long: what it sent is run
 # a running job is closed after this long without a line (its end goes to the board anyway as the
 # board runs out of what comes before it: closing sends it at once)
@@ -71,6 +73,7 @@ class Executor:
         self._held = False  # a feed hold with nothing moving: the queue waits for cycle start
         self._flush = 0  # callers waiting for the machine at rest: run what is queued now
         self._last = time.monotonic()
+        self._motion = QueuedMotion(machine.config)  # of the lines queued before a job starts
         self.feed_override = 100  # %, for the batches planned next (overrides.py)
         self.generation = 0  # a soft reset makes a new one; work of an older one is dropped
         self._closed = False
@@ -82,10 +85,11 @@ class Executor:
     def submit(self, work: Work, generation: int) -> bool:
         """Queue `work` (waiting for room); False when a reset came first (the work is dropped)."""
         with self._cond:
-            self._cond.wait_for(lambda: len(self._queue) < QUEUE_LINES or self._stale(generation))
+            self._cond.wait_for(lambda: len(self._queue) < self._room() or self._stale(generation))
             if self._stale(generation):
                 return False
             self._queue.append(work)
+            self._motion.add(work.items)
             self._last = time.monotonic()
             self._cond.notify_all()
             return True
@@ -176,6 +180,7 @@ class Executor:
         with self._cond:
             self.generation += 1
             self._queue.clear()
+            self._motion.clear()
             self._held = False
             running = self._running
             self._cond.notify_all()
@@ -199,11 +204,16 @@ class Executor:
     def _idle(self) -> bool:
         return not self._queue and self._running is None and not self._taking
 
+    def _room(self) -> int:
+        """Under the lock: the lines the queue takes, fewer while a job runs (they go to it)."""
+        return QUEUE_LINES if self._running is not None or self._taking else AHEAD_ITEMS
+
     def _ready(self) -> float | None:
         """Under the lock: None when the head of the queue should run now, else how long to wait."""
         if not self._queue or self._held:
             return 1.0
-        if self._queue[0].jog or len(self._queue) >= QUEUE_LINES or self._flush:
+        head_runs = self._queue[0].jog or self._flush or self._motion.enough
+        if head_runs or len(self._queue) >= AHEAD_ITEMS:
             return None
         quiet = time.monotonic() - self._last
         return None if quiet >= QUIET_S else QUIET_S - quiet
@@ -238,6 +248,7 @@ class Executor:
                 works = []
                 while self._queue and not self._queue[0].jog:
                     works.append(self._queue.popleft())
+                self._motion.clear()
                 self._cond.notify_all()
             items = [item for work in works for item in work.items]
             if not run.extend(items, works[-1].line, works[-1].coordinates):
@@ -264,6 +275,7 @@ class Executor:
                 batch = []
                 while self._queue and not self._queue[0].jog:
                     batch.append(self._queue.popleft())
+                self._motion.clear()
             self._taking = True
             self._cond.notify_all()
             return batch

@@ -28,15 +28,24 @@ LEAD_S = 0.08
 STOP_MARGIN = 1.5
 
 
+def longest_stop_s(config: MachineConfig) -> float:
+    """The longest stop any axis makes from its top speed."""
+    return max(axis.max_speed / axis.max_accel for axis in config.axes)
+
+
+def kept_back_s(config: MachineConfig) -> float:
+    """The end of a running open job kept back from the board, in seconds of its motion."""
+    return STOP_MARGIN * longest_stop_s(config) + FLOOR_S
+
+
 class OpenEnd:
     """Lines taken while the job runs (thread-safe). Once closed it takes no more and the job's
     plan runs to its end; the lines taken before go on as planned."""
 
     def __init__(self, config: MachineConfig) -> None:
         hz = config.tick_hz
-        stop_s = max(axis.max_speed / axis.max_accel for axis in config.axes)
         self.floor_ticks = round(FLOOR_S * hz)
-        self.reserve_ticks = round(STOP_MARGIN * stop_s * hz) + self.floor_ticks
+        self.reserve_ticks = round(STOP_MARGIN * longest_stop_s(config) * hz) + self.floor_ticks
         self.batch = BATCH_ITEMS
         self.lead_ticks = round(LEAD_S * hz)
         self._lock = threading.Lock()
