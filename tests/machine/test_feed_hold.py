@@ -31,8 +31,9 @@ def wait_until(condition, timeout: float = 10.0) -> None:
         time.sleep(0.01)
 
 
-def check_trace(trace: Path, plan, hold: HoldDone, program) -> None:
-    """Before the hold the plan's steps, then the hold's, then the remainder's from the rest position."""
+def check_trace(trace: Path, plan, hold: HoldDone, program, run) -> None:  # noqa: ANN001
+    """Before the hold the plan's steps, then the hold's, then the remainder's from the rest position (on a
+    mismatch the job's states say whether the board ran dry on the way)."""
     segments = list(plan.segments.segments())
     stop = predict_hold(segments, hold.hold_tick, hold_decels(CONFIG), axis_count=3)
     assert stop.held is not None
@@ -40,7 +41,9 @@ def check_trace(trace: Path, plan, hold: HoldDone, program) -> None:
     before = predict(segments, axis_count=3).steps
     after = predict(remainder.segments.segments(), stop.positions, start_tick=stop.motion_ticks, axis_count=3)
     expected = np.concatenate([before[before[:, 0] <= hold.hold_tick], stop.steps, after.steps])
-    assert np.array_equal(read_trace(trace), expected)
+    got = read_trace(trace)
+    states = [s.value for s in run.states.history]
+    assert np.array_equal(got, expected), f"{len(got)} steps traced, {len(expected)} expected; job states {states}"
     assert tuple(after.positions) == plan.end
 
 
@@ -69,7 +72,7 @@ def test_a_feed_hold_keeps_the_job_and_resume_finishes_it_exactly(start_emulator
         assert run.states.history == [JobState.STREAMING, JobState.HELD, JobState.RESUMING,
                                       JobState.STREAMING, JobState.DONE]
     emu.stop()
-    check_trace(trace, job.plan, hold, job.program)
+    check_trace(trace, job.plan, hold, job.program, run)
 
 
 def test_the_feed_hold_button_holds_and_cycle_start_resumes(start_emulator, tmp_path: Path) -> None:
@@ -98,7 +101,7 @@ def test_the_feed_hold_button_holds_and_cycle_start_resumes(start_emulator, tmp_
     rows = np.loadtxt(trace, delimiter=",", skiprows=1, ndmin=2)[:, :3].astype(np.int64)  # (with motor, carriage)
     check_trace_rows = tmp_path / "steps.csv"
     np.savetxt(check_trace_rows, rows, delimiter=",", fmt="%d", header="tick,axis,direction", comments="")
-    check_trace(check_trace_rows, job.plan, hold, job.program)
+    check_trace(check_trace_rows, job.plan, hold, job.program, run)
 
 
 def test_quadstep_run_holds_on_sigusr1_and_resumes_on_sigusr2(start_emulator, tmp_path: Path) -> None:
