@@ -12,10 +12,18 @@ void step_timer_init(void);
  * interrupts off: the next match runs the whole tick, as it would have.
  * A match that fell due meanwhile set both flags (B's unserved): A's then
  * runs at once; else A's flag is stale (the resting ticks served every
- * match so far) and goes. */
+ * match so far) and goes. A match between that look and the clear would
+ * lose its tick, so both happen away from a match: a wake in the last
+ * cycles of a tick, or the first few of the next, waits them out. */
+#define STEP_TIMER_WAKE_BEFORE_MATCH 32 /* cycles: the last look at the count to the clear, 18 */
+#define STEP_TIMER_WAKE_AFTER_MATCH 8   /* cycles: the flags are up by then */
 static inline __attribute__((always_inline)) void step_timer_wake(void)
 {
     if (TIMSK1 & _BV(OCIE1B)) {
+        uint16_t count;
+        do
+            count = TCNT1;
+        while (count < STEP_TIMER_WAKE_AFTER_MATCH || OCR1A - count < STEP_TIMER_WAKE_BEFORE_MATCH);
         if (!(TIFR1 & _BV(OCF1B)))
             TIFR1 = _BV(OCF1A);
         TIMSK1 = _BV(OCIE1A);

@@ -9,9 +9,13 @@ from __future__ import annotations
 import subprocess
 from pathlib import Path
 
+import numpy as np
 import pytest
 
-from avr_sim import F_CPU, Outputs, elf_path, harness
+import avr_scenarios
+from avr_sim import F_CPU, REPO, Outputs, elf_path, harness, run_feed
+from quadstep.kernel.engine_model import predict
+from quadstep.kernel.fixed import D
 from quadstep.protocol import Config, Input, encode
 
 REST_CYCLES = 23  # the resting tick, interrupt entry and exit included
@@ -100,3 +104,40 @@ def test_a_debounce_in_progress_runs_the_whole_tick_every_tick(avr_build: None,
     # each of those ticks: the whole tick and the inputs' rare path (the window's count)
     per_tick = REST_CYCLES + (debounced["isr_cycles"] - at_once["isr_cycles"]) / (DEBOUNCE - 1)
     assert round(per_tick) == 345, per_tick
+
+
+
+WAKE_TICK_HZ = 40_000  # a rate at which the main loop's report after a stream can fall on a match
+
+
+def stream(count: int) -> list:
+    """A dwell, then `count` segments of 256 ticks, three axes stepping every tick (Y backwards)."""
+    b = avr_scenarios.ChainBuilder(3)
+    dirs = {0: 1, 1: -1, 2: 1}
+    segments = [avr_scenarios.dwell()]
+    segments += [b.segment(256, {a: (dirs[a], D, D) for a in range(3)}) for _ in range(count - 1)]
+    segments.append(b.segment(256, {a: (dirs[a], D, 0) for a in range(3)}))
+    return segments
+
+
+def test_a_wake_from_rest_as_a_match_falls_due_loses_no_tick(avr_build: None,
+                                                             tmp_path: Path) -> None:
+    """A byte to send, or a segment queued, ends the rest (step_timer_wake): it looks at the timer's
+    flags and clears the stale one. A match between the look and the clear would lose its tick.
+    Streams of several lengths end at rest, and the board's last reports wake the tick at
+    different moments of it; on the Uno built for 40 kHz, the stream of 16 segments wakes it
+    on the match (the wake's look once cleared that match's own flag there: a tick lost)."""
+    build = tmp_path / "build"
+    subprocess.run(["make", "-C", str(REPO), "-s", "firmware", f"BUILD={build}",
+                    f"AVR_TICK_HZ={WAKE_TICK_HZ}"], capture_output=True, check=True)
+    for count in range(8, 25):
+        segments = stream(count)
+        frames = b"".join(encode(s, i) for i, s in enumerate(segments))
+        outputs = Outputs.in_dir(tmp_path, f"n{count}")
+        stats = run_feed(frames, outputs, elf=build / "avr" / "uno.elf", max_cycles=F_CPU // 3)
+        assert stats["tick_cycles"] == F_CPU // WAKE_TICK_HZ
+        assert stats["feed"]["accepted"] == len(segments), (count, stats["feed"])
+        motion = stats["motion"]
+        assert motion["ticks_missed"] == 0, (count, motion)
+        assert motion["tick_late_max"] <= stats["tick_cycles"] // 4, (count, motion)
+        assert np.array_equal(outputs.load_trace(), predict(segments, axis_count=3).steps), count
