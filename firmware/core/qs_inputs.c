@@ -145,18 +145,19 @@ QS_NOINLINE uint8_t qs_inputs_update(qs_inputs *in, qs_engine *e, uint16_t raw)
 void qs_inputs_configure(qs_inputs *in, qs_engine *e, uint16_t invert, uint16_t enabled, uint8_t hard_limits,
                          const uint8_t *debounce, const uint16_t *hold_decel)
 {
-    uint8_t saved = qs_port_lock();
-    uint16_t at_once = 0;
-    uint8_t i;
+    uint16_t at_once = 0, bit = 1;
+    uint8_t saved, i;
 
+    /* Worked out before the lock, which holds the tick off: under a tick's length. */
+    for (i = 0; i < QS_INPUT_COUNT; i++, bit = (uint16_t)(bit << 1))
+        if (debounce[i] == 0)
+            at_once |= bit;
+    saved = qs_port_lock();
     in->invert = invert & in->present;
     in->enabled = enabled & in->present;
     in->hard_limits = hard_limits;
-    for (i = 0; i < QS_INPUT_COUNT; i++) {
+    for (i = 0; i < QS_INPUT_COUNT; i++)
         in->debounce[i] = debounce[i];
-        if (debounce[i] == 0)
-            at_once |= BIT(i);
-    }
     in->at_once = at_once;
     for (i = 0; i < QS_AXIS_COUNT; i++)
         e->stop_decel[i] = hold_decel[i]; /* every hold the firmware begins itself */
