@@ -63,7 +63,15 @@
  * flag holds it, and A serves it; A's flag is looked at again after B's is
  * cleared, as a match between the two would leave only A's up. The rest
  * ends in the resting tick (a byte received, an input changed) or by
- * step_timer_wake. */
+ * step_timer_wake. The resting tick looks for a byte once a tick, the whole
+ * one twice where bytes come faster than one a tick (uart.c): so the tick
+ * rests only where a tick and the look after the rest end take less than
+ * two byte times (the receiver holds two bytes); else (25 kHz at 500000
+ * baud, the Mega's default) a byte could come in as the third while two
+ * wait, and be lost. */
+#define BYTE_CYCLES (F_CPU * 10UL / (QS_BAUD))
+#define REST_LOOK_CYCLES 32 /* from the resting tick's match to the whole tick's first look */
+#if TICK_CYCLES + REST_LOOK_CYCLES < 2UL * BYTE_CYCLES
 #define QS_ENGINE_RESTING()                                                                                   \
     do {                                                                                                      \
         if (!uart_tx_pending && !(PCIFR & QS_INPUT_FLAGS) && !(TIFR1 & _BV(OCF1A))) {                         \
@@ -74,6 +82,7 @@
             }                                                                                                 \
         }                                                                                                     \
     } while (0)
+#endif
 
 /* axis_tick.h first: it puts the AVR's own per-axis decisions in place of
  * the core's (the QS_*_AXIS_TICK hooks of qs_engine_tick.h). */
