@@ -24,6 +24,7 @@ void qs_engine_init(qs_engine *e, uint8_t queue_capacity)
     e->segments_done = 0;
     e->hold.moving = 0;
     e->hold.planned_n = 0;
+    e->hold.predicted_slot = 0;
     e->held = 0;
     e->held_t0 = 0;
     e->hold_tick = 0;
@@ -511,9 +512,13 @@ static void begin_trigger_hold(qs_engine *e)
         return;
     }
     at_end = begin_slot(e, s);
-    if (e->hold.planned_n != hold_key(s))
-        qs_hold_plan(&e->hold, hold_key(s), e->trigger_decel);
-    moving = qs_hold_begin(&e->hold, s, at_end);
+    if (!at_end && qs_hold_is_predicted(&e->hold, s, e->left)) {
+        moving = qs_hold_begin_predicted(&e->hold, s);
+    } else {
+        if (e->hold.planned_n != hold_key(s))
+            qs_hold_plan(&e->hold, hold_key(s), e->trigger_decel);
+        moving = qs_hold_begin(&e->hold, s, at_end);
+    }
     e->holds_begun++;
     e->state = QS_STATE_HOLDING;
     e->slow_path = 1;
@@ -562,7 +567,7 @@ static QS_ALWAYS_INLINE uint8_t open_hold_window(qs_engine *e)
         e->trigger_window = QS_TRIGGER_PLAN;
         return 1;
     }
-    e->hold.planned_n = 0;
+    e->hold.planned_n = 0; /* and the plan, made again, drops a prediction */
     e->trigger_window = QS_TRIGGER_PLAN | QS_TRIGGER_PLAN_AT;
     if (e->left)
         cut_for_trigger(e); /* else the next segment, begun by the next tick, is cut as it begins */
@@ -591,6 +596,12 @@ static void defer_past_begin(qs_engine *e)
     uint8_t wait = e->trigger_window & QS_TRIGGER_WAIT;
     uint8_t work = e->trigger_window & (uint8_t)~QS_TRIGGER_WAIT;
 
+    if (work == QS_TRIGGER_PREDICT && (wait < 2 || e->hold.planned_n != hold_key(e->seg))) {
+        /* No prediction where it would be deferred or the plan is for
+         * another length: the beginning is due when it would have been. */
+        work = QS_TRIGGER_BEGIN;
+        wait = (uint8_t)(wait + QS_TRIGGER_TICKS - QS_TRIGGER_PREDICT_AT);
+    }
     if (work == QS_TRIGGER_BEGIN && e->hold.planned_n != hold_key(e->seg))
         work = QS_TRIGGER_PLAN;
     if (wait < 2)
@@ -600,6 +611,8 @@ static void defer_past_begin(qs_engine *e)
 
 void qs_engine_trigger_split_in_tick(qs_engine *e)
 {
+    const uint8_t after_decisions = !e->left; /* else before the first of a segment just begun */
+
     if (!e->left) {
         /* The count ran out: where the window cut it, or at the segment's
          * end. The next segment is the next tick's to begin (the last
@@ -623,9 +636,22 @@ void qs_engine_trigger_split_in_tick(qs_engine *e)
             begin_trigger_hold(e);
             return;
         }
-        /* The plan, for the slot that runs now: usually the one held. */
-        qs_hold_plan(&e->hold, hold_key(e->seg), e->trigger_decel);
-        e->trigger_window = QS_TRIGGER_BEGIN | (QS_TRIGGER_TICKS - QS_TRIGGER_PLAN_AT);
+        if (e->trigger_window == QS_TRIGGER_PLAN) {
+            /* The plan, for the slot that runs now: usually the one held. */
+            qs_hold_plan(&e->hold, hold_key(e->seg), e->trigger_decel);
+            e->trigger_window = QS_TRIGGER_PREDICT | (QS_TRIGGER_PREDICT_AT - QS_TRIGGER_PLAN_AT);
+            cut_for_trigger(e);
+            return;
+        }
+        /* The beginning is next. Cut in this slot, the hold begins where
+         * the cut's count runs out: all but the rescale of h is done now,
+         * out of that tick. */
+        e->trigger_window = QS_TRIGGER_BEGIN | (QS_TRIGGER_TICKS - QS_TRIGGER_PREDICT_AT);
+        cut_for_trigger(e);
+        if (after_decisions && e->trigger_window == QS_TRIGGER_BEGIN && e->trigger_rest && !e->seg->cubic
+            && e->hold.planned_n == e->seg->n)
+            qs_hold_predict(&e->hold, e->seg, (uint8_t)e->left, e->trigger_rest);
+        return;
     }
     cut_for_trigger(e);
 }

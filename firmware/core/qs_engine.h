@@ -64,7 +64,7 @@ typedef struct {
      * hold begins. The window cuts the running segment's count where the
      * rare work is due (left runs out there, trigger_rest ticks of the
      * segment are still to come), so the ticks in between pay nothing. */
-    uint8_t trigger_window;  /* 0: no window; else the work due (QS_TRIGGER_PLAN or _BEGIN) and, in
+    uint8_t trigger_window;  /* 0: no window; else the work due (QS_TRIGGER_PLAN, _PREDICT or _BEGIN) and, in
                               * QS_TRIGGER_WAIT bits, the decisions from the current cut's end to it */
     union {
         uint16_t trigger_since; /* armed: segments_done then (low bits): the armed motion has run once it moves on */
@@ -173,7 +173,8 @@ void qs_engine_freeze_in_tick(qs_engine *e, uint8_t alarm);
  * hold begins with the armed decelerations, exactly the hold a HOLD at
  * that tick boundary would begin; the queued segments are dropped when it
  * ends. The window spreads the hold's work so that no tick runs long: its
- * plan after QS_TRIGGER_PLAN_AT decisions, its beginning at the end. Else
+ * plan after QS_TRIGGER_PLAN_AT decisions, the increments it will begin
+ * with after QS_TRIGGER_PREDICT_AT, its beginning at the end. Else
  * (nothing to hold) 0. */
 uint8_t qs_engine_trigger_in_tick(qs_engine *e);
 
@@ -186,8 +187,10 @@ void qs_engine_trigger_split_in_tick(qs_engine *e);
 #define QS_TRIGGER_TICKS 12
 #endif
 #define QS_TRIGGER_PLAN_AT (QS_TRIGGER_TICKS / 2)
-#define QS_TRIGGER_PLAN 0x40  /* trigger_window: the hold's plan is due */
-#define QS_TRIGGER_BEGIN 0x80 /* the hold's beginning is due */
+#define QS_TRIGGER_PREDICT_AT ((QS_TRIGGER_PLAN_AT + QS_TRIGGER_TICKS) / 2)
+#define QS_TRIGGER_PLAN 0x40    /* trigger_window: the hold's plan is due */
+#define QS_TRIGGER_BEGIN 0x80   /* the hold's beginning is due */
+#define QS_TRIGGER_PREDICT 0xC0 /* its increments, for the tick that begins it (qs_hold_predict) */
 #define QS_TRIGGER_WAIT 0x3F
 _Static_assert(QS_TRIGGER_TICKS <= QS_TRIGGER_WAIT, "a window's length fits its count");
 

@@ -42,6 +42,7 @@ void qs_hold_plan(qs_hold *hd, uint16_t n, const uint16_t *decel)
     }
     hd->ticks = 0;
     hd->planned_n = n;
+    hd->predicted_slot = 0;
 }
 
 /* x * 2^shift, for a result known to fit, with x moved up a byte already
@@ -150,25 +151,72 @@ static QS_NOINLINE uint8_t begin_at_end(qs_hold *hd, const qs_segment *s)
     return moving;
 }
 
-uint8_t qs_hold_begin(qs_hold *hd, const qs_segment *s, uint8_t at_end)
+/* One axis's increment `decisions` on: b then is b + decisions * db
+ * (times_k: a small product that fits). */
+static QS_ALWAYS_INLINE uint8_t predict_axis(qs_hold *hd, const qs_segment *s, uint8_t axis, uint8_t bytes,
+                                            uint8_t k, uint8_t decisions)
+{
+    qs_i24 next;
+
+    if (!(s->active & (1u << axis)))
+        return 0;
+    next = s->b[axis] - s->db[axis] + s->two_c2;
+    if (decisions)
+        next += times_k((qs_u24)s->db[axis], decisions);
+    if (next <= 0)
+        return 0;
+    hd->inc[axis] = scaled(next, bytes, k) + hd->db[axis];
+    return (uint8_t)(1u << axis);
+}
+
+QS_NOINLINE void qs_hold_predict(qs_hold *hd, const qs_segment *s, uint8_t decisions, uint16_t left)
 {
     const uint8_t bytes = hd->shift & 8, k = hd->bits_k;
-    uint8_t moving;
+    uint8_t moving = predict_axis(hd, s, 0, bytes, k, decisions);
 
+#if QS_AXIS_COUNT > 1
+    moving |= predict_axis(hd, s, 1, bytes, k, decisions);
+#endif
+#if QS_AXIS_COUNT > 2
+    moving |= predict_axis(hd, s, 2, bytes, k, decisions);
+#endif
+#if QS_AXIS_COUNT > 3
+    moving |= predict_axis(hd, s, 3, bytes, k, decisions);
+#endif
+    hd->predicted_moving = moving;
+    hd->predicted_left = left;
+    hd->predicted_slot = s;
+}
+
+uint8_t qs_hold_begin_predicted(qs_hold *hd, const qs_segment *s)
+{
+    const uint8_t bytes = hd->shift & 8, k = hd->bits_k, moving = hd->predicted_moving;
+
+    if (moving & 1u)
+        hd->h[0] = scaled(s->h[0], bytes, k);
+#if QS_AXIS_COUNT > 1
+    if (moving & 2u)
+        hd->h[1] = scaled(s->h[1], bytes, k);
+#endif
+#if QS_AXIS_COUNT > 2
+    if (moving & 4u)
+        hd->h[2] = scaled(s->h[2], bytes, k);
+#endif
+#if QS_AXIS_COUNT > 3
+    if (moving & 8u)
+        hd->h[3] = scaled(s->h[3], bytes, k);
+#endif
+    hd->predicted_slot = 0;
+    return moving;
+}
+
+uint8_t qs_hold_begin(qs_hold *hd, const qs_segment *s, uint8_t at_end)
+{
     if (s->cubic)
         return begin_cubic(hd, s, at_end);
     if (at_end)
         return begin_at_end(hd, s);
-    moving = begin_axis(hd, s, 0, bytes, k, 0);
-
-#if QS_AXIS_COUNT > 1
-    moving |= begin_axis(hd, s, 1, bytes, k, 0);
-#endif
-#if QS_AXIS_COUNT > 2
-    moving |= begin_axis(hd, s, 2, bytes, k, 0);
-#endif
-#if QS_AXIS_COUNT > 3
-    moving |= begin_axis(hd, s, 3, bytes, k, 0);
-#endif
-    return moving;
+    /* Mid-segment: the hold predicted for this very decision. */
+    qs_hold_predict(hd, s, 0, 0);
+    return qs_hold_begin_predicted(hd, s);
 }

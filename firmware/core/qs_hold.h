@@ -33,6 +33,11 @@ typedef struct {
     uint16_t planned_n;
     uint8_t shift;
     uint8_t bits_k;              /* 2^(shift mod 8): the rescale's multiplier */
+    /* A trigger's hold predicted at its plan (qs_hold_predict): inc is
+     * set already for a hold begun in this slot with this count left. */
+    const qs_segment *predicted_slot; /* 0: none */
+    uint16_t predicted_left;
+    uint8_t predicted_moving;
 } qs_hold;
 
 /* A cubic segment's hold runs in the scale 2^22 = 2*512*D: planned as for
@@ -61,5 +66,23 @@ void qs_hold_plan(qs_hold *hd, uint16_t n, const uint16_t *decel);
  * is at rest already); setting moving, which starts the tick on the hold,
  * is the caller's. */
 uint8_t qs_hold_begin(qs_hold *hd, const qs_segment *s, uint8_t at_end);
+
+/* In a trigger's window, a few decisions before its hold begins (the tick,
+ * with the plan made for s): the increments a hold begun `decisions`
+ * decisions on in the quadratic slot s will start from (b gains db with
+ * each), set in inc now, so that the tick that begins it rescales h alone
+ * (qs_hold_begin_predicted), with `left` of the slot's count then to go.
+ * qs_hold_plan drops a prediction. */
+void qs_hold_predict(qs_hold *hd, const qs_segment *s, uint8_t decisions, uint16_t left);
+
+/* Whether the hold beginning now in s, with `left` of its count to go, is
+ * the one predicted. */
+static inline uint8_t qs_hold_is_predicted(const qs_hold *hd, const qs_segment *s, uint16_t left)
+{
+    return s == hd->predicted_slot && left == hd->predicted_left;
+}
+
+/* qs_hold_begin for the predicted hold: the positions h rescaled. */
+uint8_t qs_hold_begin_predicted(qs_hold *hd, const qs_segment *s);
 
 #endif
