@@ -609,10 +609,21 @@ static void defer_past_begin(qs_engine *e)
     e->trigger_window = (uint8_t)(work | wait);
 }
 
+/* Cut for the window's next work; where that is the hold's beginning and
+ * the cut is in this slot, the hold begins where its count runs out, after
+ * `left` more decisions: all but the rescale of h is done now, out of that
+ * tick (b gains db with each decision; left counts this tick's too when it
+ * is still to come, as in the tick that loads a segment). */
+static QS_ALWAYS_INLINE void cut_and_predict(qs_engine *e)
+{
+    cut_for_trigger(e);
+    if (e->trigger_window == QS_TRIGGER_BEGIN && e->trigger_rest && !e->seg->cubic
+        && e->hold.planned_n == e->seg->n)
+        qs_hold_predict(&e->hold, e->seg, (uint8_t)e->left, e->trigger_rest);
+}
+
 void qs_engine_trigger_split_in_tick(qs_engine *e)
 {
-    const uint8_t after_decisions = !e->left; /* else before the first of a segment just begun */
-
     if (!e->left) {
         /* The count ran out: where the window cut it, or at the segment's
          * end. The next segment is the next tick's to begin (the last
@@ -643,17 +654,12 @@ void qs_engine_trigger_split_in_tick(qs_engine *e)
             cut_for_trigger(e);
             return;
         }
-        /* The beginning is next. Cut in this slot, the hold begins where
-         * the cut's count runs out: all but the rescale of h is done now,
-         * out of that tick. */
+        /* The increments, worked out as the cut for the beginning is made. */
         e->trigger_window = QS_TRIGGER_BEGIN | (QS_TRIGGER_TICKS - QS_TRIGGER_PREDICT_AT);
-        cut_for_trigger(e);
-        if (after_decisions && e->trigger_window == QS_TRIGGER_BEGIN && e->trigger_rest && !e->seg->cubic
-            && e->hold.planned_n == e->seg->n)
-            qs_hold_predict(&e->hold, e->seg, (uint8_t)e->left, e->trigger_rest);
+        cut_and_predict(e);
         return;
     }
-    cut_for_trigger(e);
+    cut_and_predict(e); /* a beginning carried into a segment begun in the window is predicted here */
 }
 
 /* ---- inputs, main loop ---- */

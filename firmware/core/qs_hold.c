@@ -160,9 +160,7 @@ static QS_ALWAYS_INLINE uint8_t predict_axis(qs_hold *hd, const qs_segment *s, u
 
     if (!(s->active & (1u << axis)))
         return 0;
-    next = s->b[axis] - s->db[axis] + s->two_c2;
-    if (decisions)
-        next += times_k((qs_u24)s->db[axis], decisions);
+    next = s->b[axis] - s->db[axis] + s->two_c2 + times_k((qs_u24)s->db[axis], decisions);
     if (next <= 0)
         return 0;
     hd->inc[axis] = scaled(next, bytes, k) + hd->db[axis];

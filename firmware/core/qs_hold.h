@@ -33,7 +33,7 @@ typedef struct {
     uint16_t planned_n;
     uint8_t shift;
     uint8_t bits_k;              /* 2^(shift mod 8): the rescale's multiplier */
-    /* A trigger's hold predicted at its plan (qs_hold_predict): inc is
+    /* A trigger's hold predicted in its window (qs_hold_predict): inc is
      * set already for a hold begun in this slot with this count left. */
     const qs_segment *predicted_slot; /* 0: none */
     uint16_t predicted_left;

@@ -294,6 +294,48 @@ static void test_random_holds_follow_their_closed_form(void)
     }
 }
 
+/* The window's end falls just past a segment's end: its beginning is due
+ * in the next segment (of the same length, so the plan holds), a few
+ * decisions in, and the increments it begins with are worked out in the
+ * tick that loads that segment. Random speeds, so b changes every tick. */
+static void test_holds_due_just_past_a_segment_boundary_follow_their_closed_form(void)
+{
+    int i;
+    for (i = 0; i < 300; i++) {
+        qs_segment_msg a, b;
+        uint16_t decel[QS_AXIS_COUNT];
+        const uint16_t n = (uint16_t)(20 + tp_rand(QS_N_MAX - 19));
+        /* decisions left in a once the increments are due: 0 to 4 */
+        const uint16_t left = (uint16_t)tp_rand(5);
+        const uint16_t t = (uint16_t)(n - QS_TRIGGER_PREDICT_AT - left);
+        /* With a's last decisions too few to cut for the increments (a cut
+         * never leaves a single tick), they are due as b begins and the
+         * beginning stays three on; else it is due at b's second decision
+         * (a segment's first takes no work). */
+        const uint16_t t0 = left < 2 ? QS_TRIGGER_TICKS - QS_TRIGGER_PREDICT_AT : 2;
+        uint16_t ticks = t;
+        int32_t made[QS_AXIS_COUNT];
+        uint8_t axis, outcome;
+        uint16_t k;
+
+        qs_engine_init(&engine, QS_QUEUE_CAPACITY);
+        random_segment(&a, n);
+        random_segment(&b, n);
+        for (axis = 0; axis < QS_AXIS_COUNT; axis++)
+            decel[axis] = (uint16_t)(2000 + tp_rand(QS_DECEL_MAX - 1999));
+        enqueue(&a);
+        enqueue(&b);
+        for (k = 0; k < t; k++)
+            qs_engine_tick(&engine);
+        outcome = hold_through_window(decel, &ticks);
+        TEST_ASSERT_EQUAL_UINT16(n + t0, ticks);
+        if (outcome == QS_HOLD_AT_REST)
+            continue; /* b at rest there: nothing to hold */
+        TEST_ASSERT_EQUAL_INT(QS_HOLD_STARTED, outcome);
+        run_hold_checked(&b, t0, decel, made);
+    }
+}
+
 /* A status read at any tick of a hold gives the steps made so far. */
 static void test_positions_are_exact_at_every_tick_of_a_hold(void)
 {
@@ -613,6 +655,7 @@ int main(void)
     RUN_TEST(test_the_rescale_is_the_largest_power_of_two_within_n_max);
     RUN_TEST(test_the_deceleration_quantum_is_the_floor_and_never_zero);
     RUN_TEST(test_random_holds_follow_their_closed_form);
+    RUN_TEST(test_holds_due_just_past_a_segment_boundary_follow_their_closed_form);
     RUN_TEST(test_positions_are_exact_at_every_tick_of_a_hold);
     RUN_TEST(test_hold_values_stay_within_24_bits);
     RUN_TEST(test_stop_detection_at_the_edges);
