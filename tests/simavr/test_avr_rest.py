@@ -108,7 +108,6 @@ def test_a_debounce_in_progress_runs_the_whole_tick_every_tick(avr_build: None,
     assert round(per_tick) == 345, per_tick
 
 
-
 def test_where_a_tick_lasts_two_byte_times_the_tick_does_not_rest(avr_build: None,
                                                                   tmp_path: Path) -> None:
     """The Mega's default, 25 kHz at 500000 baud: a tick is 640 cycles, two byte times. The
