@@ -85,7 +85,7 @@ def lines_per_s(feed: FileFeed, seconds: float) -> None:
         now = feed.run.progress
         print(
             f"  {time.monotonic() - began:5.0f} s: line {now.line} ({now.line - last} more), "
-            f"{now.starvations} starvations; peak {peak_mb():.0f} MB",
+            f"{now.starvations} starvations; resident {resident_mb():.1f} MB, peak {peak_mb():.0f} MB",
             flush=True,
         )
         last = now.line

@@ -18,6 +18,7 @@ from quadstep.job import load_job
 from quadstep.job_scan import GcodeParts, scan_job
 from quadstep.link import Link
 from quadstep.machine import JobRun, JobState, Machine
+from quadstep.machine import job as job_module
 from quadstep.machine.file_feed import feed_file
 
 REPO = Path(__file__).resolve().parents[2]
@@ -45,8 +46,8 @@ def test_a_streamed_file_ends_on_its_targets_as_predicted(
     start_emulator, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
     """Where the feed falls behind (a loaded computer), the machine comes to rest at the end of what
-    it was given and the job goes on from there (a leg from rest, or a job after it): the stream as
-    sent is every such leg's plan in turn."""
+    it was given and the job goes on from there (a leg from rest, or a job after it); a long job
+    lets go of what ran (machine/rebase.py): the stream as sent is every such leg's plan in turn."""
     job = tmp_path / "long.gcode"
     job.write_text(back_and_forth(LINES, 0.2))
     trace = tmp_path / "trace.csv"
@@ -60,6 +61,13 @@ def test_a_streamed_file_ends_on_its_targets_as_predicted(
         return next_leg(run, here)
 
     monkeypatch.setattr(JobRun, "_next_leg", leg_ran)
+    let_go = job_module.rebased
+
+    def let_go_of_what_ran(plan, at):  # a long job lets go of what ran: that part was sent
+        sent.extend(plan.segments.segments(0, at.index))
+        return let_go(plan, at)
+
+    monkeypatch.setattr(job_module, "rebased", let_go_of_what_ran)
     runs: list[JobRun] = []
     with Link.open(emu.url) as link:
         machine = Machine(link, CONFIG)

@@ -44,6 +44,9 @@ class BaseStream:
     item: Items | SegmentArrays
     # mixed streams: the chain before each segment
     chains: list[CubicChain] = field(default_factory=list)
+    # the firmware's chain where the stream begins, when it goes on from a stream before it (None:
+    # at rest, e = 0)
+    entry: CubicChain | None = None
     start: np.ndarray = field(init=False)  # (S + 1,) first tick of each segment
     position: np.ndarray = field(init=False)  # (S + 1, A) stepper before each segment, from 0
 
@@ -110,17 +113,19 @@ class BaseStream:
     # --- the firmware's state -----------------------------------------------------------------
 
     def chain_before(self, k: int) -> CubicChain:
-        """The firmware's chain before segment k, given the chain at the stream's start was at rest
-        with e = 0 (the stage begins every compensated stream with a segment that makes it so)."""
+        """The firmware's chain before segment k, given the chain at the stream's start: `entry`,
+        else at rest with e = 0 (the stage begins every compensated stream that does not go on from
+        another with a segment that makes it so)."""
         if self.chains:
             return self.chains[k].copy()
-        chain = CubicChain(self.axis_count)
+        chain = self.entry.copy() if self.entry is not None else CubicChain(self.axis_count)
         if k == 0:
             return chain
         a = self._arrays
         for axis in range(self.axis_count):
             j = int(self._last_named[k - 1, axis])
-            if j < 0:
+            if j < 0:  # not named since the start: at rest there, e carried
+                chain.axes[axis].i = chain.axes[axis].d = 0
                 continue
             v0, vn, r = int(a["v0"][j, axis]), int(a["vn"][j, axis]), int(a["r"][j, axis])
             n = int(a["n"][j])
@@ -128,6 +133,7 @@ class BaseStream:
             state.e = (r + n * (v0 + vn) - 2 * D * abs(int(self.steps[j, axis]))) << 18
             state.direction = -1 if int(a["axes"][j]) & (16 << axis) else 1
             state.i = vn << 19 if j == k - 1 else 0
+            state.d = 0
         return chain
 
 
@@ -138,8 +144,8 @@ def _quadratic_advance(n: int, mv: AxisMove, skip: int) -> Poly:
     return sign * ((mv.v0 << 19) + slope * (2 * skip + 1)), sign * 2 * slope, Fraction(0)
 
 
-def from_arrays(arrays: SegmentArrays) -> BaseStream:
-    """The planner's quadratic segments, read with numpy."""
+def from_arrays(arrays: SegmentArrays, entry: CubicChain | None = None) -> BaseStream:
+    """The planner's quadratic segments, read with numpy (`entry`: the chain they go on from)."""
     a = arrays.numpy()
     count = arrays.axis_count
     n = a["n"].astype(np.int64)
@@ -153,7 +159,7 @@ def from_arrays(arrays: SegmentArrays) -> BaseStream:
     still_end = np.all(~active | (vn == 0), axis=1)
     still_start = np.all(~active | (v0 == 0), axis=1)
     rest = np.concatenate([[True], still_end]) & np.concatenate([still_start, [True]])
-    return BaseStream(count, n, steps.astype(np.int64), accel, rest, arrays)
+    return BaseStream(count, n, steps.astype(np.int64), accel, rest, arrays, entry=entry)
 
 
 def from_items(items: Items, axis_count: int) -> BaseStream:

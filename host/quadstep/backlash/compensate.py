@@ -84,6 +84,8 @@ class Compensated:
     windows: list[Window] = field(default_factory=list)
     pauses: list[tuple[int, int]] = field(default_factory=list)
     added_ticks: int = 0
+    # the firmware's chain where the stream begins, when it goes on from another (machine/rebase.py)
+    entry: CubicChain | None = None
 
     def band_at(self, tick: int, moved: Sequence[int] | None = None) -> Band:
         """The band after `tick` motion ticks of the stream — and, given `moved` (each motor's steps
@@ -283,13 +285,16 @@ def compensate(
 
 
 def unchanged(
-    segments: SegmentArrays | Stream, band: Band, pauses: Sequence[tuple[int, int]]
+    segments: SegmentArrays | Stream,
+    band: Band,
+    pauses: Sequence[tuple[int, int]],
+    entry: CubicChain | None = None,
 ) -> Compensated:
     """A planned stream without take-ups (none placed, or a band without backlash): its segments
     as they are."""
     out = Stream(segments)
     out.add_bases(0, len(segments))
-    return Compensated(out, band, band, pauses=list(pauses))
+    return Compensated(out, band, band, pauses=list(pauses), entry=entry)
 
 
 def _assemble(
@@ -301,7 +306,7 @@ def _assemble(
     pauses: list[tuple[int, int]],
 ) -> Compensated:
     if not placed and isinstance(base.item, (SegmentArrays, Stream)):
-        return replace(unchanged(base.item, band, pauses), band_end=band_end)
+        return replace(unchanged(base.item, band, pauses, base.entry), band_end=band_end)
     count = len(base)
     blocks, inserted, anchor, seg_start = _time_line(base, placed)
     units = _units(base, blocks, seg_start)
@@ -314,7 +319,9 @@ def _assemble(
         if isinstance(item, (SegmentArrays, Stream))
         else Stream(list(item), axes=base.axis_count)
     )
-    result = Compensated(out, band, band_end, added_ticks=int(inserted[-1]) + anchor)
+    result = Compensated(
+        out, band, band_end, added_ticks=int(inserted[-1]) + anchor, entry=base.entry
+    )
     taken = [0] * base.axis_count  # take-up steps of the windows so far
     if anchor:
         out.add(
@@ -407,7 +414,8 @@ def _time_line(
     inserted = np.zeros(len(base) + 1, dtype=np.int64)  # ticks inserted at boundaries ≤ b
     for b, length in blocks.items():
         inserted[b:] += length
-    anchor = 1 if placed else 0
+    # a stream from rest begins at rest on the ideal (e = 0); one that goes on from another cannot
+    anchor = 1 if placed and base.entry is None else 0
     # motion tick each base segment starts at in the stream
     seg_start = base.start + inserted + anchor
     for p in placed:

@@ -42,6 +42,7 @@ from .motion import CUT, STARVED, Motion, MotionEnd, bring_to_rest
 from .move_items import MoveItems
 from .open_end import OpenEnd, settled_moves
 from .override import Swap, replan_running
+from .rebase import Rebase, find, rebased
 from .restream import Restream
 from .speed_overrides import SpeedOverrides
 from .takeups import StreamPlan
@@ -115,6 +116,7 @@ class JobRun:
         self._speeds = speed_overrides  # the rapid and spindle overrides wanted (the machine's)
         self._planned = self._wanted()  # those the plan has from the first segment not sent on
         self._swap: Swap | None = None  # the plan to go on with where the running motion was cut
+        self._rebase: Rebase | None = None  # where the swap's plan begins in the running one
         self._wake = threading.Event()  # the motion ended, or an override changed
         self._hold_pending = False  # a feed hold asked for while one motion hands over to the next
         # a job that extend() adds to while it runs (a sender's stream), and the program's items the
@@ -471,18 +473,29 @@ class JobRun:
         while True:
             end = self._sections_from(begin, follows)
             if end.ended_by != CUT or self._swap is None:
-                self._swap = None  # made as the motion ran out: what it planned is planned again
+                # made as the motion ran out: what it planned is planned again
+                self._swap, self._rebase = None, None
                 return end
             swap, self._swap = self._swap, None
+            rebase, self._rebase = self._rebase, None
             self._planned_items = max(self._planned_items, self._swap_items)
-            # the new plan is the old one before the swap's index: only the ticks after it are new
-            ticks = self._ticks[: swap.index + 1]
+            # the new plan is the old one before the swap's index (from the rebase on, where it let
+            # go of what ran): only the ticks after it are new
+            if rebase is None:
+                ticks = self._ticks[: swap.index + 1]
+            else:
+                kept = self._ticks[rebase.index : rebase.index + swap.index + 1]
+                ticks = array("q", (t - rebase.ticks for t in kept))
+                self._let_go(rebase, base_plan(swap.plan).start)
             n = swap.plan.segments.n
             ticks.extend(accumulate((n[i] for i in range(swap.index, len(n))), initial=ticks[-1]))
             ticks.pop(swap.index + 1)
             with self._lock:
                 follows, halted = self._motion, self._halted
                 self.plan, self._ticks = swap.plan, ticks
+                if rebase is not None:
+                    self._done_before += rebase.index
+                    self._offset -= rebase.index
             begin = swap.index
             # halted as one motion handed over to the next: the board still runs the first's
             if halted:
@@ -494,6 +507,16 @@ class JobRun:
                     held=rest.held,
                     hold_tick=rest.hold_tick,
                 )
+
+    def _let_go(self, rebase: Rebase, start: tuple[int, ...]) -> None:
+        """The program from the move where the plan now begins (`start`: the steppers there)."""
+        assert self.program is not None
+        first = self._move_items.item_of(self.program, rebase.move - 1) + 1
+        rest = self._move_items.rest_of(self.program, first)
+        # the outputs in force there come first
+        self._planned_items += len(rest.items) - len(self.program.items)
+        self.program = rest
+        self._move_items = MoveItems(base_plan(self.plan).config, start)
 
     def _stream(self, motion: Motion) -> MotionEnd:
         """Start `motion` and wait for its end; meanwhile a changed feed override plans the rest
@@ -587,14 +610,30 @@ class JobRun:
         if self._swap is not None:
             self._planned = wanted
             self._swap_items = len(self.program.items)
+            if not overriding and self.journal is None:
+                self._rebase_swap(motion)
             if running is not None:
                 assert isinstance(self._swap.plan, StreamPlan)
-                running.swap(self._swap.plan)
+                rebase = self._rebase
+                if rebase is None:
+                    running.swap(self._swap.plan)
+                else:
+                    running.swap(self._swap.plan, rebase.ticks, rebase.motor)
             if self.journal is not None:
                 plan = self._swap.plan
                 self.journal.replan(stream_move_ends(plan), len(plan), wanted.feed)
         if self.state is JobState.OVERRIDING:
             self.states.enter(JobState.STREAMING)
+
+    def _rebase_swap(self, motion: Motion) -> None:
+        """The swap's plan lets go of what the board has run, where it is long enough to
+        (rebase.py): the running job's plan is kept from a move boundary the board is past."""
+        assert self._swap is not None
+        done = min(motion.first + motion.done, self._swap.index - 1)
+        self._rebase = find(self._swap.plan, self._ticks, done)
+        if self._rebase is not None:
+            index = self._swap.index - self._rebase.index
+            self._swap = Swap(index, rebased(self._swap.plan, self._rebase))
 
     def _sections_from(self, begin: int, follows: Motion | None) -> MotionEnd:
         """Each stretch of segments between pauses, from item `begin` on (after the motion

@@ -4,6 +4,7 @@ the machine's answer (MachineRestream)."""
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from typing import Protocol
 
 from ..coordinates import WorkCoordinates
@@ -25,7 +26,7 @@ class Restream(Protocol):
 
     def restream(self, plan: Plan, running: StreamPlan) -> StreamPlan: ...
 
-    def swap(self, streamed: StreamPlan) -> None: ...
+    def swap(self, streamed: StreamPlan, ticks: int = 0, motor: Sequence[int] = ()) -> None: ...
 
     def at_rest(self) -> tuple[int, ...]: ...
 
@@ -84,11 +85,14 @@ class MachineRestream:
         """`plan`, which begins as `running` did, with its take-ups from the same band: what follows
         the part of them that is the same replaces the running program's (a feed override)."""
         band = running.compensated.band_start
-        compensated = self.standing.takeups.compensate(plan.segments, plan.pauses, band)
+        entry = running.compensated.entry
+        compensated = self.standing.takeups.compensate(plan.segments, plan.pauses, band, entry)
         return StreamPlan(plan.config, compensated.stream, compensated.pauses, compensated, plan)
 
-    def swap(self, streamed: StreamPlan) -> None:
-        self.standing.takeups.swap(streamed.compensated)
+    def swap(self, streamed: StreamPlan, ticks: int = 0, motor: Sequence[int] = ()) -> None:
+        """The running job goes on as `streamed`, which begins as it did, or `ticks` and `motor`
+        into it (it let go of what ran)."""
+        self.standing.takeups.swap(streamed.compensated, ticks, motor)
 
     def stream(self, plan: Plan) -> StreamPlan:
         compensated = self.standing.takeups.compensate(plan.segments, plan.pauses)

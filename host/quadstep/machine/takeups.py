@@ -18,6 +18,7 @@ from ..backlash.band import Band, BandAxis
 from ..backlash.base import from_arrays, from_items
 from ..backlash.compensate import Compensated, compensate, unchanged
 from ..config import MachineConfig
+from ..kernel.cubic_chain import CubicChain
 from ..kernel.engine_model import predict
 from ..planner.plan import Plan
 from ..planner.segments import SegmentArrays
@@ -60,14 +61,16 @@ class TakeUps:
         segments: SegmentArrays | Stream,
         pauses: Sequence[tuple[int, int]] = (),
         band: Band | None = None,
+        entry: CubicChain | None = None,
     ) -> Compensated:
         """`segments` (planned: quadratic arrays, or a jerk-limited plan's cubic stream) with their
-        take-ups, from the band as it stands (or `band`)."""
+        take-ups, from the band as it stands (or `band`); `entry`: the firmware's chain where
+        quadratic arrays go on from a stream before them (None: from rest)."""
         band = self.band if band is None else band
         if not band.active and isinstance(segments, (SegmentArrays, Stream)):
-            return unchanged(segments, band, pauses)  # no backlash: nothing to take up
+            return unchanged(segments, band, pauses, entry)  # no backlash: nothing to take up
         base = (
-            from_arrays(segments)
+            from_arrays(segments, entry)
             if isinstance(segments, SegmentArrays)
             else from_items(segments, segments.axis_count)
         )
@@ -82,12 +85,15 @@ class TakeUps:
         with self._lock:
             self._running = Running(compensated, tuple(motor), tick)
 
-    def swap(self, compensated: Compensated) -> None:
+    def swap(self, compensated: Compensated, ticks: int = 0, motor: Sequence[int] = ()) -> None:
         """The running program goes on as `compensated`, which begins as it did (a job's tail
-        planned again)."""
+        planned again), or `ticks` motion ticks and `motor` steps into it (a job that let go of
+        what ran: machine/rebase.py)."""
         with self._lock:
-            if self._running is not None:
-                self._running = Running(compensated, self._running.motor, self._running.tick)
+            running = self._running
+            if running is not None:
+                moved = tuple(m + d for m, d in zip(running.motor, motor)) or running.motor
+                self._running = Running(compensated, moved, running.tick + ticks)
 
     def end(self, rest: Sequence[int], tick: int | None, done: bool) -> None:
         """The program ended: `rest` the motors, `tick` the motion tick its motion stopped at (a
