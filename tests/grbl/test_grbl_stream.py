@@ -23,6 +23,8 @@ from quadstep.grbl.server import PtyServer
 from quadstep.job import load_job
 from quadstep.link import Link
 from quadstep.machine import JobRun, JobState, Machine
+from quadstep.machine import job as job_module
+from quadstep.machine import rebase as rebase_module
 from quadstep.planner.program import LinearMove
 
 REPO = Path(__file__).resolve().parents[2]
@@ -129,6 +131,43 @@ def test_a_streamed_file_runs_as_one_job_without_a_stop_and_lands_exactly(
     assert JobState.RESUMING not in job.states.history and job.states.starvations == 0
     assert len(job.plan.base) != len(job.plan.base.move_ends) and rests(job) == []
     check_exact(door, job)
+
+
+@pytest.mark.realtime
+def test_a_long_stream_lets_go_of_what_ran_and_lands_exactly(
+    door: Door, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """The running job lets go of what the board has run (machine/rebase.py, here every 40
+    segments): what was sent is every plan in turn, and the spiral ends on its last target."""
+    monkeypatch.setattr(rebase_module, "REBASE_SEGMENTS", 40)
+    sent: list = []  # what ran, in order: what each plan let go of, each leg run to its end
+    let_go, next_leg = job_module.rebased, JobRun._next_leg
+    rebases = []
+
+    def recorded(plan, at):
+        rebases.append(at.index)
+        sent.extend(plan.segments.segments(0, at.index))
+        return let_go(plan, at)
+
+    def leg_ran(run: JobRun, here: tuple[int, ...]):  # on a busy computer: on from rest
+        if run.states.history[-2:] == [JobState.STREAMING, JobState.RESUMING]:
+            sent.extend(run.plan.segments.segments())
+        return next_leg(run, here)
+
+    monkeypatch.setattr(job_module, "rebased", recorded)
+    monkeypatch.setattr(JobRun, "_next_leg", leg_ran)
+    lines = spiral(400)
+    with client(door) as grbl:
+        assert grbl.stream_counting(lines) == ["ok"] * len(lines)
+        grbl.wait_status(idle)
+    assert door.steps() == file_end(lines, tmp_path)
+    (job,) = door.jobs
+    assert job.state is JobState.DONE
+    assert rebases and len(sent) >= 40  # it let go of what ran
+    assert job.progress.done == job.progress.total == len(sent) + len(job.plan)
+    sent.extend(job.plan.segments.segments())
+    if JobState.STARVED not in job.states.history:  # the board never braked by itself
+        assert np.array_equal(read_trace(door.trace), predict(sent, axis_count=3).steps)
 
 
 @pytest.mark.realtime

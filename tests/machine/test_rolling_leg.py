@@ -249,3 +249,28 @@ def test_a_feed_hold_after_the_job_let_go_of_what_ran_goes_on_to_its_last_target
     # every take-up made where it was due, none twice: the carriages are exactly where the job put
     # them (half their band behind the positions, as they began)
     assert carriages == [p - b / 2 for p, b in zip(planned, BACKLASH_STEPS)]
+
+
+def test_a_rebased_plan_keeps_the_outputs_in_force_and_the_pauses_to_come(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    """What the board runs under where the plan begins again is its first OUTPUTS (a feed hold may
+    stop the spindle and switch it on again); the pauses and OUTPUTS after it move with it."""
+    plain = backlash_config((0.0, 0.0, 0.0))
+    text = rows(6).replace("F2400\n", "F2400\nM3 S1000\n", 1) + "M0\nM5\n" + rows(2)[14:]
+    program = parse_gcode(text, plain.axis_names, (0.0, 0.0, 0.0), plain.arc_tolerance)
+    plan = plan_program(program, plain, (0, 0, 0))
+    (pause, _), = plan.pauses
+    assert [section for _, section, _ in plan.outputs] == [0, 1]  # M3, then M5 after the M0
+    ticks = np.concatenate([[0], np.cumsum(plan.segments.numpy()["n"])])
+    monkeypatch.setattr(rebase_module, "REBASE_SEGMENTS", 10)
+    at = find(plan, ticks, pause // 2)
+    assert at is not None and at.index < pause
+    kept = rebased(plan, at)
+    assert kept.pauses == [(pause - at.index, plan.pauses[0][1])]
+    assert kept.outputs == [
+        (0, 0, plan.outputs[0][2]),
+        (plan.outputs[1][0] - at.index, 1, plan.outputs[1][2]),
+    ]
+    assert kept.segments.numpy()["n"].tolist() == plan.segments.numpy()["n"][at.index :].tolist()
+    assert list(kept.move_ends) == [e - at.index for e in plan.move_ends[at.move :]]

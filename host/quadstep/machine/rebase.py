@@ -155,7 +155,7 @@ def _plan_from(plan: Plan, move: int) -> Plan:
     assert isinstance(segments, SegmentArrays)
     first = plan.move_ends[move - 1]
     kept = _arrays_from(segments, first, len(segments))
-    pauses = [(i - first, line) for i, line in plan.pauses if i > first]
+    pauses = [(i - first, line) for i, line in plan.pauses if i >= first]
     dropped = len(plan.pauses) - len(pauses)
     # what the board runs under there, kept at the start (a feed hold may stop the spindle)
     before = [(0, 0, message) for at, _, message in plan.outputs if at <= first][-1:]
@@ -228,6 +228,6 @@ def _compensated_from(
             for w in compensated.windows
             if w.first >= at.index
         ],
-        pauses=[(i - at.index, line) for i, line in compensated.pauses if i > at.index],
+        pauses=[(i - at.index, line) for i, line in compensated.pauses if i >= at.index],
         added_ticks=compensated.added_ticks,
     )
