@@ -6,6 +6,7 @@ in turn, each reversal has its take-up, and the job ends on its last target."""
 from __future__ import annotations
 
 import time
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -25,7 +26,7 @@ from quadstep.machine.rebase import entry_chain, find, rebased
 from quadstep.machine.restream import MachineRestream
 from quadstep.machine.takeups import StreamPlan, TakeUps
 from quadstep.planner.plan import plan_program
-from quadstep.planner.program import LinearMove, Program
+from quadstep.planner.program import Program
 
 CONFIG = backlash_config((0.1, 0.05, 0.0))
 BACKLASH_STEPS = (40.0, 20.0, 0.0)
@@ -45,6 +46,11 @@ def rows(count: int) -> str:
     return "\n".join(out) + "\n"
 
 
+def zigzag(count: int) -> str:
+    """Moves of 0.5 mm along X, each up or down 1 mm in Y: Y reverses at every move."""
+    return "G21 G90 F2400\n" + "".join(f"G1 X{0.5 * k:.1f} Y{10 + k % 2}\n" for k in range(1, count))
+
+
 def parse(text: str):
     return parse_gcode(text, CONFIG.axis_names, (0.0, 0.0, 0.0), CONFIG.arc_tolerance)
 
@@ -56,10 +62,10 @@ def wait_until(condition, timeout: float = 60.0) -> None:
         time.sleep(0.005)
 
 
-def whole_stream(count: int) -> tuple[Program, StreamPlan, np.ndarray]:
-    """`count` rows planned and compensated whole, from rest with the band not known yet; its
-    cumulative ticks."""
-    program = parse(rows(count))
+def whole_stream(count: int, path=rows) -> tuple[Program, StreamPlan, np.ndarray]:
+    """`count` rows (or moves of another `path`) planned and compensated whole, from rest with the
+    band not known yet; its cumulative ticks."""
+    program = parse(path(count))
     plan = plan_program(program, CONFIG, (0, 0, 0))
     compensated = TakeUps(CONFIG).compensate(plan.segments, plan.pauses)
     whole = StreamPlan(CONFIG, compensated.stream, compensated.pauses, compensated, plan)
@@ -69,7 +75,7 @@ def whole_stream(count: int) -> tuple[Program, StreamPlan, np.ndarray]:
 def test_a_rebased_stream_is_the_rest_of_the_stream_with_its_band(
     monkeypatch: pytest.MonkeyPatch,
 ) -> None:
-    program, whole, ticks = whole_stream(12)
+    _, whole, ticks = whole_stream(12)
     plan, compensated = whole.base, whole.compensated
     upto = len(whole) // 2
     assert find(whole, ticks, upto) is None  # too little run yet to let go of
@@ -80,14 +86,15 @@ def test_a_rebased_stream_is_the_rest_of_the_stream_with_its_band(
     assert isinstance(kept, StreamPlan)
     # every item from there on, as it was; none before
     assert list(kept.segments.segments()) == list(whole.segments.segments(at.index))
-    assert kept.base.moves == plan.moves - at.move
+    assert kept.base.moves == plan.moves - at.moves
+    assert list(kept.base.move_ends) == [e - at.segment for e in plan.move_ends[at.moves :]]
     assert kept.base.end == plan.end
-    # the steppers where it begins: the target of the move before, and the take-ups before it
-    target = CONFIG.to_steps([i for i in program.items if isinstance(i, LinearMove)][at.move - 1].target)
-    assert kept.base.start == target
+    # the steppers where it begins as planned, and the motors there: the take-ups before it too
+    planned = predict(list(plan.segments.segments(0, at.segment)), axis_count=3).positions
+    assert kept.base.start == tuple(planned)
     made = predict(list(whole.segments.segments(0, at.index)), axis_count=3).positions
     assert tuple(made) == at.motor
-    assert at.motor != target  # take-ups were made before it
+    assert at.motor != kept.base.start  # take-ups were made before it
     # the firmware's chain there, as the whole stream leaves it
     chain = CubicChain(3)
     predict(list(whole.segments.segments(0, at.index)), axis_count=3, chain=chain)
@@ -137,6 +144,30 @@ def test_the_machine_follows_the_band_through_a_rebased_stream_as_through_the_wh
     assert whole_record.band.axes[0].w not in (0, whole_record.band.axes[0].size)  # inside it
 
 
+def test_where_every_move_reverses_an_axis_the_plan_begins_again_inside_a_move(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    """Y's take-up lies across every move boundary of a zigzag: the plan begins again inside a move,
+    after the take-up, with the rest of that move as its move 0."""
+    _, whole, ticks = whole_stream(120, zigzag)
+    plan = whole.base
+    monkeypatch.setattr(rebase_module, "REBASE_SEGMENTS", 10)
+    at = find(whole, ticks, len(whole) // 2)
+    assert at is not None and at.segment not in plan.move_ends
+    kept = rebased(whole, at)
+    assert isinstance(kept, StreamPlan)
+    assert list(kept.segments.segments()) == list(whole.segments.segments(at.index))
+    assert kept.base.move_ends[0] == plan.move_ends[at.moves] - at.segment  # the rest of its move
+    assert kept.base.moves == plan.moves - at.moves
+    planned = predict(list(plan.segments.segments(0, at.segment)), axis_count=3).positions
+    assert kept.base.start == tuple(planned)
+    chain = CubicChain(3)
+    made = predict(list(whole.segments.segments(0, at.index)), axis_count=3, chain=chain)
+    assert tuple(made.positions) == at.motor
+    assert kept.compensated.entry == chain  # moving there: the axes' speeds carried too
+    assert any(axis.i for axis in chain.axes)
+
+
 @pytest.mark.realtime
 def test_a_long_open_job_lets_go_of_what_ran_and_sends_the_same(
     start_emulator, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
@@ -164,10 +195,10 @@ def test_a_long_open_job_lets_go_of_what_ran_and_sends_the_same(
     trace = tmp_path / "trace.csv"
     emu = start_emulator(trace=trace, axes=3, tick_hz=CONFIG.tick_hz, queue=14)
     whole = parse(rows(30))
-    head = 1 + 5 * (ROW_MOVES + 1)  # five rows, then a row at a time while it runs
+    head = 1 + 5 * (ROW_MOVES + 1)  # five rows, then a row at a time, 4 rows ahead of the machine
     with Link.open(emu.url) as link:
         machine = Machine(link, CONFIG)
-        program = parse(rows(5))
+        program = replace(whole, items=whole.items[:head])
         run = machine.run_job(plan_program(program, CONFIG, (0, 0, 0)), program, open_end=True)
         longest = 0
         for given in range(head, len(whole.items), ROW_MOVES + 1):
@@ -273,4 +304,4 @@ def test_a_rebased_plan_keeps_the_outputs_in_force_and_the_pauses_to_come(
         (plan.outputs[1][0] - at.index, 1, plan.outputs[1][2]),
     ]
     assert kept.segments.numpy()["n"].tolist() == plan.segments.numpy()["n"][at.index :].tolist()
-    assert list(kept.move_ends) == [e - at.index for e in plan.move_ends[at.move :]]
+    assert list(kept.move_ends) == [e - at.segment for e in plan.move_ends[at.moves :]]

@@ -509,9 +509,10 @@ class JobRun:
                 )
 
     def _let_go(self, rebase: Rebase, start: tuple[int, ...]) -> None:
-        """The program from the move where the plan now begins (`start`: the steppers there)."""
+        """The program from the move under way where the plan now begins (`start`: the steppers
+        there)."""
         assert self.program is not None
-        first = self._move_items.item_of(self.program, rebase.move - 1) + 1
+        first = self._move_items.item_of(self.program, rebase.moves - 1) + 1
         rest = self._move_items.rest_of(self.program, first)
         # the outputs in force there come first
         self._planned_items += len(rest.items) - len(self.program.items)

@@ -1,17 +1,18 @@
-"""A long open job lets go of what the board has run: from a move boundary the board is past, its
+"""A long open job lets go of what the board has run: from a segment boundary the board is past, its
 plan, its stream with the take-ups and the machine's record of them begin again there (a rolling
 leg), so that a file of millions of lines, or a sender's endless stream, runs in bounded memory
-(job.py, docs/PLANNER.md "Streaming").
+(job.py, docs/PLANNER.md "Streaming"). Where that boundary is inside a move, the plan begins with
+the rest of that move, its move 0.
 
-Only where the stream runs the boundary's base segment as planned and no axis has a take-up to make
-before its next motion, so that the take-ups of the stream from there, worked out again from the
-band and the firmware's chain there, are those it has; only quadratic plans (a jerk-limited one is
-planned again whole from its start)."""
+Only where the stream runs the boundary's planned segment as planned and no axis has a take-up to
+make before its next motion, so that the take-ups of the stream from there, worked out again from
+the band and the firmware's chain there, are those it has; only quadratic plans (a jerk-limited one
+is planned again whole from its start)."""
 
 from __future__ import annotations
 
 from array import array
-from bisect import bisect_left
+from bisect import bisect_left, bisect_right
 from collections.abc import Sequence
 from dataclasses import dataclass, replace
 
@@ -24,31 +25,32 @@ from ..kernel.engine_model import predict
 from ..planner.plan import Plan
 from ..planner.segments import SegmentArrays
 from ..planner.stream import Stream
-from .override import boundary_at
 from .takeups import StreamPlan
 
 # A job lets go of what ran once the board is this many segments into its plan: each time costs a
 # copy of what is kept (a few thousand segments), so not at every addition.
 REBASE_SEGMENTS = 4000
-# Move boundaries looked at, back from the board's segment, for one the stream runs as planned.
-TRIES = 64
+# Segment boundaries looked at, back from the board's segment, for one to begin again at.
+TRIES = 256
 
 
 @dataclass(frozen=True)
 class Rebase:
-    """Where a plan begins again: at its move `move`, item `index` of its stream, `ticks` motion
-    ticks and `motor` steps (take-ups included) from its start."""
+    """Where a plan begins again: at its planned segment `segment`, after its first `moves` moves
+    (the move under way there, if any, is the new plan's move 0), at item `index` of its stream,
+    `ticks` motion ticks and `motor` steps (take-ups included) from its start."""
 
-    move: int
+    segment: int
+    moves: int
     index: int
     ticks: int
     motor: tuple[int, ...]
 
 
 def find(plan: Plan | StreamPlan, ticks: Sequence[int], upto: int) -> Rebase | None:
-    """The last move boundary of `plan` at or before its stream item `upto` where the plan may begin
-    again (`ticks`: the stream's cumulative ticks); None when there is none, or it lets go of fewer
-    than REBASE_SEGMENTS."""
+    """The last segment boundary of `plan` at or before its stream item `upto`, after its first
+    move, where the plan may begin again (`ticks`: the stream's cumulative ticks); None when there
+    is none, or it lets go of fewer than REBASE_SEGMENTS."""
     base = plan.base if isinstance(plan, StreamPlan) else plan
     if (
         upto < REBASE_SEGMENTS
@@ -59,24 +61,24 @@ def find(plan: Plan | StreamPlan, ticks: Sequence[int], upto: int) -> Rebase | N
     ):
         return None
     origin = plan.segments.origin_of(upto) if isinstance(plan, StreamPlan) else upto
-    move = bisect_left(base.move_ends, origin + 1)  # moves ending at or before it
-    moving = _moving(base.segments) if isinstance(plan, StreamPlan) else []
-    for move in range(move, max(move - TRIES, 0), -1):
-        end = base.move_ends[move - 1]
-        index = _stream_index(plan, end)
+    first_end = base.move_ends[0] if base.moves else len(base.segments)
+    steps = from_arrays(base.segments).steps
+    moving = _moving(steps)
+    for segment in range(origin, max(origin - TRIES, first_end - 1), -1):
+        index = _stream_index(plan, segment)
         if index is None or index > upto:
             continue
         if index < REBASE_SEGMENTS:
             return None
-        if isinstance(plan, StreamPlan) and _takes_up(plan, moving, end, int(ticks[index])):
+        if isinstance(plan, StreamPlan) and _takes_up(plan, moving, segment, int(ticks[index])):
             continue
-        here = boundary_at(base, move).position
-        motor = [p - s for p, s in zip(here, base.start)]
+        motor = steps[:segment].sum(axis=0)
         if isinstance(plan, StreamPlan):
             for takeup in plan.compensated.takeups:
                 if takeup.start < ticks[index]:
                     motor[takeup.axis] += takeup.steps
-        return Rebase(move, index, int(ticks[index]), tuple(motor))
+        moves = bisect_right(base.move_ends, segment)  # ending at or before it
+        return Rebase(segment, moves, index, int(ticks[index]), tuple(int(m) for m in motor))
     return None
 
 
@@ -90,11 +92,11 @@ def _stream_index(plan: Plan | StreamPlan, segment: int) -> int | None:
     return index if index < len(stream) and stream.ref[index] == segment else None
 
 
-def _moving(segments: SegmentArrays) -> list[tuple[np.ndarray, np.ndarray]]:
-    """Per axis: the segments that step it, and their directions."""
-    steps = from_arrays(segments).steps
+def _moving(steps: np.ndarray) -> list[tuple[np.ndarray, np.ndarray]]:
+    """Per axis: the planned segments that step it (`steps`: theirs, per axis), and their
+    directions."""
     found = []
-    for axis in range(segments.axis_count):
+    for axis in range(steps.shape[1]):
         moves = np.flatnonzero(steps[:, axis])
         found.append((moves, np.sign(steps[moves, axis])))
     return found
@@ -103,8 +105,8 @@ def _moving(segments: SegmentArrays) -> list[tuple[np.ndarray, np.ndarray]]:
 def _takes_up(
     plan: StreamPlan, moving: list[tuple[np.ndarray, np.ndarray]], segment: int, tick: int
 ) -> bool:
-    """Some axis has a take-up to make before its first motion from base segment `segment` on (at
-    motion tick `tick`): the stream from there would not begin as it did."""
+    """Some axis has a take-up to make before its first motion from planned segment `segment` on
+    (at motion tick `tick`): the stream from there would not begin as it did."""
     band = plan.compensated.band_at(tick)
     for axis, (moves, directions) in enumerate(moving[: len(band.axes)]):
         next_move = int(np.searchsorted(moves, segment))
@@ -138,10 +140,10 @@ def entry_chain(plan: StreamPlan, index: int) -> CubicChain:
 def rebased(plan: Plan | StreamPlan, at: Rebase) -> Plan | StreamPlan:
     """`plan` from `at` on."""
     if not isinstance(plan, StreamPlan):
-        return _plan_from(plan, at.move)
-    base = _plan_from(plan.base, at.move)
+        return _plan_from(plan, at)
+    base = _plan_from(plan.base, at)
     assert isinstance(base.segments, SegmentArrays)
-    shift = plan.base.move_ends[at.move - 1]
+    shift = at.segment
     stream = _stream_from(plan.segments, at.index, base.segments, shift)
     planned = int(np.frombuffer(plan.base.segments.n, np.uint16)[:shift].sum(dtype=np.int64))
     compensated = _compensated_from(plan.compensated, stream, at, planned)
@@ -149,12 +151,13 @@ def rebased(plan: Plan | StreamPlan, at: Rebase) -> Plan | StreamPlan:
     return StreamPlan(plan.config, stream, compensated.pauses, compensated, base)
 
 
-def _plan_from(plan: Plan, move: int) -> Plan:
-    """The quadratic `plan` from where its move `move` begins (its start the steppers there)."""
+def _plan_from(plan: Plan, at: Rebase) -> Plan:
+    """The quadratic `plan` from its segment `at.segment` on (its start the steppers there)."""
     segments = plan.segments
     assert isinstance(segments, SegmentArrays)
-    first = plan.move_ends[move - 1]
+    first, move = at.segment, at.moves
     kept = _arrays_from(segments, first, len(segments))
+    made = from_arrays(_arrays_from(segments, 0, first)).steps.sum(axis=0)
     pauses = [(i - first, line) for i, line in plan.pauses if i >= first]
     dropped = len(plan.pauses) - len(pauses)
     # what the board runs under there, kept at the start (a feed hold may stop the spindle)
@@ -163,7 +166,7 @@ def _plan_from(plan: Plan, move: int) -> Plan:
     return replace(
         plan,
         segments=kept,
-        start=boundary_at(plan, move).position,
+        start=tuple(int(s + m) for s, m in zip(plan.start, made)),
         pauses=pauses,
         moves=plan.moves - move,
         move_ends=array("i", (e - first for e in plan.move_ends[move:])),
