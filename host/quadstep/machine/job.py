@@ -628,7 +628,7 @@ class JobRun:
 
     def _rebase_swap(self, motion: Motion) -> None:
         """The swap's plan lets go of what the board has run, where it is long enough to
-        (rebase.py): the running job's plan is kept from a move boundary the board is past."""
+        (rebase.py): the running job's plan is kept from a segment boundary the board is past."""
         assert self._swap is not None
         done = min(motion.first + motion.done, self._swap.index - 1)
         self._rebase = find(self._swap.plan, self._ticks, done)
