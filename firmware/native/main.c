@@ -173,7 +173,7 @@ static void run_tick(emulator *m)
     qs_engine *e = &m->core.engine;
     uint16_t left_before;
     uint8_t tail_before, hold_ticks_before, holds_before, kept_before;
-    int hold_begins, hold_began;
+    int hold_begins, hold_began, hold_of_no_ticks;
     uint8_t bits, axis;
 
     left_before = e->left;
@@ -189,13 +189,18 @@ static void run_tick(emulator *m)
     hold_began = holds_before != e->holds_begun && e->hold.ticks == 1;
     if (hold_begins || hold_began)
         emu_events_hold(&m->events, m->motion_tick, now_ns()); /* ticks before its first decision: its hold_tick */
+    /* An underrun's hold, begun at a kept slot's end, that finds nothing
+     * moving one tick on (the segment ended too slow to step again) gives
+     * the slot back, so the tail moves, but it makes no decision. */
+    hold_of_no_ticks = kept_before && left_before == 0 && holds_before != e->holds_begun && e->hold.ticks == 0;
     /* A decision was made if a segment ran a tick (left moved on, or a
      * one-tick segment began and ended: tail moved, or its slot was kept
      * for a hold from its end) or a hold did (its
      * tick count moved on, or one began in this tick: its count restarted).
      * A frozen tick makes none. */
-    if (left_before != e->left || e->queue.tail != tail_before || (uint8_t)e->hold.ticks != hold_ticks_before
-        || hold_began || (!kept_before && e->kept)) {
+    if (!hold_of_no_ticks
+        && (left_before != e->left || e->queue.tail != tail_before || (uint8_t)e->hold.ticks != hold_ticks_before
+            || hold_began || (!kept_before && e->kept))) {
         m->motion_tick++;
         for (axis = 0; axis < QS_AXIS_COUNT; axis++)
             m->steps[axis] += (bits >> axis) & 1u;

@@ -16,9 +16,9 @@ from host_helpers import RawPort, assert_trace_is_prediction, random_segments, r
 from quadstep.emulator import Emulator
 from quadstep.kernel.engine_model import predict, predict_underrun
 from quadstep.link import FirmwareError, Link, Stopped, hold
-from quadstep.protocol import Ack, AckReason, Alarm, AlarmCode, ErrorCode, ErrorReport, FieldId, Frame, HoldDone, POSITION_MAX, Segment, SetPosition, State, Status, StatusReport, Stop, encode
+from quadstep.protocol import Ack, AckReason, Alarm, AlarmCode, CubicSegment, ErrorCode, ErrorReport, FieldId, Frame, HoldDone, POSITION_MAX, Segment, SetPosition, State, Status, StatusReport, Stop, encode
 from quadstep.kernel.fixed import D
-from quadstep.kernel.motion import AxisMove
+from quadstep.kernel.motion import AxisMove, CubicAxis
 from quadstep.protocol.framing import cobs_encode, encode_frame
 
 
@@ -206,6 +206,31 @@ def test_underrun_holds_then_starves_with_exact_positions_and_hold_takes_it_up(s
     emu.stop()
     steps = np.concatenate([predict([ends_moving]).steps, expected.steps, after.steps])
     assert np.array_equal(read_trace(emu.trace), steps)  # type: ignore[arg-type]
+
+
+@pytest.mark.parametrize("n", [1, 100])
+def test_an_underrun_too_slow_to_step_again_stops_at_the_segments_end(start_emulator, tmp_path: Path, n: int) -> None:
+    """A cubic segment ends at 20 / 2^31 step a tick with nothing behind it: the stop from its end finds
+    nothing that would move one tick on, so it takes no tick and the board starves where the segment
+    ended. The emulator's trace clock keeps to the core's motion ticks through it, and what runs after the
+    HOLD lands as predicted."""
+    emu = start_emulator(free=True, axes=3, trace=tmp_path / "trace.csv")
+    crawl = CubicSegment(n=n, axes=(CubicAxis(axis=1, speed=20),))
+    after = Segment(n=50, axes=(AxisMove(axis=0, direction=1, v0=4096, vn=0, r=0),))
+    with Link.open(emu.url) as link:
+        link.send(crawl)
+        with pytest.raises(Stopped):
+            link.wait_idle(timeout=10)
+        status = link.status()
+        assert status.state == State.STARVED and status.motion_ticks == n and list(status.position) == [0, 0, 0]
+        done = hold(link, [100])
+        assert (done.hold_tick, done.motion_ticks) == (n, n)
+        final = stream(link, [after])
+    expected = predict([after], [0, 0, 0], start_tick=n, axis_count=3)
+    assert list(final.position) == expected.positions
+    summary = emu.stop()
+    assert summary["motion_ticks"] == n + after.n
+    assert np.array_equal(read_trace(emu.trace), expected.steps)  # type: ignore[arg-type]
 
 
 def test_set_position_while_moving_is_refused_busy(start_emulator) -> None:

@@ -169,9 +169,12 @@ def test_where_every_move_reverses_an_axis_the_plan_begins_again_inside_a_move(
 
 
 @pytest.mark.realtime
+@pytest.mark.parametrize("path, count", [(rows, 30), (zigzag, 320)], ids=["rows", "zigzag"])
 def test_a_long_open_job_lets_go_of_what_ran_and_sends_the_same(
-    start_emulator, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+    start_emulator, tmp_path: Path, monkeypatch: pytest.MonkeyPatch, path, count: int
 ) -> None:
+    """Given 21 lines at a time, 4 rows' worth ahead of the machine: rows whose X reverses at each
+    row's end, and a zigzag whose Y reverses at every move (the job begins again inside moves)."""
     monkeypatch.setattr(rebase_module, "REBASE_SEGMENTS", 80)
     sent: list = []  # what ran, in order: what each plan let go of, each leg run to its end
     let_go = job_module.rebased
@@ -194,7 +197,7 @@ def test_a_long_open_job_lets_go_of_what_ran_and_sends_the_same(
     monkeypatch.setattr(JobRun, "_next_leg", leg_ran)
     trace = tmp_path / "trace.csv"
     emu = start_emulator(trace=trace, axes=3, tick_hz=CONFIG.tick_hz, queue=14)
-    whole = parse(rows(30))
+    whole = parse(path(count))
     head = 1 + 5 * (ROW_MOVES + 1)  # five rows, then a row at a time, 4 rows ahead of the machine
     with Link.open(emu.url) as link:
         machine = Machine(link, CONFIG)
