@@ -207,14 +207,20 @@ class Motion:
 
     def start(self) -> Motion:
         follows, self._follows = self._follows, None  # not kept: each would keep all before it
-        # after a cut motion, the board completes its segments first: `done` counts from their end
-        # (and is negative while they run)
-        self._base_done = (
-            self.link.segments_done if follows is None else follows._base_done + follows.sent
-        )
-        self._generation = self.link.generation
-        self._input_holds = self.link.holds_by_input
-        self._starvations = self.link.stats.starvations
+        if follows is None:
+            self._base_done = self.link.segments_done
+            self._generation = self.link.generation
+            self._input_holds = self.link.holds_by_input
+            self._starvations = self.link.stats.starvations
+        else:
+            # after a cut motion, the board completes its segments first: `done` counts from their
+            # end (and is negative while they run). The stream is the one it began: a board that
+            # ran dry or held as they handed over ends this motion too (the last frames the cut
+            # one sent were refused and never run)
+            self._base_done = follows._base_done + follows.sent
+            self._generation = follows._generation
+            self._input_holds = follows._input_holds
+            self._starvations = follows._starvations
         self._thread.start()
         return self
 
