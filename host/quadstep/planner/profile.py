@@ -20,6 +20,9 @@ from ..kernel.fixed import N_MAX
 # Phases shorter than this many ticks are worth avoiding: over a tick or two, the
 # unavoidable ±1 rounding of a speed looks like a large (if harmless) acceleration.
 SHORT_PHASE = 16
+# A move whose top speed is within this factor of its entry or exit speed may be run as one segment
+# between them: the time it gives up is at most that fraction of the move's.
+CRUISE_THROUGH = 1.01
 
 
 @dataclass(frozen=True, slots=True)
@@ -69,9 +72,37 @@ def fit_profiles(
                     candidate = _candidate(length, u_in, u_out, u_max, accel, n_a, n_c, n_d, exact)
                     if candidate is not None:
                         found.append(candidate)
+    if not slowing and all(key[0] for key, _, _, _ in found):  # each has a short phase
+        found += _cruise_through(length, u_in, u_out, u_max, accel, (t_a, peak, t_d), exact)
     found.sort(key=lambda f: f[0])
     for _, phases, level, error in found:
         yield _build(u_in, u_out, phases, level, error)
+
+
+def _cruise_through(
+    length: float,
+    u_in: float,
+    u_out: float,
+    u_max: float,
+    accel: float,
+    optimal: tuple[float, float, float],
+    exact: float,
+) -> list[tuple[tuple[int, int, int], tuple[int, int, int], float, float]]:
+    """One phase from the entry speed to the exit, for a move cruised through a little under the
+    top speed of its time-optimal profile (`optimal`: ramp ticks, top speed, ramp ticks), as a
+    smooth path's short moves are, whose whole-tick profiles are a bump of short ramps; where it
+    takes no more than CRUISE_THROUGH times as long as that profile."""
+    t_a, peak, t_d = optimal
+    if u_in + u_out <= 0.0 or peak > CRUISE_THROUGH * max(u_in, u_out):
+        return []
+    cruise = max(0.0, length - t_a * (u_in + peak) / 2.0 - t_d * (peak + u_out) / 2.0) / peak
+    found = []
+    for n in _roundings(2.0 * length / (u_in + u_out)):
+        if n <= CRUISE_THROUGH * (t_a + cruise + t_d) + 1.0:
+            candidate = _candidate(length, u_in, u_out, u_max, accel, n, 0, 0, exact)
+            if candidate is not None:
+                found.append(candidate)
+    return found
 
 
 def _variants(phases: tuple[int, int, int]) -> list[tuple[int, int, int]]:
