@@ -21,7 +21,7 @@ from ..kernel.fixed import N_MAX
 # unavoidable ±1 rounding of a speed looks like a large (if harmless) acceleration.
 SHORT_PHASE = 16
 # A move whose top speed is within this factor of its entry or exit speed may be run as one segment
-# between them: the time it gives up is at most that fraction of the move's.
+# between them, where that takes at most this factor of its time-optimal profile's time and a tick.
 CRUISE_THROUGH = 1.01
 
 
@@ -91,7 +91,7 @@ def _cruise_through(
     """One phase from the entry speed to the exit, for a move cruised through a little under the
     top speed of its time-optimal profile (`optimal`: ramp ticks, top speed, ramp ticks), as a
     smooth path's short moves are, whose whole-tick profiles are a bump of short ramps; where it
-    takes no more than CRUISE_THROUGH times as long as that profile."""
+    takes no more than CRUISE_THROUGH times as long as that profile, and a tick."""
     t_a, peak, t_d = optimal
     if u_in + u_out <= 0.0 or peak > CRUISE_THROUGH * max(u_in, u_out):
         return []
