@@ -6,7 +6,10 @@ The file is made here, line by line: rows of short G1 moves along X (0.4 mm), ea
 by a G3 half circle, as a raster-like CAM pocket. After the first move the job runs for --run-s
 seconds (the host planning and feeding as it goes), then is halted.
 
-    python3 tests/bench/bench_big_run.py [--lines 2000000] [--run-s 10]
+    python3 tests/bench/bench_big_run.py [--lines 2000000] [--run-s 10] [--max-jerk 20000]
+
+With --max-jerk the plans are S-curves (docs/PLANNER.md, "S-curves"): a jerk-limited job keeps what
+it ran, so its memory grows with the lines run.
 """
 
 from __future__ import annotations
@@ -51,8 +54,8 @@ def write_job(path: Path, lines: int) -> None:
                 written += 1
 
 
-def machine_config() -> MachineConfig:
-    """A router at 400 steps/mm, 32 kHz, as the Uno."""
+def machine_config(max_jerk: float | None) -> MachineConfig:
+    """A router at 400 steps/mm, 32 kHz, as the Uno; jerk-limited with `max_jerk` (mm/s³)."""
     axes = [
         {
             "name": n,
@@ -61,6 +64,7 @@ def machine_config() -> MachineConfig:
             "max_accel": 500.0,
             "travel_min": -10.0,
             "travel_max": 400.0,
+            "max_jerk": max_jerk,
         }
         for n in "XYZ"
     ]
@@ -95,8 +99,9 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--lines", type=int, default=2_000_000)
     parser.add_argument("--run-s", type=float, default=10.0)
+    parser.add_argument("--max-jerk", type=float, default=None, help="mm/s³: S-curve plans")
     args = parser.parse_args()
-    config = machine_config()
+    config = machine_config(args.max_jerk)
     with tempfile.TemporaryDirectory() as folder:
         job = Path(folder) / "big.gcode"
         write_job(job, args.lines)

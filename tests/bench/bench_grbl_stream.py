@@ -27,7 +27,7 @@ sys.path.insert(0, str(REPO / "tests" / "helpers"))
 from grbl_client import GrblClient, mpos, report_fields  # noqa: E402
 
 from quadstep.cli.grbl import serve_in_thread  # noqa: E402
-from quadstep.config import load_config  # noqa: E402
+from quadstep.config import MachineConfig, load_config  # noqa: E402
 from quadstep.emulator import Emulator  # noqa: E402
 from quadstep.gcode.interpreter import parse_gcode  # noqa: E402
 from quadstep.grbl.server import PtyServer  # noqa: E402
@@ -41,6 +41,9 @@ from quadstep.machine.takeups import StreamPlan, TakeUps  # noqa: E402
 from quadstep.planner.plan import Plan, plan_program  # noqa: E402
 
 CONFIG = load_config(REPO / "examples" / "router-uno.toml")
+SCURVE = CONFIG.model_copy(
+    update={"axes": tuple(a.model_copy(update={"max_jerk": 20000.0}) for a in CONFIG.axes)}
+)
 
 
 def chords(count: int, length_mm: float, feed: float) -> list[str]:
@@ -204,27 +207,34 @@ def bench_file_ratio(grbl: GrblClient, door: Door) -> None:
 
 
 def bench_addition_cost(step: int = 32, total: int = 12000) -> None:
+    for config in (CONFIG, SCURVE):
+        addition_cost(config, step, total)
+
+
+def addition_cost(config: MachineConfig, step: int, total: int) -> None:
     """An open job's additions without a board: chords given `step` lines at a time, each planned
     onto the job as a running job does (from the stop at its end, with the take-ups), the CPU time
     of each by the job's length then."""
+    kind = "S-curve (max_jerk 20,000)" if config.jerk_limited else "constant acceleration"
     print(
-        f"4. an addition of {step} lines planned onto an open job, by the job's length (no board):"
+        f"4. an addition of {step} lines planned onto an open job, by the job's length (no board), "
+        f"{kind}:"
     )
-    takeups = TakeUps(CONFIG)
+    takeups = TakeUps(config)
     lines = chords(total, 0.02, 2400)
     program = parse_gcode(
-        "\n".join(lines) + "\n", CONFIG.axis_names, (0.0, 0.0, 0.0), CONFIG.arc_tolerance
+        "\n".join(lines) + "\n", config.axis_names, (0.0, 0.0, 0.0), config.arc_tolerance
     )
     head = 2 + step
     job = replace(program, items=program.items[:head])
-    plan = plan_program(job, CONFIG)
+    plan = plan_program(job, config)
     compensated = takeups.compensate(plan.segments, plan.pauses)
-    running = StreamPlan(CONFIG, compensated.stream, compensated.pauses, compensated, plan)
-    items = MoveItems(CONFIG, plan.start)
+    running = StreamPlan(config, compensated.stream, compensated.pauses, compensated, plan)
+    items = MoveItems(config, plan.start)
 
     def restream(joined: Plan, old: StreamPlan) -> StreamPlan:
         again = takeups.compensate(joined.segments, joined.pauses, old.compensated.band_start)
-        return StreamPlan(CONFIG, again.stream, again.pauses, again, joined)
+        return StreamPlan(config, again.stream, again.pauses, again, joined)
 
     costs: list[tuple[int, float]] = []
     for at in range(head, len(program.items), step):
@@ -241,7 +251,7 @@ def bench_addition_cost(step: int = 32, total: int = 12000) -> None:
         running = swap.plan
     print(f"   {cost_by_length(costs[len(costs) // 20 :])}")
     whole = time.process_time()
-    plan_program(program, CONFIG)
+    plan_program(program, config)
     whole = time.process_time() - whole
     print(
         f"   the whole file ({running.base.moves} moves) planned once: {whole:.2f} s "

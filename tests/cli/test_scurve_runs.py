@@ -8,13 +8,16 @@ job's last target, and the acceleration read back from the trace must change no 
 from __future__ import annotations
 
 import json
+import math
 from pathlib import Path
 
 import pytest
 
-from quadstep.cli import main
+from quadstep import job_scan
+from quadstep.cli import _streamed, main
 from quadstep.config import load_config
 from quadstep.job import load_job
+from quadstep.machine import file_feed
 from quadstep.planner.stream import Stream
 from quadstep.protocol import CubicSegment
 
@@ -108,3 +111,33 @@ def test_fine_moves_run_exactly_as_predicted(
     emu.stop()
     expected = assert_trace_is_prediction(trace, plan.segments.segments(), plan.start, axis_count=3)
     assert len(expected.steps) == 2 * 256 * 4
+
+
+def test_a_large_file_is_streamed_with_s_curves_without_a_stop_between_its_parts(
+    start_emulator, tmp_path: Path, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """`quadstep run` of a file over STREAM_BYTES (here lowered) on a jerk-limited machine: checked, then
+    planned and sent a part at a time, each part going on from a state the plan before it kept (no stop
+    between them, so the motion takes as long as the whole file planned at once, near enough), every axis
+    exactly at its end."""
+    monkeypatch.setattr(_streamed, "STREAM_BYTES", 1000)
+    monkeypatch.setattr(job_scan, "CHUNK_LINES", 60)  # parts of 60 lines, one part first
+    monkeypatch.setattr(file_feed, "FIRST_PARTS", 1)
+    monkeypatch.setattr(file_feed, "AHEAD_S", 0.6)
+    config_path = jerk_config(tmp_path)
+    config = load_config(config_path)
+    lines = ["G21 G90 F2400", "G0 X70 Y50"]
+    for k in range(1, 400):  # a circle's chords of 0.25 mm
+        lines.append(f"G1 X{50 + 20 * math.cos(k / 80):.4f} Y{50 + 20 * math.sin(k / 80):.4f}")
+    job = tmp_path / "streamed.gcode"
+    job.write_text("\n".join(lines) + "\n")
+    whole = load_job(job, config).plan
+    emu = start_emulator(axes=3, tick_hz=config.tick_hz)
+    code = main(["run", str(job), "--config", str(config_path), "--port", emu.url])
+    out, err = capsys.readouterr()
+    assert code == 0, err
+    assert out.splitlines()[0].endswith("planned and sent a part at a time")
+    assert out.splitlines()[-1] == "every axis is exactly where the job put it"
+    summary = emu.stop()
+    # stopping between parts would add a ramp down and up at each of the six
+    assert summary["motion_ticks"] == pytest.approx(whole.duration_ticks, rel=0.02)

@@ -11,6 +11,7 @@ import weakref
 from pathlib import Path
 
 import numpy as np
+import pytest
 from host_helpers import read_trace
 
 from quadstep.config import load_config
@@ -19,9 +20,13 @@ from quadstep.gcode.interpreter import parse_gcode
 from quadstep.link import Link
 from quadstep.machine import JobState, Machine
 from quadstep.planner.plan import plan_program
+from quadstep.protocol.cubic import CubicSegment
 
 REPO = Path(__file__).resolve().parents[2]
 CONFIG = load_config(REPO / "examples" / "router-uno.toml")
+SCURVE = CONFIG.model_copy(
+    update={"axes": tuple(a.model_copy(update={"max_jerk": 20000.0}) for a in CONFIG.axes)}
+)
 
 
 def zigzag(first: int, count: int) -> str:
@@ -77,6 +82,47 @@ def test_lines_given_while_it_runs_go_on_without_a_stop(start_emulator, tmp_path
         read_trace(trace), predict(list(run.plan.segments.segments()), axis_count=3).steps
     )
     assert run.plan.base.moves == planned.moves
+
+
+@pytest.mark.parametrize("override", [None, 60])
+def test_a_jerk_limited_job_goes_on_from_its_kept_state_without_a_stop(
+    start_emulator, tmp_path: Path, override: int | None
+) -> None:
+    """max_jerk set: lines given while it runs go on from the S-curve planner's state the plan kept
+    (planner/scurve_rest.py), not from rest; with a feed override among them too."""
+    trace = tmp_path / "trace.csv"
+    emu = start_emulator(trace=trace, axes=3, tick_hz=SCURVE.tick_hz, queue=14)
+    with Link.open(emu.url) as link:
+        machine = Machine(link, SCURVE)
+        head = "G21 G90 F1800\n" + zigzag(1, 10)
+        whole = head + zigzag(11, 30)
+        parsed = [
+            parse_gcode(text, SCURVE.axis_names, (0.0, 0.0, 0.0), SCURVE.arc_tolerance)
+            for text in (head, whole)
+        ]
+        program, items = parsed[0], parsed[1].items
+        run = machine.run_job(
+            plan_program(program, SCURVE, machine.position), program, open_end=True
+        )
+        plans = [run.plan.segments]
+        for first in (11, 21, 31):
+            wait_until(lambda: run.progress.line >= first - 6)
+            at = len(program.items) + first - 11
+            assert run.extend(items[at : at + 10], first + 10)
+            if override is not None and first == 21:
+                assert run.set_feed_override(override) == override
+            wait_until(lambda: run.plan.segments is not plans[-1])  # planned onto the job
+            plans.append(run.plan.segments)
+        run.close()
+        end = run.wait(60)
+        assert end is not None and end.ended_by == "done", end
+        assert machine.position == plan_program(parsed[1], SCURVE, (0, 0, 0)).end
+    emu.stop()
+    assert run.state is JobState.DONE and JobState.RESUMING not in run.states.history
+    assert run.plan.base.moves == 40
+    segments = list(run.plan.segments.segments())
+    assert any(isinstance(s, CubicSegment) for s in segments)
+    assert np.array_equal(read_trace(trace), predict(segments, axis_count=3).steps)
 
 
 def test_lines_given_after_the_end_was_sent_go_on_from_rest(start_emulator) -> None:

@@ -3,8 +3,8 @@
 A G-code file larger than STREAM_BYTES is checked whole in one pass (job_scan.py), then planned and
 sent a part at a time (machine/file_feed.py): its first move starts as soon as the check ends, and
 the check's memory stays the same however long the file (the running job keeps what it was given:
-docs/JOBS.md, "Large files"). Smaller files, move files, --from-line, --resume, jerk-limited
-machines and files that probe (G38.x) are planned whole before anything is sent.
+docs/JOBS.md, "Large files"). Smaller files, move files, --from-line, --resume and files that
+probe (G38.x) are planned whole before anything is sent.
 """
 
 from __future__ import annotations
@@ -23,7 +23,7 @@ from .options import CliError
 STREAM_BYTES = 256 * 1024
 
 
-def streams(args: argparse.Namespace, config: MachineConfig) -> bool:
+def streams(args: argparse.Namespace) -> bool:
     """Whether the job is checked whole, then planned and sent a part at a time."""
     path: Path = args.job
     try:
@@ -35,7 +35,6 @@ def streams(args: argparse.Namespace, config: MachineConfig) -> bool:
         and not is_move_file(path)
         and not args.resume
         and args.from_line is None
-        and not config.jerk_limited
     )
 
 

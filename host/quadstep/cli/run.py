@@ -163,7 +163,7 @@ def run(args: argparse.Namespace) -> int:
     config = machine_config(args)
     path = config_path(args)
     config_name = str(path) if path is not None else DEFAULT_MACHINE_NAME
-    streamed = streams(args, config)
+    streamed = streams(args)
     try:  # syntax errors before touching the machine; the plan needs its position
         if not streamed:  # a large file is checked once, from where the machine stands
             read_program(args.job, config, (0,) * len(config.axes), args.skip_unsupported)

@@ -13,6 +13,7 @@ from dataclasses import replace
 
 from ..config import MachineConfig
 from ..coordinates import WorkCoordinates
+from ..planner.lookahead import settled_moves as settled_junctions
 from ..planner.plan import Plan
 from ..planner.program import Item, Program
 
@@ -112,13 +113,11 @@ class OpenEnd:
 
 
 def settled_moves(plan: Plan) -> int:
-    """The moves of `plan` that lines added after its end leave as planned: those before the last
-    stretch whose entry speeds fall all the way to the stop at the end. Further back an entry speed
-    is no higher than the next one, so the look-ahead's backward pass from the end does not limit
-    it, and more moves after the end, which can only raise that pass, change nothing before it."""
-    junctions, move = plan.junctions, plan.moves - 1
-    if len(junctions) <= plan.moves:
+    """The moves of `plan` that lines added after its end leave as planned (planner/lookahead.py);
+    for a jerk-limited plan, those before the first of its S-curve planner's kept states, which more
+    lines go on from (planner/scurve_state.py)."""
+    if len(plan.junctions) <= plan.moves:
         return 0  # not made by plan_program: everything again
-    while move > 0 and junctions[move] > junctions[move + 1]:
-        move -= 1
-    return max(move, 0)
+    if plan.scurve_states:
+        return plan.scurve_states[0].move
+    return settled_junctions(plan.junctions, plan.moves)

@@ -18,7 +18,8 @@ from ..kernel.fixed import D
 from ..planner.feed_override import scale_feeds
 from ..planner.plan import Boundary, Plan, plan_program
 from ..planner.program import JobError, LinearMove, Program
-from ..planner.scurve_rest import replan_scurve_from
+from ..planner.scurve_rest import continue_scurve, replan_scurve_from
+from ..planner.scurve_state import ScurveState
 from ..planner.segments import SegmentArrays
 from ..planner.stream import Stream
 from .motion import Motion
@@ -120,19 +121,36 @@ def replan_from(
     by `scale` (the overrides), going on from there (what lies between the moves, a dwell or a
     pause, comes with the rest). `items`: where the plan's moves are in the program, kept from
     before."""
-    if items is None:
-        first = move_item(program, plan.config, plan.start, move - 1) + 1
-        rest = rest_of(program, first)
-    else:
-        rest = items.rest_of(program, items.item_of(program, move - 1) + 1)
     boundary = boundary_at(plan, move)
     tail = plan_program(
-        scale(rest, boundary.position),
+        scale(_rest_after(program, plan, move, items), boundary.position),
         plan.config,
         label=label,
         boundary=boundary,
     )
     return join(plan, move, tail)
+
+
+def _rest_after(program: Program, plan: Plan, move: int, items: MoveItems | None) -> Program:
+    """The items of `program` after the one its plan's move `move` − 1 came from; `items`: where
+    the plan's moves are in the program, kept from before."""
+    if items is None:
+        return rest_of(program, move_item(program, plan.config, plan.start, move - 1) + 1)
+    return items.rest_of(program, items.item_of(program, move - 1) + 1)
+
+
+def continue_plan(
+    program: Program,
+    plan: Plan,
+    state: ScurveState,
+    scale: Scaler,
+    label: str,
+    items: MoveItems | None = None,
+) -> Plan:
+    """The jerk-limited `plan` up to `state` (one its S-curve planner kept), then the rest of
+    `program` (lines added to it) scaled by `scale`, going on from that state."""
+    rest = _rest_after(program, plan, state.move, items)
+    return continue_scurve(plan, state, scale(rest, state.position), label)
 
 
 def replan_scurve(
@@ -197,19 +215,29 @@ def prepare(
 ) -> Swap | None:
     """`running` planned again with `scale` from the first move boundary where the new stream
     leaves the old at or after its item `after` (and before item `before`, the section's end); None
-    when there is none. A jerk-limited plan is planned again whole (its moves before the boundary
-    as they were: `planned` is how its program was scaled)."""
+    when there is none. A jerk-limited plan is planned again whole for an override (its moves
+    before the boundary as they were: `planned` is how its program was scaled), and goes on from
+    the first state it kept that is not sent for lines added (`planned` None)."""
     base = running.base if isinstance(running, StreamPlan) else running
     scurve = base.config.jerk_limited
+    added = scurve and planned is None  # lines added: from a state the plan kept
     if len(base.junctions) <= base.moves or (
-        planned is None if scurve else not isinstance(base.segments, SegmentArrays)
+        (added and not base.scurve_states)
+        if scurve
+        else not isinstance(base.segments, SegmentArrays)
     ):
         return None  # not made by plan_program
     origin = running.segments.origin_of(after) if isinstance(running, StreamPlan) else after
     move = bisect_left(base.move_ends, origin) + 1
-    for move in range(move, min(move + TRIES, base.moves)):
+    boundaries: Sequence[int] = range(move, min(move + TRIES, base.moves))
+    states = {s.move: s for s in base.scurve_states if s.move >= move}
+    if added:  # only where a state was kept and is not sent yet
+        boundaries = sorted(states)[:TRIES]
+    for move in boundaries:
         try:
-            if scurve:
+            if added:
+                joined = continue_plan(program, base, states[move], scale, label, items)
+            elif scurve:
                 assert planned is not None
                 joined = replan_scurve(program, base, move, scale, planned, label)
             else:

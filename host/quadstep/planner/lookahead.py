@@ -13,6 +13,7 @@ move has a jerk limit (planner/jerk.py). Speeds in mm/tick.
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 
 from ..config import MachineConfig
 from .jerk import reachable_speed
@@ -106,3 +107,15 @@ def junction_speeds(table: MoveTable, config: MachineConfig, entry: float = 0.0)
                     )
                 limit[k + 1] = least
     return limit
+
+
+def settled_moves(junctions: Sequence[float], moves: int) -> int:
+    """The moves that more moves after the last leave as planned (`junctions`: each move's entry
+    speed, then 0): those before the last stretch whose entry speeds fall all the way to the stop at
+    the end. Further back an entry speed is no higher than the next one, so the backward pass from
+    the end does not limit it, and more moves after the end, which can only raise that pass, change
+    nothing before it."""
+    move = moves - 1
+    while move > 0 and junctions[move] > junctions[move + 1]:
+        move -= 1
+    return max(move, 0)

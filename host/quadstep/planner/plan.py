@@ -12,13 +12,14 @@ from ..kernel.fixed import SIGMA, D
 from ..protocol import Outputs
 from ..protocol.segment import Segment
 from .limits import check_duration
-from .lookahead import PLAN_ACCEL_FRACTION, junction_speeds
+from .lookahead import PLAN_ACCEL_FRACTION, junction_speeds, settled_moves
 from .moves import MoveTable, build_moves
 from .outputs import is_dynamic, output_message, set_at_rest
 from .profile import fit_profiles
 from .program import Dwell, JobError, OutputState, Pause, ProbeMove, Program, SetOutputs
 from .quantize import Quantizer
 from .scurve import ScurvePlanner
+from .scurve_state import ScurveState, StateKeeper
 from .segments import SegmentArrays
 from .stream import Stream
 
@@ -67,6 +68,9 @@ class Plan:
     # a quadratic plan's residual chain at its end: each axis's ideal (1/8192 step), for going on
     # from a move near the end without summing every segment before it
     end_ideal2: tuple[int, ...] = ()
+    # a jerk-limited plan's S-curve planner at move boundaries from where its settled moves end, for
+    # lines added after its end to go on from (planner/scurve_state.py)
+    scurve_states: tuple[ScurveState, ...] = ()
 
     def __len__(self) -> int:
         return len(self.segments)
@@ -218,7 +222,10 @@ def plan_moves(
     stops = _Stops(table, config, out, timing)
     move_ends = array("i")
     retries = 0
+    keeper = StateKeeper(table, settled_moves(entry, len(table)))
     for k in range(len(table)):
+        if scurve is not None:  # where more lines could go on from
+            keeper.before(scurve, k)
         stops.flush(k)
         if stops.state is not None and is_dynamic(stops.state, config):
             stops.send(output_message(stops.state, config, table.unit[k], table.feed[k]))
@@ -228,6 +235,7 @@ def plan_moves(
             assert quantizer is not None
             retries += _quantized_move(quantizer, table, k, entry, label)
         move_ends.append(len(out))
+    states = keeper.end(scurve) if scurve is not None else ()
     stops.flush(len(table))
     if scurve is not None:
         scurve.stop(table.line[-1] if len(table) else 0)
@@ -246,6 +254,7 @@ def plan_moves(
             outputs=stops.outputs,
             peak_advance=tuple(scurve.peak),
             junctions=array("d", entry),
+            scurve_states=states,
         )
     assert quantizer is not None
     return Plan(

@@ -28,6 +28,7 @@ from .program import JobError
 from .scurve_chain import Phase as _Phase
 from .scurve_chain import PhaseRun, State, run_phases
 from .scurve_profile import PROFILE_FRACTION, Profile, whole_tick_profile
+from .scurve_state import ScurveState
 from .stream import Stream
 
 # a junction keeps an axis's speed without a set when it is this close (2^-16 step/tick)
@@ -77,6 +78,34 @@ class ScurvePlanner:
             0,
             0,
         )
+
+    def state(self, move: int, distance_mm: float) -> ScurveState:
+        """This planner as it is, where move `move` begins (`distance_mm`: the moves' length)."""
+        return ScurveState(
+            move,
+            len(self.out),
+            self.chain.copy(),
+            tuple(self.position),
+            self.speed,
+            tuple(self.peak),
+            self.max_landing,
+            self.corrections,
+            distance_mm,
+        )
+
+    @classmethod
+    def resume(
+        cls, config: MachineConfig, state: ScurveState, out: Stream, label: str
+    ) -> ScurvePlanner:
+        """A planner that goes on from `state`, adding to `out` (the plan's segments before it)."""
+        planner = cls(config, state.position, label)
+        planner.chain = state.chain.copy()
+        planner.out = out
+        planner.speed = state.speed
+        planner.peak = list(state.peak)
+        planner.max_landing = state.max_landing
+        planner.corrections = state.corrections
+        return planner
 
     # --- one move ---------------------------------------------------------------------------------
 

@@ -69,6 +69,20 @@ class Stream:
         self.n.append(segment.n)
         self.line.append(line)
 
+    def head(self, count: int) -> Stream:
+        """A new stream of the first `count` items, over the same base (to go on adding to)."""
+        refs = np.frombuffer(self.ref, np.int32)[:count] if count else np.zeros(0, np.int32)
+        extras = -int(refs.min()) if refs.size and refs.min() < 0 else 0  # added in order
+        return Stream(
+            self.base,
+            self.axes,
+            self.ref[:count],
+            self.extra[:extras],
+            self.n[:count],
+            self.line[:count],
+            self.origin[:count],
+        )
+
     def origin_of(self, i: int) -> int:
         """The base segment that item i runs, or part of it (at the end: the number of base
         segments)."""
