@@ -130,3 +130,25 @@ def test_an_addition_goes_on_from_the_first_kept_state_not_sent() -> None:
     # every kept boundary sent: the lines wait for the end and go on from rest
     end = plan.move_ends[plan.scurve_states[-1].move - 1] + 1
     assert prepare(more, plan, end, len(plan), feeds_at(100), "line", None) is None
+
+
+def test_an_override_on_a_plan_of_several_parts_keeps_what_came_before_its_boundary() -> None:
+    """A feed override plans the rest again from the part its boundary is in, from the state that part
+    began from: the segments before the boundary are those sent, in every part (planned again from the
+    plan's start they would not be: each part began at the speed the one before reached)."""
+    whole = program_of(chords(600))
+    program = replace(whole, items=whole.items[:40])
+    plan = plan_program(program, CONFIG)
+    items = MoveItems(CONFIG, plan.start)
+    for at in range(40, 400, 60):
+        program = replace(program, items=whole.items[: at + 60])
+        plan = continue_plan(program, plan, plan.scurve_states[0], feeds_at(100), "line", items)
+    starts = [s.move for s in plan.scurve_starts]
+    assert len(starts) == 6 and starts == sorted(starts)
+    for move in (starts[0] - 1, starts[0], starts[1] + 3, starts[-1] + 1):
+        again = replan_scurve(program, plan, move, feeds_at(10), feeds_at(100), "line", items)
+        index = plan.move_ends[move - 1]
+        assert list(again.segments.segments(0, index)) == list(plan.segments.segments(0, index))
+        same = replan_scurve(program, plan, move, feeds_at(100), feeds_at(100), "line", items)
+        assert again.end == plan.end and again.segments.ticks > same.segments.ticks
+        assert [s.move for s in again.scurve_starts] == [s for s in starts if s <= move]

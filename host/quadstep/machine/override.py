@@ -131,12 +131,19 @@ def replan_from(
     return join(plan, move, tail)
 
 
-def _rest_after(program: Program, plan: Plan, move: int, items: MoveItems | None) -> Program:
-    """The items of `program` after the one its plan's move `move` − 1 came from; `items`: where
-    the plan's moves are in the program, kept from before."""
+def _first_after(program: Program, plan: Plan, move: int, items: MoveItems | None) -> int:
+    """The first item of `program` after the one its plan's move `move` − 1 came from; `items`:
+    where the plan's moves are in the program, kept from before."""
     if items is None:
-        return rest_of(program, move_item(program, plan.config, plan.start, move - 1) + 1)
-    return items.rest_of(program, items.item_of(program, move - 1) + 1)
+        return move_item(program, plan.config, plan.start, move - 1) + 1
+    return items.item_of(program, move - 1) + 1
+
+
+def _rest_after(program: Program, plan: Plan, move: int, items: MoveItems | None) -> Program:
+    """`program` from its first item after its plan's move `move` − 1 (the outputs in force
+    there first)."""
+    first = _first_after(program, plan, move, items)
+    return rest_of(program, first) if items is None else items.rest_of(program, first)
 
 
 def continue_plan(
@@ -154,22 +161,29 @@ def continue_plan(
 
 
 def replan_scurve(
-    program: Program, plan: Plan, move: int, scale: Scaler, planned: Scaler, label: str
+    program: Program,
+    plan: Plan,
+    move: int,
+    scale: Scaler,
+    planned: Scaler,
+    label: str,
+    items: MoveItems | None = None,
 ) -> Plan:
     """The jerk-limited `plan` (of `program` scaled by `planned`) up to where its move `move`
-    begins, then the rest of `program` scaled by `scale`, going on from there."""
-    first = move_item(program, plan.config, plan.start, move - 1) + 1
+    begins, planned again from where the part it is in began, then the rest of `program` scaled by
+    `scale`, going on from there."""
+    begun = next((s for s in reversed(plan.scurve_starts) if s.move <= move), None)
+    before, start = (
+        (program, plan.start)
+        if begun is None
+        else (_rest_after(program, plan, begun.move, items), begun.position)
+    )
+    first = _first_after(program, plan, move, items)
     previous = program.items[first - 1]
     assert isinstance(previous, LinearMove)
     here = plan.config.to_steps(previous.target)
-    return replan_scurve_from(
-        planned(program, plan.start),
-        plan.start,
-        move,
-        scale(rest_of(program, first), here),
-        plan.config,
-        label,
-    )
+    rest = rest_of(program, first) if items is None else items.rest_of(program, first)
+    return replan_scurve_from(plan, begun, planned(before, start), move, scale(rest, here), label)
 
 
 def first_difference(old: Stream, new: Stream) -> int:
@@ -239,7 +253,7 @@ def prepare(
                 joined = continue_plan(program, base, states[move], scale, label, items)
             elif scurve:
                 assert planned is not None
-                joined = replan_scurve(program, base, move, scale, planned, label)
+                joined = replan_scurve(program, base, move, scale, planned, label, items)
             else:
                 joined = replan_from(program, base, move, scale, label, items)
         except JobError:

@@ -71,6 +71,9 @@ class Plan:
     # a jerk-limited plan's S-curve planner at move boundaries from where its settled moves end, for
     # lines added after its end to go on from (planner/scurve_state.py)
     scurve_states: tuple[ScurveState, ...] = ()
+    # the states its parts began from, in order (lines added, an override, went on from each); none:
+    # one part, from rest at `start`
+    scurve_starts: tuple[ScurveState, ...] = ()
 
     def __len__(self) -> int:
         return len(self.segments)

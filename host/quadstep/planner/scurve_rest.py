@@ -4,8 +4,9 @@ firmware's chain per axis, the position, the path speed — is all the moves aft
 goes on from that state, its first move entered at the speed the plan had there.
 
 - A feed override on a running S-curve job (`replan_scurve_from`): the moves before the boundary are
-  planned again exactly as they were (the same table and look-ahead: the same segments), then the
-  rest at the new feeds.
+  planned again exactly as they were, from the state the part they are in began from
+  (`Plan.scurve_starts`, or the plan's start at rest; the same table and look-ahead: the same
+  segments), then the rest at the new feeds.
 - Lines added to an open job (`continue_scurve`): from a state its plan kept
   (`Plan.scurve_states`, planner/scurve_state.py), the plan's segments before it as they are, so
   that an addition costs the planning of what it changes, not of the whole job.
@@ -16,7 +17,7 @@ from __future__ import annotations
 
 from array import array
 
-from ..config import MachineConfig
+from ..protocol import Outputs
 from .lookahead import junction_speeds, settled_moves
 from .moves import MoveTable, build_moves
 from .outputs import is_dynamic, output_message
@@ -74,10 +75,10 @@ def _plan(
     stops: _Stops,
     moves: tuple[array, array, tuple[ScurveState, ...]],
     rest: Program,
-    distance_mm: float,
+    begun: tuple[tuple[ScurveState, ...], float],
 ) -> Plan:
     """The whole plan from `start`: what the planner made (`moves`: its move ends, junctions and
-    kept states)."""
+    kept states; `begun`: the states its parts began from and the length of its moves)."""
     move_ends, junctions, kept = moves
     return Plan(
         config=scurve.config,
@@ -86,7 +87,7 @@ def _plan(
         end=tuple(scurve.position),
         pauses=stops.pauses,
         moves=len(move_ends),
-        distance_mm=distance_mm,
+        distance_mm=begun[1],
         lines=rest.lines,
         max_landing_error=scurve.max_landing >> 18,
         move_ends=move_ends,
@@ -95,41 +96,75 @@ def _plan(
         peak_advance=tuple(scurve.peak),
         junctions=junctions,
         scurve_states=kept,
+        scurve_starts=begun[0],
     )
 
 
+class _Begun:
+    """A planner going on from `state` of `plan` (or from the plan's start at rest: None), and the
+    plan's move ends, junctions, pauses, outputs and the states its parts began from before it, as
+    they were."""
+
+    def __init__(self, plan: Plan, state: ScurveState | None, label: str) -> None:
+        config = plan.config
+        self.starts: tuple[ScurveState, ...] = ()
+        if state is None:
+            self.scurve = ScurvePlanner(config, plan.start, label)
+            self.position, self.speed, self.distance_mm = plan.start, 0.0, 0.0
+            self.move_ends, self.junctions = array("i"), array("d")
+            self.pauses: list[tuple[int, int]] = []
+            self.outputs: list[tuple[int, int, Outputs]] = []
+            return
+        assert isinstance(plan.segments, Stream)
+        self.scurve = ScurvePlanner.resume(config, state, plan.segments.head(state.segments), label)
+        self.position, self.speed, self.distance_mm = state.position, state.speed, state.distance_mm
+        self.move_ends, self.junctions = plan.move_ends[: state.move], plan.junctions[: state.move]
+        self.pauses = [p for p in plan.pauses if p[0] < state.segments]
+        self.outputs = [o for o in plan.outputs if o[0] < state.segments]
+        self.starts = (*(s for s in plan.scurve_starts if s.move < state.move), state)
+
+    def stops(self, table: MoveTable) -> _Stops:
+        """The stops of `table`, going on with the pauses and outputs before: the sections and the
+        messages go on counting."""
+        stops = _Stops(table, self.scurve.config, self.scurve.out, self.scurve)
+        stops.pauses, stops.outputs = self.pauses, self.outputs
+        return stops
+
+
 def replan_scurve_from(
+    plan: Plan,
+    begin: ScurveState | None,
     planned: Program,
-    start: tuple[int, ...],
     move: int,
     rest: Program,
-    config: MachineConfig,
     label: str,
 ) -> Plan:
-    """`planned` (the program as its plan was planned, from `start`) up to where its move `move`
-    (≥ 1) begins, then `rest` going on from there, moving (JobError where it cannot: a stop the
-    speed there cannot reach, no whole-tick profile)."""
-    before = build_moves(planned, config, start, label)
-    entry = junction_speeds(before, config)
-    scurve = ScurvePlanner(config, before.start, label)
-    stops = _Stops(before, config, scurve.out, scurve)
-    move_ends = array("i")
-    for k in range(move):
-        _move(scurve, stops, before, k, entry, move_ends)
-    after = build_moves(rest, config, before.target[move - 1], label)
-    junctions = array("d", entry[:move] + junction_speeds(after, config, scurve.speed))
-    rest_stops = _Stops(after, config, scurve.out, scurve)
-    # one list of pauses and outputs: the sections and the messages go on counting
-    rest_stops.pauses, rest_stops.outputs = stops.pauses, stops.outputs
-    distance = float(sum(before.length[:move]))
-    kept = _rest(scurve, rest_stops, after, junctions, move_ends, distance)
+    """`plan` up to where its move `move` (≥ 1) begins, planned again as it was from `begin` (the
+    state one of its parts began from at or before that move, or None: its start at rest) with
+    `planned` (the program's items from there, as they were planned: the same table and look-ahead,
+    the same segments), then `rest` going on from there, moving (JobError where it cannot: a stop
+    the speed there cannot reach, no whole-tick profile)."""
+    begun, config = _Begun(plan, begin, label), plan.config
+    scurve, first = begun.scurve, len(begun.move_ends)
+    before = build_moves(planned, config, begun.position, label)
+    entry = junction_speeds(before, config, begun.speed)
+    count = move - first
+    stops = begun.stops(before)
+    for k in range(count):
+        _move(scurve, stops, before, k, entry, begun.move_ends)
+    after = build_moves(rest, config, before.target[count - 1] if count else begun.position, label)
+    junctions = begun.junctions + array(
+        "d", entry[:count] + junction_speeds(after, config, scurve.speed)
+    )
+    distance = begun.distance_mm + float(sum(before.length[:count]))
+    kept = _rest(scurve, begun.stops(after), after, junctions, begun.move_ends, distance)
     return _plan(
-        before.start,
+        plan.start,
         scurve,
-        rest_stops,
-        (move_ends, junctions, kept),
+        stops,
+        (begun.move_ends, junctions, kept),
         rest,
-        distance + float(sum(after.length)),
+        (begun.starts, distance + float(sum(after.length))),
     )
 
 
@@ -137,24 +172,16 @@ def continue_scurve(plan: Plan, state: ScurveState, rest: Program, label: str) -
     """`plan` up to `state` (one of `plan.scurve_states`), then `rest` (the program's items from
     that move on, the added lines with them) going on from there, moving (JobError where it
     cannot)."""
-    config = plan.config
-    assert isinstance(plan.segments, Stream)
-    scurve = ScurvePlanner.resume(config, state, plan.segments.head(state.segments), label)
+    begun, config = _Begun(plan, state, label), plan.config
     after = build_moves(rest, config, state.position, label)
-    junctions = plan.junctions[: state.move] + array(
-        "d", junction_speeds(after, config, state.speed)
-    )
-    stops = _Stops(after, config, scurve.out, scurve)
-    # what the plan sent before the state, as it was: the sections and the messages go on counting
-    stops.pauses = [p for p in plan.pauses if p[0] < state.segments]
-    stops.outputs = [o for o in plan.outputs if o[0] < state.segments]
-    move_ends = plan.move_ends[: state.move]
-    kept = _rest(scurve, stops, after, junctions, move_ends, state.distance_mm)
+    junctions = begun.junctions + array("d", junction_speeds(after, config, state.speed))
+    stops = begun.stops(after)
+    kept = _rest(begun.scurve, stops, after, junctions, begun.move_ends, state.distance_mm)
     return _plan(
         plan.start,
-        scurve,
+        begun.scurve,
         stops,
-        (move_ends, junctions, kept),
+        (begun.move_ends, junctions, kept),
         rest,
-        state.distance_mm + float(sum(after.length)),
+        (begun.starts, state.distance_mm + float(sum(after.length))),
     )
