@@ -5,8 +5,6 @@ in turn, each reversal has its take-up, and the job ends on its last target."""
 
 from __future__ import annotations
 
-import time
-from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -14,12 +12,13 @@ import pytest
 from backlash_helpers import backlash_config, pushed_plus, write_sim
 from host_helpers import read_trace
 from machine_helpers import read_trace_with_carriage
+from rolling_legs import ROW_MOVES, WhatRan, rows, run_in_parts, wait_until
 
 from quadstep.gcode.interpreter import parse_gcode
 from quadstep.kernel.cubic_chain import CubicChain
 from quadstep.kernel.engine_model import predict
 from quadstep.link import Link
-from quadstep.machine import JobRun, JobState, Machine
+from quadstep.machine import JobState, Machine
 from quadstep.machine import job as job_module
 from quadstep.machine import rebase as rebase_module
 from quadstep.machine.rebase import entry_chain, find, rebased
@@ -30,20 +29,6 @@ from quadstep.planner.program import Program
 
 CONFIG = backlash_config((0.1, 0.05, 0.0))
 BACKLASH_STEPS = (40.0, 20.0, 0.0)
-ROW_MOVES = 20
-
-
-def rows(count: int) -> str:
-    """Rows of 0.5 mm moves along X, back and forth (X reverses at each row's end), 1 mm apart in
-    Y."""
-    out, x = ["G21 G90 F2400"], 0.0
-    for row in range(count):
-        step = 0.5 if row % 2 == 0 else -0.5
-        for _ in range(ROW_MOVES):
-            x += step
-            out.append(f"G1 X{x:.3f}")
-        out.append(f"G1 Y{row + 1}")
-    return "\n".join(out) + "\n"
 
 
 def zigzag(count: int) -> str:
@@ -53,13 +38,6 @@ def zigzag(count: int) -> str:
 
 def parse(text: str):
     return parse_gcode(text, CONFIG.axis_names, (0.0, 0.0, 0.0), CONFIG.arc_tolerance)
-
-
-def wait_until(condition, timeout: float = 60.0) -> None:
-    deadline = time.monotonic() + timeout
-    while not condition():
-        assert time.monotonic() < deadline, "timed out"
-        time.sleep(0.005)
 
 
 def whole_stream(count: int, path=rows) -> tuple[Program, StreamPlan, np.ndarray]:
@@ -176,45 +154,15 @@ def test_a_long_open_job_lets_go_of_what_ran_and_sends_the_same(
     """Given 21 lines at a time, 4 rows' worth ahead of the machine: rows whose X reverses at each
     row's end, and a zigzag whose Y reverses at every move (the job begins again inside moves)."""
     monkeypatch.setattr(rebase_module, "REBASE_SEGMENTS", 80)
-    sent: list = []  # what ran, in order: what each plan let go of, each leg run to its end
-    let_go = job_module.rebased
-    rebases = 0
-
-    def recorded(plan, at):
-        nonlocal rebases
-        rebases += 1
-        sent.extend(plan.segments.segments(0, at.index))
-        return let_go(plan, at)
-
-    next_leg = JobRun._next_leg
-
-    def leg_ran(run: JobRun, here: tuple[int, ...]):  # on a busy computer: the job went on from rest
-        if run.states.history[-2:] == [JobState.STREAMING, JobState.RESUMING]:  # after a done
-            sent.extend(run.plan.segments.segments())
-        return next_leg(run, here)
-
-    monkeypatch.setattr(job_module, "rebased", recorded)
-    monkeypatch.setattr(JobRun, "_next_leg", leg_ran)
+    ran = WhatRan(monkeypatch)
     trace = tmp_path / "trace.csv"
     emu = start_emulator(trace=trace, axes=3, tick_hz=CONFIG.tick_hz, queue=14)
     whole = parse(path(count))
     head = 1 + 5 * (ROW_MOVES + 1)  # five rows, then a row at a time, 4 rows ahead of the machine
-    with Link.open(emu.url) as link:
-        machine = Machine(link, CONFIG)
-        program = replace(whole, items=whole.items[:head])
-        run = machine.run_job(plan_program(program, CONFIG, (0, 0, 0)), program, open_end=True)
-        longest = 0
-        for given in range(head, len(whole.items), ROW_MOVES + 1):
-            wait_until(lambda: run.progress.line >= given - 4 * ROW_MOVES)
-            longest = max(longest, len(run.plan))
-            items = whole.items[given : given + ROW_MOVES + 1]
-            assert run.extend(items, items[-1].line)
-        run.close()
-        end = run.wait(120)
-        assert end is not None and end.ended_by == "done", end
-        assert machine.position == plan_program(whole, CONFIG, (0, 0, 0)).end
+    run, longest = run_in_parts(emu.url, CONFIG, whole, head, ROW_MOVES + 1, 4 * ROW_MOVES)
     emu.stop()
-    assert rebases >= 3  # it let go of what ran, several times
+    sent = ran.sent
+    assert ran.rebases >= 3  # it let go of what ran, several times
     assert longest < len(sent)  # and kept less than that
     assert run.plan.compensated.takeups  # the reversals after it still have their take-ups
     assert run.progress.done == run.progress.total == len(sent) + len(run.plan)

@@ -1,8 +1,8 @@
-"""Lines added to a jerk-limited open job go on from a state of the S-curve planner its plan kept, from where
-its settled moves end (planner/scurve_state.py, scurve_rest.py): the plan's segments before it as they are,
-then the rest planned from there, moving. The result is the plan of planning up to that move again and the
-rest after it, segment for segment, and a chain of additions ends where the whole program planned at once
-ends, within 2 % of its ticks."""
+"""Lines added to a jerk-limited open job go on from a state of the S-curve planner its plan kept,
+from where its settled moves end (planner/scurve_state.py, scurve_rest.py): the plan's segments
+before it as they are, then the rest planned from there, moving. The result is the plan of planning
+up to that move again and the rest after it, segment for segment, and a chain of additions ends
+where the whole program planned at once ends, within 2 % of its ticks."""
 
 from __future__ import annotations
 
@@ -133,9 +133,9 @@ def test_an_addition_goes_on_from_the_first_kept_state_not_sent() -> None:
 
 
 def test_an_override_on_a_plan_of_several_parts_keeps_what_came_before_its_boundary() -> None:
-    """A feed override plans the rest again from the part its boundary is in, from the state that part
-    began from: the segments before the boundary are those sent, in every part (planned again from the
-    plan's start they would not be: each part began at the speed the one before reached)."""
+    """A feed override plans the rest again from the part its boundary is in, from the state that
+    part began from: the segments before the boundary are those sent, in every part (planned again
+    from the plan's start they would not be: each began at the speed the one before reached)."""
     whole = program_of(chords(600))
     program = replace(whole, items=whole.items[:40])
     plan = plan_program(program, CONFIG)

@@ -134,6 +134,8 @@ def replan_from(
 def _first_after(program: Program, plan: Plan, move: int, items: MoveItems | None) -> int:
     """The first item of `program` after the one its plan's move `move` − 1 came from; `items`:
     where the plan's moves are in the program, kept from before."""
+    if move == 0:
+        return 0
     if items is None:
         return move_item(program, plan.config, plan.start, move - 1) + 1
     return items.item_of(program, move - 1) + 1

@@ -6,8 +6,9 @@ the rest of that move, its move 0.
 
 Only where the stream runs the boundary's planned segment as planned and no axis has a take-up to
 make before its next motion, so that the take-ups of the stream from there, worked out again from
-the band and the firmware's chain there, are those it has; only quadratic plans (a jerk-limited one
-is planned again whole from its start)."""
+the band and the firmware's chain there, are those it has. A jerk-limited plan begins again only
+where one of its parts began (an addition went on from there: its S-curve planner's state there is
+kept, `Plan.scurve_starts`), and only while its stream has no take-ups."""
 
 from __future__ import annotations
 
@@ -23,6 +24,7 @@ from ..backlash.compensate import Compensated
 from ..kernel.cubic_chain import CubicChain
 from ..kernel.engine_model import predict
 from ..planner.plan import Plan
+from ..planner.scurve_state import ScurveState
 from ..planner.segments import SegmentArrays
 from ..planner.stream import Stream
 from .takeups import StreamPlan
@@ -52,9 +54,10 @@ def find(plan: Plan | StreamPlan, ticks: Sequence[int], upto: int) -> Rebase | N
     move, where the plan may begin again (`ticks`: the stream's cumulative ticks); None when there
     is none, or it lets go of fewer than REBASE_SEGMENTS."""
     base = plan.base if isinstance(plan, StreamPlan) else plan
+    if upto >= REBASE_SEGMENTS and base.config.jerk_limited:
+        return _find_part_start(plan, ticks, upto)
     if (
         upto < REBASE_SEGMENTS
-        or base.config.jerk_limited
         or not isinstance(base.segments, SegmentArrays)
         or not base.end_ideal2
         or len(base.junctions) <= base.moves
@@ -79,6 +82,24 @@ def find(plan: Plan | StreamPlan, ticks: Sequence[int], upto: int) -> Rebase | N
                     motor[takeup.axis] += takeup.steps
         moves = bisect_right(base.move_ends, segment)  # ending at or before it
         return Rebase(segment, moves, index, int(ticks[index]), tuple(int(m) for m in motor))
+    return None
+
+
+def _find_part_start(plan: Plan | StreamPlan, ticks: Sequence[int], upto: int) -> Rebase | None:
+    """The last place where a part of the jerk-limited `plan` began, at or before its stream item
+    `upto` (None where there is none, it lets go of fewer than REBASE_SEGMENTS, or the stream has
+    take-ups)."""
+    base = plan.base if isinstance(plan, StreamPlan) else plan
+    if isinstance(plan, StreamPlan) and (plan.compensated.takeups or plan.compensated.windows):
+        return None
+    for start in reversed(base.scurve_starts):
+        index = _stream_index(plan, start.segments)
+        if index is None or index > upto:
+            continue
+        if index < REBASE_SEGMENTS:
+            return None
+        motor = tuple(p - s for p, s in zip(start.position, base.start))
+        return Rebase(start.segments, start.move, index, int(ticks[index]), motor)
     return None
 
 
@@ -142,36 +163,65 @@ def rebased(plan: Plan | StreamPlan, at: Rebase) -> Plan | StreamPlan:
     if not isinstance(plan, StreamPlan):
         return _plan_from(plan, at)
     base = _plan_from(plan.base, at)
-    assert isinstance(base.segments, SegmentArrays)
     shift = at.segment
     stream = _stream_from(plan.segments, at.index, base.segments, shift)
-    planned = int(np.frombuffer(plan.base.segments.n, np.uint16)[:shift].sum(dtype=np.int64))
+    n = plan.base.segments.n
+    planned = int(np.frombuffer(n, np.dtype(n.typecode))[:shift].sum(dtype=np.int64))
     compensated = _compensated_from(plan.compensated, stream, at, planned)
-    compensated.entry = entry_chain(plan, at.index)
+    if base.scurve_starts:  # the firmware's chain where the part began (no take-up before it)
+        compensated.entry = base.scurve_starts[0].chain.copy()
+    else:
+        compensated.entry = entry_chain(plan, at.index)
     return StreamPlan(plan.config, stream, compensated.pauses, compensated, base)
 
 
 def _plan_from(plan: Plan, at: Rebase) -> Plan:
-    """The quadratic `plan` from its segment `at.segment` on (its start the steppers there)."""
-    segments = plan.segments
-    assert isinstance(segments, SegmentArrays)
+    """`plan` from its segment `at.segment` on (its start the steppers there)."""
     first, move = at.segment, at.moves
-    kept = _arrays_from(segments, first, len(segments))
-    made = from_arrays(_arrays_from(segments, 0, first)).steps.sum(axis=0)
     pauses = [(i - first, line) for i, line in plan.pauses if i >= first]
     dropped = len(plan.pauses) - len(pauses)
     # what the board runs under there, kept at the start (a feed hold may stop the spindle)
     before = [(0, 0, message) for at, _, message in plan.outputs if at <= first][-1:]
     after = [(at - first, section - dropped, m) for at, section, m in plan.outputs if at > first]
-    return replace(
+    rest = replace(
         plan,
-        segments=kept,
-        start=tuple(int(s + m) for s, m in zip(plan.start, made)),
         pauses=pauses,
         moves=plan.moves - move,
         move_ends=array("i", (e - first for e in plan.move_ends[move:])),
         outputs=before + after,
         junctions=plan.junctions[move:],
+    )
+    if isinstance(plan.segments, Stream):
+        return _scurve_from(rest, plan.segments, at)
+    segments = plan.segments
+    made = from_arrays(_arrays_from(segments, 0, first)).steps.sum(axis=0)
+    return replace(
+        rest,
+        segments=_arrays_from(segments, first, len(segments)),
+        start=tuple(int(s + m) for s, m in zip(plan.start, made)),
+    )
+
+
+def _scurve_from(rest: Plan, segments: Stream, at: Rebase) -> Plan:
+    """The jerk-limited plan `rest` (its segments `segments`, the rest of it so far) from where its
+    part that began at `at` did: that part's state is its start, moving."""
+    start = next(s for s in rest.scurve_starts if s.move == at.moves)
+
+    def shifted(state: ScurveState) -> ScurveState:
+        return replace(
+            state,
+            move=state.move - start.move,
+            segments=state.segments - start.segments,
+            distance_mm=state.distance_mm - start.distance_mm,
+        )
+
+    return replace(
+        rest,
+        segments=segments.tail(at.segment),
+        start=start.position,
+        distance_mm=rest.distance_mm - start.distance_mm,
+        scurve_states=tuple(shifted(s) for s in rest.scurve_states),
+        scurve_starts=tuple(shifted(s) for s in rest.scurve_starts if s.move >= start.move),
     )
 
 
@@ -189,7 +239,7 @@ def _arrays_from(segments: SegmentArrays, first: int, stop: int) -> SegmentArray
     )
 
 
-def _stream_from(stream: Stream, index: int, base: SegmentArrays, shift: int) -> Stream:
+def _stream_from(stream: Stream, index: int, base: SegmentArrays | Stream, shift: int) -> Stream:
     """`stream` from its item `index` on, over `base` (its base from segment `shift` on)."""
     refs = np.frombuffer(stream.ref, np.int32)[index:]
     extras = refs[refs < 0]

@@ -83,6 +83,20 @@ class Stream:
             self.origin[:count],
         )
 
+    def tail(self, first: int) -> Stream:
+        """A new stream of the items from `first` on: a planner's own stream (every item its own
+        segment, its own origin), counted from there."""
+        assert isinstance(self.base, list) and not self.base
+        return Stream(
+            self.base,
+            self.axes,
+            array("i", range(-1, -(len(self) - first) - 1, -1)),
+            self.extra[first:],
+            self.n[first:],
+            self.line[first:],
+            array("i", range(len(self) - first)),
+        )
+
     def origin_of(self, i: int) -> int:
         """The base segment that item i runs, or part of it (at the end: the number of base
         segments)."""
