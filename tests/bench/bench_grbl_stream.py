@@ -5,7 +5,8 @@
 2. a file through the front door against `quadstep run` of it: the wall time from the first motion to
    rest, both ways, and their ratio;
 3. jog cancel (0x85) → the first decelerating tick of the HOLD (the emulator's events log), in ms;
-4. the CPU time of planning an addition onto an open job, by the job's length (no board).
+4. the CPU time of planning an addition onto an open job, by the job's length (no board);
+5. as 2., jerk-limited (max_jerk 20,000 mm/s³ on every axis), 1,200 chords.
 
 Prints figures; asserts no time."""
 
@@ -95,12 +96,13 @@ ADDITIONS = Additions()
 
 
 class Door:
-    def __init__(self, events: Path) -> None:
+    def __init__(self, events: Path, config: MachineConfig = CONFIG) -> None:
+        self.config = config
         self.emulator = Emulator(
-            tick_hz=CONFIG.tick_hz, axes=3, queue=14, extra_args=("--events", str(events))
+            tick_hz=config.tick_hz, axes=3, queue=14, extra_args=("--events", str(events))
         ).start()
         self.link = Link.open(self.emulator.url)
-        self.machine = Machine(self.link, CONFIG)
+        self.machine = Machine(self.link, config)
         self.jobs: list[JobRun] = []
         run_job = self.machine.run_job
 
@@ -139,13 +141,14 @@ def streamed(grbl: GrblClient, door: Door, lines: list[str]) -> tuple[float, lis
 
 def run_whole(door: Door, lines: list[str]) -> float:
     """`quadstep run`'s way: the whole file planned, then run; wall time of the run."""
+    config = door.config
     program = parse_gcode(
         "\n".join(lines[2:]) + "\n",
-        CONFIG.axis_names,
-        CONFIG.to_mm(door.machine.position),
-        CONFIG.arc_tolerance,
+        config.axis_names,
+        config.to_mm(door.machine.position),
+        config.arc_tolerance,
     )
-    plan = plan_program(program, CONFIG, door.machine.position)
+    plan = plan_program(program, config, door.machine.position)
     begun = time.monotonic()
     job = door.machine.run_job(plan, program)
     end = job.wait(600)
@@ -184,15 +187,17 @@ def bench_lines_per_second(grbl: GrblClient, door: Door) -> None:
         print(f"      planning an addition, by job length: {cost_by_length(ADDITIONS.take())}")
 
 
-def bench_file_ratio(grbl: GrblClient, door: Door) -> None:
-    print("2. a file streamed vs quadstep run (400 chords of a spiral, F2400):")
+def bench_file_ratio(grbl: GrblClient, door: Door, chords: int = 400, runs: int = 3) -> None:
+    kind = ", max_jerk 20,000" if door.config.jerk_limited else ""
+    section = 5 if kind else 2
+    print(f"{section}. a file streamed vs quadstep run ({chords} chords of a spiral, F2400{kind}):")
     ADDITIONS.take()
     lines = ["G21 G90 G94", "G0 X52 Y50", "G1 F2400"]
-    for k in range(1, 401):
+    for k in range(1, chords + 1):
         angle, radius = k * 0.12, 2.0 + k * 0.02
         lines.append(f"X{50 + radius * math.cos(angle):.3f} Y{50 + radius * math.sin(angle):.3f}")
     ratios = []
-    for _ in range(3):
+    for _ in range(runs):
         front, jobs = streamed(grbl, door, lines)
         grbl.command("G0 X52 Y50")  # the run from the same start
         grbl.wait_status(idle)
@@ -290,9 +295,18 @@ def holds(events: Path) -> list[int]:
 
 
 def main() -> None:
-    sections = sys.argv[1:] or ["1", "2", "3", "4"]
+    sections = sys.argv[1:] or ["1", "2", "3", "4", "5"]
     if "4" in sections:
         bench_addition_cost()
+    if "5" in sections:
+        with tempfile.TemporaryDirectory() as work:
+            door = Door(Path(work) / "events.csv", SCURVE)
+            try:
+                with GrblClient(str(door.pty.path)) as grbl:
+                    grbl.wait_banner()
+                    bench_file_ratio(grbl, door, 1200, runs=1)
+            finally:
+                door.close()
     if not {"1", "2", "3"} & set(sections):
         return
     with tempfile.TemporaryDirectory() as work:
