@@ -40,6 +40,7 @@ def wait_until(condition, timeout: float = 30.0) -> None:
         time.sleep(0.005)
 
 
+@pytest.mark.realtime
 def test_lines_given_while_it_runs_go_on_without_a_stop(start_emulator, tmp_path: Path) -> None:
     trace = tmp_path / "trace.csv"
     emu = start_emulator(trace=trace, axes=3, tick_hz=CONFIG.tick_hz, queue=14)
@@ -84,6 +85,7 @@ def test_lines_given_while_it_runs_go_on_without_a_stop(start_emulator, tmp_path
     assert run.plan.base.moves == planned.moves
 
 
+@pytest.mark.realtime
 @pytest.mark.parametrize("override", [None, 60])
 def test_a_jerk_limited_job_goes_on_from_its_kept_state_without_a_stop(
     start_emulator, tmp_path: Path, override: int | None

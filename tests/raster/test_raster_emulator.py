@@ -10,6 +10,7 @@ import time
 from pathlib import Path
 
 import numpy as np
+import pytest
 from host_helpers import read_trace
 
 from quadstep.config import load_config
@@ -75,6 +76,7 @@ def check_switches(visits: list[dict[int, int]], rows: list, got: dict[int, int]
     return checked
 
 
+@pytest.mark.realtime
 def test_a_grayscale_raster_runs_exactly_at_100_mm_s(start_emulator, tmp_path: Path) -> None:
     trace, outputs = tmp_path / "trace.csv", tmp_path / "outputs.csv"
     image = RasterImage(
@@ -123,6 +125,7 @@ def test_a_grayscale_raster_runs_exactly_at_100_mm_s(start_emulator, tmp_path: P
     print(f"raster: {pixels} pixels, {frames} frames, {resent} resent, {sent / pixels:.2f} B/pixel")
 
 
+@pytest.mark.realtime
 def test_a_gcode_raster_goes_out_as_raster_lines(start_emulator, tmp_path: Path) -> None:
     """The corpus's LightBurn-style fill, run as written: each row of G1 moves with its S becomes
     RASTER lines, every step as predicted and each S switched at the tick of its move's end."""
