@@ -27,6 +27,7 @@
 #define UNDERRUN_GRACE_NS 2000000000ull /* free-running: wait this long for the host (a loaded test machine pauses) */
 #define FREE_BATCH 4096u               /* free-running: ticks between input checks */
 #define PACED_POLL_MS 1
+#define MAX_LAG_MS 50u /* paced: the most the clock catches up at once (drop_lag) */
 
 typedef struct {
     emu_options opts;
@@ -45,6 +46,7 @@ typedef struct {
     /* Paced time: ticks run since clock_ref. */
     uint64_t clock_ref_ns;
     uint64_t clock_ticks;
+    uint32_t stalls; /* times the paced clock dropped a lag (drop_lag) */
     /* Free-running: when the engine began waiting at an underrun. */
     uint64_t underrun_since_ns;
     /* At rest while the inputs settle: ticks sampled since idle_ref_ns (0: not settling). */
@@ -305,13 +307,39 @@ static void write_output(emulator *m)
     }
 }
 
-static void run_paced(emulator *m)
+/* Ticks due by now on the paced clock. */
+static uint64_t ticks_due(const emulator *m)
 {
     uint64_t elapsed = now_ns() - m->clock_ref_ns;
-    uint64_t due = elapsed / 1000000ull * m->opts.tick_hz / 1000ull
-                   + elapsed % 1000000ull * m->opts.tick_hz / 1000000000ull;
-    uint64_t limit = m->opts.tick_hz / 10 + 1; /* then look at the line again */
 
+    return elapsed / 1000000ull * m->opts.tick_hz / 1000ull
+           + elapsed % 1000000ull * m->opts.tick_hz / 1000000000ull;
+}
+
+/* More than MAX_LAG_MS behind, the emulator's process was not run (a loaded
+ * computer): a board never stops, and would have read the host's frames all
+ * along, so catching the whole lag up without the line would run the queue
+ * dry where a board would not. The board stands still for the time past
+ * MAX_LAG_MS instead: its clock moves on by that much. */
+static void drop_lag(emulator *m)
+{
+    const uint64_t most = m->opts.tick_hz * MAX_LAG_MS / 1000u;
+    uint64_t due = ticks_due(m), lag, ns;
+
+    if (due <= m->clock_ticks + most)
+        return;
+    lag = due - m->clock_ticks - most;
+    ns = lag / m->opts.tick_hz * 1000000000ull + lag % m->opts.tick_hz * 1000000000ull / m->opts.tick_hz;
+    m->clock_ref_ns += ns + 1;
+    m->stalls++;
+}
+
+static void run_paced(emulator *m)
+{
+    uint64_t due, limit = m->opts.tick_hz / 10 + 1; /* then look at the line again */
+
+    drop_lag(m);
+    due = ticks_due(m);
     while (m->clock_ticks < due && limit-- && in_motion(&m->core.engine)) {
         inject_hold(m);
         run_tick(m);
@@ -372,6 +400,7 @@ static void summary(emulator *m)
             state_name(st.state), alarm_name(st.alarm), (unsigned long)st.motion_ticks,
             (unsigned long)st.segments_done);
     fprintf(f, "\"queue_fill\": %u, \"next_seq\": %u, ", st.queue_fill, st.next_seq);
+    fprintf(f, "\"stalls\": %lu, ", (unsigned long)m->stalls);
     for (axis = 0; axis < m->opts.axes; axis++)
         fprintf(f, "\"position_%u\": %ld, \"steps_%u\": %llu, ", axis, (long)st.position[axis], axis,
                 (unsigned long long)m->steps[axis]);
