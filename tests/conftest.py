@@ -38,6 +38,15 @@ def pytest_collection_modifyitems(items: list[pytest.Item]) -> None:
             item.add_marker(pytest.mark.emulator)
 
 
+def pytest_terminal_summary(terminalreporter) -> None:
+    """Why each test run again (make test's --reruns) failed its first run: a starved board on a busy
+    machine, or a fault to look into."""
+    for report in terminalreporter.stats.get("rerun", []):
+        crash = getattr(report.longrepr, "reprcrash", None)
+        why = crash.message if crash is not None else str(report.longrepr)
+        terminalreporter.write_line(f"first run of {report.nodeid} failed: {why[:2000]}")
+
+
 @pytest.fixture(autouse=True)
 def state_home(tmp_path_factory: pytest.TempPathFactory, monkeypatch: pytest.MonkeyPatch) -> Path:
     """Every test keeps work coordinates in a state folder of its own, never in the user's."""
