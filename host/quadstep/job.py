@@ -22,6 +22,7 @@ from .planner.program import JobError, Program
 from .planner.segments import SegmentArrays
 from .protocol.codec import encode
 from .protocol.cubic_run_size import cubic_wire_bytes
+from .protocol.frame_choice import AVR_FRAMES, FrameChoice
 from .protocol.frames import next_frame, run_limit
 from .protocol.messages import queue_slots
 from .protocol.segment_run import RunChain
@@ -101,21 +102,31 @@ class Job:
             noun = "line" if count == 1 else "lines"
         return f"{count} {noun}"
 
-    def wire_bytes(self, run_limit: int = UNO_RUN_LIMIT) -> int:
+    def wire_bytes(self, frames: FrameChoice = AVR_FRAMES) -> int:
         """Bytes the job's segments take on the serial line, framing included, sent as a motion
-        sends them to a board that takes `run_limit` segments a frame (an Uno's, by default; 0: one
-        SEGMENT a frame)."""
+        sends them to a board that takes `frames` (an Uno's, by default: one SEGMENT a frame,
+        CUBIC_SEGMENTS runs), runs of up to an Uno's run limit."""
         segments = self.plan.segments
+        quadratic_limit = UNO_RUN_LIMIT if frames.quadratic_runs else 0
         if isinstance(segments, SegmentArrays):  # from the arrays' sizes: no frame is built
-            return quadratic_wire_bytes(segments.numpy(), segments.axis_count, run_limit)
+            return quadratic_wire_bytes(segments.numpy(), segments.axis_count, quadratic_limit)
         if isinstance(segments.base, list) and not segments.base:  # a jerk-limited plan's
-            counted = cubic_wire_bytes(segments.extra, segments.axis_count, run_limit)
+            cubic_limit = UNO_RUN_LIMIT if frames.cubic_runs else 0
+            counted = cubic_wire_bytes(segments.extra, segments.axis_count, cubic_limit)
             if counted is not None:
                 return counted
         chain = RunChain(segments.axis_count)
         total = index = 0
         while index < len(segments):
-            message = next_frame(segments, index, len(segments), chain, run_limit)
+            message = next_frame(
+                segments,
+                index,
+                len(segments),
+                chain,
+                UNO_RUN_LIMIT,
+                frames.cubic_runs,
+                frames.quadratic_runs,
+            )
             total += len(encode(message, 0))
             index += queue_slots(message)
         return total

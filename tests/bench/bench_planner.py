@@ -22,6 +22,7 @@ from quadstep.config import load_config  # noqa: E402
 from quadstep.emulator import Emulator  # noqa: E402
 from quadstep.gcode import parse_gcode  # noqa: E402
 from quadstep.job import Job, load_job  # noqa: E402
+from quadstep.protocol.frame_choice import AVR_FRAMES, RUN_FRAMES  # noqa: E402
 from quadstep.link import Link  # noqa: E402
 from quadstep.planner.plan import plan_program  # noqa: E402
 
@@ -94,9 +95,10 @@ def link_figures(job: Job, text_bytes: int) -> None:
     print(f"wire: {sent / 1e6:.2f} MB sent for {plan.distance_mm:.0f} mm = {sent / plan.distance_mm:.1f} bytes/mm "
           f"({sent / len(plan):.1f} bytes per segment); "
           f"the G-code text is {text_bytes / plan.distance_mm:.1f} bytes/mm")
-    real_time = job.wire_bytes() / plan.duration_s
-    print(f"wire rate needed in real time: {real_time / 1000:.1f} kB/s "
-          f"({real_time * 10 / 500_000 * 100:.0f}% of 500 kbaud)")
+    for how, frames in (("as an Uno is sent it", AVR_FRAMES), ("in SEGMENTS runs", RUN_FRAMES)):
+        real_time = job.wire_bytes(frames) / plan.duration_s
+        print(f"wire rate needed in real time, {how}: {real_time / 1000:.1f} kB/s "
+              f"({real_time * 10 / 500_000 * 100:.1f}% of 500 kbaud)")
 
 
 def realistic_figures() -> None:

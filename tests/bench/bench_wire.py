@@ -1,9 +1,10 @@
 """Wire benchmark: bytes on the serial line against the G-code's own bytes, for three CAM-shaped jobs.
 
 The jobs come from tests/bench/cam_jobs.py (a 40,000-line pocket, a 16,000-line engraving, a 51,000-line
-four-axis job). Byte counts are exact: every frame as a motion sends it to an Uno (SEGMENTS or, with --scurve,
-CUBIC_SEGMENTS frames of up to 7 chained segments, PROTOCOL.md §5.2), beside one segment a frame (a board
-without them, or a noisy line).
+four-axis job). Byte counts are exact: every frame as a motion sends it in runs (SEGMENTS or, with --scurve,
+CUBIC_SEGMENTS frames of up to 7 chained segments, PROTOCOL.md §5.2), as to the emulator; beside one segment
+a frame (a board without runs, or a noisy line); and what an Uno is sent (one SEGMENT a frame, which it takes
+faster than SEGMENTS, but CUBIC_SEGMENTS runs: protocol/frame_choice.py).
 Nothing is asserted.
 
     python3 tests/bench/bench_wire.py [--scurve]
@@ -28,6 +29,7 @@ from quadstep.coordinates import WorkCoordinates  # noqa: E402
 from quadstep.gcode import parse_gcode  # noqa: E402
 from quadstep.job import Job  # noqa: E402
 from quadstep.planner.plan import plan_program  # noqa: E402
+from quadstep.protocol.frame_choice import AVR_FRAMES, RUN_FRAMES, SINGLE_FRAMES  # noqa: E402
 
 def machine(names: str, jerk: float | None) -> MachineConfig:
     """A router at 400 steps/mm (A: 3200 steps per turn), at 32 kHz as the Uno."""
@@ -48,8 +50,9 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--scurve", action="store_true", help="also plan with max_jerk (slow: minutes)")
     args = parser.parse_args()
-    print("| job | G-code | moves | planner | segments | bytes on the wire | wire / G-code | one segment a frame |")
-    print("|---|---|---|---|---|---|---|---|")
+    print("| job | G-code | moves | planner | segments | bytes on the wire in runs | wire / G-code | "
+          "one segment a frame | as an Uno is sent |")
+    print("|---|---|---|---|---|---|---|---|---|")
     for name, make in cam_jobs.JOBS.items():
         text = make()
         names = "XYZA" if name == "four_axis" else "XYZ"
@@ -62,10 +65,11 @@ def main() -> None:
             plan = plan_program(program, config)
             seconds = time.perf_counter() - began
             job = Job(path=Path(name), program=program, plan=plan, coordinates=WorkCoordinates())
-            wire, single = job.wire_bytes(), job.wire_bytes(run_limit=0)
+            wire, single = job.wire_bytes(RUN_FRAMES), job.wire_bytes(SINGLE_FRAMES)
+            uno = job.wire_bytes(AVR_FRAMES)
             kind = "S-curve" if jerk else "constant acceleration"
             print(f"| {name} | {lines:,} lines, {gcode:,} B | {plan.moves:,} | {kind} ({seconds:.0f} s) | "
-                  f"{len(plan):,} | {wire:,} | {wire / gcode:.2f} | {single / gcode:.2f} |")
+                  f"{len(plan):,} | {wire:,} | {wire / gcode:.2f} | {single / gcode:.2f} | {uno / gcode:.2f} |")
 
 
 if __name__ == "__main__":

@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from quadstep.machine.frame_choice import frame_choice
+from quadstep.protocol.frame_choice import frame_choice
 from quadstep.protocol import Board, Capability, IdentifyReply, Segment
 from quadstep.protocol.frames import next_frame
 from quadstep.kernel.motion import AxisMove

@@ -14,6 +14,7 @@ from quadstep.job import load_job
 from quadstep.link import Link
 from quadstep.machine import Machine
 from quadstep.protocol import Capability
+from quadstep.protocol.frame_choice import SINGLE_FRAMES
 
 REPO = Path(__file__).resolve().parents[2]
 CONFIG = load_config(REPO / "examples" / "router-uno.toml")
@@ -35,7 +36,7 @@ def test_a_job_goes_out_several_segments_a_frame_and_runs_exactly(start_emulator
     sent = after["bytes_sent"] - before["bytes_sent"]
     segments = len(job.plan)
     assert frames < segments / 3  # up to 7 a frame (keep-alives and STATUS polls count too)
-    assert sent < job.wire_bytes(run_limit=0) / 2  # against one SEGMENT a frame
+    assert sent < job.wire_bytes(SINGLE_FRAMES) / 2  # against one SEGMENT a frame
     expected = predict(job.plan.segments.segments(), list(job.plan.start), axis_count=3)
     assert np.array_equal(read_trace(trace), expected.steps)
     summary = emu.stop()

@@ -1,5 +1,6 @@
-"""Bytes on the wire against the G-code they replace (exact counts, so asserted): CAM-shaped jobs sent as a motion
-sends them to an Uno take fewer bytes than their G-code text, and about a third of one SEGMENT a frame."""
+"""Bytes on the wire against the G-code they replace (exact counts, so asserted): CAM-shaped jobs sent in SEGMENTS
+runs (to a board that takes runs faster than single segments, as the emulator does) take fewer bytes than their
+G-code text, and about a third of one SEGMENT a frame, which is what an Uno is sent (protocol/frame_choice.py)."""
 
 from __future__ import annotations
 
@@ -11,6 +12,7 @@ import pytest
 from quadstep.coordinates import WorkCoordinates
 from quadstep.gcode import parse_gcode
 from quadstep.job import Job
+from quadstep.protocol.frame_choice import RUN_FRAMES, SINGLE_FRAMES
 from quadstep.planner.plan import plan_program
 
 BENCH = Path(__file__).resolve().parents[1] / "bench"
@@ -30,9 +32,10 @@ def test_a_cam_job_takes_fewer_bytes_on_the_wire_than_its_gcode(name: str, lines
     config = bench_wire.machine(names, None)
     program = parse_gcode(text, config.axis_names, (0.0,) * len(names), config.arc_tolerance, True)
     job = Job(path=Path(name), program=program, plan=plan_program(program, config), coordinates=WorkCoordinates())
-    wire, single = job.wire_bytes(), job.wire_bytes(run_limit=0)
+    wire, single = job.wire_bytes(RUN_FRAMES), job.wire_bytes(SINGLE_FRAMES)
     assert wire <= len(text.encode()), (wire, len(text.encode()))
     assert wire * 2.5 < single
+    assert job.wire_bytes() == single  # an Uno takes one SEGMENT a frame faster than SEGMENTS
 
 
 def test_an_scurve_job_in_cubic_segments_frames_takes_about_half_the_bytes() -> None:
@@ -42,5 +45,6 @@ def test_an_scurve_job_in_cubic_segments_frames_takes_about_half_the_bytes() -> 
     config = bench_wire.machine("XYZ", 20000.0)
     program = parse_gcode(text, config.axis_names, (0.0,) * 3, config.arc_tolerance, True)
     job = Job(path=Path("engraving"), program=program, plan=plan_program(program, config), coordinates=WorkCoordinates())
-    wire, single = job.wire_bytes(), job.wire_bytes(run_limit=0)
+    wire, single = job.wire_bytes(RUN_FRAMES), job.wire_bytes(SINGLE_FRAMES)
     assert wire < 2 * len(text.encode()) and wire * 1.8 < single, (wire, single, len(text.encode()))
+    assert job.wire_bytes() == wire

@@ -32,11 +32,11 @@ from ..protocol import (
     Report,
     Segment,
 )
+from ..protocol.frame_choice import frame_choice
 from ..protocol.frames import next_frame, run_limit
 from ..protocol.messages import queue_slots
 from ..protocol.raster import ring_fits
 from ..protocol.segment_run import RunChain
-from .frame_choice import frame_choice
 
 # Keep at least this many segments queued, whatever the lookahead, so the board
 # always has the next one when a segment ends.
