@@ -38,22 +38,28 @@ class WhatRan:
     (on a busy computer the job goes on from rest); `rebases`: how many times it let go."""
 
     def __init__(self, monkeypatch: pytest.MonkeyPatch) -> None:
-        self.sent: list = []
+        # (stream, first, end): read once the job ran, as building thousands of segments in the
+        # job's thread would hold it back while the board runs
+        self.parts: list = []
         self.rebases = 0
         let_go, next_leg = job_module.rebased, JobRun._next_leg
 
         def recorded(plan, at):  # noqa: ANN001, ANN202
             self.rebases += 1
-            self.sent.extend(plan.segments.segments(0, at.index))
+            self.parts.append((plan.segments, 0, at.index))
             return let_go(plan, at)
 
         def leg_ran(run: JobRun, here: tuple[int, ...]):  # noqa: ANN202
             if run.states.history[-2:] == [JobState.STREAMING, JobState.RESUMING]:  # after a done
-                self.sent.extend(run.plan.segments.segments())
+                self.parts.append((run.plan.segments, 0, len(run.plan.segments)))
             return next_leg(run, here)
 
         monkeypatch.setattr(job_module, "rebased", recorded)
         monkeypatch.setattr(JobRun, "_next_leg", leg_ran)
+
+    @property
+    def sent(self) -> list:
+        return [segment for stream, first, end in self.parts for segment in stream.segments(first, end)]
 
 
 def wait_until(condition: Callable[[], bool], timeout: float = 60.0) -> None:

@@ -9,7 +9,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from host_helpers import read_trace
+from host_helpers import assert_trace_is_prediction, read_trace
 
 from quadstep.config import AxisConfig, BacklashConfig, MachineConfig, load_config
 from quadstep.kernel.engine_model import predict
@@ -88,8 +88,7 @@ def test_overrides_in_quick_succession_on_a_deep_queue_end_exactly(start_emulato
         assert end is not None and end.ended_by == "done", end
         assert machine.position == plan.end
     emu.stop()
-    predicted = predict(list(run.plan.segments.segments()), axis_count=3)
-    assert np.array_equal(read_trace(trace), predicted.steps)
+    assert_trace_is_prediction(trace, run.plan.segments.segments(), axis_count=3)
 
 
 @pytest.mark.parametrize("percent", [50, 150])

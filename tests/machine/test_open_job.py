@@ -12,10 +12,9 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from host_helpers import read_trace
+from host_helpers import assert_trace_is_prediction
 
 from quadstep.config import load_config
-from quadstep.kernel.engine_model import predict
 from quadstep.gcode.interpreter import parse_gcode
 from quadstep.link import Link
 from quadstep.machine import JobState, Machine
@@ -79,9 +78,7 @@ def test_lines_given_while_it_runs_go_on_without_a_stop(start_emulator, tmp_path
     assert run.state is JobState.DONE and JobState.RESUMING not in run.states.history
     arrays = run.plan.base.segments.numpy()
     assert not np.any(np.abs(arrays["vn"][:-1]).sum(axis=1) == 0)  # no rest before the end
-    assert np.array_equal(
-        read_trace(trace), predict(list(run.plan.segments.segments()), axis_count=3).steps
-    )
+    assert_trace_is_prediction(trace, run.plan.segments.segments(), axis_count=3)
     assert run.plan.base.moves == planned.moves
 
 
@@ -124,7 +121,7 @@ def test_a_jerk_limited_job_goes_on_from_its_kept_state_without_a_stop(
     assert run.plan.base.moves == 40
     segments = list(run.plan.segments.segments())
     assert any(isinstance(s, CubicSegment) for s in segments)
-    assert np.array_equal(read_trace(trace), predict(segments, axis_count=3).steps)
+    assert_trace_is_prediction(trace, segments, axis_count=3)
 
 
 def test_lines_given_after_the_end_was_sent_go_on_from_rest(start_emulator) -> None:

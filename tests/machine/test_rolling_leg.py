@@ -10,7 +10,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 from backlash_helpers import backlash_config, pushed_plus, write_sim
-from host_helpers import read_trace
+from host_helpers import assert_trace_is_prediction
 from machine_helpers import read_trace_with_carriage
 from rolling_legs import ROW_MOVES, WhatRan, rows, run_in_parts, wait_until
 
@@ -169,7 +169,7 @@ def test_a_long_open_job_lets_go_of_what_ran_and_sends_the_same(
     sent.extend(run.plan.segments.segments())
     # what the board ran is every stream in turn (where the board never ran dry, braking by itself)
     if JobState.STARVED not in run.states.history:
-        assert np.array_equal(read_trace(trace), predict(sent, axis_count=3).steps)
+        assert_trace_is_prediction(trace, sent, axis_count=3)
 
 
 @pytest.mark.realtime

@@ -11,12 +11,11 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from host_helpers import read_trace
+from host_helpers import assert_trace_is_prediction
 from rolling_legs import ROW_MOVES, WhatRan, rows, run_in_parts
 
 from quadstep.config import load_config
 from quadstep.gcode.interpreter import parse_gcode
-from quadstep.kernel.engine_model import predict
 from quadstep.machine import JobState
 from quadstep.machine import rebase as rebase_module
 from quadstep.machine.move_items import MoveItems
@@ -99,4 +98,4 @@ def test_a_long_jerk_limited_open_job_lets_go_of_what_ran_and_sends_the_same(
     assert run.progress.done == run.progress.total == len(sent) + len(run.plan)
     sent.extend(run.plan.segments.segments())
     if JobState.STARVED not in run.states.history:
-        assert np.array_equal(read_trace(trace), predict(sent, axis_count=3).steps)
+        assert_trace_is_prediction(trace, sent, axis_count=3)

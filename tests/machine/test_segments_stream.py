@@ -5,11 +5,9 @@ from __future__ import annotations
 
 from pathlib import Path
 
-import numpy as np
-from host_helpers import read_trace
+from host_helpers import assert_trace_is_prediction
 
 from quadstep.config import load_config
-from quadstep.kernel.engine_model import predict
 from quadstep.job import load_job
 from quadstep.link import Link
 from quadstep.machine import Machine
@@ -37,8 +35,7 @@ def test_a_job_goes_out_several_segments_a_frame_and_runs_exactly(start_emulator
     segments = len(job.plan)
     assert frames < segments / 3  # up to 7 a frame (keep-alives and STATUS polls count too)
     assert sent < job.wire_bytes(SINGLE_FRAMES) / 2  # against one SEGMENT a frame
-    expected = predict(job.plan.segments.segments(), list(job.plan.start), axis_count=3)
-    assert np.array_equal(read_trace(trace), expected.steps)
+    assert_trace_is_prediction(trace, job.plan.segments.segments(), list(job.plan.start), axis_count=3)
     summary = emu.stop()
     assert summary["segments_done"] == segments
     assert [summary[f"position_{a}"] for a in range(3)] == list(job.plan.end)

@@ -11,7 +11,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from host_helpers import read_trace
+from host_helpers import assert_trace_is_prediction
 
 from quadstep.config import load_config
 from quadstep.kernel.engine_model import predict
@@ -112,8 +112,7 @@ def test_a_grayscale_raster_runs_exactly_at_100_mm_s(start_emulator, tmp_path: P
     sent = after["bytes_sent"] - before["bytes_sent"]
     assert resent <= 0.01 * frames, (resent, frames)
     assert sent <= 2 * pixels, (sent, pixels)
-    expected = predict(segments, list(plan.start), axis_count=3)
-    assert np.array_equal(read_trace(trace), expected.steps)
+    assert_trace_is_prediction(trace, segments, list(plan.start), axis_count=3)
     rows = []
     for number, powers in enumerate(image.rows):
         edges = [image.x_mm + j * image.pixel_mm for j in range(len(powers) + 1)]
@@ -164,8 +163,7 @@ def test_a_gcode_raster_goes_out_as_raster_lines(start_emulator, tmp_path: Path)
         assert after[counter] == before[counter], counter
     assert after["retransmits"] == before["retransmits"] or after["timeouts"] > before["timeouts"]
     assert after["starvations"] == before["starvations"]
-    expected = predict(segments, list(plan.start), axis_count=3)
-    assert np.array_equal(read_trace(trace), expected.steps)
+    assert_trace_is_prediction(trace, segments, list(plan.start), axis_count=3)
     rows = [(run.row.edges_mm, run.row.powers) for run in runs]
     visits = row_visits(segments, list(plan.start))
     assert check_switches(visits, rows, dict(read_outputs(outputs))) > 10
