@@ -31,6 +31,7 @@ COMMANDS: dict[str, list[str]] = {
     "busy": [sys.executable, str(BENCH / "bench_busy_host.py")],
     "resume": [sys.executable, str(BENCH / "bench_resume.py")],
     "grbl_stream": [sys.executable, str(BENCH / "bench_grbl_stream.py")],
+    "tui": [sys.executable, str(BENCH / "bench_tui.py")],
     "fuzz": ["make", "-s", "-C", str(REPO), "fuzz-long"],
 }
 

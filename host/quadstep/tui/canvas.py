@@ -21,6 +21,15 @@ class Canvas:
         self._styles: list[str] = []
         self._marks: dict[tuple[int, int], tuple[str, int]] = {}
 
+    def copy(self) -> Canvas:
+        """Another canvas with these dots, layers and marks, drawn on apart from this one."""
+        other = Canvas(self.width, self.height)
+        other._bits = [list(row) for row in self._bits]
+        other._layer = [list(row) for row in self._layer]
+        other._styles = list(self._styles)
+        other._marks = dict(self._marks)
+        return other
+
     @property
     def dots(self) -> tuple[int, int]:
         return self.width * 2, self.height * 4
@@ -51,18 +60,31 @@ class Canvas:
             self._marks[(row, col)] = (char, layer)
 
     def render(self) -> Text:
+        """The cells as text, a span per run of cells in one style (a span a cell made the screen's
+        redraw several times slower)."""
         text = Text()
         for row in range(self.height):
             if row:
                 text.append("\n")
+            run: list[str] = []
+            run_style = ""
             for col in range(self.width):
-                mark = self._marks.get((row, col))
-                if mark is not None:
-                    text.append(mark[0], style=self._styles[mark[1]])
-                    continue
-                bits, layer = self._bits[row][col], self._layer[row][col]
-                text.append(
-                    chr(BRAILLE + bits) if bits else " ",
-                    style=self._styles[layer] if layer >= 0 else "",
-                )
+                char, style = self._cell(row, col)
+                if style != run_style and run:
+                    text.append("".join(run), style=run_style)
+                    run = []
+                run_style = style
+                run.append(char)
+            text.append("".join(run), style=run_style)
         return text
+
+    def _cell(self, row: int, col: int) -> tuple[str, str]:
+        """What cell (row, col) shows, and in which style."""
+        mark = self._marks.get((row, col))
+        if mark is not None:
+            return mark[0], self._styles[mark[1]]
+        bits, layer = self._bits[row][col], self._layer[row][col]
+        return (
+            chr(BRAILLE + bits) if bits else " ",
+            self._styles[layer] if layer >= 0 else "",
+        )

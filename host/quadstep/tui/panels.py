@@ -164,7 +164,7 @@ class JobPanel(Horizontal):
     """The running job: file, line (and its text), feed override, progress, time left."""
 
     def compose(self) -> ComposeResult:
-        yield Static("no job  (o opens one, : types a line)", id="job-label")
+        yield Panel("no job  (o opens one, : types a line)", id="job-label")
         bar = ProgressBar(total=1, show_eta=False, id="job-progress")
         bar.display = False
         yield bar
@@ -178,14 +178,14 @@ class JobPanel(Horizontal):
         pause: str = "",
         feed: int = 100,
     ) -> None:
-        label = self.query_one("#job-label", Static)
+        label = self.query_one("#job-label", Panel)
         bar = self.query_one("#job-progress", ProgressBar)
         bar.display = name is not None
         if name is None:
-            label.update(outcome or "no job  (o opens one, : types a line)")
+            label.show_text(Text(outcome or "no job  (o opens one, : types a line)"))
             return
         if progress is None:
-            label.update(f"{name}: {outcome}")
+            label.show_text(Text(f"{name}: {outcome}"))
             return
         text = Text(f"{name} ", style="bold")
         if progress.paused_at is not None:  # what it waits for and the key first: it must show
@@ -206,7 +206,7 @@ class JobPanel(Horizontal):
             progress.state is JobState.STARVED or progress.starvations
         ):
             text.append(f"  ran dry {progress.starvations}×, went on", style="yellow")
-        label.update(text)
+        label.show_text(text)
         bar.update(total=max(progress.total, 1), progress=progress.done)
 
 

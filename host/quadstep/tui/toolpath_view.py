@@ -25,6 +25,10 @@ class ToolpathView(Widget, can_focus=False):
         self.tool: tuple[float, ...] | None = None  # machine mm
         self.origin: tuple[float, ...] | None = None  # the active work zero, machine mm
         self.whole_travel = False
+        # the travel box and the path as last drawn, and what they were drawn for: the tool moves
+        # ten times a second while a job runs, and drawing a 3,000-line path dot by dot each time
+        # took 40 ms (docs/TUI.md)
+        self._drawn: tuple[_Frame, Canvas] | None = None
 
     def show(
         self,
@@ -51,38 +55,15 @@ class ToolpathView(Widget, can_focus=False):
         width, height = self.content_size.width, self.content_size.height
         if config is None or len(config.axes) < 2 or width < 4 or height < 2:
             return Text("no X/Y to draw" if config is not None else "", style="dim")
-        canvas = Canvas(width, height)
-        low, high = self._extent(config)
-        dots_x, dots_y = canvas.dots
-        scale = min((dots_x - 1) / (high[0] - low[0]), (dots_y - 1) / (high[1] - low[1]))
-        cx, cy = (low[0] + high[0]) / 2, (low[1] + high[1]) / 2
-
-        def at(x: float, y: float) -> tuple[float, float]:
-            return (dots_x - 1) / 2 + (x - cx) * scale, (dots_y - 1) / 2 - (y - cy) * scale
-
-        box, rapid, cut, origin, tool = (
-            canvas.layer(s) for s in ("blue", "yellow", "cyan", "green", "bold red")
-        )
-        x_axis, y_axis = config.axes[0], config.axes[1]
-        corners = [
-            at(x_axis.travel_min, y_axis.travel_min),
-            at(x_axis.travel_max, y_axis.travel_min),
-            at(x_axis.travel_max, y_axis.travel_max),
-            at(x_axis.travel_min, y_axis.travel_max),
-        ]
-        for a, b in zip(corners, corners[1:] + corners[:1]):
-            canvas.line(*a, *b, box)
-        for piece in self.path.pieces if self.path is not None else ():
-            canvas.line(
-                *at(piece.start[0], piece.start[1]),
-                *at(piece.end[0], piece.end[1]),
-                rapid if piece.rapid else cut,
-                every=2 if piece.rapid else 1,
-            )
+        frame = _Frame(config, self.path, width, height, *self._extent(config))
+        if self._drawn is None or not self._drawn[0].same(frame):
+            self._drawn = (frame, frame.draw())
+        canvas = self._drawn[1].copy()
+        origin, tool = canvas.layer("green"), canvas.layer("bold red")
         if self.origin is not None:
-            canvas.mark(*at(self.origin[0], self.origin[1]), "+", origin)
+            canvas.mark(*frame.at(self.origin[0], self.origin[1]), "+", origin)
         if self.tool is not None:
-            canvas.mark(*at(self.tool[0], self.tool[1]), "●", tool)
+            canvas.mark(*frame.at(self.tool[0], self.tool[1]), "●", tool)
         return canvas.render()
 
     def _extent(self, config: MachineConfig) -> tuple[tuple[float, float], tuple[float, float]]:
@@ -96,3 +77,60 @@ class ToolpathView(Widget, can_focus=False):
         xs, ys = [p[0] for p in points], [p[1] for p in points]
         span = max(max(xs) - min(xs), max(ys) - min(ys), 1.0) * MARGIN
         return (min(xs) - span, min(ys) - span), (max(xs) + span, max(ys) + span)
+
+
+class _Frame:
+    """What the view draws the travel box and the path for: the configuration, the path, the
+    canvas's size in cells and the extent it fits; where a machine X/Y lands among its dots."""
+
+    def __init__(
+        self,
+        config: MachineConfig,
+        path: Toolpath | None,
+        width: int,
+        height: int,
+        low: tuple[float, float],
+        high: tuple[float, float],
+    ) -> None:
+        self.config, self.path = config, path
+        self.size, self.low, self.high = (width, height), low, high
+        dots_x, dots_y = width * 2, height * 4
+        self._half = ((dots_x - 1) / 2, (dots_y - 1) / 2)
+        self._scale = min((dots_x - 1) / (high[0] - low[0]), (dots_y - 1) / (high[1] - low[1]))
+        self._centre = ((low[0] + high[0]) / 2, (low[1] + high[1]) / 2)
+
+    def same(self, other: _Frame) -> bool:
+        """The same drawing: the same configuration and path (the objects), size and extent."""
+        return (
+            self.config is other.config
+            and self.path is other.path
+            and (self.size, self.low, self.high) == (other.size, other.low, other.high)
+        )
+
+    def at(self, x: float, y: float) -> tuple[float, float]:
+        return (
+            self._half[0] + (x - self._centre[0]) * self._scale,
+            self._half[1] - (y - self._centre[1]) * self._scale,
+        )
+
+    def draw(self) -> Canvas:
+        """The travel box, then the path: rapids dotted, cuts solid."""
+        canvas = Canvas(*self.size)
+        box, rapid, cut = (canvas.layer(s) for s in ("blue", "yellow", "cyan"))
+        x_axis, y_axis = self.config.axes[0], self.config.axes[1]
+        corners = [
+            self.at(x_axis.travel_min, y_axis.travel_min),
+            self.at(x_axis.travel_max, y_axis.travel_min),
+            self.at(x_axis.travel_max, y_axis.travel_max),
+            self.at(x_axis.travel_min, y_axis.travel_max),
+        ]
+        for a, b in zip(corners, corners[1:] + corners[:1]):
+            canvas.line(*a, *b, box)
+        for piece in self.path.pieces if self.path is not None else ():
+            canvas.line(
+                *self.at(piece.start[0], piece.start[1]),
+                *self.at(piece.end[0], piece.end[1]),
+                rapid if piece.rapid else cut,
+                every=2 if piece.rapid else 1,
+            )
+        return canvas
