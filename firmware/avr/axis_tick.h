@@ -88,22 +88,13 @@ static inline __attribute__((always_inline)) uint8_t hold_axis_tick(qs_hold *hd,
     __asm__ __volatile__(
         "sbrs %[m], %[axis]\n\t"
         "rjmp 9f\n\t"
-        /* x = h; a step if h >= 0: count it, h -= 2knD */
+        /* x = h; a step if h >= 0: h -= 2knD */
         "ldd %A[x], Z+%[h]\n\t"
         "ldd %B[x], Z+%[h]+1\n\t"
         "ldd %C[x], Z+%[h]+2\n\t"
         "sbrc %C[x], 7\n\t"
         "rjmp 2f\n\t"
         "ori %[steps], %[bit]\n\t"
-        "ldd %A[y], Z+%[n]\n\t"
-        "ldd %B[y], Z+%[n]+1\n\t"
-        "ldd %C[y], Z+%[n]+2\n\t"
-        "subi %A[y], 0xFF\n\t"
-        "sbci %B[y], 0xFF\n\t"
-        "sbci %C[y], 0xFF\n\t"
-        "std Z+%[n], %A[y]\n\t"
-        "std Z+%[n]+1, %B[y]\n\t"
-        "std Z+%[n]+2, %C[y]\n\t"
         "ldd %A[y], Z+%[c2]\n\t"
         "ldd %B[y], Z+%[c2]+1\n\t"
         "ldd %C[y], Z+%[c2]+2\n\t"
@@ -144,7 +135,7 @@ static inline __attribute__((always_inline)) uint8_t hold_axis_tick(qs_hold *hd,
         : [x] "=&r"(x), [y] "=&r"(y), [steps] "+d"(steps), [m] "+d"(m)
         : [hd] "z"(hd), [axis] "n"(axis), [bit] "n"(1u << axis), [clear] "n"((uint8_t)~(1u << axis)),
           [h] "n"(offsetof(qs_hold, h) + 3u * axis), [inc] "n"(offsetof(qs_hold, inc) + 3u * axis),
-          [db] "n"(offsetof(qs_hold, db) + 3u * axis), [n] "n"(offsetof(qs_hold, steps) + 3u * axis),
+          [db] "n"(offsetof(qs_hold, db) + 3u * axis),
           [c2] "n"(offsetof(qs_hold, two_c2))
         : "memory");
     *moving = m;
@@ -152,7 +143,7 @@ static inline __attribute__((always_inline)) uint8_t hold_axis_tick(qs_hold *hd,
 }
 
 _Static_assert(offsetof(qs_segment, two_c2) + 2u <= 63u, "ldd reaches 63 bytes past Z");
-_Static_assert(offsetof(qs_hold, steps) + 3u * QS_AXIS_COUNT - 1u <= 63u, "ldd reaches 63 bytes past Z");
+_Static_assert(offsetof(qs_hold, two_c2) + 2u <= 63u, "ldd reaches 63 bytes past Z");
 _Static_assert(sizeof(qs_i24) == 3, "24-bit engine values");
 
 

@@ -15,7 +15,7 @@ const volatile void *const qs_debug_probe[] PROGMEM = {
     &core.engine.queue.tail,   /* uint8_t: released with each finished segment */
     &core.engine.state,        /* uint8_t: QS_STATE_* */
     &core.engine.latches.taken, /* uint8_t: moves on with each latch the tick takes */
-    &core.engine.hold.ticks,   /* low byte: moves on with each tick of a hold */
+    &core.engine.hold.tick_byte, /* uint8_t: moves on with each tick of a hold */
     &core.engine.resequence,   /* uint8_t: set by a trigger's hold, in the tick */
     &core.engine.hold.moving,  /* uint8_t: axes a hold still decelerates */
 };

@@ -122,6 +122,7 @@ static QS_NOINLINE void on_segments(qs_core *c, qs_host_msg *m, uint8_t cubic)
                       || qs_cubic_prepare(&e->chain, slot, s, c->axis_count, &f) != QS_ERR_NONE
                       || beyond_positions(c, (uint8_t)((1u << c->axis_count) - 1u), s->n, &f);
         } else {
+#if QS_QUADRATIC_RUNS
             qs_segment_msg *const s = &m->as.segment;
 
             refused = qs_segments_next(&run, &e->chain, c->axis_count, s, &f) != QS_ERR_NONE
@@ -131,6 +132,9 @@ static QS_NOINLINE void on_segments(qs_core *c, qs_host_msg *m, uint8_t cubic)
                 qs_segment_prepare(slot, s);
                 qs_cubic_follow_quadratic(&e->chain, slot, s);
             }
+#else
+            return; /* never: without quadratic runs no SEGMENTS frame is dispatched */
+#endif
         }
         if (refused) {
             refuse_segment(c, m, &f);
@@ -475,6 +479,11 @@ static QS_ALWAYS_INLINE void on_cubic_segments(qs_core *c, qs_host_msg *m)
 #else
 #define RASTER_ROW(X)
 #endif
+#if QS_QUADRATIC_RUNS
+#define SEGMENTS_ROW(X) X(QS_TYPE_SEGMENTS, 1, parse_segments, on_quadratic_segments)
+#else
+#define SEGMENTS_ROW(X)
+#endif
 #define HOST_MESSAGES(X)                                                  \
     X(QS_TYPE_IDENTIFY, 0, parse_empty, on_identify)                      \
     X(QS_TYPE_STATUS, 0, parse_empty, on_status)                          \
@@ -487,7 +496,7 @@ static QS_ALWAYS_INLINE void on_cubic_segments(qs_core *c, qs_host_msg *m)
     X(QS_TYPE_OUTPUTS, 1, parse_outputs, on_outputs)                      \
     X(QS_TYPE_SEGMENT, 1, parse_segment, qs_on_segment)                   \
     X(QS_TYPE_CUBIC_SEGMENT, 1, parse_cubic_segment, qs_on_cubic_segment) \
-    X(QS_TYPE_SEGMENTS, 1, parse_segments, on_quadratic_segments)         \
+    SEGMENTS_ROW(X)                                                       \
     X(QS_TYPE_CUBIC_SEGMENTS, 1, parse_cubic_segments, on_cubic_segments) \
     RASTER_ROW(X)                                                         \
     X(QS_TYPE_SET_POSITION, 1, parse_set_position, on_set_position)

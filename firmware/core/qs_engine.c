@@ -81,7 +81,7 @@ static int32_t signed_steps(const qs_segment *s, uint8_t axis, int32_t steps, in
 
 /* Steps an axis of s made in its first t ticks, from its state frozen or
  * copied after them. */
-static int32_t steps_at(const qs_segment *s, uint8_t axis, uint16_t t)
+static QS_NOINLINE int32_t steps_at(const qs_segment *s, uint8_t axis, uint16_t t)
 {
     if (s->cubic)
         return qs_cubic_steps(s, axis, t, s->c.h[axis], s->c.b[axis], s->c.q[axis]);
@@ -107,8 +107,9 @@ static void take_progress(const qs_engine *e, qs_progress *p)
         p->held = 1;
         p->seg = e->held;
         p->t = e->held_t0;
-        p->ticks = e->hold.ticks;
-        memcpy(p->at.steps, e->hold.steps, sizeof p->at.steps);
+        memcpy(p->at.hold.h, e->hold.h, sizeof p->at.hold.h);
+        memcpy(p->at.hold.inc, e->hold.inc, sizeof p->at.hold.inc);
+        p->at.hold.moving = e->hold.moving;
         return;
     }
     p->held = 0;
@@ -116,33 +117,54 @@ static void take_progress(const qs_engine *e, qs_progress *p)
     p->t = (uint16_t)(s->n - e->left);
     if (e->trigger_window)
         p->t = (uint16_t)(p->t - e->trigger_rest); /* the window cut the count */
-    p->ticks = 0;
     if (s->cubic)
         memcpy(&p->at.c, &s->c, sizeof p->at.c);
     else
         memcpy(p->at.b, s->b, sizeof p->at.b);
 }
 
-static void add_progress(const qs_progress *p, int32_t *position, uint32_t *ticks)
+/* A held slot: its t ticks before the hold, and the hold's, from its state
+ * h, inc and moving (the hold's own, or a snapshot of it). Out of line:
+ * the arithmetic stays off the stack of the usual snapshot. */
+static QS_NOINLINE void add_held(const qs_engine *e, const qs_segment *s, uint16_t t, const qs_i24 *h,
+                                 const qs_i24 *inc, uint8_t moving, int32_t *position, uint32_t *ticks)
+{
+    qs_hold_origin origin;
+    uint32_t hold_ticks = 0;
+    uint8_t axis;
+
+    qs_hold_origin_of(&e->hold, s, t == s->n, &origin);
+    for (axis = 0; axis < QS_AXIS_COUNT; axis++)
+        if (s->active & (1u << axis)) {
+            const uint32_t made =
+                qs_hold_axis_made(&e->hold, &origin, axis, h[axis], inc[axis], moving, &hold_ticks);
+            position[axis] = signed_steps(s, axis, steps_at(s, axis, t) + (int32_t)made, position[axis]);
+        }
+    *ticks += t + hold_ticks;
+}
+
+static void add_progress(const qs_engine *e, const qs_progress *p, int32_t *position, uint32_t *ticks)
 {
     const qs_segment *s = p->seg;
     uint8_t axis;
 
     if (!s)
         return;
+    if (p->held) {
+        add_held(e, s, p->t, p->at.hold.h, p->at.hold.inc, p->at.hold.moving, position, ticks);
+        return;
+    }
     for (axis = 0; axis < QS_AXIS_COUNT; axis++) {
         int32_t steps;
         if (!(s->active & (1u << axis)))
             continue;
-        if (p->held)
-            steps = steps_at(s, axis, p->t) + (int32_t)p->at.steps[axis];
-        else if (s->cubic)
+        if (s->cubic)
             steps = qs_cubic_steps(s, axis, p->t, p->at.c.h[axis], p->at.c.b[axis], p->at.c.q[axis]);
         else
             steps = qs_segment_steps_from(s, axis, p->t, p->at.b[axis]);
         position[axis] = signed_steps(s, axis, steps, position[axis]);
     }
-    *ticks += p->t + (uint32_t)p->ticks;
+    *ticks += p->t;
 }
 
 /* The hold is over: fold it into the totals (the tick no longer touches
@@ -152,12 +174,7 @@ static QS_NOINLINE void fold_held(qs_engine *e)
     const qs_segment *s = e->held;
     uint8_t axis;
 
-    for (axis = 0; axis < QS_AXIS_COUNT; axis++)
-        if (s->active & (1u << axis))
-            e->base[axis] = signed_steps(s, axis,
-                                         steps_at(s, axis, e->held_t0) + (int32_t)e->hold.steps[axis],
-                                         e->base[axis]);
-    e->completed_ticks += e->held_t0 + (uint32_t)e->hold.ticks;
+    add_held(e, s, e->held_t0, e->hold.h, e->hold.inc, 0, e->base, &e->completed_ticks);
     if (e->held_t0 == s->n)
         e->segments_done++; /* held at its end (an underrun): it ran whole */
     e->held = 0;
@@ -190,7 +207,7 @@ static QS_NOINLINE void resolve_latches_now(qs_engine *e, uint8_t slot)
             continue;
         for (axis = 0; axis < QS_AXIS_COUNT; axis++)
             position[axis] = e->base[axis];
-        add_progress(&l->u.progress, position, &tick);
+        add_progress(e, &l->u.progress, position, &tick);
         l->u.at.tick = tick;
         for (axis = 0; axis < QS_AXIS_COUNT; axis++)
             l->u.at.position[axis] = position[axis];
@@ -326,7 +343,7 @@ void qs_engine_halt(qs_engine *e, uint8_t state, uint8_t alarm)
     /* Latches taken in the halted slot, before its steps join the totals
      * (its contents stay until a new segment is queued). */
     resolve_latches(e, halted);
-    add_progress(&p, e->base, &e->completed_ticks);
+    add_progress(e, &p, e->base, &e->completed_ticks);
 }
 
 uint8_t qs_engine_set_positions(qs_engine *e, uint8_t mask, const int32_t *position)
@@ -361,7 +378,7 @@ void qs_engine_read(qs_engine *e, qs_engine_view *v)
     v->motion_ticks = e->completed_ticks;
     for (axis = 0; axis < QS_AXIS_COUNT; axis++)
         v->position[axis] = e->base[axis];
-    add_progress(&p, v->position, &v->motion_ticks);
+    add_progress(e, &p, v->position, &v->motion_ticks);
 }
 
 /* The slot a hold beginning now starts from, with the tick locked out (or

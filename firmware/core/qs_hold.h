@@ -26,9 +26,8 @@ typedef struct {
     qs_i24 inc[QS_AXIS_COUNT];   /* h gains it after the next decision */
     qs_i24 db[QS_AXIS_COUNT];    /* -max(1, floor(2knD * decel)) */
     qs_i24 two_c2;               /* 2knD: h loses it with a step */
-    qs_u24 steps[QS_AXIS_COUNT]; /* steps made since the hold began */
-    qs_u24 ticks;                /* decisions made since the hold began */
     volatile uint8_t moving;     /* bit i: axis i still decelerates */
+    uint8_t tick_byte;           /* moves on with each tick of a hold: for watchers */
     /* Main loop side: the segment length the plan is for (0: none). */
     uint16_t planned_n;
     uint8_t shift;
@@ -84,5 +83,25 @@ static inline uint8_t qs_hold_is_predicted(const qs_hold *hd, const qs_segment *
 
 /* qs_hold_begin for the predicted hold: the positions h rescaled. */
 uint8_t qs_hold_begin_predicted(qs_hold *hd, const qs_segment *s);
+
+/* Where a hold began: its state then, from which qs_hold_axis_made counts
+ * its ticks and steps, so that the tick counts neither. */
+typedef struct {
+    qs_i24 h[QS_AXIS_COUNT];
+    qs_i24 inc[QS_AXIS_COUNT];
+    uint8_t axes; /* the axes that moved */
+} qs_hold_origin;
+
+/* Where the hold begun in slot s (at its end: at_end) began, worked out
+ * again from the slot, which stays as it was until the hold is folded.
+ * Main loop. */
+void qs_hold_origin_of(const qs_hold *hd, const qs_segment *s, uint8_t at_end, qs_hold_origin *o);
+
+/* The steps an axis has made in the hold begun at o, from its h and inc now
+ * and the axes still moving (the hold's own, or a snapshot of them); *ticks
+ * rises to the ticks the hold has run if this axis has run more. Main
+ * loop: a few divisions. */
+uint32_t qs_hold_axis_made(const qs_hold *hd, const qs_hold_origin *o, uint8_t axis, qs_i24 h, qs_i24 inc,
+                           uint8_t moving, uint32_t *ticks);
 
 #endif

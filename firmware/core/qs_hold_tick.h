@@ -1,7 +1,7 @@
 /* The tick during a hold (qs_hold.h), inlined into the timer interrupt
- * like qs_engine_tick.h, which calls it while a hold is under way. Unlike
- * a segment's, a hold's steps are counted here: it runs until the axes
- * stop, which no closed form of the segment knows. */
+ * like qs_engine_tick.h, which calls it while a hold is under way. It
+ * counts neither ticks nor steps: the main loop works them out from the
+ * hold's state (qs_hold_axis_made). */
 #ifndef QS_HOLD_TICK_H
 #define QS_HOLD_TICK_H
 
@@ -20,7 +20,6 @@ static QS_ALWAYS_INLINE uint8_t qs_hold_axis_tick(qs_hold *hd, uint8_t axis, uin
     h = hd->h[axis];
     if (h >= 0) {
         stepped = bit;
-        hd->steps[axis]++;
         h -= hd->two_c2;
     }
     inc = hd->inc[axis];
@@ -56,7 +55,7 @@ static QS_ALWAYS_INLINE uint8_t qs_engine_hold_tick(qs_engine *e)
 #if QS_AXIS_COUNT > 3
     steps = QS_HOLD_AXIS_TICK(hd, 3, moving, steps);
 #endif
-    hd->ticks++;
+    hd->tick_byte++;
     hd->moving = moving;
     if (!moving) {
         e->left = 0;

@@ -20,12 +20,15 @@
 typedef struct {
     const qs_segment *seg; /* 0: between segments or at rest */
     uint16_t t;            /* ticks of it run (before the hold, if held) */
-    qs_u24 ticks;          /* a hold's ticks since */
     uint8_t held;
     union {
-        qs_i24 b[QS_AXIS_COUNT];     /* running quadratic: its b after t ticks */
-        qs_u24 steps[QS_AXIS_COUNT]; /* held: the hold's steps */
-        struct {                     /* running cubic: its state after t ticks */
+        qs_i24 b[QS_AXIS_COUNT]; /* running quadratic: its b after t ticks */
+        struct {                 /* held: the hold's state (qs_hold_axis_made) */
+            qs_i24 h[QS_AXIS_COUNT];
+            qs_i24 inc[QS_AXIS_COUNT];
+            uint8_t moving;
+        } hold;
+        struct {                 /* running cubic: its state after t ticks */
             uint32_t h[QS_AXIS_COUNT];
             uint32_t b[QS_AXIS_COUNT];
             qs_i24 q[QS_AXIS_COUNT];

@@ -18,6 +18,7 @@
 #define QS_RASTER_BYTES (QS_QUEUE_CAPACITY < 16 ? 0 : 1024)
 #endif
 _Static_assert(QS_RASTER_BYTES <= 1024, "a slot keeps a power's index in 10 bits");
+_Static_assert(!QS_RASTER_BYTES || QS_QUADRATIC_RUNS, "a RASTER's motion is read as a SEGMENTS record");
 
 #define QS_LEN_RASTER_HEAD QS_LEN_RASTER
 #define QS_RASTER_PIXELS_MAX (QS_MAX_FRAME - 4 - QS_LEN_RASTER_HEAD)

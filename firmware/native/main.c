@@ -170,6 +170,23 @@ static void move_machine(emulator *m, uint8_t bits, uint8_t negative)
             machine_step(m->machine, axis, ((negative >> axis) & 1u) ? -1 : 1);
 }
 
+/* The ticks the engine's hold has run, 0 without one: worked out as the
+ * main loop does (a few divisions: the emulator's tick can afford them). */
+static uint32_t hold_ticks(const qs_engine *e)
+{
+    const qs_segment *s = e->held;
+    qs_hold_origin origin;
+    uint32_t ticks = 0;
+    uint8_t axis;
+
+    if (!s)
+        return 0;
+    qs_hold_origin_of(&e->hold, s, e->held_t0 == s->n, &origin);
+    for (axis = 0; axis < QS_AXIS_COUNT; axis++)
+        qs_hold_axis_made(&e->hold, &origin, axis, e->hold.h[axis], e->hold.inc[axis], e->hold.moving, &ticks);
+    return ticks;
+}
+
 static void run_tick(emulator *m)
 {
     qs_engine *e = &m->core.engine;
@@ -180,28 +197,28 @@ static void run_tick(emulator *m)
 
     left_before = e->left;
     tail_before = e->queue.tail;
-    hold_ticks_before = (uint8_t)e->hold.ticks;
+    hold_ticks_before = e->hold.tick_byte;
     holds_before = e->holds_begun;
     kept_before = e->kept;
     sample_inputs(m); /* may freeze the engine or begin a hold (a trigger), before the decisions */
-    hold_begins = e->hold.moving && e->hold.ticks == 0; /* begun in the main loop or by a trigger */
+    hold_begins = e->hold.moving && hold_ticks(e) == 0; /* begun in the main loop or by a trigger */
     bits = qs_engine_tick(e);
     /* A hold begun in this tick or just before has made its first decision
      * (an underrun's begins inside the tick). */
-    hold_began = holds_before != e->holds_begun && e->hold.ticks == 1;
+    hold_began = holds_before != e->holds_begun && hold_ticks(e) == 1;
     if (hold_begins || hold_began)
         emu_events_hold(&m->events, m->motion_tick, now_ns()); /* ticks before its first decision: its hold_tick */
     /* An underrun's hold, begun at a kept slot's end, that finds nothing
      * moving one tick on (the segment ended too slow to step again) gives
      * the slot back, so the tail moves, but it makes no decision. */
-    hold_of_no_ticks = kept_before && left_before == 0 && holds_before != e->holds_begun && e->hold.ticks == 0;
+    hold_of_no_ticks = kept_before && left_before == 0 && holds_before != e->holds_begun && hold_ticks(e) == 0;
     /* A decision was made if a segment ran a tick (left moved on, or a
      * one-tick segment began and ended: tail moved, or its slot was kept
      * for a hold from its end) or a hold did (its
      * tick count moved on, or one began in this tick: its count restarted).
      * A frozen tick makes none. */
     if (!hold_of_no_ticks
-        && (left_before != e->left || e->queue.tail != tail_before || (uint8_t)e->hold.ticks != hold_ticks_before
+        && (left_before != e->left || e->queue.tail != tail_before || e->hold.tick_byte != hold_ticks_before
             || hold_began || (!kept_before && e->kept))) {
         m->motion_tick++;
         for (axis = 0; axis < QS_AXIS_COUNT; axis++)

@@ -27,8 +27,7 @@ sys.path.insert(0, str(REPO / "tests" / "simavr"))
 import avr_figures  # noqa: E402
 import avr_scenarios  # noqa: E402
 import avr_sim  # noqa: E402
-from quadstep.protocol import Config, Hold, Identify, Segment, Status, encode
-from quadstep.kernel.motion import AxisMove
+from quadstep.protocol import Config, Identify, State, Status, encode
 from quadstep.kernel.fixed import D, N_MAX
 
 F_CPU = avr_sim.F_CPU
@@ -175,13 +174,10 @@ def hold_begin(v: Variant) -> tuple[int, int, int]:
     """HOLDs begun at many moments of a 300-tick segment (whose rescale multiplies, the costliest case),
     three axes near full speed: the longest the main loop held the tick off (beginning the hold), the
     longest step interrupt (the first of the hold), and the ticks lost over all of them."""
-    seg = Segment(n=300, axes=tuple(AxisMove(axis=a, direction=1, v0=D - 1, vn=D - 1, r=0) for a in range(3)))
-    job = b"\x00" + b"".join(encode(seg, i) for i in range(15))
-    hold = encode(Hold(decel=(800, 800, 800, 0)), 15)
     lock = isr = lost = 0
     for pad in range(0, 200, 13):  # the HOLD arrives at a different phase of the tick each time
         path = v.build / "hold.input"
-        path.write_bytes(job + b"\x00" * pad + hold)
+        path.write_bytes(avr_scenarios.hold_from_full_speed(3, pad))
         out = avr_sim.Outputs(v.build / "hold-trace.csv", v.build / "hold-edges.csv", v.build / "hold.json")
         subprocess.run([*avr_sim.harness("uno", v.elf), "--input", str(path),
                         "--max-cycles", str(F_CPU // 4), *out.args()], capture_output=True, check=True)
@@ -190,6 +186,22 @@ def hold_begin(v: Variant) -> tuple[int, int, int]:
         isr = max(isr, st["isr"]["timer"]["max"])
         lost += st["motion"]["ticks_missed"]
     return lock, isr, lost
+
+
+def hold_tick(work: Path, elf: Path, board: str, axes: int) -> float:
+    """The step interrupt's mean cycles in a hold's ticks, every axis decelerating from near full speed:
+    two runs that end 1/16 s and 1/8 s in, both inside the hold, so that the ticks before it cancel out."""
+    path = work / f"hold-tick-{board}.input"
+    path.write_bytes(avr_scenarios.hold_from_full_speed(axes))
+    timer = []
+    for cycles in (F_CPU // 16, F_CPU // 8):
+        out = avr_sim.Outputs.in_dir(work, f"hold-tick-{board}-{cycles}")
+        subprocess.run([*avr_sim.harness(board, elf), "--input", str(path), "--max-cycles", str(cycles), *out.args()],
+                       capture_output=True, check=True)
+        st = out.load_stats()
+        assert st["motion"]["state"] == State.HOLDING and st["motion"]["ticks_missed"] == 0, st["motion"]
+        timer.append(st["isr"]["timer"])
+    return (timer[1]["total"] - timer[0]["total"]) / (timer[1]["count"] - timer[0]["count"])
 
 
 def at_rest(v: Variant, seconds: float, debounce: int | None = None) -> dict:
@@ -288,6 +300,13 @@ def main() -> None:
                         "spare": st["stack"]["deepest"] - st["stack"]["static_end"]}
     print(f"  stack high-water mark under every message kind while moving: {st['stack']['max_bytes']} bytes; "
           f"{st['stack']['deepest'] - st['stack']['static_end']} bytes free above static data")
+    out = avr_sim.Outputs.in_dir(default.build, "hold-status")
+    st = avr_sim.run_input(avr_scenarios.status_during_a_hold(3), out, default.build / "hold-status-replies.bin",
+                           elf=default.elf, max_cycles=F_CPU // 2, until_idle=False)
+    figures["stack"]["status_in_a_hold"] = {"max_bytes": st["stack"]["max_bytes"],
+                                            "spare": st["stack"]["deepest"] - st["stack"]["static_end"]}
+    print(f"  ... with STATUS requests during a hold: {st['stack']['max_bytes']} bytes; "
+          f"{st['stack']['deepest'] - st['stack']['static_end']} bytes free above static data")
     st = status_while_moving(default)
     print(f"  with STATUS requests while moving: interrupts held off at most {st['irq_off']['max']} cycles "
           f"({st['irq_off']['from'] or '-'}), a tick entered up to {st['motion']['tick_late_max']} cycles late")
@@ -305,6 +324,11 @@ def main() -> None:
     m4 = st["tick_isr"]["steps4"]
     print(f"  Mega ({st['tick_cycles']} cycles a tick), 4 axes stepping: {m4['count']} ticks, min {m4['min']}, "
           f"mean {m4['mean']:.1f}, max {m4['max']} cycles")
+    held = {"uno": round(hold_tick(default.build, default.elf, "uno", 3), 1),
+            "mega": round(hold_tick(default.build, default.build / "avr" / "mega.elf", "mega", 4), 1)}
+    figures["hold_tick"] = held
+    print(f"  a hold's tick, every axis decelerating from near full speed: {held['uno']} cycles with 3 axes (Uno), "
+          f"{held['mega']} with 4 (Mega)")
 
     rates = sorted({default.tick_hz, 40_000, 50_000}) if args.quick else TICK_RATES
     print(f"\nsegments/s the board takes while three axes step every tick (flow-controlled, "

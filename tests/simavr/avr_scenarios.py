@@ -181,7 +181,7 @@ def quadratic_into_cubic(axis_count: int) -> list[list[Segment | CubicSegment]]:
 
 def every_message_kind(axis_count: int) -> bytes:
     """Wire bytes (no flow control needed) that exercise every path of the
-    firmware while axes move: SEGMENT and SEGMENTS, SET_POSITION (accepted at rest,
+    firmware while axes move: SEGMENT (the Uno takes no SEGMENTS), SET_POSITION (accepted at rest,
     refused while moving), STATUS, IDENTIFY, and damaged frames of each
     framing error, and a ramp move as CUBIC_SEGMENT and CUBIC_SEGMENTS. For the stack's high-water mark."""
     from quadstep.protocol import Identify, SetPosition, Status, Stop, encode
@@ -189,7 +189,6 @@ def every_message_kind(axis_count: int) -> bytes:
 
     from quadstep.protocol.cubic_run import SpeedChain
     from quadstep.protocol.cubic_run import pack as cubic_pack
-    from quadstep.protocol.segment_run import RunChain, pack
 
     b = ChainBuilder(axis_count)
     out = [b"\x00", encode(Identify(), 1), encode(SetPosition(positions={a: 5 * a for a in range(axis_count)}), 0)]
@@ -206,28 +205,40 @@ def every_message_kind(axis_count: int) -> bytes:
             CubicSegment(n=n, axes=tuple(CubicAxis(axis=a, jerk=-jerk) for a in range(axis_count))),
             CubicSegment(n=n, axes=tuple(CubicAxis(axis=a, jerk=jerk) for a in range(axis_count)))]
     out += [encode(first, 1), encode(cubic_pack(ramp, speeds), 2)]  # type: ignore[arg-type]
-    chain = RunChain(axis_count)
     seq = 3
     for i in range(8):
         last = i == 7
         segments = [b.segment(200, {a: (1, D // 2, D // 2) for a in range(axis_count)}),
                     b.segment(200, {a: (1, D // 2, 0 if last else D // 2) for a in range(axis_count)})]
-        # a SEGMENT, then (the chain known) a SEGMENTS frame of two records
-        frame = segments[0] if i == 0 else pack(segments, chain)
-        for segment in segments if i == 0 else ():
-            chain.follow(segment)
-        out.append(encode(frame, seq))
-        if i == 0:
+        for segment in segments:
+            out.append(encode(segment, seq))
             seq += 1
-            out.append(encode(segments[1], seq))
-            chain.follow(segments[1])
-        seq += 1
         out += [encode(Status(), 9), encode(Identify(), 9), encode_frame(b"\x10\x05\x01"), b"\x07" * 70 + b"\x00",
                 b"\x05\x01\x02\x03\x04\x05\x06\x00"]
         out.append(encode(SetPosition(positions={0: 1}), seq))  # refused: BUSY
         seq += 1
     out.append(encode(Stop(), 50))
     return b"".join(out)
+
+
+def hold_from_full_speed(axis_count: int, pad: int = 0) -> bytes:
+    """Wire bytes (no flow control needed): 15 segments of 300 ticks with every axis near full speed (the
+    costliest hold to begin, and to run), then after `pad` empty frames (20 µs each on the line) a HOLD at
+    800 / 2^24 step per tick² (about 20,000 ticks to rest)."""
+    from quadstep.protocol import Hold, encode
+
+    seg = Segment(n=300, axes=tuple(AxisMove(axis=a, direction=1, v0=D - 1, vn=D - 1, r=0) for a in range(axis_count)))
+    job = b"\x00" + b"".join(encode(seg, i) for i in range(15))
+    hold = Hold(decel=(800,) * axis_count + (0,) * (4 - axis_count))  # type: ignore[arg-type]
+    return job + b"\x00" * pad + encode(hold, 15)
+
+
+def status_during_a_hold(axis_count: int) -> bytes:
+    """hold_from_full_speed and STATUS requests all through the deceleration, each of which works the hold's
+    steps out (the deepest stack the firmware reaches)."""
+    from quadstep.protocol import Status, encode
+
+    return hold_from_full_speed(axis_count) + b"".join(encode(Status(), 16) + b"\x00" * 400 for _ in range(40))
 
 
 def takeups(axis_count: int) -> list[list[Segment | CubicSegment]]:

@@ -9,9 +9,9 @@ import numpy as np
 import pytest
 
 import avr_scenarios
-from avr_sim import Outputs, run_feed, run_input
+from avr_sim import F_CPU, Outputs, run_feed, run_input
 from quadstep.kernel.engine_model import predict
-from quadstep.protocol import Ack, AckReason, Decoder, Frame, encode
+from quadstep.protocol import Ack, AckReason, Decoder, Frame, State, StatusReport, encode
 from quadstep.protocol.cubic import CubicSegment
 
 # The step interrupt's goals on the Uno at 32 kHz (docs/AVR.md, docs/CUBIC.md): three quadratic axes stepping
@@ -96,3 +96,16 @@ def test_stack_stays_clear_of_static_data(avr_build: None, tmp_path: Path) -> No
     stack = stats["stack"]
     assert 0 < stack["max_bytes"] < 512
     assert stack["deepest"] - stack["static_end"] >= 128, stack
+
+
+def test_a_status_during_a_hold_leaves_stack_to_spare(avr_build: None, tmp_path: Path) -> None:
+    """The deepest stack found: each STATUS during a hold works the hold's steps out from its state (the tick
+    no longer counts them). 91 bytes are left above .data/.bss (119 while the tick counted)."""
+    stats = run_input(avr_scenarios.status_during_a_hold(3), Outputs.in_dir(tmp_path), tmp_path / "replies.bin",
+                      max_cycles=F_CPU // 2, until_idle=False)
+    assert stats["motion"]["state"] == State.HOLDING and stats["motion"]["ticks_missed"] == 0
+    reports = [f.message for f in Decoder("to_host", axis_count=3).feed((tmp_path / "replies.bin").read_bytes())
+               if isinstance(f, Frame) and isinstance(f.message, StatusReport)]
+    assert len(reports) == 40 and all(r.state == State.HOLDING for r in reports)
+    stack = stats["stack"]
+    assert stack["deepest"] - stack["static_end"] >= 80, stack

@@ -74,8 +74,10 @@ class Rest:
 
 
 def board_run_limit(identity: IdentifyReply) -> int:
-    """Segments to put in one SEGMENTS frame to this board; 0 where its firmware has no SEGMENTS."""
-    return run_limit(identity.queue_capacity) if identity.capabilities & Capability.SEGMENTS else 0
+    """Segments to put in one SEGMENTS or CUBIC_SEGMENTS frame to this board; 0 where its firmware
+    takes neither (frame_choice says which of the two it is sent)."""
+    runs = Capability.SEGMENTS | Capability.CUBIC_RUNS
+    return run_limit(identity.queue_capacity) if identity.capabilities & runs else 0
 
 
 class RunSize:

@@ -23,7 +23,8 @@ class FrameChoice(BaseModel):
 # SEGMENT a frame is taken faster than SEGMENTS (about 1,390 against 940 segments/s: reading each
 # record's varints against the chain costs the main loop more than a frame's framing saves), while
 # CUBIC_SEGMENTS is taken a little faster than one CUBIC_SEGMENT a frame (about 727 against 696).
-# The Mega runs the same code at the same clock.
+# The Mega runs the same code at the same clock. (The figures are from when the Uno took SEGMENTS:
+# its build now leaves the reader out, docs/AVR.md.)
 AVR_FRAMES = FrameChoice(quadratic_runs=False, cubic_runs=True)
 _BY_BOARD: dict[int, FrameChoice] = {Board.ATMEGA328P: AVR_FRAMES, Board.ATMEGA2560: AVR_FRAMES}
 RUN_FRAMES = FrameChoice(quadratic_runs=True, cubic_runs=True)  # the emulator: bytes are the limit

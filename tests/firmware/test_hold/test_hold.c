@@ -370,6 +370,53 @@ static void test_positions_are_exact_at_every_tick_of_a_hold(void)
     TEST_ASSERT_TRUE(ticks > 1000); /* it ran past where the segment would have ended */
 }
 
+/* Holds long enough (about 100,000 ticks) that the main loop works their
+ * steps out the long way (a hold past 2^16 ticks): positions and ticks are
+ * exact all through, read every 997 ticks and at the end. */
+static void test_positions_are_exact_through_long_holds(void)
+{
+    static const uint16_t decels[2][4] = {{100, 150, 120, 90}, {130, 90, 110, 140}};
+    int c;
+
+    for (c = 0; c < 2; c++) {
+        qs_segment_msg m = {0};
+        int32_t counted[QS_AXIS_COUNT] = {0};
+        uint32_t ticks = 0;
+        qs_engine_view v;
+        uint8_t axis, bits;
+
+        qs_engine_init(&engine, QS_QUEUE_CAPACITY);
+        m.n = 1000;
+        m.active = (1u << QS_AXIS_COUNT) - 1;
+        m.negative = 0x5 & m.active;
+        for (axis = 0; axis < QS_AXIS_COUNT; axis++) {
+            m.v0[axis] = (uint16_t)(D - 300 * axis - c);
+            m.vn[axis] = (uint16_t)(D - 200 * axis - 7 * c);
+        }
+        enqueue(&m);
+        TEST_ASSERT_EQUAL_INT(QS_HOLD_STARTED, qs_engine_hold(&engine, decels[c]));
+        while (engine.state == QS_STATE_HOLDING || engine.trigger_window) {
+            if (ticks % 997 == 0) {
+                qs_engine_read(&engine, &v);
+                TEST_ASSERT_EQUAL_UINT32(ticks, v.motion_ticks);
+                for (axis = 0; axis < QS_AXIS_COUNT; axis++)
+                    TEST_ASSERT_EQUAL_INT32(counted[axis], v.position[axis]);
+            }
+            bits = qs_engine_tick(&engine);
+            for (axis = 0; axis < QS_AXIS_COUNT; axis++)
+                if (bits & (1u << axis))
+                    counted[axis] += (m.negative >> axis) & 1 ? -1 : 1;
+            ticks++;
+            qs_engine_retire(&engine);
+        }
+        qs_engine_read(&engine, &v);
+        TEST_ASSERT_EQUAL_UINT32(ticks, v.motion_ticks);
+        for (axis = 0; axis < QS_AXIS_COUNT; axis++)
+            TEST_ASSERT_EQUAL_INT32(counted[axis], v.position[axis]);
+        TEST_ASSERT_TRUE(ticks > 0x10000u + 1000u); /* past 2^16 */
+    }
+}
+
 static int64_t mag(int64_t x)
 {
     return x < 0 ? -x : x;
@@ -655,6 +702,7 @@ int main(void)
     RUN_TEST(test_the_rescale_is_the_largest_power_of_two_within_n_max);
     RUN_TEST(test_the_deceleration_quantum_is_the_floor_and_never_zero);
     RUN_TEST(test_random_holds_follow_their_closed_form);
+    RUN_TEST(test_positions_are_exact_through_long_holds);
     RUN_TEST(test_holds_due_just_past_a_segment_boundary_follow_their_closed_form);
     RUN_TEST(test_positions_are_exact_at_every_tick_of_a_hold);
     RUN_TEST(test_hold_values_stay_within_24_bits);
