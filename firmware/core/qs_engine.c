@@ -109,7 +109,7 @@ static void take_progress(const qs_engine *e, qs_progress *p)
         p->t = e->held_t0;
         memcpy(p->at.hold.h, e->hold.h, sizeof p->at.hold.h);
         memcpy(p->at.hold.inc, e->hold.inc, sizeof p->at.hold.inc);
-        p->at.hold.moving = e->hold.moving;
+        p->at.hold.moving = e->frozen == QS_FROZEN_ALARM ? e->hold.moving_at_freeze : e->hold.moving;
         return;
     }
     p->held = 0;
@@ -491,6 +491,9 @@ void qs_engine_freeze_in_tick(qs_engine *e, uint8_t alarm)
      * nothing (no axis moving); the running or held slot keeps its state,
      * from which the main loop counts the steps made. */
     close_trigger_window(e);
+    /* The hold's state counts its steps; its axes stopped here, not by
+     * running out of increment (qs_hold_axis_made tells the two apart). */
+    e->hold.moving_at_freeze = e->hold.moving;
     e->hold.moving = 0;
     e->slow_path = 1;
     e->trigger = 0;

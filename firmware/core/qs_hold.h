@@ -28,6 +28,7 @@ typedef struct {
     qs_i24 two_c2;               /* 2knD: h loses it with a step */
     volatile uint8_t moving;     /* bit i: axis i still decelerates */
     uint8_t tick_byte;           /* moves on with each tick of a hold: for watchers */
+    uint8_t moving_at_freeze;    /* the axes still moving when an alarm froze the engine */
     /* Main loop side: the segment length the plan is for (0: none). */
     uint16_t planned_n;
     uint8_t shift;

@@ -100,7 +100,7 @@ def test_stack_stays_clear_of_static_data(avr_build: None, tmp_path: Path) -> No
 
 def test_a_status_during_a_hold_leaves_stack_to_spare(avr_build: None, tmp_path: Path) -> None:
     """The deepest stack found: each STATUS during a hold works the hold's steps out from its state (the tick
-    no longer counts them). 91 bytes are left above .data/.bss (119 while the tick counted)."""
+    no longer counts them). 90 bytes are left above .data/.bss (119 while the tick counted)."""
     stats = run_input(avr_scenarios.status_during_a_hold(3), Outputs.in_dir(tmp_path), tmp_path / "replies.bin",
                       max_cycles=F_CPU // 2, until_idle=False)
     assert stats["motion"]["state"] == State.HOLDING and stats["motion"]["ticks_missed"] == 0

@@ -696,6 +696,48 @@ static void test_halt_during_a_hold_keeps_exact_positions(void)
     TEST_ASSERT_FALSE(engine.hold_report);
 }
 
+/* An alarm (a hard limit) freezes the engine in the tick during a hold,
+ * some axes still moving and one stopped: they stopped at the freeze, not by
+ * running out of increment, and the halt that follows counts the steps and
+ * ticks exactly as they were made. */
+static void test_an_alarm_during_a_hold_keeps_exact_positions(void)
+{
+    qs_segment_msg m = {0};
+    uint16_t decel[QS_AXIS_COUNT] = {8191, 40, 40, 40};
+    int32_t counted[QS_AXIS_COUNT] = {0};
+    uint32_t ticks = 0;
+    qs_engine_view v;
+    uint8_t axis, bits;
+
+    m.n = 500;
+    m.active = 0x7;
+    m.v0[0] = m.vn[0] = 300; /* stops early in the hold */
+    m.v0[1] = m.vn[1] = 4000;
+    m.v0[2] = m.vn[2] = 2500;
+    enqueue(&m);
+    TEST_ASSERT_EQUAL_INT(QS_HOLD_STARTED, qs_engine_hold(&engine, decel));
+    while (ticks < 400) {
+        bits = qs_engine_tick(&engine);
+        for (axis = 0; axis < QS_AXIS_COUNT; axis++)
+            counted[axis] += (bits >> axis) & 1;
+        ticks++;
+    }
+    TEST_ASSERT_EQUAL_INT(QS_STATE_HOLDING, engine.state);
+    TEST_ASSERT_EQUAL_HEX8(0x6, engine.hold.moving); /* axis 0 has stopped, 1 and 2 move */
+    qs_engine_freeze_in_tick(&engine, QS_ALARM_HARD_LIMIT);
+    qs_engine_read(&engine, &v);
+    TEST_ASSERT_EQUAL_UINT32(ticks, v.motion_ticks);
+    for (axis = 0; axis < QS_AXIS_COUNT; axis++)
+        TEST_ASSERT_EQUAL_INT32(counted[axis], v.position[axis]);
+    TEST_ASSERT_EQUAL_HEX8(0, qs_engine_tick(&engine));
+    qs_engine_finish_freeze_slow(&engine);
+    qs_engine_read(&engine, &v);
+    TEST_ASSERT_EQUAL_INT(QS_STATE_ALARM, v.state);
+    TEST_ASSERT_EQUAL_UINT32(ticks, v.motion_ticks);
+    for (axis = 0; axis < QS_AXIS_COUNT; axis++)
+        TEST_ASSERT_EQUAL_INT32(counted[axis], v.position[axis]);
+}
+
 int main(void)
 {
     UNITY_BEGIN();
@@ -703,6 +745,7 @@ int main(void)
     RUN_TEST(test_the_deceleration_quantum_is_the_floor_and_never_zero);
     RUN_TEST(test_random_holds_follow_their_closed_form);
     RUN_TEST(test_positions_are_exact_through_long_holds);
+    RUN_TEST(test_an_alarm_during_a_hold_keeps_exact_positions);
     RUN_TEST(test_holds_due_just_past_a_segment_boundary_follow_their_closed_form);
     RUN_TEST(test_positions_are_exact_at_every_tick_of_a_hold);
     RUN_TEST(test_hold_values_stay_within_24_bits);
