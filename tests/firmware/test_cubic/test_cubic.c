@@ -403,6 +403,13 @@ static void test_a_hold_from_a_cubic_state_follows_its_closed_form(void)
             int64_t expect = tp_floor_div(e_h + j * i1 + dd * (j * (j - 1) / 2) + w / 2, w);
             made += qs_engine_tick(&engine) & 1;
             TEST_ASSERT_EQUAL_INT64(expect, made);
+            if (j % 61 == 0) {
+                /* a STATUS mid-hold: the steps worked out from the hold's state */
+                qs_engine_view v;
+                qs_engine_read(&engine, &v);
+                TEST_ASSERT_EQUAL_INT32(before + made, v.position[0]);
+                TEST_ASSERT_EQUAL_UINT32(held_at + QS_TRIGGER_TICKS + j, v.motion_ticks);
+            }
         }
         TEST_ASSERT_EQUAL_UINT8(0, engine.hold.moving);
         qs_engine_retire(&engine);
