@@ -30,9 +30,10 @@ def test_a_follower_ends_starved_when_the_board_ran_dry_as_they_handed_over(star
     with Link.open(emu.url) as link:
         link.send(CRUISE)  # it ends moving with nothing behind it: the board stops it (an underrun)
         wait_state(link, State.HOLDING)
-        cut = Motion(link, segments, DECELS).start()
-        assert cut.cut(4)  # its four segments reach a board that is stopping: refused, BUSY
-        ended = cut.wait(10)
+        cut = Motion(link, segments, DECELS)
+        # cut before it streams: its four segments reach a board that is stopping, refused (BUSY)
+        assert cut.cut(4)
+        ended = cut.start().wait(10)
         assert ended is not None and ended.ended_by == "cut"
         wait_state(link, State.STARVED)  # the link learns the stream ran dry
         follower = Motion(link, segments, DECELS, first=4, follows=cut).start()
