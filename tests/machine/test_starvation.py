@@ -17,6 +17,7 @@ from fault_jobs import engraving
 from quadstep.config import load_config
 from quadstep.job import load_job
 from quadstep.link import Link
+from quadstep.link.outbox import SILENCE
 from quadstep.machine import JobState, Machine
 from quadstep.protocol import Alarm
 
@@ -75,3 +76,27 @@ def test_quadstep_run_goes_on_through_stalls_of_the_host(start_emulator, tmp_pat
     assert tuple(result["positions_steps"]) == load_job(path, CONFIG).plan.end
 
 
+
+
+def test_quadstep_run_goes_on_after_a_freeze_longer_than_the_links_silence_limit(start_emulator,
+                                                                                  tmp_path: Path) -> None:
+    """Frozen for 3 s, twice the link's silence limit (a laptop's lid, a small computer swapping): the board ran
+    dry meanwhile and said so, and the host reads that on waking instead of taking its own pause for a silent
+    board."""
+    path = tmp_path / "engraving.gcode"
+    path.write_text(engraving(300))
+    emu = start_emulator(axes=3, tick_hz=CONFIG.tick_hz, queue=14)
+    process = cli_process("run", str(path), "--config", str(ROUTER), "--port", emu.url)
+    assert process.stdout is not None
+    assert "planned" in process.stdout.readline()  # printed as the stream starts
+    time.sleep(1.0)
+    os.kill(process.pid, signal.SIGSTOP)
+    time.sleep(2 * SILENCE)
+    os.kill(process.pid, signal.SIGCONT)
+    out, err = process.communicate(timeout=120)
+    assert process.returncode == 0, err
+    assert "has not answered" not in err and "starved, going on" in err
+    assert out.splitlines()[0].startswith("done: ")
+    assert out.splitlines()[-1] == "every axis is exactly where the job put it"
+    with Link.open(emu.url) as link:
+        assert tuple(link.status().position[:3]) == load_job(path, CONFIG).plan.end

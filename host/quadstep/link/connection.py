@@ -79,7 +79,7 @@ class Link:
         self._in = Inbox(self._window, self.stats)
         self._out = Outbox(self._window, self._in, self.stats, poll_interval)
         self._transport = Transport(
-            port, self._cond, self._on_data, self._next_output, self._port_failed
+            port, self._cond, self._on_look, self._on_data, self._next_output, self._port_failed
         )
         self._transport.start()
 
@@ -435,6 +435,10 @@ class Link:
             )
 
     # --- reader -----------------------------------------------------------------------------------
+
+    def _on_look(self) -> None:
+        with self._cond:
+            self._in.look(self._clock())
 
     def _on_data(self, data: bytes) -> None:
         with self._cond:

@@ -5,7 +5,9 @@ firmware's WATCHDOG needs), or an ERROR asked for an explanation (an alarm whose
 
 It also notices a silent board: while anything is outstanding (a frame unacknowledged, a segment the
 board has not finished), no good frame back for `silence` seconds fails the link with BoardSilent,
-which says what the board last confirmed.
+which says what the board last confirmed. Those seconds are the reader's: they count up to where it
+has read the port, so a host that was frozen longer than that (stopped, asleep, starved of CPU)
+first reads what the board sent meanwhile.
 
 An Outbox is shared state: every method and field is used with the link's condition held.
 """
@@ -16,6 +18,7 @@ from collections import deque
 
 from ..protocol import Status, encode
 from .errors import BoardSilent, LinkTimeout, known_text
+from .port_open import READ_TIMEOUT
 from .reports import Inbox
 from .stats import LinkStats
 from .window import SendWindow
@@ -76,8 +79,8 @@ class Outbox:
                 self.owing = False
             elif not self.owing:
                 self.owing, self.owed_since = True, now
-            if self._outstanding() and now - self._heard_at() >= self.silence:
-                inbox.fail(BoardSilent(self._silence_text(now)))
+            if self._outstanding() and inbox.seen_until - self._heard_at() >= self.silence:
+                inbox.fail(BoardSilent(self._silence_text()))
             elif inbox.want_status or self._stalled(now) or (not out and self._keepalive_due(now)):
                 inbox.want_status = False
                 self.last_poll = now
@@ -95,7 +98,9 @@ class Outbox:
         if deadline is not None:
             waits.append(deadline - now)
         if self._outstanding():
-            waits += [self.last_write + KEEPALIVE - now, self._heard_at() + self.silence - now]
+            # past the silence limit, until the reader has looked at the port since it
+            silent_at = max(self._heard_at() + self.silence - now, READ_TIMEOUT)
+            waits += [self.last_write + KEEPALIVE - now, silent_at]
         if self._stall_possible():
             waits.append(max(self.inbox.last_frame_at, self.last_poll) + STALL_POLL - now)
         return max(0.001, min(waits))
@@ -129,10 +134,10 @@ class Outbox:
             and now - max(self.inbox.last_frame_at, self.last_poll) >= STALL_POLL
         )
 
-    def _silence_text(self, now: float) -> str:
+    def _silence_text(self) -> str:
         inbox, window = self.inbox, self.window
         return (
-            f"the board has not answered for {now - self._heard_at():.1f} s (is it powered, "
+            f"the board has not answered for {self.silence:g} s (is it powered, "
             "connected, running?): the last frame it confirmed was seq "
             f"{(window.base - 1) & 0xFF}; {inbox.done_total} segments done, "
             f"{max(0, inbox.expected_done - inbox.done_total)} more accepted, {window.in_flight} "

@@ -17,6 +17,8 @@ import termios
 
 import serial
 
+READ_TIMEOUT = 0.05  # s a read of the port waits for a byte: the reader looks at least this often
+
 
 def keep_dtr(port: serial.SerialBase) -> None:
     """Clear HUPCL on an open local port, so closing it leaves DTR asserted (no reset at the next
@@ -36,6 +38,6 @@ def keep_dtr(port: serial.SerialBase) -> None:
 
 def open_port(url: str, baudrate: int) -> serial.SerialBase:
     """The port at `url` opened for the link, its DTR kept across closing (see above)."""
-    port = serial.serial_for_url(url, baudrate=baudrate, timeout=0.05, write_timeout=10)
+    port = serial.serial_for_url(url, baudrate=baudrate, timeout=READ_TIMEOUT, write_timeout=10)
     keep_dtr(port)
     return port

@@ -93,11 +93,22 @@ class Inbox:
         self.held_by_input = 0
         self.starved = False  # the latest status said STARVED
         self.last_frame_at = 0.0  # clock time of the last good frame received
+        # Everything the board sent before this clock time has been read and applied: when the
+        # reader's latest read but one began. A host that was frozen (stopped, swapped out,
+        # starved of CPU) has not looked at the port meanwhile: its pause is no silence of the
+        # board's.
+        self.seen_until = 0.0
+        self._look_began = 0.0
         self.want_status = False  # the writer sends a STATUS: something needs explaining
         # BUSY or ALARM_ACTIVE for a frame of ours, until a status explains it
         self.refused: ErrorReport | None = None
         # the board's latest STATUS_REPORT (or answer to STOP, HOLD)
         self.last_status: StatusReport | None = None
+
+    def look(self, now: float) -> None:
+        """The reader begins a read at `now`: the one before it ended, and what it read is
+        applied."""
+        self.seen_until, self._look_began = self._look_began, now
 
     def receive(self, data: bytes, now: float) -> list[Report]:
         """Decode and apply what the reader read at `now`; returns the reports that on_report

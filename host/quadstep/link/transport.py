@@ -18,8 +18,9 @@ PORT_FAILURES = (serial.SerialException, OSError, TypeError, AttributeError)
 class Transport:
     """Runs the reader and the writer on `port` until close().
 
-    `on_data(bytes)` is called in the reader for every chunk read; `next_output()` is called in the
-    writer with `cond` held, waits on it for something to write and returns the bytes, or None once
+    `on_look()` is called in the reader as it begins each read (which waits up to the port's
+    timeout), `on_data(bytes)` for every chunk read; `next_output()` is called in the writer with
+    `cond` held, waits on it for something to write and returns the bytes, or None once
     `closed`; `on_failure(exc)` gets the first exception of the port, in either thread.
     """
 
@@ -27,6 +28,7 @@ class Transport:
         self,
         port: serial.SerialBase,
         cond: threading.Condition,
+        on_look: Callable[[], None],
         on_data: Callable[[bytes], None],
         next_output: Callable[[], bytes | None],
         on_failure: Callable[[Exception], None],
@@ -36,6 +38,7 @@ class Transport:
         self.closed = False  # guarded by cond
         # the first bytes read (HEARD_BYTES), to name a board that answers in another's text
         self.heard = b""
+        self._on_look = on_look
         self._on_data = on_data
         self._next_output = next_output
         self._on_failure = on_failure
@@ -59,6 +62,7 @@ class Transport:
 
     def _read_loop(self) -> None:
         while not self.closed:
+            self._on_look()
             try:
                 data = self.port.read(self.port.in_waiting or 1)
             except PORT_FAILURES as exc:
