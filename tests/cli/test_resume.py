@@ -112,3 +112,25 @@ def test_a_job_whose_port_dropped_goes_on_through_the_port_plugged_in_again(star
         code, out, err = resume(again.port, DEMO)
         assert code == 0, err
         assert out.splitlines()[-1] == "every axis is exactly where the job put it"
+
+
+def test_a_job_whose_host_froze_past_the_watchdog_goes_on_with_resume(start_emulator) -> None:
+    """Frozen (SIGSTOP) longer than host_timeout on a board whose queue holds more than that: the board's
+    watchdog brakes it to rest (ALARM HOST_LOST). The host, woken, reads that rather than calling the board
+    silent, says why it stopped, and --resume goes on."""
+    emu = start_emulator(axes=3, tick_hz=CONFIG.tick_hz, queue=127)
+    process = cli_process("run", str(DEMO), "--config", str(ROUTER), "--port", emu.url)
+    assert process.stdout is not None
+    assert process.stdout.readline().startswith(f"{DEMO}: 39 lines, ")
+    time.sleep(2.5)
+    process.send_signal(signal.SIGSTOP)
+    time.sleep(2.5 * CONFIG.host_timeout)
+    process.send_signal(signal.SIGCONT)
+    _, err = process.communicate(timeout=60)
+    assert process.returncode == 1, err
+    assert "firmware alarm HOST_LOST" in err and "(frozen, asleep or too busy)" in err, err
+    assert "has not answered" not in err and "--resume goes on" in err
+    code, out, err = resume(emu.url, DEMO)
+    assert code == 0, err
+    assert out.splitlines()[-1] == "every axis is exactly where the job put it"
+    assert tuple(board_at_rest(emu.url).position[:3]) == load_job(DEMO, CONFIG).plan.end

@@ -113,6 +113,12 @@ class AlarmError(LinkError):
             if lost
             else "a STOP clears it (Ctrl+X in the TUI)"
         )
+        if alarm.code.name == "HOST_LOST":
+            hint = (
+                "this computer sent nothing for longer than the configuration's host_timeout "
+                "while the machine moved (frozen, asleep or too busy), so the board braked to "
+                f"rest and kept its position; {hint}"
+            )
         super().__init__(
             f"firmware alarm {alarm.code.name} at motion tick {alarm.motion_ticks}, "
             f"positions {list(alarm.position)}; {hint}"
