@@ -99,10 +99,20 @@ void qs_core_rx_overrun(qs_core *c);
  * to do it costs a few compares. */
 void qs_core_poll_work(qs_core *c);
 
-/* Moving, and no good frame for longer than the watchdog allows. */
+/* At rest after an underrun's stop with an output on, and the watchdog
+ * set: a host takes such a stop up at once, so one silent there is gone,
+ * and the spindle or laser must not run on. A target that sleeps at rest
+ * keeps looking (qs_core_poll) while this holds. */
+static QS_ALWAYS_INLINE uint8_t qs_core_watching_at_rest(const qs_core *c)
+{
+    return c->watchdog && c->engine.state == QS_STATE_STARVED && !qs_outputs_all_off(&c->outputs);
+}
+
+/* No good frame for longer than the watchdog allows, while moving or
+ * watching at rest (the alarm switches every output off). */
 static QS_ALWAYS_INLINE uint8_t qs_core_host_silent(const qs_core *c)
 {
-    return c->watchdog && c->engine.state == QS_STATE_RUNNING
+    return c->watchdog && (c->engine.state == QS_STATE_RUNNING || qs_core_watching_at_rest(c))
            && (uint16_t)(qs_port_clock() - c->heard) > c->watchdog;
 }
 

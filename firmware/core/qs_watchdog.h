@@ -8,8 +8,9 @@
 /* In force at once, counted from now; 0 turns it off. */
 void qs_watchdog_start(qs_core *c, uint16_t timeout_ms);
 
-/* The host went silent while moving: a hold at stop_decel, ending in ALARM
- * HOST_LOST (at once if nothing moves). Out of line: rare. */
+/* The host went silent while moving (or left an underrun's stop with an
+ * output on): a hold at stop_decel, ending in ALARM HOST_LOST (at once if
+ * nothing moves). Out of line: rare. */
 QS_NOINLINE void qs_watchdog_expire(qs_core *c);
 
 #endif

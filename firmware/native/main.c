@@ -396,7 +396,7 @@ static int poll_timeout_ms(emulator *m, int waiting_at_underrun)
     uint64_t left;
 
     if (!in_motion(&m->core.engine))
-        return inputs_settling(m) ? PACED_POLL_MS : -1;
+        return inputs_settling(m) || qs_core_watching_at_rest(&m->core) ? PACED_POLL_MS : -1;
     if (!m->opts.free_running)
         return PACED_POLL_MS;
     if (!waiting_at_underrun)
@@ -509,6 +509,10 @@ int main(int argc, char **argv)
         } else {
             m->underrun_since_ns = 0;
             settle_inputs(m);
+            if (qs_core_watching_at_rest(&m->core)) {
+                qs_core_poll(&m->core); /* the watchdog, as a board's resting ticks wake its loop */
+                watch_state(m);
+            }
         }
         write_output(m);
     }

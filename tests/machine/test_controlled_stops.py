@@ -22,7 +22,7 @@ from quadstep.link import Link
 from quadstep.machine import Machine
 from quadstep.machine.motion import STARVED
 from quadstep.machine.units import hold_decels
-from quadstep.protocol import AlarmCode, HoldDone, State
+from quadstep.protocol import AlarmCode, HoldDone, Output, State
 
 REPO = Path(__file__).resolve().parents[2]
 ROUTER = REPO / "examples" / "router-uno.toml"
@@ -114,3 +114,35 @@ def test_an_underrun_at_full_speed_brakes_at_the_configured_deceleration(start_e
         assert again is not None and again.ended_by == "done" and again.segments_done == len(step)
         assert list(again.position) == [a + b for a, b in zip(stop.positions, moved)] != stop.positions
     emu.stop()
+
+
+def test_a_laser_left_at_an_underrun_by_a_killed_host_is_switched_off(start_emulator, tmp_path: Path) -> None:
+    """A laser job (M3: constant power, on at rest too) whose host is killed on an Uno's queue: the board runs
+    dry and rests STARVED, which a live host takes up at once; silent past host_timeout, the host is gone, and
+    the board switches every output off (ALARM HOST_LOST) instead of burning one spot."""
+    config = tmp_path / "laser.toml"
+    config.write_text(ROUTER.read_text() + "\n[spindle]\ns_max = 1000\nlaser = true\n")
+    job = tmp_path / "laser.gcode"
+    rows = "".join(f"G1 X45 Y{k}\nG1 X5 Y{k + 0.5}\n" for k in range(20))  # seconds of burning
+    job.write_text("G21 G90\nM3 S800\nG1 X5 F1500\n" + rows + "M5\n")
+    outputs = tmp_path / "outputs.csv"
+    emu = start_emulator(axes=3, tick_hz=CONFIG.tick_hz, queue=14, extra_args=("--outputs", str(outputs)))
+    cli = subprocess.Popen([sys.executable, "-m", "quadstep.cli", "run", str(job), "--config", str(config),
+                            "--port", emu.url], stdin=subprocess.DEVNULL, stdout=subprocess.PIPE,
+                           stderr=subprocess.DEVNULL)
+    try:
+        assert cli.stdout is not None
+        assert "planned" in cli.stdout.readline().decode()  # printed as the stream starts
+        time.sleep(1.0)
+        assert cli.poll() is None
+    finally:
+        os.kill(cli.pid, signal.SIGKILL)
+        cli.wait()
+    time.sleep(4 * CONFIG.host_timeout)  # the queue's fraction of a second, then the watchdog
+    with Link.open(emu.url) as link:
+        status = link.status()  # asking changes nothing: no STOP, which would switch them off too
+    emu.stop()
+    assert status.state == State.ALARM and status.alarm == AlarmCode.HOST_LOST, status
+    changes = [tuple(int(v) for v in row.split(",")) for row in outputs.read_text().splitlines()[1:]]
+    assert any(pins & Output.ON for _, pins, _ in changes)  # the laser burned
+    assert changes[-1][1:] == (0, 0)  # and is off at rest

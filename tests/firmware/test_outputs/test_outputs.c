@@ -216,6 +216,40 @@ static void test_stop_and_alarms_turn_everything_off(void)
     TEST_ASSERT_EQUAL_INT(0, level().pins); /* STOP leaves them off: nothing was let through */
 }
 
+/* Run dry with the laser on: at rest, STARVED, the output stays on for a
+ * host that takes the stop up at once. One silent past the watchdog is
+ * gone: ALARM HOST_LOST, every output off. With every output off the board
+ * stays STARVED whatever the silence (test_dispatch). */
+static void test_a_host_silent_after_an_underrun_leaves_no_output_on(void)
+{
+    const tp_axis cruise = {4096, 4096, 0};
+    const uint8_t watchdog[] = {QS_TYPE_WATCHDOG, 0x40, 100, 0};
+    const uint16_t counts = (100 * 1000 + QS_PORT_CLOCK_US - 1) / QS_PORT_CLOCK_US;
+    uint32_t ticks = 0;
+    uint16_t count, i;
+
+    tp_send(&core, watchdog, sizeof watchdog);
+    send_outputs(0, QS_OUT_ON | QS_OUT_FLOOD, 40000, 0, 0);
+    tp_send_segment(&core, 1, 10, 0x01, 0, &cruise); /* ends moving with nothing behind: an underrun */
+    while (core.engine.state != QS_STATE_STARVED && ticks++ < 200000)
+        run(1);
+    TEST_ASSERT_EQUAL_INT(QS_STATE_STARVED, core.engine.state);
+    TEST_ASSERT_EQUAL_HEX8(QS_OUT_ON | QS_OUT_FLOOD, level().pins);
+    tp_clear_sent();
+    test_clock = (uint16_t)(test_clock + counts + 1);
+    qs_core_poll(&core);
+    TEST_ASSERT_EQUAL_INT(QS_STATE_ALARM, core.engine.state);
+    TEST_ASSERT_EQUAL_INT(QS_ALARM_HOST_LOST, core.engine.alarm);
+    TEST_ASSERT_EQUAL_INT(0, level().pins);
+    TEST_ASSERT_EQUAL_UINT16(0, level().duty);
+    qs_core_poll(&core); /* the alarm is reported on the loop's next round */
+    count = tp_take_reports(reports, TP_MAX_REPORTS);
+    for (i = 0; i < count && reports[i].type != QS_TYPE_ALARM; i++)
+        ;
+    TEST_ASSERT_TRUE(i < count); /* the alarm is reported */
+    TEST_ASSERT_EQUAL_INT(QS_ALARM_HOST_LOST, reports[i].payload[0]);
+}
+
 static void test_a_bad_outputs_message_changes_nothing(void)
 {
     send_outputs(0, QS_OUT_ON, 1234, 0, 0);
@@ -252,6 +286,7 @@ int main(void)
     RUN_TEST(test_a_dynamic_power_follows_only_its_axis);
     RUN_TEST(test_a_dynamic_power_follows_a_hold_to_rest);
     RUN_TEST(test_stop_and_alarms_turn_everything_off);
+    RUN_TEST(test_a_host_silent_after_an_underrun_leaves_no_output_on);
     RUN_TEST(test_a_bad_outputs_message_changes_nothing);
     RUN_TEST(test_the_ratio_is_exact_where_it_fits_and_capped);
     return UNITY_END();
