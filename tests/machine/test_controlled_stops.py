@@ -34,6 +34,22 @@ def hold_ticks(events: Path) -> list[int]:
     return [int(line.split(",")[1]) for line in events.read_text().splitlines()[1:] if line.startswith("hold,")]
 
 
+def kill_mid_job(job: Path, config: Path, url: str) -> None:
+    """`quadstep run JOB` on the board at `url`, killed (SIGKILL, without a word to the board) a second after it
+    began to stream."""
+    cli = subprocess.Popen([sys.executable, "-m", "quadstep.cli", "run", str(job), "--config", str(config),
+                            "--port", url], stdin=subprocess.DEVNULL, stdout=subprocess.PIPE,
+                           stderr=subprocess.DEVNULL)
+    try:
+        assert cli.stdout is not None
+        assert "planned" in cli.stdout.readline().decode()  # printed as the stream starts
+        time.sleep(1.0)
+        assert cli.poll() is None
+    finally:
+        os.kill(cli.pid, signal.SIGKILL)
+        cli.wait()
+
+
 def test_the_host_killed_at_full_speed_leaves_a_controlled_stop_and_an_exact_position(start_emulator,
                                                                                        tmp_path: Path) -> None:
     job = tmp_path / "fast.gcode"
@@ -44,17 +60,7 @@ def test_the_host_killed_at_full_speed_leaves_a_controlled_stop_and_an_exact_pos
     # less than host_timeout of motion runs dry first: the same controlled stop, as UNDERRUN.)
     emu = start_emulator(trace=trace, axes=3, tick_hz=CONFIG.tick_hz, queue=127,
                          extra_args=("--events", str(events)))
-    cli = subprocess.Popen([sys.executable, "-m", "quadstep.cli", "run", str(job), "--config", str(ROUTER),
-                            "--port", emu.url], stdin=subprocess.DEVNULL, stdout=subprocess.PIPE,
-                           stderr=subprocess.DEVNULL)
-    try:
-        assert cli.stdout is not None
-        assert "planned" in cli.stdout.readline().decode()  # printed as the stream starts
-        time.sleep(1.0)  # well into the first rapid
-        assert cli.poll() is None
-    finally:
-        os.kill(cli.pid, signal.SIGKILL)  # at full speed, without a word to the board
-        cli.wait()
+    kill_mid_job(job, ROUTER, emu.url)  # well into the first rapid, at full speed
     deadline = time.monotonic() + 30
     while not hold_ticks(events):  # the watchdog's stop (nothing is sent before it: any frame would feed it)
         assert time.monotonic() < deadline, "the board never stopped on its own"
@@ -127,17 +133,7 @@ def test_a_laser_left_at_an_underrun_by_a_killed_host_is_switched_off(start_emul
     job.write_text("G21 G90\nM3 S800\nG1 X5 F1500\n" + rows + "M5\n")
     outputs = tmp_path / "outputs.csv"
     emu = start_emulator(axes=3, tick_hz=CONFIG.tick_hz, queue=14, extra_args=("--outputs", str(outputs)))
-    cli = subprocess.Popen([sys.executable, "-m", "quadstep.cli", "run", str(job), "--config", str(config),
-                            "--port", emu.url], stdin=subprocess.DEVNULL, stdout=subprocess.PIPE,
-                           stderr=subprocess.DEVNULL)
-    try:
-        assert cli.stdout is not None
-        assert "planned" in cli.stdout.readline().decode()  # printed as the stream starts
-        time.sleep(1.0)
-        assert cli.poll() is None
-    finally:
-        os.kill(cli.pid, signal.SIGKILL)
-        cli.wait()
+    kill_mid_job(job, config, emu.url)
     time.sleep(4 * CONFIG.host_timeout)  # the queue's fraction of a second, then the watchdog
     with Link.open(emu.url) as link:
         status = link.status()  # asking changes nothing: no STOP, which would switch them off too
