@@ -15,6 +15,7 @@ form (machine/state.py); the G-code interpreter works on a copy of it.
 from __future__ import annotations
 
 from collections.abc import Sequence
+from typing import Any
 
 from pydantic import BaseModel, ConfigDict, Field
 
@@ -41,6 +42,19 @@ class WorkCoordinates(BaseModel):
     g92_applied: bool = False
     g28: Offsets = Field(default_factory=dict, description="machine mm")
     g30: Offsets = Field(default_factory=dict, description="machine mm")
+
+    def __deepcopy__(self, memo: dict[int, Any] | None = None) -> WorkCoordinates:
+        """The copy model_copy(deep=True) makes, without deepcopy's walk: every value is a number,
+        and a G-code sender's every line takes two."""
+        return type(self).model_construct(
+            set(self.model_fields_set),
+            system=self.system,
+            offsets=[dict(offsets) for offsets in self.offsets],
+            g92=dict(self.g92),
+            g92_applied=self.g92_applied,
+            g28=dict(self.g28),
+            g30=dict(self.g30),
+        )
 
     @property
     def name(self) -> str:
