@@ -7,6 +7,7 @@ from __future__ import annotations
 from pathlib import Path
 
 from quadstep.config import MachineConfig
+from quadstep.machine.override import first_difference
 from quadstep.tui.panels import JobPanel
 from test_tui import connected, make_app, positions
 from tui_helpers import log_text, send_key, until, open_job
@@ -37,6 +38,8 @@ async def test_the_feed_override_keys_change_a_running_job(machine: MachineConfi
                     what="the override at 90 %")
         await until(pilot, lambda: "feed 90 %" in job_line(app), what="the override on the job line")
         await until(pilot, lambda: run.plan is not first_plan, what="the rest planned again at 90 %")
+        at_90 = first_difference(first_plan.segments, run.plan.segments)  # where the 90 % plan begins
+        await until(pilot, lambda: run.progress.done > at_90, what="the board running the rest at 90 %")
         for _ in range(12):  # 90 → 200, then once more: refused
             send_key(app, "plus", "+")
         await until(pilot, lambda: "feed override: 200 % is the most" in log_text(app), what="the upper bound")
@@ -47,4 +50,5 @@ async def test_the_feed_override_keys_change_a_running_job(machine: MachineConfi
                     what="the override back at 100 %")
         await until(pilot, lambda: "steps.gcode: done" in log_text(app), what="the job to finish")
         assert positions(app) == machine.to_steps((40.0, 0.0, 0.0))
-        assert len(run.plan.base) != len(first_plan.base)  # what was sent: the first part, then the rest again
+        # what was sent: the first part, then the rest at 90 % (and the overrides after it)
+        assert first_difference(first_plan.segments, run.plan.segments) == at_90 < len(first_plan)

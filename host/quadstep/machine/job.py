@@ -25,7 +25,7 @@ from ..link import Link, LinkError
 from ..planner.feed_override import Overrides, apply_overrides, check_percent
 from ..planner.plan import Plan, plan_program
 from ..planner.program import Item, JobError, Pause, ProbeMove, Program
-from ..protocol import InputCause, InputChange, Report
+from ..protocol import InputCause, InputChange, Outputs, Report
 from .errors import MachineError
 from .job_legs import (
     PauseOffer,
@@ -38,7 +38,7 @@ from .job_legs import (
 from .job_outputs import FEED_HOLD, outputs_at, spindle_stopped, stream_outputs, switch_off
 from .job_state import JobProgress, JobState, JobStates
 from .journal import Journal
-from .motion import CUT, STARVED, Motion, MotionEnd, bring_to_rest
+from .motion import STARVED, Motion, MotionEnd
 from .move_items import MoveItems
 from .open_end import OpenEnd, settled_moves
 from .override import Swap, replan_running
@@ -51,6 +51,8 @@ PauseOrProbe = TypeVar("PauseOrProbe", Pause, ProbeMove)
 LOOKAHEAD_S = (
     0.5  # s queued beyond the watchdog's host_timeout: a lost host meets the watchdog first
 )
+# how a section's streaming comes back while its motion goes on: cut where a new plan takes over
+CUT = "cut"
 ADDITION_POLL_S = 0.005  # s between looks at lines added and not planned yet, while the board runs
 AT_REST = (
     FEED_HOLD,
@@ -118,7 +120,6 @@ class JobRun:
         self._swap: Swap | None = None  # the plan to go on with where the running motion was cut
         self._rebase: Rebase | None = None  # where the swap's plan begins in the running one
         self._wake = threading.Event()  # the motion ended, or an override changed
-        self._hold_pending = False  # a feed hold asked for while one motion hands over to the next
         # a job that extend() adds to while it runs (a sender's stream), and the program's items the
         # plan covers (those after them were added and are planned next)
         self._open_end = OpenEnd(plan.config) if open_end and program is not None else None
@@ -246,8 +247,6 @@ class JobRun:
         nothing moves."""
         with self._lock:
             motion = self._motion if not self._halted else None
-            if motion is not None and motion.end is not None and motion.end.ended_by == CUT:
-                self._hold_pending = True  # the next motion takes over: held as it starts
         if motion is None or self.program is None:
             return False
         motion.halt(FEED_HOLD)
@@ -467,9 +466,10 @@ class JobRun:
             self.resume()
 
     def _sections(self) -> MotionEnd:
-        """The plan streamed; where a feed override cut it short, the plan made then from where it
-        was cut."""
-        begin, follows = 0, None
+        """The plan streamed; where a feed override or lines added cut it short, the plan made then
+        from where it was cut, streamed on by the same motion."""
+        begin: int = 0
+        follows: tuple[Motion, int] | None = None
         while True:
             end = self._sections_from(begin, follows)
             if end.ended_by != CUT or self._swap is None:
@@ -491,22 +491,14 @@ class JobRun:
             ticks.extend(accumulate((n[i] for i in range(swap.index, len(n))), initial=ticks[-1]))
             ticks.pop(swap.index + 1)
             with self._lock:
-                follows, halted = self._motion, self._halted
+                motion = self._motion
                 self.plan, self._ticks = swap.plan, ticks
                 if rebase is not None:
                     self._done_before += rebase.index
                     self._offset -= rebase.index
-            begin = swap.index
-            # halted as one motion handed over to the next: the board still runs the first's
-            if halted:
-                rest = bring_to_rest(self.link, self.decels)
-                return MotionEnd(
-                    halted,
-                    rest.position[: self.plan.segments.axis_count],
-                    begin,
-                    held=rest.held,
-                    hold_tick=rest.hold_tick,
-                )
+            assert motion is not None
+            # the motion goes on with the new plan, its segment i being the new plan's i - shift
+            begin, follows = swap.index, (motion, rebase.index if rebase is not None else 0)
 
     def _let_go(self, rebase: Rebase, start: tuple[int, ...]) -> None:
         """The program from the move under way where the plan now begins (`start`: the steppers
@@ -520,23 +512,21 @@ class JobRun:
         self._move_items = MoveItems(base_plan(self.plan).config, start)
 
     def _stream(self, motion: Motion) -> MotionEnd:
-        """Start `motion` and wait for its end; meanwhile a changed feed override plans the rest
-        again and cuts the motion short where the new plan goes on (override.py)."""
+        """Start `motion` (unless it goes on with a new plan) and wait for its end; meanwhile a
+        changed feed override or lines added plan the rest again and cut the motion short where
+        the new plan goes on (override.py): then a CUT end, the motion still streaming."""
         motion.on_end = lambda _end: self._wake.set()
         if self.state is not JobState.STREAMING:
             self.states.enter(JobState.STREAMING)
-        motion.start()
-        with self._lock:
-            hold, self._hold_pending = self._hold_pending, False
-        if hold:
-            motion.halt(FEED_HOLD)
+        if not motion.started:
+            motion.start()
         while motion.end is None:
-            # what changed before this motion began (while another handed over to it) comes first
-            if self._swap is None:
-                if self._wanted() != self._planned:
-                    self._override_running(motion)
-                elif self._extends(motion):
-                    self._extend_running(motion)
+            if self._wanted() != self._planned:
+                self._override_running(motion)
+            elif self._extends(motion):
+                self._extend_running(motion)
+            if self._swap is not None:
+                return MotionEnd(CUT, (), motion.sent)
             if motion.end is None:
                 # lines waiting for enough company are looked at again as the board runs on
                 self._wake.wait(ADDITION_POLL_S if self.pending else None)
@@ -636,9 +626,10 @@ class JobRun:
             index = self._swap.index - self._rebase.index
             self._swap = Swap(index, rebased(self._swap.plan, self._rebase))
 
-    def _sections_from(self, begin: int, follows: Motion | None) -> MotionEnd:
-        """Each stretch of segments between pauses, from item `begin` on (after the motion
-        `follows`, cut there), and a wait at each pause (at the start or the end too)."""
+    def _sections_from(self, begin: int, follows: tuple[Motion, int] | None) -> MotionEnd:
+        """Each stretch of segments between pauses, from item `begin` on, and a wait at each pause
+        (at the start or the end too). `follows`: the motion cut at `begin`, which goes on with
+        this plan (its segment i being this plan's i − the shift given)."""
         total = len(self.plan)
         end: MotionEnd | None = None
         first = begin
@@ -647,24 +638,20 @@ class JobRun:
             if index < begin:
                 continue
             mine = [(at, message) for at, s, message in outputs if s == section and at >= begin]
-            if index > first or mine:
+            if index > first or mine or follows is not None:
                 with self._lock:
-                    if self._halted:
+                    if self._halted and follows is None:
                         break
-                    motion = Motion(
-                        self.link,
-                        self.plan.segments,
-                        self.decels,
-                        first=first,
-                        last=index,
-                        lookahead_ticks=self.lookahead,
-                        outputs=mine,
-                        follows=follows,
-                    )
+                    motion, first, going_on = self._section_motion(first, index, mine, follows)
                     self._motion, self._offset, follows = motion, first, None
-                    if index == total and self._open_end is not None:
-                        kept = self._open_end.kept_back(self._ticks)
-                        motion.hold_back(kept, self._open_end.floor_ticks)
+                if not going_on:  # halted, or the board ran dry, as the new plan was made
+                    halted = self._halted
+                    end = motion.halt(halted) if halted else motion.wait()
+                    assert end is not None
+                    with self._lock:
+                        self._motion = None
+                        self._offset = first + end.segments_done
+                    return end
                 end = self._stream(motion)
                 if end.ended_by == CUT:
                     return end  # the rest planned again: _sections goes on with it
@@ -689,6 +676,37 @@ class JobRun:
         status = self.link.status()  # at rest: halted at a pause, or nothing to stream
         position = tuple(status.position[: self.plan.segments.axis_count])
         return MotionEnd(self._halted or "done", position, self._offset)
+
+    def _section_motion(
+        self,
+        first: int,
+        last: int,
+        outputs: Sequence[tuple[int, Outputs]],
+        follows: tuple[Motion, int] | None,
+    ) -> tuple[Motion, int, bool]:
+        """The motion that streams segments `first` … `last` with `outputs`: a new one, or the
+        one cut at `first` going on with this plan, `follows` (with its shift); with its first
+        segment (in this plan's numbering), and whether it goes on (False: it was halted, or the
+        board ran dry, as the plan was made). An open job's end is kept back."""
+        kept: int | None = None
+        if last == len(self.plan) and self._open_end is not None:
+            kept = self._open_end.kept_back(self._ticks)
+        floor = self._open_end.floor_ticks if self._open_end is not None else 0
+        if follows is not None:
+            motion, shift = follows
+            going_on = motion.go_on(self.plan.segments, shift, last, outputs, kept, floor)
+            return motion, motion.first if going_on else motion.first - shift, going_on
+        motion = Motion(
+            self.link,
+            self.plan.segments,
+            self.decels,
+            first=first,
+            last=last,
+            lookahead_ticks=self.lookahead,
+            outputs=outputs,
+        )
+        motion.hold_back(kept, floor)
+        return motion, first, True
 
     def _wait_at_pause(self, line: int) -> MotionEnd | None:
         """PAUSED at the pause of `line` until resume() or halt(); where the operator moved the

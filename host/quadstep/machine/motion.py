@@ -13,9 +13,9 @@ from __future__ import annotations
 import threading
 import time
 from bisect import bisect_left
+from collections import deque
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
-from itertools import accumulate
 from typing import Protocol
 
 from ..kernel.fixed import DECEL_MAX
@@ -43,8 +43,6 @@ from ..protocol.segment_run import RunChain
 MIN_QUEUED_SEGMENTS = 2
 SPACE_WAIT = 0.005  # s between checks while the lookahead is full
 STALL_POLL = 0.25  # s without a completed segment before asking for STATUS
-# how a motion whose stream was cut short (cut()) ends: the board still runs its last segments
-CUT = "cut"
 # how a motion ends whose queue ran dry while moving: the board stopped it (a hold), and the motion
 # took it out of STARVED with HOLD, so it is IDLE at the end's position
 STARVED = "starved"
@@ -158,7 +156,6 @@ class Motion:
         lookahead_ticks: int | None = None,
         on_end: Callable[[MotionEnd], None] | None = None,
         outputs: Sequence[tuple[int, Outputs]] = (),
-        follows: Motion | None = None,
     ) -> None:
         self.link = link
         # called once, in the thread that ends the motion, before wait() returns
@@ -170,8 +167,8 @@ class Motion:
         self.first = first
         self.last = len(segments) if last is None else last
         self.lookahead_ticks = lookahead_ticks
-        # (segment index, OUTPUTS): sent before that segment, or after the last
-        self.outputs = list(outputs)
+        # (segment index, OUTPUTS): sent before that segment, or after the last; taken as sent
+        self._outputs = deque(sorted(outputs, key=lambda o: o[0]))
         self._lock = threading.Lock()
         self._space = threading.Event()
         self._ended = threading.Event()
@@ -181,10 +178,12 @@ class Motion:
         self._base_done = 0
         self._generation = 0  # the link's, when streaming began: a STOP from elsewhere changes it
         self._input_holds = 0  # holds the firmware began itself, when streaming began
-        # a motion cut short whose last segments may still be queued: counted first
-        self._follows = follows
-        # streaming ends at `last`, moved down by cut(); the motion ends once that is sent
+        # streaming stops at `last`, moved down by cut(), and waits there for go_on()
         self._cut = False
+        # go_on() renumbered the segments (`shift` not yet taken by the streaming thread): the
+        # thread makes its running sums again at each new epoch
+        self._epoch = 0
+        self._shift = 0
         # an open stream's tail (hold_back()): sent only to keep the board from running dry
         self._hold_from: int | None = None
         self._hold_floor = 0
@@ -208,33 +207,26 @@ class Motion:
     # --- control -------------------------------------------------------------------
 
     def start(self) -> Motion:
-        follows, self._follows = self._follows, None  # not kept: each would keep all before it
-        if follows is None:
-            self._base_done = self.link.segments_done
-            self._generation = self.link.generation
-            self._input_holds = self.link.holds_by_input
-            self._starvations = self.link.stats.starvations
-        else:
-            # after a cut motion, the board completes its segments first: `done` counts from their
-            # end (and is negative while they run). The stream is the one it began: a board that
-            # ran dry or held as they handed over ends this motion too (the last frames the cut
-            # one sent were refused and never run)
-            self._base_done = follows._base_done + follows.sent
-            self._generation = follows._generation
-            self._input_holds = follows._input_holds
-            self._starvations = follows._starvations
+        self._base_done = self.link.segments_done
+        self._generation = self.link.generation
+        self._input_holds = self.link.holds_by_input
+        self._starvations = self.link.stats.starvations
         self._thread.start()
         return self
+
+    @property
+    def started(self) -> bool:
+        return self._thread.ident is not None
 
     def wait(self, timeout: float | None = None) -> MotionEnd | None:
         self._ended.wait(timeout)
         return self._end
 
     def cut(self, index: int) -> bool:
-        """End streaming before segment `index` instead of at `last`, for what follows to be
-        streamed in its place without a stop (a feed override); False when that segment is sent
-        already or is not before `last`. The motion then ends ("cut") as soon as the segment before
-        it is sent, without waiting for the board."""
+        """Stop streaming before segment `index` instead of at `last`, for a plan made again from
+        there (a feed override, lines added) to go on in its place without a stop (go_on()); False
+        when that segment is sent already or is not before `last`. Until go_on() the motion waits
+        at `index` while the board runs what it has."""
         with self._lock:
             if (
                 self._halting
@@ -242,9 +234,36 @@ class Motion:
                 or not self.first + self._sent <= index < self.last
             ):
                 return False
-            # what follows goes on from `index`: the segments before it are its own, none kept back
+            # what goes on from `index` is the new plan's: the segments before it, none kept back
             self.last, self._cut, self._hold_from = index, True, None
             return True
+
+    def go_on(
+        self,
+        segments: Segments,
+        shift: int,
+        last: int,
+        outputs: Sequence[tuple[int, Outputs]],
+        hold_from: int | None = None,
+        floor_ticks: int = 0,
+    ) -> bool:
+        """After cut(): stream `segments` (a plan made again from the cut, the same as this one's
+        before it) up to `last`, this motion's segment i being their i − `shift` (a plan that let
+        go of what ran), with `outputs` (from the cut on) and its tail from `hold_from` kept back as
+        hold_back() keeps it; at once, whether or not the motion has reached the cut. False when
+        the motion was not cut or has ended (or is halting)."""
+        with self._lock:
+            if self._halting or self._end is not None or not self._cut:
+                return False
+            # the outputs before the cut are this plan's still; from it on, the new plan's
+            kept = [(at - shift, message) for at, message in self._outputs if at < self.last]
+            self._outputs = deque(kept + sorted(outputs, key=lambda o: o[0]))
+            self.segments, self.first, self.last = segments, self.first - shift, last
+            self._shift += shift
+            self._cut, self._hold_from, self._hold_floor = False, hold_from, floor_ticks
+            self._epoch += 1
+        self._space.set()
+        return True
 
     @property
     def held_from(self) -> int | None:
@@ -292,9 +311,6 @@ class Motion:
         unregister = self.link.on_report(self._on_report)
         try:
             self._stream()
-            if self._cut:  # what follows is streamed by another motion: the board keeps moving
-                self._finish(MotionEnd(CUT, (), self._sent))
-                return
             status = self.link.wait_idle(generation=self._generation)
             self._finish(MotionEnd("done", self._axes(status.position), self.done))
         except Stopped:
@@ -312,66 +328,97 @@ class Motion:
             unregister()
 
     def _stream(self) -> None:
-        ticks = list(
-            accumulate((self.segments.n[i] for i in range(self.first, self.last)), initial=0)
-        )
         identity = self.link.identity
         assert identity is not None
         size = RunSize(board_run_limit(identity), self.link, identity.tick_hz)
         chain = RunChain(self.segments.axis_count)
         choice = frame_choice(identity)  # the frame kinds this board takes fastest
-        outputs = iter(self.outputs)
-        output = next(outputs, None)
-        index = self.first
-        while index < self.last:
-            k = index - self.first
-            limit = self._sendable(index, ticks)
+        epoch, index, ticks = -1, self.first, [0]
+        while True:
+            with self._lock:
+                if self._epoch != epoch:  # the start, or go_on(): the sums in the new numbering
+                    index -= self._shift
+                    self._shift, epoch = 0, self._epoch
+                    ticks = self._ticks_from(index, ticks)
+                segments, first, last, cut = self.segments, self.first, self.last, self._cut
+                output = self._outputs[0][0] if self._outputs else None
+            if self._halting:
+                return
+            if index >= last:
+                if not cut:
+                    break
+                self._wait_at_cut()
+                continue
+            k = index - first
+            limit = self._sendable(index, first, ticks)
             if limit <= index:
                 continue  # the tail kept back: waited for the board to run some, a cut or a release
-            batch = (
-                size.next() if self._queued_ticks(k, ticks) >= size.floor else min(size.next(), 1)
-            )
-            end = min(self.last, index + max(1, batch))
-            while (
-                self.lookahead_ticks
-                and end - index > 1
-                and ticks[end - self.first] - ticks[k] > self.lookahead_ticks // 2
-            ):
-                # a frame of at most half the lookahead: the board keeps the other half queued
-                end -= 1
-            if output is not None and output[0] > index:
-                end = min(end, output[0])  # an output goes out before its segment, between frames
-            end = min(end, limit)
+            batch = self._batch(size, k, ticks, identity.queue_capacity)
+            end = self._frame_end(index, first, min(limit, last), batch, ticks)
+            if output is not None and output > index:
+                end = min(end, output)  # an output goes out before its segment, between frames
             before = chain.copy()
             message = next_frame(
-                self.segments, index, end, chain, batch, choice.cubic_runs, choice.quadratic_runs
+                segments, index, end, chain, batch, choice.cubic_runs, choice.quadratic_runs
             )
             count = queue_slots(message)
-            self._wait_for_room(k, k + count - 1, ticks, identity.queue_capacity)
+            self._wait_for_room(segments, first, k, k + count - 1, ticks, identity.queue_capacity)
             # Checked and sent under the lock: once halt() has set _halting nothing more is
             # sent, so no segment can follow its HOLD. The room waited for above makes this
             # send return at once, so halt() never waits long for the lock.
             with self._lock:
-                # halted, or cut() ended the stream before this one
-                if self._halting or index >= self.last:
+                if self._halting:
                     return
-                if index + count > self.last:  # cut() inside this frame: make it again, shorter
-                    chain = before
+                if self._epoch != epoch or index + count > self.last:
+                    chain = before  # renumbered by go_on(), or cut() inside this frame: again
                     continue
                 # in stream order, before the segment
-                while output is not None and output[0] <= index:
-                    self.link.send(output[1], generation=self._generation)
-                    output = next(outputs, None)
+                while self._outputs and self._outputs[0][0] <= index:
+                    self.link.send(self._outputs.popleft()[1], generation=self._generation)
                 self.link.send(message, generation=self._generation)  # a restart ends this motion
                 self._sent = k + count
             index += count
         with self._lock:
-            # the outputs at the end; after a cut, those from the cut on are the follower's
-            while output is not None and not self._halting and not self._cut:
-                self.link.send(output[1], generation=self._generation)
-                output = next(outputs, None)
+            while self._outputs and not self._halting:  # the outputs after the last segment
+                self.link.send(self._outputs.popleft()[1], generation=self._generation)
 
-    def _sendable(self, index: int, ticks: list[int]) -> int:
+    def _batch(self, size: RunSize, k: int, ticks: list[int], capacity: int) -> int:
+        """Segments the frame that begins at segment `k` may hold: the run size; behind, no more
+        than the board holds before it (it prepares them while those run) and has room for now
+        (the frame waits for none)."""
+        batch = size.next()
+        if self._queued_ticks(k, ticks) < size.floor:
+            queued = k - self.done
+            batch = min(batch, max(1, queued), max(1, capacity - queued))
+        return max(1, batch)
+
+    def _frame_end(self, index: int, first: int, last: int, batch: int, ticks: list[int]) -> int:
+        """The end of the frame that begins at `index`: `batch` segments, before `last`, and at
+        most half the lookahead, so that the board keeps the other half queued."""
+        k, end = index - first, min(last, index + batch)
+        lookahead = self.lookahead_ticks
+        while lookahead and end - index > 1 and ticks[end - first] - ticks[k] > lookahead // 2:
+            end -= 1
+        return end
+
+    def _ticks_from(self, index: int, ticks: list[int]) -> list[int]:
+        """The running sums of the segments' ticks from `first` up to `last`: those before `index`
+        as `ticks` has them (the same segments), the rest made again."""
+        sums = ticks[: index - self.first + 1]
+        total, n = sums[-1], self.segments.n
+        for i in range(index, self.last):
+            total += n[i]
+            sums.append(total)
+        return sums
+
+    def _wait_at_cut(self) -> None:
+        """Streaming has reached the cut: a short wait for go_on() or a halt. A board that runs dry
+        meanwhile ends the motion (Stopped)."""
+        self._space.wait(SPACE_WAIT)
+        self._space.clear()
+        self.link.check(self._generation)
+
+    def _sendable(self, index: int, first: int, ticks: list[int]) -> int:
         """The segments from `index` that may be sent now end before the one returned: `last`, or
         the held-back tail's beginning (hold_back()); `index` itself when none may (after a short
         wait for the board to run some of its queue)."""
@@ -381,13 +428,13 @@ class Motion:
             return last
         if index < hold_from:
             return hold_from
-        k, identity = index - self.first, self.link.identity
+        k, identity = index - first, self.link.identity
         half = identity.queue_capacity // 2 if identity is not None else 1
         if self._halting:
             return index + 1
         if self._queued_ticks(k, ticks) < floor and k - self.done < max(1, half):
             # the board would run dry first: as much again as the floor
-            upto = bisect_left(ticks, ticks[max(0, min(self.done, k))] + floor) + self.first
+            upto = bisect_left(ticks, ticks[max(0, min(self.done, k))] + floor) + first
             return min(last, max(index + 1, upto))
         self._space.wait(SPACE_WAIT)
         self._space.clear()
@@ -399,25 +446,26 @@ class Motion:
         k."""
         return ticks[k] - ticks[max(0, min(self.done, k))]
 
-    def _wait_for_room(self, first: int, k: int, ticks: list[int], capacity: int) -> None:
-        """Until a frame's segments `first` … `k` fit in the board's queue and within the lookahead,
-        or the board holds fewer than MIN_QUEUED_SEGMENTS before them (a segment longer than the
-        lookahead is running), or a halt."""
+    def _wait_for_room(
+        self, segments: Segments, first: int, j: int, k: int, ticks: list[int], capacity: int
+    ) -> None:
+        """Until a frame's segments `j` … `k` (counted from `first` of `segments`) fit in the
+        queue and within the lookahead, or the board holds fewer than MIN_QUEUED_SEGMENTS before
+        them (a segment longer than the lookahead is running), or a halt."""
         last_done, since = -1, time.monotonic()
         while not self._halting:
             if self.link.generation != self._generation:
                 raise Stopped("the stream was restarted (STOP) while this motion waited for room")
             # an alarm, a reset or a silent board: no room will come
             self.link.check(self._generation)
-            # negative while the motion this one follows (a cut) still runs its last segments
             done = self.done
             queued = k - done
             if (
                 queued < capacity
-                and ring_fits(self.segments, self.first + done, self.first + k)
+                and ring_fits(segments, first + done, first + k)
                 and (
                     self.lookahead_ticks is None
-                    or first - done < MIN_QUEUED_SEGMENTS
+                    or j - done < MIN_QUEUED_SEGMENTS
                     or ticks[k] - ticks[max(0, done)] < self.lookahead_ticks
                 )
             ):
