@@ -73,7 +73,7 @@ def test_the_host_package_has_no_import_cycle() -> None:
 # package). A new top-level module or package is placed here, or this test fails.
 LAYERS: tuple[frozenset[str], ...] = tuple(frozenset(names.split()) for names in (
     "quadstep kernel",  # the fixed-point numbers, motion models, cubic chain and step prediction
-    "protocol coordinates textfile validation macro_settings touch_off_settings port_process raster_image",
+    "protocol coordinates textfile validation macro_settings touch_off_settings port_process raster_image give_way",
     "config link",
     "config_file default_machine emulator planner",
     "backlash gcode movefile toolpath",

@@ -12,6 +12,7 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
 
+from ..give_way import give_way
 from ..link import LinkError
 from ..machine import Machine, MachineError
 from ..machine.homing import home
@@ -214,6 +215,7 @@ class Session:
             answer = self._answer(line, generation)
             if generation == self.executor.generation:
                 self.say(*answer)
+            give_way()  # a sender streams lines as fast as they are answered
 
     def _answer(self, line: Line, generation: int) -> Answer:
         if line.overflow:

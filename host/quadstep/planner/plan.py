@@ -8,6 +8,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..config import MachineConfig
+from ..give_way import GIVE_WAY_MOVES, give_way
 from ..kernel.fixed import SIGMA, D
 from ..protocol import Outputs
 from ..protocol.segment import Segment
@@ -227,6 +228,8 @@ def plan_moves(
     retries = 0
     keeper = StateKeeper(table, settled_moves(entry, len(table)))
     for k in range(len(table)):
+        if boundary is not None and k % GIVE_WAY_MOVES == 0:
+            give_way()  # planning onto a running job: the link's threads first
         if scurve is not None:  # where more lines could go on from
             keeper.before(scurve, k)
         stops.flush(k)

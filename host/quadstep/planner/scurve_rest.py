@@ -17,6 +17,7 @@ from __future__ import annotations
 
 from array import array
 
+from ..give_way import GIVE_WAY_MOVES, give_way
 from ..protocol import Outputs
 from .lookahead import junction_speeds, settled_moves
 from .moves import MoveTable, build_moves
@@ -37,6 +38,8 @@ def _move(
     move_ends: array,
 ) -> None:
     """Move k of `table`, with the stops before it."""
+    if k % GIVE_WAY_MOVES == 0:
+        give_way()  # planning onto a running job: the link's threads first
     stops.flush(k)
     if stops.state is not None and is_dynamic(stops.state, scurve.config):
         stops.send(output_message(stops.state, scurve.config, table.unit[k], table.feed[k]))
