@@ -16,6 +16,7 @@ from bisect import bisect_left
 from collections import deque
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
+from itertools import accumulate, islice
 from typing import Protocol
 
 from ..kernel.fixed import DECEL_MAX
@@ -125,6 +126,17 @@ def bring_to_rest(link: Link, decels: Sequence[int]) -> Rest:
         return Rest(tuple(done.position), True, done.hold_tick)
     status = link.stop()
     return Rest(tuple(status.position), False, None)
+
+
+def running_sums(
+    segments: Segments, first: int, last: int, index: int, ticks: list[int]
+) -> list[int]:
+    """The running sums of the ticks of `segments` from `first` up to `last`: those before `index`
+    as `ticks` has them (the same segments), the rest made again."""
+    sums = ticks[: index - first + 1]
+    n = segments.n
+    sums.extend(islice(accumulate((n[i] for i in range(index, last)), initial=sums[-1]), 1, None))
+    return sums
 
 
 class Segments(Protocol):
@@ -336,12 +348,14 @@ class Motion:
         epoch, index, ticks = -1, self.first, [0]
         while True:
             with self._lock:
-                if self._epoch != epoch:  # the start, or go_on(): the sums in the new numbering
+                renumbered = self._epoch != epoch  # the start, or go_on()
+                if renumbered:
                     index -= self._shift
                     self._shift, epoch = 0, self._epoch
-                    ticks = self._ticks_from(index, ticks)
                 segments, first, last, cut = self.segments, self.first, self.last, self._cut
                 output = self._outputs[0][0] if self._outputs else None
+            if renumbered:  # outside the lock: a halt never waits for them
+                ticks = running_sums(segments, first, last, index, ticks)
             if self._halting:
                 return
             if index >= last:
@@ -372,15 +386,18 @@ class Motion:
                 if self._epoch != epoch or index + count > self.last:
                     chain = before  # renumbered by go_on(), or cut() inside this frame: again
                     continue
-                # in stream order, before the segment
-                while self._outputs and self._outputs[0][0] <= index:
-                    self.link.send(self._outputs.popleft()[1], generation=self._generation)
+                self._send_outputs(index)  # in stream order, before the segment
                 self.link.send(message, generation=self._generation)  # a restart ends this motion
                 self._sent = k + count
             index += count
         with self._lock:
-            while self._outputs and not self._halting:  # the outputs after the last segment
-                self.link.send(self._outputs.popleft()[1], generation=self._generation)
+            if not self._halting:
+                self._send_outputs(None)  # those after the last segment
+
+    def _send_outputs(self, index: int | None) -> None:
+        """The OUTPUTS due before segment `index` (None: all that are left); under the lock."""
+        while self._outputs and (index is None or self._outputs[0][0] <= index):
+            self.link.send(self._outputs.popleft()[1], generation=self._generation)
 
     def _batch(self, size: RunSize, k: int, ticks: list[int], capacity: int) -> int:
         """Segments the frame that begins at segment `k` may hold: the run size; behind, no more
@@ -400,16 +417,6 @@ class Motion:
         while lookahead and end - index > 1 and ticks[end - first] - ticks[k] > lookahead // 2:
             end -= 1
         return end
-
-    def _ticks_from(self, index: int, ticks: list[int]) -> list[int]:
-        """The running sums of the segments' ticks from `first` up to `last`: those before `index`
-        as `ticks` has them (the same segments), the rest made again."""
-        sums = ticks[: index - self.first + 1]
-        total, n = sums[-1], self.segments.n
-        for i in range(index, self.last):
-            total += n[i]
-            sums.append(total)
-        return sums
 
     def _wait_at_cut(self) -> None:
         """Streaming has reached the cut: a short wait for go_on() or a halt. A board that runs dry
