@@ -16,8 +16,9 @@ from quadstep.protocol import Segment, State
 
 TICK_HZ = 10_000
 DECELS = (200, 200, 200)
-CRUISE = Segment(n=100, axes=(AxisMove(axis=0, direction=1, v0=2048, vn=2048, r=0),))
-STOP = Segment(n=200, axes=(AxisMove(axis=0, direction=1, v0=2048, vn=0, r=0),))
+# 0.1 s each: four slots hold 0.4 s, which a host on a busy computer keeps filled
+CRUISE = Segment(n=1000, axes=(AxisMove(axis=0, direction=1, v0=2048, vn=2048, r=0),))
+STOP = Segment(n=1000, axes=(AxisMove(axis=0, direction=1, v0=2048, vn=0, r=0),))
 
 
 def plan(cruises: int) -> SegmentArrays:
@@ -46,7 +47,7 @@ def test_a_motion_cut_goes_on_in_place_with_the_plan_made_again(start_emulator) 
         motion = Motion(link, plan(7), DECELS)
         assert motion.cut(4)
         motion.start()
-        while motion.sent < 4:  # at the cut, waiting there (the board has 40 ms of motion)
+        while motion.sent < 4:  # at the cut, waiting there (the board has 0.4 s of motion)
             time.sleep(0.001)
         # the plan made again: the same four before the cut, then five more and the stop
         assert motion.go_on(plan(9), 0, 10, ())
