@@ -153,6 +153,8 @@ class Segments(Protocol):
 
     def segment(self, i: int) -> Segment | CubicSegment: ...
 
+    def pixels(self, i: int) -> int: ...  # the powers segment i carries (a RASTER line's)
+
 
 class Motion:
     """Streams segments [first, last) of `segments`; start() it, then wait() or halt()."""

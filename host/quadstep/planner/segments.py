@@ -75,6 +75,11 @@ class SegmentArrays:
         for i in range(start, len(self) if stop is None else stop):
             yield self.segment(i)
 
+    def pixels(self, i: int) -> int:
+        """The powers segment i carries to the board's RASTER ring: none (arrays hold no RASTER
+        line), without building the segment."""
+        return 0
+
     def numpy(self) -> dict[str, np.ndarray]:
         """Zero-copy numpy views: n, axes, line (S,), v0, vn, r (S, axis_count)."""
         shape = (len(self), self.axis_count)

@@ -16,6 +16,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..protocol.cubic import CubicSegment
+from ..protocol.raster import raster_pixels
 from ..protocol.segment import Segment
 from .segments import SegmentArrays
 
@@ -107,6 +108,16 @@ class Stream:
         if ref < 0:
             return self.extra[-ref - 1]
         return self.base[ref] if isinstance(self.base, list) else self.base.segment(ref)
+
+    def pixels(self, i: int) -> int:
+        """The powers item i carries to the board's RASTER ring (0 for any other segment), without
+        building a segment of the planner's arrays."""
+        ref = self.ref[i]
+        if ref < 0:
+            return raster_pixels(self.extra[-ref - 1])
+        if isinstance(self.base, list):
+            return raster_pixels(self.base[ref])
+        return self.base.pixels(ref)
 
     def __getitem__(self, i: int) -> Segment | CubicSegment:
         if not 0 <= i < len(self):

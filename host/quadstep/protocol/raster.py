@@ -102,16 +102,17 @@ class RasterLine(Segment):
     raster: Raster
 
 
+def raster_pixels(segment: object) -> int:
+    """The powers `segment` carries to the board's ring: a RASTER line's, else none."""
+    return len(segment.raster.power) if isinstance(segment, RasterLine) else 0
+
+
 class _Source(Protocol):
-    def segment(self, i: int) -> Any: ...
+    def pixels(self, i: int) -> int: ...
 
 
 def ring_fits(source: _Source, start: int, last: int) -> bool:
     """Whether the powers of the RASTER lines among segments `start` … `last` fit the board's
-    ring together (a line waits for room, else QUEUE_FULL)."""
-    total = 0
-    for i in range(max(0, start), last + 1):
-        segment = source.segment(i)
-        if isinstance(segment, RasterLine):
-            total += len(segment.raster.power)
-    return total <= RING
+    ring together (a line waits for room, else QUEUE_FULL). Asked at every report while a motion
+    waits for room: `pixels` builds no segment."""
+    return sum(source.pixels(i) for i in range(max(0, start), last + 1)) <= RING
