@@ -288,6 +288,35 @@ def test_small_queue_flow_control_never_overflows(start_emulator, tmp_path: Path
     assert_trace_is_prediction(emu.trace, segments)  # type: ignore[arg-type]
 
 
+def test_segments_streamed_while_another_thread_asks_for_status_arrive_once_and_in_order(
+        start_emulator, tmp_path: Path) -> None:
+    """The writer is woken for what a report makes due (frames waiting for free slots), not for
+    every report: a stream into a 3-slot queue, with STATUS requests from another thread all along,
+    runs every frame once and in order."""
+    emu = start_emulator(queue=3, free=True, trace=tmp_path / "trace.csv")
+    segments = random_segments(random.Random(6), 400)
+    statuses: list[StatusReport] = []
+    with Link.open(emu.url) as link:
+        done = threading.Event()
+
+        def ask() -> None:
+            while not done.is_set():
+                statuses.append(link.status())
+
+        asker = threading.Thread(target=ask)
+        asker.start()
+        try:
+            final = stream(link, segments)
+        finally:
+            done.set()
+            asker.join(timeout=10)
+        assert link.stats.retransmits == 0 and link.stats.queue_full == 0
+    assert len(statuses) > 10  # requests went out while the segments did
+    assert (final.bad_crc, final.bad_frame, final.rejected, final.seq_gap, final.seq_dup) == (0, 0, 0, 0, 0)
+    assert list(final.position) == predict(segments).positions
+    assert_trace_is_prediction(emu.trace, segments)  # type: ignore[arg-type]
+
+
 def test_segments_done_unwraps_past_65535_and_space_acks_report_progress(free_emulator: Emulator,
                                                                           free_link: Link) -> None:
     count = 65_536 + 300

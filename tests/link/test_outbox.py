@@ -8,7 +8,7 @@ from quadstep.link.outbox import KEEPALIVE, Outbox
 from quadstep.link.reports import Inbox
 from quadstep.link.stats import LinkStats
 from quadstep.link.window import SendWindow
-from quadstep.protocol import ErrorCode, ErrorReport, State, StatusReport
+from quadstep.protocol import AckReason, ErrorCode, ErrorReport, State, StatusReport
 from quadstep.protocol.codec import decode
 
 NOW = 100.0
@@ -41,3 +41,25 @@ def test_a_refusal_during_a_stop_is_asked_about_until_the_board_is_at_rest() -> 
     inbox.last_frame_at = NOW + 0.01
     assert written(outbox, NOW + 0.01) == []
     assert written(outbox, NOW + 0.01 + KEEPALIVE) == [0x02]  # and asks again
+
+
+def test_a_report_wakes_the_writer_only_for_what_it_makes_due() -> None:
+    stats = LinkStats()
+    window = SendWindow(clock=lambda: NOW, stats=stats)
+    inbox = Inbox(window, stats)
+    outbox = Outbox(window, inbox, stats, poll_interval=0.05)
+    inbox.queue_capacity = 14
+    inbox.resync(status(State.IDLE))
+    inbox.last_frame_at = NOW
+    segment = bytes.fromhex("0510000a00")  # any bytes: the window never reads them
+    window.push(segment, 1)
+    assert outbox.writable()  # a frame to write
+    assert outbox.take(NOW) == segment
+    assert not outbox.writable()  # in flight: an ACK of it, or a SPACE ack, brings nothing to write
+    window.on_ack(next_seq=window.base, free=14, reason=AckReason.GAP)
+    assert outbox.writable()  # a GAP: the frame is written again
+    assert outbox.take(NOW) == segment
+    window.on_ack(next_seq=(window.base + 1) & 0xFF, free=14, reason=AckReason.ACCEPTED)
+    assert not outbox.writable()
+    inbox.want_status = True  # an ERROR asked for an explanation
+    assert outbox.writable()

@@ -71,7 +71,10 @@ class Link:
         self.stats = LinkStats()
         self.identity: IdentifyReply | None = None
         self._clock = clock
-        self._cond = threading.Condition()
+        lock = threading.RLock()
+        self._cond = threading.Condition(lock)  # whoever waits on the link's state
+        # the writer waits apart, woken when there may be something to write, not at every report
+        self._writable = threading.Condition(lock)
         self._request_lock = threading.Lock()  # one immediate request at a time
         self._window = SendWindow(clock, rto, retries, self.stats)
         self._callbacks: list[ReportCallback] = []
@@ -79,7 +82,13 @@ class Link:
         self._in = Inbox(self._window, self.stats)
         self._out = Outbox(self._window, self._in, self.stats, poll_interval)
         self._transport = Transport(
-            port, self._cond, self._on_look, self._on_data, self._next_output, self._port_failed
+            port,
+            self._cond,
+            self._writable,
+            self._on_look,
+            self._on_data,
+            self._next_output,
+            self._port_failed,
         )
         self._transport.start()
 
@@ -115,7 +124,7 @@ class Link:
         """Identify the firmware, check its protocol version and adopt its sequence state."""
         with self._cond:
             self._out.urgent.append(b"\x00")  # ends any partial frame left on the line
-            self._cond.notify_all()
+            self._wake()
         ident = self.identify()
         if ident.protocol_version != PROTOCOL_VERSION:
             raise ProtocolVersionError(
@@ -235,7 +244,7 @@ class Link:
                 generation = self._in.generation
                 seq = self._window.restart()
                 self._in.stopping = True
-                self._cond.notify_all()
+                self._wake()
             try:
                 reply = self._request_locked(message, StatusReport, seq)
             except BaseException:
@@ -246,7 +255,7 @@ class Link:
                 self._in.resync(reply)
                 self._in.stopping = False
                 self._in.failure = None
-                self._cond.notify_all()
+                self._wake()
             return reply, generation
 
     def request(self, message: Request, reply_type: type[R], seq: int | None = None) -> R:
@@ -267,7 +276,7 @@ class Link:
                 for _ in range(self.retries):
                     self._raise_if_closed()
                     self._out.urgent.append(data)
-                    self._cond.notify_all()
+                    self._wake()
                     self._cond.wait_for(
                         lambda: waiter.answered or self._transport.closed,
                         timeout=self.request_timeout,
@@ -311,7 +320,7 @@ class Link:
                     raise LinkTimeout(f"flow-control window still full after {timeout:g} s")
             self._raise_failure(generation)
             seq = self._window.push(encode(message, self._window.next_seq), slots)
-            self._cond.notify_all()
+            self._wake()
             return seq
 
     def drain(self, timeout: float | None = None, generation: int | None = None) -> None:
@@ -444,6 +453,8 @@ class Link:
         with self._cond:
             notify = self._in.receive(data, self._clock())
             self._cond.notify_all()
+            if self._out.writable():
+                self._writable.notify()
             callbacks = list(self._callbacks) if notify else []
         for report in notify:
             for callback in callbacks:
@@ -455,21 +466,30 @@ class Link:
             if not self._transport.closed:
                 self._in.fail(LinkError(f"serial port failed: {exc}"))
                 self._transport.closed = True
-            self._cond.notify_all()
+            self._wake()
 
     # --- writer -----------------------------------------------------------------------------------
 
     def _next_output(self) -> bytes | None:
         """Wait for something to write and return it; None once closed. Called with _cond held."""
         while not self._transport.closed:
-            now = self._clock()
-            out = self._out.take(now)
-            # a frame resent too often, or the board silent: wake whoever waits
-            if self._in.failure is not None:
-                # a silent board ends the link
-                self._transport.closed |= isinstance(self._in.failure, BoardSilent)
-                self._cond.notify_all()
+            out = self._take_output()
             if out:
                 return out
-            self._cond.wait(self._out.wait_time(now))
+            self._writable.wait(self._out.wait_time(self._clock()))
         return None
+
+    def _take_output(self) -> bytes:
+        """What is to be written now (b"" for nothing). Called with _cond held."""
+        out = self._out.take(self._clock())
+        # a frame resent too often, or the board silent: wake whoever waits
+        if self._in.failure is not None:
+            # a silent board ends the link
+            self._transport.closed |= isinstance(self._in.failure, BoardSilent)
+            self._cond.notify_all()
+        return out
+
+    def _wake(self) -> None:
+        """Wake whoever waits on the link, the writer too. Called with _cond held."""
+        self._cond.notify_all()
+        self._writable.notify()

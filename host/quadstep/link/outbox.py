@@ -91,6 +91,15 @@ class Outbox:
         self.stats.bytes_sent += len(out)
         return bytes(out)
 
+    def writable(self) -> bool:
+        """Whether take() may have something now that a report brought (the writer is not woken
+        for every report): a request, a frame to write again or with slots free now, a STATUS
+        wanted, or a failure to tell."""
+        inbox = self.inbox
+        return bool(
+            self.urgent or self.window.pending or inbox.want_status or inbox.failure is not None
+        )
+
     def wait_time(self, now: float) -> float:
         """How long the writer may sleep before take() can have something (unless woken)."""
         waits = [self.poll_interval]

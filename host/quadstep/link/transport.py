@@ -20,14 +20,16 @@ class Transport:
 
     `on_look()` is called in the reader as it begins each read (which waits up to the port's
     timeout), `on_data(bytes)` for every chunk read; `next_output()` is called in the writer with
-    `cond` held, waits on it for something to write and returns the bytes, or None once
-    `closed`; `on_failure(exc)` gets the first exception of the port, in either thread.
+    `cond` held, waits on `writable` (a condition on the same lock) for something to write and
+    returns the bytes, or None once `closed`; `on_failure(exc)` gets the first exception of the
+    port, in either thread.
     """
 
     def __init__(
         self,
         port: serial.SerialBase,
         cond: threading.Condition,
+        writable: threading.Condition,
         on_look: Callable[[], None],
         on_data: Callable[[bytes], None],
         next_output: Callable[[], bytes | None],
@@ -35,6 +37,7 @@ class Transport:
     ) -> None:
         self.port = port
         self.cond = cond
+        self.writable = writable
         self.closed = False  # guarded by cond
         # the first bytes read (HEARD_BYTES), to name a board that answers in another's text
         self.heard = b""
@@ -55,6 +58,7 @@ class Transport:
         with self.cond:
             self.closed = True
             self.cond.notify_all()
+            self.writable.notify_all()
         for thread in self._threads:
             if thread.is_alive() and thread is not threading.current_thread():
                 thread.join(timeout=2)

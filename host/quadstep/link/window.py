@@ -251,6 +251,11 @@ class SendWindow:
             self.last_tx = now
         return out
 
+    @property
+    def pending(self) -> bool:
+        """Frames wait to be written (new ones for free slots, or again)."""
+        return self._first_pending < min(len(self._frames), self.max_in_flight)
+
     def deadline(self) -> float | None:
         """The clock time at which due() will resend for the retransmission timeout, if frames
         wait."""
