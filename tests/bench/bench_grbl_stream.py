@@ -1,7 +1,8 @@
 """`quadstep grbl` streaming, on the emulator paced at the Uno's tick rate (32 kHz, 14-slot queue):
 
 1. short lines a second: a sender streams chords a few steps long by character counting; the lines
-   a second the board ran them at, and whether it kept up (no starvation, no stop between lines);
+   a second from the first line sent and from the job's start (once the lines received hold what a
+   running job keeps back) to rest, and whether the board kept up (no starvation, no stop);
 2. a file through the front door against `quadstep run` of it: the wall time from the first motion to
    rest, both ways, and their ratio;
 3. jog cancel (0x85) → the first decelerating tick of the HOLD (the emulator's events log), in ms;
@@ -104,11 +105,13 @@ class Door:
         self.link = Link.open(self.emulator.url)
         self.machine = Machine(self.link, config)
         self.jobs: list[JobRun] = []
+        self.started: list[float] = []  # when each job was given to the machine
         run_job = self.machine.run_job
 
         def recorded(*args: object, **kwargs: object) -> JobRun:
             job = run_job(*args, **kwargs)  # type: ignore[arg-type]
             self.jobs.append(job)
+            self.started.append(time.monotonic())
             return job
 
         self.machine.run_job = recorded  # type: ignore[method-assign]
@@ -129,14 +132,23 @@ def idle(report: str) -> bool:
 
 def streamed(grbl: GrblClient, door: Door, lines: list[str]) -> tuple[float, list[JobRun]]:
     """Wall time from the first line after the rapid to the start to rest, and the jobs it took."""
+    elapsed, _, jobs = streamed_timed(grbl, door, lines)
+    return elapsed, jobs
+
+
+def streamed_timed(
+    grbl: GrblClient, door: Door, lines: list[str]
+) -> tuple[float, float, list[JobRun]]:
+    """As streamed(), and the wall time from the first job's start (once the lines received hold
+    what a running job keeps back from the board) to rest."""
     grbl.stream_counting(lines[:2])  # the rapid to the start, alone
     grbl.wait_status(idle)
     before = len(door.jobs)
     begun = time.monotonic()
     grbl.stream_counting(lines[2:])
     grbl.wait_status(idle, timeout=600)
-    elapsed = time.monotonic() - begun
-    return elapsed, door.jobs[before:]
+    ended = time.monotonic()
+    return ended - begun, ended - door.started[before], door.jobs[before:]
 
 
 def run_whole(door: Door, lines: list[str]) -> float:
@@ -166,7 +178,7 @@ def bench_lines_per_second(grbl: GrblClient, door: Door) -> None:
     print("1. short lines through the front door (F2400, 40 mm/s):")
     for length in (0.05, 0.025, 0.02):
         lines = chords(3000, length, 2400)
-        elapsed, jobs = streamed(grbl, door, lines)
+        elapsed, running, jobs = streamed_timed(grbl, door, lines)
         # the chords alone from rest at their start, as streamed (after the rapid, at rest)
         start = (50 + 20.0, 50.0, 0.0)
         planned = plan_program(
@@ -181,8 +193,8 @@ def bench_lines_per_second(grbl: GrblClient, door: Door) -> None:
         )
         print(
             f"   chords {length} mm: {3000 / elapsed:7.0f} lines/s streamed "
-            f"({elapsed:.2f} s; the whole file planned: {3000 / planned.duration_s:.0f} lines/s); "
-            f"{stops(jobs)}"
+            f"({elapsed:.2f} s; from the job's start {3000 / running:.0f} lines/s; "
+            f"the whole file planned: {3000 / planned.duration_s:.0f} lines/s); {stops(jobs)}"
         )
         print(f"      planning an addition, by job length: {cost_by_length(ADDITIONS.take())}")
 
