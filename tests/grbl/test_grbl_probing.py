@@ -143,3 +143,26 @@ def test_a_feed_hold_stops_a_probe_where_it_is(start_emulator, tmp_path: Path) -
                 assert tuple(machine.link.status().position[:3]) == CONFIG.to_steps(rest)
                 assert grbl.command("G0 Z0")[1] == "ok"  # lines go on from where it rests
                 assert mpos(grbl.wait_status(idle)) == (0.0, 0.0, 0.0)
+
+
+@pytest.mark.realtime
+def test_the_lines_before_a_probe_are_answered_before_it_waits(start_emulator, tmp_path: Path) -> None:
+    """Answers to the lines a sender has in flight are written together once no more have come,
+    but never held back behind a line that waits for the machine: a move and a probe sent at once,
+    the move is answered while it runs, the probe once it has touched."""
+    sim = tmp_path / "machine.toml"
+    sim.write_text(SIM)
+    emu = start_emulator(tick_hz=CONFIG.tick_hz, axes=3, queue=16, extra_args=["--machine", str(sim)])
+    with Link.open(emu.url) as link, serving(Machine(link, CONFIG)) as pty:
+        with GrblClient(str(pty.path)) as grbl:
+            grbl.wait_banner()
+            assert grbl.command("G21 G90 G0 X75 Y75 Z-38")[1] == "ok"
+            grbl.wait_status(idle)
+            grbl.port.write(b"G1 X76 F60\nG38.2 Z-50 F100\n")  # a second's move, then the probe
+            assert grbl.answer() == "ok"
+            moving = report_fields(grbl.status())
+            assert moving["state"] == "Run" and mpos(grbl.status())[0] < 76.0
+            assert grbl.drain_other() == []  # no [PRB:…] yet
+            assert grbl.answer() == "ok"
+            position, found = prb(grbl.drain_other()[-1])
+            assert found == 1 and position[:2] == (76.0, 75.0)

@@ -44,6 +44,17 @@ from .status import StatusBuilder
 HELP = "[HLP:$$ $# $G $I $N $x=val $Nx=line $J=line $SLP $C $X $H ~ ! ? ctrl-x]"
 UNLOCK = "[MSG:'$H'|'$X' to unlock]"
 Answer = list[str]
+# Lines a sender has in flight (a character-counting one: up to 128 bytes) are read and queued
+# one by one, and their answers written together once no more have arrived (one write and one
+# turn for the link's threads, not one per line), at most this many at once.
+ANSWERS_HELD = 16
+
+
+def may_wait(text: str) -> bool:
+    """A system command or a probe, which may wait for the machine: the lines before it are
+    answered first, as they would be by then."""
+    squeezed = "".join(text.split()).upper()
+    return squeezed.startswith("$") or "G38" in squeezed
 
 
 def message(text: str) -> str:
@@ -205,17 +216,30 @@ class Session:
     # --- lines -------------------------------------------------------------------------------
 
     def _work(self) -> None:
+        answers: list[tuple[int, Answer]] = []  # lines read, not yet answered on the wire
         while True:
+            if answers and (self._lines.empty() or len(answers) >= ANSWERS_HELD):
+                self._answer_all(answers)
             entry = self._lines.get()
             if entry is None:
                 return
             generation, line = entry
             if generation != self.executor.generation:
                 continue  # sent before a soft reset
-            answer = self._answer(line, generation)
-            if generation == self.executor.generation:
-                self.say(*answer)
-            give_way()  # a sender streams lines as fast as they are answered
+            if may_wait(line.text):
+                self._answer_all(answers)
+            answers.append((generation, self._answer(line, generation)))
+
+    def _answer_all(self, answers: list[tuple[int, Answer]]) -> None:
+        """The answers to the lines read so far, in one write (none to a line from before a soft
+        reset); then the link's threads have their turn: a sender streams lines as fast as they are
+        answered."""
+        current = self.executor.generation
+        lines = [text for generation, answer in answers if generation == current for text in answer]
+        answers.clear()
+        if lines:
+            self.say(*lines)
+        give_way()
 
     def _answer(self, line: Line, generation: int) -> Answer:
         if line.overflow:
