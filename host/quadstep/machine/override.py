@@ -14,6 +14,7 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
+from ..give_way import give_way
 from ..kernel.fixed import D
 from ..planner.feed_override import scale_feeds
 from ..planner.plan import Boundary, Plan, plan_program
@@ -122,12 +123,9 @@ def replan_from(
     pause, comes with the rest). `items`: where the plan's moves are in the program, kept from
     before."""
     boundary = boundary_at(plan, move)
-    tail = plan_program(
-        scale(_rest_after(program, plan, move, items), boundary.position),
-        plan.config,
-        label=label,
-        boundary=boundary,
-    )
+    rest = _rest_after(program, plan, move, items)
+    give_way()  # planned onto a running job: the link's threads first
+    tail = plan_program(scale(rest, boundary.position), plan.config, label=label, boundary=boundary)
     return join(plan, move, tail)
 
 

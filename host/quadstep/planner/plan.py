@@ -127,6 +127,8 @@ def plan_program(
         else (0,) * len(config.axes)
     )
     table = build_moves(program, config, begin, label)
+    if boundary is not None:
+        give_way()  # planning onto a running job: the link's threads first, between the stages too
     return plan_moves(table, config, program.lines, label, boundary)
 
 
@@ -208,7 +210,11 @@ def plan_moves(
     if boundary is not None and config.jerk_limited:
         raise JobError("a jerk-limited plan goes on only from rest")
     check_duration(table, config, label)  # each move at its top speed, before the look-ahead
+    if boundary is not None:
+        give_way()
     entry = junction_speeds(table, config, boundary.speed if boundary is not None else 0.0)
+    if boundary is not None:
+        give_way()
     check_duration(table, config, label, entry)  # with its ramps: before anything is planned
     scurve = ScurvePlanner(config, table.start, label) if config.jerk_limited else None
     out: SegmentArrays | Stream
