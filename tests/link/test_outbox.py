@@ -26,14 +26,20 @@ def written(outbox: Outbox, now: float) -> list[int]:
     return [decode(chunk + b"\x00", "to_firmware").message.CODE for chunk in data.split(b"\x00") if chunk]
 
 
-def test_a_refusal_during_a_stop_is_asked_about_until_the_board_is_at_rest() -> None:
+def connected() -> Outbox:
+    """The writer's choices for a board of 14 slots at rest, heard from at NOW."""
     stats = LinkStats()
     window = SendWindow(clock=lambda: NOW, stats=stats)
     inbox = Inbox(window, stats)
-    outbox = Outbox(window, inbox, stats, poll_interval=0.05)
     inbox.queue_capacity = 14
     inbox.resync(status(State.IDLE))
     inbox.last_frame_at = NOW
+    return Outbox(window, inbox, stats, poll_interval=0.05)
+
+
+def test_a_refusal_during_a_stop_is_asked_about_until_the_board_is_at_rest() -> None:
+    outbox = connected()
+    inbox = outbox.inbox
     inbox.refused = ErrorReport(code=ErrorCode.BUSY, frame_type=0x18, frame_seq=4, field=None, axis=None)
     inbox.want_status = True
     assert written(outbox, NOW) == [0x02]  # a STATUS asks why
@@ -44,13 +50,8 @@ def test_a_refusal_during_a_stop_is_asked_about_until_the_board_is_at_rest() -> 
 
 
 def test_a_report_wakes_the_writer_only_for_what_it_makes_due() -> None:
-    stats = LinkStats()
-    window = SendWindow(clock=lambda: NOW, stats=stats)
-    inbox = Inbox(window, stats)
-    outbox = Outbox(window, inbox, stats, poll_interval=0.05)
-    inbox.queue_capacity = 14
-    inbox.resync(status(State.IDLE))
-    inbox.last_frame_at = NOW
+    outbox = connected()
+    window, inbox = outbox.window, outbox.inbox
     segment = bytes.fromhex("0510000a00")  # any bytes: the window never reads them
     window.push(segment, 1)
     assert outbox.writable()  # a frame to write
