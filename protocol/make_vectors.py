@@ -19,7 +19,7 @@ import sys
 from pathlib import Path
 
 OUTPUT = Path(__file__).with_name("vectors.json")
-PROTOCOL_VERSION = 2
+PROTOCOL_VERSION = 3
 MAX_FRAME = 64
 
 TYPES = {
@@ -271,7 +271,8 @@ def set_position_payload(positions: dict[int, int], extra_mask: int = 0) -> byte
 
 
 IDENTIFY_FIELDS = ["protocol_version", "fw_major", "fw_minor", "fw_patch", "board", "axis_count",
-                   "queue_capacity", "speed_shift", "n_max", "tick_hz", "capabilities", "next_seq", "boot_id"]
+                   "queue_capacity", "speed_shift", "n_max", "tick_hz", "capabilities", "next_seq", "boot_id",
+                   "raster_ring"]
 STATUS_FIELDS = ["state", "alarm", "queue_fill", "next_seq", "segments_done", "motion_ticks",
                  "rx_overrun", "bad_frame", "bad_crc", "seq_gap", "seq_dup", "rejected"]
 
@@ -307,7 +308,7 @@ def payload(msg: dict) -> bytes:
     if t == "ACK":
         return struct.pack("<BBBH", msg["next_seq"], msg["free"], ACK_REASONS[msg["reason"]], msg["done"])
     if t == "IDENTIFY_REPLY":
-        return struct.pack("<BBBBBBBBHIHBH", *(msg[f] for f in IDENTIFY_FIELDS))
+        return struct.pack("<BBBBBBBBHIHBHH", *(msg[f] for f in IDENTIFY_FIELDS))
     if t == "STATUS_REPORT":
         values = [msg[f] for f in STATUS_FIELDS]
         values[0] = STATES[values[0]]
@@ -539,13 +540,13 @@ def build() -> list[dict]:
     valid("ack, zero bytes everywhere", TO_HOST,
           {"type": "ACK", "seq": 0, "next_seq": 0, "free": 0, "reason": "ACCEPTED", "done": 0})
     valid("identify reply, emulator", TO_HOST,
-          {"type": "IDENTIFY_REPLY", "seq": 1, "protocol_version": 2, "fw_major": 0, "fw_minor": 1, "fw_patch": 0,
+          {"type": "IDENTIFY_REPLY", "seq": 1, "protocol_version": 3, "fw_major": 0, "fw_minor": 1, "fw_patch": 0,
            "board": 0, "axis_count": 4, "queue_capacity": 32, "speed_shift": 12, "n_max": 1022,
-           "tick_hz": 50000, "capabilities": 7, "next_seq": 0, "boot_id": 0})
+           "tick_hz": 50000, "capabilities": 0x4007, "next_seq": 0, "boot_id": 0, "raster_ring": 1024})
     valid("identify reply, uno", TO_HOST,
-          {"type": "IDENTIFY_REPLY", "seq": 0xFF, "protocol_version": 2, "fw_major": 1, "fw_minor": 2,
+          {"type": "IDENTIFY_REPLY", "seq": 0xFF, "protocol_version": 3, "fw_major": 1, "fw_minor": 2,
            "fw_patch": 3, "board": 1, "axis_count": 3, "queue_capacity": 16, "speed_shift": 12, "n_max": 1022,
-           "tick_hz": 40000, "capabilities": 0x2003, "next_seq": 0xAB, "boot_id": 0xBEEF})
+           "tick_hz": 40000, "capabilities": 0x2003, "next_seq": 0xAB, "boot_id": 0xBEEF, "raster_ring": 0})
     status_common = {"queue_fill": 5, "next_seq": 17, "segments_done": 2**32 - 1, "motion_ticks": 123456789,
                      "rx_overrun": 0, "bad_frame": 1, "bad_crc": 2, "seq_gap": 3, "seq_dup": 4, "rejected": 65535}
     valid("status report, 3 axes, running", TO_HOST,
@@ -675,6 +676,8 @@ def build() -> list[dict]:
     bad("ack 6 bytes", TO_HOST, wire(bytes([0x80, 0, 1, 2, 0, 0, 0, 0])), "BAD_LENGTH")
     bad("identify reply 16 bytes", TO_HOST, wire(bytes([0x81, 0]) + bytes(range(1, 17))), "BAD_LENGTH")
     bad("identify reply 17 bytes (version 1's layout)", TO_HOST, wire(bytes([0x81, 0]) + bytes(range(1, 18))),
+        "BAD_LENGTH")
+    bad("identify reply 19 bytes (version 2's layout)", TO_HOST, wire(bytes([0x81, 0]) + bytes(range(1, 20))),
         "BAD_LENGTH")
     bad("status report without positions", TO_HOST, wire(bytes([0x82, 0]) + bytes(24)), "BAD_LENGTH")
     bad("status report, 5 axes", TO_HOST, wire(bytes([0x82, 0]) + bytes(44)), "BAD_LENGTH")

@@ -34,6 +34,11 @@ AVR_STEP_PULSE_US ?= 2
 AVR_DEFINES := -DF_CPU=$(AVR_F_CPU) -DQS_BAUD=$(AVR_BAUD) -DQS_STEP_PULSE_US=$(AVR_STEP_PULSE_US)
 AVR_UNO_MCU := atmega328p
 AVR_UNO_DEFINES := -DQS_BOARD=1 -DQS_AXIS_COUNT=3 -DQS_QUEUE_CAPACITY=14 -DQS_LATCH_RING=1 -DQS_QUADRATIC_RUNS=0 -DQS_TICK_HZ=$(AVR_UNO_TICK_HZ)
+# The Uno for a laser: RASTER (a ring of 128 powers) in the room of the
+# cubic segments (jerk-limited motion, which rasters do not use) and two
+# queue slots (docs/AVR.md, "The Uno's laser build").
+AVR_UNO_LASER_MCU := atmega328p
+AVR_UNO_LASER_DEFINES := -DQS_BOARD=1 -DQS_AXIS_COUNT=3 -DQS_QUEUE_CAPACITY=12 -DQS_LATCH_RING=1 -DQS_QUADRATIC_RUNS=0 -DQS_CUBIC=0 -DQS_RASTER_BYTES=128 -DQS_TICK_HZ=$(AVR_UNO_TICK_HZ)
 AVR_MEGA_MCU := atmega2560
 AVR_MEGA_DEFINES := -DQS_BOARD=2 -DQS_AXIS_COUNT=4 -DQS_QUEUE_CAPACITY=32 -DQS_TICK_HZ=$(AVR_MEGA_TICK_HZ)
 
@@ -47,17 +52,19 @@ AVR_LDFLAGS := -Os -Wl,--gc-sections -flto -fuse-linker-plugin -Wl,--undefined=q
 # Objects depend on this file, rewritten only when a setting or flag changes,
 # so `make firmware AVR_TICK_HZ=...` into the same BUILD rebuilds everything.
 AVR_FLAGS_STAMP := $(AVR_OUT)/flags
-AVR_FLAGS_TEXT := $(AVR_CFLAGS) $(AVR_LDFLAGS) $(AVR_DEFINES) $(AVR_UNO_DEFINES) $(AVR_MEGA_DEFINES)
+AVR_FLAGS_TEXT := $(AVR_CFLAGS) $(AVR_LDFLAGS) $(AVR_DEFINES) $(AVR_UNO_DEFINES) $(AVR_UNO_LASER_DEFINES) \
+	$(AVR_MEGA_DEFINES)
 $(AVR_FLAGS_STAMP): avr-flags-changed
 	@mkdir -p $(@D)
 	@echo '$(AVR_FLAGS_TEXT)' | cmp -s - $@ || echo '$(AVR_FLAGS_TEXT)' > $@
 
-firmware: $(AVR_OUT)/uno.elf $(AVR_OUT)/mega.elf $(AVR_OUT)/uno.hex $(AVR_OUT)/mega.hex
-	@for b in uno:$(AVR_UNO_MCU) mega:$(AVR_MEGA_MCU); do \
+AVR_BOARDS := uno uno-laser mega
+firmware: $(foreach b,$(AVR_BOARDS),$(AVR_OUT)/$(b).elf $(AVR_OUT)/$(b).hex)
+	@for b in uno:$(AVR_UNO_MCU) uno-laser:$(AVR_UNO_LASER_MCU) mega:$(AVR_MEGA_MCU); do \
 	  elf=$(AVR_OUT)/$${b%%:*}.elf; \
 	  $(AVR_SIZE) -A $$elf | awk -v name=$${b%%:*} -v mcu=$${b#*:} \
 	    '$$1==".text"{t=$$2} $$1==".data"{d=$$2} $$1==".bss"{b=$$2} $$1==".noinit"{n=$$2} \
-	     END{printf "%-5s %-10s flash %6d bytes   RAM %5d bytes (data %d + bss %d + noinit %d)\n", \
+	     END{printf "%-9s %-10s flash %6d bytes   RAM %5d bytes (data %d + bss %d + noinit %d)\n", \
 	         name, mcu, t+d, d+b+n, d, b, n}'; \
 	done
 
@@ -78,6 +85,7 @@ $(AVR_OUT)/%.hex: $(AVR_OUT)/%.elf
 	$(AVR_OBJCOPY) -O ihex -R .eeprom -R .noinit $< $@
 
 $(eval $(call AVR_BOARD_RULES,uno,$(AVR_UNO_MCU),$(AVR_UNO_DEFINES)))
+$(eval $(call AVR_BOARD_RULES,uno-laser,$(AVR_UNO_LASER_MCU),$(AVR_UNO_LASER_DEFINES)))
 $(eval $(call AVR_BOARD_RULES,mega,$(AVR_MEGA_MCU),$(AVR_MEGA_DEFINES)))
 
 # Annotated disassembly, for reading where the step interrupt's cycles go.
@@ -91,6 +99,8 @@ print-avr-vars:
 	@echo 'AVR_DEFINES=$(AVR_DEFINES)'
 	@echo 'AVR_UNO_MCU=$(AVR_UNO_MCU)'
 	@echo 'AVR_UNO_DEFINES=$(AVR_UNO_DEFINES)'
+	@echo 'AVR_UNO_LASER_MCU=$(AVR_UNO_LASER_MCU)'
+	@echo 'AVR_UNO_LASER_DEFINES=$(AVR_UNO_LASER_DEFINES)'
 	@echo 'AVR_MEGA_MCU=$(AVR_MEGA_MCU)'
 	@echo 'AVR_MEGA_DEFINES=$(AVR_MEGA_DEFINES)'
 	@echo 'AVR_CFLAGS=$(AVR_CFLAGS)'

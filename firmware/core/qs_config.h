@@ -33,6 +33,14 @@
 #define QS_QUADRATIC_RUNS 1
 #endif
 
+/* Cubic (jerk-limited) segments taken: 1, or 0 in a build that leaves them
+ * out for the room RASTER needs (the Uno's laser build, docs/AVR.md):
+ * capability bits CUBIC_SEGMENTS and CUBIC_RUNS clear, and the host then
+ * refuses a configuration with max_jerk. */
+#ifndef QS_CUBIC
+#define QS_CUBIC 1
+#endif
+
 /* Board code reported by IDENTIFY: 0 emulator, 1 ATmega328P, 2 ATmega2560. */
 #ifndef QS_BOARD
 #define QS_BOARD 0

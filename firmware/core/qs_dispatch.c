@@ -484,6 +484,13 @@ static QS_ALWAYS_INLINE void on_cubic_segments(qs_core *c, qs_host_msg *m)
 #else
 #define SEGMENTS_ROW(X)
 #endif
+#if QS_CUBIC
+#define CUBIC_ROWS(X)                                                     \
+    X(QS_TYPE_CUBIC_SEGMENT, 1, parse_cubic_segment, qs_on_cubic_segment) \
+    X(QS_TYPE_CUBIC_SEGMENTS, 1, parse_cubic_segments, on_cubic_segments)
+#else
+#define CUBIC_ROWS(X)
+#endif
 #define HOST_MESSAGES(X)                                                  \
     X(QS_TYPE_IDENTIFY, 0, parse_empty, on_identify)                      \
     X(QS_TYPE_STATUS, 0, parse_empty, on_status)                          \
@@ -495,9 +502,8 @@ static QS_ALWAYS_INLINE void on_cubic_segments(qs_core *c, qs_host_msg *m)
     X(QS_TYPE_CONFIG, 1, parse_config, on_config)                         \
     X(QS_TYPE_OUTPUTS, 1, parse_outputs, on_outputs)                      \
     X(QS_TYPE_SEGMENT, 1, parse_segment, qs_on_segment)                   \
-    X(QS_TYPE_CUBIC_SEGMENT, 1, parse_cubic_segment, qs_on_cubic_segment) \
+    CUBIC_ROWS(X)                                                         \
     SEGMENTS_ROW(X)                                                       \
-    X(QS_TYPE_CUBIC_SEGMENTS, 1, parse_cubic_segments, on_cubic_segments) \
     RASTER_ROW(X)                                                         \
     X(QS_TYPE_SET_POSITION, 1, parse_set_position, on_set_position)
 

@@ -65,7 +65,7 @@ static void close_trigger_window(qs_engine *e)
  * segment's own, and for a cubic one the scale its hold runs in. */
 static uint16_t hold_key(const qs_segment *s)
 {
-    return s->cubic ? QS_HOLD_CUBIC_N : s->n;
+    return QS_IS_CUBIC(s) ? QS_HOLD_CUBIC_N : s->n;
 }
 
 static int32_t signed_steps(const qs_segment *s, uint8_t axis, int32_t steps, int32_t position)
@@ -83,7 +83,7 @@ static int32_t signed_steps(const qs_segment *s, uint8_t axis, int32_t steps, in
  * copied after them. */
 static QS_NOINLINE int32_t steps_at(const qs_segment *s, uint8_t axis, uint16_t t)
 {
-    if (s->cubic)
+    if (QS_IS_CUBIC(s))
         return qs_cubic_steps(s, axis, t, s->c.h[axis], s->c.b[axis], s->c.q[axis]);
     return qs_segment_steps(s, axis, t);
 }
@@ -117,7 +117,7 @@ static void take_progress(const qs_engine *e, qs_progress *p)
     p->t = (uint16_t)(s->n - e->left);
     if (e->trigger_window)
         p->t = (uint16_t)(p->t - e->trigger_rest); /* the window cut the count */
-    if (s->cubic)
+    if (QS_IS_CUBIC(s))
         memcpy(&p->at.c, &s->c, sizeof p->at.c);
     else
         memcpy(p->at.b, s->b, sizeof p->at.b);
@@ -158,7 +158,7 @@ static void add_progress(const qs_engine *e, const qs_progress *p, int32_t *posi
         int32_t steps;
         if (!(s->active & (1u << axis)))
             continue;
-        if (s->cubic)
+        if (QS_IS_CUBIC(s))
             steps = qs_cubic_steps(s, axis, p->t, p->at.c.h[axis], p->at.c.b[axis], p->at.c.q[axis]);
         else
             steps = qs_segment_steps_from(s, axis, p->t, p->at.b[axis]);
@@ -455,7 +455,7 @@ QS_NOINLINE uint8_t qs_engine_hold(qs_engine *e, const uint16_t *decel)
 
 int32_t qs_engine_speed_2n_locked(const qs_engine *e, uint8_t axis)
 {
-    if (e->left == 0 || e->held || e->seg->cubic || !(e->seg->active & (1u << axis)))
+    if (e->left == 0 || e->held || QS_IS_CUBIC(e->seg) || !(e->seg->active & (1u << axis)))
         return 0;
     return qs_segment_speed_2n(e->seg, axis);
 }
@@ -637,7 +637,7 @@ static void defer_past_begin(qs_engine *e)
 static QS_ALWAYS_INLINE void cut_and_predict(qs_engine *e)
 {
     cut_for_trigger(e);
-    if (e->trigger_window == QS_TRIGGER_BEGIN && e->trigger_rest && !e->seg->cubic
+    if (e->trigger_window == QS_TRIGGER_BEGIN && e->trigger_rest && !QS_IS_CUBIC(e->seg)
         && e->hold.planned_n == e->seg->n)
         qs_hold_predict(&e->hold, e->seg, (uint8_t)e->left, e->trigger_rest);
 }

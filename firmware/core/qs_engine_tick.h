@@ -130,7 +130,7 @@ static QS_ALWAYS_INLINE uint8_t qs_engine_begin(qs_engine *e)
     s = qs_queue_front(&e->queue);
     e->seg = s;
     e->left = s->n;
-    e->slow_path = s->cubic ? QS_PATH_CUBIC : 0;
+    e->slow_path = QS_IS_CUBIC(s) ? QS_PATH_CUBIC : 0;
     /* Inactive axes keep their direction pins as they were. */
     e->dir_bits = (uint8_t)((e->dir_bits & (uint8_t)~s->active) | s->negative);
     if (QS_UNLIKELY(e->trigger_window))
@@ -205,7 +205,7 @@ static QS_ALWAYS_INLINE uint8_t qs_engine_tick(qs_engine *e)
 
     /* A quadratic segment's ticks pay one test; a cubic one's one more. */
     if (QS_UNLIKELY(e->slow_path)) {
-        if (e->slow_path != QS_PATH_CUBIC) {
+        if (!QS_CUBIC || e->slow_path != QS_PATH_CUBIC) {
             /* An underrun begins a hold in place of the next segment. */
             if (!e->hold.moving && !qs_engine_begin(e) && !e->hold.moving) {
                 QS_ENGINE_RESTING();
@@ -217,7 +217,7 @@ static QS_ALWAYS_INLINE uint8_t qs_engine_tick(qs_engine *e)
                 QS_ENGINE_UNDECIDED();
                 return steps;
             }
-            if (!e->slow_path)
+            if (!QS_CUBIC || !e->slow_path)
                 goto quadratic;
         }
         return qs_engine_cubic_tick(e);

@@ -212,7 +212,7 @@ uint8_t qs_hold_begin_predicted(qs_hold *hd, const qs_segment *s)
 
 uint8_t qs_hold_begin(qs_hold *hd, const qs_segment *s, uint8_t at_end)
 {
-    if (s->cubic)
+    if (QS_IS_CUBIC(s))
         return begin_cubic(hd, hd->h, hd->inc, s, at_end);
     if (at_end)
         return begin_quadratic(hd, hd->h, hd->inc, s, 1);
@@ -272,7 +272,7 @@ static QS_ALWAYS_INLINE uint32_t axis_steps(uint32_t ticks, int32_t m, int32_t t
 
 void qs_hold_origin_of(const qs_hold *hd, const qs_segment *s, uint8_t at_end, qs_hold_origin *o)
 {
-    o->axes = s->cubic ? begin_cubic(hd, o->h, o->inc, s, at_end) : begin_quadratic(hd, o->h, o->inc, s, at_end);
+    o->axes = QS_IS_CUBIC(s) ? begin_cubic(hd, o->h, o->inc, s, at_end) : begin_quadratic(hd, o->h, o->inc, s, at_end);
 }
 
 /* Out of line, with the arithmetic inlined: the shallowest stack found for

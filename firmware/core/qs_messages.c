@@ -443,6 +443,7 @@ uint8_t qs_msg_encode_identify_reply(uint8_t *body, uint8_t seq, const qs_identi
     n += put16(body + n, id->capabilities);
     body[n++] = id->next_seq;
     n += put16(body + n, id->boot_id);
+    n += put16(body + n, id->raster_ring);
     return n;
 }
 

@@ -174,6 +174,7 @@ typedef struct {
     uint16_t capabilities;
     uint8_t next_seq;
     uint16_t boot_id; /* made at each reset: a host tells a board reset since it last asked */
+    uint16_t raster_ring; /* pixel powers RASTER lines may hold queued; 0 without RASTER */
 } qs_identity;
 
 /* The STATUS_REPORT counters; each saturates at 65535. */

@@ -77,7 +77,7 @@ static void reference_speed(const qs_engine *e, const qs_segment *s, uint8_t axi
         *den = ((uint32_t)e->hold.two_c2 >> 12) * speed;
     } else if (!(s->active & bit)) {
         return; /* a segment about to begin reads as at its start */
-    } else if (s->cubic) {
+    } else if (QS_IS_CUBIC(s)) {
         *num = s->c.b[axis] + QS_SIGMA - (uint32_t)(int32_t)s->c.q[axis];
         *den = (uint32_t)speed << 19;
         return;

@@ -5,7 +5,7 @@
 #ifndef QS_PROTOCOL_H
 #define QS_PROTOCOL_H
 
-#define QS_PROTOCOL_VERSION 2
+#define QS_PROTOCOL_VERSION 3
 
 /* Fixed-point step model (section 1, 5.2; docs/FIXED_POINT.md). */
 #define QS_SPEED_SHIFT 12
@@ -74,7 +74,7 @@
 #define QS_LEN_SET_POSITION_HEAD 1
 #define QS_LEN_SET_POSITION_AXIS 4
 #define QS_LEN_ACK 5
-#define QS_LEN_IDENTIFY_REPLY 19
+#define QS_LEN_IDENTIFY_REPLY 21
 #define QS_LEN_STATUS_REPORT_HEAD 24
 #define QS_LEN_STATUS_REPORT_AXIS 4
 #define QS_LEN_ERROR 5

@@ -63,7 +63,7 @@ uint8_t qs_raster_room(const qs_raster *r, qs_queue *q, uint8_t count)
     /* The oldest line still queued holds the ring from its first power. */
     for (i = q->retired; i != q->head; i = qs_queue_next(q, i)) {
         const qs_segment *s = qs_queue_at(q, i);
-        if (!s->cubic && (s->ends_moving & QS_SLOT_RASTER)) {
+        if (!QS_IS_CUBIC(s) && (s->ends_moving & QS_SLOT_RASTER)) {
             uint16_t start = s->px.where & 0x3FFu;
             uint16_t used = (uint16_t)((r->write + QS_RASTER_BYTES - start) % QS_RASTER_BYTES);
             return (uint16_t)(QS_RASTER_BYTES - used) >= count;
@@ -113,7 +113,7 @@ void qs_raster_level(const qs_raster *r, qs_engine *e, qs_output_level *out)
     saved = qs_port_lock();
     /* the running line, or the next about to begin (at its start) */
     s = e->left ? e->seg : (qs_queue_empty(&e->queue) ? 0 : qs_queue_front(&e->queue));
-    if (e->state != QS_STATE_RUNNING || e->trigger_window || !s || s->cubic || !(s->ends_moving & QS_SLOT_RASTER)) {
+    if (e->state != QS_STATE_RUNNING || e->trigger_window || !s || QS_IS_CUBIC(s) || !(s->ends_moving & QS_SLOT_RASTER)) {
         qs_port_unlock(saved);
         return;
     }

@@ -12,13 +12,13 @@
 #include "qs_messages.h"
 #include "qs_outputs.h"
 
-/* Pixel powers the ring holds; 0 builds no RASTER (the capability bit is
- * then clear and the type unknown). At most 1024 (a slot's 10-bit index). */
+/* Pixel powers the ring holds (IDENTIFY_REPLY's raster_ring); 0 builds no
+ * RASTER (the capability bit is then clear and the type unknown). At most
+ * 1024 (a slot's 10-bit index). The Uno's laser build keeps 128. */
 #ifndef QS_RASTER_BYTES
 #define QS_RASTER_BYTES (QS_QUEUE_CAPACITY < 16 ? 0 : 1024)
 #endif
 _Static_assert(QS_RASTER_BYTES <= 1024, "a slot keeps a power's index in 10 bits");
-_Static_assert(!QS_RASTER_BYTES || QS_QUADRATIC_RUNS, "a RASTER's motion is read as a SEGMENTS record");
 
 #define QS_LEN_RASTER_HEAD QS_LEN_RASTER
 #define QS_RASTER_PIXELS_MAX (QS_MAX_FRAME - 4 - QS_LEN_RASTER_HEAD)

@@ -55,11 +55,12 @@ void qs_report_identify(qs_core *c, uint8_t seq)
     id.tick_hz = c->tick_hz;
     id.capabilities = QS_CAP_QUADRATIC_SEGMENTS | QS_CAP_SET_POSITION | QS_CAP_HOLD | QS_CAP_LIMIT_INPUTS
                       | QS_CAP_PROBE_INPUT | QS_CAP_HOMING | QS_CAP_CONTROL_INPUTS
-                      | QS_CAP_CUBIC_SEGMENTS | QS_CAP_CONTROLLED_STOPS | QS_CAP_OUTPUTS
-                      | (QS_QUADRATIC_RUNS ? QS_CAP_SEGMENTS : 0) | (QS_RASTER_BYTES ? QS_CAP_RASTER : 0)
-                      | QS_CAP_CUBIC_RUNS | QS_CAP_STARVATION_PAUSES;
+                      | QS_CAP_CONTROLLED_STOPS | QS_CAP_OUTPUTS | QS_CAP_STARVATION_PAUSES
+                      | (QS_CUBIC ? QS_CAP_CUBIC_SEGMENTS | QS_CAP_CUBIC_RUNS : 0)
+                      | (QS_QUADRATIC_RUNS ? QS_CAP_SEGMENTS : 0) | (QS_RASTER_BYTES ? QS_CAP_RASTER : 0);
     id.next_seq = c->next_seq;
     id.boot_id = c->boot_id;
+    id.raster_ring = QS_RASTER_BYTES;
     send_body(c, qs_msg_encode_identify_reply(tx_body(c), seq, &id));
 }
 

@@ -68,6 +68,9 @@ typedef struct {
 } qs_segment;
 
 #define QS_CUBIC_KIND 0x80
+
+/* A cubic segment: never, in a build without them, so their code drops out. */
+#define QS_IS_CUBIC(s) (QS_CUBIC && (s)->cubic)
 #define QS_ENDS_MOVING 0x01
 #define QS_SLOT_OUTPUTS_SHIFT 5
 #define QS_SLOT_RASTER 0x02          /* a RASTER: px holds its pixels */

@@ -271,8 +271,9 @@ def main() -> None:
     figures: dict = {"tick_hz": default.tick_hz, "baud": default.baud, "boards": {}, "rates": {}}
     for board, (flash, ram) in sizes().items():
         figures["boards"][board] = {"flash": flash, "ram": ram}
-        chip = {"uno": "ATmega328P: 32256 flash / 2048 RAM", "mega": "ATmega2560: 253952 flash / 8192 RAM"}[board]
-        print(f"  {board:5} flash {flash:6} bytes, static RAM {ram:5} bytes   ({chip})")
+        chip = {"uno": "ATmega328P: 32256 flash / 2048 RAM", "uno-laser": "ATmega328P: 32256 flash / 2048 RAM",
+                "mega": "ATmega2560: 253952 flash / 8192 RAM"}[board]
+        print(f"  {board:9} flash {flash:6} bytes, static RAM {ram:5} bytes   ({chip})")
 
     stats = isr_table(default)
     print(f"\nstep interrupt at {default.tick_hz} Hz ({stats['tick_cycles']} cycles per tick), "

@@ -3,10 +3,11 @@ an Uno's queue of 14), at 100 mm/s with 0.1 mm pixels and faster: pixels a secon
 pixel, retransmits, underruns (a STARVED board) and how far each power switch is from its boundary's
 tick. Nothing is asserted.
 
-Then the real Mega build in simavr, fed RASTER lines as fast as flow control allows: the pixel rate it
-keeps up with. The Uno firmware has no RASTER (no flash left for it: capability bit 14 clear, rasters go
-out as ordinary moves there), so no Uno figure; the bench harness has no GRBL in simavr either
-(tests/bench/bench_avr.py quotes GRBL's published figures).
+Then the real Mega build and the Uno's laser build (`quadstep flash --board uno-laser`: RASTER with a
+ring of 128 powers in the room of the cubic segments) in simavr, fed RASTER lines as fast as flow
+control allows: the pixel rate each keeps up with. The Uno's own build has no RASTER (no flash left for
+it: capability bit 14 clear, rasters go out as ordinary moves there); the bench harness has no GRBL in
+simavr (tests/bench/bench_avr.py quotes GRBL's published figures).
 
     python3 tests/bench/bench_raster.py
 """
@@ -83,9 +84,12 @@ def run(pixel_mm: float, feed: float, rows: int, columns: int) -> None:
     )
 
 
-def mega(v: int, steps_per_pixel: int, lines: int = 300, pixels: int = 32) -> None:
-    """The real Mega build in simavr (25 kHz), fed RASTER lines as fast as flow control allows: lines of
-    `pixels` (32: a queue of 32 lines fits its ring of 1,024 powers, as the host paces them)."""
+def board(
+    name: str, tick_hz: int, v: int, steps_per_pixel: int, lines: int = 300, pixels: int = 32
+) -> None:
+    """A real board build in simavr, fed RASTER lines as fast as flow control allows: lines of
+    `pixels`, as many as its queue holds fitting its ring (the Mega: 32 of 32 in 1,024 powers; the
+    Uno's laser build: 12 of 10 in 128), as the host paces them."""
     sys.path.insert(0, str(REPO / "tests" / "simavr"))
     import subprocess
 
@@ -121,7 +125,7 @@ def mega(v: int, steps_per_pixel: int, lines: int = 300, pixels: int = 32) -> No
         feed.write_bytes(b"".join(encode(m, i % 256) for i, m in enumerate(messages)))
         subprocess.run(
             [
-                *harness("mega"),
+                *harness(name),
                 "--feed",
                 str(feed),
                 "--max-cycles",
@@ -133,7 +137,7 @@ def mega(v: int, steps_per_pixel: int, lines: int = 300, pixels: int = 32) -> No
             check=True,
         )
         stats = outputs.load_stats()
-    rate = 25000 * v / 4096 / steps_per_pixel
+    rate = tick_hz * v / 4096 / steps_per_pixel
     f, m = stats["feed"], stats["motion"]
     print(
         f"  {rate:,.0f} pixels/s ({lines * pixels} pixels, {steps_per_pixel} step(s) a pixel): "
@@ -149,9 +153,12 @@ def main() -> None:
     run(0.025, 200.0, 8, 1600)
     run(0.0125, 200.0, 4, 3200)
     print("  the Uno's UART at 500 kbaud carries 50,000 B/s: at 1.7 B/pixel about 29,000 pixels/s")
-    print("== RASTER on the real Mega build in simavr (25 kHz; the Uno's build has no RASTER)")
-    mega(2048, 1)
-    mega(4096, 1)
+    print("== RASTER on the real Mega build in simavr (25 kHz)")
+    board("mega", 25000, 2048, 1)
+    board("mega", 25000, 4096, 1)
+    print("== RASTER on the Uno's laser build in simavr (32 kHz; the Uno's own build has no RASTER)")
+    for v, pixels in ((1280, 10), (2048, 10), (2560, 10), (1280, 32), (4096, 32)):
+        board("uno-laser", 32000, v, 1, lines=9600 // pixels, pixels=pixels)
 
 
 if __name__ == "__main__":

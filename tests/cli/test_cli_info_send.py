@@ -35,7 +35,7 @@ def test_info_json(emulator_binary: Path, capsys: pytest.CaptureFixture[str], mo
     out = json.loads(capsys.readouterr().out)
     # the emulator started without a configuration is the default machine: examples/router-uno.toml's
     default = load_config(REPO / "examples" / "router-uno.toml")
-    assert out["identify"]["protocol_version"] == 2 and out["identify"]["axis_count"] == len(default.axes) == 3
+    assert out["identify"]["protocol_version"] == 3 and out["identify"]["axis_count"] == len(default.axes) == 3
     assert out["identify"]["tick_hz"] == default.tick_hz == 32000
     assert out["status"]["state"] == "IDLE" and out["status"]["position"] == [0, 0, 0]
 
@@ -44,7 +44,7 @@ def test_info_text(emulator_binary: Path, capsys: pytest.CaptureFixture[str], mo
     monkeypatch.setenv("QUADSTEP_EMULATOR", str(emulator_binary))
     assert main(["info", "--emulator"]) == 0
     out = capsys.readouterr().out
-    assert "on EMULATOR, protocol 2" in out and "32000 Hz" in out and "X 0  Y 0  Z 0\n" in out
+    assert "on EMULATOR, protocol 3" in out and "32000 Hz" in out and "X 0  Y 0  Z 0\n" in out
 
 
 def test_send_example(emulator_binary: Path, capsys: pytest.CaptureFixture[str], monkeypatch: pytest.MonkeyPatch,

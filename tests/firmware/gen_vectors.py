@@ -47,7 +47,7 @@ MESSAGE_KEYS = {
     "ACK": {"next_seq", "free", "reason", "done"},
     "IDENTIFY_REPLY": {"protocol_version", "fw_major", "fw_minor", "fw_patch", "board",
                        "axis_count", "queue_capacity", "speed_shift", "n_max", "tick_hz",
-                       "capabilities", "next_seq", "boot_id"},
+                       "capabilities", "next_seq", "boot_id", "raster_ring"},
     "STATUS_REPORT": {"state", "alarm", "queue_fill", "next_seq", "segments_done",
                       "motion_ticks", "rx_overrun", "bad_frame", "bad_crc", "seq_gap",
                       "seq_dup", "rejected", "position"},

@@ -58,7 +58,7 @@ def test_unknown_protocol_version_is_refused_naming_both(pty: tuple[int, str]) -
     master, path = pty
     stop = threading.Event()
     reply = IdentifyReply(
-        protocol_version=3, fw_major=9, fw_minor=0, fw_patch=0, board=0, axis_count=4,
+        protocol_version=4, fw_major=9, fw_minor=0, fw_patch=0, board=0, axis_count=4,
         queue_capacity=8, speed_shift=12, n_max=1022, tick_hz=50000, capabilities=3,
         next_seq=0, boot_id=7,
     )
@@ -66,25 +66,30 @@ def test_unknown_protocol_version_is_refused_naming_both(pty: tuple[int, str]) -
                                  daemon=True)
     responder.start()
     try:
-        with pytest.raises(ProtocolVersionError, match="protocol version 3; this host speaks version 2"):
+        with pytest.raises(ProtocolVersionError, match="protocol version 4; this host speaks version 3"):
             Link.open(path, request_timeout=0.5)
     finally:
         stop.set()
 
 
-def test_a_version_1_board_is_named_as_another_protocol_version(pty: tuple[int, str]) -> None:
-    """Version 1's IDENTIFY_REPLY had 17 bytes (no boot_id): it does not decode, and says why at once."""
+@pytest.mark.parametrize("version, payload", [
+    (1, struct.pack("<BBBBBBBBHIHB", 1, 0, 1, 0, 0, 4, 32, 12, 1022, 50000, 3, 0)),
+    (2, struct.pack("<BBBBBBBBHIHBH", 2, 0, 1, 0, 0, 4, 32, 12, 1022, 50000, 3, 0, 7)),
+])
+def test_an_older_board_is_named_as_another_protocol_version(pty: tuple[int, str], version: int,
+                                                              payload: bytes) -> None:
+    """Version 1's IDENTIFY_REPLY had 17 bytes (no boot_id), version 2's 19 (no raster_ring): neither
+    decodes, and the host says why at once."""
     master, path = pty
     stop = threading.Event()
-    payload = struct.pack("<BBBBBBBBHIHB", 1, 0, 1, 0, 0, 4, 32, 12, 1022, 50000, 3, 0)
 
-    def version_1(seq: int) -> bytes:
+    def older(seq: int) -> bytes:
         return encode_frame(bytes([0x81, seq]) + payload)
 
-    responder = threading.Thread(target=_answer_identify, args=(master, stop, version_1), daemon=True)
+    responder = threading.Thread(target=_answer_identify, args=(master, stop, older), daemon=True)
     responder.start()
     try:
-        match = "17-byte payload.*another protocol version than this host's 2"
+        match = f"{len(payload)}-byte payload.*another protocol version than this host's 3"
         with pytest.raises(ProtocolVersionError, match=match):
             Link.open(path, request_timeout=5.0, retries=1)
     finally:

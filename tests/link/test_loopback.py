@@ -30,7 +30,7 @@ def stream(link: Link, segments: list[Segment]) -> StatusReport:
 
 def test_identify_reports_the_emulator(free_link: Link) -> None:
     ident = free_link.identify()
-    assert (ident.protocol_version, ident.board, ident.axis_count) == (2, 0, 4)
+    assert (ident.protocol_version, ident.board, ident.axis_count, ident.raster_ring) == (3, 0, 4, 1024)
     assert (ident.queue_capacity, ident.speed_shift, ident.n_max, ident.tick_hz) == (32, 12, 1022, 50000)
     assert ident.capabilities & 0b11 == 0b11
     status = free_link.status()

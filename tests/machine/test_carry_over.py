@@ -21,7 +21,7 @@ MOTOR = (4000, -120, 7)
 
 
 def identity(boot: int = 0) -> IdentifyReply:
-    return IdentifyReply(protocol_version=2, fw_major=1, fw_minor=0, fw_patch=0, board=0, axis_count=3,
+    return IdentifyReply(protocol_version=3, fw_major=1, fw_minor=0, fw_patch=0, board=0, axis_count=3,
                          queue_capacity=32, speed_shift=12, n_max=1022, tick_hz=CONFIG.tick_hz,
                          capabilities=0, next_seq=0, boot_id=boot)
 

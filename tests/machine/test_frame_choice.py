@@ -13,7 +13,7 @@ EVERY_FRAME = Capability.QUADRATIC_SEGMENTS | Capability.SEGMENTS | Capability.C
 
 def identity(board: Board, capabilities: int = EVERY_FRAME) -> IdentifyReply:
     return IdentifyReply(
-        protocol_version=2,
+        protocol_version=3,
         fw_major=1,
         fw_minor=0,
         fw_patch=0,

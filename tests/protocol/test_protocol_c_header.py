@@ -153,7 +153,7 @@ def wire_codes(cls: type[WireMessage]) -> dict[str, str]:
     ("struct", "message", "shared"),
     [
         ("qs_ack", "ACK", 4),
-        ("qs_identity", "IDENTIFY_REPLY", 13),
+        ("qs_identity", "IDENTIFY_REPLY", 14),
         ("qs_status", "STATUS_REPORT", 7),
         ("qs_counters", "STATUS_REPORT", 6),
         ("qs_error_report", "ERROR", 3),

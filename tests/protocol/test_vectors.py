@@ -10,7 +10,7 @@ from pathlib import Path
 import pytest
 from pydantic import BaseModel
 
-from quadstep.protocol import DecodeError, Decoder, Frame, decode, encode
+from quadstep.protocol import PROTOCOL_VERSION, DecodeError, Decoder, Frame, decode, encode
 from quadstep.protocol.constants import ErrorCode, FieldId
 from quadstep.protocol.framing import cobs_decode
 from quadstep.protocol.messages import MessageType, message_from_json
@@ -32,6 +32,10 @@ def test_committed_file_is_the_generators_output() -> None:
     generator = REPO / "protocol" / "make_vectors.py"
     result = subprocess.run([sys.executable, str(generator), "--check"], capture_output=True, text=True)
     assert result.returncode == 0, result.stderr
+
+
+def test_the_vectors_are_for_the_hosts_protocol_version() -> None:
+    assert DOC["protocol_version"] == PROTOCOL_VERSION
 
 
 def test_vectors_cover_every_message_error_and_field() -> None:

@@ -7,7 +7,7 @@ from quadstep.kernel.fixed import D
 from quadstep.kernel.motion import AxisMove
 from quadstep.planner.segments import SegmentArrays
 from quadstep.planner.stream import Stream
-from quadstep.protocol.raster import RING, Raster, RasterLine, ring_fits
+from quadstep.protocol.raster import Raster, RasterLine, ring_fits
 from quadstep.protocol.segment import Segment
 
 CRUISE = AxisMove(axis=0, direction=1, v0=D // 4, vn=D // 4, r=0)
@@ -34,9 +34,11 @@ def test_the_ring_counts_the_raster_lines_of_a_stream_and_of_a_stream_over_it() 
 
 
 def test_lines_fit_the_ring_together_up_to_its_size() -> None:
-    full = Stream(base=[line(48)] * (RING // 48 + 1), axes=1)
-    for k in range(RING // 48 + 1):
-        full.add_base(k)
-    assert ring_fits(full, 0, RING // 48 - 1)  # 21 lines: 1,008 powers
-    assert not ring_fits(full, 0, RING // 48)  # 22: 1,056
-    assert ring_fits(full, 1, RING // 48)
+    """The ring of the Mega and the emulator (1,024 powers), and of the Uno's laser build (128)."""
+    for ring, fit in ((1024, 21), (128, 2)):  # lines of 48 powers: 1,008 and 96
+        full = Stream(base=[line(48)] * (fit + 1), axes=1)
+        for k in range(fit + 1):
+            full.add_base(k)
+        assert ring_fits(full, 0, fit - 1, ring)
+        assert not ring_fits(full, 0, fit, ring)
+        assert ring_fits(full, 1, fit, ring)

@@ -179,11 +179,12 @@ def quadratic_into_cubic(axis_count: int) -> list[list[Segment | CubicSegment]]:
     return [run]
 
 
-def every_message_kind(axis_count: int) -> bytes:
+def every_message_kind(axis_count: int, cubic: bool = True) -> bytes:
     """Wire bytes (no flow control needed) that exercise every path of the
     firmware while axes move: SEGMENT (the Uno takes no SEGMENTS), SET_POSITION (accepted at rest,
     refused while moving), STATUS, IDENTIFY, and damaged frames of each
-    framing error, and a ramp move as CUBIC_SEGMENT and CUBIC_SEGMENTS. For the stack's high-water mark."""
+    framing error, and (with `cubic`) a ramp move as CUBIC_SEGMENT and CUBIC_SEGMENTS. For the stack's
+    high-water mark."""
     from quadstep.protocol import Identify, SetPosition, Status, Stop, encode
     from quadstep.protocol.framing import encode_frame
 
@@ -204,8 +205,10 @@ def every_message_kind(axis_count: int) -> bytes:
                          + tuple(CubicAxis(axis=a, jerk=-jerk) for a in range(1, axis_count))),
             CubicSegment(n=n, axes=tuple(CubicAxis(axis=a, jerk=-jerk) for a in range(axis_count))),
             CubicSegment(n=n, axes=tuple(CubicAxis(axis=a, jerk=jerk) for a in range(axis_count)))]
-    out += [encode(first, 1), encode(cubic_pack(ramp, speeds), 2)]  # type: ignore[arg-type]
-    seq = 3
+    seq = 1
+    if cubic:
+        out += [encode(first, 1), encode(cubic_pack(ramp, speeds), 2)]  # type: ignore[arg-type]
+        seq = 3
     for i in range(8):
         last = i == 7
         segments = [b.segment(200, {a: (1, D // 2, D // 2) for a in range(axis_count)}),

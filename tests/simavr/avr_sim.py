@@ -24,7 +24,7 @@ from quadstep.port_process import PortProcess
 REPO = Path(__file__).resolve().parents[2]
 BUILD = Path(os.environ.get("QUADSTEP_BUILD", REPO / "build"))
 HARNESS = BUILD / "simavr" / "qs-simavr"
-BOARDS = {"uno": "atmega328p", "mega": "atmega2560"}
+BOARDS = {"uno": "atmega328p", "uno-laser": "atmega328p", "mega": "atmega2560"}
 F_CPU = 16_000_000
 
 
@@ -56,7 +56,7 @@ def avr_define(name: str, board: str = "uno") -> int:
     """A -D value of a board's build as avr.mk sets it (shared, or the board's own)."""
     out = subprocess.run(["make", "-C", str(REPO), "-s", "print-avr-vars"], capture_output=True, text=True,
                          check=True).stdout
-    own = f"AVR_{board.upper()}_DEFINES="
+    own = f"AVR_{board.upper().replace('-', '_')}_DEFINES="
     lines = [line for line in out.splitlines() if line.startswith(("AVR_DEFINES=", own))]
     match = re.search(rf"-D{name}=(\d+)", " ".join(lines))
     if not match:

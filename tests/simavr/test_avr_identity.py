@@ -1,4 +1,4 @@
-"""The board's identity: protocol version 2, its capabilities and the boot id it keeps in EEPROM."""
+"""The board's identity: protocol version 3, its capabilities and the boot id it keeps in EEPROM."""
 
 from __future__ import annotations
 
@@ -18,7 +18,7 @@ def test_the_uno_names_its_version_and_a_boot_id_from_its_eeprom(avr_build: None
         with Link.open(sim.url) as link:
             ident = link.identify()
             status = link.status()
-    assert (ident.protocol_version, ident.board) == (PROTOCOL_VERSION, Board.ATMEGA328P) == (2, 1)
+    assert (ident.protocol_version, ident.board) == (PROTOCOL_VERSION, Board.ATMEGA328P) == (3, 1)
     assert ident.capabilities & Capability.STARVATION_PAUSES
     assert ident.boot_id == 1
     assert status.state == State.IDLE

@@ -1,6 +1,6 @@
-"""RASTER on the real Mega build in simavr (the Uno's has no room for it: capability bit 14 clear):
-the lines are taken, the steps are the host's prediction, and the laser's PWM shows each pixel's power,
-in the order the axis crosses them, while the axis is over it."""
+"""RASTER on the real Mega build and the Uno's laser build in simavr (the Uno's own build has no room
+for it: capability bit 14 clear): the lines are taken, the steps are the host's prediction, and the
+laser's PWM shows each pixel's power, in the order the axis crosses them, while the axis is over it."""
 
 from __future__ import annotations
 
@@ -19,6 +19,7 @@ from quadstep.protocol.raster import Raster, RasterLine
 
 PERIOD = 64 * 256  # cycles per PWM period
 V = 2048  # half a step a tick: a pixel of 50 steps lasts 100 ticks, 4 ms at the Mega's 25 kHz, about 4 periods
+AXES = {"mega": 4, "uno-laser": 3}
 POWERS = [[30, 200, 90, 250, 10], [120, 5, 220, 60, 180]]
 
 
@@ -28,8 +29,10 @@ def line(powers: list[int]) -> RasterLine:
     return RasterLine(n=1000, axes=(AxisMove(axis=0, direction=1, v0=V, vn=V, r=0),), raster=raster)
 
 
-@pytest.fixture(scope="module")
-def run(avr_build: None, tmp_path_factory: pytest.TempPathFactory) -> tuple[dict, list, list]:
+@pytest.fixture(scope="module", params=sorted(AXES))
+def run(avr_build: None, tmp_path_factory: pytest.TempPathFactory, request: pytest.FixtureRequest
+        ) -> tuple[dict, list, list]:
+    board = request.param
     ramp_up = Segment(n=200, axes=(AxisMove(axis=0, direction=1, v0=0, vn=V, r=0),))
     ramp_down = Segment(n=200, axes=(AxisMove(axis=0, direction=1, v0=V, vn=0, r=0),))
     lines = [line(p) for p in POWERS]
@@ -48,7 +51,7 @@ def run(avr_build: None, tmp_path_factory: pytest.TempPathFactory) -> tuple[dict
     feed = outputs.stats.with_suffix(".feed")
     feed.write_bytes(frames)
     args = [
-        *harness("mega"),
+        *harness(board),
         "--feed",
         str(feed),
         "--max-cycles",
@@ -62,15 +65,15 @@ def run(avr_build: None, tmp_path_factory: pytest.TempPathFactory) -> tuple[dict
     with pins.open() as f:
         edges = [(int(r["cycle"]), r["pin"], int(r["level"])) for r in csv.DictReader(f)]
     segments = [ramp_up, *lines, ramp_down, Segment(n=500, axes=())]
-    return outputs.load_stats(), edges, [outputs.load_trace(), segments]
+    return outputs.load_stats(), edges, [outputs.load_trace(), segments, AXES[board]]
 
 
-def test_the_mega_takes_raster_lines_and_steps_as_predicted(run) -> None:
-    stats, _, (trace, segments) = run
+def test_the_board_takes_raster_lines_and_steps_as_predicted(run) -> None:
+    stats, _, (trace, segments, axis_count) = run
     feed = stats["feed"]
     assert feed["accepted"] == feed["frames"] == 7 and feed["alarms"] == feed["errors"] == 0, feed
     assert stats["motion"]["ticks_missed"] == 0, stats["motion"]
-    expected = predict(segments, [0, 0, 0, 0], axis_count=4)
+    expected = predict(segments, [0] * axis_count, axis_count=axis_count)
     assert np.array_equal(trace, expected.steps)
 
 

@@ -17,8 +17,8 @@ from quadstep.kernel.engine_model import predict
 from quadstep.link import Link
 from quadstep.protocol import Segment, State, StatusReport
 
-AXES = {"uno": 3, "mega": 4}
-QUEUE = {"uno": 14, "mega": 32}
+AXES = {"uno": 3, "uno-laser": 3, "mega": 4}
+QUEUE = {"uno": 14, "uno-laser": 12, "mega": 32}
 
 
 def stream(url: str, runs: list[list[Segment]]) -> StatusReport:
@@ -89,3 +89,15 @@ def test_mega_four_axes_match_emulator_and_model(avr_build: None, tmp_path: Path
 
 def test_mega_cubic_segments_match_emulator_and_model(avr_build: None, tmp_path: Path, start_emulator) -> None:
     run_both("mega", avr_scenarios.cubic_runs(AXES["mega"], seed=12, runs=1, shortest=1000), tmp_path, start_emulator)
+
+
+@pytest.mark.parametrize("name", ["ramps_and_reversals", "random_runs"])
+def test_uno_laser_build_quadratic_streams_match_emulator_and_model(name: str, avr_build: None, tmp_path: Path,
+                                                                      start_emulator) -> None:
+    """The laser build, whose segments are all quadratic (QS_CUBIC 0), steps as the Uno's own build."""
+    axes = AXES["uno-laser"]
+    runs = {
+        "ramps_and_reversals": lambda: avr_scenarios.ramps_and_reversals(axes),
+        "random_runs": lambda: avr_scenarios.random_runs(axes, seed=13),
+    }[name]()
+    run_both("uno-laser", runs, tmp_path, start_emulator)

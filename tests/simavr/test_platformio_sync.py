@@ -21,7 +21,7 @@ PIO_BARE_CFLAGS = {"-std=gnu11", "-Os", "-Wall", "-ffunction-sections", "-fdata-
                    "-fno-fat-lto-objects"}
 PIO_BARE_LINKFLAGS = {"-Os", "-Wl,--gc-sections", "-flto", "-fuse-linker-plugin"}
 NO_CODE_CHANGE = {"-g"}  # debug information only
-BOARDS = {"uno": "UNO", "mega": "MEGA"}
+BOARDS = {"uno": "UNO", "uno-laser": "UNO_LASER", "mega": "MEGA"}
 
 
 def make_vars(*names: str) -> dict[str, list[str]]:
@@ -105,9 +105,11 @@ def test_board_env_matches_avr_mk(env: str, ini: configparser.RawConfigParser) -
 
 
 def test_uno_and_mega_flash_through_their_bootloaders(ini: configparser.RawConfigParser) -> None:
-    uno, mega = env_options(ini, "env:uno"), env_options(ini, "env:mega")
-    assert (uno["board"].strip(), uno["upload_protocol"].strip(), uno["upload_speed"].strip()) == \
-        ("uno", "arduino", "115200")
+    mega = env_options(ini, "env:mega")
+    for env in ("env:uno", "env:uno-laser"):
+        uno = env_options(ini, env)
+        assert (uno["board"].strip(), uno["upload_protocol"].strip(), uno["upload_speed"].strip()) == \
+            ("uno", "arduino", "115200")
     assert (mega["board"].strip(), mega["upload_protocol"].strip(), mega["upload_speed"].strip()) == \
         ("megaatmega2560", "wiring", "115200")
 

@@ -10,7 +10,7 @@ from quadstep.protocol import IdentifyReply, State, StatusReport
 from quadstep.tui.panels import MachinePanel
 from quadstep.tui.session import Snapshot
 
-IDENTITY = IdentifyReply(protocol_version=2, fw_major=1, fw_minor=0, fw_patch=0, board=1, axis_count=3,
+IDENTITY = IdentifyReply(protocol_version=3, fw_major=1, fw_minor=0, fw_patch=0, board=1, axis_count=3,
                          queue_capacity=14, speed_shift=12, n_max=1022, tick_hz=32000, capabilities=0,
                          next_seq=0, boot_id=1)
 LINK = {"retransmits": 0, "timeouts": 0, "errors": 0, "decode_errors": 0}

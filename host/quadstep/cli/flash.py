@@ -1,5 +1,5 @@
-"""`quadstep flash --board uno|mega [--port PORT]`: write the quadstep firmware to a board with
-avrdude.
+"""`quadstep flash --board uno|uno-laser|mega [--port PORT]`: write the quadstep firmware to a
+board with avrdude (uno-laser: the Uno's build with laser rasters in place of cubic segments).
 
 The hex is build/avr/<board>.hex of this source tree, built (`make <hex>`) when missing, or --hex
 FILE. avrdude talks to the Arduino bootloader: `-c arduino` at 115200 baud for the Uno (57600 for
@@ -21,14 +21,25 @@ from ..link.ports import PortError
 from .options import CliError
 
 # board → (avrdude part, programmer, bootloader baud)
-BOARDS = {"uno": ("atmega328p", "arduino", 115200), "mega": ("atmega2560", "wiring", 115200)}
+BOARDS = {
+    "uno": ("atmega328p", "arduino", 115200),
+    "uno-laser": ("atmega328p", "arduino", 115200),  # RASTER in place of the cubic segments
+    "mega": ("atmega2560", "wiring", 115200),
+}
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
     parser = subparsers.add_parser(
-        "flash", help="write the quadstep firmware to an Uno or a Mega (avrdude)"
+        "flash",
+        help="write the quadstep firmware to an Uno, an Uno for a laser, or a Mega (avrdude)",
     )
-    parser.add_argument("--board", choices=sorted(BOARDS), required=True)
+    parser.add_argument(
+        "--board",
+        choices=sorted(BOARDS),
+        required=True,
+        help="uno-laser: the Uno's build with laser rasters (RASTER) in place of jerk-limited "
+        "(cubic) segments",
+    )
     parser.add_argument(
         "--port",
         default="auto",

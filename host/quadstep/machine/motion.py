@@ -378,7 +378,7 @@ class Motion:
                 segments, index, end, chain, batch, choice.cubic_runs, choice.quadratic_runs
             )
             count = queue_slots(message)
-            self._wait_for_room(segments, first, k, k + count - 1, ticks, identity.queue_capacity)
+            self._wait_for_room(segments, first, k, k + count - 1, ticks, identity)
             # Checked and sent under the lock: once halt() has set _halting nothing more is
             # sent, so no segment can follow its HOLD. The room waited for above makes this
             # send return at once, so halt() never waits long for the lock.
@@ -456,7 +456,7 @@ class Motion:
         return ticks[k] - ticks[max(0, min(self.done, k))]
 
     def _wait_for_room(
-        self, segments: Segments, first: int, j: int, k: int, ticks: list[int], capacity: int
+        self, segments: Segments, first: int, j: int, k: int, ticks: list[int], board: IdentifyReply
     ) -> None:
         """Until a frame's segments `j` … `k` (counted from `first` of `segments`) fit in the
         queue and within the lookahead, or the board holds fewer than MIN_QUEUED_SEGMENTS before
@@ -470,8 +470,8 @@ class Motion:
             done = self.done
             queued = k - done
             if (
-                queued < capacity
-                and ring_fits(segments, first + done, first + k)
+                queued < board.queue_capacity
+                and ring_fits(segments, first + done, first + k, board.raster_ring)
                 and (
                     self.lookahead_ticks is None
                     or j - done < MIN_QUEUED_SEGMENTS

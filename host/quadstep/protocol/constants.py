@@ -21,7 +21,7 @@ from ..kernel.fixed import (
     D,
 )
 
-PROTOCOL_VERSION = 2
+PROTOCOL_VERSION = 3
 AXIS_NAMES = ("X", "Y", "Z", "A")  # axis i of every axis mask (PROTOCOL.md §1)
 MAX_FRAME = 64  # decoded bytes (body ‖ crc16) per frame
 MIN_FRAME = 4  # type, seq, crc16

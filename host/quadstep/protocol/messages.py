@@ -240,6 +240,7 @@ class IdentifyReply(Report):
     capabilities: U16
     next_seq: U8
     boot_id: U16  # new at each reset: a board reset since (its positions lost) shows another
+    raster_ring: U16 = 0  # pixel powers RASTER lines may hold queued on the board; 0 without RASTER
 
     @property
     def firmware_version(self) -> str:

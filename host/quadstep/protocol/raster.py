@@ -24,7 +24,6 @@ from .wire import FieldCodec, FieldFault, Request, bits, message
 HEAD = 8  # n:u16, axes, pixel, phase:u16, pitch:u16
 PIXELS_MAX = 64 - 4 - HEAD  # a frame's 64 bytes less type, seq and CRC
 STEP = 256  # phase and pitch are in 1/256 step
-RING = 1024  # powers a board with RASTER keeps for the lines queued (PROTOCOL.md §5.2)
 
 
 @dataclass(frozen=True)
@@ -111,8 +110,9 @@ class _Source(Protocol):
     def pixels(self, i: int) -> int: ...
 
 
-def ring_fits(source: _Source, start: int, last: int) -> bool:
-    """Whether the powers of the RASTER lines among segments `start` … `last` fit the board's
-    ring together (a line waits for room, else QUEUE_FULL). Asked at every report while a motion
-    waits for room: `pixels` builds no segment."""
-    return sum(source.pixels(i) for i in range(max(0, start), last + 1)) <= RING
+def ring_fits(source: _Source, start: int, last: int, ring: int) -> bool:
+    """Whether the powers of the RASTER lines among segments `start` … `last` fit together in the
+    board's ring of `ring` powers (IDENTIFY_REPLY's raster_ring; a line waits for room, else
+    QUEUE_FULL). Asked at every report while a motion waits for room: `pixels` builds no
+    segment."""
+    return sum(source.pixels(i) for i in range(max(0, start), last + 1)) <= ring

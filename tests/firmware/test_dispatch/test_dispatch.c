@@ -167,7 +167,7 @@ static void test_identify_reports_what_the_firmware_is(void)
     TEST_ASSERT_EQUAL_UINT8(200, reports[0].seq);
     TEST_ASSERT_EQUAL_INT(QS_LEN_IDENTIFY_REPLY, reports[0].len);
     p = reports[0].payload;
-    TEST_ASSERT_EQUAL_INT(2, p[0]);
+    TEST_ASSERT_EQUAL_INT(3, p[0]);
     TEST_ASSERT_EQUAL_INT(QS_FW_MAJOR, p[1]);
     TEST_ASSERT_EQUAL_INT(QS_BOARD, p[4]);
     TEST_ASSERT_EQUAL_INT(3, p[5]);
@@ -180,7 +180,7 @@ static void test_identify_reports_what_the_firmware_is(void)
     TEST_ASSERT_EQUAL_HEX16(QS_RASTER_BYTES ? 0x7FF7 : 0x3FF7, tp_u16(p + 14));
     TEST_ASSERT_EQUAL_INT(9, p[16]);
     TEST_ASSERT_EQUAL_HEX16(0xBEEF, tp_u16(p + 17));
-    TEST_ASSERT_EQUAL_INT(9, p[16]);
+    TEST_ASSERT_EQUAL_INT(QS_RASTER_BYTES, tp_u16(p + 19));
 }
 
 static void test_in_order_segments_are_accepted_and_counted_free(void)
