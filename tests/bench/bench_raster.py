@@ -3,7 +3,8 @@ an Uno's queue of 14), at 100 mm/s with 0.1 mm pixels and faster: pixels a secon
 pixel, retransmits, underruns (a STARVED board) and how far each power switch is from its boundary's
 tick. Nothing is asserted.
 
-Then the real Mega build and the Uno's laser build (`quadstep flash --board uno-laser`: RASTER with a
+Then a LightBurn-style raster file (a `G1 X… S…` a pixel) streamed through `quadstep grbl`, against
+`quadstep run` of it. Then the real Mega build and the Uno's laser build (`quadstep flash --board uno-laser`: RASTER with a
 ring of 128 powers in the room of the cubic segments) in simavr, fed RASTER lines as fast as flow
 control allows: the pixel rate each keeps up with. The Uno's own build has no RASTER (no flash left for
 it: capability bit 14 clear, rasters go out as ordinary moves there); the bench harness has no GRBL in
@@ -146,6 +147,47 @@ def board(
     )
 
 
+def front_door(rows: int, pixels: int, feed_mm_min: float) -> None:
+    """The file streamed through `quadstep grbl` by character counting, against `quadstep run` of it:
+    the wall time from the first line to rest, jobs, frames, retransmits, the board running dry."""
+    sys.path.insert(0, str(REPO / "tests" / "helpers"))
+    from grbl_client import GrblClient, report_fields
+    from grbl_door import serving
+    from laser_raster import raster_gcode, record_jobs
+
+    from quadstep.job import load_job
+
+    lines = raster_gcode(rows, pixels, feed_mm_min)
+    with tempfile.TemporaryDirectory() as tmp:
+        path = Path(tmp) / "raster.nc"
+        path.write_text("\n".join(lines) + "\n")
+        for way in ("grbl", "run"):
+            with Emulator(tick_hz=CONFIG.tick_hz, axes=3, queue=14) as emu, Link.open(emu.url) as link:
+                machine = Machine(link, CONFIG)
+                jobs = record_jobs(machine)
+                before = dict(link.stats.as_dict())
+                began = time.monotonic()
+                if way == "grbl":
+                    with serving(machine) as pty, GrblClient(str(pty.path)) as grbl:
+                        grbl.wait_banner()
+                        answers = grbl.stream_counting(lines)
+                        grbl.wait_status(lambda report: report_fields(report)["state"] == "Idle", 300)
+                    assert answers == ["ok"] * len(answers)
+                else:
+                    job = load_job(path, CONFIG, tuple(machine.position))
+                    machine.run_job(job.plan, job.program).wait()
+                seconds = time.monotonic() - began
+                after = link.stats.as_dict()
+                machine.close()
+            delta = {k: after[k] - before.get(k, 0) for k in ("frames_sent", "retransmits", "bytes_sent")}
+            dry = sum(job.states.starvations for job in jobs)
+            print(
+                f"  {way:4}: {seconds:.2f} s, {len(jobs)} job(s), {delta['frames_sent']} frames, "
+                f"{delta['retransmits']} retransmits, {delta['bytes_sent'] / (rows * pixels):.2f} B/pixel, "
+                f"ran dry {dry} times"
+            )
+
+
 def main() -> None:
     print("== RASTER on the real-time emulator (3 axes, 32 kHz, queue 14), laser-uno.toml")
     run(0.1, 100.0, 8, 400)
@@ -153,6 +195,8 @@ def main() -> None:
     run(0.025, 200.0, 8, 1600)
     run(0.0125, 200.0, 4, 3200)
     print("  the Uno's UART at 500 kbaud carries 50,000 B/s: at 1.7 B/pixel about 29,000 pixels/s")
+    print("== a LightBurn-style raster (12 rows of 300 0.1 mm pixels at 100 mm/s) through quadstep grbl")
+    front_door(12, 300, 6000)
     print("== RASTER on the real Mega build in simavr (25 kHz)")
     board("mega", 25000, 2048, 1)
     board("mega", 25000, 4096, 1)

@@ -8,7 +8,12 @@ a command needs the machine at rest ($H, $C, $X). It is an open job (machine/ope
 lines that come while it runs are added to it and planned onto what the board has not been sent,
 with look-ahead across them, so the machine goes on without a stop; only the end of what was
 received is kept back. When the sender goes quiet, a command needs the machine at rest or a jog
-comes, the job is closed and comes to rest at its end. A jog (`$J=`) runs alone, as its own job."""
+comes, the job is closed and comes to rest at its end. A jog (`$J=`) runs alone, as its own job.
+
+Laser rasters (raster_watch.py) run as jobs of their own, planned whole as RASTER lines: the lines
+of a raster row are gathered (the queue takes up to AHEAD_ITEMS of them while a job runs) until
+the row ends, the sender goes quiet or the queue is full, and a running job takes none of them:
+it is closed, and the rows start once it has come to rest."""
 
 from __future__ import annotations
 
@@ -24,7 +29,9 @@ from ..machine import JobRun, JobState, Machine, MachineError
 from ..planner.feed_override import Overrides, apply_overrides
 from ..planner.plan import plan_program
 from ..planner.program import Item, JobError, Program
+from ..protocol import Capability
 from .queued_motion import QueuedMotion
+from .raster_watch import RasterWatch
 
 QUEUE_LINES = 64  # lines accepted ahead of the machine while a job runs (AHEAD_ITEMS before)
 QUIET_S = 0.05  # a sender quiet this long: what it sent is run
@@ -74,6 +81,10 @@ class Executor:
         self._flush = 0  # callers waiting for the machine at rest: run what is queued now
         self._last = time.monotonic()
         self._motion = QueuedMotion(machine.config)  # of the lines queued before a job starts
+        identity = machine.identity
+        takes_rasters = identity is not None and bool(identity.capabilities & Capability.RASTER)
+        self._rasters = RasterWatch(machine.config, takes_rasters)  # of the lines queued
+        self._batch_rasters = False  # the batch taken holds a raster run
         self.feed_override = 100  # %, for the batches planned next (overrides.py)
         self.generation = 0  # a soft reset makes a new one; work of an older one is dropped
         self._closed = False
@@ -90,6 +101,7 @@ class Executor:
                 return False
             self._queue.append(work)
             self._motion.add(work.items)
+            self._rasters.add(work.items)
             self._last = time.monotonic()
             self._cond.notify_all()
             return True
@@ -181,6 +193,7 @@ class Executor:
             self.generation += 1
             self._queue.clear()
             self._motion.clear()
+            self._rasters.clear()
             self._held = False
             running = self._running
             self._cond.notify_all()
@@ -206,16 +219,18 @@ class Executor:
 
     def _room(self) -> int:
         """Under the lock: the lines the queue takes, fewer while a job runs (they go to it)."""
-        return QUEUE_LINES if self._running is not None or self._taking else AHEAD_ITEMS
+        running = self._running is not None or self._taking
+        return QUEUE_LINES if running and not self._rasters.holds_run else AHEAD_ITEMS
 
     def _ready(self) -> float | None:
         """Under the lock: None when the head of the queue should run now, else how long to wait."""
         if not self._queue or self._held:
             return 1.0
-        head_runs = self._queue[0].jog or self._flush or self._motion.enough
+        quiet = time.monotonic() - self._last
+        gathering = self._rasters.growing and quiet < QUIET_S  # a raster row still coming
+        head_runs = self._queue[0].jog or self._flush or (self._motion.enough and not gathering)
         if head_runs or len(self._queue) >= AHEAD_ITEMS:
             return None
-        quiet = time.monotonic() - self._last
         return None if quiet >= QUIET_S else QUIET_S - quiet
 
     def _ends_stream(self, generation: int) -> bool:
@@ -231,24 +246,28 @@ class Executor:
         while run.end is None:
             with self._cond:
                 self._cond.wait(POLL_S)
-                if self._ends_stream(generation):
-                    break
-                if not self._queue or run.pending >= AHEAD_ITEMS:
+                if self._ends_stream(generation) or self._rasters.holds_run:
+                    break  # raster rows: a job of their own, once this one has come to rest
+                quiet = time.monotonic() - self._last >= QUIET_S
+                if (
+                    not self._queue
+                    or run.pending >= AHEAD_ITEMS
+                    or (self._rasters.growing and not quiet)
+                ):
                     continue
                 progress = run.progress
                 ahead = progress.seconds_left
                 if progress.total - progress.done >= AHEAD_SEGMENTS:
                     continue
                 if ahead >= AHEAD_S or not (
-                    len(self._queue) >= ADD_LINES
-                    or ahead < AHEAD_S / 2
-                    or time.monotonic() - self._last >= QUIET_S
+                    len(self._queue) >= ADD_LINES or ahead < AHEAD_S / 2 or quiet
                 ):
                     continue
                 works = []
                 while self._queue and not self._queue[0].jog:
                     works.append(self._queue.popleft())
                 self._motion.clear()
+                self._rasters.clear()
                 self._cond.notify_all()
             items = [item for work in works for item in work.items]
             if not run.extend(items, works[-1].line, works[-1].coordinates):
@@ -276,6 +295,8 @@ class Executor:
                 while self._queue and not self._queue[0].jog:
                     batch.append(self._queue.popleft())
                 self._motion.clear()
+                self._batch_rasters = self._rasters.holds_run
+                self._rasters.clear()
             self._taking = True
             self._cond.notify_all()
             return batch
@@ -300,6 +321,7 @@ class Executor:
         last = batch[-1]
         with self._cond:
             generation = self.generation
+            open_end = not last.jog and not self._batch_rasters  # rasters: planned whole
         if items:
             program = Program(items=items, lines=last.line, coordinates=last.coordinates)
             feed = 100 if last.jog else self.feed_override
@@ -316,11 +338,11 @@ class Executor:
                     program,
                     label="line",
                     feed_override=feed,
-                    open_end=not last.jog,
+                    open_end=open_end,
                     overridden=True,  # a jog's moves all have a feed and no S
                 )
                 self._running = Running(run, last.jog)
-            if not last.jog:
+            if open_end:
                 last = self._feed(run, last, generation)
             end = run.wait()
             if end is not None and end.ended_by == "error":

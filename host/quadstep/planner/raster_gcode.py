@@ -32,16 +32,16 @@ class Run:
     state: OutputState
 
 
-def _candidate(item: Item, at: tuple[float, ...], lasing: bool) -> float:
+def candidate_step(item: Item, at: tuple[float, ...], lit: bool) -> float:
     """The X step of a move a raster could hold (a G1 along X with the laser on), else 0."""
-    if not lasing or not isinstance(item, LinearMove) or item.feed is None:
+    if not lit or not isinstance(item, LinearMove) or item.feed is None:
         return 0.0
     if any(t != a for t, a in zip(item.target[1:], at[1:])):
         return 0.0
     return item.target[0] - at[0]
 
 
-def _lasing(state: OutputState | None, config: MachineConfig) -> bool:
+def lasing(state: OutputState | None, config: MachineConfig) -> bool:
     return state is not None and config.spindle.laser and state.spindle in (3, 4)
 
 
@@ -61,7 +61,7 @@ def _run_at(
         elif (
             isinstance(item, LinearMove)
             and item.feed == feed
-            and (s := _candidate(item, at, _lasing(run_state, config))) != 0.0
+            and (s := candidate_step(item, at, lasing(run_state, config))) != 0.0
             and (s > 0) == (step > 0)
         ):
             edges.append(item.target[0])
@@ -85,7 +85,7 @@ def find_runs(program: Program, config: MachineConfig, start: tuple[float, ...])
     i = 0
     while i < len(items):
         item = items[i]
-        if state is not None and _candidate(item, at, _lasing(state, config)) != 0.0:
+        if state is not None and candidate_step(item, at, lasing(state, config)) != 0.0:
             run = _run_at(items, i, at, state, config)
             if run is not None:
                 runs.append(run)
