@@ -1,7 +1,8 @@
 """The Uno's laser build (`quadstep flash --board uno-laser`) in simavr: RASTER with a ring of 128
 powers in the room of the cubic segments. The host reads the ring from IDENTIFY_REPLY, refuses a
 configuration that needs cubic segments, and runs a grayscale raster through the real link as RASTER
-lines, every step where it predicts it; the stack keeps its margin."""
+lines, every step where it predicts it, from a plan or from a sender through the GRBL front door; the
+stack keeps its margin."""
 
 from __future__ import annotations
 
@@ -12,10 +13,14 @@ import pytest
 
 import avr_scenarios
 from avr_sim import F_CPU, Outputs, SimAvr, run_input
+from grbl_client import GrblClient, report_fields
+from grbl_door import serving
+from laser_raster import raster_gcode, record_jobs
 from quadstep.config import load_config
+from quadstep.job import load_job
 from quadstep.kernel.engine_model import predict
 from quadstep.link import Link
-from quadstep.machine import Machine, MachineError
+from quadstep.machine import JobState, Machine, MachineError
 from quadstep.planner.raster import RasterImage, plan_raster
 from quadstep.protocol import Capability
 from quadstep.protocol.raster import RasterLine
@@ -72,3 +77,27 @@ def test_the_laser_build_keeps_its_stack_margin(scenario: str, avr_build: None, 
     assert stats["motion"]["ticks_missed"] == 0 and stats["motion"]["steps"] != [0, 0, 0]
     stack = stats["stack"]
     assert stack["deepest"] - stack["static_end"] >= 80, stack
+
+
+def test_a_sender_streams_a_raster_through_the_front_door_to_the_laser_build(avr_build: None,
+                                                                             tmp_path: Path) -> None:
+    """A LightBurn-style file (a `G1 X… S…` a pixel) through `quadstep grbl` by character counting, to the
+    real laser build: its rows go out as RASTER lines that fit the ring of 128, every step as predicted."""
+    lines = raster_gcode(rows=4, pixels=120)
+    outputs = Outputs.in_dir(tmp_path, BOARD)
+    with SimAvr(outputs, board=BOARD) as sim, Link.open(sim.url) as link:
+        machine = Machine(link, CONFIG)
+        jobs = record_jobs(machine)
+        with serving(machine) as pty, GrblClient(str(pty.path)) as grbl:
+            grbl.wait_banner()
+            assert grbl.stream_counting(lines) == ["ok"] * len(lines)
+            grbl.wait_status(lambda report: report_fields(report)["state"] == "Idle")
+        end = tuple(link.status().position[:3])
+        machine.close()
+    file = tmp_path / "raster.nc"
+    file.write_text("\n".join(lines) + "\n")
+    assert end == load_job(file, CONFIG, (0, 0, 0)).plan.end
+    assert all(job.state is JobState.DONE and job.states.starvations == 0 for job in jobs)
+    sent = [segment for job in jobs for segment in job.plan.segments.segments()]
+    assert sum(len(s.raster.power) for s in sent if isinstance(s, RasterLine)) >= 4 * 120
+    assert np.array_equal(outputs.load_trace(), predict(sent, [0, 0, 0], axis_count=3).steps)
