@@ -5,11 +5,12 @@ host's prediction of what it was sent and the machine ends where the file does."
 
 from __future__ import annotations
 
+import threading
 from collections.abc import Iterator
 from pathlib import Path
 
 import pytest
-from grbl_client import GrblClient, report_fields
+from grbl_client import GrblClient, mpos, report_fields
 from grbl_door import serving
 from host_helpers import assert_trace_is_prediction
 from laser_raster import raster_gcode, record_jobs
@@ -60,3 +61,29 @@ def test_a_streamed_raster_goes_out_as_raster_lines_and_never_runs_dry(door, tmp
     print(f"{len(jobs)} jobs, {frames} frames, {sent_bytes / burned:.2f} B a pixel")
     assert sent_bytes <= 5 * 8 * 160  # as moves, a segment and an OUTPUTS a pixel: about 50 B
     assert_trace_is_prediction(trace, sent, axis_count=3)
+
+
+@pytest.mark.realtime
+def test_a_feed_hold_inside_a_streamed_raster_goes_on_from_where_it_stopped(door, tmp_path: Path) -> None:  # noqa: ANN001
+    """`!` while a row burns, `~` a moment later: the row goes on, and the machine ends where the file
+    does."""
+    machine, path, _, jobs = door
+    lines = raster_gcode(rows=6, pixels=160)
+    with GrblClient(str(path)) as grbl:
+        grbl.wait_banner()
+        answers: list[str] = []
+        sending = threading.Thread(target=lambda: answers.extend(grbl.stream_counting(lines)))
+        sending.start()
+        grbl.wait_status(lambda report: report.startswith("<Run") and mpos(report)[1] > 10.25)
+        grbl.realtime(ord("!"))
+        held = grbl.wait_status(lambda report: report.startswith("<Hold:0"))
+        assert mpos(grbl.status()) == mpos(held)  # at rest while held
+        grbl.realtime(ord("~"))
+        sending.join(timeout=60)
+        assert not sending.is_alive() and answers == ["ok"] * len(lines)
+        grbl.wait_status(lambda report: report_fields(report)["state"] == "Idle")
+    file = tmp_path / "raster.nc"
+    file.write_text("\n".join(lines) + "\n")
+    assert tuple(machine.link.status().position[:3]) == load_job(file, CONFIG, (0, 0, 0)).plan.end
+    assert all(job.state is JobState.DONE for job in jobs)
+    assert any(JobState.HELD in job.states.history for job in jobs)
