@@ -45,6 +45,7 @@ def test_info_text(emulator_binary: Path, capsys: pytest.CaptureFixture[str], mo
     assert main(["info", "--emulator"]) == 0
     out = capsys.readouterr().out
     assert "on EMULATOR, protocol 3" in out and "32000 Hz" in out and "X 0  Y 0  Z 0\n" in out
+    assert "laser rasters: a ring of 1024 powers" in out
 
 
 def test_send_example(emulator_binary: Path, capsys: pytest.CaptureFixture[str], monkeypatch: pytest.MonkeyPatch,

@@ -48,7 +48,15 @@ def format_info(ident: IdentifyReply, status: StatusReport) -> str:
             f"{ident.tick_hz} Hz, segments up to {ident.n_max} ticks, speeds in "
             f"1/{1 << ident.speed_shift} step/tick",
         ),
-        ("queue", f"{status.queue_fill} of {ident.queue_capacity} slots in use"),
+        (
+            "queue",
+            f"{status.queue_fill} of {ident.queue_capacity} slots in use"
+            + (
+                f"; laser rasters: a ring of {ident.raster_ring} powers"
+                if ident.raster_ring
+                else ""
+            ),
+        ),
         ("capabilities", ", ".join(ident.capability_names) or "none"),
         ("state", status.state.name + (f" (alarm {status.alarm.name})" if status.alarm else "")),
         ("next seq", f"{status.next_seq}"),
