@@ -19,6 +19,16 @@ void outputs_init(void)
     TCCR2B = _BV(CS22);               /* clock / 64 */
 }
 
+/* OCR2A is buffered: written now, it takes effect at the next period. A
+ * RASTER's pixel is looked up for the middle of that period, so each
+ * period shows the pixel under the head half-way through it, not the one
+ * there a period or more before. */
+static uint16_t raster_ahead(void)
+{
+    const uint16_t cycles = (uint16_t)((256u - TCNT2) * 64u + 128u * 64u);
+    return (uint16_t)(cycles / (uint16_t)(F_CPU / QS_TICK_HZ));
+}
+
 /* A pin of a port the step interrupt never writes. */
 #define SET_PIN(port, bit, on) ((on) ? ((port) |= _BV(bit)) : ((port) &= (uint8_t)~_BV(bit)))
 
@@ -32,7 +42,7 @@ QS_NOINLINE void outputs_update(void)
         level.pins = 0; /* no need to look at the engine */
         level.duty = 0;
     } else {
-        qs_core_outputs(&core, &level);
+        qs_core_outputs(&core, &level, QS_RASTER_BYTES ? raster_ahead() : 0);
     }
     /* OCR2A takes effect at the next period: high for (OCR2A + 1) / 256 of
      * it; a duty of 0 disconnects the pin, which then stays low. Registers

@@ -131,12 +131,16 @@ static QS_ALWAYS_INLINE void qs_core_poll(qs_core *c)
 void qs_core_status(qs_core *c, qs_status *st);
 
 /* The spindle, laser and coolant outputs as the pins should show them now
- * (qs_outputs.h); main loop, at the target's own pace. */
-static inline void qs_core_outputs(qs_core *c, qs_output_level *out)
+ * (qs_outputs.h); main loop, at the target's own pace. A RASTER's pixel is
+ * the one under the axis `ahead` ticks from now: a target whose duty takes
+ * effect later (the AVR's buffered PWM) asks for the pixel then. */
+static inline void qs_core_outputs(qs_core *c, qs_output_level *out, uint16_t ahead)
 {
     qs_outputs_level(&c->engine, &c->outputs, out);
 #if QS_RASTER_BYTES
-    qs_raster_level(&c->raster, &c->engine, out);
+    qs_raster_level(&c->raster, &c->engine, out, ahead);
+#else
+    (void)ahead;
 #endif
 }
 

@@ -101,33 +101,56 @@ static uint8_t pixel_at(const qs_raster_pixels *px, uint16_t steps)
     return (uint8_t)(k < count ? k : count - 1u);
 }
 
-void qs_raster_level(const qs_raster *r, qs_engine *e, qs_output_level *out)
+static uint8_t is_raster(const qs_segment *s)
 {
-    const qs_segment *s;
-    uint16_t t = 0;
-    qs_i24 b = 0;
-    uint8_t axis, saved;
+    return !QS_IS_CUBIC(s) && (s->ends_moving & QS_SLOT_RASTER);
+}
+
+static uint8_t pixel_axis(const qs_segment *s)
+{
+    return (uint8_t)((s->ends_moving >> QS_SLOT_RASTER_AXIS_SHIFT) & 3u);
+}
+
+void qs_raster_level(const qs_raster *r, qs_engine *e, qs_output_level *out, uint16_t ahead)
+{
+    const qs_segment *s, *next = 0;
+    uint32_t t = 0;
+    qs_i24 b;
+    uint8_t i, saved;
 
     if (!(out->pins & QS_OUT_ON))
         return;
     saved = qs_port_lock();
     /* the running line, or the next about to begin (at its start) */
     s = e->left ? e->seg : (qs_queue_empty(&e->queue) ? 0 : qs_queue_front(&e->queue));
-    if (e->state != QS_STATE_RUNNING || e->trigger_window || !s || QS_IS_CUBIC(s) || !(s->ends_moving & QS_SLOT_RASTER)) {
+    if (e->state != QS_STATE_RUNNING || e->trigger_window || !s || !is_raster(s)) {
         qs_port_unlock(saved);
         return;
     }
-    axis = (uint8_t)((s->ends_moving >> QS_SLOT_RASTER_AXIS_SHIFT) & 3u);
-    if (e->left) {
+    if (e->left)
         t = (uint16_t)(s->n - e->left);
-        b = s->b[axis];
-    } else if (e->kept) {
+    else if (e->kept)
         t = s->n; /* it ended moving, nothing behind it yet: at its end */
-    }
+    i = qs_queue_next(&e->queue, e->queue.tail);
+    if (i != e->queue.head)
+        next = qs_queue_at(&e->queue, i);
     qs_port_unlock(saved);
-    /* only this loop reuses slots: s stays what it was */
+    /* only this loop reuses slots: s and next stay what they were */
+    t += ahead;
+    if (t >= s->n && next) { /* in the segment after the line */
+        if (!is_raster(next))
+            return; /* past the lines: the setting's duty (dark around a row) */
+        t -= s->n;
+        s = next;
+        if (t > s->n)
+            t = s->n;
+    } else if (t > s->n) {
+        return; /* past all that is queued */
+    }
+    /* a line is a cruise: b never changes, so the steps at any t follow from it */
+    b = s->b[pixel_axis(s)];
     out->duty = (uint16_t)(r->power[((s->px.where & 0x3FFu)
-                                     + pixel_at(&s->px, t ? qs_segment_steps_from(s, axis, t, b) : 0))
+                                     + pixel_at(&s->px, t ? qs_segment_steps_from(s, pixel_axis(s), (uint16_t)t, b) : 0))
                                     % QS_RASTER_BYTES]
                            * 257u);
 }

@@ -46,7 +46,10 @@ uint8_t qs_raster_room(const qs_raster *r, qs_queue *q, uint8_t count);
 void qs_raster_store(qs_raster *r, qs_segment *slot, const qs_raster_msg *m);
 
 /* The running RASTER's pixel power replaces the duty, while the setting it
- * carries is on (out as qs_outputs_level left it). */
-void qs_raster_level(const qs_raster *r, qs_engine *e, qs_output_level *out);
+ * carries is on (out as qs_outputs_level left it): the pixel under the axis
+ * `ahead` ticks from now, in the line running then if it is the next one;
+ * past the end of the RASTER lines queued, the setting's own duty (dark
+ * around a row). */
+void qs_raster_level(const qs_raster *r, qs_engine *e, qs_output_level *out, uint16_t ahead);
 
 #endif

@@ -62,20 +62,31 @@ static uint8_t pixel_at(const line *l, uint32_t steps)
     return k;
 }
 
-static uint16_t duty_now(void)
+static uint16_t duty_ahead(uint16_t ahead)
 {
     qs_output_level out;
-    qs_core_outputs(&core, &out);
+    qs_core_outputs(&core, &out, ahead);
     return out.duty;
 }
 
+static uint16_t duty_now(void)
+{
+    return duty_ahead(0);
+}
+
 #define LINES 4
+#define AHEAD 40          /* ticks a board looks ahead (shorter than any line here) */
+#define RUN_TICKS 2181u   /* 200 + 300 + 397 + 494 + 591 + 200 - 1 */
 
 /* A ramp to speed, four lines on X (and Y slower along), a ramp to rest;
  * after every tick the duty is the power of the pixel under X counted
- * from the start of the line that runs, 0 on the ramps. */
+ * from the start of the line that runs, 0 on the ramps. Looked up AHEAD
+ * ticks ahead, it is the duty AHEAD ticks later while a line runs (the
+ * next line's pixel, or dark past the last line), and 0 on the ramps. */
 static void run_lines(uint8_t axes, uint16_t vx, uint16_t vy)
 {
+    static uint16_t now[RUN_TICKS + AHEAD], ahead[RUN_TICKS];
+    static uint8_t in_line[RUN_TICKS];
     static line lines[LINES];
     const uint16_t phases[LINES] = {256, 700, 1000, 1203};
     const uint16_t pitches[LINES] = {256, 700, 1000, 1203};
@@ -133,10 +144,16 @@ static void run_lines(uint8_t axes, uint16_t vx, uint16_t vy)
             expected = (uint16_t)(l->power[pixel_at(l, steps)] * 257u);
         }
         TEST_ASSERT_EQUAL_UINT16(expected, duty_now());
+        now[checked] = expected;
+        ahead[checked] = duty_ahead(AHEAD);
+        in_line[checked] = seg >= 1 && seg <= LINES;
         checked++;
     }
-    TEST_ASSERT_EQUAL_UINT32(200u + 300u + 397u + 494u + 591u + 200u - 1u, checked);
+    TEST_ASSERT_EQUAL_UINT32(RUN_TICKS, checked);
     TEST_ASSERT_EQUAL_INT(QS_STATE_IDLE, core.engine.state);
+    for (j = 0; j < RUN_TICKS; j++) {
+        TEST_ASSERT_EQUAL_UINT16(in_line[j] ? now[j + AHEAD] : 0, ahead[j]);
+    }
 }
 
 static void test_the_power_changes_at_the_step_of_each_boundary(void)
