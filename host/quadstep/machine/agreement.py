@@ -41,12 +41,12 @@ def _check_quadratic_only(config: MachineConfig, source: str) -> None:
         if axis.max_jerk is not None:
             raise MachineError(
                 f"{source}: axes[{i}].max_jerk = {axis.max_jerk:g}, but the firmware has no cubic "
-                "(jerk-limited) segments (the Uno's laser build); remove max_jerk, or flash "
-                "quadstep flash --board uno"
+                "(jerk-limited) segments (the Uno's laser build); remove max_jerk, or write the "
+                "Uno's own build with quadstep flash --board uno"
             )
         if axis.backlash_steps:
             raise MachineError(
                 f"{source}: axes[{i}].backlash is compensated, but the firmware has no cubic "
                 "segments to take it up with (the Uno's laser build); set backlash.compensate = "
-                "false, or flash quadstep flash --board uno"
+                "false, or write the Uno's own build with quadstep flash --board uno"
             )
