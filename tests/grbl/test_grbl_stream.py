@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import math
 import threading
+import time
 from collections.abc import Iterator
 from pathlib import Path
 
@@ -25,6 +26,7 @@ from quadstep.link import Link
 from quadstep.machine import JobRun, JobState, Machine
 from quadstep.machine import job as job_module
 from quadstep.machine import rebase as rebase_module
+from quadstep.machine.motion import Motion
 from quadstep.planner.program import LinearMove
 
 REPO = Path(__file__).resolve().parents[2]
@@ -133,13 +135,31 @@ def test_a_streamed_file_runs_as_one_job_without_a_stop_and_lands_exactly(
     check_exact(door, job)
 
 
+def stall_once(monkeypatch: pytest.MonkeyPatch, frame: int, seconds: float) -> None:
+    """The host stops streaming for `seconds` before its `frame`-th frame (a busy computer), so the
+    board runs dry and brakes by itself."""
+    wait_for_room, frames = Motion._wait_for_room, [0]
+
+    def stalled(motion: Motion, *args, **kwargs):
+        frames[0] += 1
+        if frames[0] == frame:
+            time.sleep(seconds)
+        return wait_for_room(motion, *args, **kwargs)
+
+    monkeypatch.setattr(Motion, "_wait_for_room", stalled)
+
+
 @pytest.mark.realtime
+@pytest.mark.parametrize("stalled", [False, True], ids=["steady", "host-stalls"])
 def test_a_long_stream_lets_go_of_what_ran_and_lands_exactly(
-    door: Door, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+    door: Door, tmp_path: Path, monkeypatch: pytest.MonkeyPatch, stalled: bool
 ) -> None:
     """The running job lets go of what the board has run (machine/rebase.py, here every 40
-    segments): what was sent is every plan in turn, and the spiral ends on its last target."""
+    segments): what was sent is every plan in turn, and the spiral ends on its last target, also
+    where the host stalls mid-stream and the board brakes by itself."""
     monkeypatch.setattr(rebase_module, "REBASE_SEGMENTS", 40)
+    if stalled:
+        stall_once(monkeypatch, frame=40, seconds=2.0)
     sent: list = []  # what ran, in order: what each plan let go of, each leg run to its end
     let_go, next_leg = job_module.rebased, JobRun._next_leg
     rebases = []
@@ -151,7 +171,9 @@ def test_a_long_stream_lets_go_of_what_ran_and_lands_exactly(
 
     def leg_ran(run: JobRun, here: tuple[int, ...]):  # on a busy computer: on from rest
         if run.states.history[-2:] == [JobState.STREAMING, JobState.RESUMING]:
-            sent.extend(run.plan.segments.segments())
+            sent.extend(run.plan.segments.segments())  # the leg ran to its end, then lines came
+        elif run.states.history[-2:] == [JobState.STARVED, JobState.RESUMING]:
+            sent.extend(run.plan.segments.segments(0, run._offset))  # what ran before it braked
         return next_leg(run, here)
 
     monkeypatch.setattr(job_module, "rebased", recorded)
@@ -166,6 +188,8 @@ def test_a_long_stream_lets_go_of_what_ran_and_lands_exactly(
     assert rebases and len(sent) >= 40  # it let go of what ran
     assert job.progress.done == job.progress.total == len(sent) + len(job.plan)
     sent.extend(job.plan.segments.segments())
+    if stalled:
+        assert job.states.starvations == 1
     if JobState.STARVED not in job.states.history:  # the board never braked by itself
         assert_trace_is_prediction(door.trace, sent, axis_count=3)
 
