@@ -7,10 +7,12 @@ from __future__ import annotations
 import queue
 import re
 import threading
+import time
 from collections.abc import Callable, Iterator
 from pathlib import Path
 
 import pytest
+import serial
 from grbl_client import GrblClient, mpos, report_fields
 from grbl_door import serving
 
@@ -283,3 +285,28 @@ def test_a_status_request_in_the_middle_of_a_line_is_answered_at_once(free_door:
         grbl.port.write(b"2\n")
         assert grbl.answer() == "ok"
         assert mpos(grbl.wait_status(at_rest)) == (2.0, 0.0, 0.0)
+
+
+def test_a_sender_that_reads_late_loses_no_answer(free_door: FrontDoor) -> None:
+    """A sender busy elsewhere (a GUI redrawing) reads nothing for a while: what the front door has
+    to say waits for it, whole and in order, rather than being dropped or cut where the
+    pseudo-terminal is full."""
+    lines = 300
+    port = serial.serial_for_url(str(free_door.pty.path), timeout=0.5)
+    try:
+        time.sleep(0.5)  # the banner
+        for _ in range(lines):  # far more than a pseudo-terminal holds, and nothing read
+            port.write(b"?" * 10 + b"$G\n")
+            time.sleep(0.001)
+        text = b""
+        while text.count(b"ok\r\n") < lines:
+            chunk = port.read(65536)
+            assert chunk, f"an answer never came: {text.count(b'ok')} of {lines}"
+            text += chunk
+    finally:
+        port.close()
+    said = [line for line in text.decode().split("\r\n") if line and not line.startswith("Grbl")]
+    reports = [line for line in said if line.startswith("<")]
+    assert all(REPORT.match(report) for report in reports) and reports
+    answers = [line for line in said if not line.startswith("<")]
+    assert answers == ["[GC:G0 G54 G17 G21 G90 G94 M5 M9 T0 F0 S0]", "ok"] * lines

@@ -49,7 +49,20 @@ class PtyServer:
         self.connected = threading.Event()
 
     def _send(self, data: bytes) -> None:
-        os.write(self._master, data)
+        """All of `data` to the sender (the session's writer thread): the master is non-blocking,
+        so this waits for room while the sender reads nothing, and gives up once it has gone."""
+        left = memoryview(data)
+        room = select.poll()
+        room.register(self._master, select.POLLOUT)
+        while left:
+            try:
+                left = left[os.write(self._master, left) :]
+                continue
+            except BlockingIOError:
+                pass
+            events = room.poll(POLL_MS)
+            if self._stop.is_set() or any(flags & select.POLLHUP for _, flags in events):
+                raise BrokenPipeError("the sender has closed the port")
 
     def serve(self) -> None:
         """Until stop(): a session for each sender that opens the path, its bytes to it."""

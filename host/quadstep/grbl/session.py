@@ -21,6 +21,7 @@ from ..protocol import Alarm, Report, State
 from .alarms import FIRMWARE, fault_alarm, firmware_alarm, homing_alarm
 from .errors import GrblAlarm, GrblError, error_for
 from .executor import Executor, Work
+from .outbox import Outbox
 from .overrides import COOLANT_TOGGLES, OVERRIDE_BYTES, SPINDLE_STOP, Overrides, toggled
 from .probe import no_probe, run_probe, split_probe
 from .protocol import (
@@ -71,8 +72,8 @@ class SessionOptions:
 
 
 class Session:
-    """GRBL 1.1 on `machine` for one client, whose answers go to `write` (bytes, from any
-    thread)."""
+    """GRBL 1.1 on `machine` for one client, whose answers go to `write` (bytes; called from a
+    thread of the session's own, and may wait while the client reads nothing)."""
 
     def __init__(
         self,
@@ -82,8 +83,7 @@ class Session:
     ) -> None:
         self.machine = machine
         self.options = options = options if options is not None else SessionOptions()
-        self._write = write
-        self._write_lock = threading.Lock()
+        self._outbox = Outbox(write)
         self._reader_lock = threading.Lock()
         self.reader = Reader(
             machine.config, machine.position_mm, machine.coordinates, options.tool_change
@@ -117,16 +117,11 @@ class Session:
             self.machine.hold("quit")
         self.executor.close()
         self._worker.join(timeout=10)
+        self._outbox.close()
 
     def say(self, *lines: str) -> None:
-        data = (
-            "".join(f"{line}\r\n" for line in lines).replace("…", "...").encode("ascii", "replace")
-        )
-        with self._write_lock:
-            try:
-                self._write(data)
-            except OSError:
-                pass  # the client has gone: close() follows
+        text = "".join(f"{line}\r\n" for line in lines)
+        self._outbox.put(text.replace("…", "...").encode("ascii", "replace"))
 
     def receive(self, data: bytes) -> None:
         """Bytes from the client (in its receiving thread)."""
