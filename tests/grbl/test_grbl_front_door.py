@@ -94,6 +94,13 @@ def file_end(tmp_path: Path) -> tuple[int, ...]:
     return load_job(path, CONFIG, (0, 0, 0), coordinates=WorkCoordinates()).plan.end
 
 
+def wait_until(condition: Callable[[], bool], timeout: float = 10.0) -> None:
+    deadline = time.monotonic() + timeout
+    while not condition():
+        assert time.monotonic() < deadline, "timed out"
+        time.sleep(0.01)
+
+
 def at_rest(report: str) -> bool:
     return report_fields(report)["state"] == "Idle"
 
@@ -200,6 +207,32 @@ def test_system_commands_answer_in_grbls_formats(free_door: FrontDoor) -> None:
         assert grbl.command("$N") == (["$N0=", "$N1="], "ok")
         assert grbl.command("$100=80")[1] == "error:3"
         assert grbl.command("$Q")[1] == "error:3"
+
+
+def test_the_status_mask_10_chooses_work_or_machine_position_and_the_buffer_field(
+    free_door: FrontDoor,
+) -> None:
+    with client(free_door) as grbl:
+        assert grbl.command("G10 L2 P1 X10 Y20 Z-5")[1] == "ok"
+        assert grbl.command("G0 X30 Y25 Z-10")[1] == "ok"
+        machine = mpos(grbl.wait_status(at_rest))
+        assert machine == (40.0, 45.0, -15.0)  # G54's X30 Y25 Z-10
+        assert grbl.command("$10=0") == ([], "ok")
+        fields = report_fields(grbl.status())
+        assert "MPos" not in fields and "Bf" not in fields
+        assert fields["WPos"] == "30.000,25.000,-10.000"  # GRBL's WPos = MPos - WCO
+        assert grbl.command("$10=3") == ([], "ok")  # MPos, and Bf
+        fields = report_fields(grbl.status())
+        assert fields["MPos"] == "40.000,45.000,-15.000" and fields["Bf"] == "15,128"
+        assert "[MSG:" in grbl.command("$10=2.5")[0][0] and grbl.command("$10=2.5")[1] == "error:3"
+        assert grbl.command("$10=-1")[1] == "error:4"
+        lines, answer = grbl.command("$$")
+        assert answer == "ok" and "$10=3" in lines
+    wait_until(lambda: not free_door.pty.connected.is_set())  # the server saw it close
+    with client(free_door) as grbl:  # a sender connecting again finds it as it was left
+        assert "Bf" in report_fields(grbl.status())
+        assert grbl.command("$10=1") == ([], "ok")
+        assert "Bf" not in report_fields(grbl.status())
 
 
 def test_bad_lines_are_answered_with_grbls_errors_and_nothing_moves(free_door: FrontDoor) -> None:

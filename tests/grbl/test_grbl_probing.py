@@ -81,12 +81,15 @@ def test_a_z_touch_off_on_the_plate(grbl: GrblClient) -> None:
     position, found = prb(said[-1])
     assert found == 1 and position[:2] == (75.0, 75.0)
     assert abs(position[2] * STEPS - PLATE_Z) <= 1.0
-    rest = mpos(grbl.wait_status(idle))[2]  # a little below the contact: it decelerated
+    resting = grbl.wait_status(idle)
+    rest = mpos(resting)[2]  # a little below the contact: it decelerated
     assert position[2] - 0.1 < rest <= position[2]
+    assert report_fields(resting)["Pn"] == "P"  # the probe touches the plate
     # a sender's touch-off where it rests: the plate is 10 mm thick, then up to work Z 20
     assert grbl.command("G10 L20 P1 Z10")[1] == "ok"
     assert grbl.command("G0 Z20")[1] == "ok"
     report = grbl.wait_status(lambda r: idle(r) and "WCO" in r)
+    assert "Pn" not in report_fields(report)  # lifted off it
     wco = tuple(float(x) for x in report_fields(report)["WCO"].split(","))
     assert wco[2] == pytest.approx(rest - 10, abs=1e-9)
     assert mpos(report)[2] == pytest.approx(rest + 10, abs=1e-9)

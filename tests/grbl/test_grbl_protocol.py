@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from quadstep.grbl.errors import GrblError, error_for
+from quadstep.grbl.pins import pin_letters
 from quadstep.grbl.protocol import (
     MAX_LINE,
     Line,
@@ -11,6 +12,7 @@ from quadstep.grbl.protocol import (
     StreamSplitter,
     status_report,
 )
+from quadstep.protocol import Input
 
 
 def test_realtime_bytes_are_taken_out_of_a_line_as_they_arrive() -> None:
@@ -48,3 +50,34 @@ def test_quadstep_messages_map_to_grbl_error_numbers() -> None:
         error_for("line 1, column 1: 'G81': canned cycles (G73, G81 … G89) are not supported") == 20
     )
     assert error_for("something new") == GrblError.INVALID_TARGET
+
+
+def test_a_status_report_carries_its_optional_fields_in_grbls_order() -> None:
+    fields = StatusFields(
+        "Run",
+        (1.0, 2.0, 3.0),
+        600.0,
+        0.0,
+        (0.5, 0.5, 0.5),
+        "S",
+        (100, 100, 100),
+        work=True,
+        buffer=(12, 128),
+        pins="PZH",
+    )
+    assert status_report(fields) == (
+        "<Run|WPos:1.000,2.000,3.000|Bf:12,128|FS:600,0|Pn:PZH|WCO:0.500,0.500,0.500"
+        "|Ov:100,100,100|A:S>"
+    )
+
+
+def test_the_active_inputs_are_lettered_as_grbl_letters_its_pins() -> None:
+    axes = ("X", "Y", "Z")
+    assert pin_letters(0, axes) == ""
+    assert pin_letters(1 << Input.PROBE, axes) == "P"
+    both_ends_of_y = 1 << Input.limit(1) | 1 << Input.limit(1, max_end=True)
+    assert pin_letters(both_ends_of_y, axes) == "Y"
+    controls = 1 << Input.CYCLE_START | 1 << Input.ABORT | 1 << Input.FEED_HOLD
+    everything = controls | 1 << Input.limit(2, max_end=True) | 1 << Input.limit(0) | 1 << 8
+    assert pin_letters(everything, axes) == "PXZRHS"
+    assert pin_letters(1 << Input.limit(3), ("X", "Y", "Z", "A")) == "A"

@@ -129,6 +129,11 @@ class Executor:
         with self._cond:
             return self._running is not None and self._running.jog
 
+    def lines_waiting(self) -> int:
+        """The lines queued and not yet taken into a job."""
+        with self._cond:
+            return len(self._queue)
+
     def grbl_state(self) -> str | None:
         """Run, Jog, Hold:0 (at rest, held) or Hold:1 (coming to rest); None when idle."""
         with self._cond:

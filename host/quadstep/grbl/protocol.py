@@ -75,20 +75,25 @@ def numbers(values: Sequence[float]) -> str:
 @dataclass(frozen=True)
 class StatusFields:
     state: str  # Idle, Run, Hold:0, Hold:1, Jog, Alarm, Home, Check
-    machine_mm: tuple[float, ...]
+    position: tuple[float, ...]  # machine mm (MPos:), or work mm (WPos:) where `work`
     feed: float  # mm/min
     speed: float  # S
     wco: tuple[float, ...] | None = None  # the work offset, in reports that carry it
     accessories: str = ""  # A: with Ov:, S/C spindle CW/CCW, F flood, M mist (those on)
     overrides: tuple[int, int, int] | None = None  # Ov:feed,rapid,spindle % in some reports
+    work: bool = False  # $10 bit 0 clear: the position in work coordinates
+    buffer: tuple[int, int] | None = None  # Bf:blocks,bytes free ($10 bit 1)
+    pins: str = ""  # Pn: the active inputs' letters
 
 
 def status_report(fields: StatusFields) -> str:
-    parts = [
-        fields.state,
-        f"MPos:{numbers(fields.machine_mm)}",
-        f"FS:{fields.feed:.0f},{fields.speed:.0f}",
-    ]
+    """The report's fields in GRBL's order."""
+    parts = [fields.state, f"{'WPos' if fields.work else 'MPos'}:{numbers(fields.position)}"]
+    if fields.buffer is not None:
+        parts.append(f"Bf:{fields.buffer[0]},{fields.buffer[1]}")
+    parts.append(f"FS:{fields.feed:.0f},{fields.speed:.0f}")
+    if fields.pins:
+        parts.append(f"Pn:{fields.pins}")
     if fields.wco is not None:
         parts.append(f"WCO:{numbers(fields.wco)}")
     if fields.overrides is not None:

@@ -9,15 +9,16 @@ from __future__ import annotations
 import queue
 import threading
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 
 from ..give_way import give_way
 from ..link import LinkError
+from ..link.inputs import input_status
 from ..machine import Machine, MachineError
 from ..machine.homing import home
 from ..planner.program import JobError, ProbeMove
-from ..protocol import Alarm, Report, State
+from ..protocol import Alarm, Capability, InputChange, Report, State
 from .alarms import FIRMWARE, fault_alarm, firmware_alarm, homing_alarm
 from .errors import GrblAlarm, GrblError, error_for
 from .executor import Executor, Work
@@ -40,7 +41,7 @@ from .protocol import (
 from .reader import JogError, Reader
 from .settings import NOT_KEPT, settings_lines
 from .settings_write import SettingError, SettingWrite, parse_write, write_setting
-from .status import StatusBuilder
+from .status import StatusBuilder, StatusMask
 
 HELP = "[HLP:$$ $# $G $I $N $x=val $Nx=line $J=line $SLP $C $X $H ~ ! ? ctrl-x]"
 UNLOCK = "[MSG:'$H'|'$X' to unlock]"
@@ -49,6 +50,8 @@ Answer = list[str]
 # one by one, and their answers written together once no more have arrived (one write and one
 # turn for the link's threads, not one per line), at most this many at once.
 ANSWERS_HELD = 16
+STATUS_MASK_SETTING = 10
+INPUT_CAPABILITIES = Capability.LIMIT_INPUTS | Capability.PROBE_INPUT | Capability.CONTROL_INPUTS
 
 
 def may_wait(text: str) -> bool:
@@ -65,10 +68,12 @@ def message(text: str) -> str:
 @dataclass(frozen=True)
 class SessionOptions:
     """How `quadstep grbl` was started: M6 "ignore" (GRBL's default) or "pause" (held until `~`,
-    as quadstep's tool change); the configuration file that settings writes go to (None: none)."""
+    as quadstep's tool change); the configuration file that settings writes go to (None: none);
+    $10, which its sessions share."""
 
     tool_change: str = "ignore"
     config_path: Path | None = None
+    status_mask: StatusMask = field(default_factory=StatusMask)
 
 
 class Session:
@@ -98,6 +103,8 @@ class Session:
         self.probing = False
         self.last_probe = no_probe(len(machine.config.axes))
         self._board_alarm = False  # the firmware raised an alarm; $X clears it
+        self.status_mask = options.status_mask
+        self.inputs_active = 0  # the board's inputs active now: read at start, then followed
         self._lines: queue.Queue[tuple[int, Line] | None] = queue.Queue()
         self._worker = threading.Thread(target=self._work, name="grbl-lines", daemon=True)
         self._unwatch = machine.on_report(self._on_report)
@@ -106,6 +113,7 @@ class Session:
         """Serve; the banner unless the client's first bytes are a soft reset (which brings it)."""
         if banner:
             self._banner()
+        self._read_inputs()
         self._worker.start()
         return self
 
@@ -199,8 +207,21 @@ class Session:
             return
         self.say(message(text), f"ALARM:{fault_alarm(text).value}")
 
+    def _read_inputs(self) -> None:
+        """The inputs active as the session starts; their changes follow as reports."""
+        identity = self.machine.link.identity
+        if identity is None or not identity.capabilities & INPUT_CAPABILITIES:
+            return
+        try:
+            self.inputs_active = input_status(self.machine.link).active
+        except LinkError:
+            pass  # a board in trouble: its changes still come as reports
+
     def _on_report(self, report: Report) -> None:
-        """The firmware's alarm (in the link's reader thread), told at once as GRBL does."""
+        """The firmware's alarm (in the link's reader thread), told at once as GRBL does; an input's
+        change kept for the reports."""
+        if isinstance(report, InputChange):
+            self.inputs_active = report.active
         if isinstance(report, Alarm) and report.code in FIRMWARE:
             self.alarm = self._board_alarm = True
             self.say(
@@ -305,16 +326,29 @@ class Session:
         """At rest (GRBL's error 8 else): the setting into the file, used from the next line."""
         if not self.executor.idle or self.homing or self.probing:
             return [f"error:{GrblError.NOT_IDLE.value}"]
+        if write.number == STATUS_MASK_SETTING:
+            return self._write_status_mask(write)
         if write_setting(self.machine, self.options.config_path, write):
             with self._reader_lock:
                 self.reader.reconfigure(self.machine.config, self.machine.position_mm)
+        return ["ok"]
+
+    def _write_status_mask(self, write: SettingWrite) -> Answer:
+        """$10: what the reports carry, from the next one (this session's server keeps it)."""
+        if write.value < 0:
+            reason = f"$10={write.value:g}: a setting is never negative"
+            return [message(reason), f"error:{GrblError.NEGATIVE_VALUE.value}"]
+        if not write.value.is_integer() or write.value > 255:
+            reason = f"$10={write.value:g}: the status report mask is a whole number 0 … 255"
+            return [message(reason), f"error:{GrblError.INVALID_STATEMENT.value}"]
+        self.status_mask.value = int(write.value)
         return ["ok"]
 
     def _system_commands(self, generation: int) -> dict[str, Callable[[], Answer]]:
         """`$` commands by name, each answering when called."""
         return {
             "": lambda: [HELP, "ok"],
-            "$": lambda: [*settings_lines(self.machine.config), "ok"],
+            "$": lambda: [*settings_lines(self.machine.config, self.status_mask.value), "ok"],
             "I": lambda: [VERSION, OPTIONS, "ok"],
             "#": lambda: [
                 *self._read(lambda: self.reader.offsets_report(self.last_probe.line())),

@@ -18,9 +18,9 @@ def _text(value: float) -> str:
     return str(int(value)) if float(value).is_integer() and abs(value) < 1e9 else f"{value:.3f}"
 
 
-def settings(config: MachineConfig) -> list[tuple[int, float]]:
+def settings(config: MachineConfig, status_mask: int = 1) -> list[tuple[int, float]]:
     """(number, value) of every setting, in GRBL's order; per-axis ones for every configured
-    axis."""
+    axis; $10 the session's."""
     axes = config.axes
     homing = [a.homing for a in axes if a.homing is not None]
     first = homing[0] if homing else None
@@ -32,7 +32,7 @@ def settings(config: MachineConfig) -> list[tuple[int, float]]:
         (4, 0),
         (5, 0),
         (6, 0),
-        (10, 1),
+        (10, status_mask),
         (11, config.junction_deviation),
         (12, config.arc_tolerance),
         (13, 0),
@@ -59,5 +59,5 @@ def settings(config: MachineConfig) -> list[tuple[int, float]]:
     return values
 
 
-def settings_lines(config: MachineConfig) -> list[str]:
-    return [f"${number}={_text(value)}" for number, value in settings(config)]
+def settings_lines(config: MachineConfig, status_mask: int = 1) -> list[str]:
+    return [f"${number}={_text(value)}" for number, value in settings(config, status_mask)]

@@ -1,10 +1,10 @@
-"""The `?` status report: GRBL's state name, the machine position, feed and speed, and the work
-offset every WCO_EVERY reports (and whenever it changed), as GRBL sends it now and then to save
-bandwidth."""
+"""The `?` status report: GRBL's state name, the position (machine or work, as $10 says), the
+buffers' room where $10 asks for it, feed and speed, the active inputs, and the work offset every
+WCO_EVERY reports (and whenever it changed), as GRBL sends it now and then to save bandwidth."""
 
 from __future__ import annotations
 
-from dataclasses import replace
+from dataclasses import dataclass, replace
 from typing import Protocol
 
 from ..link import LinkError
@@ -12,10 +12,24 @@ from ..machine import Machine
 from ..planner.program import OutputState
 from .executor import Executor
 from .overrides import Overrides
+from .pins import pin_letters
 from .protocol import StatusFields, status_report
 from .reader import Reader
 
 WCO_EVERY = 10
+# Bf: GRBL's planner blocks and receive buffer bytes free, as an Uno's GRBL has them ($I's OPT:).
+# The host takes every byte as it comes; the blocks free fall as lines wait to be planned.
+PLANNER_BLOCKS = 15
+RX_BUFFER_BYTES = 128
+MPOS, BUFFER_STATE = 1, 2  # $10's bits
+
+
+@dataclass
+class StatusMask:
+    """$10, what a report carries (bit 0 set: MPos, clear: WPos; bit 1: Bf:). Shared by the
+    sessions of one `quadstep grbl` for as long as it runs (GRBL keeps it in EEPROM)."""
+
+    value: int = MPOS
 
 
 class SessionView(Protocol):
@@ -29,6 +43,8 @@ class SessionView(Protocol):
     check_mode: bool
     homing: bool
     probing: bool
+    inputs_active: int  # the board's inputs active now (an input mask)
+    status_mask: StatusMask
 
 
 def accessories(outputs: OutputState) -> str:
@@ -81,9 +97,14 @@ class StatusBuilder:
             self._last_wco = wco
         show_ov = session.overrides.changed or self._count % WCO_EVERY == 2
         session.overrides.changed = False
+        mask = session.status_mask.value
+        position = self.position()
+        if not mask & MPOS:  # GRBL's WPos = MPos - WCO
+            position = tuple(p - o for p, o in zip(position, wco))
+        waiting = session.executor.lines_waiting()
         fields = StatusFields(
             state,
-            self.position(),
+            position,
             feed,
             interpreter.outputs.speed,
             wco if show_wco else None,
@@ -93,5 +114,10 @@ class StatusBuilder:
                 else interpreter.outputs
             ),
             ov if show_ov else None,
+            work=not mask & MPOS,
+            buffer=(max(0, PLANNER_BLOCKS - waiting), RX_BUFFER_BYTES)
+            if mask & BUFFER_STATE
+            else None,
+            pins=pin_letters(session.inputs_active, session.machine.config.axis_names),
         )
         return status_report(fields)
