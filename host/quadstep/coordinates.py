@@ -3,10 +3,11 @@ top, and the two stored positions of G28 and G30.
 
 Everything is in mm, keyed by axis name. A machine coordinate is what the
 steps say (through the configuration); a work coordinate is the machine
-coordinate minus the work offset of the active system and, while it is
-applied, the G92 offset:
+coordinate minus the work offset of the active system, while it is
+applied the G92 offset, and on Z the tool length offset (G43.1, as GRBL
+has it):
 
-    work = machine − offsets[system] − (g92 if g92_applied else 0)
+    work = machine − offsets[system] − (g92 if g92_applied else 0) − (tlo on Z)
 
 Soft limits are always machine coordinates. The model is the state file's
 form (machine/state.py); the G-code interpreter works on a copy of it.
@@ -20,6 +21,7 @@ from typing import Any
 from pydantic import BaseModel, ConfigDict, Field
 
 SYSTEMS = ("G54", "G55", "G56", "G57", "G58", "G59")
+TOOL_LENGTH_AXIS = "Z"  # G43.1's axis, as GRBL's
 
 Offsets = dict[str, float]
 
@@ -42,6 +44,7 @@ class WorkCoordinates(BaseModel):
     g92_applied: bool = False
     g28: Offsets = Field(default_factory=dict, description="machine mm")
     g30: Offsets = Field(default_factory=dict, description="machine mm")
+    tlo: float = Field(default=0.0, description="G43.1's tool length offset on Z, mm; G49: 0")
 
     def __deepcopy__(self, memo: dict[int, Any] | None = None) -> WorkCoordinates:
         """The copy model_copy(deep=True) makes, without deepcopy's walk: every value is a number,
@@ -54,6 +57,7 @@ class WorkCoordinates(BaseModel):
             g92_applied=self.g92_applied,
             g28=dict(self.g28),
             g30=dict(self.g30),
+            tlo=self.tlo,
         )
 
     @property
@@ -62,9 +66,19 @@ class WorkCoordinates(BaseModel):
         return SYSTEMS[self.system - 1]
 
     def offset(self, axis: str) -> float:
-        """The active system's offset of `axis` with G92 on top: machine − work."""
+        """The active system's offset of `axis` with G92 and the tool length on top: machine −
+        work."""
+        return self.offset_in(self.system, axis)
+
+    def offset_in(self, system: int, axis: str) -> float:
+        """System `system`'s (1 = G54) offset of `axis` with G92 and the tool length on top."""
+        return self.offsets[system - 1].get(axis, 0.0) + self._on_top(axis)
+
+    def _on_top(self, axis: str) -> float:
+        """What is added to every system's offset of `axis`: G92 where applied, the tool length
+        on Z."""
         g92 = self.g92.get(axis, 0.0) if self.g92_applied else 0.0
-        return self.offsets[self.system - 1].get(axis, 0.0) + g92
+        return g92 + (self.tlo if axis == TOOL_LENGTH_AXIS else 0.0)
 
     def to_work(self, axes: Sequence[str], machine: Sequence[float]) -> tuple[float, ...]:
         return tuple(x - self.offset(a) for a, x in zip(axes, machine))
@@ -85,12 +99,13 @@ class WorkCoordinates(BaseModel):
     def set_position(self, system: int, axis: str, machine: float, work: float) -> None:
         """G10 L20 Pn (and the zero keys): make the machine coordinate `machine` read `work` in
         system n."""
-        g92 = self.g92.get(axis, 0.0) if self.g92_applied else 0.0
-        self.set_offset(system, axis, machine - g92 - work)
+        self.set_offset(system, axis, machine - self._on_top(axis) - work)
 
     def set_g92(self, axis: str, machine: float, work: float) -> None:
         """G92: make the machine coordinate `machine` read `work`, on top of the active system."""
-        self.g92 = {**self.g92, axis: machine - self.offsets[self.system - 1].get(axis, 0.0) - work}
+        tlo = self.tlo if axis == TOOL_LENGTH_AXIS else 0.0
+        system = self.offsets[self.system - 1].get(axis, 0.0)
+        self.g92 = {**self.g92, axis: machine - system - tlo - work}
         self.g92_applied = True
 
     def clear_g92(self) -> None:

@@ -253,7 +253,7 @@ def test_skip_unsupported_does_not_skip_unknown_words() -> None:
         ("G53 G38.2 Z-5 F60", "line 1, column 1: G53 does not apply to probing"),
         ("G43 H1", "line 1, column 1: 'G43' is not supported"),
         ("G1 X1 F60 B2", "line 1, column 11: 'B2' is not supported"),
-        ("M1", "line 1, column 1: 'M1' is not supported"),
+        ("M1.5", "line 1, column 1: 'M1.5' is not supported"),
         ("G1 A5 F60", "line 1, column 4: 'A5': axis A is not on this machine (axes X, Y, Z)"),
         ("G80 X10", "line 1, column 1: 'G80': axis words without a motion mode (G0, G1, G2 or G3)"),
         ("G1 X10", "line 1, column 1: G1 needs a feed rate: no F on this line or before "

@@ -104,6 +104,30 @@ def test_the_coordinates_given_are_not_changed() -> None:
     assert coords.offsets[0] == {"X": 10.0} and coords.name == "G54"
 
 
+def test_g43_1_offsets_z_by_the_tools_length_until_g49_and_moves_nothing_itself() -> None:
+    coords = offsets(G54={"Z": -10})
+    text = "G0 Z5\nG43.1 Z-2.5\nG0 Z5\nX1\nG91 G0 Z1\nG90 G49\nG0 Z5\nG20 G43.1 Z1\nG0 Z0"
+    assert targets(text, coords) == [(0, 0, -5), (0, 0, -7.5), (1, 0, -7.5), (1, 0, -6.5), (1, 0, -5), (1, 0, 15.4)]
+    result = program(text, coords).coordinates
+    assert result is not None and result.tlo == 25.4 and result.offset("Z") == pytest.approx(15.4)
+    assert result.to_work(XYZ, (0.0, 0.0, 15.4)) == pytest.approx((0.0, 0.0, 0.0))
+
+
+def test_g10_l20_and_g92_count_the_tool_length_in_as_grbl_does() -> None:
+    coords = program("G43.1 Z2\nG10 L20 P1 Z0", start=(0.0, 0.0, -20.0)).coordinates
+    assert coords is not None and coords.offsets[0] == {"Z": -22.0}  # Z reads 0 here with the tool
+    assert coords.to_work(XYZ, (0.0, 0.0, -20.0))[2] == 0.0
+    coords = program("G43.1 Z2\nG92 Z1", start=(0.0, 0.0, -20.0)).coordinates
+    assert coords is not None and coords.g92 == {"Z": -23.0}
+    assert coords.to_work(XYZ, (0.0, 0.0, -20.0))[2] == 1.0
+
+
+def test_m1_is_an_optional_stop_that_nothing_stops_at() -> None:
+    parsed = program("G0 X1\nM1\nG0 X2")
+    assert [m.target[0] for m in parsed.items if isinstance(m, LinearMove)] == [1, 2]
+    assert parsed.end_line is None and not any(type(item).__name__ == "Pause" for item in parsed.items)
+
+
 @pytest.mark.parametrize(
     ("text", "message"),
     [
@@ -119,6 +143,10 @@ def test_the_coordinates_given_are_not_changed() -> None:
         ("G10 L2 P1 X0 G92 X1", "line 1, column 14: 'G92' and 'G10' are both in the non-modal group"),
         ("G1 X1 F60 L2", "line 1, column 11: 'L2' is only used with G10"),
         ("G54.1 P1", "line 1, column 1: 'G54.1' is not supported"),
+        ("G43.1", "line 1, column 1: G43.1 takes one axis word, Z: the tool's length"),
+        ("G43.1 X1 Z1", "line 1, column 7: G43.1 takes one axis word, Z: the tool's length"),
+        ("G1 G43.1 Z1 F60", "line 1, column 1: 'G1' and G43.1 both want the line's axis words"),
+        ("G43.1 Z1 G49", "line 1, column 10: 'G49' and 'G43.1' are both in the tool length offset group"),
     ],
 )
 def test_malformed_coordinate_words_are_refused_with_an_exact_message(text: str, message: str) -> None:

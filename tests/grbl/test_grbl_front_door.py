@@ -235,6 +235,26 @@ def test_the_status_mask_10_chooses_work_or_machine_position_and_the_buffer_fiel
         assert "Bf" not in report_fields(grbl.status())
 
 
+def test_a_senders_tool_length_offset_g43_1_shifts_z_until_g49(free_door: FrontDoor) -> None:
+    """Sender tool-change routines (a new tool probed, then G43.1 Z by how much longer it is) rely
+    on GRBL's dynamic tool length offset: `$#` shows it, WCO includes it, and Z moves by it."""
+    with client(free_door) as grbl:
+        assert grbl.command("G10 L2 P1 Z-20")[1] == "ok"
+        assert grbl.command("G43.1 Z-1.5") == ([], "ok")
+        lines, answer = grbl.command("$#")
+        assert answer == "ok" and "[TLO:-1.500]" in lines
+        assert "[G54:0.000,0.000,-20.000]" in lines  # the offset itself unchanged
+        assert grbl.command("G0 X5 Z-3")[1] == "ok"
+        report = grbl.wait_status(lambda r: at_rest(r) and "WCO" in r)
+        assert mpos(report) == (5.0, 0.0, -24.5)  # -3 in G54, 1.5 mm further for the longer tool
+        assert report_fields(report)["WCO"] == "0.000,0.000,-21.500"
+        assert grbl.command("G43.1 X1")[1] == "error:37"
+        assert grbl.command("G49 G0 Z-3")[1] == "ok"
+        assert mpos(grbl.wait_status(at_rest)) == (5.0, 0.0, -23.0)
+        assert "[TLO:0.000]" in grbl.command("$#")[0]
+    assert free_door.steps() == CONFIG.to_steps((5.0, 0.0, -23.0))
+
+
 def test_bad_lines_are_answered_with_grbls_errors_and_nothing_moves(free_door: FrontDoor) -> None:
     before = free_door.steps()
     with client(free_door) as grbl:

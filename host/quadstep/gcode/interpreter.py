@@ -9,9 +9,11 @@ path tolerance at corners, which the cornering rule uses); work
 coordinates as GRBL and LinuxCNC have them (quadstep.coordinates): G54–G59,
 G10 L2/L20 Pn, G53 (machine coordinates for the line's G0/G1), G92, G92.1,
 G92.2, G92.3, G28/G30 (through an optional point, then to the stored
-position) and G28.1/G30.1; and G40 G49 G80 G91.1 G94, which only select the one
-mode quadstep has. Words on a line take effect in this order (GRBL's and
-LinuxCNC's): units, feed, S, T, M6, M3/M4/M5, M7/M8/M9, plane, coordinate
+position) and G28.1/G30.1; G43.1 Z (a tool length offset on Z, GRBL's
+dynamic one) and G49; M1 (an optional stop: ignored, as GRBL has no switch
+for it); and G40 G80 G91.1 G94, which only select the one mode quadstep has.
+Words on a line take effect in this order (GRBL's and LinuxCNC's): units,
+feed, S, T, M6, M3/M4/M5, M7/M8/M9, plane, tool length offset, coordinate
 system, path mode, distance mode, then one of dwell, G10, G28/G30,
 G28.1/G30.1, G92…, then motion, then M0/M2/M30. Arc offsets I/J/K are
 always relative to the arc's start. Every move carries the work offset it
@@ -24,7 +26,7 @@ import math
 from collections.abc import Sequence
 from dataclasses import replace
 
-from ..coordinates import WorkCoordinates
+from ..coordinates import TOOL_LENGTH_AXIS, WorkCoordinates
 from ..planner.program import (
     MAX_DWELL_S,
     Dwell,
@@ -112,7 +114,7 @@ class GcodeInterpreter:
                 self.program.items.append(
                     Pause(line, coordinates=self.coords.model_copy(deep=True))
                 )
-            else:
+            elif whole(parsed.stop) != 1:
                 self._set_outputs(OutputState(speed=self.outputs.speed), line)
                 self.coords.program_end()
                 self.program.end_line = line
@@ -128,6 +130,9 @@ class GcodeInterpreter:
         key = code(g) if g is not None else None
         self._check_users(p.values, key, code(path) if path is not None else None, line)
         axes = dict(p.axes)
+        tool_length = p.g.get("tool length offset")
+        if tool_length is not None:
+            axes = self._tool_length(tool_length, axes, p, line)
         if g is not None:
             axes = self._non_modal(g, key, axes, p.values, line)
         self._motion(p.g.get("motion"), axes, p.values, line, machine=g if key == "53" else None)
@@ -158,6 +163,28 @@ class GcodeInterpreter:
         distance = p.g.get("distance")
         if distance is not None:
             self.absolute = code(distance) == "90"
+
+    def _tool_length(
+        self, word: Word, axes: dict[str, Word], p: Line, line: int
+    ) -> dict[str, Word]:
+        """G43.1 Z…: the tool length offset on Z, from the next move on (its axis word taken:
+        nothing moves); G49: none."""
+        if code(word) == "49":
+            self.coords.tlo = 0.0
+            return axes
+        others = [w for letter, w in axes.items() if letter != TOOL_LENGTH_AXIS]
+        if TOOL_LENGTH_AXIS not in axes or others:
+            column = others[0].column if others else word.column
+            raise GcodeError(
+                line, column, f"G43.1 takes one axis word, {TOOL_LENGTH_AXIS}: the tool's length"
+            )
+        for other in (p.g.get("motion"), p.g.get("non-modal")):
+            if other is not None:
+                raise GcodeError(
+                    line, other.column, f"'{other.text}' and G43.1 both want the line's axis words"
+                )
+        self.coords.tlo = axes[TOOL_LENGTH_AXIS].value * self.units
+        return {}
 
     def _check_users(
         self, values: dict[str, Word], key: str | None, path_key: str | None, line: int

@@ -47,6 +47,7 @@ G_GROUPS = {
     "59": "coordinate system",
     "94": "feed mode",
     "40": "cutter compensation",
+    "43.1": "tool length offset",
     "49": "tool length offset",
     "61": "path mode",
     "61.1": "path mode",
@@ -59,7 +60,7 @@ G_GROUPS = {
 }
 CANNED_CYCLES = {"73", "81", "82", "83", "84", "85", "86", "87", "88", "89"}
 PROBING = {"38.2", "38.3", "38.4", "38.5"}
-M_STOPS = {0, 2, 30}
+M_STOPS = {0, 1, 2, 30}  # M1: an optional stop, which GRBL ignores (it has no switch for it)
 M_GROUPS = {
     3: "spindle",
     4: "spindle",

@@ -28,6 +28,7 @@ class GrblError(IntEnum):
     ARC_RADIUS = 34
     NO_ARC_OFFSET = 35
     UNUSED_WORDS = 36
+    TOOL_LENGTH_AXIS = 37  # G43.1 without Z, or with another axis
 
 
 class GrblAlarm(IntEnum):
@@ -55,6 +56,7 @@ _BY_TEXT: tuple[tuple[str, GrblError], ...] = (
     ("must be the first word", GrblError.INVALID_LINE_NUMBER),
     ("is only used with", GrblError.UNUSED_WORDS),
     ("takes no axis words", GrblError.UNUSED_WORDS),
+    ("G43.1 takes", GrblError.TOOL_LENGTH_AXIS),
     ("offsets or R", GrblError.NO_ARC_OFFSET),
     ("not on the arc", GrblError.INVALID_TARGET),
     ("has radius 0", GrblError.ARC_RADIUS),

@@ -184,6 +184,6 @@ class Reader:
         lines.append(
             f"[G92:{numbers([c.g92.get(a, 0.0) if c.g92_applied else 0.0 for a in names])}]"
         )
-        lines.append("[TLO:0.000]")
+        lines.append(f"[TLO:{c.tlo:.3f}]")
         lines.append(probe)
         return lines

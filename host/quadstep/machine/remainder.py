@@ -55,19 +55,14 @@ def plan_remainder(
     return plan_program(remainder_program(program, plan, held_segment), plan.config, rest, label)
 
 
-def _offset(coordinates: WorkCoordinates, system: int, axis: str) -> float:
-    g92 = coordinates.g92.get(axis, 0.0) if coordinates.g92_applied else 0.0
-    return coordinates.offsets[system].get(axis, 0.0) + g92
-
-
 def shift_items(
     items: list[Item], before: WorkCoordinates, after: WorkCoordinates, axis_names: tuple[str, ...]
 ) -> list[Item]:
     """`items` with every move in a work system moved by how that system's offset went from `before`
     to `after` (moves in machine coordinates, G53 and G28/G30's, stay)."""
     deltas = {
-        name: tuple(_offset(after, k, a) - _offset(before, k, a) for a in axis_names)
-        for k, name in enumerate(SYSTEMS)
+        name: tuple(after.offset_in(k, a) - before.offset_in(k, a) for a in axis_names)
+        for k, name in enumerate(SYSTEMS, start=1)
     }
     if not any(any(d) for d in deltas.values()):
         return items
@@ -87,8 +82,8 @@ def shift_items(
 def carry_changes(
     coordinates: WorkCoordinates, before: WorkCoordinates, after: WorkCoordinates
 ) -> None:
-    """What the operator changed from `before` to `after` (offsets, G92) made to `coordinates`
-    too."""
+    """What the operator changed from `before` to `after` (offsets, G92, the tool length) made to
+    `coordinates` too."""
     offsets = [dict(o) for o in coordinates.offsets]
     for k, system in enumerate(offsets):
         for axis in {*before.offsets[k], *after.offsets[k]}:
@@ -100,6 +95,8 @@ def carry_changes(
     coordinates.offsets = offsets
     if after.g92 != before.g92 or after.g92_applied != before.g92_applied:
         coordinates.g92, coordinates.g92_applied = dict(after.g92), after.g92_applied
+    if after.tlo != before.tlo:
+        coordinates.tlo = after.tlo
 
 
 def after_pause_program(
