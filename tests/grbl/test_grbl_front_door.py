@@ -112,6 +112,7 @@ def test_a_cam_job_streamed_by_character_counting_ends_exactly_where_the_file_sa
     with client(free_door) as grbl:
         answers = grbl.stream_counting(lines)
         assert answers == ["ok"] * len(lines)
+        assert "[MSG:Pgm End]" in grbl.drain_other()  # M30's, before its ok
         report = grbl.wait_status(at_rest)
         assert REPORT.match(report), report
         end = file_end(tmp_path)
@@ -120,6 +121,18 @@ def test_a_cam_job_streamed_by_character_counting_ends_exactly_where_the_file_sa
         assert (
             report_fields(grbl.wait_status(lambda r: "WCO" in r))["WCO"] == "50.000,40.000,-5.000"
         )
+
+
+def test_a_program_end_is_answered_once_its_motion_is_done(timed_door: FrontDoor) -> None:
+    """M2/M30 as GRBL answers it: after the moves before it have run, with [MSG:Pgm End]; the lines
+    after it are read as a new program."""
+    with client(timed_door) as grbl:
+        assert grbl.stream_counting(["G0 X20 Y5", "M30"]) == ["ok", "ok"]
+        report = grbl.status()
+        assert at_rest(report) and mpos(report) == (20.0, 5.0, 0.0)
+        assert grbl.drain_other() == ["[MSG:Pgm End]"]
+        assert grbl.command("G0 X0") == ([], "ok")
+        assert mpos(grbl.wait_status(at_rest)) == (0.0, 5.0, 0.0)
 
 
 def test_send_response_over_tcp_one_sender_at_a_time(free_door: FrontDoor, tmp_path: Path) -> None:

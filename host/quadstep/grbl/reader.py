@@ -47,6 +47,7 @@ class Read:
     items: list[Item]
     coordinates: WorkCoordinates
     line: int
+    ends_program: bool = False  # M2/M30
 
 
 def check_travel(config: MachineConfig, items: Sequence[Item], line: int) -> None:
@@ -136,7 +137,7 @@ class Reader:
         coordinates = interpreter.coords.model_copy(deep=True)
         program = interpreter.program
         try:
-            interpreter.feed_line(text, line)
+            goes_on = interpreter.feed_line(text, line)
             check_travel(self.config, program.items, line)
         except JobError:
             for name, value in saved.items():
@@ -148,7 +149,7 @@ class Reader:
             program.skipped.clear()
         items = list(program.items)
         program.items.clear()
-        return Read(items, interpreter.coords.model_copy(deep=True), line)
+        return Read(items, interpreter.coords.model_copy(deep=True), line, not goes_on)
 
     # --- what $G and $# show --------------------------------------------------------------
 

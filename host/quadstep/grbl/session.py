@@ -7,6 +7,7 @@ commands)."""
 from __future__ import annotations
 
 import queue
+import re
 import threading
 from collections.abc import Callable
 from dataclasses import dataclass, field
@@ -50,15 +51,17 @@ Answer = list[str]
 # one by one, and their answers written together once no more have arrived (one write and one
 # turn for the link's threads, not one per line), at most this many at once.
 ANSWERS_HELD = 16
+PROGRAM_END = re.compile(r"M0*(2|30)(?![\d.])")
+PGM_END = "[MSG:Pgm End]"
 STATUS_MASK_SETTING = 10
 INPUT_CAPABILITIES = Capability.LIMIT_INPUTS | Capability.PROBE_INPUT | Capability.CONTROL_INPUTS
 
 
 def may_wait(text: str) -> bool:
-    """A system command or a probe, which may wait for the machine: the lines before it are
-    answered first, as they would be by then."""
+    """A system command, a probe or a program end, which may wait for the machine: the lines before
+    it are answered first, as they would be by then."""
     squeezed = "".join(text.split()).upper()
-    return squeezed.startswith("$") or "G38" in squeezed
+    return squeezed.startswith("$") or "G38" in squeezed or PROGRAM_END.search(squeezed) is not None
 
 
 def message(text: str) -> str:
@@ -280,6 +283,10 @@ class Session:
             self.executor.submit(Work(items, read.coordinates, read.line), generation)
         if probe is not None and not self.check_mode:
             return self._probe(probe, generation)
+        if read.ends_program:  # as GRBL: answered once the program's motion is done
+            if not self.check_mode and not self.executor.wait_idle(generation):
+                return []
+            return [PGM_END, "ok"]
         return ["ok"]
 
     def _probe(self, move: ProbeMove, generation: int) -> Answer:
