@@ -7,7 +7,9 @@ from typing import Any
 
 import pytest
 
+from quadstep.config import parse_config
 from quadstep.gcode import GcodeError, parse_gcode, split_words
+from quadstep.planner.plan import plan_program
 from quadstep.planner.program import Dwell, LinearMove, Pause
 
 XYZ = ("X", "Y", "Z")
@@ -108,6 +110,38 @@ def test_dwell_pause_and_end() -> None:
 
 def test_mode_only_words_are_accepted() -> None:
     assert targets("G17 G21 G40 G49 G54 G80 G90 G94\nG1 X1 F60") == [(1, 0, 0)]
+
+
+def test_inverse_time_g93_gives_each_feed_move_1_over_f_minutes() -> None:
+    line, *chords = moves("G93 G1 X10 F6\nG2 X20 Y0 I5 F3")
+    assert line.feed == pytest.approx(1.0)  # 10 mm in 10 s
+    assert len({m.feed for m in chords}) == 1  # one speed along the arc
+    path = sum(math.dist(a.target, b.target) for a, b in zip([line, *chords], chords))
+    assert path / chords[0].feed == pytest.approx(20.0)  # the semicircle in 1/3 minute
+    (rotary,) = moves("G93 G1 X1 A90 F60", axes=("X", "A"))
+    assert rotary.feed == pytest.approx(math.hypot(1, 90))  # every axis's path, as GRBL measures it
+    assert moves("G93 G1 X1 F60\nG94 G1 X2 F120")[1].feed == 2.0  # units per minute again
+
+
+def test_an_inverse_time_job_takes_the_minutes_its_f_words_give() -> None:
+    config = parse_config({"tick_hz": 32000, "axes": [
+        {"name": n, "steps_per_mm": 400, "max_speed": 40, "max_accel": 2000, "travel_min": -100, "travel_max": 100}
+        for n in XYZ]})
+    program = parse_gcode("G93 G1 X10 F6\nG1 X20 Y10 F4\nG2 X30 Y0 I0 J-10 F2", XYZ)
+    plan = plan_program(program, config, (0, 0, 0))
+    assert plan.duration_s == pytest.approx(10 + 15 + 30, abs=0.05)  # the ramps: a few ms
+
+
+def test_inverse_time_wants_f_on_every_feed_line_and_g94_after_it_a_new_f() -> None:
+    assert error("G93 G1 X1 F60\nX2") == (
+        "line 2, column 1: G1 in inverse time (G93) needs F on its own line "
+        "(GRBL error 22: feed rate has not yet been set or is undefined)"
+    )
+    assert error("G1 X1 F60\nG93 G0 X5\nG94 G1 X2") == (
+        "line 3, column 5: G1 needs a feed rate: no F on this line or before "
+        "(GRBL error 22: feed rate has not yet been set or is undefined)"
+    )
+    assert targets("G93 G1 X1 F60\nG0 X3") == [(1, 0, 0), (3, 0, 0)]  # a rapid needs no F
 
 
 def test_a_move_and_a_pause_on_one_line_move_first() -> None:

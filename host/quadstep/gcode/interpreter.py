@@ -11,9 +11,10 @@ G10 L2/L20 Pn, G53 (machine coordinates for the line's G0/G1), G92, G92.1,
 G92.2, G92.3, G28/G30 (through an optional point, then to the stored
 position) and G28.1/G30.1; G43.1 Z (a tool length offset on Z, GRBL's
 dynamic one) and G49; M1 (an optional stop: ignored, as GRBL has no switch
-for it); and G40 G80 G91.1 G94, which only select the one mode quadstep has.
-Words on a line take effect in this order (GRBL's and LinuxCNC's): units,
-feed, S, T, M6, M3/M4/M5, M7/M8/M9, plane, tool length offset, coordinate
+for it); G93 (inverse time: each G1/G2/G3 takes 1/F minutes, F on its own
+line) and G94; and G40 G80 G91.1, which only select the one mode quadstep
+has. Words on a line take effect in this order (GRBL's and LinuxCNC's):
+units, feed mode, feed, S, T, M6, M3/M4/M5, M7/M8/M9, plane, tool length offset, coordinate
 system, path mode, distance mode, then one of dwell, G10, G28/G30,
 G28.1/G30.1, G92…, then motion, then M0/M2/M30. Arc offsets I/J/K are
 always relative to the arc's start. Every move carries the work offset it
@@ -83,6 +84,8 @@ class GcodeInterpreter:
         self.plane = 17
         self.motion: int | None = 0  # G0 at the start, as GRBL and LinuxCNC begin
         self.feed: float | None = None  # mm/s
+        self.inverse_time = False  # G93: a feed move takes 1/F minutes, F given on its line
+        self._moves_per_minute: float | None = None  # this line's F, in G93
         # G64 P (mm), 0 after G61, None: the configuration's cornering
         self.deviation: float | None = None
         self.outputs = OutputState()
@@ -143,13 +146,17 @@ class GcodeInterpreter:
         units = p.g.get("units")
         if units is not None:
             self.units = MM_PER_INCH if code(units) == "20" else 1.0
+        self._feed_mode(p.g.get("feed mode"))
         feed = p.values.get("F")
         if feed is not None:
             if feed.value <= 0:
                 raise GcodeError(
                     line, feed.column, f"'{feed.text}': the feed rate must be greater than 0"
                 )
-            self.feed = feed.value * self.units / 60.0
+            if self.inverse_time:
+                self._moves_per_minute = feed.value
+            else:
+                self.feed = feed.value * self.units / 60.0
         self._spindle_words(p, line)
         plane = p.g.get("plane")
         if plane is not None:
@@ -163,6 +170,23 @@ class GcodeInterpreter:
         distance = p.g.get("distance")
         if distance is not None:
             self.absolute = code(distance) == "90"
+
+    def _feed_mode(self, mode: Word | None) -> None:
+        """G93 and G94, as GRBL has them: the feed is undefined in G93 but for the line that gives
+        F, and after G93 until an F sets one."""
+        self._moves_per_minute = None
+        inverse = self.inverse_time if mode is None else code(mode) == "93"
+        if inverse or self.inverse_time != inverse:
+            self.feed = None
+        self.inverse_time = inverse
+
+    def _move_feed(self, begin: Sequence[float], points: Sequence[Sequence[float]]) -> float | None:
+        """A feed move's speed, mm/s: the modal feed, or in G93 its path (every axis, as the planner
+        measures it) over the 1/F minutes it is given."""
+        if not self.inverse_time or self._moves_per_minute is None:
+            return self.feed
+        length = sum(math.dist(a, b) for a, b in zip([begin, *points], points))
+        return max(length, 1e-9) * self._moves_per_minute / 60.0
 
     def _tool_length(
         self, word: Word, axes: dict[str, Word], p: Line, line: int
@@ -396,14 +420,20 @@ class GcodeInterpreter:
             raise GcodeError(
                 line, machine.column, f"G53 moves in machine coordinates only with {why}"
             )
-        if mode != 0 and self.feed is None:
+        if mode != 0 and self.inverse_time and self._moves_per_minute is None:
+            raise GcodeError(
+                line,
+                where.column,
+                f"G{mode} in inverse time (G93) needs F on its own line ({NO_FEED})",
+            )
+        if mode != 0 and not self.inverse_time and self.feed is None:
             raise GcodeError(
                 line,
                 where.column,
                 f"G{mode} needs a feed rate: no F on this line or before ({NO_FEED})",
             )
         target = self._target(axes, machine=machine is not None)
-        feed = None if mode == 0 else self.feed
+        feed = None if mode == 0 else self._move_feed(self.position, [target])
         if is_arc:
             self._arc(mode == 2, target, arc_words, where, line)
             self.position = target
@@ -474,23 +504,23 @@ class GcodeInterpreter:
             )
         angle0 = math.atan2(start[1] - center[1], start[0] - center[0])
         begin = list(self.position)
-        offset, system = self._offsets(False)
-        for k in range(1, chords + 1):
+        points = []
+        for k in range(1, chords):
             f = k / chords
             point = [b + (t - b) * f for b, t in zip(begin, target)]
-            if k < chords:
-                point[i1] = center[0] + radius * math.cos(angle0 + sweep * f)
-                point[i2] = center[1] + radius * math.sin(angle0 + sweep * f)
-            else:
-                point = list(target)
+            point[i1] = center[0] + radius * math.cos(angle0 + sweep * f)
+            point[i2] = center[1] + radius * math.sin(angle0 + sweep * f)
+            points.append(tuple(point))
+        points.append(tuple(target))
+        self._chords(points, self._move_feed(begin, points), line)
+
+    def _chords(self, points: list[tuple[float, ...]], feed: float | None, line: int) -> None:
+        """An arc's chords, at one feed."""
+        offset, system = self._offsets(False)
+        for point in points:
             self.program.items.append(
                 LinearMove(
-                    line,
-                    tuple(point),
-                    self.feed,
-                    offset=offset,
-                    system=system,
-                    deviation=self.deviation,
+                    line, point, feed, offset=offset, system=system, deviation=self.deviation
                 )
             )
 

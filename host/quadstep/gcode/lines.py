@@ -45,6 +45,7 @@ G_GROUPS = {
     "57": "coordinate system",
     "58": "coordinate system",
     "59": "coordinate system",
+    "93": "feed mode",
     "94": "feed mode",
     "40": "cutter compensation",
     "43.1": "tool length offset",
