@@ -3,6 +3,7 @@ rasters, every pixel's power where the image has it."""
 
 from __future__ import annotations
 
+import json
 from pathlib import Path
 
 import pytest
@@ -71,3 +72,27 @@ def test_a_file_that_is_not_an_image_is_one_clear_error(tmp_path: Path, capsys) 
     assert main(["raster", str(bad)]) != 0
     err = capsys.readouterr().err
     assert "not.png" in err and "image" in err
+
+
+def test_run_reports_the_plan_the_machine_runs_its_rasters_in(
+    start_emulator, tmp_path: Path, capsys
+) -> None:
+    """`quadstep run` of a raster job on a board with RASTER: the segments and the planned time it
+    reports (and its progress follows) are those of the RASTER rows it sends, not of one move a
+    pixel."""
+    gradient(tmp_path / "in.png", 60, 4)
+    job_file = tmp_path / "out.nc"
+    raster = ["raster", str(tmp_path / "in.png"), "-o", str(job_file), "--origin", "10", "20"]
+    assert main([*raster, "--feed", "3000"]) == 0
+    capsys.readouterr()
+    emu = start_emulator(free=True, axes=3, tick_hz=CONFIG.tick_hz)
+    config = str(REPO / "examples" / "laser-uno.toml")
+    assert main(["run", str(job_file), "--config", config, "--port", emu.url, "--json"]) == 0
+    summary = json.loads(capsys.readouterr().out)
+    job = load_job(job_file, CONFIG, (0, 0, 0))
+    rows = plan_with_rasters(job.program, CONFIG, (0, 0, 0))
+    assert rows is not None and len(rows) < len(job.plan) / 4
+    assert summary["completed"] and summary["exact"]
+    assert summary["segments"] == len(rows)
+    assert summary["planned_duration_s"] == pytest.approx(rows.duration_s)
+    assert summary["motion_ticks"] == rows.duration_ticks

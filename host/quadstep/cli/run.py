@@ -59,8 +59,8 @@ class RunResult(BaseModel):
     file: str
     completed: bool
     stopped_at_line: int | None
-    segments: int
-    planned_duration_s: float
+    segments: int  # what the machine was sent: take-ups, RASTER rows and every leg included
+    planned_duration_s: float  # of the plan the machine ran (its rasters as RASTER rows)
     motion_ticks: int
     positions_steps: list[int]
     positions_mm: list[float]  # machine coordinates
@@ -302,9 +302,10 @@ def stream(
         console=console,
         disable=args.json or not console.is_terminal,
     )
-    total = max(plan.duration_s, 1e-9)
+    # what the machine runs: its rasters as RASTER lines, its take-ups, its overrides
+    total = max(run_.plan.duration_s, 1e-9)
     task = progress.add_task(
-        f"{job.label} 0/{job.program.lines}", total=total, left=format_duration(plan.duration_s)
+        f"{job.label} 0/{job.program.lines}", total=total, left=format_duration(total)
     )
 
     def show(now: JobProgress) -> None:
@@ -334,8 +335,8 @@ def stream(
         file=str(job.path),
         completed=completed,
         stopped_at_line=stopped_line,
-        segments=len(plan),
-        planned_duration_s=plan.duration_s,
+        segments=run_.progress.total,
+        planned_duration_s=total,
         motion_ticks=final.motion_ticks - start.motion_ticks,
         positions_steps=positions,
         positions_mm=[axis.to_mm(s) for axis, s in zip(config.axes, positions)],
@@ -351,7 +352,7 @@ def stream(
     else:
         if completed:
             print(
-                f"done: {job.source_size}, {len(plan)} segments, "
+                f"done: {job.source_size}, {result.segments} segments, "
                 f"{format_duration(result.motion_ticks / config.tick_hz)} of motion"
             )
         else:
