@@ -18,7 +18,18 @@ from .lines import code
 from .words import GcodeError, Word
 
 # What the interpreter carries from line to line (besides the position, which the probe decides).
-MODAL = ("units", "absolute", "plane", "motion", "feed", "deviation", "outputs", "tool", "coords")
+MODAL = (
+    "units",
+    "absolute",
+    "plane",
+    "motion",
+    "feed",
+    "inverse_time",
+    "deviation",
+    "outputs",
+    "tool",
+    "coords",
+)
 
 
 def probe_move(
