@@ -126,7 +126,38 @@ def test_a_g38_2_miss_alarms_and_a_probe_touching_already_too(grbl: GrblClient) 
     assert answer == "ok" and "ALARM:4" in said
 
 
-def test_a_feed_hold_stops_a_probe_where_it_is(start_emulator, tmp_path: Path) -> None:
+def test_a_feed_hold_rests_a_probe_and_cycle_start_goes_on_with_it(
+    start_emulator, tmp_path: Path
+) -> None:
+    """As GRBL: `!` during a G38.2 brings the machine to rest (Hold:0) for as long as it takes;
+    `~` goes on toward the same target, and the probe touches the plate as it would have."""
+    sim = tmp_path / "machine.toml"
+    sim.write_text(SIM)
+    emu = start_emulator(
+        free=False, tick_hz=CONFIG.tick_hz, axes=3, queue=16, extra_args=["--machine", str(sim)]
+    )
+    with Link.open(emu.url) as link:
+        machine = Machine(link, CONFIG)
+        with serving(machine) as pty:
+            with GrblClient(str(pty.path)) as grbl:
+                grbl.wait_banner()
+                assert grbl.command("G21 G90 G0 X75 Y75 Z-34")[1] == "ok"
+                grbl.wait_status(idle)
+                grbl.port.write(b"G38.2 Z-50 F120\n")  # 2 mm/s: the plate at Z-40 in 3 s
+                grbl.wait_status(lambda r: r.startswith("<Run") and mpos(r)[2] < -35)
+                grbl.realtime(ord("!"))
+                held = grbl.wait_status(lambda r: r.startswith("<Hold:0"))
+                assert -40 < mpos(held)[2] < -35
+                assert grbl.status() == held and grbl.answers.empty()  # at rest, waiting
+                grbl.realtime(ord("~"))
+                assert grbl.answer() == "ok"
+                position, found = prb(grbl.drain_other()[-1])
+                assert found == 1 and abs(position[2] * STEPS - PLATE_Z) <= 1.0
+                assert grbl.command("G0 Z-30")[1] == "ok"  # lines go on from where it rests
+                assert mpos(grbl.wait_status(idle)) == (75.0, 75.0, -30.0)
+
+
+def test_a_reset_during_a_held_probe_ends_it(start_emulator, tmp_path: Path) -> None:
     sim = tmp_path / "machine.toml"
     sim.write_text(SIM)
     emu = start_emulator(
@@ -140,12 +171,13 @@ def test_a_feed_hold_stops_a_probe_where_it_is(start_emulator, tmp_path: Path) -
                 grbl.port.write(b"G38.3 Z-30 F120\n")  # 2 mm/s over the bare table: 15 s
                 grbl.wait_status(lambda r: r.startswith("<Run") and mpos(r)[2] < -0.5)
                 grbl.realtime(ord("!"))
-                assert grbl.answer().startswith("error:")
-                rest = mpos(grbl.wait_status(idle))
-                assert -30 < rest[2] < -0.5
+                rest = mpos(grbl.wait_status(lambda r: r.startswith("<Hold:0")))
+                grbl.realtime(0x18)
+                grbl.wait_banner()
+                assert grbl.answers.empty()  # the probe's line is not answered after a reset
+                assert grbl.command("$X")[1] == "ok"
+                assert mpos(grbl.wait_status(idle)) == rest
                 assert tuple(machine.link.status().position[:3]) == CONFIG.to_steps(rest)
-                assert grbl.command("G0 Z0")[1] == "ok"  # lines go on from where it rests
-                assert mpos(grbl.wait_status(idle)) == (0.0, 0.0, 0.0)
 
 
 @pytest.mark.realtime

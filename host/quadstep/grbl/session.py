@@ -25,7 +25,7 @@ from .errors import GrblAlarm, GrblError, error_for
 from .executor import Executor, Work
 from .outbox import Outbox
 from .overrides import COOLANT_TOGGLES, OVERRIDE_BYTES, SPINDLE_STOP, Overrides, toggled
-from .probe import no_probe, run_probe, split_probe
+from .probe import ProbeHold, no_probe, run_probe, split_probe
 from .protocol import (
     BANNER,
     CYCLE_START,
@@ -104,6 +104,7 @@ class Session:
         self.check_mode = False
         self.homing = False
         self.probing = False
+        self.probe_hold = ProbeHold()
         self.last_probe = no_probe(len(machine.config.axes))
         self._board_alarm = False  # the firmware raised an alarm; $X clears it
         self.status_mask = options.status_mask
@@ -124,6 +125,7 @@ class Session:
         """The client has gone: what moves comes to rest, the queue is dropped."""
         self._lines.put(None)
         self._unwatch()
+        self.probe_hold.end()
         if self.homing or self.probing:
             self.machine.hold("quit")
         self.executor.close()
@@ -148,11 +150,13 @@ class Session:
         if byte == STATUS:
             self.say(self.status.report())
         elif byte == FEED_HOLD and self.probing:
-            self.machine.hold("feed hold")  # the probe ends where it rests; its line, an error
+            self.probe_hold.hold()  # the probe rests until cycle start
+            self.machine.hold("feed hold")
         elif byte == FEED_HOLD:
             self.executor.feed_hold()
         elif byte == CYCLE_START:
             self.overrides.resumed()
+            self.probe_hold.resume()
             self.executor.cycle_start()
         elif byte == SOFT_RESET:
             self._soft_reset()
@@ -185,6 +189,7 @@ class Session:
         self.splitter.clear()
         stopped = self.executor.reset()
         self.overrides.reset()
+        self.probe_hold.end()
         if self.homing or self.probing:
             self.machine.hold("reset")
             stopped = True
@@ -293,9 +298,10 @@ class Session:
         """G38.x: at rest, the machine probes; the lines that follow go on from where it stopped."""
         if not self.executor.wait_idle(generation):
             return []
+        self.probe_hold.start()
         self.probing = True
         try:
-            outcome = run_probe(self.machine, move, self.last_probe)
+            outcome = run_probe(self.machine, move, self.last_probe, self.probe_hold)
         finally:
             self.probing = False
             with self._reader_lock:

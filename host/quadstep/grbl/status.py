@@ -13,6 +13,7 @@ from ..planner.program import OutputState
 from .executor import Executor
 from .overrides import Overrides
 from .pins import pin_letters
+from .probe import ProbeHold
 from .protocol import StatusFields, status_report
 from .reader import Reader
 
@@ -43,6 +44,7 @@ class SessionView(Protocol):
     check_mode: bool
     homing: bool
     probing: bool
+    probe_hold: ProbeHold
     inputs_active: int  # the board's inputs active now (an input mask)
     status_mask: StatusMask
 
@@ -66,7 +68,7 @@ class StatusBuilder:
         if session.alarm:
             return "Alarm"
         if session.probing:
-            return "Run"
+            return session.probe_hold.state or "Run"
         moving = session.executor.grbl_state()
         if moving is not None:
             return moving
