@@ -135,6 +135,21 @@ def test_a_program_end_is_answered_once_its_motion_is_done(timed_door: FrontDoor
         assert mpos(grbl.wait_status(at_rest)) == (0.0, 5.0, 0.0)
 
 
+def test_the_feed_reported_is_the_running_lines_not_the_last_read(timed_door: FrontDoor) -> None:
+    """A sender streams far ahead of the machine: FS shows the feed of the line that runs."""
+    with client(timed_door) as grbl:
+        lines = ["G1 X4 F300", "G1 X30 F1200", "G0 X0"]
+        assert grbl.stream_counting(lines) == ["ok"] * 3  # all read while the first runs (0.8 s)
+        first = grbl.wait_status(lambda r: r.startswith("<Run") and 0.5 < mpos(r)[0] < 3.5)
+        assert report_fields(first)["FS"] == "300,0"
+        second = grbl.wait_status(lambda r: r.startswith("<Run") and 8 < mpos(r)[0] < 25)
+        assert report_fields(second)["FS"] == "1200,0"
+        grbl.wait_status(lambda r: mpos(r)[0] > 29.9)
+        rapid = grbl.wait_status(lambda r: r.startswith("<Run") and 5 < mpos(r)[0] < 25)
+        assert report_fields(rapid)["FS"] == f"{40 * 60},0"  # the rapid, at X's top speed
+        grbl.wait_status(at_rest)
+
+
 def test_send_response_over_tcp_one_sender_at_a_time(free_door: FrontDoor, tmp_path: Path) -> None:
     tcp = TcpServer(free_door.machine, 0).start()
     try:

@@ -4,12 +4,17 @@ WCO_EVERY reports (and whenever it changed), as GRBL sends it now and then to sa
 
 from __future__ import annotations
 
+import math
+from bisect import bisect_left
+from collections.abc import Sequence
 from dataclasses import dataclass, replace
 from typing import Protocol
 
+from ..config import MachineConfig
 from ..link import LinkError
-from ..machine import Machine
-from ..planner.program import OutputState
+from ..machine import JobRun, Machine
+from ..machine.job_legs import base_plan
+from ..planner.program import LinearMove, OutputState
 from .executor import Executor
 from .overrides import Overrides
 from .pins import pin_letters
@@ -55,6 +60,39 @@ def accessories(outputs: OutputState) -> str:
     return spindle + ("F" if outputs.flood else "") + ("M" if outputs.mist else "")
 
 
+def rapid_speed(config: MachineConfig, start: Sequence[float], end: Sequence[float]) -> float:
+    """A rapid's speed along its path (mm/s): the fastest at which no axis passes its top speed."""
+    length = math.dist(start, end)
+    limits = [
+        axis.max_speed * length / abs(b - a)
+        for axis, a, b in zip(config.axes, start, end)
+        if b != a
+    ]
+    return min(limits, default=0.0)
+
+
+def running_feed(job: JobRun, config: MachineConfig) -> tuple[float, bool] | None:
+    """The speed (mm/s) of the line the job runs now, not of the last line read (a sender is many
+    lines ahead), and whether it is a rapid's; None when it moves nothing."""
+    program, line = job.program, job.progress.line
+    if program is None:
+        return None
+    items = program.items
+    first = bisect_left(items, line, key=lambda item: item.line)
+    for k in range(first, len(items)):
+        item = items[k]
+        if item.line != line:
+            break
+        if not isinstance(item, LinearMove):
+            continue
+        if item.feed is not None:
+            return item.feed, False
+        before = [i for i in items[max(0, k - 8) : k] if isinstance(i, LinearMove)]
+        start = before[-1].target if before else config.to_mm(base_plan(job.plan).start)
+        return rapid_speed(config, start, item.target), True
+    return None
+
+
 class StatusBuilder:
     def __init__(self, session: SessionView) -> None:
         self.session = session
@@ -84,6 +122,18 @@ class StatusBuilder:
                 pass
         return machine.position_mm
 
+    def _feed(self, read: float | None, overrides: tuple[int, int, int]) -> float:
+        """FS's feed, mm/min: the running line's, at the overrides; a jog's, the last line
+        read's."""
+        job = self.session.executor.running_job()
+        if job is None:
+            return (read or 0.0) * 60 * overrides[0] / 100
+        running = running_feed(job, self.session.machine.config)
+        if running is None:
+            return 0.0
+        speed, rapid = running
+        return speed * 60 * overrides[1 if rapid else 0] / 100
+
     def report(self) -> str:
         session = self.session
         state = self.state()
@@ -92,7 +142,7 @@ class StatusBuilder:
         wco = tuple(coordinates.offset(a) for a in session.machine.config.axis_names)
         running = state in ("Run", "Jog", "Hold:1")
         ov = session.overrides.values
-        feed = (interpreter.feed or 0.0) * 60 * ov[0] / 100 if running else 0.0
+        feed = self._feed(interpreter.feed, ov) if running else 0.0
         show_wco = self._count % WCO_EVERY == 0 or wco != self._last_wco
         self._count += 1
         if show_wco:
