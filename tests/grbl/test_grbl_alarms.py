@@ -52,6 +52,7 @@ def test_a_hard_limit_during_a_batch_is_alarm_1_until_unlocked(
                 assert "HARD_LIMIT" in said[-2]
                 assert report_fields(grbl.status())["state"] == "Alarm"
                 assert grbl.command("G0 X0")[1] == "error:9"
+                assert grbl.command("$J=G91 X-1 F600")[1] == "error:8"  # as GRBL: not idle
                 assert not any(line.startswith("ALARM:") for line in grbl.drain_other())
                 assert grbl.command("$X")[1] == "ok"
                 assert grbl.command("G0 X0")[1] == "ok"

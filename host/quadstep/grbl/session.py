@@ -381,9 +381,8 @@ class Session:
             return report()
 
     def _jog(self, text: str, generation: int) -> Answer:
-        if self.alarm:
-            return [f"error:{GrblError.GCODE_LOCK.value}"]
-        if not self.executor.idle and not self.executor.jogging:
+        """$J=: only when idle or jogging (GRBL's error 8 else, in an alarm too)."""
+        if self.alarm or (not self.executor.idle and not self.executor.jogging):
             return [f"error:{GrblError.NOT_IDLE.value}"]
         try:
             with self._reader_lock:
