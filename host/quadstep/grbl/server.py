@@ -170,6 +170,10 @@ class TcpServer:
         except OSError:
             pass
         finally:
+            try:
+                client.shutdown(socket.SHUT_RDWR)  # the session's writer never waits on it again
+            except OSError:
+                pass  # gone already
             session.close()
             client.close()
             with self._lock:
