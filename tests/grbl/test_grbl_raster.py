@@ -38,9 +38,11 @@ def door(start_emulator, tmp_path: Path) -> Iterator[tuple[Machine, Path, Path, 
 
 
 @pytest.mark.realtime
-def test_a_streamed_raster_goes_out_as_raster_lines_and_never_runs_dry(door, tmp_path: Path) -> None:  # noqa: ANN001
+@pytest.mark.parametrize("relative", [False, True], ids=["absolute", "G91-rows"])
+def test_a_streamed_raster_goes_out_as_raster_lines_and_never_runs_dry(door, tmp_path: Path, relative: bool) -> None:  # noqa: ANN001
     machine, path, trace, jobs = door
-    lines = raster_gcode(rows=8, pixels=160)  # 1,300 lines: more than the queue takes before a job starts
+    # 1,300 lines: more than the queue takes before a job starts; LightBurn writes its rows in G91
+    lines = raster_gcode(rows=8, pixels=160, relative=relative)
     before = dict(machine.link.stats.as_dict())
     with GrblClient(str(path)) as grbl:
         grbl.wait_banner()
