@@ -1,53 +1,82 @@
-"""What goes to the sender, written in order by one thread of its own.
+"""What goes to the sender, in order, never waiting on it.
 
 Answers, reports and alarms come from several threads: the line worker, the thread that receives
-the sender's bytes (status reports), the link's reader (a firmware alarm). None of them waits for
-the sender to read: a sender busy elsewhere only lets its answers wait here, whole and in order."""
+the sender's bytes (status reports), the link's reader (a firmware alarm). Each writes at once what
+the port takes without waiting (the usual case: no thread hop on the way); what it does not take,
+and all that comes while any waits, a thread of the outbox's own writes as the sender reads. So a
+sender busy elsewhere only lets its answers wait here, whole and in order."""
 
 from __future__ import annotations
 
-import queue
 import threading
+from collections import deque
 from collections.abc import Callable
+from dataclasses import dataclass
 
 JOIN_S = 5.0
 
 
-class Outbox:
-    """Bytes for `write` (which may wait while the sender reads nothing), from any thread."""
+@dataclass(frozen=True)
+class SenderPort:
+    """How bytes reach the sender: `try_write` writes what the port takes now and says how much
+    (BlockingIOError: none), `write` all of it, waiting while the sender reads nothing."""
 
-    def __init__(self, write: Callable[[bytes], None]) -> None:
-        self._write = write
-        self._queue: queue.SimpleQueue[bytes | None] = queue.SimpleQueue()
+    try_write: Callable[[bytes], int]
+    write: Callable[[bytes], None]
+
+
+class Outbox:
+    """Bytes for the sender through `port`, from any thread."""
+
+    def __init__(self, port: SenderPort) -> None:
+        self._try_write, self._write = port.try_write, port.write
+        self._lock = threading.Lock()
+        self._waiting = threading.Condition(self._lock)
+        self._backlog: deque[bytes] = deque()  # for the writer thread, in order
+        self._writing = False  # the writer thread has bytes out of the backlog in hand
+        self._closing = self._gone = False
         self._thread = threading.Thread(target=self._run, name="grbl-out", daemon=True)
         self._thread.start()
 
     def put(self, data: bytes) -> None:
-        self._queue.put(data)
+        with self._lock:
+            if self._gone or self._closing:
+                return
+            if not self._backlog and not self._writing:
+                try:
+                    data = data[self._try_write(data) :]
+                except BlockingIOError:
+                    pass
+                except OSError:
+                    self._gone = True  # the sender has gone: nobody reads what is left
+                    return
+                if not data:
+                    return
+            self._backlog.append(data)
+            self._waiting.notify()
 
     def close(self) -> None:
         """What was put before is written (or the sender has gone), then the writer ends."""
-        self._queue.put(None)
+        with self._lock:
+            self._closing = True
+            self._waiting.notify()
         self._thread.join(timeout=JOIN_S)
 
     def _run(self) -> None:
-        while (data := self._queue.get()) is not None:
-            waiting, closing = self._waiting()
-            try:
-                self._write(data + waiting)  # what came meanwhile, in one write
-            except OSError:
-                return  # the sender has gone: what is left has nobody to read it
-            if closing:
-                return
-
-    def _waiting(self) -> tuple[bytes, bool]:
-        """What was put since, and whether close() came after it."""
-        chunks: list[bytes] = []
         while True:
+            with self._lock:
+                self._waiting.wait_for(lambda: bool(self._backlog) or self._closing)
+                if not self._backlog or self._gone:
+                    return
+                data = b"".join(self._backlog)
+                self._backlog.clear()
+                self._writing = True
             try:
-                data = self._queue.get_nowait()
-            except queue.Empty:
-                return b"".join(chunks), False
-            if data is None:
-                return b"".join(chunks), True
-            chunks.append(data)
+                self._write(data)
+            except OSError:
+                with self._lock:
+                    self._gone = True
+                return
+            finally:
+                with self._lock:
+                    self._writing = False

@@ -13,6 +13,7 @@ from collections.abc import Callable
 from pathlib import Path
 
 from ..machine import Machine
+from .outbox import SenderPort
 from .protocol import SOFT_RESET
 from .session import Session, SessionOptions
 
@@ -48,9 +49,13 @@ class PtyServer:
         self.session: Session | None = None
         self.connected = threading.Event()
 
+    def _send_now(self, data: bytes) -> int:
+        """What of `data` the pseudo-terminal takes now (the master is non-blocking)."""
+        return os.write(self._master, data)
+
     def _send(self, data: bytes) -> None:
-        """All of `data` to the sender (the session's writer thread): the master is non-blocking,
-        so this waits for room while the sender reads nothing, and gives up once it has gone."""
+        """All of `data` to the sender (the session's writer thread): waits for room while the
+        sender reads nothing, and gives up once it has gone."""
         left = memoryview(data)
         room = select.poll()
         room.register(self._master, select.POLLOUT)
@@ -86,7 +91,8 @@ class PtyServer:
             if (
                 self.session is None
             ):  # a soft reset sent on opening (as senders do) brings the banner
-                self.session = Session(self.machine, self._send, self.options).start(
+                port = SenderPort(self._send_now, self._send)
+                self.session = Session(self.machine, port, self.options).start(
                     SOFT_RESET not in data
                 )
                 self.connected.set()
@@ -157,7 +163,8 @@ class TcpServer:
             ).start()
 
     def _serve(self, client: socket.socket) -> None:
-        session = Session(self.machine, client.sendall, self.options).start()
+        port = SenderPort(lambda data: client.send(data, socket.MSG_DONTWAIT), client.sendall)
+        session = Session(self.machine, port, self.options).start()
         try:
             while not self._stop.is_set():
                 ready, _, _ = select.select([client], [], [], 0.2)

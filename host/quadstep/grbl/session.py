@@ -23,7 +23,7 @@ from ..protocol import Alarm, Capability, InputChange, Report, State
 from .alarms import FIRMWARE, fault_alarm, firmware_alarm, homing_alarm
 from .errors import GrblAlarm, GrblError, error_for
 from .executor import Executor, Work
-from .outbox import Outbox
+from .outbox import Outbox, SenderPort
 from .overrides import COOLANT_TOGGLES, OVERRIDE_BYTES, SPINDLE_STOP, Overrides, toggled
 from .probe import ProbeHold, no_probe, run_probe, split_probe
 from .protocol import (
@@ -80,18 +80,17 @@ class SessionOptions:
 
 
 class Session:
-    """GRBL 1.1 on `machine` for one client, whose answers go to `write` (bytes; called from a
-    thread of the session's own, and may wait while the client reads nothing)."""
+    """GRBL 1.1 on `machine` for one client, whose answers go out through `port`."""
 
     def __init__(
         self,
         machine: Machine,
-        write: Callable[[bytes], None],
+        port: SenderPort,
         options: SessionOptions | None = None,
     ) -> None:
         self.machine = machine
         self.options = options = options if options is not None else SessionOptions()
-        self._outbox = Outbox(write)
+        self._outbox = Outbox(port)
         self._reader_lock = threading.Lock()
         self.reader = Reader(
             machine.config, machine.position_mm, machine.coordinates, options.tool_change
