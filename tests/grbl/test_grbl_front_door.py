@@ -283,6 +283,24 @@ def test_a_senders_tool_length_offset_g43_1_shifts_z_until_g49(free_door: FrontD
     assert free_door.steps() == CONFIG.to_steps((5.0, 0.0, -23.0))
 
 
+def test_sleep_refuses_every_line_until_a_reset_which_leaves_an_alarm(free_door: FrontDoor) -> None:
+    with client(free_door) as grbl:
+        assert grbl.command("M3 S500")[1] == "ok"
+        assert grbl.command("$SLP") == (["[MSG:Sleeping]"], "ok")
+        report = report_fields(grbl.status())
+        assert report["state"] == "Sleep"
+        assert "A" not in report or "S" not in report["A"]  # the spindle off
+        assert grbl.command("G0 X1")[1] == "error:9"
+        assert grbl.command("$X")[1] == "error:9"
+        grbl.realtime(0x18)
+        said = grbl.expect_other(lambda line: "unlock" in line)
+        assert said[-1] == "[MSG:'$H'|'$X' to unlock]" and "ALARM:3" not in said
+        assert report_fields(grbl.status())["state"] == "Alarm"
+        assert grbl.command("$X")[1] == "ok"
+        assert grbl.command("G0 X1")[1] == "ok"
+        assert mpos(grbl.wait_status(at_rest)) == (1.0, 0.0, 0.0)
+
+
 def test_bad_lines_are_answered_with_grbls_errors_and_nothing_moves(free_door: FrontDoor) -> None:
     before = free_door.steps()
     with client(free_door) as grbl:

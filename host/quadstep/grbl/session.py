@@ -18,7 +18,7 @@ from ..link import LinkError
 from ..link.inputs import input_status
 from ..machine import Machine, MachineError
 from ..machine.homing import home
-from ..planner.program import JobError, ProbeMove
+from ..planner.program import JobError, OutputState, ProbeMove
 from ..protocol import Alarm, Capability, InputChange, Report, State
 from .alarms import FIRMWARE, fault_alarm, firmware_alarm, homing_alarm
 from .errors import GrblAlarm, GrblError, error_for
@@ -53,6 +53,7 @@ Answer = list[str]
 ANSWERS_HELD = 16
 PROGRAM_END = re.compile(r"M0*(2|30)(?![\d.])")
 PGM_END = "[MSG:Pgm End]"
+SLEEPING = "[MSG:Sleeping]"
 STATUS_MASK_SETTING = 10
 INPUT_CAPABILITIES = Capability.LIMIT_INPUTS | Capability.PROBE_INPUT | Capability.CONTROL_INPUTS
 
@@ -103,6 +104,7 @@ class Session:
         self.check_mode = False
         self.homing = False
         self.probing = False
+        self.sleeping = False  # $SLP: every line refused until a soft reset, which leaves an alarm
         self.probe_hold = ProbeHold()
         self.last_probe = no_probe(len(machine.config.axes))
         self._board_alarm = False  # the firmware raised an alarm; $X clears it
@@ -186,6 +188,8 @@ class Session:
         """0x18: a controlled stop (HOLD), the queue and the modal state dropped, then the banner;
         ALARM:3 when it stopped motion (the position is exact, but the sender's program was cut)."""
         self.splitter.clear()
+        if self.sleeping:
+            self.sleeping, self.alarm = False, True
         stopped = self.executor.reset()
         self.overrides.reset()
         self.probe_hold.end()
@@ -268,6 +272,8 @@ class Session:
         if line.overflow:
             return [f"error:{GrblError.LINE_OVERFLOW.value}"]
         text = line.text.strip()
+        if self.sleeping:
+            return [f"error:{GrblError.GCODE_LOCK.value}"]
         try:
             if text.startswith("$"):
                 return self._system(text, generation)
@@ -368,7 +374,7 @@ class Session:
             ],
             "G": lambda: [*self._read(lambda: [self.reader.modal_report()]), "ok"],
             "N": lambda: ["$N0=", "$N1=", "ok"],
-            "SLP": lambda: ["ok"],
+            "SLP": lambda: self._sleep(generation),
             "X": lambda: self._unlock(generation),
             "H": lambda: self._home(generation),
             "C": lambda: self._check_mode(generation),
@@ -390,6 +396,19 @@ class Session:
             return [message(str(exc)), f"error:{GrblError.INVALID_JOG.value}"]
         self.executor.submit(Work(read.items, read.coordinates, read.line, jog=True), generation)
         return ["ok"]
+
+    def _sleep(self, generation: int) -> Answer:
+        """$SLP, as GRBL: at rest, the spindle (laser) and coolant off, then Sleep until a soft
+        reset, which leaves an alarm ($X or $H unlocks)."""
+        if not self.executor.wait_idle(generation):
+            return []
+        off = OutputState()
+        with self._reader_lock:
+            if self.reader.interpreter.outputs != off:
+                self.machine.set_outputs(off)
+                self.reader.interpreter.outputs = off
+        self.sleeping = True
+        return ["ok", SLEEPING]
 
     def _unlock(self, generation: int) -> Answer:
         if not self.executor.wait_idle(generation):

@@ -50,6 +50,7 @@ class SessionView(Protocol):
     homing: bool
     probing: bool
     probe_hold: ProbeHold
+    sleeping: bool
     inputs_active: int  # the board's inputs active now (an input mask)
     status_mask: StatusMask
 
@@ -101,6 +102,8 @@ class StatusBuilder:
 
     def state(self) -> str:
         session = self.session
+        if session.sleeping:
+            return "Sleep"
         if session.homing:
             return "Home"
         if session.alarm:
