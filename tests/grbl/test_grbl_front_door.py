@@ -301,6 +301,19 @@ def test_sleep_refuses_every_line_until_a_reset_which_leaves_an_alarm(free_door:
         assert mpos(grbl.wait_status(at_rest)) == (1.0, 0.0, 0.0)
 
 
+def test_rst_hash_zeroes_the_work_offsets_and_stored_positions(free_door: FrontDoor) -> None:
+    with client(free_door) as grbl:
+        for line in ("G10 L2 P1 X5 Y6", "G10 L2 P3 Z-2", "G0 X7", "G28.1", "G92 X1"):
+            assert grbl.command(line)[1] == "ok"
+        assert grbl.command("$RST=#") == ([], "ok")
+        lines, _ = grbl.command("$#")
+        assert lines[:6] == [f"[G{54 + k}:0.000,0.000,0.000]" for k in range(6)]
+        assert "[G28:0.000,0.000,0.000]" in lines
+        assert "[G92:6.000,0.000,0.000]" in lines  # machine 12 read X1 over G54 X5: G92 stays
+        assert free_door.machine.coordinates.offsets[0] == {}  # kept so for the next sender
+        assert grbl.command("$RST=$")[1] == "error:3"  # the settings are the file
+
+
 def test_bad_lines_are_answered_with_grbls_errors_and_nothing_moves(free_door: FrontDoor) -> None:
     before = free_door.steps()
     with client(free_door) as grbl:

@@ -90,6 +90,11 @@ class Reader:
         """A soft reset: the modal state as at power-up, the offsets kept."""
         self.interpreter = self._fresh(position_mm, coordinates)
 
+    def reset_coordinates(self, coordinates: WorkCoordinates) -> None:
+        """The work coordinates set anew ($RST=#); the modal state kept."""
+        copy = coordinates.model_copy(deep=True)
+        self.interpreter.coords = self.interpreter.program.coordinates = copy
+
     def reconfigure(self, config: MachineConfig, position_mm: Sequence[float]) -> None:
         """A setting written: the lines that follow are read with `config`, from where the machine
         stands in it (steps/mm may have changed)."""

@@ -13,6 +13,7 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from ..coordinates import WorkCoordinates
 from ..give_way import give_way
 from ..link import LinkError
 from ..link.inputs import input_status
@@ -375,6 +376,7 @@ class Session:
             "G": lambda: [*self._read(lambda: [self.reader.modal_report()]), "ok"],
             "N": lambda: ["$N0=", "$N1=", "ok"],
             "SLP": lambda: self._sleep(generation),
+            "RST=#": lambda: self._clear_offsets(generation),
             "X": lambda: self._unlock(generation),
             "H": lambda: self._home(generation),
             "C": lambda: self._check_mode(generation),
@@ -409,6 +411,20 @@ class Session:
                 self.reader.interpreter.outputs = off
         self.sleeping = True
         return ["ok", SLEEPING]
+
+    def _clear_offsets(self, generation: int) -> Answer:
+        """$RST=#, as GRBL: at rest, G54–G59's offsets and the G28/G30 positions back to zero (G92
+        and the tool length stay, as GRBL keeps neither with them)."""
+        if not self.executor.wait_idle(generation):
+            return []
+        with self._reader_lock:
+            kept = self.reader.coordinates
+            cleared = WorkCoordinates(
+                system=kept.system, g92=kept.g92, g92_applied=kept.g92_applied, tlo=kept.tlo
+            )
+            self.machine.adopt_coordinates(cleared)
+            self.reader.reset_coordinates(cleared)
+        return ["ok"]
 
     def _unlock(self, generation: int) -> Answer:
         if not self.executor.wait_idle(generation):
