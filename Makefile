@@ -12,8 +12,10 @@ VENV_INSTALLED := $(VENV)/.installed
 SUDO := $(shell [ "$$(id -u)" = 0 ] || echo sudo)
 APT_PACKAGES := gcc make pkg-config gcc-avr avr-libc binutils-avr simavr libsimavr-dev libelf-dev \
 	clang libclang-rt-14-dev avrdude python3-venv python3-tk
+CNCJS_VERSION := 1.11.5
+CNCJS_INSTALLED := $(BUILD)/cncjs/.installed-$(CNCJS_VERSION)
 
-.PHONY: all setup setup-apt setup-python demo lint test test-fast test-firmware test-python bench clean
+.PHONY: all setup setup-apt setup-python setup-senders demo lint test test-fast test-firmware test-python bench clean
 
 all: emulator firmware
 
@@ -36,6 +38,9 @@ setup-apt:
 	  $(SUDO) apt-get update -qq && \
 	  DEBIAN_FRONTEND=noninteractive $(SUDO) apt-get install -y -qq $(APT_PACKAGES); \
 	fi
+	@if ! command -v npm >/dev/null || ! command -v node >/dev/null; then \
+	  $(SUDO) apt-get update -qq && DEBIAN_FRONTEND=noninteractive $(SUDO) apt-get install -y -qq nodejs npm; \
+	fi
 
 setup-python: $(VENV_INSTALLED)
 
@@ -48,10 +53,20 @@ $(VENV_INSTALLED): pyproject.toml | $(VENV_PYTHON)
 	$(VENV_PYTHON) -m pip install -q --disable-pip-version-check -e '.[test]'
 	@touch $@
 
+# A real sender for the tests (tests/grbl/test_grbl_cncjs.py): CNCjs from the npm registry, its server
+# and Grbl controller, in $(BUILD)/cncjs.
+setup-senders: $(CNCJS_INSTALLED)
+
+$(CNCJS_INSTALLED): | setup-apt
+	rm -rf $(BUILD)/cncjs && mkdir -p $(BUILD)/cncjs && echo '{"private": true}' > $(BUILD)/cncjs/package.json
+	npm install --prefix $(abspath $(BUILD))/cncjs --no-audit --no-fund --loglevel=error \
+	  cncjs@$(CNCJS_VERSION) >/dev/null
+	@touch $@
+
 demo: setup emulator
 	$(VENV_PYTHON) -m quadstep.cli run examples/demo.gcode --config examples/router-uno.toml --emulator
 
-test: setup lint all harness test-firmware fuzz-short test-python
+test: setup setup-senders lint all harness test-firmware fuzz-short test-python
 
 # The host package's style and types (pyproject.toml: [tool.ruff], [tool.mypy]); `ruff format
 # host/quadstep` fixes the first.
