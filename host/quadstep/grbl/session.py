@@ -1,27 +1,24 @@
 """One sender's conversation: its bytes in, GRBL's answers out.
 
 Realtime commands are handled in the receiving thread as they arrive; lines go to a worker thread
-that answers each one, in order, once it is checked and queued (executor.py) or done ($
-commands)."""
+that answers each one, in order, once it is checked and queued (executor.py) or done (`$`
+commands: system.py)."""
 
 from __future__ import annotations
 
 import queue
 import re
 import threading
-from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from ..coordinates import WorkCoordinates
 from ..give_way import give_way
 from ..link import LinkError
 from ..link.inputs import input_status
 from ..machine import Machine, MachineError
-from ..machine.homing import home
-from ..planner.program import JobError, OutputState, ProbeMove
-from ..protocol import Alarm, Capability, InputChange, Report, State
-from .alarms import FIRMWARE, fault_alarm, firmware_alarm, homing_alarm
+from ..planner.program import JobError, ProbeMove
+from ..protocol import Alarm, Capability, InputChange, Report
+from .alarms import FIRMWARE, fault_alarm, firmware_alarm
 from .errors import GrblAlarm, GrblError, error_for
 from .executor import Executor, Work
 from .outbox import Outbox, SenderPort
@@ -32,30 +29,23 @@ from .protocol import (
     CYCLE_START,
     FEED_HOLD,
     JOG_CANCEL,
-    OPTIONS,
     SOFT_RESET,
     STATUS,
-    VERSION,
     Line,
     Realtime,
     StreamSplitter,
 )
-from .reader import JogError, Reader
-from .settings import NOT_KEPT, settings_lines
-from .settings_write import SettingError, SettingWrite, parse_write, write_setting
+from .reader import Reader
 from .status import StatusBuilder, StatusMask
+from .system import Answer, message, system_command
 
-HELP = "[HLP:$$ $# $G $I $N $x=val $Nx=line $J=line $SLP $C $X $H ~ ! ? ctrl-x]"
 UNLOCK = "[MSG:'$H'|'$X' to unlock]"
-Answer = list[str]
 # Lines a sender has in flight (a character-counting one: up to 128 bytes) are read and queued
 # one by one, and their answers written together once no more have arrived (one write and one
 # turn for the link's threads, not one per line), at most this many at once.
 ANSWERS_HELD = 16
 PROGRAM_END = re.compile(r"M0*(2|30)(?![\d.])")
 PGM_END = "[MSG:Pgm End]"
-SLEEPING = "[MSG:Sleeping]"
-STATUS_MASK_SETTING = 10
 INPUT_CAPABILITIES = Capability.LIMIT_INPUTS | Capability.PROBE_INPUT | Capability.CONTROL_INPUTS
 
 
@@ -64,10 +54,6 @@ def may_wait(text: str) -> bool:
     it are answered first, as they would be by then."""
     squeezed = "".join(text.split()).upper()
     return squeezed.startswith("$") or "G38" in squeezed or PROGRAM_END.search(squeezed) is not None
-
-
-def message(text: str) -> str:
-    return f"[MSG:{text.replace('[', '(').replace(']', ')')}]"
 
 
 @dataclass(frozen=True)
@@ -93,7 +79,7 @@ class Session:
         self.machine = machine
         self.options = options = options if options is not None else SessionOptions()
         self._outbox = Outbox(port)
-        self._reader_lock = threading.Lock()
+        self.reader_lock = threading.Lock()
         self.reader = Reader(
             machine.config, machine.position_mm, machine.coordinates, options.tool_change
         )
@@ -108,8 +94,9 @@ class Session:
         self.sleeping = False  # $SLP: every line refused until a soft reset, which leaves an alarm
         self.probe_hold = ProbeHold()
         self.last_probe = no_probe(len(machine.config.axes))
-        self._board_alarm = False  # the firmware raised an alarm; $X clears it
+        self.board_alarm = False  # the firmware raised an alarm; $X clears it
         self.status_mask = options.status_mask
+        self.config_path = options.config_path  # where settings writes go
         self.inputs_active = 0  # the board's inputs active now: read at start, then followed
         self._lines: queue.Queue[tuple[int, Line] | None] = queue.Queue()
         self._worker = threading.Thread(target=self._work, name="grbl-lines", daemon=True)
@@ -169,7 +156,7 @@ class Session:
         elif byte in COOLANT_TOGGLES:
             self._toggle_coolant(byte)
         elif byte == JOG_CANCEL and self.executor.cancel_jog():
-            with self._reader_lock:
+            with self.reader_lock:
                 self.reader.resync(self.machine.position_mm)
 
     def _toggle_coolant(self, byte: int) -> None:
@@ -177,7 +164,7 @@ class Session:
         M9 would); ignored while anything moves or the firmware has no outputs."""
         if not self.executor.idle or self.homing or self.probing or self.check_mode:
             return
-        with self._reader_lock:
+        with self.reader_lock:
             state = toggled(self.reader.interpreter.outputs, byte)
             try:
                 self.machine.set_outputs(state)
@@ -197,7 +184,7 @@ class Session:
         if self.homing or self.probing:
             self.machine.hold("reset")
             stopped = True
-        with self._reader_lock:
+        with self.reader_lock:
             self.reader.reset(self.machine.position_mm, self.machine.coordinates)
         self.check_mode = False
         if stopped:
@@ -214,7 +201,7 @@ class Session:
         """A batch that could not be planned or run (its lines were answered already): an alarm, so
         the sender stops (said once when the firmware's alarm said it already); $X unlocks."""
         self.alarm = True
-        if self._board_alarm and firmware_alarm(text) is not None:
+        if self.board_alarm and firmware_alarm(text) is not None:
             self.say(message(text))
             return
         self.say(message(text), f"ALARM:{fault_alarm(text).value}")
@@ -235,7 +222,7 @@ class Session:
         if isinstance(report, InputChange):
             self.inputs_active = report.active
         if isinstance(report, Alarm) and report.code in FIRMWARE:
-            self.alarm = self._board_alarm = True
+            self.alarm = self.board_alarm = True
             self.say(
                 message(f"quadstep: firmware alarm {report.code.name}"),
                 f"ALARM:{FIRMWARE[report.code].value}",
@@ -277,7 +264,7 @@ class Session:
             return [f"error:{GrblError.GCODE_LOCK.value}"]
         try:
             if text.startswith("$"):
-                return self._system(text, generation)
+                return system_command(self, text, generation)
             return self._gcode(text, generation)
         except (JobError, MachineError, LinkError) as exc:
             return [message(str(exc)), f"error:{error_for(str(exc)).value}"]
@@ -287,7 +274,7 @@ class Session:
             return ["ok"]
         if self.alarm:
             return [f"error:{GrblError.GCODE_LOCK.value}"]
-        with self._reader_lock:
+        with self.reader_lock:
             read = self.reader.read(text)
         items, probe = split_probe(read.items)
         if not self.check_mode and items:
@@ -310,7 +297,7 @@ class Session:
             outcome = run_probe(self.machine, move, self.last_probe, self.probe_hold)
         finally:
             self.probing = False
-            with self._reader_lock:
+            with self.reader_lock:
                 self.reader.resync(self.machine.position_mm)
         self.last_probe = outcome.report
         if outcome.alarm is None:
@@ -323,143 +310,3 @@ class Session:
             outcome.report.line(),
             "ok",
         ]
-
-    def _system(self, text: str, generation: int) -> Answer:
-        command = text[1:].upper()
-        if command.startswith("J="):
-            return self._jog(text[3:], generation)
-        answer = self._system_commands(generation).get(command)
-        if answer is not None:
-            return answer()
-        try:
-            write = parse_write(text)
-            if write is not None:
-                return self._write_setting(write)
-        except SettingError as exc:
-            return [message(str(exc)), f"error:{exc.error.value}"]
-        if command.startswith(("N", "RST=")):
-            return [NOT_KEPT, f"error:{GrblError.INVALID_STATEMENT.value}"]
-        return [f"error:{GrblError.INVALID_STATEMENT.value}"]
-
-    def _write_setting(self, write: SettingWrite) -> Answer:
-        """At rest (GRBL's error 8 else): the setting into the file, used from the next line."""
-        if not self.executor.idle or self.homing or self.probing:
-            return [f"error:{GrblError.NOT_IDLE.value}"]
-        if write.number == STATUS_MASK_SETTING:
-            return self._write_status_mask(write)
-        if write_setting(self.machine, self.options.config_path, write):
-            with self._reader_lock:
-                self.reader.reconfigure(self.machine.config, self.machine.position_mm)
-        return ["ok"]
-
-    def _write_status_mask(self, write: SettingWrite) -> Answer:
-        """$10: what the reports carry, from the next one (this session's server keeps it)."""
-        if write.value < 0:
-            reason = f"$10={write.value:g}: a setting is never negative"
-            return [message(reason), f"error:{GrblError.NEGATIVE_VALUE.value}"]
-        if not write.value.is_integer() or write.value > 255:
-            reason = f"$10={write.value:g}: the status report mask is a whole number 0 … 255"
-            return [message(reason), f"error:{GrblError.INVALID_STATEMENT.value}"]
-        self.status_mask.value = int(write.value)
-        return ["ok"]
-
-    def _system_commands(self, generation: int) -> dict[str, Callable[[], Answer]]:
-        """`$` commands by name, each answering when called."""
-        return {
-            "": lambda: [HELP, "ok"],
-            "$": lambda: [*settings_lines(self.machine.config, self.status_mask.value), "ok"],
-            "I": lambda: [VERSION, OPTIONS, "ok"],
-            "#": lambda: [
-                *self._read(lambda: self.reader.offsets_report(self.last_probe.line())),
-                "ok",
-            ],
-            "G": lambda: [*self._read(lambda: [self.reader.modal_report()]), "ok"],
-            "N": lambda: ["$N0=", "$N1=", "ok"],
-            "SLP": lambda: self._sleep(generation),
-            "RST=#": lambda: self._clear_offsets(generation),
-            "X": lambda: self._unlock(generation),
-            "H": lambda: self._home(generation),
-            "C": lambda: self._check_mode(generation),
-        }
-
-    def _read(self, report: Callable[[], list[str]]) -> list[str]:
-        """A report of the modal state, taken while no line is being read."""
-        with self._reader_lock:
-            return report()
-
-    def _jog(self, text: str, generation: int) -> Answer:
-        """$J=: only when idle or jogging (GRBL's error 8 else, in an alarm too)."""
-        if self.alarm or (not self.executor.idle and not self.executor.jogging):
-            return [f"error:{GrblError.NOT_IDLE.value}"]
-        try:
-            with self._reader_lock:
-                read = self.reader.jog(text)
-        except JogError as exc:
-            return [message(str(exc)), f"error:{GrblError.INVALID_JOG.value}"]
-        self.executor.submit(Work(read.items, read.coordinates, read.line, jog=True), generation)
-        return ["ok"]
-
-    def _sleep(self, generation: int) -> Answer:
-        """$SLP, as GRBL: at rest, the spindle (laser) and coolant off, then Sleep until a soft
-        reset, which leaves an alarm ($X or $H unlocks)."""
-        if not self.executor.wait_idle(generation):
-            return []
-        off = OutputState()
-        with self._reader_lock:
-            if self.reader.interpreter.outputs != off:
-                self.machine.set_outputs(off)
-                self.reader.interpreter.outputs = off
-        self.sleeping = True
-        return ["ok", SLEEPING]
-
-    def _clear_offsets(self, generation: int) -> Answer:
-        """$RST=#, as GRBL: at rest, G54–G59's offsets and the G28/G30 positions back to zero (G92
-        and the tool length stay, as GRBL keeps neither with them)."""
-        if not self.executor.wait_idle(generation):
-            return []
-        with self._reader_lock:
-            kept = self.reader.coordinates
-            cleared = WorkCoordinates(
-                system=kept.system, g92=kept.g92, g92_applied=kept.g92_applied, tlo=kept.tlo
-            )
-            self.machine.adopt_coordinates(cleared)
-            self.reader.reset_coordinates(cleared)
-        return ["ok"]
-
-    def _unlock(self, generation: int) -> Answer:
-        if not self.executor.wait_idle(generation):
-            return []
-        if self.machine.status().state == State.ALARM:
-            self.machine.emergency_stop()  # at rest already: a STOP clears the board's alarm
-        self.alarm = self._board_alarm = False
-        return ["[MSG:Caution: Unlocked]", "ok"]
-
-    def _home(self, generation: int) -> Answer:
-        if not any(a.homing is not None for a in self.machine.config.axes):
-            return [f"error:{GrblError.HOMING_DISABLED.value}"]
-        if not self.executor.wait_idle(generation):
-            return []
-        self.homing = True
-        try:
-            home(self.machine)
-        except (MachineError, LinkError) as exc:
-            self.alarm = True
-            return [message(str(exc)), f"ALARM:{homing_alarm(str(exc)).value}", "ok"]
-        finally:
-            self.homing = False
-        self.alarm = False
-        with self._reader_lock:
-            self.reader.resync(self.machine.position_mm)
-        return ["ok"]
-
-    def _check_mode(self, generation: int) -> Answer:
-        if not self.executor.wait_idle(generation):
-            return []
-        self.check_mode = not self.check_mode
-        if self.check_mode:
-            return ["[MSG:Enabled]", "ok"]
-        with (
-            self._reader_lock
-        ):  # leaving check mode resets the modal state, as GRBL's soft reset does
-            self.reader.reset(self.machine.position_mm, self.machine.coordinates)
-        return ["[MSG:Disabled]", "ok"]
