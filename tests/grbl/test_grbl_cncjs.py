@@ -7,7 +7,10 @@ controller, driven over Socket.IO as its web page drives them (tests/helpers/cnc
   independent reading of the file gives, and CNCjs reads the same position;
 - CNCjs's height map (autolevel) over a surface with a step in it: every height it records is the
   surface's, within a motor step;
-- a jog cancelled by CNCjs's jog cancel: it stops short of its end, at rest where CNCjs reads it.
+- a jog cancelled by CNCjs's jog cancel: it stops short of its end, at rest where CNCjs reads it;
+- on the example router's simulated machine (switches, backlash): CNCjs's homing, a work zero from
+  its console, then a job with reversals: the carriages end where CNCjs reads the machine;
+- a LightBurn-style laser raster run from CNCjs: RASTER lines, never dry, every step predicted.
 
 Skipped when CNCjs is not installed (`make test` installs it)."""
 
@@ -24,12 +27,15 @@ from pathlib import Path
 
 import pytest
 from grbl_door import serving
+from host_helpers import assert_trace_is_prediction
+from laser_raster import raster_gcode, record_jobs
 
-from quadstep.config import load_config
+from quadstep.config import BacklashConfig, load_config
 from quadstep.coordinates import WorkCoordinates
 from quadstep.job import load_job
 from quadstep.link import Link
-from quadstep.machine import Machine
+from quadstep.machine import JobState, Machine
+from quadstep.protocol.raster import RasterLine
 
 REPO = Path(__file__).resolve().parents[2]
 CNCJS = REPO / "build" / "cncjs" / "node_modules"
@@ -203,3 +209,77 @@ def test_cncjs_jog_cancel_stops_short_at_rest(machine: Machine, cncjs: tuple[str
     assert 1.0 < x < 50.0 and (y, z) == (0.0, 0.0)  # 20 mm/s for about 0.3 s, not the whole 100 mm
     steps = machine.link.status().position[:3]
     assert [round(s / STEPS_PER_MM, 3) for s in steps] == [x, y, z]
+
+
+ROUTER_SIM = REPO / "examples" / "router-uno-machine.toml"  # switches, backlash, plates
+SIM_BACKLASH = (10.5, 6.25, 3.0)  # its backlash, steps: the configuration compensates it
+AFTER_HOMING = """\
+G21 G90 G54
+G0 X0 Y0 Z2
+G1 Z-1 F300
+G2 X10 Y0 I5 J0 F1200
+G1 Y-5
+G0 Z2
+G0 X3 Y4
+"""
+
+
+def test_cncjs_homes_sets_a_work_zero_and_runs_a_job_on_a_machine_with_backlash(
+    start_emulator, cncjs: tuple[str, str], tmp_path: Path
+) -> None:
+    job = tmp_path / "after-homing.nc"
+    job.write_text(AFTER_HOMING)
+    before = [["homing"], ["gcode", "G0 X20 Y30 Z-10"], ["gcode", "G10 L20 P1 X0 Y0 Z0"]]
+    emu = start_emulator(
+        axes=3, tick_hz=CONFIG.tick_hz, queue=14, extra_args=["--machine", str(ROUTER_SIM)]
+    )
+    axes = tuple(
+        axis.model_copy(update={"backlash": BacklashConfig(mm=steps / STEPS_PER_MM)})
+        for axis, steps in zip(CONFIG.axes, SIM_BACKLASH)
+    )
+    with Link.open(emu.url) as link:
+        machine = Machine(link, CONFIG.model_copy(update={"axes": axes}))
+        with serving(machine) as pty:
+            said = drive(cncjs, pty.path, "stream", file=str(job), before=before)
+        motors = link.status().position[:3]
+    carriages = [axis["carriage"] for axis in emu.stop()["machine"]["axes"]]
+    assert said["errors"] == []
+    assert "Home" in said["states"] and said["states"][-1] == "Idle"
+    assert mm(said["status"]["wco"]) == [20.0, 30.0, -10.0]
+    assert mm(said["status"]["wpos"]) == [3.0, 4.0, 2.0]
+    assert mm(said["status"]["mpos"]) == [23.0, 34.0, -8.0]
+    # the carriages where CNCjs reads the machine, the backlash taken up at every reversal (the
+    # motors are off by the take-ups): within a step of machine zero's switch point, and half a
+    # step more where the simulated backlash is a fraction of a step the take-up rounds
+    target = CONFIG.to_steps((23.0, 34.0, -8.0))
+    assert tuple(motors) != target
+    assert all(abs(c - t) <= 1.5 for c, t in zip(carriages, target)), carriages
+
+
+@pytest.mark.realtime
+def test_cncjs_streams_a_laser_raster_that_goes_out_as_raster_lines(
+    start_emulator, cncjs: tuple[str, str], tmp_path: Path
+) -> None:
+    """A LightBurn-style grayscale fill (a `G1 X… S…` a pixel, M4) loaded into CNCjs and run from
+    it, on the laser Uno's configuration: the rows go out as RASTER lines, the board never runs dry,
+    every step is the host's prediction of what it was sent and the machine ends where the file
+    does."""
+    laser = load_config(REPO / "examples" / "laser-uno.toml")
+    job = tmp_path / "raster.nc"
+    job.write_text("\n".join(raster_gcode(rows=6, pixels=160)) + "\n")
+    trace = tmp_path / "trace.csv"
+    emu = start_emulator(axes=3, tick_hz=laser.tick_hz, queue=14, trace=trace)
+    with Link.open(emu.url) as link:
+        machine = Machine(link, laser)
+        jobs = record_jobs(machine)
+        with serving(machine) as pty:
+            said = drive(cncjs, pty.path, "stream", file=str(job))
+        motors = tuple(link.status().position[:3])
+    emu.stop()
+    assert said["errors"] == []
+    assert motors == load_job(job, laser, (0, 0, 0)).plan.end
+    assert mm(said["status"]["mpos"]) == [0.0, 0.0, 0.0]
+    assert jobs and all(j.state is JobState.DONE and j.states.starvations == 0 for j in jobs)
+    sent = [segment for j in jobs for segment in j.plan.segments.segments()]
+    assert sum(len(s.raster.power) for s in sent if isinstance(s, RasterLine)) >= 6 * 160
+    assert_trace_is_prediction(trace, sent, axis_count=3)

@@ -5,7 +5,9 @@
 //   node cncjs_drive.js URL SECRET PORT SCENARIO ARGS_JSON
 //
 // Scenarios (ARGS_JSON's keys):
-//   stream     {file, holdAt, holdMs}: gcode:load and gcode:start; with holdAt, a feed hold once
+//   stream     {file, holdAt, holdMs, before}: first each of `before` (["homing"] or
+//              ["gcode", LINE]: CNCjs's Homing button, a line from its console or a button),
+//              each to Idle; then gcode:load and gcode:start; with holdAt, a feed hold once
 //              CNCjs counts that many lines acknowledged, and a cycle start holdMs after the hold
 //   autolevel  {params}: CNCjs's height map (autolevel:start), to autolevel:complete
 //   jog        {line, cancelMs}: a `$J=` line, then a jog cancel cancelMs after the state is Jog
@@ -54,7 +56,9 @@ socket.on('controller:state', (type, state) => {
   if (seen.states[seen.states.length - 1] !== name) seen.states.push(name);
   onState();
 });
+let oks = 0;
 socket.on('serialport:read', (line) => {
+  if (line === 'ok') oks += 1;
   if (/^(error|ALARM):/.test(line)) seen.errors.push(line);
   if (/^\[(MSG|PRB):/.test(line)) seen.messages.push(line);
 });
@@ -66,6 +70,12 @@ socket.on('connect_error', (error) => finish(3, { failure: 'connect: ' + error }
 setTimeout(() => finish(4, { failure: 'timed out' }), TIMEOUT_MS);
 
 async function stream() {
+  for (const words of args.before || []) {
+    const [ran, answered] = [seen.states.length, oks];
+    command(...words);
+    if (words[0] === 'homing') await waitFor((s) => seen.states.length > ran && s.activeState === 'Idle');
+    else while (oks === answered) await sleep(10);
+  }
   command('gcode:load', 'job.nc', fs.readFileSync(args.file, 'utf8'), {});
   await sleep(200);
   command('gcode:start');
