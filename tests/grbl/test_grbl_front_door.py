@@ -15,6 +15,7 @@ import pytest
 import serial
 from grbl_client import GrblClient, mpos, report_fields
 from grbl_door import serving
+from laser_raster import record_jobs
 
 from quadstep.config import load_config
 from quadstep.coordinates import WorkCoordinates
@@ -22,7 +23,7 @@ from quadstep.grbl.server import PtyServer, TcpServer
 from quadstep.grbl.settings import settings
 from quadstep.job import load_job
 from quadstep.link import Link
-from quadstep.machine import Machine
+from quadstep.machine import JobState, Machine
 
 REPO = Path(__file__).resolve().parents[2]
 CONFIG = load_config(REPO / "examples" / "router-uno.toml")
@@ -195,6 +196,36 @@ def test_jog_cancel_stops_a_jog_and_lines_go_on_from_where_it_stopped(
         after = mpos(grbl.wait_status(at_rest))
         assert after[0] == pytest.approx(stopped[0] + 1, abs=0.0011)
         assert timed_door.steps() == (steps[0] + 400, 0, 0)  # 1 mm from the rest, exactly
+
+
+def test_a_stream_of_short_jogs_runs_as_one_motion_until_jog_cancel(
+    timed_door: FrontDoor,
+) -> None:
+    """A joystick or a pendant streams short `$J=` increments by character counting, as GRBL's
+    jogging documentation describes: they are planned together, as GRBL's planner does, so the
+    carriage goes on without stopping between them; a jog cancel stops it at once, and the jogs
+    still queued are dropped."""
+    jobs = record_jobs(timed_door.machine)
+    with client(timed_door) as grbl:
+        jogs = ["$J=G91 X0.5 F1200"] * 24  # 25 ms of motion each at 20 mm/s
+        assert grbl.stream_counting(jogs) == ["ok"] * 24
+        assert mpos(grbl.wait_status(at_rest)) == (12.0, 0.0, 0.0)
+        assert timed_door.steps() == CONFIG.to_steps((12.0, 0.0, 0.0))
+        assert len(jobs) == 1  # one motion
+        (job,) = jobs
+        assert job.states.history == [JobState.STREAMING, JobState.DONE]  # never at rest between
+        # continuous: 12 mm at 20 mm/s and the ramps, 0.64 s (each jog alone: 24 × 63 ms)
+        assert job.plan.duration_s < 0.7
+
+        assert grbl.stream_counting(["$J=G91 Y2 F600"] * 10) == ["ok"] * 10  # 2 s of jogs
+        grbl.wait_status(lambda r: r.startswith("<Jog") and mpos(r)[1] > 1)
+        grbl.realtime(0x85)
+        stopped = mpos(grbl.wait_status(at_rest))
+        assert 1 < stopped[1] < 6
+        time.sleep(0.3)  # the jogs queued behind it stay dropped
+        assert mpos(grbl.status()) == stopped
+        assert timed_door.steps()[1] == round(stopped[1] * 400)
+        assert len(jobs) == 2
 
 
 def test_soft_reset_in_motion_alarms_and_unlock_goes_on(timed_door: FrontDoor) -> None:

@@ -8,7 +8,9 @@ a command needs the machine at rest ($H, $C, $X). It is an open job (machine/ope
 lines that come while it runs are added to it and planned onto what the board has not been sent,
 with look-ahead across them, so the machine goes on without a stop; only the end of what was
 received is kept back. When the sender goes quiet, a command needs the machine at rest or a jog
-comes, the job is closed and comes to rest at its end. A jog (`$J=`) runs alone, as its own job.
+comes, the job is closed and comes to rest at its end. Jogs (`$J=`) run as jobs of their own, open
+the same way: the jogs a pendant or a joystick streams, a short one after another (GRBL's jogging
+documentation), are planned together and run without a stop between them, until a jog cancel.
 
 Laser rasters (raster_watch.py) run as jobs of their own, planned whole as RASTER lines: the lines
 of a raster row are gathered (the queue takes up to AHEAD_ITEMS of them while a job runs) until
@@ -26,6 +28,7 @@ from dataclasses import dataclass, field
 from ..coordinates import WorkCoordinates
 from ..link import LinkError
 from ..machine import JobRun, JobState, Machine, MachineError
+from ..machine.open_end import FLOOR_S
 from ..planner.feed_override import Overrides, apply_overrides
 from ..planner.plan import plan_program
 from ..planner.program import Item, JobError, Program
@@ -49,6 +52,14 @@ AHEAD_ITEMS = 1000
 # fewer once the sender has been quiet for QUIET_S or the job runs short
 ADD_LINES = QUEUE_LINES // 2
 POLL_S = 0.01  # s between looks at how far a running job is ahead, while lines wait
+# A stream of jogs keeps its end back until the board holds less than this before it (a job of
+# lines: open_end.FLOOR_S), so that a pendant's next jog, sent as the last one runs, is planned
+# onto it rather than after a stop. A host held up longer lets the board run dry: an underrun's
+# stop, exact, and the jogs go on from rest.
+JOG_FLOOR_S = 0.04
+# Jogs start once the sender has been quiet this long, so that jogs sent together (a joystick's,
+# by character counting) start as one plan rather than the first alone, sent whole with its stop.
+JOG_QUIET_S = 0.01
 
 
 @dataclass
@@ -77,6 +88,9 @@ class Executor:
         self._queue: deque[Work] = deque()
         self._running: Running | None = None
         self._taking = False  # a batch taken from the queue, not yet running
+        self._taking_jog = False  # and it is jogs
+        self._jog_cancels = 0  # jog cancels so far: jogs taken before one are dropped
+        self._taken_after = 0  # the jog cancels before the batch taken
         self._held = False  # a feed hold with nothing moving: the queue waits for cycle start
         self._flush = 0  # callers waiting for the machine at rest: run what is queued now
         self._last = time.monotonic()
@@ -126,8 +140,17 @@ class Executor:
 
     @property
     def jogging(self) -> bool:
+        """Jogs run, or are about to (queued, taken, being planned): a sender's next `$J=` joins
+        them."""
         with self._cond:
-            return self._running is not None and self._running.jog
+            return self._jogs_ahead()
+
+    def _jogs_ahead(self) -> bool:
+        if self._running is not None:
+            return self._running.jog
+        if self._taking:
+            return self._taking_jog
+        return bool(self._queue) and self._queue[0].jog
 
     def lines_waiting(self) -> int:
         """The lines queued and not yet taken into a job."""
@@ -138,8 +161,9 @@ class Executor:
         """Run, Jog, Hold:0 (at rest, held) or Hold:1 (coming to rest); None when idle."""
         with self._cond:
             running, queued, held = self._running, bool(self._queue) or self._taking, self._held
+            jogs = self._jogs_ahead()
         if running is None:
-            return ("Hold:0" if held else "Run") if queued else None
+            return ("Jog" if jogs else "Hold:0" if held else "Run") if queued else None
         state = running.run.state
         if state in (JobState.HELD, JobState.PAUSED):
             return "Hold:0"
@@ -183,6 +207,7 @@ class Executor:
         stopped."""
         with self._cond:
             running = self._running
+            self._jog_cancels += 1
             if any(w.jog for w in self._queue):
                 self._queue = deque(w for w in self._queue if not w.jog)
                 self._cond.notify_all()
@@ -232,32 +257,35 @@ class Executor:
         if not self._queue or self._held:
             return 1.0
         quiet = time.monotonic() - self._last
+        if self._queue[0].jog and not self._flush and len(self._queue) < AHEAD_ITEMS:
+            return None if quiet >= JOG_QUIET_S else JOG_QUIET_S - quiet
         gathering = self._rasters.growing and quiet < QUIET_S  # a raster row still coming
-        head_runs = self._queue[0].jog or self._flush or (self._motion.enough and not gathering)
+        head_runs = self._flush or (self._motion.enough and not gathering)
         if head_runs or len(self._queue) >= AHEAD_ITEMS:
             return None
         return None if quiet >= QUIET_S else QUIET_S - quiet
 
-    def _ends_stream(self, generation: int) -> bool:
-        """Under the lock: the open job is closed (the sender quiet, a command that needs the
-        machine at rest, a jog next, a reset)."""
-        if self._flush or self._stale(generation) or (self._queue and self._queue[0].jog):
+    def _ends_stream(self, generation: int, jog: bool) -> bool:
+        """Under the lock: the open job (of jogs if `jog`) is closed (the sender quiet, a command
+        that needs the machine at rest, a line of the other kind next, a reset)."""
+        if self._flush or self._stale(generation) or (self._queue and self._queue[0].jog != jog):
             return True
         return not self._queue and time.monotonic() - self._last >= STREAM_QUIET_S
 
     def _feed(self, run: JobRun, last: Work, generation: int) -> Work:
         """The lines that come while `run` runs, added to it while it is not too far ahead of the
         board, until the stream ends (then it is closed) or the job does; the last work added."""
+        jog = last.jog
         while run.end is None:
             with self._cond:
                 self._cond.wait(POLL_S)
-                if self._ends_stream(generation) or self._rasters.holds_run:
+                if self._ends_stream(generation, jog) or (not jog and self._rasters.holds_run):
                     break  # raster rows: a job of their own, once this one has come to rest
                 quiet = time.monotonic() - self._last >= QUIET_S
                 if (
                     not self._queue
                     or run.pending >= AHEAD_ITEMS
-                    or (self._rasters.growing and not quiet)
+                    or (not jog and self._rasters.growing and not quiet)
                 ):
                     continue
                 progress = run.progress
@@ -268,16 +296,19 @@ class Executor:
                     len(self._queue) >= ADD_LINES or ahead < AHEAD_S / 2 or quiet
                 ):
                     continue
-                works = []
-                while self._queue and not self._queue[0].jog:
+                works, cancels = [], self._jog_cancels
+                while self._queue and self._queue[0].jog == jog:
                     works.append(self._queue.popleft())
-                self._motion.clear()
-                self._rasters.clear()
+                if not jog:
+                    self._motion.clear()
+                    self._rasters.clear()
                 self._cond.notify_all()
             items = [item for work in works for item in work.items]
             if not run.extend(items, works[-1].line, works[-1].coordinates):
-                with self._cond:  # the job ended meanwhile: they start the next
-                    self._queue.extendleft(reversed(works))
+                with self._cond:  # the job ran to its end meanwhile: they start the next
+                    cancelled = jog and self._jog_cancels != cancels
+                    if not self._stale(generation) and not cancelled:
+                        self._queue.extendleft(reversed(works))
                     self._cond.notify_all()
                 return last
             last = works[-1]
@@ -293,16 +324,17 @@ class Executor:
                 self._cond.wait(wait)
             if self._closed:
                 return None
-            if self._queue[0].jog:
-                batch = [self._queue.popleft()]
-            else:
-                batch = []
-                while self._queue and not self._queue[0].jog:
-                    batch.append(self._queue.popleft())
+            jog = self._queue[0].jog
+            batch = []
+            while self._queue and self._queue[0].jog == jog:
+                batch.append(self._queue.popleft())
+            self._batch_rasters = False
+            if not jog:
                 self._motion.clear()
                 self._batch_rasters = self._rasters.holds_run
                 self._rasters.clear()
-            self._taking = True
+            self._taking, self._taking_jog = True, jog
+            self._taken_after = self._jog_cancels
             self._cond.notify_all()
             return batch
 
@@ -326,7 +358,7 @@ class Executor:
         last = batch[-1]
         with self._cond:
             generation = self.generation
-            open_end = not last.jog and not self._batch_rasters  # rasters: planned whole
+            open_end = not self._batch_rasters  # rasters: planned whole
         if items:
             program = Program(items=items, lines=last.line, coordinates=last.coordinates)
             feed = 100 if last.jog else self.feed_override
@@ -336,7 +368,7 @@ class Executor:
             plan = plan_program(scaled, machine.config, start, "line")
             with self._cond:  # a feed hold before it starts waits for cycle start; a reset drops it
                 self._cond.wait_for(lambda: not self._held or self._stale(generation))
-                if self._stale(generation):
+                if self._stale(generation) or (last.jog and self._jog_cancels != self._taken_after):
                     return
                 run = machine.run_job(
                     plan,
@@ -345,6 +377,7 @@ class Executor:
                     feed_override=feed,
                     open_end=open_end,
                     overridden=True,  # a jog's moves all have a feed and no S
+                    open_floor_s=JOG_FLOOR_S if last.jog else FLOOR_S,
                 )
                 self._running = Running(run, last.jog)
             if open_end:

@@ -40,7 +40,7 @@ from .job_state import JobProgress, JobState, JobStates
 from .journal import Journal
 from .motion import STARVED, Motion, MotionEnd
 from .move_items import MoveItems
-from .open_end import OpenEnd, settled_moves
+from .open_end import FLOOR_S, OpenEnd, settled_moves
 from .override import Swap, replan_running
 from .rebase import Rebase, find, rebased
 from .restream import Restream
@@ -90,6 +90,7 @@ class JobRun:
         busy_elsewhere: Callable[[], bool] | None = None,
         journal: Journal | None = None,
         open_end: bool = False,
+        open_floor_s: float = FLOOR_S,
     ) -> None:
         self.link = link
         self.plan = plan
@@ -122,7 +123,9 @@ class JobRun:
         self._wake = threading.Event()  # the motion ended, or an override changed
         # a job that extend() adds to while it runs (a sender's stream), and the program's items the
         # plan covers (those after them were added and are planned next)
-        self._open_end = OpenEnd(plan.config) if open_end and program is not None else None
+        self._open_end = (
+            OpenEnd(plan.config, open_floor_s) if open_end and program is not None else None
+        )
         self._planned_items = len(program.items) if program is not None else 0
         self._swap_items = 0  # the program's items the swap waiting to be streamed covers
         # where the leg's moves are in its program, for planning its rest again from a move

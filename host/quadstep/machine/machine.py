@@ -53,6 +53,7 @@ from .inputs import config_message
 from .job import JobRun
 from .journal import Journal
 from .motion import Motion, MotionEnd, bring_to_rest
+from .open_end import FLOOR_S
 from .restream import MachineRestream
 from .speed_overrides import SpeedOverrides
 from .standing import Standing
@@ -279,16 +280,18 @@ class Machine:
         open_end: bool = False,
         leaves: WorkCoordinates | None = None,
         overridden: bool = False,
+        open_floor_s: float = FLOOR_S,
     ) -> JobRun:
         """Start a planned job now, the backlash taken up in it (pauses wait for JobRun.resume()).
         With the `program` it was planned from, a feed hold (JobRun.feed_hold, the board's button)
         keeps the rest of the job for resume(), and JobRun.set_feed_override changes its feeds on
         the way (the plan is planned at `feed_override` %, the program as written); a `journal`
         keeps each leg of it for `run --resume`; an `open_end` job takes more lines as it runs
-        (JobRun.extend); `leaves` are the work coordinates its G10, G92, G54…G59 and M2/M30 leave,
-        the machine's once the job completes. The plan is planned again at the rapid and spindle
-        overrides unless it is `overridden` (planned at them already); changes to them reach the
-        job on its way."""
+        (JobRun.extend), and keeps the end of what it has back from the board until the board holds
+        less than `open_floor_s` of motion before it (open_end.py); `leaves` are the work
+        coordinates its G10, G92, G54…G59 and M2/M30 leave, the machine's once the job completes.
+        The plan is planned again at the rapid and spindle overrides unless it is `overridden`
+        (planned at them already); changes to them reach the job on its way."""
         if plan.outputs and not self.identity.capabilities & Capability.OUTPUTS:
             raise MachineError(
                 "the job sets the spindle, laser or coolant (M3/M4/M5, M7/M8/M9) and this firmware "
@@ -320,6 +323,7 @@ class Machine:
             busy_elsewhere=lambda: self._waiting is job,
             journal=journal,
             open_end=open_end,
+            open_floor_s=open_floor_s,
         )
         return self._begin(job, compensated, leaves=leaves).start()
 

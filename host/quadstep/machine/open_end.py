@@ -18,7 +18,8 @@ from ..planner.plan import Plan
 from ..planner.program import Item, Program
 
 # The board is sent the kept-back end only while it holds less than this much motion before it (and
-# less than half its queue): lines arriving in the meantime are planned in its place.
+# less than half its queue): lines arriving in the meantime are planned in its place. A host held up
+# longer than this lets the board run dry (an underrun's stop, then the job goes on from rest).
 FLOOR_S = 0.25
 # Lines added are planned onto the job once this many items wait (each addition plans the stop at
 # the end again), or once that stop is within LEAD_S of being sent (the floor, and this).
@@ -43,9 +44,9 @@ class OpenEnd:
     """Lines taken while the job runs (thread-safe). Once closed it takes no more and the job's
     plan runs to its end; the lines taken before go on as planned."""
 
-    def __init__(self, config: MachineConfig) -> None:
+    def __init__(self, config: MachineConfig, floor_s: float = FLOOR_S) -> None:
         hz = config.tick_hz
-        self.floor_ticks = round(FLOOR_S * hz)
+        self.floor_ticks = round(floor_s * hz)
         self.reserve_ticks = round(STOP_MARGIN * longest_stop_s(config) * hz) + self.floor_ticks
         self.batch = BATCH_ITEMS
         self.lead_ticks = round(LEAD_S * hz)
