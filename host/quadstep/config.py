@@ -145,6 +145,19 @@ class BacklashConfig(BaseModel):
     )
 
 
+class SendersConfig(BaseModel):
+    """What `quadstep grbl` keeps for G-code senders between runs, as GRBL keeps it in EEPROM."""
+
+    model_config = ConfigDict(extra="forbid", frozen=True)
+
+    status_mask: int = Field(
+        default=1,
+        ge=0,
+        le=255,
+        description="GRBL's $10: bit 0 set, status reports give MPos (clear: WPos); bit 1, Bf:",
+    )
+
+
 class SpindleConfig(BaseModel):
     """The spindle (or laser) output: what S means, and whether M4 is a laser's power that follows
     the speed."""
@@ -284,6 +297,7 @@ class MachineConfig(BaseModel):
     axes: tuple[AxisConfig, ...] = Field(min_length=1, max_length=MAX_AXES)
     inputs: InputsConfig = InputsConfig()
     spindle: SpindleConfig = SpindleConfig()
+    senders: SendersConfig = SendersConfig()  # quadstep grbl
     touch_off: TouchOffSettings = TouchOffSettings()  # machine/touch_off.py
     macros: tuple[Macro, ...] = Field(default=(), max_length=12)  # the TUI's user commands
     homing_order: tuple[AxisName, ...] | None = Field(

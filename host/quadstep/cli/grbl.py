@@ -65,8 +65,8 @@ def run(args: argparse.Namespace) -> int:
     config = machine_config(args)
     if args.link is not None and args.link.exists() and not args.link.is_symlink():
         raise CliError(f"--link {args.link}: a file is there already (not a link)")
-    options = SessionOptions(tool_change=args.m6, config_path=config_path(args))
     with connect(args, config, str(args.config or "quadstep.toml")) as machine:
+        options = SessionOptions.of(machine, args.m6, config_path(args))
         pty = PtyServer(machine, args.link, options)
         tcp = None
         try:

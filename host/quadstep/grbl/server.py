@@ -31,7 +31,7 @@ class PtyServer:
         self, machine: Machine, link: Path | None = None, options: SessionOptions | None = None
     ) -> None:
         self.machine = machine
-        self.options = options if options is not None else SessionOptions()  # shared: $10
+        self.options = options if options is not None else SessionOptions.of(machine)  # shared: $10
         self._master, slave = os.openpty()
         os.set_blocking(self._master, False)
         tty.setraw(slave)
@@ -126,7 +126,7 @@ class TcpServer:
         options: SessionOptions | None = None,
     ) -> None:
         self.machine = machine
-        self.options = options if options is not None else SessionOptions()  # shared: $10
+        self.options = options if options is not None else SessionOptions.of(machine)  # shared: $10
         self._socket = socket.create_server(("127.0.0.1", port))
         self.port = self._socket.getsockname()[1]
         self.on_client = on_client

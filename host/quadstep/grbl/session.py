@@ -60,11 +60,18 @@ def may_wait(text: str) -> bool:
 class SessionOptions:
     """How `quadstep grbl` was started: M6 "ignore" (GRBL's default) or "pause" (held until `~`,
     as quadstep's tool change); the configuration file that settings writes go to (None: none);
-    $10, which its sessions share."""
+    $10, which its sessions share (and the file keeps)."""
 
     tool_change: str = "ignore"
     config_path: Path | None = None
     status_mask: StatusMask = field(default_factory=StatusMask)
+
+    @classmethod
+    def of(
+        cls, machine: Machine, tool_change: str = "ignore", config_path: Path | None = None
+    ) -> SessionOptions:
+        """$10 as the machine's configuration keeps it ([senders] status_mask)."""
+        return cls(tool_change, config_path, StatusMask(machine.config.senders.status_mask))
 
 
 class Session:
@@ -77,7 +84,7 @@ class Session:
         options: SessionOptions | None = None,
     ) -> None:
         self.machine = machine
-        self.options = options = options if options is not None else SessionOptions()
+        self.options = options = options if options is not None else SessionOptions.of(machine)
         self._outbox = Outbox(port)
         self.reader_lock = threading.Lock()
         self.reader = Reader(

@@ -5,7 +5,8 @@ Each writable setting is a key of the file: `$100`… steps/mm, `$110`… max ra
 mm/s), `$120`… acceleration, `$130`… travel (the end of the travel nearer machine zero kept), `$11`
 junction deviation, `$12` arc tolerance, `$21` hard limits, `$23` homing direction invert mask (bit
 set: toward min), `$24`/`$25` homing speeds (mm/min), `$26` debounce, `$27` pull-off, `$30`/`$31`
-spindle S range, `$32` laser mode. The others are fixed: writing the value they show is accepted (a
+spindle S range, `$32` laser mode, `$10` the status reports' fields ([senders] status_mask). The
+others are fixed: writing the value they show is accepted (a
 sender restoring settings), any other is refused with a message saying so."""
 
 from __future__ import annotations
@@ -22,6 +23,7 @@ from .errors import GrblError
 from .settings import settings
 
 SETTING_WRITE = re.compile(r"^\$(\d+)=(.*)$")
+STATUS_MASK = 10  # $10, the status reports' fields
 NUMBER = re.compile(r"^\s*[-+]?(\d+\.?\d*|\.\d+)\s*$")
 Values = dict[Key, float | bool | str]
 
@@ -112,6 +114,13 @@ def changes(config: MachineConfig, write: SettingWrite) -> Values | None:
     flags: dict[int, Key] = {21: ("inputs", "hard_limits"), 32: ("spindle", "laser")}
     if number in simple:
         return {simple[number]: value}
+    if number == STATUS_MASK:
+        if not value.is_integer() or value > 255:
+            raise SettingError(
+                f"$10={value:g}: the status report mask is a whole number 0 … 255",
+                GrblError.INVALID_STATEMENT,
+            )
+        return {} if value == config.senders.status_mask else {("senders", "status_mask"): value}
     if number in flags:
         return {flags[number]: _flag(write)}
     if number in (23, 24, 25, 27):

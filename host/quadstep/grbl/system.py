@@ -22,12 +22,18 @@ from .probe import ProbeReport
 from .protocol import OPTIONS, VERSION
 from .reader import JogError, Reader
 from .settings import NOT_KEPT, settings_lines
-from .settings_write import SettingError, SettingWrite, parse_write, write_setting
+from .settings_write import (
+    STATUS_MASK,
+    SettingError,
+    SettingWrite,
+    changes,
+    parse_write,
+    write_setting,
+)
 from .status import StatusMask
 
 HELP = "[HLP:$$ $# $G $I $N $x=val $Nx=line $J=line $SLP $C $X $H ~ ! ? ctrl-x]"
 SLEEPING = "[MSG:Sleeping]"
-STATUS_MASK_SETTING = 10
 Answer = list[str]
 
 
@@ -103,7 +109,7 @@ def _write_setting(session: SessionState, write: SettingWrite) -> Answer:
     """At rest (GRBL's error 8 else): the setting into the file, used from the next line."""
     if not session.executor.idle or session.homing or session.probing:
         return [f"error:{GrblError.NOT_IDLE.value}"]
-    if write.number == STATUS_MASK_SETTING:
+    if write.number == STATUS_MASK:
         return _write_status_mask(session, write)
     machine = session.machine
     if write_setting(machine, session.config_path, write):
@@ -113,13 +119,13 @@ def _write_setting(session: SessionState, write: SettingWrite) -> Answer:
 
 
 def _write_status_mask(session: SessionState, write: SettingWrite) -> Answer:
-    """$10: what the reports carry, from the next one (this session's server keeps it)."""
-    if write.value < 0:
-        reason = f"$10={write.value:g}: a setting is never negative"
-        return [message(reason), f"error:{GrblError.NEGATIVE_VALUE.value}"]
-    if not write.value.is_integer() or write.value > 255:
-        reason = f"$10={write.value:g}: the status report mask is a whole number 0 … 255"
-        return [message(reason), f"error:{GrblError.INVALID_STATEMENT.value}"]
+    """$10: what the reports carry, from the next one, for every sender of this server; kept in
+    the configuration file ([senders] status_mask) for the next, as GRBL keeps it in EEPROM
+    (without a file, for as long as this server runs)."""
+    if session.config_path is not None:
+        write_setting(session.machine, session.config_path, write)
+    else:
+        changes(session.machine.config, write)  # the value checked
     session.status_mask.value = int(write.value)
     return ["ok"]
 
