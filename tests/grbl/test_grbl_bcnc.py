@@ -15,7 +15,7 @@ from collections.abc import Iterator
 from pathlib import Path
 
 import pytest
-from grbl_door import serving
+from grbl_door import CAM_JOB, probe_sim, serving
 
 from quadstep.config import load_config
 from quadstep.coordinates import WorkCoordinates
@@ -32,16 +32,7 @@ REPO = Path(__file__).resolve().parents[2]
 HELPER = REPO / "tests" / "helpers" / "bcnc_stream.py"
 CONFIG = load_config(REPO / "examples" / "router-uno.toml")
 PLATE_Z = -16000.5  # motor steps: a touch plate under X 150…200 mm, Y 100…150 mm
-SIM = f"""
-seed = 1
-[[axis]]
-start = 0
-[[axis]]
-start = 0
-[[axis]]
-start = 0
-[probe]
-hysteresis = 1
+SIM = probe_sim(f"""\
 [[probe.target]]
 kind = "plate"
 z = {PLATE_Z}
@@ -49,28 +40,7 @@ x_min = 60000
 x_max = 80000
 y_min = 40000
 y_max = 60000
-"""
-# A CAM-like job: a work offset, the spindle, a plunge, straight cuts and arcs both ways, a retract.
-CAM_JOB = """\
-(pocket corner, G54 at X50 Y40 Z-5)
-G21 G90 G94
-G10 L2 P1 X50 Y40 Z-5
-G54
-M3 S8000
-G0 X0 Y0 Z5
-G1 Z-1 F600
-G1 X20 F1500
-G3 X30 Y10 I0 J10
-G1 Y20
-G2 X20 Y30 I-10 J0
-G1 X0
-Y0
-G2 X5 Y5 R5
-G0 Z5
-M5
-X12.5 Y7.25
-M30
-"""
+""")
 PROBE = ["G53 G0 X175 Y125", "G38.2 Z-50 F200"]
 
 

@@ -26,7 +26,7 @@ from collections.abc import Iterator
 from pathlib import Path
 
 import pytest
-from grbl_door import serving
+from grbl_door import CAM_JOB, probe_sim, serving
 from host_helpers import assert_trace_is_prediction
 from laser_raster import raster_gcode, record_jobs
 
@@ -49,16 +49,7 @@ CONFIG = load_config(REPO / "examples" / "router-uno.toml")
 STEPS_PER_MM = 400
 PLATE_Z = -16000.5  # motor steps: a plate under X 100…200 mm, Y 80…150 mm
 BLOCK_Z = -15000.5  # and a block on it under X 120…160 mm, Y 95…115 mm, 2.5 mm higher
-SIM = f"""
-seed = 1
-[[axis]]
-start = 0
-[[axis]]
-start = 0
-[[axis]]
-start = 0
-[probe]
-hysteresis = 1
+SIM = probe_sim(f"""\
 [[probe.target]]
 kind = "plate"
 z = {PLATE_Z}
@@ -73,27 +64,7 @@ x_min = 48000
 x_max = 64000
 y_min = 38000
 y_max = 46000
-"""
-CAM_JOB = """\
-(pocket corner, G54 at X50 Y40 Z-5)
-G21 G90 G94
-G10 L2 P1 X50 Y40 Z-5
-G54
-M3 S8000
-G0 X0 Y0 Z5
-G1 Z-1 F600
-G1 X20 F1500
-G3 X30 Y10 I0 J10
-G1 Y20
-G2 X20 Y30 I-10 J0
-G1 X0
-Y0
-G2 X5 Y5 R5
-G0 Z5
-M5
-X12.5 Y7.25
-M30
-"""
+""")
 
 
 def free_port() -> int:
