@@ -228,6 +228,26 @@ def test_a_stream_of_short_jogs_runs_as_one_motion_until_jog_cancel(
         assert len(jobs) == 2
 
 
+def test_a_joystick_streaming_jogs_is_paced_as_grbls_planner_paces_it(
+    timed_door: FrontDoor,
+) -> None:
+    """A joystick held: jogs streamed by character counting as fast as the answers come. They are
+    answered as GRBL's 15 planner blocks would answer them, a few ahead of the carriage, not all at
+    once: so a change of direction or a release (jog cancel) acts within a fraction of a second."""
+    with client(timed_door) as grbl:
+        jogs = ["$J=G91 X0.5 F1200"] * 40  # 20 mm, 1 s of motion at 20 mm/s
+        assert grbl.stream_counting(jogs) == ["ok"] * 40
+        # when the last is answered, at most 15 wait and the job is planned less than 0.5 s
+        # ahead (jogs are added to it once it runs under 0.125 s ahead, all that wait at once): the
+        # carriage has run the rest, 2.5 mm at least (every one answered at once: none)
+        answered_at = mpos(grbl.status())[0]
+        assert answered_at >= 2.0
+        grbl.realtime(0x85)
+        stopped = mpos(grbl.wait_status(at_rest))[0]
+        assert answered_at <= stopped < 20.0
+        assert timed_door.steps()[0] == round(stopped * 400)
+
+
 def test_soft_reset_in_motion_alarms_and_unlock_goes_on(timed_door: FrontDoor) -> None:
     with client(timed_door) as grbl:
         assert grbl.command("G1 X30 F1200")[1] == "ok"

@@ -60,6 +60,11 @@ JOG_FLOOR_S = 0.04
 # Jogs start once the sender has been quiet this long, so that jogs sent together (a joystick's,
 # by character counting) start as one plan rather than the first alone, sent whole with its stop.
 JOG_QUIET_S = 0.01
+# Jogs waiting, and motion of jogs planned ahead of the board, at most: so that a joystick streaming
+# short jogs by character counting is paced as GRBL's 15 planner blocks pace it, and the carriage
+# follows a change of direction within a fraction of a second.
+JOG_LINES = 15
+JOG_AHEAD_S = 0.25
 
 
 @dataclass
@@ -248,7 +253,10 @@ class Executor:
         return not self._queue and self._running is None and not self._taking
 
     def _room(self) -> int:
-        """Under the lock: the lines the queue takes, fewer while a job runs (they go to it)."""
+        """Under the lock: the lines the queue takes, fewer while a job runs (they go to it) or
+        jogs wait."""
+        if self._jogs_ahead():
+            return JOG_LINES
         running = self._running is not None or self._taking
         return QUEUE_LINES if running and not self._rasters.holds_run else AHEAD_ITEMS
 
@@ -276,6 +284,7 @@ class Executor:
         """The lines that come while `run` runs, added to it while it is not too far ahead of the
         board, until the stream ends (then it is closed) or the job does; the last work added."""
         jog = last.jog
+        most = JOG_AHEAD_S if jog else AHEAD_S  # planned motion ahead of the board
         while run.end is None:
             with self._cond:
                 self._cond.wait(POLL_S)
@@ -292,8 +301,8 @@ class Executor:
                 ahead = progress.seconds_left
                 if progress.total - progress.done >= AHEAD_SEGMENTS:
                     continue
-                if ahead >= AHEAD_S or not (
-                    len(self._queue) >= ADD_LINES or ahead < AHEAD_S / 2 or quiet
+                if ahead >= most or not (
+                    len(self._queue) >= ADD_LINES or ahead < most / 2 or quiet
                 ):
                     continue
                 works, cancels = [], self._jog_cancels
