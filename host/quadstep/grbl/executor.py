@@ -187,14 +187,15 @@ class Executor:
     def feed_hold(self) -> None:
         """`!`: the job comes to rest and waits for `~`; a jog is cancelled (as GRBL does)."""
         with self._cond:
-            running = self._running
-            if running is None:
+            running, jogs = self._running, self._jogs_ahead()
+            if running is None and not jogs:
                 self._held = bool(self._queue) or self._taking
                 return
-            running.hold_asked = True
-        if running.jog:
+            if running is not None:
+                running.hold_asked = True
+        if jogs:
             self.cancel_jog()
-        else:
+        elif running is not None:
             running.run.feed_hold()
 
     def cycle_start(self) -> None:
