@@ -186,8 +186,10 @@ def test_jog_cancel_stops_a_jog_and_lines_go_on_from_where_it_stopped(
     timed_door: FrontDoor,
 ) -> None:
     with client(timed_door) as grbl:
+        assert grbl.command("G1 F1500")[1] == "ok"  # a program's feed: not the jog's
         assert grbl.command("$J=G91 X50 F600")[1] == "ok"
-        grbl.wait_status(lambda r: r.startswith("<Jog") and mpos(r)[0] > 0.5)
+        jogging = grbl.wait_status(lambda r: r.startswith("<Jog") and mpos(r)[0] > 0.5)
+        assert report_fields(jogging)["FS"].startswith("600,")  # the jog's own feed
         grbl.realtime(0x85)
         stopped = mpos(grbl.wait_status(at_rest))
         assert 0.5 < stopped[0] < 50

@@ -178,9 +178,13 @@ class Executor:
 
     def running_job(self) -> JobRun | None:
         """The batch running now (not a jog), for the feed override."""
-        with self._cond:
-            running = self._running
+        running = self.running()
         return running.run if running is not None and not running.jog else None
+
+    def running(self) -> Running | None:
+        """What runs now: a batch of lines or of jogs."""
+        with self._cond:
+            return self._running
 
     # --- realtime commands ----------------------------------------------------------------
 

@@ -126,16 +126,17 @@ class StatusBuilder:
         return machine.position_mm
 
     def _feed(self, read: float | None, overrides: tuple[int, int, int]) -> float:
-        """FS's feed, mm/min: the running line's, at the overrides; a jog's, the last line
-        read's."""
-        job = self.session.executor.running_job()
-        if job is None:
-            return (read or 0.0) * 60 * overrides[0] / 100
-        running = running_feed(job, self.session.machine.config)
+        """FS's feed, mm/min: the running line's, at the overrides (a jog's at its own: the
+        overrides do not apply to jogs, executor.py); the last line read's while none runs yet."""
+        running = self.session.executor.running()
         if running is None:
+            return (read or 0.0) * 60 * overrides[0] / 100
+        feed = running_feed(running.run, self.session.machine.config)
+        if feed is None:
             return 0.0
-        speed, rapid = running
-        return speed * 60 * overrides[1 if rapid else 0] / 100
+        speed, rapid = feed
+        percent = 100 if running.jog else overrides[1 if rapid else 0]
+        return speed * 60 * percent / 100
 
     def report(self) -> str:
         session = self.session
