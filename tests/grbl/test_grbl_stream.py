@@ -188,8 +188,8 @@ def test_a_long_stream_lets_go_of_what_ran_and_lands_exactly(
     assert rebases and len(sent) >= 40  # it let go of what ran
     assert job.progress.done == job.progress.total == len(sent) + len(job.plan)
     sent.extend(job.plan.segments.segments())
-    if stalled:
-        assert job.states.starvations == 1
+    if stalled:  # the stall made the board brake; a busy machine may make it brake again
+        assert job.states.starvations >= 1
     if JobState.STARVED not in job.states.history:  # the board never braked by itself
         assert_trace_is_prediction(door.trace, sent, axis_count=3)
 
