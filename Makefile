@@ -15,7 +15,7 @@ APT_PACKAGES := gcc make pkg-config gcc-avr avr-libc binutils-avr simavr libsima
 CNCJS_VERSION := 1.11.5
 CNCJS_INSTALLED := $(BUILD)/cncjs/.installed-$(CNCJS_VERSION)
 
-.PHONY: all setup setup-apt setup-python setup-senders demo lint test test-fast test-firmware test-python bench clean
+.PHONY: all setup setup-apt setup-python setup-senders demo lint test test-ready test-fast test-firmware test-python bench clean
 
 all: emulator firmware
 
@@ -66,7 +66,16 @@ $(CNCJS_INSTALLED): | setup-apt
 demo: setup emulator
 	$(VENV_PYTHON) -m quadstep.cli run examples/demo.gcode --config examples/router-uno.toml --emulator
 
-test: setup setup-senders lint all harness test-firmware fuzz-short test-python
+# Once the Debian packages are in, everything the Python tests need is made and checked side by side
+# (downloads, compiles and the firmware's own tests overlap; each job's output is kept together),
+# then the Python tests run.
+TEST_JOBS ?= 4
+
+test: setup-apt
+	$(MAKE) -j$(TEST_JOBS) --output-sync=target test-ready
+	$(MAKE) test-python
+
+test-ready: setup-python setup-senders lint all harness test-firmware fuzz-short
 
 # The host package's style and types (pyproject.toml: [tool.ruff], [tool.mypy]); `ruff format
 # host/quadstep` fixes the first.
@@ -75,14 +84,15 @@ lint: setup-python
 	$(VENV_PYTHON) -m ruff check host/quadstep
 	$(VENV_PYTHON) -m mypy host/quadstep
 
-# Three at a time, on any number of cores: most tests wait on an emulator paced in real time
-# rather than compute (docs/HOST.md). Then, one at a time, those whose host must keep a board
+# Five at a time, on any number of cores: most tests wait on an emulator paced in real time
+# rather than compute (on 2 cores three at a time keep 1.3 of them busy, five 1.8; docs/HOST.md).
+# Then, one at a time, those whose host must keep a board
 # running in real time from running dry while it plans or resends (marked realtime). A realtime
 # test that fails runs once more: a shared machine can hold the host back past what the board has
 # queued, which is no fault of the code; a test that fails twice fails. The slowest tests are
 # listed, to see where the suite's time goes.
 test-python: setup-python
-	$(VENV_PYTHON) -m pytest -q -n 3 --dist worksteal -m 'not realtime' --durations=15
+	$(VENV_PYTHON) -m pytest -q -n 5 --dist worksteal -m 'not realtime' --durations=15
 	$(VENV_PYTHON) -m pytest -q -m realtime --reruns 1 --durations=5
 
 # The Python tests that start no emulator and no simavr (tests/conftest.py marks the others), on

@@ -46,12 +46,15 @@ FWT_CFLAGS = -std=c99 -O2 -g -Wall -Wextra -Werror $(NATIVE_DEFINES) -DUNITY_SUP
 
 firmware-tests: $(FWT_BINS)
 
-test-firmware: $(FWT_BINS)
-	@echo "firmware tests: $(FWT_UNITY_NOTE)"
-	@failed=0; for t in $(FWT_BINS); do \
-	  echo "== $$t"; $$t || failed=$$((failed + 1)); \
-	done; \
-	if [ $$failed -ne 0 ]; then echo "firmware tests: $$failed program(s) failed"; exit 1; fi
+# Each program is a job of its own, so that `make -j` runs them side by side.
+FWT_RUNS := $(addprefix run-,$(FWT_SUITES))
+.PHONY: $(FWT_RUNS)
+
+test-firmware: $(FWT_RUNS)
+	@echo "firmware tests: $(words $(FWT_RUNS)) programs passed ($(FWT_UNITY_NOTE))"
+
+$(FWT_RUNS): run-%: $(FWT_OUT)/%
+	$<
 
 $(FWT_VECTORS_H): $(QS_VECTORS) $(FWT_DIR)/gen_vectors.py
 	@mkdir -p $(@D)

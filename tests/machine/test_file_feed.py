@@ -17,12 +17,13 @@ from quadstep.job_scan import GcodeParts, scan_job
 from quadstep.link import Link
 from quadstep.machine import JobRun, JobState, Machine
 from quadstep.machine import job as job_module
+from quadstep.machine import rebase as rebase_module
 from quadstep.machine.file_feed import feed_file
 
 REPO = Path(__file__).resolve().parents[2]
 ROUTER = REPO / "examples" / "router-uno.toml"
 CONFIG = load_config(ROUTER)
-LINES = 6_000  # 0.2 mm moves: 30 s of motion
+LINES = 3_000  # 0.2 mm moves: 15 s of motion
 
 
 def back_and_forth(lines: int, step: float = 0.05) -> str:
@@ -62,12 +63,15 @@ def test_a_streamed_file_ends_on_its_targets_as_predicted(
 
     monkeypatch.setattr(JobRun, "_next_leg", leg_ran)
     let_go = job_module.rebased
+    let_go_at: list[int] = []
 
     def let_go_of_what_ran(plan, at):  # a long job lets go of what ran: that part was sent
+        let_go_at.append(at.index)
         parts.append((plan.segments, 0, at.index))
         return let_go(plan, at)
 
     monkeypatch.setattr(job_module, "rebased", let_go_of_what_ran)
+    monkeypatch.setattr(rebase_module, "REBASE_SEGMENTS", 1000)  # a long job's, in a shorter one
     runs: list[JobRun] = []
     with Link.open(emu.url) as link:
         machine = Machine(link, CONFIG)
@@ -90,6 +94,7 @@ def test_a_streamed_file_ends_on_its_targets_as_predicted(
         assert run.state is JobState.DONE
         # the board never ran dry (braking by itself): what it ran is the stream as sent
         assert JobState.STARVED not in run.states.history
+    assert len(let_go_at) >= 2  # it let go of what ran, more than once
     sent = [segment for stream, first, end in parts for segment in stream.segments(first, end)]
     assert_trace_is_prediction(trace, sent, axis_count=3)
 
