@@ -32,8 +32,10 @@ BACKLASH_STEPS = (40.0, 20.0, 0.0)
 
 
 def zigzag(count: int) -> str:
-    """Moves of 0.5 mm along X, each up or down 1 mm in Y: Y reverses at every move."""
-    return "G21 G90 F2400\n" + "".join(f"G1 X{0.5 * k:.1f} Y{10 + k % 2}\n" for k in range(1, count))
+    """Moves of 0.25 mm along X, each up or down 0.25 mm in Y: Y reverses at every move."""
+    return "G21 G90 F2400\n" + "".join(
+        f"G1 X{0.25 * k:.2f} Y{10 + 0.25 * (k % 2):.2f}\n" for k in range(1, count)
+    )
 
 
 def parse(text: str):
