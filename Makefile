@@ -69,14 +69,15 @@ demo: setup emulator
 
 # Once the Debian packages are in, everything the Python tests need is made and checked side by side
 # (downloads, compiles and the firmware's own tests overlap; each job's output is kept together),
-# then the Python tests run.
+# then the Python tests run. They run ruff and mypy too (tests/test_host_structure.py, as `make lint`
+# does), beside the other tests rather than before them all.
 TEST_JOBS ?= 4
 
 test: setup-apt
 	$(MAKE) -j$(TEST_JOBS) --output-sync=target test-ready
 	$(MAKE) test-python
 
-test-ready: setup-python setup-senders lint all harness test-firmware fuzz-short
+test-ready: setup-python setup-senders all harness test-firmware fuzz-short
 
 # The host package's style and types (pyproject.toml: [tool.ruff], [tool.mypy]); `ruff format
 # host/quadstep` fixes the first.

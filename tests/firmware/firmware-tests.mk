@@ -60,6 +60,13 @@ $(FWT_VECTORS_H): $(QS_VECTORS) $(FWT_DIR)/gen_vectors.py
 	@mkdir -p $(@D)
 	$(FWT_PYTHON) $(FWT_DIR)/gen_vectors.py $(QS_VECTORS) $@
 
-$(FWT_OUT)/test_%: $(FWT_DIR)/test_%/*.c $(FWT_SHARED) $(FWT_CORE) $(FWT_UNITY_SRC) $(FWT_DEPS) $(FWT_VECTORS_H)
+# The core, the shared support and Unity are compiled once, for every program to link.
+FWT_COMMON_OBJS := $(patsubst %.c,$(FWT_OUT)/obj/%.o,$(FWT_SHARED) $(FWT_CORE) $(FWT_UNITY_SRC))
+
+$(FWT_OUT)/obj/%.o: %.c $(FWT_DEPS) $(FWT_VECTORS_H)
 	@mkdir -p $(@D)
-	$(CC) $(FWT_CFLAGS) $(filter %.c,$^) -o $@ $(FWT_UNITY_LIBS)
+	$(CC) $(FWT_CFLAGS) -c $< -o $@
+
+$(FWT_OUT)/test_%: $(FWT_DIR)/test_%/*.c $(FWT_COMMON_OBJS) $(FWT_DEPS) $(FWT_VECTORS_H)
+	@mkdir -p $(@D)
+	$(CC) $(FWT_CFLAGS) $(wildcard $(FWT_DIR)/test_$*/*.c) $(FWT_COMMON_OBJS) -o $@ $(FWT_UNITY_LIBS)
