@@ -48,10 +48,9 @@ setup-python: $(VENV_INSTALLED)
 $(VENV_PYTHON): | setup-apt
 	$(PYTHON) -m venv $(VENV) || { rm -rf $(VENV); exit 1; }
 
-# The package (editable) and its test tools; again only when pyproject.toml changes. Modules are
-# byte-compiled as they are first imported rather than all at install (a third of its time).
+# The package (editable) and its test tools; again only when pyproject.toml changes.
 $(VENV_INSTALLED): pyproject.toml | $(VENV_PYTHON)
-	$(VENV_PYTHON) -m pip install -q --disable-pip-version-check --no-compile -e '.[test]'
+	$(VENV_PYTHON) -m pip install -q --disable-pip-version-check -e '.[test]'
 	@touch $@
 
 # A real sender for the tests (tests/grbl/test_grbl_cncjs.py): CNCjs from the npm registry, its server
@@ -88,14 +87,15 @@ lint: setup-python
 
 # Five at a time, on any number of cores: most tests wait on an emulator paced in real time
 # rather than compute (on 2 cores three at a time keep 1.3 of them busy, five 1.8; docs/HOST.md).
-# Then, one at a time, those whose host must keep a board
-# running in real time from running dry while it plans or resends (marked realtime). A realtime
-# test that fails runs once more: a shared machine can hold the host back past what the board has
-# queued, which is no fault of the code; a test that fails twice fails. The slowest tests are
-# listed, to see where the suite's time goes.
+# Then, two at a time and after all the others, those whose host must keep a board running in
+# real time from running dry while it plans or resends (marked realtime): two side by side on two
+# cores kept every board fed in four runs, about 115 s against 196 one at a time (docs/HOST.md).
+# A realtime test that fails runs once more: a shared machine can
+# hold the host back past what the board has queued, which is no fault of the code; a test that
+# fails twice fails. The slowest tests are listed, to see where the suite's time goes.
 test-python: setup-python
 	$(VENV_PYTHON) -m pytest -q -n 5 --dist worksteal -m 'not realtime' --durations=15
-	$(VENV_PYTHON) -m pytest -q -m realtime --reruns 1 --durations=5
+	$(VENV_PYTHON) -m pytest -q -n 2 --dist worksteal -m realtime --reruns 1 --durations=5
 
 # The Python tests that start no emulator and no simavr (tests/conftest.py marks the others), on
 # every core.
