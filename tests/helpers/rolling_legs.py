@@ -34,8 +34,9 @@ def rows(count: int) -> str:
 
 
 class WhatRan:
-    """The segments the board ran, in order: what each plan let go of, and each leg run to its end
-    (on a busy computer the job goes on from rest); `rebases`: how many times it let go."""
+    """The segments the board ran, in order: what each plan let go of, each leg run to its end (on a
+    busy computer the job goes on from rest) and what a leg that ran dry ran; `rebases`: how many
+    times it let go."""
 
     def __init__(self, monkeypatch: pytest.MonkeyPatch) -> None:
         # (stream, first, end): read once the job ran, as building thousands of segments in the
@@ -50,8 +51,12 @@ class WhatRan:
             return let_go(plan, at)
 
         def leg_ran(run: JobRun, here: tuple[int, ...]):  # noqa: ANN202
-            if run.states.history[-2:] == [JobState.STREAMING, JobState.RESUMING]:  # after a done
+            before = run.states.history[-2:]
+            if before == [JobState.STREAMING, JobState.RESUMING]:  # after a done: all of it
                 self.parts.append((run.plan.segments, 0, len(run.plan.segments)))
+            elif before == [JobState.STARVED, JobState.RESUMING]:  # the board ran dry: what it ran
+                ran = run.progress.done - sum(end - first for _, first, end in self.parts)
+                self.parts.append((run.plan.segments, 0, ran))
             return next_leg(run, here)
 
         monkeypatch.setattr(job_module, "rebased", recorded)
