@@ -65,9 +65,10 @@ def test_the_host_killed_at_full_speed_leaves_a_controlled_stop_and_an_exact_pos
     while not hold_ticks(events):  # the watchdog's stop (nothing is sent before it: any frame would feed it)
         assert time.monotonic() < deadline, "the board never stopped on its own"
         time.sleep(0.05)
-    time.sleep(0.5)  # the deceleration to rest takes 80 ms
     with Link.open(emu.url) as link:
-        status = link.status()
+        deadline = time.monotonic() + 5
+        while (status := link.status()).state == State.HOLDING:  # decelerating: about 80 ms
+            assert time.monotonic() < deadline, "the board never came to rest"
         assert status.state == State.ALARM and status.alarm == AlarmCode.HOST_LOST
         at_rest = list(status.position[:3])
         link.stop()
