@@ -69,14 +69,15 @@ demo: setup emulator
 # Once the Debian packages are in, everything the Python tests need is made and checked side by side
 # (downloads, compiles and the firmware's own tests overlap; each job's output is kept together),
 # then the Python tests run. They run ruff and mypy too (tests/test_host_structure.py, as `make lint`
-# does), beside the other tests rather than before them all.
+# does), beside the other tests rather than before them all. The AVR forms check is built here, not
+# by the two tests that run it side by side.
 TEST_JOBS ?= 4
 
 test: setup-apt
 	$(MAKE) -j$(TEST_JOBS) --output-sync=target test-ready
 	$(MAKE) test-python
 
-test-ready: setup-python setup-senders all harness test-firmware fuzz-short
+test-ready: setup-python setup-senders all harness avr-forms-check test-firmware fuzz-short
 
 # The host package's style and types (pyproject.toml: [tool.ruff], [tool.mypy]); `ruff format
 # host/quadstep` fixes the first.
@@ -86,13 +87,13 @@ lint: setup-python
 	$(VENV_PYTHON) -m mypy host/quadstep
 
 # Five at a time, on any number of cores: most tests wait on an emulator paced in real time
-# rather than compute (on 2 cores three at a time keep 1.3 of them busy, five 1.8; docs/HOST.md).
-# Then, two at a time and after all the others, those whose host must keep a board running in
-# real time from running dry while it plans or resends (marked realtime): two side by side on two
-# cores kept every board fed in four runs, about 115 s against 196 one at a time (docs/HOST.md).
-# A realtime test that fails runs once more: a shared machine can
-# hold the host back past what the board has queued, which is no fault of the code; a test that
-# fails twice fails. The slowest tests are listed, to see where the suite's time goes.
+# rather than compute (on 2 cores three at a time keep 1.3 of them busy, five 1.8). Then, two at a
+# time and after all the others, those whose host must keep a board running in real time from
+# running dry while it plans or resends (marked realtime): two side by side on two cores kept every
+# board fed in most runs, in about 115 s against 196 one at a time (docs/HOST.md). A realtime test
+# that fails runs once more: a shared machine can hold the host back past what the board has
+# queued, which is no fault of the code; a test that fails twice fails. The slowest tests are
+# listed, to see where the suite's time goes.
 test-python: setup-python
 	$(VENV_PYTHON) -m pytest -q -n 5 --dist worksteal -m 'not realtime' --durations=15
 	$(VENV_PYTHON) -m pytest -q -n 2 --dist worksteal -m realtime --reruns 1 --durations=5
