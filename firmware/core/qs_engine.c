@@ -608,24 +608,39 @@ uint8_t qs_engine_trigger_in_tick(qs_engine *e)
 }
 
 /* A segment has just begun in the window. The tick that loads it (and
- * would make a hold's first decision) takes no other work: what is due
- * waits for its second decision. A plan made for the segment before is
- * made again, for this one, before its hold begins. */
+ * would make a hold's first decision) takes no other work, nor does the
+ * next, which takes up the loading tick's lateness: what is due waits for
+ * its third decision. A plan made for the segment before is made again,
+ * for this one, before its hold begins; so are the increments (a
+ * prediction is for one slot), in a tick of their own as far before the
+ * beginning as in a window without a boundary (the beginning stays where
+ * it was due, or follows that tick by as much) where the segment is long
+ * enough for both, else in this tick. */
+#define FIRST_WORK 3 /* the decision of a segment begun in the window at which work is done */
 static void defer_past_begin(qs_engine *e)
 {
+    const uint8_t span = QS_TRIGGER_TICKS - QS_TRIGGER_PREDICT_AT; /* the increments to the beginning */
+    const uint8_t planned = e->hold.planned_n == hold_key(e->seg);
     uint8_t wait = e->trigger_window & QS_TRIGGER_WAIT;
     uint8_t work = e->trigger_window & (uint8_t)~QS_TRIGGER_WAIT;
 
-    if (work == QS_TRIGGER_PREDICT && (wait < 2 || e->hold.planned_n != hold_key(e->seg))) {
+    if (work == QS_TRIGGER_PREDICT && (wait < FIRST_WORK || !planned)) {
         /* No prediction where it would be deferred or the plan is for
          * another length: the beginning is due when it would have been. */
         work = QS_TRIGGER_BEGIN;
-        wait = (uint8_t)(wait + QS_TRIGGER_TICKS - QS_TRIGGER_PREDICT_AT);
+        wait = (uint8_t)(wait + span);
     }
-    if (work == QS_TRIGGER_BEGIN && e->hold.planned_n != hold_key(e->seg))
+    if (work == QS_TRIGGER_BEGIN && !planned) {
         work = QS_TRIGGER_PLAN;
-    if (wait < 2)
-        wait = 2;
+    } else if (work == QS_TRIGGER_BEGIN && !QS_IS_CUBIC(e->seg)) {
+        const uint8_t at = wait >= FIRST_WORK + span ? (uint8_t)(wait - span) : FIRST_WORK;
+        if (e->left > (uint16_t)(at + span + 1u)) {
+            work = QS_TRIGGER_PREDICT;
+            wait = at;
+        }
+    }
+    if (wait < FIRST_WORK)
+        wait = FIRST_WORK;
     e->trigger_window = (uint8_t)(work | wait);
 }
 
@@ -660,7 +675,7 @@ void qs_engine_trigger_split_in_tick(qs_engine *e)
     }
     /* A segment runs on past a cut, or has just begun: the work due now,
      * then the next cut. */
-    if (e->left == e->seg->n && e->left > 3)
+    if (e->left == e->seg->n && e->left > FIRST_WORK + 1u) /* a cut there leaves more than a tick */
         defer_past_begin(e);
     if (!(e->trigger_window & QS_TRIGGER_WAIT)) {
         if (e->trigger_window == QS_TRIGGER_BEGIN) {
@@ -679,7 +694,7 @@ void qs_engine_trigger_split_in_tick(qs_engine *e)
         cut_and_predict(e);
         return;
     }
-    cut_and_predict(e); /* a beginning carried into a segment begun in the window is predicted here */
+    cut_and_predict(e); /* a beginning carried into a short segment begun in the window is predicted here */
 }
 
 /* ---- inputs, main loop ---- */

@@ -224,16 +224,27 @@ def every_message_kind(axis_count: int, cubic: bool = True) -> bytes:
     return b"".join(out)
 
 
-def hold_from_full_speed(axis_count: int, pad: int = 0) -> bytes:
-    """Wire bytes (no flow control needed): 15 segments of 300 ticks with every axis near full speed (the
-    costliest hold to begin, and to run), then after `pad` empty frames (20 µs each on the line) a HOLD at
-    800 / 2^24 step per tick² (about 20,000 ticks to rest)."""
+def hold_from_full_speed(axis_count: int, pad: int = 0, segments: int = 15) -> bytes:
+    """Wire bytes (no flow control needed): `segments` segments of 300 ticks with every axis near full speed
+    (the costliest hold to begin, and to run), then after `pad` empty frames (20 µs each on the line) a HOLD
+    at 800 / 2^24 step per tick² (about 20,000 ticks to rest)."""
     from quadstep.protocol import Hold, encode
 
     seg = Segment(n=300, axes=tuple(AxisMove(axis=a, direction=1, v0=D - 1, vn=D - 1, r=0) for a in range(axis_count)))
-    job = b"\x00" + b"".join(encode(seg, i) for i in range(15))
+    job = b"\x00" + b"".join(encode(seg, i) for i in range(segments))
     hold = Hold(decel=(800,) * axis_count + (0,) * (4 - axis_count))  # type: ignore[arg-type]
-    return job + b"\x00" * pad + encode(hold, 15)
+    return job + b"\x00" * pad + encode(hold, segments)
+
+
+def hold_answered(replies: bytes, axis_count: int) -> bool:
+    """Whether the board answered a HOLD (its status, HOLDING). Bytes that find the receive ring full are
+    dropped: where a line kept busy outruns the main loop (50 kHz with every axis stepping), a HOLD's last
+    bytes can be among them, the board never takes it, and its queue runs dry instead (an underrun)."""
+    from quadstep.protocol import Decoder, State, StatusReport
+
+    items = Decoder("to_host", axis_count=axis_count).feed(replies)
+    return any(isinstance(r, StatusReport) and r.state == State.HOLDING
+               for r in (getattr(item, "message", None) for item in items))
 
 
 def status_during_a_hold(axis_count: int) -> bytes:

@@ -48,11 +48,13 @@ def test_the_firmware_rows_are_the_measured_figures() -> None:
     assert rows["segments/s taken while 3 axes step every tick"] == "; ".join(
         f"{rates[r]['segments_per_s']:,} at {int(r) // 1000} kHz" for r in RATES
     )
-    assert rows["HOLD begun: longest lock, longest tick, timer periods lost in 16 HOLDs"].split(" (")[0] == "; ".join(
-        f"{int(r) // 1000} kHz: {rates[r]['hold']['lock']}, {rates[r]['hold']['first_tick']}, "
-        f"{rates[r]['hold']['periods_lost_in_16']}"
+    label = "HOLDs sent at 32 moments: taken, longest lock, longest tick, timer periods lost"
+    assert rows[label].split(" (")[0] == "; ".join(
+        f"{int(r) // 1000} kHz: {rates[r]['hold']['answered']}, {rates[r]['hold']['lock']}, "
+        f"{rates[r]['hold']['first_tick']}, {rates[r]['hold']['periods_lost']}"
         for r in RATES
     )
+    assert all(rates[r]["hold"]["holds"] == 32 for r in RATES)
 
 
 def test_no_peer_figure_without_its_source() -> None:

@@ -13,10 +13,10 @@ from hold_helpers import check_hold, planned_job
 from host_helpers import read_trace
 
 from quadstep.kernel.engine_model import predict_hold
-from quadstep.protocol import Decoder, Event, Hold, Segment, State, StatusReport, encode
-from quadstep.kernel.fixed import D, DECEL_MAX
-from quadstep.kernel.motion import AxisMove
+from quadstep.protocol import Decoder, Event, Hold, State, StatusReport, encode
+from quadstep.kernel.fixed import DECEL_MAX
 
+import avr_scenarios
 import avr_sim
 
 F_CPU = avr_sim.F_CPU
@@ -60,35 +60,38 @@ def test_the_board_holds_exactly_as_predicted(avr_build: None, tmp_path: Path, b
 @pytest.mark.parametrize("tick_hz", [32_000, 40_000])
 def test_sixteen_holds_lose_no_timer_period(avr_build: None, tmp_path: Path, tick_hz: int) -> None:
     """HOLDs at 16 phases of the tick during a 300-tick segment, three axes near full speed (the rescale
-    multiplies: the costliest hold to begin), on the Uno's default 32 kHz and on a 40 kHz build. The lock
-    only opens the hold's window; the tick plans the hold, works out the increments it will begin with,
-    and begins it (rescaling the positions alone) in later ticks of the window, each within two timer
-    periods, even at 40 kHz (800 cycles): not one period is lost (exact cycles)."""
+    multiplies: the costliest hold to begin), behind jobs of 15 and of 10 segments (the HOLDs fall at other
+    moments of the segments in each), on the Uno's default 32 kHz and on a 40 kHz build. The lock only
+    opens the hold's window; the tick plans the hold, works out the increments it will begin with, and
+    begins it (rescaling the positions alone) in later ticks of the window, each within two timer periods,
+    even at 40 kHz (800 cycles), and never in the tick that loads a segment: not one period is lost (exact
+    cycles). Every HOLD reaches the board (its status answers it)."""
     elf = avr_sim.elf_path("uno")
     if tick_hz != avr_sim.avr_define("QS_TICK_HZ"):
         build = tmp_path / "build"
         subprocess.run(["make", "-C", str(avr_sim.REPO), "-s", "firmware", f"BUILD={build}",
                         f"AVR_TICK_HZ={tick_hz}"], capture_output=True, check=True)
         elf = build / "avr" / "uno.elf"
-    seg = Segment(n=300, axes=tuple(AxisMove(axis=a, direction=1, v0=D - 1, vn=D - 1, r=0) for a in range(3)))
-    job = b"\x00" + b"".join(encode(seg, i) for i in range(15))
-    hold = encode(Hold(decel=(800, 800, 800, 0)), 15)
     lock = isr = lost = 0
-    for pad in range(0, 200, 13):  # the HOLD arrives at a different phase of the tick each time
-        (tmp_path / "hold.input").write_bytes(job + b"\x00" * pad + hold)
-        outputs = avr_sim.Outputs.in_dir(tmp_path, f"hold{pad}")
-        subprocess.run([*avr_sim.harness("uno", elf), "--input", str(tmp_path / "hold.input"),
-                        "--max-cycles", str(F_CPU // 4), *outputs.args()], check=True, capture_output=True, timeout=120)
-        stats = json.loads(outputs.stats.read_text())
-        assert stats["tick_cycles"] == F_CPU // tick_hz
-        assert stats["motion"]["state"] == State.HOLDING  # decelerating when the run ends
-        lock = max(lock, stats["irq_off"]["max"])
-        isr = max(isr, stats["isr"]["timer"]["max"])
-        lost += stats["motion"]["ticks_missed"]
+    for segments in (15, 10):
+        for pad in range(0, 200, 13):  # the HOLD arrives at a different phase of the tick each time
+            (tmp_path / "hold.input").write_bytes(avr_scenarios.hold_from_full_speed(3, pad, segments))
+            outputs = avr_sim.Outputs.in_dir(tmp_path, f"hold{segments}-{pad}")
+            replies = tmp_path / f"hold{segments}-{pad}.replies"
+            subprocess.run([*avr_sim.harness("uno", elf), "--input", str(tmp_path / "hold.input"),
+                            "--output", str(replies), "--max-cycles", str(F_CPU // 4), *outputs.args()],
+                           check=True, capture_output=True, timeout=120)
+            assert avr_scenarios.hold_answered(replies.read_bytes(), 3), (segments, pad)
+            stats = json.loads(outputs.stats.read_text())
+            assert stats["tick_cycles"] == F_CPU // tick_hz
+            assert stats["motion"]["state"] == State.HOLDING  # decelerating when the run ends
+            lock = max(lock, stats["irq_off"]["max"])
+            isr = max(isr, stats["isr"]["timer"]["max"])
+            lost += stats["motion"]["ticks_missed"]
     assert lost == 0
     # was 555 (the hold begun under the lock) and 418, with 5 periods lost; then 843, the tick that began
-    # the hold (the rescale of h and of the increments), which lost 16 periods at 40 kHz; now the longest
-    # is the tick that plans the hold or the one that works out the increments (774 at 32 kHz while the
-    # hold's tick still counted its steps and ticks; 765 at 32 kHz before the build's code moved on
-    # watching a starved board's outputs)
-    assert (lock, isr) == (200, {32_000: 772, 40_000: 765}[tick_hz])
+    # the hold (the rescale of h and of the increments), which lost 16 periods at 40 kHz; then 852, the
+    # tick that loaded a segment and worked out the increments for it (a HOLD whose beginning fell in a
+    # segment begun in its window), which lost one at 40 kHz; now the longest is the tick that plans the
+    # hold or the one that works out the increments
+    assert (lock, isr) == (200, {32_000: 773, 40_000: 766}[tick_hz])

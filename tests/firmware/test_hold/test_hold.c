@@ -296,8 +296,9 @@ static void test_random_holds_follow_their_closed_form(void)
 
 /* The window's end falls just past a segment's end: its beginning is due
  * in the next segment (of the same length, so the plan holds), a few
- * decisions in, and the increments it begins with are worked out in the
- * tick that loads that segment. Random speeds, so b changes every tick. */
+ * decisions in, and the increments it begins with are worked out for that
+ * segment in a tick of their own, never in the tick that loads it. Random
+ * speeds, so b changes every tick. */
 static void test_holds_due_just_past_a_segment_boundary_follow_their_closed_form(void)
 {
     int i;
@@ -308,11 +309,11 @@ static void test_holds_due_just_past_a_segment_boundary_follow_their_closed_form
         /* decisions left in a once the increments are due: 0 to 4 */
         const uint16_t left = (uint16_t)tp_rand(5);
         const uint16_t t = (uint16_t)(n - QS_TRIGGER_PREDICT_AT - left);
-        /* With a's last decisions too few to cut for the increments (a cut
-         * never leaves a single tick), they are due as b begins and the
-         * beginning stays three on; else it is due at b's second decision
-         * (a segment's first takes no work). */
-        const uint16_t t0 = left < 2 ? QS_TRIGGER_TICKS - QS_TRIGGER_PREDICT_AT : 2;
+        /* Whether the increments fell due in a's last decisions or as b
+         * begins, b's are worked out at its third decision (its first takes
+         * no work, and its second takes up the first's lateness) and the
+         * beginning follows as far on as in a window without a boundary. */
+        const uint16_t t0 = 3 + QS_TRIGGER_TICKS - QS_TRIGGER_PREDICT_AT;
         uint16_t ticks = t;
         int32_t made[QS_AXIS_COUNT];
         uint8_t axis, outcome;
