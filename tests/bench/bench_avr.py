@@ -27,7 +27,8 @@ sys.path.insert(0, str(REPO / "tests" / "simavr"))
 import avr_figures  # noqa: E402
 import avr_scenarios  # noqa: E402
 import avr_sim  # noqa: E402
-from quadstep.protocol import Config, Identify, State, Status, encode
+from quadstep.kernel.motion import AxisMove
+from quadstep.protocol import Config, Identify, Segment, State, Status, encode
 from quadstep.kernel.fixed import D, N_MAX
 
 F_CPU = avr_sim.F_CPU
@@ -197,6 +198,30 @@ def hold_begin(v: Variant) -> tuple[int, int, int, int]:
     return lock, isr, lost, answered
 
 
+def underrun_stops(v: Variant) -> dict[str, dict[str, int]]:
+    """Underruns, three axes near full speed when the queue runs dry: behind quadratic segments of 14
+    lengths, and behind cubic ones in jerk phases of 9 lengths. The longest step interrupt (the stop planned
+    and begun in the tick that finds the queue dry) and the timer periods lost over them all."""
+    jobs = {
+        "quadratic": [[Segment(n=n, axes=tuple(AxisMove(axis=a, direction=1, v0=D - 1, vn=D - 1, r=0)
+                                               for a in range(3)))] * 3 for n in range(300, 340, 3)],
+        "cubic": [avr_scenarios.jerk_phases(n, 6)[:-1] for n in range(60, 120, 7)],  # no stop at the end
+    }
+    figures = {}
+    for kind, segment_lists in jobs.items():
+        isr = lost = 0
+        for i, segments in enumerate(segment_lists):
+            out = avr_sim.Outputs.in_dir(v.build, f"underrun-{kind}-{i}")
+            job = b"\x00" + b"".join(encode(s, k) for k, s in enumerate(segments))
+            st = avr_sim.run_input(job, out, v.build / "underrun-replies.bin", elf=v.elf, max_cycles=F_CPU // 4,
+                                   until_idle=False)
+            assert st["motion"]["state"] == State.HOLDING, st["motion"]  # the stop under way
+            isr = max(isr, st["isr"]["timer"]["max"])
+            lost += st["motion"]["ticks_missed"]
+        figures[kind] = {"underruns": len(segment_lists), "longest_tick": isr, "periods_lost": lost}
+    return figures
+
+
 def hold_tick(work: Path, elf: Path, board: str, axes: int) -> float:
     """The step interrupt's mean cycles in a hold's ticks, every axis decelerating from near full speed:
     two runs that end 1/16 s and 1/8 s in, both inside the hold, so that the ticks before it cancel out."""
@@ -339,6 +364,10 @@ def main() -> None:
     figures["hold_tick"] = held
     print(f"  a hold's tick, every axis decelerating from near full speed: {held['uno']} cycles with 3 axes (Uno), "
           f"{held['mega']} with 4 (Mega)")
+    stops = figures["underrun"] = underrun_stops(default)
+    for kind, u in stops.items():
+        print(f"  an underrun's stop behind {kind} segments, three axes near full speed: longest tick "
+              f"{u['longest_tick']} cycles, {u['periods_lost']} timer periods lost in {u['underruns']} underruns")
 
     rates = sorted({default.tick_hz, 40_000, 50_000}) if args.quick else TICK_RATES
     print(f"\nsegments/s the board takes while three axes step every tick (flow-controlled, "

@@ -55,6 +55,14 @@ def test_the_firmware_rows_are_the_measured_figures() -> None:
         for r in RATES
     )
     assert all(rates[r]["hold"]["holds"] == 32 for r in RATES)
+    stops = avr["underrun"]
+    assert rows["an underrun's stop at 32 kHz, 3 axes near full speed: longest tick, timer periods lost"].split(
+        " (")[0] == (
+        f"behind quadratic segments {stops['quadratic']['longest_tick']:,} cycles, "
+        f"{stops['quadratic']['periods_lost']} in {stops['quadratic']['underruns']} underruns; "
+        f"behind cubic ones {stops['cubic']['longest_tick']:,}, "
+        f"{stops['cubic']['periods_lost']} in {stops['cubic']['underruns']}"
+    )
 
 
 def test_no_peer_figure_without_its_source() -> None:
