@@ -58,7 +58,7 @@ def test_the_board_holds_exactly_as_predicted(avr_build: None, tmp_path: Path, b
 
 
 @pytest.mark.parametrize("tick_hz", [32_000, 40_000])
-def test_sixteen_holds_lose_no_timer_period(avr_build: None, tmp_path: Path, tick_hz: int) -> None:
+def test_holds_at_thirty_two_moments_lose_no_timer_period(avr_build: None, tmp_path: Path, tick_hz: int) -> None:
     """HOLDs at 16 phases of the tick during a 300-tick segment, three axes near full speed (the rescale
     multiplies: the costliest hold to begin), behind jobs of 15 and of 10 segments (the HOLDs fall at other
     moments of the segments in each), on the Uno's default 32 kHz and on a 40 kHz build. The lock only
