@@ -1,13 +1,15 @@
 /* The spindle (or laser) PWM, its direction and the coolant pins, driven
  * from the main loop once per PWM period: the core computes the level from
  * the engine's running state (qs_outputs.h), so a power that follows the
- * speed is right at every period, ramps and holds included. */
+ * speed is right at every period, ramps and holds included. A RASTER
+ * line's pixels are the step tick's (qs_port_laser_power). */
 #include "outputs.h"
 
 #include <avr/io.h>
 
 #include "board.h"
 #include "firmware.h"
+#include "qs_port.h"
 
 void outputs_init(void)
 {
@@ -19,14 +21,19 @@ void outputs_init(void)
     TCCR2B = _BV(CS22);               /* clock / 64 */
 }
 
-/* OCR2A is buffered: written now, it takes effect at the next period. A
- * RASTER's pixel is looked up for the middle of that period, so each
- * period shows the pixel under the head half-way through it, not the one
- * there a period or more before. */
-static uint16_t raster_ahead(void)
+#if QS_RASTER_BYTES
+void qs_port_laser_power(uint8_t power)
 {
-    const uint16_t cycles = (uint16_t)((256u - TCNT2) * 64u + 128u * 64u);
-    return (uint16_t)(cycles / (uint16_t)(F_CPU / QS_TICK_HZ));
+    outputs_laser_power(power);
+}
+#endif
+
+static void set_duty(uint16_t duty)
+{
+    if (OCR2A != (uint8_t)(duty >> 8))
+        OCR2A = (uint8_t)(duty >> 8);
+    if (!duty != !(TCCR2A & _BV(COM2A1)))
+        TCCR2A ^= _BV(COM2A1);
 }
 
 /* A pin of a port the step interrupt never writes. */
@@ -36,21 +43,34 @@ QS_NOINLINE void outputs_update(void)
 {
     qs_output_level level;
     uint8_t pins;
+#if QS_RASTER_BYTES
+    uint8_t saved;
+#endif
 
     TIFR2 = _BV(TOV2);
+#if QS_RASTER_BYTES
+    if (qs_raster_driving(&core.raster))
+        return; /* the tick's, pixel by pixel (its restarts bring TOV2 at every pixel) */
+#endif
     if (qs_outputs_all_off(&core.outputs)) {
         level.pins = 0; /* no need to look at the engine */
         level.duty = 0;
     } else {
-        qs_core_outputs(&core, &level, QS_RASTER_BYTES ? raster_ahead() : 0);
+        qs_core_outputs(&core, &level);
     }
     /* OCR2A takes effect at the next period: high for (OCR2A + 1) / 256 of
      * it; a duty of 0 disconnects the pin, which then stays low. Registers
-     * are written only when they change. */
-    if (OCR2A != (uint8_t)(level.duty >> 8))
-        OCR2A = (uint8_t)(level.duty >> 8);
-    if (!level.duty != !(TCCR2A & _BV(COM2A1)))
-        TCCR2A ^= _BV(COM2A1);
+     * are written only when they change, and not while the tick switches a
+     * RASTER line's pixels (the lock keeps it from taking the line between
+     * the look and the write). */
+#if QS_RASTER_BYTES
+    saved = qs_port_lock();
+    if (!qs_raster_driving(&core.raster))
+        set_duty(level.duty);
+    qs_port_unlock(saved);
+#else
+    set_duty(level.duty);
+#endif
     /* Written only when they change: the ports also hold input pull-ups
      * (and simavr drives the PWM pin from its port on every write). */
     pins = (uint8_t)(level.pins & (QS_OUT_REVERSE | QS_OUT_FLOOD | QS_OUT_MIST));

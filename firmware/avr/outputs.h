@@ -12,11 +12,31 @@ void outputs_init(void);
 void outputs_update(void);
 
 /* From the main loop: once per PWM period (Timer2's overflow flag), the
- * update; otherwise one bit test. The step interrupt never does this work. */
+ * update; otherwise one bit test. The step interrupt does none of it, but
+ * for a RASTER line's pixels (outputs_laser_power). */
 static inline void outputs_poll(void)
 {
     if (TIFR2 & _BV(TOV2))
         outputs_update();
 }
+
+/* A RASTER's pixel, from the step tick (qs_port_laser_power, written in
+ * place there: QS_LASER_POWER in qs_raster_tick.h). The period restarts
+ * (TCNT2 at its top: the next count, within 64 cycles, is the bottom,
+ * where the buffered OCR2A takes the new duty), so the pixel's power
+ * begins at its boundary's decision, not at the end of a period of up to
+ * 1 ms. A power of 0 disconnects the pin, which then stays low. */
+static inline __attribute__((always_inline)) void outputs_laser_power(uint8_t power)
+{
+    OCR2A = power;
+    if (power) {
+        TCCR2A = _BV(COM2A1) | _BV(WGM21) | _BV(WGM20);
+        TCNT2 = 0xFF;
+    } else {
+        TCCR2A = _BV(WGM21) | _BV(WGM20);
+    }
+}
+
+#define QS_LASER_POWER(power) outputs_laser_power(power)
 
 #endif

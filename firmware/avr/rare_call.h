@@ -1,5 +1,6 @@
 /* The engine's rare work from the step interrupt (QS_ENGINE_UNDERRUN and
- * QS_ENGINE_TRIGGER_SPLIT in qs_engine_tick.h): one `call` in the
+ * QS_ENGINE_TRIGGER_SPLIT in qs_engine_tick.h, a RASTER line's begin and end
+ * in qs_raster_tick.h): one `call` in the
  * interrupt to a small trampoline (step_timer.c, QS_AVR_RARE_TRAMPOLINE)
  * that saves every call-clobbered register the interrupt does not, then
  * calls the C. So the interrupt's prologue (run every tick) saves no more
@@ -12,6 +13,7 @@
 /* The core's functions on the one engine (step_timer.c). */
 void underrun_in_tick(void);
 void trigger_split_in_tick(void);
+void raster_watch_in_tick(void);
 
 #define QS_AVR_RARE_CALL(trampoline) __asm__ __volatile__("call " #trampoline ::: "memory")
 
@@ -28,5 +30,6 @@ void trigger_split_in_tick(void);
 
 #define QS_ENGINE_UNDERRUN(e) QS_AVR_RARE_CALL(underrun_rare)
 #define QS_ENGINE_TRIGGER_SPLIT(e) QS_AVR_RARE_CALL(trigger_split_rare)
+#define QS_RASTER_WATCH(r, o, e) QS_AVR_RARE_CALL(raster_watch_rare)
 
 #endif

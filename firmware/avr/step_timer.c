@@ -15,6 +15,7 @@
 
 #include "board.h"
 #include "firmware.h"
+#include "outputs.h"
 #include "uart.h"
 
 #ifndef QS_STEP_PULSE_US
@@ -90,6 +91,7 @@
 #include "inputs_tick.h"
 #include "rare_call.h"
 #include "qs_engine_tick.h"
+#include "qs_raster_tick.h"
 
 /* Direction changes wait this long after the step pins fall (driver hold time). */
 #define DIR_HOLD_CYCLES (CYCLES_PER_US)
@@ -130,6 +132,15 @@ __attribute__((used, externally_visible)) void trigger_split_in_tick(void)
     qs_engine_trigger_split_in_tick(&core.engine);
 }
 
+#if QS_RASTER_BYTES
+__attribute__((used, externally_visible)) void raster_watch_in_tick(void)
+{
+    qs_raster_watch(&core.raster, &core.outputs, &core.engine);
+}
+
+QS_AVR_RARE_TRAMPOLINE(raster_watch_rare, raster_watch_in_tick);
+#endif
+
 QS_AVR_RARE_TRAMPOLINE(underrun_rare, underrun_in_tick);
 QS_AVR_RARE_TRAMPOLINE(trigger_split_rare, trigger_split_in_tick);
 
@@ -143,6 +154,9 @@ ISR(TIMER1_COMPA_vect)
     inputs_tick(); /* sees the steps just raised; may freeze or hold before the decisions */
 
     const uint8_t steps = qs_engine_tick(&core.engine);
+#if QS_RASTER_BYTES
+    qs_raster_tick(&core.raster, &core.outputs, &core.engine, steps); /* a RASTER's pixels: the laser's PWM */
+#endif
     const uint8_t pulse = next_pins; /* what went out above */
     const uint8_t dir_pins = (uint8_t)(core.engine.dir_bits << QS_DIR_SHIFT) & QS_DIR_PINS;
     const uint8_t held_dir = pulse & QS_DIR_PINS;

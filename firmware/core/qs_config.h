@@ -41,6 +41,14 @@
 #define QS_CUBIC 1
 #endif
 
+/* Pixel powers the RASTER ring holds (IDENTIFY_REPLY's raster_ring,
+ * qs_raster.h); 0 builds no RASTER (the capability bit is then clear and
+ * the type unknown). At most 1024 (a slot's 10-bit index), a power of two.
+ * The Uno's laser build keeps 128; the Uno's own, none. */
+#ifndef QS_RASTER_BYTES
+#define QS_RASTER_BYTES (QS_QUEUE_CAPACITY < 16 ? 0 : 1024)
+#endif
+
 /* Board code reported by IDENTIFY: 0 emulator, 1 ATmega328P, 2 ATmega2560. */
 #ifndef QS_BOARD
 #define QS_BOARD 0

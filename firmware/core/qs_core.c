@@ -29,6 +29,8 @@ void qs_core_init(qs_core *c)
     qs_outputs_off(&c->outputs);
 #if QS_RASTER_BYTES
     c->raster.write = 0;
+    c->raster.line = 0;
+    c->raster.bit = 0;
 #endif
 }
 

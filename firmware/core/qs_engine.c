@@ -33,6 +33,9 @@ void qs_engine_init(qs_engine *e, uint8_t queue_capacity)
     e->hold_alarm = QS_ALARM_NONE;
     e->hold_starves = 0;
     e->holds_begun = 0;
+#if QS_RASTER_BYTES
+    e->line_lit = 0;
+#endif
     for (axis = 0; axis < QS_AXIS_COUNT; axis++)
         e->stop_decel[axis] = QS_DEFAULT_STOP_DECEL;
     for (axis = 0; axis < QS_LATCH_RING; axis++)

@@ -25,12 +25,17 @@ typedef struct {
     qs_segment *seg;          /* the running slot, valid while left > 0 */
     uint16_t left;            /* ticks left in it; 0 between segments */
     uint8_t slow_path;        /* 0: a quadratic segment runs; QS_PATH_CUBIC:
-                               * a cubic one; else left == 0 or a hold */
+                               * a cubic one; QS_PATH_RASTER: a RASTER line
+                               * has just begun; else left == 0 or a hold */
     uint8_t dir_bits;         /* bit i: axis i's pending steps are negative */
     volatile uint8_t state;   /* QS_STATE_* */
     volatile uint8_t alarm;   /* QS_ALARM_*, nonzero only in ALARM */
     uint8_t kept;             /* the slot at tail has finished moving, nothing behind it: kept
                                * for a hold from its end (qs_engine_finish) */
+#if QS_RASTER_BYTES
+    uint8_t line_lit;         /* a RASTER line's pixels are the tick's (qs_raster_tick.h): the
+                               * first tick of every segment is marked for it, not only a line's */
+#endif
     /* Main loop side: the cubic chain after the last slot prepared, */
     qs_cubic_chain chain;
     /* and totals over retired slots, */
@@ -76,6 +81,13 @@ typedef struct {
 } qs_engine;
 
 #define QS_PATH_CUBIC 2 /* slow_path while a cubic segment runs */
+#define QS_PATH_RASTER 4 /* slow_path after the first decision of a RASTER line (or of any segment while
+                          * one is lit), until qs_raster_tick.h looks */
+#if QS_RASTER_BYTES
+#define QS_ENGINE_LINE_LIT(e) ((e)->line_lit)
+#else
+#define QS_ENGINE_LINE_LIT(e) 0
+#endif
 
 /* What qs_engine_hold did. */
 #define QS_HOLD_STARTED 0    /* decelerating: state HOLDING */

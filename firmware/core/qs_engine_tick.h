@@ -130,7 +130,10 @@ static QS_ALWAYS_INLINE uint8_t qs_engine_begin(qs_engine *e)
     s = qs_queue_front(&e->queue);
     e->seg = s;
     e->left = s->n;
-    e->slow_path = QS_IS_CUBIC(s) ? QS_PATH_CUBIC : 0;
+    e->slow_path = QS_IS_CUBIC(s) ? QS_PATH_CUBIC
+                   : QS_RASTER_BYTES && ((s->ends_moving & QS_SLOT_RASTER) || QS_ENGINE_LINE_LIT(e))
+                       ? QS_PATH_RASTER /* for qs_raster_tick.h */
+                       : 0;
     /* Inactive axes keep their direction pins as they were. */
     e->dir_bits = (uint8_t)((e->dir_bits & (uint8_t)~s->active) | s->negative);
     if (QS_UNLIKELY(e->trigger_window))
@@ -205,6 +208,10 @@ static QS_ALWAYS_INLINE uint8_t qs_engine_tick(qs_engine *e)
 
     /* A quadratic segment's ticks pay one test; a cubic one's one more. */
     if (QS_UNLIKELY(e->slow_path)) {
+        if (QS_RASTER_BYTES && e->slow_path == QS_PATH_RASTER) {
+            e->slow_path = 0; /* a line's mark, where no qs_raster_tick took it */
+            goto quadratic;
+        }
         if (!QS_CUBIC || e->slow_path != QS_PATH_CUBIC) {
             /* An underrun begins a hold in place of the next segment. */
             if (!e->hold.moving && !qs_engine_begin(e) && !e->hold.moving) {
@@ -217,8 +224,8 @@ static QS_ALWAYS_INLINE uint8_t qs_engine_tick(qs_engine *e)
                 QS_ENGINE_UNDECIDED();
                 return steps;
             }
-            if (!QS_CUBIC || !e->slow_path)
-                goto quadratic;
+            if (!QS_CUBIC || (QS_RASTER_BYTES ? e->slow_path != QS_PATH_CUBIC : !e->slow_path))
+                goto quadratic; /* a line's mark is a quadratic segment's */
         }
         return qs_engine_cubic_tick(e);
     }

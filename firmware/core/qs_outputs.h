@@ -8,7 +8,8 @@
  * running state, so a power that follows the speed follows what the axes
  * actually do: the ramps of a segment, a cubic segment, a hold. Nothing
  * here runs in the tick: a target asks at its own pace (the AVR once per
- * PWM period, the emulator every tick) and drives its pins. */
+ * PWM period, the emulator every tick) and drives its pins; a RASTER
+ * line's pixels are the tick's (qs_raster_tick.h). */
 #ifndef QS_OUTPUTS_H
 #define QS_OUTPUTS_H
 

@@ -19,6 +19,13 @@ void qs_port_unlock(uint8_t saved);
  * while IDLE), so that the next tick runs it as it would have run anyway. */
 void qs_port_tick_wake(void);
 
+/* A RASTER line's pixel power (0 dark), from the step tick at the decision
+ * that crosses its pixel's boundary (qs_raster_tick.h): a target that
+ * drives a laser's PWM from its main loop (qs_core_outputs) takes this one
+ * at once, and leaves the duty alone while qs_raster_level says the tick
+ * has it. */
+void qs_port_laser_power(uint8_t power);
+
 /* A free-running count of QS_PORT_CLOCK_US microseconds each, wrapping at
  * 2^16, for the host watchdog. Main loop only. */
 uint16_t qs_port_clock(void);

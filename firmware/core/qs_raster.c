@@ -1,6 +1,7 @@
 #include "qs_raster.h"
 
 #include "qs_port.h"
+#include "qs_raster_tick.h"
 
 static uint16_t get16(const uint8_t *p)
 {
@@ -87,72 +88,59 @@ void qs_raster_store(qs_raster *r, qs_segment *slot, const qs_raster_msg *m)
     }
 }
 
-/* The pixel under the axis after `steps` of its line: the number of
- * boundaries floor((phase + (k-1)*pitch) / 256), k >= 1, at or before it. */
-static uint8_t pixel_at(const qs_raster_pixels *px, uint16_t steps)
-{
-    const uint8_t count = (uint8_t)(px->where >> QS_RASTER_WHERE_COUNT_SHIFT);
-    const uint32_t reach = ((uint32_t)steps + 1u) << 8; /* boundary k is passed when phase + (k-1)*pitch < reach */
-    uint32_t k;
-
-    if (reach <= px->phase)
-        return 0;
-    k = (reach - px->phase + px->pitch - 1u) / px->pitch;
-    return (uint8_t)(k < count ? k : count - 1u);
-}
-
 static uint8_t is_raster(const qs_segment *s)
 {
     return !QS_IS_CUBIC(s) && (s->ends_moving & QS_SLOT_RASTER);
 }
 
-static uint8_t pixel_axis(const qs_segment *s)
+static void show(const qs_raster *r)
 {
-    return (uint8_t)((s->ends_moving >> QS_SLOT_RASTER_AXIS_SHIFT) & 3u);
+    qs_port_laser_power(r->line ? r->power[r->at] : 0);
 }
 
-void qs_raster_level(const qs_raster *r, qs_engine *e, qs_output_level *out, uint16_t ahead)
+void qs_raster_watch(qs_raster *r, const qs_outputs *o, qs_engine *e)
 {
-    const qs_segment *s, *next = 0;
-    uint32_t t = 0;
-    qs_i24 b;
-    uint8_t i, saved;
+    const qs_segment *s = e->seg;
 
-    if (!(out->pins & QS_OUT_ON))
-        return;
-    saved = qs_port_lock();
-    /* the running line, or the next about to begin (at its start) */
-    s = e->left ? e->seg : (qs_queue_empty(&e->queue) ? 0 : qs_queue_front(&e->queue));
-    if (e->state != QS_STATE_RUNNING || e->trigger_window || !s || !is_raster(s)) {
-        qs_port_unlock(saved);
-        return;
+    if (e->slow_path == QS_PATH_RASTER) {
+        e->slow_path = 0; /* the segment's other ticks are a quadratic one's */
+        if (e->state == QS_STATE_RUNNING && is_raster(s) && (o->setting[qs_outputs_carried(s)].bits & QS_OUT_ON)) {
+            const uint8_t count = (uint8_t)(s->px.where >> QS_RASTER_WHERE_COUNT_SHIFT);
+            /* Boundary k (k >= 1) is crossed by the decision that makes
+             * the pixel axis's steps reach floor((phase + (k-1)*pitch) /
+             * 256); this decision is the line's first. */
+            r->line = s;
+            r->at = (qs_raster_index)(s->px.where & (QS_RASTER_BYTES - 1u));
+            r->boundaries = (uint8_t)(count - 1u);
+            r->frac = (uint8_t)s->px.phase;
+            r->pitch = s->px.pitch;
+            r->togo = (uint16_t)(s->px.phase >> 8);
+            r->bit = count > 1 ? (uint8_t)(1u << ((s->ends_moving >> QS_SLOT_RASTER_AXIS_SHIFT) & 3u)) : 0;
+            e->line_lit = 1;
+            if ((r->stepped & r->bit) && --r->togo == 0)
+                qs_raster_cross(r); /* this first decision stepped across it */
+            else
+                show(r);
+            return;
+        }
     }
-    if (e->left)
-        t = (uint16_t)(s->n - e->left);
-    else if (e->kept)
-        t = s->n; /* it ended moving, nothing behind it yet: at its end */
-    i = qs_queue_next(&e->queue, e->queue.tail);
-    if (i != e->queue.head)
-        next = qs_queue_at(&e->queue, i);
+    /* Past the lines (a segment that is none began), or a hold, an alarm
+     * or a cubic segment stopped one. */
+    r->line = 0;
+    r->bit = 0;
+    e->line_lit = 0;
+    show(r);
+}
+
+uint8_t qs_raster_level(const qs_raster *r, qs_output_level *out)
+{
+    uint8_t saved = qs_port_lock();
+    const uint8_t driven = r->line != 0;
+
+    if (driven && (out->pins & QS_OUT_ON))
+        out->duty = (uint16_t)(r->power[r->at] * 257u);
     qs_port_unlock(saved);
-    /* only this loop reuses slots: s and next stay what they were */
-    t += ahead;
-    if (t >= s->n && next) { /* in the segment after the line */
-        if (!is_raster(next))
-            return; /* past the lines: the setting's duty (dark around a row) */
-        t -= s->n;
-        s = next;
-        if (t > s->n)
-            t = s->n;
-    } else if (t > s->n) {
-        return; /* past all that is queued */
-    }
-    /* a line is a cruise: b never changes, so the steps at any t follow from it */
-    b = s->b[pixel_axis(s)];
-    out->duty = (uint16_t)(r->power[((s->px.where & 0x3FFu)
-                                     + pixel_at(&s->px, t ? qs_segment_steps_from(s, pixel_axis(s), (uint16_t)t, b) : 0))
-                                    % QS_RASTER_BYTES]
-                           * 257u);
+    return driven;
 }
 
 #endif

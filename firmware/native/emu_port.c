@@ -48,6 +48,12 @@ void qs_port_tick_wake(void)
 {
 }
 
+/* The emulator reads the power after every tick (qs_core_outputs). */
+void qs_port_laser_power(uint8_t power)
+{
+    (void)power;
+}
+
 uint16_t qs_port_clock(void)
 {
     struct timespec ts;

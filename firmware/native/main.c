@@ -21,6 +21,7 @@
 #include "machine.h"
 #include "qs_core.h"
 #include "qs_engine_tick.h"
+#include "qs_raster_tick.h"
 #include "qs_frame.h"
 #include "qs_inputs_tick.h"
 
@@ -121,12 +122,12 @@ static void on_settled(emulator *m)
 
 /* The outputs as the board's pins would show them, from this motion tick
  * on: looked at after every tick and every message (a board looks once per
- * PWM period). */
+ * PWM period, and its tick sets a RASTER's pixels). */
 static void watch_outputs(emulator *m)
 {
     qs_output_level level;
 
-    qs_core_outputs(&m->core, &level, 0); /* after every tick: the pixel now */
+    qs_core_outputs(&m->core, &level);
     emu_outputs_update(&m->outputs, m->motion_tick, &level);
 }
 
@@ -203,6 +204,9 @@ static void run_tick(emulator *m)
     sample_inputs(m); /* may freeze the engine or begin a hold (a trigger), before the decisions */
     hold_begins = e->hold.moving && hold_ticks(e) == 0; /* begun in the main loop or by a trigger */
     bits = qs_engine_tick(e);
+#if QS_RASTER_BYTES
+    qs_raster_tick(&m->core.raster, &m->core.outputs, e, bits);
+#endif
     /* A hold begun in this tick or just before has made its first decision
      * (an underrun's begins inside the tick). */
     hold_began = holds_before != e->holds_begun && hold_ticks(e) == 1;

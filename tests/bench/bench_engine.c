@@ -25,6 +25,11 @@ void qs_port_tick_wake(void)
 {
 }
 
+void qs_port_laser_power(uint8_t power)
+{
+    (void)power;
+}
+
 uint16_t qs_port_clock(void)
 {
     return 0;

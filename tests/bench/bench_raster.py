@@ -143,7 +143,28 @@ def board(
     print(
         f"  {rate:,.0f} pixels/s ({lines * pixels} pixels, {steps_per_pixel} step(s) a pixel): "
         f"{f['accepted']}/{f['frames']} frames taken, {f['gap']} gaps, {f['queue_full']} queue full, "
-        f"{f['holds']} holds (an underrun), ticks missed {m['ticks_missed']}, ended in state {m['state']}"
+        f"{f['holds']} holds (an underrun), ticks missed {m['ticks_missed']}, ended in state {m['state']}; "
+        f"step interrupt mean {stats['isr']['timer']['mean']:.0f}, longest {stats['isr']['timer']['max']} cycles"
+    )
+
+
+def pixel_timing(name: str) -> None:
+    """Where each pixel's power begins on a real board build, against the step that crosses its boundary
+    (tests/simavr/avr_raster_pixels.py: 10 pixels of 50 steps at half a step a tick)."""
+    sys.path.insert(0, str(REPO / "tests" / "simavr"))
+    from avr_raster_pixels import pixel_starts, run_pixels
+    from avr_sim import build
+
+    build()
+    with tempfile.TemporaryDirectory() as tmp:
+        run = run_pixels(name, Path(tmp))
+    starts = pixel_starts(run)
+    tick = run.stats["tick_cycles"]
+    inner = [s for i, s in enumerate(starts) if i % 5]
+    print(
+        f"  {name}: each pixel's PWM period begins {-max(inner)}..{-min(inner)} cycles before the step that "
+        f"crosses its boundary (a tick is {tick}; a line's first pixel {-max(starts[::5])}..{-min(starts[::5])} "
+        f"before its first step)"
     )
 
 
@@ -201,8 +222,11 @@ def main() -> None:
     board("mega", 25000, 2048, 1)
     board("mega", 25000, 4096, 1)
     print("== RASTER on the Uno's laser build in simavr (32 kHz; the Uno's own build has no RASTER)")
-    for v, pixels in ((1280, 10), (2048, 10), (2560, 10), (1280, 32), (4096, 32)):
+    for v, pixels in ((1280, 10), (1843, 10), (2048, 10), (1280, 32), (4096, 32)):
         board("uno-laser", 32000, v, 1, lines=9600 // pixels, pixels=pixels)
+    print("== where a pixel's power begins on the board (simavr; the tick restarts the PWM's period at its boundary)")
+    pixel_timing("uno-laser")
+    pixel_timing("mega")
 
 
 if __name__ == "__main__":

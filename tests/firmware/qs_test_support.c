@@ -5,6 +5,7 @@
 #include "qs_engine_tick.h"
 #include "qs_frame.h"
 #include "qs_port.h"
+#include "qs_raster_tick.h"
 #include "unity.h"
 
 static uint8_t sent[1u << 16];
@@ -25,6 +26,13 @@ uint16_t test_clock; /* the port clock, moved by the tests */
 /* The tests drive the tick themselves. */
 void qs_port_tick_wake(void)
 {
+}
+
+int test_laser_power = -1; /* the last power the tick set (-1: none yet) */
+
+void qs_port_laser_power(uint8_t power)
+{
+    test_laser_power = power;
 }
 
 uint16_t qs_port_clock(void)
@@ -177,6 +185,9 @@ uint32_t tp_ticks(qs_core *c, uint32_t n)
     uint32_t steps = 0;
     while (n--) {
         uint8_t bits = qs_engine_tick(&c->engine);
+#if QS_RASTER_BYTES
+        qs_raster_tick(&c->raster, &c->outputs, &c->engine, bits);
+#endif
         for (; bits; bits &= (uint8_t)(bits - 1))
             steps++;
     }

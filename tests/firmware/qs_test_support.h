@@ -51,7 +51,7 @@ qs_error_report tp_error(const tp_report *r);
 uint32_t tp_u32(const uint8_t *p);
 uint16_t tp_u16(const uint8_t *p);
 
-/* Run the engine's tick n times; returns how many steps axis 0..3 made in
+/* Run the tick n times (the engine's, then a RASTER line's pixels); returns how many steps axis 0..3 made in
  * total (sum over axes). */
 uint32_t tp_ticks(qs_core *c, uint32_t n);
 
@@ -70,5 +70,6 @@ int64_t tp_closed_form(const qs_segment_msg *m, uint8_t axis, int64_t t);
 
 /* qs_port_clock() reads this; tests move it. */
 extern uint16_t test_clock;
+extern int test_laser_power;
 
 #endif

@@ -179,12 +179,15 @@ def quadratic_into_cubic(axis_count: int) -> list[list[Segment | CubicSegment]]:
     return [run]
 
 
-def every_message_kind(axis_count: int, cubic: bool = True) -> bytes:
-    """Wire bytes (no flow control needed) that exercise every path of the
+def every_message_kind(axis_count: int, cubic: bool = True, pace: int = 0) -> bytes:
+    """Wire bytes (no flow control) that exercise every path of the
     firmware while axes move: SEGMENT (the Uno takes no SEGMENTS), SET_POSITION (accepted at rest,
     refused while moving), STATUS, IDENTIFY, and damaged frames of each
     framing error, and (with `cubic`) a ramp move as CUBIC_SEGMENT and CUBIC_SEGMENTS. For the stack's
-    high-water mark."""
+    high-water mark. Each round's replies take the line back nearly as long as its frames take it out;
+    `pace` empty frames after each round give the board the time a host's flow control would (without
+    them a round can find the receive ring full: a frame is lost, the motion runs dry, and whether the
+    final STOP comes first is a matter of a few cycles)."""
     from quadstep.protocol import Identify, SetPosition, Status, Stop, encode
     from quadstep.protocol.framing import encode_frame
 
@@ -219,6 +222,7 @@ def every_message_kind(axis_count: int, cubic: bool = True) -> bytes:
         out += [encode(Status(), 9), encode(Identify(), 9), encode_frame(b"\x10\x05\x01"), b"\x07" * 70 + b"\x00",
                 b"\x05\x01\x02\x03\x04\x05\x06\x00"]
         out.append(encode(SetPosition(positions={0: 1}), seq))  # refused: BUSY
+        out.append(b"\x00" * pace)
         seq += 1
     out.append(encode(Stop(), 50))
     return b"".join(out)

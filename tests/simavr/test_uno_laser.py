@@ -69,7 +69,7 @@ def test_the_laser_build_keeps_its_stack_margin(scenario: str, avr_build: None, 
     """The deepest stacks of the Uno's own build (docs/AVR.md): the laser build's ring and its 12 slots
     leave at least the 80 bytes the Uno's build keeps above .data/.bss."""
     if scenario == "every_message_kind":
-        stats = run_input(avr_scenarios.every_message_kind(3, cubic=False), Outputs.in_dir(tmp_path), tmp_path / "r.bin",
+        stats = run_input(avr_scenarios.every_message_kind(3, cubic=False, pace=64), Outputs.in_dir(tmp_path), tmp_path / "r.bin",
                           board=BOARD)
     else:
         stats = run_input(avr_scenarios.status_during_a_hold(3), Outputs.in_dir(tmp_path), tmp_path / "r.bin",

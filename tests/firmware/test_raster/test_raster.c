@@ -1,11 +1,13 @@
 /* RASTER (PROTOCOL.md 5.2): a line at the chain's speed whose power
- * changes at the step that crosses each pixel boundary. Lines of several
- * pitches and phases, between a ramp up and a ramp down, checked tick by
- * tick against the boundaries counted from the steps the engine made. */
+ * changes at the step that crosses each pixel boundary, set by the tick
+ * (qs_raster_tick.h). Lines of several pitches and phases, between a ramp
+ * up and a ramp down, checked tick by tick against the boundaries counted
+ * from the steps the engine made. */
 #include <string.h>
 
 #include "qs_core.h"
 #include "qs_engine_tick.h"
+#include "qs_raster_tick.h"
 #include "qs_test_support.h"
 #include "unity.h"
 
@@ -16,6 +18,7 @@ void setUp(void)
 {
     qs_core_init(&core);
     tp_clear_sent();
+    test_laser_power = -1;
 }
 
 void tearDown(void)
@@ -62,31 +65,30 @@ static uint8_t pixel_at(const line *l, uint32_t steps)
     return k;
 }
 
-static uint16_t duty_ahead(uint16_t ahead)
+static uint16_t duty_now(void)
 {
     qs_output_level out;
-    qs_core_outputs(&core, &out, ahead);
+    qs_core_outputs(&core, &out);
     return out.duty;
 }
 
-static uint16_t duty_now(void)
+static uint8_t tick(void)
 {
-    return duty_ahead(0);
+    uint8_t bits = qs_engine_tick(&core.engine);
+    qs_raster_tick(&core.raster, &core.outputs, &core.engine, bits);
+    return bits;
 }
 
 #define LINES 4
-#define AHEAD 40          /* ticks a board looks ahead (shorter than any line here) */
-#define RUN_TICKS 2181u   /* 200 + 300 + 397 + 494 + 591 + 200 - 1 */
+#define RUN_TICKS 2182u   /* 200 + 300 + 397 + 494 + 591 + 200 */
 
 /* A ramp to speed, four lines on X (and Y slower along), a ramp to rest;
  * after every tick the duty is the power of the pixel under X counted
- * from the start of the line that runs, 0 on the ramps. Looked up AHEAD
- * ticks ahead, it is the duty AHEAD ticks later while a line runs (the
- * next line's pixel, or dark past the last line), and 0 on the ramps. */
+ * from the start of the line whose decision it made, 0 on the ramps; the
+ * tick set that power itself (the PWM's at once, qs_port_laser_power)
+ * and, past the lines, 0. */
 static void run_lines(uint8_t axes, uint16_t vx, uint16_t vy)
 {
-    static uint16_t now[RUN_TICKS + AHEAD], ahead[RUN_TICKS];
-    static uint8_t in_line[RUN_TICKS];
     static line lines[LINES];
     const uint16_t phases[LINES] = {256, 700, 1000, 1203};
     const uint16_t pitches[LINES] = {256, 700, 1000, 1203};
@@ -125,35 +127,33 @@ static void run_lines(uint8_t axes, uint16_t vx, uint16_t vy)
     n[LINES + 1] = 200;
     TEST_ASSERT_EQUAL_UINT16(0, duty_now() == 0 ? 0 : 1); /* the ramp up starts dark */
     for (;;) {
-        uint8_t bits = qs_engine_tick(&core.engine);
+        uint8_t bits = tick();
         uint16_t expected;
 
         qs_core_poll(&core);
         if (bits & 1u)
             steps++;
         ticks_in++;
-        if (ticks_in == n[seg]) { /* the next segment begins: at its start */
-            ticks_in = 0;
-            steps = 0;
-            if (++seg == LINES + 2)
-                break;
-        }
+        /* a line's pixel from its first decision to the first of what follows */
         expected = 0;
         if (seg >= 1 && seg <= LINES) {
             const line *l = &lines[seg - 1];
             expected = (uint16_t)(l->power[pixel_at(l, steps)] * 257u);
         }
         TEST_ASSERT_EQUAL_UINT16(expected, duty_now());
-        now[checked] = expected;
-        ahead[checked] = duty_ahead(AHEAD);
-        in_line[checked] = seg >= 1 && seg <= LINES;
+        if (seg >= 1)
+            TEST_ASSERT_EQUAL_INT(expected / 257u, test_laser_power);
         checked++;
+        if (ticks_in == n[seg]) { /* the next segment begins */
+            ticks_in = 0;
+            steps = 0;
+            if (++seg == LINES + 2)
+                break;
+        }
     }
     TEST_ASSERT_EQUAL_UINT32(RUN_TICKS, checked);
     TEST_ASSERT_EQUAL_INT(QS_STATE_IDLE, core.engine.state);
-    for (j = 0; j < RUN_TICKS; j++) {
-        TEST_ASSERT_EQUAL_UINT16(in_line[j] ? now[j + AHEAD] : 0, ahead[j]);
-    }
+    TEST_ASSERT_FALSE(qs_raster_driving(&core.raster));
 }
 
 static void test_the_power_changes_at_the_step_of_each_boundary(void)
@@ -177,10 +177,53 @@ static void test_a_line_under_outputs_off_stays_dark(void)
     send_raster(1, 0x01, 0, &l);
     expect_ack(QS_ACK_ACCEPTED);
     for (t = 0; t < 300; t++) {
-        qs_engine_tick(&core.engine);
+        tick();
+        qs_core_poll(&core);
+        TEST_ASSERT_EQUAL_UINT16(0, duty_now());
+        TEST_ASSERT_FALSE(qs_raster_driving(&core.raster));
+    }
+}
+
+/* A HOLD inside a line: the pixels go on through the hold's window, at the
+ * line's speed, and the hold's first decelerating tick gives the duty back
+ * to the setting (ON at power 0: dark); nothing lights again at rest. */
+static void test_a_hold_in_a_line_goes_dark_where_it_begins(void)
+{
+    tp_axis up = {0, 2000, 0};
+    const uint16_t decel[QS_AXIS_COUNT] = {8000, 8000, 8000, 8000}; /* to rest in about 1,000 ticks */
+    line l = {600, 256, 2560, 4, {40, 80, 120, 160}};
+    uint16_t t, lit = 0;
+
+    send_outputs_on(0);
+    tp_send_segment(&core, 1, 100, 0x01, 0, &up);
+    send_raster(2, 0x01, 0, &l);
+    expect_ack(QS_ACK_ACCEPTED);
+    for (t = 0; t < 150; t++) { /* the ramp, and into the first pixels */
+        tick();
+        qs_core_poll(&core);
+    }
+    TEST_ASSERT_TRUE(qs_raster_driving(&core.raster));
+    TEST_ASSERT_EQUAL_INT(QS_HOLD_STARTED, qs_engine_hold(&core.engine, decel));
+    while (core.engine.state == QS_STATE_RUNNING) {
+        TEST_ASSERT_TRUE(qs_raster_driving(&core.raster)); /* the window: still the line's */
+        TEST_ASSERT_TRUE(test_laser_power > 0);
+        tick();
+        qs_core_poll(&core);
+        lit++;
+    }
+    TEST_ASSERT_TRUE(lit > 0 && lit <= QS_TRIGGER_TICKS + 4);
+    TEST_ASSERT_EQUAL_INT(QS_STATE_HOLDING, core.engine.state);
+    TEST_ASSERT_FALSE(qs_raster_driving(&core.raster));
+    TEST_ASSERT_EQUAL_INT(0, test_laser_power);
+    TEST_ASSERT_EQUAL_UINT16(0, duty_now());
+    for (t = 0; t < 2000; t++) { /* the hold, to rest and past */
+        tick();
         qs_core_poll(&core);
         TEST_ASSERT_EQUAL_UINT16(0, duty_now());
     }
+    TEST_ASSERT_FALSE(core.engine.hold.moving);
+    TEST_ASSERT_FALSE(qs_raster_driving(&core.raster));
+    TEST_ASSERT_EQUAL_INT(0, test_laser_power);
 }
 
 /* The ring keeps QS_RASTER_BYTES powers: a line with no room is QUEUE_FULL (not consumed), and
@@ -214,6 +257,7 @@ int main(void)
     RUN_TEST(test_the_power_changes_at_the_step_of_each_boundary);
     RUN_TEST(test_a_diagonal_line_counts_its_pixels_on_the_faster_axis);
     RUN_TEST(test_a_line_under_outputs_off_stays_dark);
+    RUN_TEST(test_a_hold_in_a_line_goes_dark_where_it_begins);
     RUN_TEST(test_a_line_without_room_in_the_ring_waits);
     return UNITY_END();
 }
