@@ -26,6 +26,23 @@ void qs_port_laser_power(uint8_t power)
 {
     outputs_laser_power(power);
 }
+
+/* 64 * 256 cycles: 32.8 ticks at 32 kHz, rounded up. */
+uint8_t qs_port_laser_period_ticks(void)
+{
+    return (uint8_t)((64UL * 256UL * QS_TICK_HZ + F_CPU - 1UL) / F_CPU);
+}
+
+/* OCR2A is buffered: written now, it takes effect at the next period. A
+ * line of pixels shorter than a period (qs_raster_level) has its pixel
+ * looked up for the middle of that period, so each period shows the pixel
+ * under the head half-way through it, not the one there a period or more
+ * before. */
+static uint16_t raster_ahead(void)
+{
+    const uint16_t cycles = (uint16_t)((256u - TCNT2) * 64u + 128u * 64u);
+    return (uint16_t)(cycles / (uint16_t)(F_CPU / QS_TICK_HZ));
+}
 #endif
 
 static void set_duty(uint16_t duty)
@@ -49,14 +66,18 @@ QS_NOINLINE void outputs_update(void)
 
     TIFR2 = _BV(TOV2);
 #if QS_RASTER_BYTES
-    if (qs_raster_driving(&core.raster))
+    if (qs_raster_lit(&core.raster))
         return; /* the tick's, pixel by pixel (its restarts bring TOV2 at every pixel) */
 #endif
     if (qs_outputs_all_off(&core.outputs)) {
         level.pins = 0; /* no need to look at the engine */
         level.duty = 0;
     } else {
-        qs_core_outputs(&core, &level);
+#if QS_RASTER_BYTES
+        qs_core_outputs(&core, &level, raster_ahead());
+#else
+        qs_core_outputs(&core, &level, 0);
+#endif
     }
     /* OCR2A takes effect at the next period: high for (OCR2A + 1) / 256 of
      * it; a duty of 0 disconnects the pin, which then stays low. Registers
@@ -65,7 +86,7 @@ QS_NOINLINE void outputs_update(void)
      * the look and the write). */
 #if QS_RASTER_BYTES
     saved = qs_port_lock();
-    if (!qs_raster_driving(&core.raster))
+    if (!qs_raster_lit(&core.raster))
         set_duty(level.duty);
     qs_port_unlock(saved);
 #else

@@ -13,7 +13,7 @@ void outputs_update(void);
 
 /* From the main loop: once per PWM period (Timer2's overflow flag), the
  * update; otherwise one bit test. The step interrupt does none of it, but
- * for a RASTER line's pixels (outputs_laser_power). */
+ * for a RASTER line of pixels a period or longer (outputs_laser_power). */
 static inline void outputs_poll(void)
 {
     if (TIFR2 & _BV(TOV2))

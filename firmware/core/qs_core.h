@@ -131,17 +131,16 @@ static QS_ALWAYS_INLINE void qs_core_poll(qs_core *c)
 void qs_core_status(qs_core *c, qs_status *st);
 
 /* The spindle, laser and coolant outputs as the pins should show them now
- * (qs_outputs.h); main loop, at the target's own pace. While the tick
- * switches a RASTER line's pixels (qs_raster_tick.h), the duty is the
- * pixel's and returns 1: a target that sets its PWM from here leaves the
- * duty to the tick then (qs_port_laser_power). */
-static inline uint8_t qs_core_outputs(qs_core *c, qs_output_level *out)
+ * (qs_outputs.h); main loop, at the target's own pace. A RASTER's pixel
+ * (qs_raster_level): the tick's where it switches them, else the one under
+ * the axis `ahead` ticks from now. */
+static inline void qs_core_outputs(qs_core *c, qs_output_level *out, uint16_t ahead)
 {
     qs_outputs_level(&c->engine, &c->outputs, out);
 #if QS_RASTER_BYTES
-    return qs_raster_level(&c->raster, out);
+    qs_raster_level(&c->raster, &c->engine, out, ahead);
 #else
-    return 0;
+    (void)ahead;
 #endif
 }
 

@@ -131,7 +131,7 @@ static QS_ALWAYS_INLINE uint8_t qs_engine_begin(qs_engine *e)
     e->seg = s;
     e->left = s->n;
     e->slow_path = QS_IS_CUBIC(s) ? QS_PATH_CUBIC
-                   : QS_RASTER_BYTES && ((s->ends_moving & QS_SLOT_RASTER) || QS_ENGINE_LINE_LIT(e))
+                   : QS_RASTER_BYTES && ((s->ends_moving & QS_SLOT_RASTER_TICK) || QS_ENGINE_LINE_LIT(e))
                        ? QS_PATH_RASTER /* for qs_raster_tick.h */
                        : 0;
     /* Inactive axes keep their direction pins as they were. */

@@ -22,9 +22,16 @@ void qs_port_tick_wake(void);
 /* A RASTER line's pixel power (0 dark), from the step tick at the decision
  * that crosses its pixel's boundary (qs_raster_tick.h): a target that
  * drives a laser's PWM from its main loop (qs_core_outputs) takes this one
- * at once, and leaves the duty alone while qs_raster_level says the tick
- * has it. */
+ * at once, and leaves the duty alone while the tick has a line lit. */
 void qs_port_laser_power(uint8_t power);
+
+/* The laser PWM's period in ticks (0: a target whose power changes at
+ * once). The tick switches the pixels of a line only where each lasts a
+ * period or more: a shorter pixel begun by restarting the period would be
+ * high for all of it at most powers, where a period left to run shows the
+ * pixels' powers on average (qs_raster_level looks them up ahead). Main
+ * loop. */
+uint8_t qs_port_laser_period_ticks(void);
 
 /* A free-running count of QS_PORT_CLOCK_US microseconds each, wrapping at
  * 2^16, for the host watchdog. Main loop only. */

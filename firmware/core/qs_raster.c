@@ -80,8 +80,13 @@ void qs_raster_store(qs_raster *r, qs_segment *slot, const qs_raster_msg *m)
     slot->px.where = (uint16_t)(r->write | (uint16_t)m->count << QS_RASTER_WHERE_COUNT_SHIFT);
     slot->px.phase = m->phase;
     slot->px.pitch = m->pitch;
-    slot->ends_moving = (uint8_t)(slot->ends_moving | QS_SLOT_RASTER
-                                  | (uint8_t)((m->pixel & 3u) << QS_SLOT_RASTER_AXIS_SHIFT));
+    /* ticks a pixel = n * pitch / (256 * steps), against the PWM's period */
+    const uint8_t axis = m->pixel & 3u;
+    const uint8_t by_tick = (uint32_t)slot->n * m->pitch
+                            >= (uint32_t)qs_port_laser_period_ticks() * 256u * slot->total[axis];
+
+    slot->ends_moving = (uint8_t)(slot->ends_moving | QS_SLOT_RASTER | (uint8_t)(axis << QS_SLOT_RASTER_AXIS_SHIFT)
+                                  | (by_tick ? QS_SLOT_RASTER_TICK : 0u));
     for (k = 0; k < m->count; k++) {
         r->power[r->write] = m->power[k];
         r->write = (uint16_t)((r->write + 1u) % QS_RASTER_BYTES);
@@ -91,6 +96,12 @@ void qs_raster_store(qs_raster *r, qs_segment *slot, const qs_raster_msg *m)
 static uint8_t is_raster(const qs_segment *s)
 {
     return !QS_IS_CUBIC(s) && (s->ends_moving & QS_SLOT_RASTER);
+}
+
+/* A line whose pixels the tick switches. */
+static uint8_t by_tick(const qs_segment *s)
+{
+    return is_raster(s) && (s->ends_moving & QS_SLOT_RASTER_TICK);
 }
 
 static void show(const qs_raster *r)
@@ -104,7 +115,7 @@ void qs_raster_watch(qs_raster *r, const qs_outputs *o, qs_engine *e)
 
     if (e->slow_path == QS_PATH_RASTER) {
         e->slow_path = 0; /* the segment's other ticks are a quadratic one's */
-        if (e->state == QS_STATE_RUNNING && is_raster(s) && (o->setting[qs_outputs_carried(s)].bits & QS_OUT_ON)) {
+        if (e->state == QS_STATE_RUNNING && by_tick(s) && (o->setting[qs_outputs_carried(s)].bits & QS_OUT_ON)) {
             const uint8_t count = (uint8_t)(s->px.where >> QS_RASTER_WHERE_COUNT_SHIFT);
             /* Boundary k (k >= 1) is crossed by the decision that makes
              * the pixel axis's steps reach floor((phase + (k-1)*pitch) /
@@ -126,21 +137,90 @@ void qs_raster_watch(qs_raster *r, const qs_outputs *o, qs_engine *e)
     }
     /* Past the lines (a segment that is none began), or a hold, an alarm
      * or a cubic segment stopped one. */
-    r->line = 0;
-    r->bit = 0;
-    e->line_lit = 0;
-    show(r);
+    if (r->line) {
+        r->line = 0;
+        r->bit = 0;
+        e->line_lit = 0;
+        show(r);
+    }
 }
 
-uint8_t qs_raster_level(const qs_raster *r, qs_output_level *out)
+/* The pixel under the axis after `steps` of its line: the number of
+ * boundaries floor((phase + (k-1)*pitch) / 256), k >= 1, at or before it. */
+static uint8_t pixel_at(const qs_raster_pixels *px, uint16_t steps)
 {
-    uint8_t saved = qs_port_lock();
-    const uint8_t driven = r->line != 0;
+    const uint8_t count = (uint8_t)(px->where >> QS_RASTER_WHERE_COUNT_SHIFT);
+    const uint32_t reach = ((uint32_t)steps + 1u) << 8; /* boundary k is passed when phase + (k-1)*pitch < reach */
+    uint32_t k;
 
-    if (driven && (out->pins & QS_OUT_ON))
-        out->duty = (uint16_t)(r->power[r->at] * 257u);
+    if (reach <= px->phase)
+        return 0;
+    k = (reach - px->phase + px->pitch - 1u) / px->pitch;
+    return (uint8_t)(k < count ? k : count - 1u);
+}
+
+static uint8_t pixel_axis(const qs_segment *s)
+{
+    return (uint8_t)((s->ends_moving >> QS_SLOT_RASTER_AXIS_SHIFT) & 3u);
+}
+
+/* A line of short pixels: the one under the axis `ahead` ticks on. */
+static void look_ahead(const qs_raster *r, qs_engine *e, qs_output_level *out, uint16_t ahead)
+{
+    const qs_segment *s, *next = 0;
+    uint32_t t = 0;
+    qs_i24 b;
+    uint8_t i, saved;
+
+    saved = qs_port_lock();
+    /* the running line, or the next about to begin (at its start) */
+    s = e->left ? e->seg : (qs_queue_empty(&e->queue) ? 0 : qs_queue_front(&e->queue));
+    if (e->state != QS_STATE_RUNNING || e->trigger_window || !s || !is_raster(s) || by_tick(s)) {
+        qs_port_unlock(saved);
+        return;
+    }
+    if (e->left)
+        t = (uint16_t)(s->n - e->left);
+    else if (e->kept)
+        t = s->n; /* it ended moving, nothing behind it yet: at its end */
+    i = qs_queue_next(&e->queue, e->queue.tail);
+    if (i != e->queue.head)
+        next = qs_queue_at(&e->queue, i);
     qs_port_unlock(saved);
-    return driven;
+    /* only this loop reuses slots: s and next stay what they were */
+    t += ahead;
+    if (t >= s->n && next) { /* in the segment after the line */
+        if (!is_raster(next) || by_tick(next))
+            return; /* past the lines: the setting's duty (dark around a row) */
+        t -= s->n;
+        s = next;
+        if (t > s->n)
+            t = s->n;
+    } else if (t > s->n) {
+        return; /* past all that is queued */
+    }
+    /* a line is a cruise: b never changes, so the steps at any t follow from it */
+    b = s->b[pixel_axis(s)];
+    out->duty = (uint16_t)(r->power[((s->px.where & 0x3FFu)
+                                     + pixel_at(&s->px, t ? qs_segment_steps_from(s, pixel_axis(s), (uint16_t)t, b) : 0))
+                                    % QS_RASTER_BYTES]
+                           * 257u);
+}
+
+void qs_raster_level(const qs_raster *r, qs_engine *e, qs_output_level *out, uint16_t ahead)
+{
+    uint8_t saved;
+
+    if (!(out->pins & QS_OUT_ON))
+        return;
+    saved = qs_port_lock();
+    if (r->line) {
+        out->duty = (uint16_t)(r->power[r->at] * 257u); /* the tick's */
+        qs_port_unlock(saved);
+        return;
+    }
+    qs_port_unlock(saved);
+    look_ahead(r, e, out, ahead);
 }
 
 #endif

@@ -1,9 +1,11 @@
 /* RASTER: a laser line at a constant speed with a power for every pixel
  * (PROTOCOL.md section 5.2). The motion is the chain's cruise, as a
  * SEGMENTS record with CRUISE would run it; the pixels' powers wait in a
- * ring until their segment has run. The tick switches the power at the
- * decision that crosses each pixel boundary (qs_raster_tick.h): it counts
- * the pixel axis's steps down to the next boundary. */
+ * ring until their segment has run. Where each pixel lasts at least the
+ * target's PWM period, the tick switches the power at the decision that
+ * crosses each boundary (qs_raster_tick.h): it counts the pixel axis's
+ * steps down to the next one. Shorter pixels the target's main loop looks
+ * up (qs_raster_level), from the steps the axis has made. */
 #ifndef QS_RASTER_H
 #define QS_RASTER_H
 
@@ -60,14 +62,15 @@ void qs_raster_store(qs_raster *r, qs_segment *slot, const qs_raster_msg *m);
 
 /* The tick's work where a segment began with its first tick marked, or a
  * hold, an alarm or a cubic segment came while a line is lit: a RASTER line
- * whose setting is on is the tick's from its first decision, its first
- * pixel's power set at once (qs_port_laser_power), until the first
- * decision of what follows; anything else gives the duty back to the main
- * loop, dark until it looks. Out of line: once a segment. */
+ * of pixels a PWM period or longer (QS_SLOT_RASTER_TICK) whose setting is
+ * on is the tick's from its first decision, its first pixel's power set at
+ * once (qs_port_laser_power), until the first decision of what follows;
+ * anything else gives the duty back to the main loop, dark until it looks.
+ * Out of line: once a segment. */
 void qs_raster_watch(qs_raster *r, const qs_outputs *o, qs_engine *e);
 
-/* Whether the tick switches a line's pixels now. */
-static inline uint8_t qs_raster_driving(const qs_raster *r)
+/* Whether the tick switches a line's pixels now (a line is lit). */
+static inline uint8_t qs_raster_lit(const qs_raster *r)
 {
 #if QS_RASTER_BYTES
     return r->line != 0;
@@ -77,9 +80,14 @@ static inline uint8_t qs_raster_driving(const qs_raster *r)
 #endif
 }
 
-/* While the tick switches a line's pixels, the pixel's power replaces the
- * duty (out as qs_outputs_level left it), and the target leaves the duty
- * to the tick: returns 1. */
-uint8_t qs_raster_level(const qs_raster *r, qs_output_level *out);
+/* While a RASTER line runs and the setting it carries is on (out as
+ * qs_outputs_level left it), its pixel's power replaces the duty: the
+ * tick's, where it switches the line's pixels (while one is lit the target
+ * leaves the duty to it: qs_raster_lit); for a line of pixels shorter
+ * than the PWM's period, the pixel under the axis `ahead` ticks from now,
+ * in the line running then if it is the next one (a target whose duty
+ * takes effect a period later looks half a period ahead); past the end of
+ * the RASTER lines queued, the setting's own duty (dark around a row). */
+void qs_raster_level(const qs_raster *r, qs_engine *e, qs_output_level *out, uint16_t ahead);
 
 #endif

@@ -2,8 +2,9 @@
  * target right after qs_engine_tick with the axes it decided to step, in
  * a build with RASTER (QS_RASTER_BYTES).
  *
- * A line's first tick is marked (slow_path QS_PATH_RASTER, qs_engine_begin),
- * and while a line is lit so is the first tick of any segment; those ticks,
+ * The first tick of a line of pixels a PWM period or longer is marked
+ * (slow_path QS_PATH_RASTER, qs_engine_begin), and while a line is lit so is
+ * the first tick of any segment; those ticks,
  * and a hold's, an alarm's or a cubic segment's while a line is lit, look
  * further (qs_raster_watch, once a segment). Every other tick costs two
  * flag tests and, while a line's pixel axis steps, a count down to the next

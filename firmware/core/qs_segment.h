@@ -75,6 +75,7 @@ typedef struct {
 #define QS_SLOT_OUTPUTS_SHIFT 5
 #define QS_SLOT_RASTER 0x02          /* a RASTER: px holds its pixels */
 #define QS_SLOT_RASTER_AXIS_SHIFT 2 /* bits 2-3: the axis that counts them */
+#define QS_SLOT_RASTER_TICK 0x10    /* its pixels last a PWM period or more: the tick switches them */
 
 /* Fill a slot from a segment that passed qs_msg_check_segment. */
 void qs_segment_prepare(qs_segment *slot, const qs_segment_msg *m);

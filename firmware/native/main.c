@@ -127,7 +127,7 @@ static void watch_outputs(emulator *m)
 {
     qs_output_level level;
 
-    qs_core_outputs(&m->core, &level);
+    qs_core_outputs(&m->core, &level, 0); /* after every tick: the pixel now */
     emu_outputs_update(&m->outputs, m->motion_tick, &level);
 }
 

@@ -30,6 +30,11 @@ void qs_port_laser_power(uint8_t power)
     (void)power;
 }
 
+uint8_t qs_port_laser_period_ticks(void)
+{
+    return 0; /* every line's pixels switched by the tick */
+}
+
 uint16_t qs_port_clock(void)
 {
     return 0;

@@ -164,7 +164,8 @@ def pixel_timing(name: str) -> None:
     print(
         f"  {name}: each pixel's PWM period begins {-max(inner)}..{-min(inner)} cycles before the step that "
         f"crosses its boundary (a tick is {tick}; a line's first pixel {-max(starts[::5])}..{-min(starts[::5])} "
-        f"before its first step)"
+        f"before its first step); step interrupt mean {run.stats['isr']['timer']['mean']:.0f}, longest "
+        f"{run.stats['isr']['timer']['max']} cycles"
     )
 
 
@@ -222,9 +223,9 @@ def main() -> None:
     board("mega", 25000, 2048, 1)
     board("mega", 25000, 4096, 1)
     print("== RASTER on the Uno's laser build in simavr (32 kHz; the Uno's own build has no RASTER)")
-    for v, pixels in ((1280, 10), (1843, 10), (2048, 10), (1280, 32), (4096, 32)):
+    for v, pixels in ((1280, 10), (2048, 10), (2560, 10), (1280, 32), (4096, 32)):
         board("uno-laser", 32000, v, 1, lines=9600 // pixels, pixels=pixels)
-    print("== where a pixel's power begins on the board (simavr; the tick restarts the PWM's period at its boundary)")
+    print("== where a pixel of a PWM period or more begins on the board (simavr: the tick restarts the period there)")
     pixel_timing("uno-laser")
     pixel_timing("mega")
 

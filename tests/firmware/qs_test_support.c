@@ -35,6 +35,13 @@ void qs_port_laser_power(uint8_t power)
     test_laser_power = power;
 }
 
+uint8_t test_laser_period; /* the laser PWM's period in ticks (0: every line's pixels switched by the tick) */
+
+uint8_t qs_port_laser_period_ticks(void)
+{
+    return test_laser_period;
+}
+
 uint16_t qs_port_clock(void)
 {
     return test_clock;

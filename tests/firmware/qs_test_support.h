@@ -71,5 +71,6 @@ int64_t tp_closed_form(const qs_segment_msg *m, uint8_t axis, int64_t t);
 /* qs_port_clock() reads this; tests move it. */
 extern uint16_t test_clock;
 extern int test_laser_power;
+extern uint8_t test_laser_period;
 
 #endif

@@ -34,7 +34,7 @@ static void send_outputs(uint8_t seq, uint8_t bits, uint16_t power, uint8_t axis
 static qs_output_level level(void)
 {
     qs_output_level out;
-    qs_core_outputs(&core, &out);
+    qs_core_outputs(&core, &out, 0);
     return out;
 }
 

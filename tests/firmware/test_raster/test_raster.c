@@ -19,6 +19,7 @@ void setUp(void)
     qs_core_init(&core);
     tp_clear_sent();
     test_laser_power = -1;
+    test_laser_period = 0;
 }
 
 void tearDown(void)
@@ -65,11 +66,16 @@ static uint8_t pixel_at(const line *l, uint32_t steps)
     return k;
 }
 
-static uint16_t duty_now(void)
+static uint16_t duty_ahead(uint16_t ahead)
 {
     qs_output_level out;
-    qs_core_outputs(&core, &out);
+    qs_core_outputs(&core, &out, ahead);
     return out.duty;
+}
+
+static uint16_t duty_now(void)
+{
+    return duty_ahead(0);
 }
 
 static uint8_t tick(void)
@@ -80,23 +86,32 @@ static uint8_t tick(void)
 }
 
 #define LINES 4
-#define RUN_TICKS 2182u   /* 200 + 300 + 397 + 494 + 591 + 200 */
+#define AHEAD 40        /* ticks a board looks ahead (shorter than any line here) */
+#define RUN_TICKS 2182u /* 200 + 300 + 397 + 494 + 591 + 200 */
 
-/* A ramp to speed, four lines on X (and Y slower along), a ramp to rest;
+/* A ramp to speed, four lines on X (and Y slower along), a ramp to rest.
+ * With no PWM period (period 0) the tick switches every line's pixels:
  * after every tick the duty is the power of the pixel under X counted
- * from the start of the line whose decision it made, 0 on the ramps; the
- * tick set that power itself (the PWM's at once, qs_port_laser_power)
- * and, past the lines, 0. */
-static void run_lines(uint8_t axes, uint16_t vx, uint16_t vy)
+ * from the start of the line whose decision it made, 0 on the ramps, and
+ * the tick set that power itself (qs_port_laser_power). With a period
+ * longer than these pixels, the main loop looks them up: after every tick
+ * the pixel under X counted from the start of the line that runs (from
+ * the tick before its first decision), and looked up AHEAD ticks ahead
+ * the duty AHEAD ticks later while a line runs (the next line's pixel, or
+ * dark past the last line), 0 on the ramps; the tick lights none. */
+static void run_lines(uint8_t axes, uint16_t vx, uint16_t vy, uint8_t period)
 {
+    static uint16_t now[RUN_TICKS + AHEAD], ahead[RUN_TICKS];
+    static uint8_t in_line[RUN_TICKS];
     static line lines[LINES];
     const uint16_t phases[LINES] = {256, 700, 1000, 1203};
     const uint16_t pitches[LINES] = {256, 700, 1000, 1203};
     tp_axis up[2] = {{0, vx, 0}, {0, vy, 0}}, down[2] = {{vx, 0, 0}, {vy, 0, 0}};
     uint16_t n[LINES + 2], j, ticks_in = 0, seg = 0;
     uint32_t steps = 0, checked = 0;
-    uint8_t seq = 0, k;
+    uint8_t seq = 0, k, lit = 0;
 
+    test_laser_period = period;
     send_outputs_on(seq++);
     tp_send_segment(&core, seq++, 200, axes & 0x0F, (uint8_t)(axes >> 4), up);
     expect_ack(QS_ACK_ACCEPTED);
@@ -125,45 +140,57 @@ static void run_lines(uint8_t axes, uint16_t vx, uint16_t vy)
     tp_send_segment(&core, seq++, 200, axes & 0x0F, (uint8_t)(axes >> 4), down);
     expect_ack(QS_ACK_ACCEPTED);
     n[LINES + 1] = 200;
-    TEST_ASSERT_EQUAL_UINT16(0, duty_now() == 0 ? 0 : 1); /* the ramp up starts dark */
+    TEST_ASSERT_EQUAL_UINT16(0, duty_now()); /* the ramp up starts dark */
     for (;;) {
         uint8_t bits = tick();
-        uint16_t expected;
+        uint16_t expected = 0;
 
         qs_core_poll(&core);
         if (bits & 1u)
             steps++;
         ticks_in++;
-        /* a line's pixel from its first decision to the first of what follows */
-        expected = 0;
-        if (seg >= 1 && seg <= LINES) {
-            const line *l = &lines[seg - 1];
-            expected = (uint16_t)(l->power[pixel_at(l, steps)] * 257u);
-        }
-        TEST_ASSERT_EQUAL_UINT16(expected, duty_now());
-        if (seg >= 1)
-            TEST_ASSERT_EQUAL_INT(expected / 257u, test_laser_power);
-        checked++;
+        if (period == 0 && seg >= 1 && seg <= LINES) /* the line whose decision this was */
+            expected = (uint16_t)(lines[seg - 1].power[pixel_at(&lines[seg - 1], steps)] * 257u);
+        lit |= period == 0 && seg >= 1;
         if (ticks_in == n[seg]) { /* the next segment begins */
             ticks_in = 0;
             steps = 0;
-            if (++seg == LINES + 2)
-                break;
+            seg++;
         }
+        if (period != 0 && seg >= 1 && seg <= LINES) /* the line that runs, or begins next */
+            expected = (uint16_t)(lines[seg - 1].power[pixel_at(&lines[seg - 1], steps)] * 257u);
+        TEST_ASSERT_EQUAL_UINT16(expected, duty_now());
+        TEST_ASSERT_EQUAL_INT(lit ? (int)(expected / 257u) : -1, test_laser_power);
+        now[checked] = expected;
+        ahead[checked] = duty_ahead(AHEAD);
+        in_line[checked] = seg >= 1 && seg <= LINES;
+        checked++;
+        if (seg == LINES + 2)
+            break;
     }
     TEST_ASSERT_EQUAL_UINT32(RUN_TICKS, checked);
     TEST_ASSERT_EQUAL_INT(QS_STATE_IDLE, core.engine.state);
-    TEST_ASSERT_FALSE(qs_raster_driving(&core.raster));
+    TEST_ASSERT_FALSE(qs_raster_lit(&core.raster));
+    for (j = 0; period != 0 && j + 1u < RUN_TICKS; j++) {
+        TEST_ASSERT_EQUAL_UINT16(in_line[j] ? now[j + AHEAD] : 0, ahead[j]);
+    }
 }
 
 static void test_the_power_changes_at_the_step_of_each_boundary(void)
 {
-    run_lines(0x01, 1000, 0);
+    run_lines(0x01, 1000, 0, 0);
 }
 
 static void test_a_diagonal_line_counts_its_pixels_on_the_faster_axis(void)
 {
-    run_lines(0x13, 3000, 1234); /* X negative, Y positive */
+    run_lines(0x13, 3000, 1234, 0); /* X negative, Y positive */
+}
+
+/* Pixels of 1 to 4.7 steps at 1000/4096 step a tick last 4 to 20 ticks:
+ * with a PWM period of 40 ticks the main loop looks them up (ahead). */
+static void test_pixels_shorter_than_a_pwm_period_are_looked_up_ahead(void)
+{
+    run_lines(0x01, 1000, 0, 40);
 }
 
 /* Off, the raster's powers show nothing: a line's duty needs the setting it carries on. */
@@ -180,7 +207,7 @@ static void test_a_line_under_outputs_off_stays_dark(void)
         tick();
         qs_core_poll(&core);
         TEST_ASSERT_EQUAL_UINT16(0, duty_now());
-        TEST_ASSERT_FALSE(qs_raster_driving(&core.raster));
+        TEST_ASSERT_FALSE(qs_raster_lit(&core.raster));
     }
 }
 
@@ -202,10 +229,10 @@ static void test_a_hold_in_a_line_goes_dark_where_it_begins(void)
         tick();
         qs_core_poll(&core);
     }
-    TEST_ASSERT_TRUE(qs_raster_driving(&core.raster));
+    TEST_ASSERT_TRUE(qs_raster_lit(&core.raster));
     TEST_ASSERT_EQUAL_INT(QS_HOLD_STARTED, qs_engine_hold(&core.engine, decel));
     while (core.engine.state == QS_STATE_RUNNING) {
-        TEST_ASSERT_TRUE(qs_raster_driving(&core.raster)); /* the window: still the line's */
+        TEST_ASSERT_TRUE(qs_raster_lit(&core.raster)); /* the window: still the line's */
         TEST_ASSERT_TRUE(test_laser_power > 0);
         tick();
         qs_core_poll(&core);
@@ -213,7 +240,7 @@ static void test_a_hold_in_a_line_goes_dark_where_it_begins(void)
     }
     TEST_ASSERT_TRUE(lit > 0 && lit <= QS_TRIGGER_TICKS + 4);
     TEST_ASSERT_EQUAL_INT(QS_STATE_HOLDING, core.engine.state);
-    TEST_ASSERT_FALSE(qs_raster_driving(&core.raster));
+    TEST_ASSERT_FALSE(qs_raster_lit(&core.raster));
     TEST_ASSERT_EQUAL_INT(0, test_laser_power);
     TEST_ASSERT_EQUAL_UINT16(0, duty_now());
     for (t = 0; t < 2000; t++) { /* the hold, to rest and past */
@@ -222,7 +249,7 @@ static void test_a_hold_in_a_line_goes_dark_where_it_begins(void)
         TEST_ASSERT_EQUAL_UINT16(0, duty_now());
     }
     TEST_ASSERT_FALSE(core.engine.hold.moving);
-    TEST_ASSERT_FALSE(qs_raster_driving(&core.raster));
+    TEST_ASSERT_FALSE(qs_raster_lit(&core.raster));
     TEST_ASSERT_EQUAL_INT(0, test_laser_power);
 }
 
@@ -256,6 +283,7 @@ int main(void)
     UNITY_BEGIN();
     RUN_TEST(test_the_power_changes_at_the_step_of_each_boundary);
     RUN_TEST(test_a_diagonal_line_counts_its_pixels_on_the_faster_axis);
+    RUN_TEST(test_pixels_shorter_than_a_pwm_period_are_looked_up_ahead);
     RUN_TEST(test_a_line_under_outputs_off_stays_dark);
     RUN_TEST(test_a_hold_in_a_line_goes_dark_where_it_begins);
     RUN_TEST(test_a_line_without_room_in_the_ring_waits);
