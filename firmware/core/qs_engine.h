@@ -25,8 +25,9 @@ typedef struct {
     qs_segment *seg;          /* the running slot, valid while left > 0 */
     uint16_t left;            /* ticks left in it; 0 between segments */
     uint8_t slow_path;        /* 0: a quadratic segment runs; QS_PATH_CUBIC:
-                               * a cubic one; QS_PATH_RASTER: a RASTER line
-                               * has just begun; else left == 0 or a hold */
+                               * a cubic one; QS_PATH_RASTER: a segment has
+                               * just begun that qs_raster_tick.h looks at;
+                               * else left == 0 or a hold */
     uint8_t dir_bits;         /* bit i: axis i's pending steps are negative */
     volatile uint8_t state;   /* QS_STATE_* */
     volatile uint8_t alarm;   /* QS_ALARM_*, nonzero only in ALARM */
@@ -81,8 +82,8 @@ typedef struct {
 } qs_engine;
 
 #define QS_PATH_CUBIC 2 /* slow_path while a cubic segment runs */
-#define QS_PATH_RASTER 4 /* slow_path after the first decision of a RASTER line (or of any segment while
-                          * one is lit), until qs_raster_tick.h looks */
+#define QS_PATH_RASTER 4 /* slow_path after the first decision of a RASTER line the tick switches (or of
+                          * any segment while one is lit), until qs_raster_tick.h looks */
 #if QS_RASTER_BYTES
 #define QS_ENGINE_LINE_LIT(e) ((e)->line_lit)
 #else

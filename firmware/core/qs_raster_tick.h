@@ -3,12 +3,12 @@
  * a build with RASTER (QS_RASTER_BYTES).
  *
  * The first tick of a line of pixels a PWM period or longer is marked
- * (slow_path QS_PATH_RASTER, qs_engine_begin), and while a line is lit so is
- * the first tick of any segment; those ticks,
- * and a hold's, an alarm's or a cubic segment's while a line is lit, look
- * further (qs_raster_watch, once a segment). Every other tick costs two
- * flag tests and, while a line's pixel axis steps, a count down to the next
- * boundary: the power changes at the decision that reaches it. */
+ * (slow_path QS_PATH_RASTER, qs_engine_begin), and while a line is lit so
+ * is the first tick of any segment; those ticks, and a hold's, an alarm's
+ * or a cubic segment's while a line is lit, look further (qs_raster_watch,
+ * once a segment). Every other tick costs two flag tests and, while a
+ * line's pixel axis steps, a count down to the next boundary: the power
+ * changes at the decision that reaches it. */
 #ifndef QS_RASTER_TICK_H
 #define QS_RASTER_TICK_H
 
