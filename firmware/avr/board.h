@@ -48,6 +48,7 @@
  * PB3 (Timer2's OC2A), spindle direction D13 = PB5, coolant flood A3 = PC3,
  * mist A4 = PC4. */
 #define QS_PWM_DDR DDRB
+#define QS_PWM_PORT PORTB
 #define QS_PWM_BIT PB3
 #define QS_SPINDLE_DIR_PORT PORTB
 #define QS_SPINDLE_DIR_DDR DDRB
@@ -94,6 +95,7 @@
 /* Outputs (outputs.c): spindle or laser PWM on D10 = PB4 (Timer2's OC2A),
  * spindle direction D13 = PB7, coolant flood D8 = PH5, mist D9 = PH6. */
 #define QS_PWM_DDR DDRB
+#define QS_PWM_PORT PORTB
 #define QS_PWM_BIT PB4
 #define QS_SPINDLE_DIR_PORT PORTB
 #define QS_SPINDLE_DIR_DDR DDRB

@@ -4,6 +4,8 @@
 
 #include <avr/io.h>
 
+#include "board.h"
+
 /* Timer2 in fast PWM at 16 MHz / 64 / 256 = 976.6 Hz (GRBL's spindle
  * rate), every output off. */
 void outputs_init(void);
@@ -34,6 +36,9 @@ static inline __attribute__((always_inline)) void outputs_laser_power(uint8_t po
         TCNT2 = 0xFF;
     } else {
         TCCR2A = _BV(WGM21) | _BV(WGM20);
+        /* low already (the chip's pin follows it at once): written for
+         * simulators that show a disconnected pin's level only then */
+        QS_PWM_PORT &= (uint8_t)~_BV(QS_PWM_BIT);
     }
 }
 

@@ -92,3 +92,42 @@ def pixel_starts(run: PixelRun) -> list[int]:
                 raise AssertionError(f"line {j} pixel {k} (power {power}): period starts {begun} near {step_cycle}")
             starts.append(begun[0])
     return starts
+
+
+@dataclass
+class HeldLine:
+    stats: dict
+    pwm: list[tuple[int, int]]
+    hold_cycle: int  # the cycle of the first step at or after the hold's first decelerating tick
+    tick: int
+
+
+def run_hold_in_line(board: str, directory: Path) -> HeldLine:
+    """A line of five 100-tick pixels, and a HOLD that the board takes in its middle (after `pad` empty
+    frames on a line left free-running: no flow control), at 8,000 / 2^24 step per tick² (about 1,000
+    ticks to rest); the hold's first decelerating tick from its HOLD_DONE."""
+    from avr_sim import run_input
+    from quadstep.protocol import Decoder, Hold
+    from quadstep.protocol.messages import HoldDone
+
+    ramp_up = Segment(n=200, axes=(AxisMove(axis=0, direction=1, v0=0, vn=V, r=0),))
+    messages = [OutputsMessage(outputs=Output.ON, power=0), ramp_up, line([100, 180, 60, 220, 140]).raster]
+    job = b"\x00" + b"".join(encode(m, i) for i, m in enumerate(messages))
+    hold = Hold(decel=(8000,) * AXES[board] + (0,) * (4 - AXES[board]))  # type: ignore[arg-type]
+    outputs = Outputs.in_dir(directory)
+    pins = directory / "pins.csv"
+    replies = directory / "replies.bin"
+    data = job + b"\x00" * 900 + encode(hold, len(messages))  # 18 ms of the line: the line runs
+    stats = run_input(data, outputs, replies, board=board, max_cycles=16_000_000 // 5, until_idle=False,
+                      extra_args=["--outputs", str(pins)])
+    with pins.open() as f:
+        pwm = [(int(r["cycle"]), int(r["level"])) for r in csv.DictReader(f) if r["pin"] == "pwm"]
+    done = [m for m in (getattr(i, "message", None) for i in Decoder("to_host", axis_count=AXES[board]).feed(
+        replies.read_bytes())) if isinstance(m, HoldDone)]
+    if not done:
+        raise AssertionError("no HOLD_DONE")
+    trace = outputs.load_trace()
+    x_steps = sorted(c for c, pin, axis, level in outputs.load_edges() if pin == "step" and axis == 0 and level)
+    x_ticks = [int(t) for t, axis, _ in trace if axis == 0]
+    first = next(i for i, t in enumerate(x_ticks) if t > done[0].hold_tick)
+    return HeldLine(stats, pwm, x_steps[first], stats["tick_cycles"])

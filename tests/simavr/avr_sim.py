@@ -129,12 +129,14 @@ def run_feed(frames: bytes, outputs: Outputs, board: str = "uno", elf: Path | No
 
 
 def run_input(data: bytes, outputs: Outputs, reply_file: Path, board: str = "uno", elf: Path | None = None,
-              max_cycles: int = F_CPU, timeout: float = 120.0, until_idle: bool = True) -> dict:
+              max_cycles: int = F_CPU, timeout: float = 120.0, until_idle: bool = True,
+              extra_args: Sequence[str] = ()) -> dict:
     """Put raw bytes on the line at its rate (no flow control), free-running until idle (or, without
     `until_idle`, for all of `max_cycles`: the harness takes a hold's HOLDING for rest); returns the stats."""
     path = outputs.stats.with_suffix(".input")
     path.write_bytes(data)
-    args = [*harness(board, elf), "--input", str(path), "--output", str(reply_file), "--max-cycles", str(max_cycles)]
+    args = [*harness(board, elf), "--input", str(path), "--output", str(reply_file), "--max-cycles", str(max_cycles),
+            *extra_args]
     if until_idle:
         args.append("--exit-when-idle")
     return _run(args, outputs, timeout)

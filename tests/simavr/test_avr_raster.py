@@ -9,7 +9,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from avr_raster_pixels import AXES, PixelRun, pixel_starts, run_pixels
+from avr_raster_pixels import AXES, PixelRun, pixel_starts, run_hold_in_line, run_pixels
 from quadstep.kernel.engine_model import predict
 
 
@@ -37,3 +37,18 @@ def test_each_pixel_begins_within_a_tick_of_the_step_that_crosses_its_boundary(r
     boundaries = [s for i, s in enumerate(starts) if i % 5]
     assert len(starts) == 10 and all(-tick <= s <= 0 for s in boundaries), starts
     assert all(-2 * tick <= s <= 0 for s in starts[::5]), starts
+
+
+@pytest.mark.parametrize("board", sorted(AXES))
+def test_a_hold_inside_a_line_darkens_the_laser_as_it_begins(board: str, avr_build: None, tmp_path: Path) -> None:
+    """A HOLD in the middle of a line of long pixels: the pixels shine through the hold's window, and from
+    the hold's first decelerating tick the pin stays low (the setting around the line is dark) while the
+    axis slows to rest."""
+    held = run_hold_in_line(board, tmp_path)
+    assert held.stats["motion"]["ticks_missed"] == 0, held.stats["motion"]
+    rises = [cycle for cycle, level in held.pwm if level]
+    assert rises and rises[0] < held.hold_cycle, (rises[:3], held.hold_cycle)  # the line was lit
+    after = [(cycle, level) for cycle, level in held.pwm if cycle > held.hold_cycle]
+    assert len(after) <= 1 and all(level == 0 for _, level in after), after  # at most the fall, at once
+    assert all(cycle - held.hold_cycle <= 2 * held.tick for cycle, _ in after), after
+    assert held.pwm[-1][1] == 0, held.pwm[-3:]
