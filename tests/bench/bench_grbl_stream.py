@@ -1,8 +1,9 @@
 """`quadstep grbl` streaming, on the emulator paced at the Uno's tick rate (32 kHz, 14-slot queue):
 
-1. short lines a second: a sender streams chords a few steps long by character counting; the lines
-   a second from the first line sent and from the job's start (once the lines received hold what a
-   running job keeps back) to rest, and whether the board kept up (no starvation, no stop);
+1. short lines a second: a sender in a process of its own (stream_client.py, as UGS or CNCjs are)
+   streams chords a few steps long by character counting, RUNS times each; the lines a second from
+   the first line sent and from the job's start (once the lines received hold what a running job
+   keeps back) to rest, and whether the board kept up (no starvation, no stop);
 2. a file through the front door against `quadstep run` of it: the wall time from the first motion to
    rest, both ways, and their ratio;
 3. jog cancel (0x85) → the first decelerating tick of the HOLD (the emulator's events log), in ms;
@@ -15,6 +16,7 @@ from __future__ import annotations
 
 import math
 import statistics
+import subprocess
 import sys
 import tempfile
 import time
@@ -24,6 +26,7 @@ from pathlib import Path
 from typing import Any
 
 REPO = Path(__file__).resolve().parents[2]
+CLIENT = Path(__file__).with_name("stream_client.py")  # the sender, a process of its own
 sys.path.insert(0, str(REPO / "tests" / "helpers"))
 
 from grbl_client import GrblClient, mpos, report_fields  # noqa: E402
@@ -34,6 +37,7 @@ from quadstep.emulator import Emulator  # noqa: E402
 from quadstep.gcode.interpreter import parse_gcode  # noqa: E402
 from quadstep.grbl.server import PtyServer  # noqa: E402
 from quadstep.link import Link  # noqa: E402
+from quadstep.link.transport import SWITCH_INTERVAL_S  # noqa: E402
 from quadstep.machine import JobRun, JobState, Machine  # noqa: E402
 from quadstep.machine import job as job_module  # noqa: E402
 from quadstep.machine.move_items import MoveItems  # noqa: E402
@@ -98,6 +102,7 @@ ADDITIONS = Additions()
 
 class Door:
     def __init__(self, events: Path, config: MachineConfig = CONFIG) -> None:
+        sys.setswitchinterval(SWITCH_INTERVAL_S)  # as the command line sets it
         self.config = config
         self.emulator = Emulator(
             tick_hz=config.tick_hz, axes=3, queue=14, extra_args=("--events", str(events))
@@ -174,11 +179,10 @@ def stops(jobs: list[JobRun]) -> str:
     return f"{len(jobs)} job(s), {legs} leg(s) from rest, {starved} starvation(s)"
 
 
-def bench_lines_per_second(grbl: GrblClient, door: Door) -> None:
-    print("1. short lines through the front door (F2400, 40 mm/s):")
+def bench_lines_per_second(door: Door, work: Path, runs: int = 10) -> None:
+    print(f"1. short lines through the front door (F2400, 40 mm/s), {runs} runs each:")
     for length in (0.05, 0.025, 0.02):
         lines = chords(3000, length, 2400)
-        elapsed, running, jobs = streamed_timed(grbl, door, lines)
         # the chords alone from rest at their start, as streamed (after the rapid, at rest)
         start = (50 + 20.0, 50.0, 0.0)
         planned = plan_program(
@@ -191,12 +195,43 @@ def bench_lines_per_second(grbl: GrblClient, door: Door) -> None:
             CONFIG,
             CONFIG.to_steps(start),
         )
-        print(
-            f"   chords {length} mm: {3000 / elapsed:7.0f} lines/s streamed "
-            f"({elapsed:.2f} s; from the job's start {3000 / running:.0f} lines/s; "
-            f"the whole file planned: {3000 / planned.duration_s:.0f} lines/s); {stops(jobs)}"
-        )
+        whole = 3000 / planned.duration_s
+        print(f"   chords {length} mm (the whole file planned: {whole:.0f} lines/s):")
+        clean = 0
+        for _ in range(runs):
+            elapsed, running, jobs = streamed_apart(door, work, lines)
+            starved = sum(job.states.starvations for job in jobs)
+            clean += starved == 0
+            print(
+                f"      {3000 / elapsed:5.0f} lines/s from the first line, "
+                f"{3000 / running:5.0f} from the job's start; {stops(jobs)}"
+            )
+        print(f"      the board kept up (no stop) in {clean} of {runs} runs")
         print(f"      planning an addition, by job length: {cost_by_length(ADDITIONS.take())}")
+
+
+def streamed_apart(door: Door, work: Path, lines: list[str]) -> tuple[float, float, list[JobRun]]:
+    """As streamed_timed(), the sender in a process of its own (stream_client.py)."""
+    path = work / "lines.nc"
+    path.write_text("\n".join(lines) + "\n")
+    client = subprocess.Popen(
+        [sys.executable, str(CLIENT), str(door.pty.path), str(path)],
+        stdin=subprocess.PIPE,
+        stdout=subprocess.PIPE,
+        text=True,
+    )
+    assert client.stdin is not None and client.stdout is not None
+    try:
+        assert client.stdout.readline().strip() == "READY"
+        before = len(door.jobs)
+        client.stdin.write("\n")
+        client.stdin.flush()
+        done = client.stdout.readline().split()
+        assert done[:1] == ["DONE"], done
+    finally:
+        client.wait(timeout=60)
+    begun, ended = float(done[1]), float(done[2])
+    return ended - begun, ended - door.started[before], door.jobs[before:]
 
 
 def bench_file_ratio(grbl: GrblClient, door: Door, chords: int = 400, runs: int = 3) -> None:
@@ -319,7 +354,14 @@ def main() -> None:
                     bench_file_ratio(grbl, door, 1200, runs=1)
             finally:
                 door.close()
-    if not {"1", "2", "3"} & set(sections):
+    if "1" in sections:
+        with tempfile.TemporaryDirectory() as work:
+            door = Door(Path(work) / "events.csv")
+            try:
+                bench_lines_per_second(door, Path(work))
+            finally:
+                door.close()
+    if not {"2", "3"} & set(sections):
         return
     with tempfile.TemporaryDirectory() as work:
         events = Path(work) / "events.csv"
@@ -327,8 +369,6 @@ def main() -> None:
         try:
             with GrblClient(str(door.pty.path)) as grbl:
                 grbl.wait_banner()
-                if "1" in sections:
-                    bench_lines_per_second(grbl, door)
                 if "2" in sections:
                     bench_file_ratio(grbl, door)
                 if "3" in sections:

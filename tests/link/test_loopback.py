@@ -17,7 +17,7 @@ from quadstep.emulator import Emulator
 from quadstep.kernel.engine_model import predict, predict_underrun
 from quadstep.link import FirmwareError, Link, Stopped, hold
 from quadstep.protocol import Ack, AckReason, Alarm, AlarmCode, CubicSegment, ErrorCode, ErrorReport, FieldId, Frame, HoldDone, POSITION_MAX, Segment, SetPosition, State, Status, StatusReport, Stop, encode
-from quadstep.kernel.fixed import D
+from quadstep.kernel.fixed import D, N_MAX
 from quadstep.kernel.motion import AxisMove, CubicAxis
 from quadstep.protocol.framing import cobs_encode, encode_frame
 
@@ -275,6 +275,27 @@ def test_stop_during_motion_keeps_positions_exact(start_emulator, tmp_path: Path
     emu.stop()
     trace = read_trace(emu.trace)  # type: ignore[arg-type]
     assert int(trace[:, 2].sum()) == moved + 5
+
+
+def test_frames_sent_ahead_of_the_queue_are_written_as_the_board_frees_slots(
+    start_emulator, tmp_path: Path
+) -> None:
+    """send(ahead=10) returns with the board's 3 slots full and 10 more frames waiting in the window;
+    the link's threads write each once a report frees a slot: never a frame the board has no room
+    for, and every step where the segments put it."""
+    emu = start_emulator(queue=3, tick_hz=2000, trace=tmp_path / "trace.csv")
+    # the board's 3 slots full for 1.5 s while the other ten are sent: they wait in the window
+    slow = Segment(n=N_MAX, axes=(AxisMove(axis=0, direction=1, v0=1024, vn=1024, r=0),))
+    everything = [slow] * 3 + random_segments(random.Random(7), 10, axis_count=2)
+    with Link.open(emu.url) as link:
+        for segment in everything:
+            link.send(segment, ahead=10)
+        assert link.in_flight >= 10 and link.segments_done == 0
+        final = link.wait_idle(timeout=30)
+        assert link.stats.queue_full == 0 and link.stats.retransmits == 0
+    assert list(final.position[:2]) == predict(everything, axis_count=2).positions[:2]
+    emu.stop()
+    assert_trace_is_prediction(emu.trace, everything, axis_count=2)  # type: ignore[arg-type]
 
 
 def test_small_queue_flow_control_never_overflows(start_emulator, tmp_path: Path) -> None:

@@ -64,6 +64,24 @@ def test_the_window_holds_what_the_firmware_has_room_for() -> None:
     assert w.in_flight == 1 and w.room() and w.holds(252) and not w.holds(251)
 
 
+def test_frames_taken_ahead_wait_for_their_slots_and_go_out_in_order_as_reports_free_them() -> None:
+    """`ahead`: the window takes frames beyond the board's free slots, writes none of them before a
+    report frees its slots, and says so (pending) only once one may go."""
+    w, _ = window(free=2)
+    assert push(w, 2) == [0, 1]
+    assert not w.room() and w.room(ahead=3)
+    push(w, 3)
+    assert not w.room(ahead=3) and w.in_flight == 5
+    assert seqs(w.due()) == [0, 1] and not w.pending  # frames 2-4 wait for slots
+    w.on_ack(2, 0, AckReason.ACCEPTED)
+    assert w.due() == [] and not w.pending
+    w.on_ack(2, 2, AckReason.SPACE)  # two segments finished
+    assert w.pending and seqs(w.due()) == [2, 3] and not w.pending
+    w.on_ack(4, 1, AckReason.ACCEPTED)  # they were taken; one slot still free
+    assert w.pending and seqs(w.due()) == [4]
+    assert w.on_ack(5, 0, AckReason.ACCEPTED) == 1 and w.in_flight == 0
+
+
 def test_sequence_numbers_wrap_past_255() -> None:
     w, _ = window(free=4, base=254)
     assert push(w, 4) == [254, 255, 0, 1]

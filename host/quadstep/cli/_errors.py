@@ -1,4 +1,5 @@
-"""A command run, its expected failures each turned into one line on stderr and exit code 1."""
+"""A command run, the interpreter set for the link's threads first; its expected failures each
+turned into one line on stderr and exit code 1."""
 
 from __future__ import annotations
 
@@ -9,12 +10,14 @@ from pydantic import ValidationError
 
 from ..emulator import EmulatorError
 from ..link import LinkError
+from ..link.transport import SWITCH_INTERVAL_S
 from ..machine import MachineError, StateError
 from ..validation import describe_validation_error
 from .options import CliError
 
 
 def run_command(args: argparse.Namespace) -> int:
+    sys.setswitchinterval(SWITCH_INTERVAL_S)  # the link's reader first (link/transport.py)
     try:
         return int(args.handler(args))
     except CliError as exc:

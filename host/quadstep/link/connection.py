@@ -2,8 +2,9 @@
 
 A Link joins a Transport (the port, a reader and a writer thread), a
 SendWindow (which sequenced frames to write, and when), an Inbox (what the
-reader learns from each report) and an Outbox (what the writer writes next),
-all under one condition variable. Public methods block and are safe from any
+reader learns from each report) and an Outbox (what is written next: by the
+reader where a report made it due, else by the writer), all under one
+condition variable. Public methods block and are safe from any
 thread (from asyncio or Textual: worker threads). HOLD is hold.py's.
 """
 
@@ -89,6 +90,7 @@ class Link:
             self._on_data,
             self._next_output,
             self._port_failed,
+            self._output_now,
         )
         self._transport.start()
 
@@ -300,9 +302,15 @@ class Link:
     # --- sequenced messages -----------------------------------------------------------------------
 
     def send(
-        self, message: Request, timeout: float | None = None, generation: int | None = None
+        self,
+        message: Request,
+        timeout: float | None = None,
+        generation: int | None = None,
+        ahead: int = 0,
     ) -> int:
-        """Queue a sequenced message (Segment, SetPosition); blocks while the window is full.
+        """Queue a sequenced message (Segment, SetPosition); blocks while the window is full: until
+        the board has room for it, or `ahead` queue slots more (it then waits in the window, and
+        the link's threads write it the moment a report frees its slots).
 
         Returns the seq it was given. Raises the first failure seen since the last stop():
         FirmwareError, AlarmError, LinkTimeout; Stopped if stop() is called meanwhile, or if the
@@ -314,7 +322,7 @@ class Link:
         with self._cond:
             generation = self._in.generation if generation is None else generation
             slots = queue_slots(message)
-            while not self._window.room(slots):
+            while not self._window.room(slots, ahead):
                 self._raise_failure(generation)
                 if not self._wait(deadline):
                     raise LinkTimeout(f"flow-control window still full after {timeout:g} s")
@@ -453,8 +461,6 @@ class Link:
         with self._cond:
             notify = self._in.receive(data, self._clock())
             self._cond.notify_all()
-            if self._out.writable():
-                self._writable.notify()
             callbacks = list(self._callbacks) if notify else []
         for report in notify:
             for callback in callbacks:
@@ -478,6 +484,10 @@ class Link:
                 return out
             self._writable.wait(self._out.wait_time(self._clock()))
         return None
+
+    def _output_now(self) -> bytes:
+        """What a report just made due, for the reader to write at once. Called with _cond held."""
+        return self._take_output() if self._out.writable() else b""
 
     def _take_output(self) -> bytes:
         """What is to be written now (b"" for nothing). Called with _cond held."""

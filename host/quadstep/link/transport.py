@@ -1,5 +1,6 @@
-"""The port and its two threads: a reader that hands every chunk received to the link, and a writer
-that writes whatever the link has to send. Nothing here knows the protocol."""
+"""The port and its two threads: a reader that hands every chunk received to the link and at once
+writes what that chunk made due (a frame whose queue slots a report has just freed), and a writer
+that writes whatever else the link has to send. Nothing here knows the protocol."""
 
 from __future__ import annotations
 
@@ -10,6 +11,12 @@ import serial
 
 from .errors import HEARD_BYTES
 
+# The interpreter hands over to a thread that waits for it every millisecond rather than every five
+# (Python's default): a program that streams to a board sets it (the command line does), so that
+# the reader runs within a millisecond or two of a report while other threads plan, as a board's
+# queue of short segments lasts about ten.
+SWITCH_INTERVAL_S = 0.001
+
 # What pyserial raises once the port is gone (TypeError and AttributeError from a port closed under
 # it).
 PORT_FAILURES = (serial.SerialException, OSError, TypeError, AttributeError)
@@ -19,10 +26,11 @@ class Transport:
     """Runs the reader and the writer on `port` until close().
 
     `on_look()` is called in the reader as it begins each read (which waits up to the port's
-    timeout), `on_data(bytes)` for every chunk read; `next_output()` is called in the writer with
-    `cond` held, waits on `writable` (a condition on the same lock) for something to write and
-    returns the bytes, or None once `closed`; `on_failure(exc)` gets the first exception of the
-    port, in either thread.
+    timeout), `on_data(bytes)` for every chunk read, then `output_now()` with `cond` held for the
+    bytes to write now (b"" for none); `next_output()` is called in the writer with `cond` held,
+    waits on `writable` (a condition on the same lock) for something to write and returns the
+    bytes, or None once `closed`; `on_failure(exc)` gets the first exception of the port, in
+    either thread. Whatever either thread takes under `cond` goes out in the order taken.
     """
 
     def __init__(
@@ -34,6 +42,7 @@ class Transport:
         on_data: Callable[[bytes], None],
         next_output: Callable[[], bytes | None],
         on_failure: Callable[[Exception], None],
+        output_now: Callable[[], bytes],
     ) -> None:
         self.port = port
         self.cond = cond
@@ -45,6 +54,10 @@ class Transport:
         self._on_data = on_data
         self._next_output = next_output
         self._on_failure = on_failure
+        self._output_now = output_now
+        self._write_lock = (
+            threading.Lock()
+        )  # taken with cond held: chunks go out in the order taken
         self._threads = [
             threading.Thread(target=self._read_loop, name="quadstep-link-reader", daemon=True),
             threading.Thread(target=self._write_loop, name="quadstep-link-writer", daemon=True),
@@ -76,15 +89,32 @@ class Transport:
                 if len(self.heard) < HEARD_BYTES:
                     self.heard += data[: HEARD_BYTES - len(self.heard)]
                 self._on_data(data)
+                # written here rather than by waking the writer: the board waits on it, and each
+                # thread that must run first may wait for its turn in the interpreter
+                with self.cond:
+                    chunk = self._output_now()
+                    if chunk:
+                        self._write_lock.acquire()
+                if chunk and not self._write(chunk):
+                    return
 
     def _write_loop(self) -> None:
         while True:
             with self.cond:
                 chunk = self._next_output()
+                if chunk is not None:
+                    self._write_lock.acquire()
             if chunk is None:
                 return
-            try:
-                self.port.write(chunk)
-            except PORT_FAILURES as exc:
-                self._on_failure(exc)
+            if not self._write(chunk):
                 return
+
+    def _write(self, chunk: bytes) -> bool:
+        try:
+            self.port.write(chunk)
+        except PORT_FAILURES as exc:
+            self._on_failure(exc)
+            return False
+        finally:
+            self._write_lock.release()
+        return True

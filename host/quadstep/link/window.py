@@ -129,12 +129,14 @@ class SendWindow:
         """Frames pushed and not yet acknowledged."""
         return len(self._frames)
 
-    def room(self, segments: int = 1) -> bool:
+    def room(self, segments: int = 1, ahead: int = 0) -> bool:
         """Whether one more frame, taking `segments` queue slots, fits the flow-control window
         (every frame counts as at least one slot, as the firmware's free count does for a sequence
-        of single frames)."""
+        of single frames): the board's free slots, and `ahead` more that it waits in the window
+        for (written as soon as a report frees them)."""
         return (
-            len(self._frames) < self.max_in_flight and self._slots + max(1, segments) <= self.free
+            len(self._frames) < self.max_in_flight
+            and self._slots + max(1, segments) <= self.free + ahead
         )
 
     def holds(self, seq: int) -> bool:
@@ -253,8 +255,14 @@ class SendWindow:
 
     @property
     def pending(self) -> bool:
-        """Frames wait to be written (new ones for free slots, or again)."""
-        return self._first_pending < min(len(self._frames), self.max_in_flight)
+        """A frame may be written now: again, or for the first time with its slots free."""
+        index = self._first_pending
+        if index >= min(len(self._frames), self.max_in_flight):
+            return False
+        if self._frames[index].transmissions:
+            return True
+        # frames go out in order: the first never written waits for the slots up to its own
+        return sum(max(1, f.segments) for f in self._frames[: index + 1]) <= self.free
 
     def deadline(self) -> float | None:
         """The clock time at which due() will resend for the retransmission timeout, if frames

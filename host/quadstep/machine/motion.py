@@ -42,6 +42,12 @@ from ..protocol.segment_run import RunChain
 # Keep at least this many segments queued, whatever the lookahead, so the board
 # always has the next one when a segment ends.
 MIN_QUEUED_SEGMENTS = 2
+# Segments beyond what the board's queue holds wait in the link's window, written by the link's
+# reader as a report frees their slots, while the motion queued lasts less than AHEAD_S (and they
+# take at most AHEAD_SLOTS): a queue of short segments (an Uno's 14 of about a millisecond) then
+# outlasts this thread's wait for its turn in the interpreter.
+AHEAD_S = 0.05
+AHEAD_SLOTS = 64
 SPACE_WAIT = 0.005  # s between checks while the lookahead is full
 STALL_POLL = 0.25  # s without a completed segment before asking for STATUS
 # how a motion ends whose queue ran dry while moving: the board stopped it (a hold), and the motion
@@ -107,6 +113,15 @@ class RunSize:
         self.calm = 0 if resent != self.resent else self.calm + 1
         self.resent = resent
         return self.limit if self.calm >= self.CALM else min(self.limit, 1)
+
+
+def fits_queue(queued: int, queued_ticks: int, board: IdentifyReply) -> bool:
+    """Whether a frame may be sent with `queued` segments (`queued_ticks` of motion) before its
+    last: into the board's queue, or beyond it into the link's window while they last less than
+    AHEAD_S."""
+    return queued < board.queue_capacity or (
+        queued < board.queue_capacity + AHEAD_SLOTS and queued_ticks < AHEAD_S * board.tick_hz
+    )
 
 
 def supports_hold(link: Link) -> bool:
@@ -389,7 +404,8 @@ class Motion:
                     chain = before  # renumbered by go_on(), or cut() inside this frame: again
                     continue
                 self._send_outputs(index)  # in stream order, before the segment
-                self.link.send(message, generation=self._generation)  # a restart ends this motion
+                # a restart ends this motion
+                self.link.send(message, generation=self._generation, ahead=AHEAD_SLOTS)
                 self._sent = k + count
             index += count
         with self._lock:
@@ -399,7 +415,9 @@ class Motion:
     def _send_outputs(self, index: int | None) -> None:
         """The OUTPUTS due before segment `index` (None: all that are left); under the lock."""
         while self._outputs and (index is None or self._outputs[0][0] <= index):
-            self.link.send(self._outputs.popleft()[1], generation=self._generation)
+            self.link.send(
+                self._outputs.popleft()[1], generation=self._generation, ahead=AHEAD_SLOTS
+            )
 
     def _batch(self, size: RunSize, k: int, ticks: list[int], capacity: int) -> int:
         """Segments the frame that begins at segment `k` may hold: the run size; behind, no more
@@ -470,7 +488,7 @@ class Motion:
             done = self.done
             queued = k - done
             if (
-                queued < board.queue_capacity
+                fits_queue(queued, ticks[k + 1] - ticks[max(0, done)], board)
                 and ring_fits(segments, first + done, first + k, board.raster_ring)
                 and (
                     self.lookahead_ticks is None
