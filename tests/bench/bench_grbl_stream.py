@@ -1,7 +1,7 @@
 """`quadstep grbl` streaming, on the emulator paced at the Uno's tick rate (32 kHz, 14-slot queue):
 
 1. short lines a second: a sender in a process of its own (stream_client.py, as UGS or CNCjs are)
-   streams chords a few steps long by character counting, RUNS times each; the lines a second from
+   streams chords a few steps long by character counting, ten times each; the lines a second from
    the first line sent and from the job's start (once the lines received hold what a running job
    keeps back) to rest, and whether the board kept up (no starvation, no stop);
 2. a file through the front door against `quadstep run` of it: the wall time from the first motion to

@@ -1,8 +1,9 @@
-"""A sender in a process of its own, as UGS or CNCjs are: `python3 stream_client.py PORT LINES` opens
-PORT (the front door's pseudo-terminal), streams the first two lines of the file LINES by character
-counting and waits for rest, prints `READY`, then on a line from stdin streams the rest and prints
-`DONE <first line sent> <at rest>` (time.monotonic(), the system's clock that every process
-shares; rest is seen by polling `?`)."""
+"""A sender in a process of its own, as UGS or CNCjs are.
+
+`python3 stream_client.py PORT LINES` opens PORT (the front door's pseudo-terminal), streams the
+first two lines of the file LINES by character counting and waits for rest, prints `READY`, then on
+a line from stdin streams the rest and prints `DONE <first line sent> <at rest>` (time.monotonic(),
+the system's clock that every process shares; rest is seen by polling `?`)."""
 
 from __future__ import annotations
 

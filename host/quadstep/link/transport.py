@@ -55,9 +55,8 @@ class Transport:
         self._next_output = next_output
         self._on_failure = on_failure
         self._output_now = output_now
-        self._write_lock = (
-            threading.Lock()
-        )  # taken with cond held: chunks go out in the order taken
+        # taken with cond held, so that chunks go out in the order they were taken
+        self._write_lock = threading.Lock()
         self._threads = [
             threading.Thread(target=self._read_loop, name="quadstep-link-reader", daemon=True),
             threading.Thread(target=self._write_loop, name="quadstep-link-writer", daemon=True),

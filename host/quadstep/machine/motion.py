@@ -116,9 +116,9 @@ class RunSize:
 
 
 def fits_queue(queued: int, queued_ticks: int, board: IdentifyReply) -> bool:
-    """Whether a frame may be sent with `queued` segments (`queued_ticks` of motion) before its
-    last: into the board's queue, or beyond it into the link's window while they last less than
-    AHEAD_S."""
+    """Whether a frame may be sent whose last segment has `queued` segments not yet run before it,
+    the motion to its end lasting `queued_ticks`: into the board's queue, or beyond it into the
+    link's window while that motion lasts less than AHEAD_S."""
     return queued < board.queue_capacity or (
         queued < board.queue_capacity + AHEAD_SLOTS and queued_ticks < AHEAD_S * board.tick_hz
     )
@@ -477,8 +477,9 @@ class Motion:
         self, segments: Segments, first: int, j: int, k: int, ticks: list[int], board: IdentifyReply
     ) -> None:
         """Until a frame's segments `j` … `k` (counted from `first` of `segments`) fit in the
-        queue and within the lookahead, or the board holds fewer than MIN_QUEUED_SEGMENTS before
-        them (a segment longer than the lookahead is running), or a halt."""
+        queue (or wait beyond it in the link's window: fits_queue) and within the lookahead, or
+        the board holds fewer than MIN_QUEUED_SEGMENTS before them (a segment longer than the
+        lookahead is running), or a halt."""
         last_done, since = -1, time.monotonic()
         while not self._halting:
             if self.link.generation != self._generation:
