@@ -37,7 +37,7 @@ from quadstep.emulator import Emulator  # noqa: E402
 from quadstep.gcode.interpreter import parse_gcode  # noqa: E402
 from quadstep.grbl.server import PtyServer  # noqa: E402
 from quadstep.link import Link  # noqa: E402
-from quadstep.link.transport import SWITCH_INTERVAL_S  # noqa: E402
+from quadstep.link.transport import favour_the_link  # noqa: E402
 from quadstep.machine import JobRun, JobState, Machine  # noqa: E402
 from quadstep.machine import job as job_module  # noqa: E402
 from quadstep.machine.move_items import MoveItems  # noqa: E402
@@ -102,7 +102,7 @@ ADDITIONS = Additions()
 
 class Door:
     def __init__(self, events: Path, config: MachineConfig = CONFIG) -> None:
-        sys.setswitchinterval(SWITCH_INTERVAL_S)  # as the command line sets it
+        favour_the_link()  # as the command line does
         self.config = config
         self.emulator = Emulator(
             tick_hz=config.tick_hz, axes=3, queue=14, extra_args=("--events", str(events))

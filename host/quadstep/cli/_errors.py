@@ -10,14 +10,14 @@ from pydantic import ValidationError
 
 from ..emulator import EmulatorError
 from ..link import LinkError
-from ..link.transport import SWITCH_INTERVAL_S
+from ..link.transport import favour_the_link
 from ..machine import MachineError, StateError
 from ..validation import describe_validation_error
 from .options import CliError
 
 
 def run_command(args: argparse.Namespace) -> int:
-    sys.setswitchinterval(SWITCH_INTERVAL_S)  # the link's reader first (link/transport.py)
+    favour_the_link()
     try:
         return int(args.handler(args))
     except CliError as exc:
