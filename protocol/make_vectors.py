@@ -23,7 +23,7 @@ PROTOCOL_VERSION = 3
 MAX_FRAME = 64
 
 TYPES = {
-    "IDENTIFY": 0x01, "STATUS": 0x02, "STOP": 0x03, "HOLD": 0x04, "INPUTS": 0x06, "WATCHDOG": 0x07,
+    "IDENTIFY": 0x01, "STATUS": 0x02, "STOP": 0x03, "HOLD": 0x04, "INPUTS": 0x06, "WATCHDOG": 0x07, "HOLD_ALONG": 0x08,
     "SEGMENT": 0x10, "SET_POSITION": 0x11, "CUBIC_SEGMENT": 0x12, "PROBE": 0x15, "CONFIG": 0x16, "OUTPUTS": 0x17,
     "SEGMENTS": 0x18, "CUBIC_SEGMENTS": 0x19, "RASTER": 0x1A,
     "ACK": 0x80, "IDENTIFY_REPLY": 0x81, "STATUS_REPORT": 0x82, "ERROR": 0x83, "ALARM": 0x84, "EVENT": 0x85,
@@ -43,7 +43,7 @@ POSITION_MAX = 2**31 - 2**24  # the firmware keeps every position within ±this 
 WATCHDOG_MAX_MS = 4000
 ALARMS = {"UNDERRUN": 1, "REJECTED_SEGMENT": 2, "HARD_LIMIT": 3, "HOST_LOST": 4, "E_STOP": 5}
 STATES = {"IDLE": 0, "RUNNING": 1, "ALARM": 2, "HOLDING": 3, "STARVED": 4}
-EVENT_KINDS = {"HOLD_DONE": 1, "INPUT": 2, "PROBE_MISSED": 3}
+EVENT_KINDS = {"HOLD_DONE": 1, "INPUT": 2, "PROBE_MISSED": 3, "HOLD_DONE_ALONG": 4}
 INPUTS = {"LIMIT_0": 0, "LIMIT_1": 1, "LIMIT_2": 2, "LIMIT_3": 3, "LIMIT_MAX_0": 4, "LIMIT_MAX_1": 5,
           "LIMIT_MAX_2": 6, "LIMIT_MAX_3": 7, "PROBE": 8, "ABORT": 9, "FEED_HOLD": 10, "CYCLE_START": 11}
 CAUSES = {"REPORT": 0, "HARD_LIMIT": 1, "TRIGGER": 2, "E_STOP": 3, "FEED_HOLD": 4, "CYCLE_START": 5}
@@ -324,9 +324,11 @@ def payload(msg: dict) -> bytes:
         return struct.pack(f"<BI{len(pos)}i", ALARMS[msg["code"]], msg["motion_ticks"], *pos)
     if t == "HOLD":
         return struct.pack("<4H", *msg["decel"])
+    if t == "HOLD_ALONG":
+        return struct.pack("<4H4HHH", *msg["decel"], *msg["path_decel"], msg["first"], msg["last"])
     if t == "WATCHDOG":
         return struct.pack("<H", msg["timeout_ms"])
-    if t == "EVENT" and msg["kind"] == "HOLD_DONE":
+    if t == "EVENT" and msg["kind"] in ("HOLD_DONE", "HOLD_DONE_ALONG"):
         pos = msg["position"]
         return struct.pack(f"<BII{len(pos)}i", EVENT_KINDS[msg["kind"]], msg["hold_tick"], msg["motion_ticks"], *pos)
     if t == "EVENT" and msg["kind"] == "INPUT":
@@ -470,6 +472,9 @@ def build() -> list[dict]:
     valid("stop", TO_FW, {"type": "STOP", "seq": 200})
     # HOLD: a deceleration for every axis the firmware has, 0 for the others.
     valid("hold, 4 axes, extreme decelerations", TO_FW, hold(201, 1, 8191, 4096, 149), 4)
+    valid("hold along the path, 3 axes", TO_FW,
+          {"type": "HOLD_ALONG", "seq": 17, "decel": [3277, 3277, 1638, 0], "path_decel": [3277, 1092, 1, 0],
+           "first": 65530, "last": 4}, 3)
     valid("hold, 3 axes, axis 3 says 0", TO_FW, hold(0, 100, 200, 300, 0), 3)
     valid("hold, 1 axis", TO_FW, hold(0xFF, 8191, 0, 0, 0), 1)
     valid("hold, zero bytes in the body", TO_FW, hold(0, 256, 512, 0x0100, 0x1F00), 4)
@@ -598,6 +603,9 @@ def build() -> list[dict]:
     valid("event hold done, 3 axes, at rest at once", TO_HOST,
           {"type": "EVENT", "seq": 0xFF, "kind": "HOLD_DONE", "hold_tick": 2**32 - 1, "motion_ticks": 2**32 - 1,
            "position": [100, 0, -100]}, 3)
+    valid("event hold done along the path, 3 axes", TO_HOST,
+          {"type": "EVENT", "seq": 0xFF, "kind": "HOLD_DONE_ALONG", "hold_tick": 5000, "motion_ticks": 6021,
+           "position": [4000, -1333, 7]}, 3)
     valid("event hold done, 1 axis", TO_HOST,
           {"type": "EVENT", "seq": 0xFF, "kind": "HOLD_DONE", "hold_tick": 0, "motion_ticks": 1, "position": [0]},
           1)
@@ -653,7 +661,7 @@ def build() -> list[dict]:
     bad("64 decoded bytes pass framing, then bad length", TO_FW, wire(longest), "BAD_LENGTH")
 
     # Unknown types, immediate and sequenced ranges; reports sent the wrong way.
-    for t in (0x00, 0x05, 0x08, 0x0F, 0x13, 0x14, 0x1B, 0x3F, 0x40, 0x7F, 0x80, 0x82, 0x85, 0x86):
+    for t in (0x00, 0x05, 0x09, 0x0F, 0x13, 0x14, 0x1B, 0x3F, 0x40, 0x7F, 0x80, 0x82, 0x85, 0x86):
         bad(f"unknown type 0x{t:02x} to firmware", TO_FW, wire(bytes([t, 3])), "UNKNOWN_TYPE")
     for t in (0x01, 0x04, 0x06, 0x07, 0x10, 0x15, 0x87, 0xFF):
         bad(f"unknown type 0x{t:02x} to host", TO_HOST, wire(bytes([t, 3, 0, 0, 0, 0, 0])), "UNKNOWN_TYPE")
@@ -661,6 +669,8 @@ def build() -> list[dict]:
     # Wrong payload lengths.
     bad("identify with a payload", TO_FW, wire(bytes([0x01, 0, 0])), "BAD_LENGTH")
     bad("stop with a payload", TO_FW, wire(bytes([0x03, 0, 1, 2])), "BAD_LENGTH")
+    bad("hold along the path with a HOLD's payload only", TO_FW,
+        wire(bytes([TYPES["HOLD_ALONG"], 0]) + struct.pack("<4H", 5, 5, 5, 5)), "BAD_LENGTH")
     bad("segment without payload", TO_FW, wire(bytes([0x10, 0])), "BAD_LENGTH")
     bad("segment with n only", TO_FW, wire(bytes([0x10, 0, 5, 0])), "BAD_LENGTH")
     bad("segment, 2 axes in mask, 1 axis of fields", TO_FW,
@@ -762,6 +772,13 @@ def build() -> list[dict]:
     bad_hold("hold decel 8192 on axis 2", [1, 1, 8192, 1], 2)
     bad_hold("hold decel 65535 on axis 3", [1, 1, 1, 0xFFFF], 3)
     bad_hold("hold axes checked in order", [1, 0, 9000, 0], 1)
+    # HOLD_ALONG: HOLD's decelerations, then the path's, by the same rule.
+    for name, decel, path, axis in (("hold along the path, decel 0 on axis 1", [5, 0, 5, 5], [5, 5, 5, 5], 1),
+                                    ("hold along the path, path decel 8192 on axis 2", [5, 5, 5, 5], [5, 5, 8192, 5], 2),
+                                    ("hold along the path, path decel for axis 3 on a 3-axis firmware",
+                                     [5, 5, 5, 0], [5, 5, 5, 5], 3)):
+        frame = wire(bytes([TYPES["HOLD_ALONG"], 9]) + struct.pack("<4H4HHH", *decel, *path, 0, 0))
+        bad(name, TO_FW, frame, "BAD_FIELD", "DECEL", axis, 3 if axis == 3 else 4)
     bad_hold("hold decel for axis 3 on a 3-axis firmware", [1, 1, 1, 1], 3, axis_count=3)
     bad_hold("hold decel for axis 1 on a 1-axis firmware", [8191, 8191, 0, 0], 1, axis_count=1)
     bad_hold("hold decel 0 on axis 2 of a 3-axis firmware", [5, 5, 0, 0], 2, axis_count=3)

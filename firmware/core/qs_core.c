@@ -83,7 +83,7 @@ static void serve_inputs(qs_core *c)
         qs_watchdog_expire(c);
     if (request) {
         c->inputs.hold_request = 0;
-        qs_engine_hold(e, request == QS_INPUTS_HOLD_FEED ? e->stop_decel : e->trigger_decel);
+        qs_engine_hold(e, request == QS_INPUTS_HOLD_FEED ? e->stop_decel : e->trigger_decel, 0);
         qs_end_stream(c);
     }
     if (e->trigger && e->state == QS_STATE_IDLE && qs_queue_empty(&e->queue)

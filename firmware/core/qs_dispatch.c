@@ -282,11 +282,14 @@ static void refuse_immediate(qs_core *c, const qs_host_msg *m, const qs_fault *f
     qs_report_error(c, m->seq, m->type, f);
 }
 
+/* HOLD, and HOLD_ALONG (its path's decelerations checked as HOLD's). */
 static void on_hold(qs_core *c, const qs_host_msg *m)
 {
+    const qs_path_hold *path = m->type == QS_TYPE_HOLD_ALONG ? &m->as.hold_along.path : 0;
     qs_fault f;
 
-    if (qs_msg_check_hold(&m->as.hold, c->axis_count, &f) != QS_ERR_NONE) {
+    if (qs_msg_check_hold(&m->as.hold, c->axis_count, &f) != QS_ERR_NONE
+        || (path && qs_msg_check_hold(&path->hold, c->axis_count, &f) != QS_ERR_NONE)) {
         refuse_immediate(c, m, &f);
         return;
     }
@@ -301,7 +304,7 @@ static void on_hold(qs_core *c, const qs_host_msg *m)
      * STOP, never by the tick. */
     qs_engine_end_starved(&c->engine);
     /* Unless an alarm was raised meanwhile, which the answer then shows. */
-    qs_engine_hold(&c->engine, m->as.hold.decel);
+    qs_engine_hold(&c->engine, m->as.hold.decel, path);
     c->next_seq = m->seq;
     c->parked = 0;
     /* The answer first, then a HOLD_DONE if the hold is already over. */
@@ -386,9 +389,11 @@ static QS_ALWAYS_INLINE uint8_t parse_empty(const uint8_t *p, uint8_t len, qs_ho
     return qs_msg_parse_empty(len);
 }
 
+/* HOLD and HOLD_ALONG, which begins with a HOLD's payload. */
 static QS_ALWAYS_INLINE uint8_t parse_hold(const uint8_t *p, uint8_t len, qs_host_msg *m)
 {
-    return qs_msg_parse_hold(p, len, &m->as.hold);
+    return m->type == QS_TYPE_HOLD ? qs_msg_parse_hold(p, len, &m->as.hold)
+                                   : qs_msg_parse_hold_along(p, len, &m->as.hold_along);
 }
 
 static QS_ALWAYS_INLINE uint8_t parse_watchdog(const uint8_t *p, uint8_t len, qs_host_msg *m)
@@ -491,11 +496,13 @@ static QS_ALWAYS_INLINE void on_cubic_segments(qs_core *c, qs_host_msg *m)
 #else
 #define CUBIC_ROWS(X)
 #endif
+/* One case for both: HOLD_ALONG is a HOLD with more to it. */
+#define HOLD_TYPES QS_TYPE_HOLD: case QS_TYPE_HOLD_ALONG
 #define HOST_MESSAGES(X)                                                  \
     X(QS_TYPE_IDENTIFY, 0, parse_empty, on_identify)                      \
     X(QS_TYPE_STATUS, 0, parse_empty, on_status)                          \
     X(QS_TYPE_STOP, 0, parse_empty, on_stop)                              \
-    X(QS_TYPE_HOLD, 0, parse_hold, on_hold)                               \
+    X(HOLD_TYPES, 0, parse_hold, on_hold)                                 \
     X(QS_TYPE_WATCHDOG, 0, parse_watchdog, on_watchdog)                   \
     X(QS_TYPE_INPUTS, 0, parse_empty, on_inputs)                          \
     X(QS_TYPE_PROBE, 1, parse_probe, on_probe)                            \

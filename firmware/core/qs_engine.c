@@ -38,6 +38,7 @@ void qs_engine_init(qs_engine *e, uint8_t queue_capacity)
 #endif
     for (axis = 0; axis < QS_AXIS_COUNT; axis++)
         e->stop_decel[axis] = QS_DEFAULT_STOP_DECEL;
+    e->hold_along = 0;
     for (axis = 0; axis < QS_LATCH_RING; axis++)
         e->latches.entry[axis].state = QS_LATCH_FREE;
     e->latches.next = 0;
@@ -425,8 +426,13 @@ static QS_ALWAYS_INLINE uint8_t open_hold_window(qs_engine *e);
 /* A hold begins through the window a trigger's hold takes (qs_engine.h):
  * the motion runs on for QS_TRIGGER_TICKS decisions while the tick plans
  * it, then the tick begins it, so that no tick runs twice its length.
- * The lock here only copies the decelerations and opens the window. */
-QS_NOINLINE uint8_t qs_engine_hold(qs_engine *e, const uint16_t *decel)
+ * The lock here only copies the decelerations and opens the window. A
+ * window opened with QS_PATH_LEFT_MIN decisions or more left in the running
+ * slot begins the hold inside that slot (QS_TRIGGER_TICKS on, and each cut
+ * before it leaves more than a decision). */
+#define QS_PATH_LEFT_MIN (QS_TRIGGER_TICKS + 2)
+
+QS_NOINLINE uint8_t qs_engine_hold(qs_engine *e, const uint16_t *decel, const qs_path_hold *path)
 {
     uint8_t saved = lock_retired(e);
     uint8_t outcome = QS_HOLD_STARTED, axis;
@@ -435,6 +441,12 @@ QS_NOINLINE uint8_t qs_engine_hold(qs_engine *e, const uint16_t *decel)
     if (e->trigger_window) {
         outcome = QS_HOLD_UNDER_WAY; /* a hold's window is open: that hold answers for this one */
     } else if (e->state == QS_STATE_RUNNING) {
+        /* The path's decelerations where the hold begins in a segment they
+         * were given for: in the running one, with the window inside it. */
+        e->hold_along = path && e->left >= QS_PATH_LEFT_MIN
+                        && (uint16_t)((uint16_t)e->segments_done - path->first) <= (uint16_t)(path->last - path->first);
+        if (e->hold_along)
+            decel = path->hold.decel;
         for (axis = 0; axis < QS_AXIS_COUNT; axis++)
             e->trigger_decel[axis] = decel[axis];
         open_hold_window(e);
@@ -709,6 +721,7 @@ void qs_engine_arm_trigger(qs_engine *e, uint8_t input, uint8_t level, const uin
 
     for (axis = 0; axis < QS_AXIS_COUNT; axis++)
         e->trigger_decel[axis] = decel[axis];
+    e->hold_along = 0; /* a trigger's hold stops each axis at its own */
     e->trigger_input = input;
     e->trigger_level = level;
     e->trigger_since = (uint16_t)e->segments_done;
@@ -818,6 +831,7 @@ void qs_engine_note_prepared(qs_engine *e, const qs_segment *s)
     int32_t *pending = e->pending;
     const uint16_t *total = s->total;
 
+    e->hold_along = 0; /* motion since the last hold: an underrun's stop would be its own */
     for (axis = 0, bit = 1; axis < QS_AXIS_COUNT; axis++, bit = (uint8_t)(bit << 1), pending++, total++) {
         int32_t steps;
         if (!(s->active & bit))

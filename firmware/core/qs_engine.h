@@ -79,6 +79,7 @@ typedef struct {
     /* The decelerations of the holds the firmware begins itself (the feed
      * hold button, an underrun, a silent host): CONFIG's hold_decel. */
     uint16_t stop_decel[QS_AXIS_COUNT];
+    uint8_t hold_along;      /* the last hold began with a HOLD_ALONG's path decelerations: its HOLD_DONE says so */
 } qs_engine;
 
 #define QS_PATH_CUBIC 2 /* slow_path while a cubic segment runs */
@@ -143,8 +144,10 @@ void qs_engine_read(qs_engine *e, qs_engine_view *v);
 
 /* Decelerate every moving axis to rest, decel[axis] in 2^-24 step per
  * tick^2 (checked by qs_msg_check_hold), starting at the current tick
- * boundary, and discard the queued segments. Returns QS_HOLD_*. */
-uint8_t qs_engine_hold(qs_engine *e, const uint16_t *decel);
+ * boundary, and discard the queued segments; with HOLD_ALONG's decelerations
+ * (path, or 0) instead where the hold begins in one of its segments. Returns
+ * QS_HOLD_*. */
+uint8_t qs_engine_hold(qs_engine *e, const uint16_t *decel, const qs_path_hold *path);
 
 /* Whether a segment of n ticks moving the axes in active may be taken:
  * 0 with *axis set to the first axis it could carry past

@@ -232,6 +232,17 @@ uint8_t qs_msg_parse_hold(const uint8_t *p, uint8_t len, qs_hold_msg *h)
     return QS_ERR_NONE;
 }
 
+uint8_t qs_msg_parse_hold_along(const uint8_t *p, uint8_t len, qs_hold_along_msg *h)
+{
+    if (len != QS_LEN_HOLD_ALONG)
+        return QS_ERR_BAD_LENGTH;
+    qs_msg_parse_hold(p, QS_LEN_HOLD, &h->hold);
+    qs_msg_parse_hold(p + QS_LEN_HOLD, QS_LEN_HOLD, &h->path.hold);
+    h->path.first = get16(p + 2 * QS_LEN_HOLD);
+    h->path.last = get16(p + 2 * QS_LEN_HOLD + 2);
+    return QS_ERR_NONE;
+}
+
 uint8_t qs_msg_parse_probe(const uint8_t *p, uint8_t len, qs_probe_msg *pr)
 {
     if (len != QS_LEN_PROBE)
@@ -492,13 +503,13 @@ uint8_t qs_msg_encode_alarm(uint8_t *body, uint8_t seq, const qs_alarm_report *a
     return n;
 }
 
-uint8_t qs_msg_encode_hold_done(uint8_t *body, uint8_t seq, uint32_t hold_tick, uint32_t motion_ticks,
-                                uint8_t axis_count, const int32_t *position)
+uint8_t qs_msg_encode_hold_done(uint8_t *body, uint8_t seq, uint8_t kind, uint32_t hold_tick,
+                                uint32_t motion_ticks, uint8_t axis_count, const int32_t *position)
 {
     uint8_t n = head(body, QS_TYPE_EVENT, seq);
     uint8_t axis;
 
-    body[n++] = QS_EVENT_HOLD_DONE;
+    body[n++] = kind;
     n += put32(body + n, hold_tick);
     n += put32(body + n, motion_ticks);
     for (axis = 0; axis < axis_count; axis++)

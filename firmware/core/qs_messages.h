@@ -54,6 +54,21 @@ typedef struct {
     uint16_t decel[QS_PROTOCOL_AXES];
 } qs_hold_msg;
 
+/* HOLD_ALONG's own part: the decelerations (worked out by the host from the
+ * segments' direction) that stop the segments whose segments_done (mod
+ * 2^16) lies in first ... last together, on their line. */
+typedef struct {
+    qs_hold_msg hold;
+    uint16_t first;
+    uint16_t last;
+} qs_path_hold;
+
+/* HOLD_ALONG: a HOLD's payload first (hold), then its path. */
+typedef struct {
+    qs_hold_msg hold;
+    qs_path_hold path;
+} qs_hold_along_msg;
+
 /* WATCHDOG: stop (a hold, then ALARM HOST_LOST) when no frame has come
  * for timeout_ms while moving; 0 turns it off. */
 typedef struct {
@@ -110,6 +125,7 @@ typedef struct {
         qs_segments_msg segments;
         qs_set_position_msg set_position;
         qs_hold_msg hold;
+        qs_hold_along_msg hold_along; /* begins with a HOLD's: as.hold reads it */
         qs_probe_msg probe;
         qs_config_msg config;
         qs_watchdog_msg watchdog;
@@ -136,6 +152,7 @@ uint8_t qs_msg_parse_segments(const uint8_t *p, uint8_t len, qs_segments_msg *s)
 uint8_t qs_msg_parse_cubic_segments(const uint8_t *p, uint8_t len, qs_segments_msg *s);
 uint8_t qs_msg_parse_set_position(const uint8_t *p, uint8_t len, qs_set_position_msg *sp);
 uint8_t qs_msg_parse_hold(const uint8_t *p, uint8_t len, qs_hold_msg *h);
+uint8_t qs_msg_parse_hold_along(const uint8_t *p, uint8_t len, qs_hold_along_msg *h);
 uint8_t qs_msg_parse_probe(const uint8_t *p, uint8_t len, qs_probe_msg *pr);
 uint8_t qs_msg_parse_config(const uint8_t *p, uint8_t len, qs_config_msg *cf);
 uint8_t qs_msg_parse_watchdog(const uint8_t *p, uint8_t len, qs_watchdog_msg *w);
@@ -233,9 +250,11 @@ uint8_t qs_msg_encode_identify_reply(uint8_t *body, uint8_t seq, const qs_identi
 uint8_t qs_msg_encode_status_report(uint8_t *body, uint8_t seq, const qs_status *st);
 uint8_t qs_msg_encode_error(uint8_t *body, uint8_t seq, const qs_error_report *e);
 uint8_t qs_msg_encode_alarm(uint8_t *body, uint8_t seq, const qs_alarm_report *a);
-/* EVENT HOLD_DONE: where a hold began, when and where everything rests. */
-uint8_t qs_msg_encode_hold_done(uint8_t *body, uint8_t seq, uint32_t hold_tick, uint32_t motion_ticks,
-                                uint8_t axis_count, const int32_t *position);
+/* EVENT HOLD_DONE (kind QS_EVENT_HOLD_DONE, or QS_EVENT_HOLD_DONE_ALONG
+ * for a hold begun with a HOLD_ALONG's path decelerations): where a hold
+ * began, when and where everything rests. */
+uint8_t qs_msg_encode_hold_done(uint8_t *body, uint8_t seq, uint8_t kind, uint32_t hold_tick,
+                                uint32_t motion_ticks, uint8_t axis_count, const int32_t *position);
 
 uint8_t qs_msg_encode_input_status(uint8_t *body, uint8_t seq, const qs_input_status *st);
 /* EVENT INPUT: an input's accepted change, latched at motion_ticks. */

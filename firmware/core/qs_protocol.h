@@ -42,6 +42,7 @@
 #define QS_TYPE_HOLD 0x04
 #define QS_TYPE_INPUTS 0x06
 #define QS_TYPE_WATCHDOG 0x07
+#define QS_TYPE_HOLD_ALONG 0x08 /* HOLD with decelerations for a stop along the path */
 #define QS_TYPE_SEGMENT 0x10
 #define QS_TYPE_SET_POSITION 0x11
 #define QS_TYPE_PROBE 0x15
@@ -65,6 +66,7 @@
 /* Payload lengths: a fixed payload, or a fixed head and then a number of
  * bytes per axis. */
 #define QS_LEN_HOLD 8 /* decel:u16 for each of the 4 axes the wire names */
+#define QS_LEN_HOLD_ALONG 20 /* HOLD's, the path's decel:u16 x 4, first:u16, last:u16 */
 #define QS_LEN_WATCHDOG 2 /* timeout_ms:u16 */
 #define QS_LEN_SEGMENT_HEAD 3
 #define QS_LEN_SEGMENT_AXIS 6
@@ -82,6 +84,8 @@
 #define QS_LEN_ALARM_AXIS 4
 #define QS_LEN_HOLD_DONE_HEAD 9 /* EVENT HOLD_DONE: kind, hold_tick, motion_ticks */
 #define QS_LEN_HOLD_DONE_AXIS 4
+#define QS_LEN_HOLD_DONE_ALONG_HEAD 9 /* EVENT HOLD_DONE_ALONG: as HOLD_DONE */
+#define QS_LEN_HOLD_DONE_ALONG_AXIS 4
 #define QS_LEN_PROBE 10 /* input, level, decel:u16 x 4 */
 #define QS_LEN_CONFIG 25 /* invert, enabled, hard_limits, debounce:u8 x 12, hold_decel:u16 x 4 */
 #define QS_LEN_OUTPUTS 6 /* outputs, power:u16, axis, speed:u16 */
@@ -158,6 +162,7 @@
 #define QS_EVENT_HOLD_DONE 1
 #define QS_EVENT_INPUT 2
 #define QS_EVENT_PROBE_MISSED 3
+#define QS_EVENT_HOLD_DONE_ALONG 4 /* HOLD_DONE of a hold that stopped along the path */
 
 /* Inputs (section 5.4): bit i of every input mask. */
 #define QS_INPUT_LIMIT_0 0
@@ -207,6 +212,7 @@
 #define QS_CAP_CUBIC_RUNS 0x1000 /* chained cubic segments, several to a frame (CUBIC_SEGMENTS) */
 #define QS_CAP_STARVATION_PAUSES 0x2000 /* an underrun ends in STARVED, not in an alarm */
 #define QS_CAP_RASTER 0x4000 /* laser lines with a power per pixel (RASTER) */
+#define QS_CAP_STOPS_ALONG 0x8000 /* holds along the path (HOLD_ALONG, EVENT HOLD_DONE_ALONG) */
 
 /* SEGMENTS (section 5.2): records of chained quadratic segments. A record's
  * head byte holds bits 8-9 of n and what follows it. */

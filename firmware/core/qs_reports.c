@@ -57,7 +57,8 @@ void qs_report_identify(qs_core *c, uint8_t seq)
                       | QS_CAP_PROBE_INPUT | QS_CAP_HOMING | QS_CAP_CONTROL_INPUTS
                       | QS_CAP_CONTROLLED_STOPS | QS_CAP_OUTPUTS | QS_CAP_STARVATION_PAUSES
                       | (QS_CUBIC ? QS_CAP_CUBIC_SEGMENTS | QS_CAP_CUBIC_RUNS : 0)
-                      | (QS_QUADRATIC_RUNS ? QS_CAP_SEGMENTS : 0) | (QS_RASTER_BYTES ? QS_CAP_RASTER : 0);
+                      | (QS_QUADRATIC_RUNS ? QS_CAP_SEGMENTS : 0) | (QS_RASTER_BYTES ? QS_CAP_RASTER : 0)
+                      | QS_CAP_STOPS_ALONG;
     id.next_seq = c->next_seq;
     id.boot_id = c->boot_id;
     id.raster_ring = QS_RASTER_BYTES;
@@ -82,8 +83,9 @@ void qs_report_pending_hold(qs_core *c)
 
     qs_report_pending_inputs(c);
     if (qs_engine_take_hold_done(e, &hold_tick))
-        send_body(c, qs_msg_encode_hold_done(tx_body(c), QS_SEQ_UNSOLICITED, hold_tick, e->completed_ticks,
-                                             c->axis_count, e->base));
+        send_body(c, qs_msg_encode_hold_done(tx_body(c), QS_SEQ_UNSOLICITED,
+                                             e->hold_along ? QS_EVENT_HOLD_DONE_ALONG : QS_EVENT_HOLD_DONE,
+                                             hold_tick, e->completed_ticks, c->axis_count, e->base));
 }
 
 void qs_report_status(qs_core *c, uint8_t seq, uint8_t hold_first)

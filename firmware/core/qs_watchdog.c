@@ -10,7 +10,7 @@ void qs_watchdog_start(qs_core *c, uint16_t timeout_ms)
 QS_NOINLINE void qs_watchdog_expire(qs_core *c)
 {
     qs_engine *e = &c->engine;
-    const uint8_t outcome = qs_engine_hold(e, e->stop_decel);
+    const uint8_t outcome = qs_engine_hold(e, e->stop_decel, 0);
 
     if (outcome == QS_HOLD_STARTED || (outcome == QS_HOLD_UNDER_WAY && !e->hold_alarm))
         e->hold_alarm = QS_ALARM_HOST_LOST;

@@ -1,5 +1,6 @@
 #!/usr/bin/env python3
-"""HOLD figures: how soon a HOLD acts (the jog-release latency) on the real-time emulator, and what a hold
+"""HOLD figures: how soon a HOLD acts (the jog-release latency) on the real-time emulator, how far a job's
+feed hold leaves the line it was on (HOLD_ALONG against each axis braking on its own), and what a hold
 costs the AVR firmware in simavr (cycles with the tick locked out, cycles per hold tick).
 
     python3 tests/bench/bench_hold.py [--holds N] [--no-avr]
@@ -18,9 +19,14 @@ import tempfile
 import time
 from pathlib import Path
 
+from quadstep.config import load_config
 from quadstep.emulator import Emulator
+from quadstep.job import load_job
+from quadstep.kernel.engine_model import predict_hold
 from quadstep.link import Link, hold_async
-from quadstep.protocol import Hold, Segment, encode
+from quadstep.machine import Machine
+from quadstep.machine.units import hold_decels
+from quadstep.protocol import Hold, HoldDone, HoldDoneAlong, Segment, encode
 from quadstep.kernel.fixed import D, N_MAX
 from quadstep.kernel.motion import AxisMove
 
@@ -69,6 +75,50 @@ def bench_jog_latency(holds: int) -> None:
     print("for comparison: GRBL 1.1 jog cancel, 0.4-0.9 s typical (its jogging guide)")
 
 
+def off_the_line(position: tuple[int, ...], end: tuple[int, ...]) -> float:
+    """Steps from `position` to the line from the origin to `end`, in the X Y plane."""
+    return abs(position[0] * end[1] - position[1] * end[0]) / (end[0] ** 2 + end[1] ** 2) ** 0.5
+
+
+def bench_feed_hold_path(holds: int) -> None:
+    """Feed holds at spread moments of a 3:1 diagonal at 40 mm/s (router-uno: 400 steps/mm, 500 mm/s²):
+    where each came to rest, in steps from the line; beside it, where each axis braking at its own
+    deceleration from the same hold tick would have (engine_model, exact)."""
+    config = load_config(REPO / "examples" / "router-uno.toml")
+    corner = config.to_steps((30.0, 10.0, 0.0))
+    along: list[float] = []
+    apart: list[float] = []
+    fallbacks = 0
+    with tempfile.TemporaryDirectory() as work:
+        path = Path(work) / "diagonal.gcode"
+        path.write_text("G21 G90 F2400\nG1 X30 Y10\n")
+        for k in range(holds):
+            emu = Emulator(tick_hz=config.tick_hz, axes=3, queue=14).start()
+            try:
+                with Link.open(emu.url) as link:
+                    machine = Machine(link, config)
+                    job = load_job(path, config, machine.position)
+                    run = machine.run_job(job.plan, job.program)
+                    time.sleep(0.1 + 0.6 * k / max(1, holds - 1))
+                    run.feed_hold()
+                    while not run.held:
+                        time.sleep(0.005)
+                    done = link.last_report(HoldDone)
+                    assert done is not None
+                    fallbacks += not isinstance(done, HoldDoneAlong)
+                    own = predict_hold(list(job.plan.segments.segments()), done.hold_tick, hold_decels(config),
+                                       axis_count=3)
+                    along.append(off_the_line(tuple(done.position), corner))
+                    apart.append(off_the_line(tuple(own.positions), corner))
+                    run.halt()
+            finally:
+                emu.stop()
+    print(f"== a feed hold on a 3:1 diagonal at 40 mm/s (router-uno), {holds} holds from 0.1 to 0.7 s in")
+    print(f"steps off the line at rest: HOLD_ALONG median {statistics.median(along):.2f}, max {max(along):.2f}"
+          f" ({holds - fallbacks} of {holds} took the path's decelerations); each axis on its own (same hold"
+          f" tick) median {statistics.median(apart):.1f}, max {max(apart):.1f}")
+
+
 def bench_avr() -> None:
     sys.path.insert(0, str(REPO / "tests" / "simavr"))
     import avr_sim
@@ -103,6 +153,7 @@ def main() -> None:
     parser.add_argument("--no-avr", action="store_true")
     args = parser.parse_args()
     bench_jog_latency(args.holds)
+    bench_feed_hold_path(args.holds)
     if not args.no_avr:
         bench_avr()
 

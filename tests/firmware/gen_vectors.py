@@ -31,6 +31,7 @@ MESSAGE_KEYS = {
     "STATUS": set(),
     "STOP": set(),
     "HOLD": {"decel"},
+    "HOLD_ALONG": {"decel", "path_decel", "first", "last"},
     "INPUTS": set(),
     "WATCHDOG": {"timeout_ms"},
     "PROBE": {"input", "level", "decel"},
@@ -57,6 +58,7 @@ MESSAGE_KEYS = {
 }
 EVENT_KEYS = {
     "HOLD_DONE": {"hold_tick", "motion_ticks", "position"},
+    "HOLD_DONE_ALONG": {"hold_tick", "motion_ticks", "position"},
     "INPUT": {"motion_ticks", "active", "changed", "cause", "position"},
     "PROBE_MISSED": {"motion_ticks", "position"},
 }
@@ -162,6 +164,12 @@ def other_message_fields(msg: dict, kind: str) -> list[str]:
         if len(msg["decel"]) != 4:
             raise VectorError("HOLD needs 4 decel values")
         out.append(".host = {.hold = {.decel = {%s}}}" % ", ".join(map(str, msg["decel"])))
+    elif kind == "HOLD_ALONG":
+        if len(msg["decel"]) != 4 or len(msg["path_decel"]) != 4:
+            raise VectorError("HOLD_ALONG needs 4 decel and 4 path_decel values")
+        out.append(".host = {.hold_along = {.hold = {.decel = {%s}}, .path = {.hold = {.decel = {%s}}, .first = %d, .last = %d}}}"
+                   % (", ".join(map(str, msg["decel"])), ", ".join(map(str, msg["path_decel"])), msg["first"],
+                      msg["last"]))
     elif kind == "WATCHDOG":
         out.append(".host = {.watchdog = {.timeout_ms = %d}}" % msg["timeout_ms"])
     elif kind == "PROBE":

@@ -20,6 +20,7 @@ typedef struct {
         qs_cubic_msg cubic;
         qs_set_position_msg set_position;
         qs_hold_msg hold;
+        qs_hold_along_msg hold_along;
         qs_probe_msg probe;
         qs_config_msg config;
         qs_watchdog_msg watchdog;
@@ -45,7 +46,7 @@ typedef struct {
     qs_status status;
     qs_error_report error;
     qs_alarm_report alarm;
-    struct { /* EVENT: HOLD_DONE, INPUT or PROBE_MISSED, by kind */
+    struct { /* EVENT: HOLD_DONE, HOLD_DONE_ALONG, INPUT or PROBE_MISSED, by kind */
         uint8_t kind;
         uint32_t hold_tick;
         uint32_t motion_ticks;

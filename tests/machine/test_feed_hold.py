@@ -17,7 +17,7 @@ from quadstep.link import Link
 from quadstep.machine import JobState, Machine
 from quadstep.machine.remainder import plan_remainder
 from quadstep.machine.units import hold_decels
-from quadstep.protocol import HoldDone, Input, InputCause, InputChange
+from quadstep.protocol import HoldDone, HoldDoneAlong, Input, InputCause, InputChange
 
 REPO = Path(__file__).resolve().parents[2]
 CONFIG = load_config(REPO / "examples" / "router-uno.toml")
@@ -40,7 +40,8 @@ def check_trace(trace: Path, plan, hold: HoldDone, program, run) -> None:  # noq
         assert [int(got[got[:, 1] == axis, 2].sum()) for axis in range(3)] == list(plan.end)
         return
     segments = list(plan.segments.segments())
-    stop = predict_hold(segments, hold.hold_tick, hold_decels(CONFIG), axis_count=3)
+    decels = run.last_rest.hold_decels or hold_decels(CONFIG)  # along the path, or the button's own
+    stop = predict_hold(segments, hold.hold_tick, decels, axis_count=3)
     assert stop.held is not None
     remainder = plan_remainder(program, plan, stop.held, tuple(stop.positions), "line")
     before = predict(segments, axis_count=3).steps
@@ -131,3 +132,44 @@ def test_quadstep_run_holds_on_sigusr1_and_resumes_on_sigusr2(start_emulator, tm
     out, err = cli.communicate(timeout=30)
     assert cli.returncode == 0, err
     assert "feed hold at line" in err and "every axis is exactly where the job put it" in out
+
+
+def off_the_line(position: tuple[int, ...] | list[int], end: tuple[int, ...]) -> float:
+    """Steps from `position` to the line from the origin to `end`, in the X Y plane."""
+    return abs(position[0] * end[1] - position[1] * end[0]) / float(np.hypot(end[0], end[1]))
+
+
+def test_a_feed_hold_on_a_diagonal_stops_on_its_line(start_emulator, tmp_path: Path) -> None:
+    """X three times as fast as Y: each axis braking on its own would leave the line by about 0.3 mm;
+    HOLD_ALONG stops both together on it, and the job goes on from there, exactly."""
+    path = tmp_path / "job.gcode"
+    path.write_text("G21 G90 F2400\nG1 X30 Y10\nG1 X0 Y0\n")
+    trace = tmp_path / "trace.csv"
+    emu = start_emulator(trace=trace, axes=3, tick_hz=CONFIG.tick_hz)
+    with Link.open(emu.url) as link:
+        machine = Machine(link, CONFIG)
+        job = load_job(path, CONFIG, machine.position)
+        corner = CONFIG.to_steps((30.0, 10.0, 0.0))
+        run = machine.run_job(job.plan, job.program)
+        time.sleep(0.4)  # mid-way along the diagonal, at full speed
+        assert run.feed_hold()
+        wait_until(lambda: run.held)
+        hold = link.last_report(HoldDone)
+        assert isinstance(hold, HoldDoneAlong), hold
+        rest = run.last_rest
+        assert rest is not None and rest.hold_decels is not None and rest.hold_tick == hold.hold_tick
+        own = hold_decels(CONFIG)
+        assert rest.hold_decels[0] == own[0] and rest.hold_decels[1] < own[1] / 2  # Y brakes gently
+        segments = list(job.plan.segments.segments())
+        along = predict_hold(segments, hold.hold_tick, rest.hold_decels, axis_count=3)
+        apart = predict_hold(segments, hold.hold_tick, own, axis_count=3)
+        assert tuple(along.positions) == tuple(hold.position)
+        assert 0 < hold.position[0] < corner[0]  # it stopped on the diagonal
+        assert off_the_line(hold.position, corner) <= 1.0
+        assert off_the_line(apart.positions, corner) > 50  # about 120 steps, each axis on its own
+        assert run.resume()
+        end = run.wait(30)
+        assert end is not None and end.ended_by == "done", end
+        assert machine.position == job.plan.end
+    emu.stop()
+    check_trace(trace, job.plan, hold, job.program, run)

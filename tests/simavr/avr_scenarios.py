@@ -231,12 +231,14 @@ def every_message_kind(axis_count: int, cubic: bool = True, pace: int = 0) -> by
 def hold_from_full_speed(axis_count: int, pad: int = 0, segments: int = 15) -> bytes:
     """Wire bytes (no flow control needed): `segments` segments of 300 ticks with every axis near full speed
     (the costliest hold to begin, and to run), then after `pad` empty frames (20 µs each on the line) a HOLD
-    at 800 / 2^24 step per tick² (about 20,000 ticks to rest)."""
-    from quadstep.protocol import Hold, encode
+    at 800 / 2^24 step per tick² (about 20,000 ticks to rest): a HOLD_ALONG naming every segment, as a
+    motion's halt sends (its path's decelerations the same, all axes moving alike)."""
+    from quadstep.protocol import HoldAlong, encode
 
     seg = Segment(n=300, axes=tuple(AxisMove(axis=a, direction=1, v0=D - 1, vn=D - 1, r=0) for a in range(axis_count)))
     job = b"\x00" + b"".join(encode(seg, i) for i in range(segments))
-    hold = Hold(decel=(800,) * axis_count + (0,) * (4 - axis_count))  # type: ignore[arg-type]
+    decel = (800,) * axis_count + (0,) * (4 - axis_count)
+    hold = HoldAlong(decel=decel, path_decel=decel, first=0, last=segments - 1)  # type: ignore[arg-type]
     return job + b"\x00" * pad + encode(hold, segments)
 
 

@@ -13,7 +13,7 @@ from hold_helpers import check_hold, planned_job
 from host_helpers import read_trace
 
 from quadstep.kernel.engine_model import predict_hold
-from quadstep.protocol import Decoder, Event, Hold, State, StatusReport, encode
+from quadstep.protocol import Decoder, Event, Hold, HoldAlong, HoldDone, HoldDoneAlong, State, StatusReport, encode
 from quadstep.kernel.fixed import DECEL_MAX
 
 import avr_scenarios
@@ -22,18 +22,14 @@ import avr_sim
 F_CPU = avr_sim.F_CPU
 
 
-@pytest.mark.parametrize("board, axes, queue", [("uno", 3, 16), ("mega", 4, 32)])
-def test_the_board_holds_exactly_as_predicted(avr_build: None, tmp_path: Path, board: str, axes: int,
-                                              queue: int) -> None:
-    rng = random.Random(board)
-    segments = planned_job(rng, 8000, axis_count=axes)
-    assert len(segments) <= queue  # all queued before the hold: the input has no flow control
-    decels = [rng.randint(800, DECEL_MAX) for _ in range(axes)]
+def held_on_board(tmp_path: Path, board: str, axes: int, segments: list, hold: Hold | HoldAlong,
+                  rng: random.Random) -> tuple[Event, avr_sim.Outputs]:
+    """`segments` queued, then `hold` mid-job, on the real firmware: its HOLD_DONE (checked to be the only
+    event, after the one HOLDING answer) and the run's outputs."""
     # Empty frames (lone delimiters, ignored) keep the line busy ~20 µs each: the HOLD arrives mid-job.
     pause = b"\x00" * rng.randint(2000, 4000)
     job = b"".join(encode(seg, seq) for seq, seg in enumerate(segments))
-    hold = encode(Hold(decel=tuple(decels + [0] * (4 - axes))), len(segments))  # type: ignore[arg-type]
-    (tmp_path / "input.bin").write_bytes(b"\x00" + job + pause + hold)
+    (tmp_path / "input.bin").write_bytes(b"\x00" + job + pause + encode(hold, len(segments)))
     outputs = avr_sim.Outputs.in_dir(tmp_path, board)
     # Not --exit-when-idle: the harness would take HOLDING for rest; 1.5 s of board time is plenty.
     subprocess.run([*avr_sim.harness(board), "--input", str(tmp_path / "input.bin"),
@@ -46,7 +42,19 @@ def test_the_board_holds_exactly_as_predicted(avr_build: None, tmp_path: Path, b
     # HOLDING from the HOLD on: the motion runs on through the hold's window, the queue goes at its end
     assert len(answers) == 1 and answers[0].state == State.HOLDING and answers[0].queue_fill >= 1
     assert len(events) == 1, replies[-3:]
-    done = events[0]
+    return events[0], outputs
+
+
+@pytest.mark.parametrize("board, axes, queue", [("uno", 3, 16), ("mega", 4, 32)])
+def test_the_board_holds_exactly_as_predicted(avr_build: None, tmp_path: Path, board: str, axes: int,
+                                              queue: int) -> None:
+    rng = random.Random(board)
+    segments = planned_job(rng, 8000, axis_count=axes)
+    assert len(segments) <= queue  # all queued before the hold: the input has no flow control
+    decels = [rng.randint(800, DECEL_MAX) for _ in range(axes)]
+    hold = Hold(decel=tuple(decels + [0] * (4 - axes)))  # type: ignore[arg-type]
+    done, outputs = held_on_board(tmp_path, board, axes, segments, hold, rng)
+    assert type(done) is HoldDone
     pred = predict_hold(segments, done.hold_tick, decels + [1] * (4 - axes), axis_count=axes)
     assert pred.held is not None and 0 < done.hold_tick
     check_hold(outputs.trace, segments, done, decels + [1] * (4 - axes), axis_count=axes)
@@ -55,6 +63,26 @@ def test_the_board_holds_exactly_as_predicted(avr_build: None, tmp_path: Path, b
     assert stats["motion"]["state"] == State.IDLE
     rows = read_trace(outputs.trace)
     assert stats["motion"]["steps"] == [int((rows[:, 1] == axis).sum()) for axis in range(axes)]
+
+
+@pytest.mark.parametrize("board, axes", [("uno", 3), ("mega", 4)])
+@pytest.mark.parametrize("named", [True, False])
+def test_hold_along_takes_the_path_decelerations_only_in_the_segments_it_names(
+        avr_build: None, tmp_path: Path, board: str, axes: int, named: bool) -> None:
+    """HOLD_ALONG naming every segment queued: its path's decelerations, and HOLD_DONE_ALONG; naming none of
+    them: the HOLD's, and HOLD_DONE. The steps are predict_hold's with the decelerations taken."""
+    rng = random.Random(f"{board} along")
+    segments = planned_job(rng, 8000, axis_count=axes)
+    assert len(segments) <= 16  # all queued before the hold (the Uno's queue)
+    decels = [rng.randint(800, DECEL_MAX) for _ in range(axes)]
+    path = [max(1, d // rng.randint(1, 5)) for d in decels]
+    first, last = (0, len(segments) - 1) if named else (len(segments), 1000)
+    hold = HoldAlong(decel=tuple(decels + [0] * (4 - axes)), path_decel=tuple(path + [0] * (4 - axes)),  # type: ignore[arg-type]
+                     first=first, last=last)
+    done, outputs = held_on_board(tmp_path, board, axes, segments, hold, rng)
+    assert isinstance(done, HoldDone) and isinstance(done, HoldDoneAlong) == named
+    taken = path if named else decels
+    check_hold(outputs.trace, segments, done, taken + [1] * (4 - axes), axis_count=axes)
 
 
 @pytest.mark.parametrize("tick_hz", [32_000, 40_000])
@@ -93,5 +121,6 @@ def test_holds_at_thirty_two_moments_lose_no_timer_period(avr_build: None, tmp_p
     # the hold (the rescale of h and of the increments), which lost 16 periods at 40 kHz; then 852, the
     # tick that loaded a segment and worked out the increments for it (a HOLD whose beginning fell in a
     # segment begun in its window), which lost one at 40 kHz; now the longest is the tick that plans the
-    # hold or the one that works out the increments
-    assert (lock, isr) == (200, {32_000: 773, 40_000: 766}[tick_hz])
+    # hold or the one that works out the increments (773 at 32 kHz with a HOLD, 766 with the HOLD_ALONG a
+    # motion sends: the main loop's few more cycles move where the HOLD falls in the tick)
+    assert (lock, isr) == (200, {32_000: 766, 40_000: 766}[tick_hz])

@@ -12,7 +12,7 @@ from .errors import (
     ProtocolVersionError,
     Stopped,
 )
-from .hold import hold, hold_async, hold_message
+from .hold import AlongPath, hold, hold_async, hold_message
 from .inputs import input_status, until_input, wait_rest
 from .ports import PortError, UsbBoard, auto_port, find_boards
 from .stats import LinkStats
@@ -20,6 +20,7 @@ from .window import SendWindow
 
 __all__ = [
     "AlarmError",
+    "AlongPath",
     "BoardReset",
     "BoardSilent",
     "PortError",

@@ -6,6 +6,10 @@ decelerates every moving axis and reports EVENT HOLD_DONE. A hold may take
 long, so the firmware is asked how it is going every `poll_interval`; once
 it is no longer holding, a HOLD_DONE lost on the wire is asked for again by
 repeating the HOLD (at rest the firmware repeats its report).
+
+A HOLD_ALONG stops along the path: the host gives, besides the HOLD's decelerations, those that
+stop the axes of a straight run of segments together on their line, and the board takes them where
+the hold begins in one of those segments (machine/along_path.py works them out).
 """
 
 from __future__ import annotations
@@ -14,12 +18,23 @@ import threading
 import time
 from collections.abc import Sequence
 from concurrent.futures import Future
+from dataclasses import dataclass
 
 from ..kernel.fixed import DECEL_MAX, MAX_AXES
-from ..protocol import ErrorCode, Hold, HoldDone, State, StatusReport
+from ..protocol import Capability, ErrorCode, Hold, HoldAlong, HoldDone, State, StatusReport
 from ..protocol.wire import four_axes
 from .connection import Link
 from .errors import AlarmError, FirmwareError, LinkError, LinkTimeout
+
+
+@dataclass(frozen=True)
+class AlongPath:
+    """Decelerations (one per firmware axis) that stop the segments whose done count (the board's
+    segments_done while each runs, mod 2^16) lies in `first` … `last` together on their line."""
+
+    decels: tuple[int, ...]
+    first: int
+    last: int
 
 
 def hold_message(decels: Sequence[int], axis_count: int) -> Hold:
@@ -41,8 +56,17 @@ def hold_message(decels: Sequence[int], axis_count: int) -> Hold:
     return Hold(decel=four_axes(values + [0] * (MAX_AXES - axis_count)))
 
 
-def hold(link: Link, decels: Sequence[int], timeout: float | None = None) -> HoldDone:
+def hold(
+    link: Link,
+    decels: Sequence[int],
+    timeout: float | None = None,
+    along: AlongPath | None = None,
+) -> HoldDone:
     """Decelerate every moving axis to rest and discard the queue; returns the HOLD_DONE event.
+
+    With `along` (to a board that stops along the path: Capability.STOPS_ALONG) a HOLD_ALONG: where
+    the hold begins in one of its segments the board takes `along.decels`, and the event is a
+    HoldDoneAlong.
 
     `decels`: per axis (or one for all) in 1/2^24 step per tick², 1..8191 (at 50 kHz one unit is
     about 149 steps/s²). The event gives `hold_tick` (the motion tick at which the deceleration
@@ -51,7 +75,20 @@ def hold(link: Link, decels: Sequence[int], timeout: float | None = None) -> Hol
     is or goes into ALARM instead (for a hold that found the queue run dry while moving),
     LinkTimeout after `timeout` seconds.
     """
-    message = hold_message(decels, link.axis_count)
+    message: Hold | HoldAlong = hold_message(decels, link.axis_count)
+    identity = link.identity
+    if (
+        along is not None
+        and identity is not None
+        and identity.capabilities & Capability.STOPS_ALONG
+    ):
+        path = hold_message(along.decels, link.axis_count)
+        message = HoldAlong(
+            decel=message.decel,
+            path_decel=path.decel,
+            first=along.first & 0xFFFF,
+            last=along.last & 0xFFFF,
+        )
     seen = link.report_count(HoldDone)
     try:
         _, generation = link.restart(message)
@@ -90,7 +127,7 @@ def _alarm_error(link: Link) -> LinkError:
 
 
 def _wait_hold_done(
-    link: Link, message: Hold, seen: int, generation: int, timeout: float | None
+    link: Link, message: Hold | HoldAlong, seen: int, generation: int, timeout: float | None
 ) -> HoldDone:
     deadline = None if timeout is None else time.monotonic() + timeout
     while True:

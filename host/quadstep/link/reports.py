@@ -149,6 +149,13 @@ class Inbox:
         self.expected_done = status.segments_done + status.queue_fill
         self.refused = None
 
+    def _keep(self, m: Alarm | Event) -> None:
+        """The latest report under every class it is (a HoldDoneAlong is a HoldDone too), and its
+        count."""
+        for cls in type(m).__mro__[: type(m).__mro__.index(Report)]:
+            self.latest[cls] = m
+            self.counts[cls] += 1
+
     def apply(self, frame: Frame) -> bool:
         """Apply one report; True if on_report callbacks want it."""
         m = frame.message
@@ -159,8 +166,7 @@ class Inbox:
             self._on_error(m)
             return True
         if isinstance(m, (Alarm, Event)):
-            self.latest[type(m)] = m
-            self.counts[type(m)] += 1
+            self._keep(m)
             if isinstance(m, InputChange):
                 self.input_changes.append(m)
                 if m.cause in (InputCause.TRIGGER, InputCause.FEED_HOLD):

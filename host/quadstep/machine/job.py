@@ -111,6 +111,8 @@ class JobRun:
         self._resume = threading.Event()
         self._ended = threading.Event()
         self._end: MotionEnd | None = None
+        # how the last leg came to rest (a feed hold, a queue run dry)
+        self._rest: MotionEnd | None = None
         self._halted: str | None = None  # the reason halt() was given
         self._motion: Motion | None = None
         self._offset = 0  # segments of the sections before the current one
@@ -172,6 +174,12 @@ class JobRun:
     @property
     def end(self) -> MotionEnd | None:
         return self._end
+
+    @property
+    def last_rest(self) -> MotionEnd | None:
+        """How the job last came to rest on the way (a feed hold: its hold_tick and decelerations),
+        if it has."""
+        return self._rest
 
     @property
     def feed_override(self) -> int:
@@ -349,6 +357,7 @@ class JobRun:
         """At rest after a feed hold (wait for resume()) or after the board ran dry (go on at once):
         plan what is left from here and stream it."""
         at = min(self._offset, len(self.plan) - 1)
+        self._rest = rest
         if rest.ended_by == STARVED:
             self.states.enter(JobState.STARVED)
             self.states.enter(JobState.RESUMING)

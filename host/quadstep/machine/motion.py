@@ -20,13 +20,14 @@ from itertools import accumulate, islice
 from typing import Protocol
 
 from ..kernel.fixed import DECEL_MAX
-from ..link import AlarmError, Link, LinkError, Stopped, hold, wait_rest
+from ..link import AlarmError, AlongPath, Link, LinkError, Stopped, hold, wait_rest
 from ..link.errors import status_alarm
 from ..protocol import (
     AckReason,
     Capability,
     CubicSegment,
     HoldDone,
+    HoldDoneAlong,
     IdentifyReply,
     InputCause,
     Outputs,
@@ -38,6 +39,7 @@ from ..protocol.frames import next_frame, run_limit
 from ..protocol.messages import queue_slots
 from ..protocol.raster import ring_fits
 from ..protocol.segment_run import RunChain
+from .along_path import along_path
 
 # Keep at least this many segments queued, whatever the lookahead, so the board
 # always has the next one when a segment ends.
@@ -67,6 +69,9 @@ class MotionEnd:
     held: bool = False  # brought to rest by HOLD (controlled deceleration)
     hold_tick: int | None = None  # motion tick at which the deceleration began
     error: str | None = None
+    # halt()'s hold: the decelerations it used, one per firmware axis (along the path, or each
+    # axis's own: engine_model.predict_hold reproduces every step from them and hold_tick)
+    hold_decels: tuple[int, ...] | None = None
 
 
 @dataclass(frozen=True)
@@ -76,6 +81,7 @@ class Rest:
     position: tuple[int, ...]
     held: bool
     hold_tick: int | None
+    decels: tuple[int, ...] | None = None  # a HOLD's, one per firmware axis, as the board used them
 
 
 def board_run_limit(identity: IdentifyReply) -> int:
@@ -129,16 +135,20 @@ def supports_hold(link: Link) -> bool:
     return ident is not None and bool(ident.capabilities & Capability.HOLD)
 
 
-def bring_to_rest(link: Link, decels: Sequence[int]) -> Rest:
-    """HOLD: decelerate every axis to rest and drop the queued tail; STOP where the firmware has no
-    HOLD.
+def firmware_decels(link: Link, decels: Sequence[int]) -> tuple[int, ...]:
+    """`decels` (the planned axes') for every axis the firmware has: the others stand still and
+    get the largest."""
+    return tuple(decels[: link.axis_count]) + (DECEL_MAX,) * (link.axis_count - len(decels))
 
-    `decels` covers the planned axes; the firmware's others stand still and get the largest.
-    """
+
+def bring_to_rest(link: Link, decels: Sequence[int], along: AlongPath | None = None) -> Rest:
+    """HOLD (HOLD_ALONG with `along`): decelerate every axis to rest and drop the queued tail;
+    STOP where the firmware has no HOLD. `decels` covers the planned axes (firmware_decels)."""
     if supports_hold(link):
-        per_axis = list(decels[: link.axis_count]) + [DECEL_MAX] * (link.axis_count - len(decels))
-        done = hold(link, per_axis)
-        return Rest(tuple(done.position), True, done.hold_tick)
+        per_axis = firmware_decels(link, decels)
+        done = hold(link, per_axis, along=along)
+        used = along.decels if along is not None and isinstance(done, HoldDoneAlong) else per_axis
+        return Rest(tuple(done.position), True, done.hold_tick, used)
     status = link.stop()
     return Rest(tuple(status.position), False, None)
 
@@ -321,7 +331,7 @@ class Motion:
         self._space.set()
         done = self.done
         try:
-            rest = bring_to_rest(self.link, self.decels)
+            rest = bring_to_rest(self.link, self.decels, self._along_path(done))
         except AlarmError as exc:  # the board had halted on an alarm already
             end = self._after_alarm(exc)
             end = MotionEnd(reason, end.position, done, stop_ns, error=end.error)
@@ -329,10 +339,26 @@ class Motion:
             end = MotionEnd("error", (), done, stop_ns, error=f"could not stop the motion: {exc}")
         else:
             end = MotionEnd(
-                reason, self._axes(rest.position), done, stop_ns, rest.held, rest.hold_tick
+                reason,
+                self._axes(rest.position),
+                done,
+                stop_ns,
+                rest.held,
+                rest.hold_tick,
+                hold_decels=rest.decels,
             )
         self._finish(end, from_halt=True)
         return end
+
+    def _along_path(self, done: int) -> AlongPath | None:
+        """The stop along the path (along_path.py) for a HOLD now, with `done` segments of this
+        motion run."""
+        if not supports_hold(self.link):
+            return None
+        with self._lock:
+            segments, first, sent = self.segments, self.first, self._sent
+        decels = firmware_decels(self.link, self.decels)
+        return along_path(segments, first + done, first + sent, self._base_done + done, decels)
 
     # --- the streaming thread --------------------------------------------------------
 

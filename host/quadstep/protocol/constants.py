@@ -189,6 +189,7 @@ class Capability(IntFlag):
     CUBIC_RUNS = 1 << 12  # chained cubic segments, several to a frame (CUBIC_SEGMENTS)
     STARVATION_PAUSES = 1 << 13  # an underrun ends in STARVED, not in an alarm
     RASTER = 1 << 14  # laser lines with a power per pixel (RASTER)
+    STOPS_ALONG = 1 << 15  # holds along the path (HOLD_ALONG, EVENT HOLD_DONE_ALONG)
 
 
 class Output(IntFlag):

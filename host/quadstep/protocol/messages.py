@@ -109,6 +109,26 @@ class Hold(Request):
         _check_decel(raw["decel"], axis_count)
 
 
+@message(0x08, "HOLD_ALONG")
+class HoldAlong(Request):
+    """A HOLD that stops along the path (PROTOCOL.md §5.1): where the hold begins in a segment whose
+    done count (segments_done mod 2^16 while it runs) lies in `first` … `last`, the board takes
+    `path_decel`, decelerations in proportion to those segments' speeds on each axis, so that the
+    axes stop together on their line; elsewhere `decel`, as HOLD. Its HOLD_DONE says which
+    (HoldDoneAlong for `path_decel`)."""
+
+    decel: Decels
+    path_decel: Decels
+    first: U16
+    last: U16
+
+    @classmethod
+    def check_wire(cls, raw: dict[str, Any], axis_count: int) -> None:
+        """Both sets of decelerations by HOLD's rule, the HOLD's first."""
+        _check_decel(raw["decel"], axis_count)
+        _check_decel(raw["path_decel"], axis_count)
+
+
 def _check_decel(values: Any, axis_count: int) -> None:
     """HOLD's rule: 1..DECEL_MAX for every axis the firmware has, 0 for the others, axis by axis."""
     for axis, d in enumerate(values):
@@ -341,6 +361,11 @@ class HoldDone(Event):
     position: Positions
 
 
+@event_kind(4, "HOLD_DONE_ALONG")
+class HoldDoneAlong(HoldDone):
+    """HOLD_DONE of a hold begun with a HOLD_ALONG's path decelerations."""
+
+
 @message(0x86, "INPUT_STATUS")
 class InputStatus(Report):
     """The inputs now: which the firmware has, which are active, the raw pin levels (bit set: high),
@@ -450,7 +475,9 @@ __all__ = [
     "Event",
     "EventKind",
     "Hold",
+    "HoldAlong",
     "HoldDone",
+    "HoldDoneAlong",
     "Identify",
     "IdentifyReply",
     "InputChange",

@@ -385,7 +385,7 @@ static void test_a_hold_from_a_cubic_state_follows_its_closed_form(void)
             i += d;
             d += m.r[0];
         }
-        TEST_ASSERT_EQUAL_INT(QS_HOLD_STARTED, qs_engine_hold(&engine, decels));
+        TEST_ASSERT_EQUAL_INT(QS_HOLD_STARTED, qs_engine_hold(&engine, decels, 0));
         /* The motion runs on through the hold's window, then the hold begins. */
         for (t = 0; t < QS_TRIGGER_TICKS; t++) {
             uint8_t s = qs_engine_tick(&engine) & 1;

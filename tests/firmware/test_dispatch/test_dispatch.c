@@ -176,8 +176,9 @@ static void test_identify_reports_what_the_firmware_is(void)
     TEST_ASSERT_EQUAL_INT(1022, tp_u16(p + 8));
     TEST_ASSERT_EQUAL_UINT32(40000, tp_u32(p + 10));
     /* quadratic, set position, hold; limit, probe and control inputs, homing; cubic; controlled stops;
-     * outputs; chained segments (SEGMENTS, CUBIC_SEGMENTS); starvation pauses; RASTER where it is built */
-    TEST_ASSERT_EQUAL_HEX16(QS_RASTER_BYTES ? 0x7FF7 : 0x3FF7, tp_u16(p + 14));
+     * outputs; chained segments (SEGMENTS, CUBIC_SEGMENTS); starvation pauses; RASTER where it is built;
+     * stops along the path */
+    TEST_ASSERT_EQUAL_HEX16(QS_RASTER_BYTES ? 0xFFF7 : 0xBFF7, tp_u16(p + 14));
     TEST_ASSERT_EQUAL_INT(9, p[16]);
     TEST_ASSERT_EQUAL_HEX16(0xBEEF, tp_u16(p + 17));
     TEST_ASSERT_EQUAL_INT(QS_RASTER_BYTES, tp_u16(p + 19));

@@ -95,7 +95,7 @@ static void enqueue(const qs_segment_msg *m)
  * at rest ends as a hold found at rest (QS_HOLD_AT_REST). */
 static uint8_t hold_through_window(const uint16_t *decel, uint16_t *t)
 {
-    uint8_t outcome = qs_engine_hold(&engine, decel);
+    uint8_t outcome = qs_engine_hold(&engine, decel, 0);
 
     while (engine.trigger_window) {
         qs_engine_tick(&engine);
@@ -356,7 +356,7 @@ static void test_positions_are_exact_at_every_tick_of_a_hold(void)
         counted -= qs_engine_tick(&engine) & 1;
         ticks++;
     }
-    TEST_ASSERT_EQUAL_INT(QS_HOLD_STARTED, qs_engine_hold(&engine, decel));
+    TEST_ASSERT_EQUAL_INT(QS_HOLD_STARTED, qs_engine_hold(&engine, decel, 0));
     while (engine.state == QS_STATE_HOLDING || engine.trigger_window) {
         qs_engine_read(&engine, &v);
         TEST_ASSERT_EQUAL_INT32(counted, v.position[0]);
@@ -395,7 +395,7 @@ static void test_positions_are_exact_through_long_holds(void)
             m.vn[axis] = (uint16_t)(D - 200 * axis - 7 * c);
         }
         enqueue(&m);
-        TEST_ASSERT_EQUAL_INT(QS_HOLD_STARTED, qs_engine_hold(&engine, decels[c]));
+        TEST_ASSERT_EQUAL_INT(QS_HOLD_STARTED, qs_engine_hold(&engine, decels[c], 0));
         while (engine.state == QS_STATE_HOLDING || engine.trigger_window) {
             if (ticks % 997 == 0) {
                 qs_engine_read(&engine, &v);
@@ -556,7 +556,7 @@ static void test_hold_at_boundaries_and_in_every_state(void)
     qs_engine_view v;
     uint16_t t;
 
-    TEST_ASSERT_EQUAL_INT(QS_HOLD_AT_REST, qs_engine_hold(&engine, decel));
+    TEST_ASSERT_EQUAL_INT(QS_HOLD_AT_REST, qs_engine_hold(&engine, decel, 0));
     TEST_ASSERT_TRUE(engine.hold_report);
     engine.hold_report = 0;
 
@@ -570,7 +570,7 @@ static void test_hold_at_boundaries_and_in_every_state(void)
     /* The window begins b and holds it after its first 12 decisions. */
     TEST_ASSERT_EQUAL_INT(QS_HOLD_STARTED, hold_through_window(decel, &t));
     TEST_ASSERT_EQUAL_UINT16(10 + QS_TRIGGER_TICKS, t);
-    TEST_ASSERT_EQUAL_INT(QS_HOLD_UNDER_WAY, qs_engine_hold(&engine, decel));
+    TEST_ASSERT_EQUAL_INT(QS_HOLD_UNDER_WAY, qs_engine_hold(&engine, decel, 0));
     run_hold_checked(&b, QS_TRIGGER_TICKS, decel, made);
     qs_engine_retire(&engine);
     TEST_ASSERT_EQUAL_UINT32(10 + QS_TRIGGER_TICKS, engine.hold_tick);
@@ -585,7 +585,7 @@ static void test_hold_at_boundaries_and_in_every_state(void)
         qs_engine_tick(&engine);
     TEST_ASSERT_TRUE(engine.kept);
     /* From a kept slot's end: the next tick begins the hold there. */
-    TEST_ASSERT_EQUAL_INT(QS_HOLD_STARTED, qs_engine_hold(&engine, decel));
+    TEST_ASSERT_EQUAL_INT(QS_HOLD_STARTED, qs_engine_hold(&engine, decel, 0));
     run_hold_from(&a, 10, decel, made, 1);
     qs_engine_retire(&engine);
     TEST_ASSERT_EQUAL_UINT32(10, engine.hold_tick);
@@ -596,7 +596,7 @@ static void test_hold_at_boundaries_and_in_every_state(void)
     TEST_ASSERT_EQUAL_UINT32(1, v.segments_done); /* it ran whole before the hold */
 
     qs_engine_halt(&engine, QS_STATE_ALARM, QS_ALARM_REJECTED_SEGMENT);
-    TEST_ASSERT_EQUAL_INT(QS_HOLD_IN_ALARM, qs_engine_hold(&engine, decel));
+    TEST_ASSERT_EQUAL_INT(QS_HOLD_IN_ALARM, qs_engine_hold(&engine, decel, 0));
     TEST_ASSERT_EQUAL_INT(QS_STATE_ALARM, engine.state);
 }
 
@@ -678,7 +678,7 @@ static void test_halt_during_a_hold_keeps_exact_positions(void)
     enqueue(&m);
     for (i = 0; i < 100; i++)
         counted += (qs_engine_tick(&engine) >> 2) & 1;
-    TEST_ASSERT_EQUAL_INT(QS_HOLD_STARTED, qs_engine_hold(&engine, decel));
+    TEST_ASSERT_EQUAL_INT(QS_HOLD_STARTED, qs_engine_hold(&engine, decel, 0));
     for (i = 0; i < 5000; i++)
         counted += (qs_engine_tick(&engine) >> 2) & 1;
     TEST_ASSERT_EQUAL_INT(QS_STATE_HOLDING, engine.state);
@@ -716,7 +716,7 @@ static void test_an_alarm_during_a_hold_keeps_exact_positions(void)
     m.v0[1] = m.vn[1] = 4000;
     m.v0[2] = m.vn[2] = 2500;
     enqueue(&m);
-    TEST_ASSERT_EQUAL_INT(QS_HOLD_STARTED, qs_engine_hold(&engine, decel));
+    TEST_ASSERT_EQUAL_INT(QS_HOLD_STARTED, qs_engine_hold(&engine, decel, 0));
     while (ticks < 400) {
         bits = qs_engine_tick(&engine);
         for (axis = 0; axis < QS_AXIS_COUNT; axis++)
@@ -739,6 +739,49 @@ static void test_an_alarm_during_a_hold_keeps_exact_positions(void)
         TEST_ASSERT_EQUAL_INT32(counted[axis], v.position[axis]);
 }
 
+/* HOLD_ALONG's decelerations are taken only where the hold's window opens
+ * in a segment they name, with at least QS_TRIGGER_TICKS + 2 ticks of it left
+ * (so that the hold begins inside it); the done counts compare mod 2^16. */
+static void test_hold_along_takes_its_decelerations_only_inside_the_segments_it_names(void)
+{
+    static const uint16_t decel[QS_PROTOCOL_AXES] = {3000, 3000, 3000, 3000};
+    qs_path_hold path = {{{1000, 333, 1, 2000}}, 65535, 1};
+    qs_segment_msg a = {0};
+    uint16_t left;
+    uint8_t axis;
+
+    a.n = 100;
+    a.active = 1;
+    a.v0[0] = a.vn[0] = 2000;
+    for (left = 12; left <= 16; left++) {
+        uint16_t ran;
+        qs_engine_init(&engine, QS_QUEUE_CAPACITY);
+        engine.segments_done = 65536; /* 0 mod 2^16, between first and last */
+        enqueue(&a);
+        enqueue(&a);
+        for (ran = 0; ran < a.n - left; ran++)
+            qs_engine_tick(&engine);
+        TEST_ASSERT_EQUAL_UINT16(left, engine.left);
+        TEST_ASSERT_EQUAL_INT(QS_HOLD_STARTED, qs_engine_hold(&engine, decel, &path));
+        TEST_ASSERT_EQUAL_INT(left >= QS_TRIGGER_TICKS + 2, engine.hold_along);
+        for (axis = 0; axis < QS_AXIS_COUNT; axis++)
+            TEST_ASSERT_EQUAL_UINT16(engine.hold_along ? path.hold.decel[axis] : decel[axis],
+                                     engine.trigger_decel[axis]);
+    }
+    /* A running segment the path does not name: the HOLD's own. */
+    qs_engine_init(&engine, QS_QUEUE_CAPACITY);
+    engine.segments_done = 2;
+    enqueue(&a);
+    qs_engine_tick(&engine);
+    TEST_ASSERT_EQUAL_INT(QS_HOLD_STARTED, qs_engine_hold(&engine, decel, &path));
+    TEST_ASSERT_EQUAL_INT(0, engine.hold_along);
+    TEST_ASSERT_EQUAL_UINT16(decel[0], engine.trigger_decel[0]);
+    /* Segments queued after a hold: the next stop is the board's own until a HOLD_ALONG says otherwise. */
+    engine.hold_along = 1;
+    qs_engine_note_prepared(&engine, qs_queue_back(&engine.queue));
+    TEST_ASSERT_EQUAL_INT(0, engine.hold_along);
+}
+
 int main(void)
 {
     UNITY_BEGIN();
@@ -754,5 +797,6 @@ int main(void)
     RUN_TEST(test_hold_at_boundaries_and_in_every_state);
     RUN_TEST(test_an_underrun_holds_from_the_end_of_the_last_segment);
     RUN_TEST(test_halt_during_a_hold_keeps_exact_positions);
+    RUN_TEST(test_hold_along_takes_its_decelerations_only_inside_the_segments_it_names);
     return UNITY_END();
 }

@@ -232,7 +232,7 @@ static void test_latched_positions_are_exact_at_any_tick(void)
                 tick(&a, toggle);
             }
             if (!held && tp_rand(3000) == 0) {
-                qs_engine_hold(&a.e, decel4);
+                qs_engine_hold(&a.e, decel4, 0);
                 held = 1;
             }
         }
@@ -293,7 +293,7 @@ static void test_abort_freezes_even_during_a_hold(void)
     enqueue(&a, &m);
     enqueue(&a, &m);
     run(&a, 200, IDLE_RAW);
-    qs_engine_hold(&a.e, decel4);
+    qs_engine_hold(&a.e, decel4, 0);
     run(&a, 100, IDLE_RAW);
     TEST_ASSERT_EQUAL_INT(QS_STATE_HOLDING, a.e.state);
     memcpy(at, a.position, sizeof at);
@@ -338,7 +338,7 @@ static void test_an_armed_edge_begins_the_hold_a_hold_at_that_tick_would(void)
             uint8_t k;
             memcpy(at, a.position, sizeof at);
             /* A HOLD at that tick takes the same window. */
-            qs_engine_hold(&b.e, decel4);
+            qs_engine_hold(&b.e, decel4, 0);
             for (k = 0; k < QS_TRIGGER_TICKS && b.e.state == QS_STATE_RUNNING; k++) {
                 TEST_ASSERT_EQUAL_HEX8(tick(&b, IDLE_RAW), tick(&a, IDLE_RAW & ~BIT(input)));
             }

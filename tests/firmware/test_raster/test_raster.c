@@ -230,7 +230,7 @@ static void test_a_hold_in_a_line_goes_dark_where_it_begins(void)
         qs_core_poll(&core);
     }
     TEST_ASSERT_TRUE(qs_raster_lit(&core.raster));
-    TEST_ASSERT_EQUAL_INT(QS_HOLD_STARTED, qs_engine_hold(&core.engine, decel));
+    TEST_ASSERT_EQUAL_INT(QS_HOLD_STARTED, qs_engine_hold(&core.engine, decel, 0));
     while (core.engine.state == QS_STATE_RUNNING) {
         TEST_ASSERT_TRUE(qs_raster_lit(&core.raster)); /* the window: still the line's */
         TEST_ASSERT_TRUE(test_laser_power > 0);

@@ -79,6 +79,8 @@ static uint8_t parse(const uint8_t *body, uint8_t len, qs_host_msg *m)
         return qs_msg_parse_empty(plen);
     case QS_TYPE_HOLD:
         return qs_msg_parse_hold(p, plen, &m->as.hold);
+    case QS_TYPE_HOLD_ALONG:
+        return qs_msg_parse_hold_along(p, plen, &m->as.hold_along);
     case QS_TYPE_WATCHDOG:
         return qs_msg_parse_watchdog(p, plen, &m->as.watchdog);
     case QS_TYPE_PROBE:
@@ -219,6 +221,10 @@ static uint8_t decode(const qs_vector *v, qs_host_msg *m, qs_fault *f)
         qs_cubic_reset(&chain);
         return qs_cubic_prepare(&chain, &slot, &m->as.cubic, v->axis_count, f);
     }
+    if (m->type == QS_TYPE_HOLD_ALONG && qs_msg_check_hold(&m->as.hold_along.hold, v->axis_count, f) != QS_ERR_NONE)
+        return f->code;
+    if (m->type == QS_TYPE_HOLD_ALONG)
+        return qs_msg_check_hold(&m->as.hold_along.path.hold, v->axis_count, f);
     if (m->type == QS_TYPE_HOLD)
         return qs_msg_check_hold(&m->as.hold, v->axis_count, f);
     if (m->type == QS_TYPE_PROBE)
@@ -291,9 +297,16 @@ static void check_host_message(const qs_vector *v, const qs_host_msg *m)
         TEST_ASSERT_EQUAL_HEX8_MESSAGE(e->mask, a->mask, at(v, "mask"));
         for (axis = 0; axis < QS_PROTOCOL_AXES; axis++)
             TEST_ASSERT_EQUAL_INT_MESSAGE(e->position[axis], a->position[axis], at(v, "position"));
-    } else if (m->type == QS_TYPE_HOLD) {
+    } else if (m->type == QS_TYPE_HOLD || m->type == QS_TYPE_HOLD_ALONG) {
         for (axis = 0; axis < QS_PROTOCOL_AXES; axis++)
             TEST_ASSERT_EQUAL_UINT16_MESSAGE(v->host.hold.decel[axis], m->as.hold.decel[axis], at(v, "decel"));
+        if (m->type == QS_TYPE_HOLD_ALONG) {
+            const qs_path_hold *e = &v->host.hold_along.path, *a = &m->as.hold_along.path;
+            for (axis = 0; axis < QS_PROTOCOL_AXES; axis++)
+                TEST_ASSERT_EQUAL_UINT16_MESSAGE(e->hold.decel[axis], a->hold.decel[axis], at(v, "path decel"));
+            TEST_ASSERT_EQUAL_UINT16_MESSAGE(e->first, a->first, at(v, "first"));
+            TEST_ASSERT_EQUAL_UINT16_MESSAGE(e->last, a->last, at(v, "last"));
+        }
     } else if (m->type == QS_TYPE_PROBE) {
         TEST_ASSERT_EQUAL_UINT8_MESSAGE(v->host.probe.input, m->as.probe.input, at(v, "input"));
         TEST_ASSERT_EQUAL_UINT8_MESSAGE(v->host.probe.level, m->as.probe.level, at(v, "level"));
@@ -346,12 +359,13 @@ static void check_core_accepts(const qs_vector *v)
     for (i = 0; i < v->frame_len; i++)
         qs_core_rx(&core, v->frame[i]);
     count = tp_reports(r, 4);
-    TEST_ASSERT_EQUAL_INT_MESSAGE(v->type == QS_TYPE_HOLD ? 2 : 1, count, at(v, "number of reports"));
+    TEST_ASSERT_EQUAL_INT_MESSAGE(v->type == QS_TYPE_HOLD || v->type == QS_TYPE_HOLD_ALONG ? 2 : 1, count, at(v, "number of reports"));
     TEST_ASSERT_EQUAL_HEX8_MESSAGE(expect, r[0].type, at(v, "report type"));
     TEST_ASSERT_EQUAL_UINT8_MESSAGE(v->seq, r[0].seq, at(v, "report seq"));
     if (expect == QS_TYPE_ACK)
         TEST_ASSERT_EQUAL_INT_MESSAGE(QS_ACK_ACCEPTED, tp_ack(&r[0]).reason, at(v, "ack reason"));
-    if (v->type == QS_TYPE_HOLD) {
+    if (v->type == QS_TYPE_HOLD || v->type == QS_TYPE_HOLD_ALONG) {
+        /* at rest: nothing to scale, an ordinary HOLD_DONE */
         TEST_ASSERT_EQUAL_HEX8_MESSAGE(QS_TYPE_EVENT, r[1].type, at(v, "HOLD_DONE"));
         TEST_ASSERT_EQUAL_INT_MESSAGE(QS_EVENT_HOLD_DONE, r[1].payload[0], at(v, "event kind"));
     }
@@ -483,8 +497,9 @@ static void test_reports_encode_to_exactly_the_listed_bytes(void)
                 len = qs_msg_encode_probe_missed(body, v->seq, v->event.motion_ticks, v->event.axis_count,
                                                  v->event.position);
             } else {
-                TEST_ASSERT_EQUAL_INT_MESSAGE(QS_EVENT_HOLD_DONE, v->event.kind, at(v, "event kind"));
-                len = qs_msg_encode_hold_done(body, v->seq, v->event.hold_tick, v->event.motion_ticks,
+                TEST_ASSERT_TRUE_MESSAGE(v->event.kind == QS_EVENT_HOLD_DONE || v->event.kind == QS_EVENT_HOLD_DONE_ALONG,
+                                         at(v, "event kind"));
+                len = qs_msg_encode_hold_done(body, v->seq, v->event.kind, v->event.hold_tick, v->event.motion_ticks,
                                               v->event.axis_count, v->event.position);
             }
             break;
