@@ -45,7 +45,7 @@ AVR_MEGA_DEFINES := -DQS_BOARD=2 -DQS_AXIS_COUNT=4 -DQS_QUEUE_CAPACITY=32 -DQS_T
 # The flags PlatformIO's bare atmelavr build uses, plus strict warnings.
 AVR_CFLAGS := -std=gnu11 -Os -Wall -Wextra -Werror -ffunction-sections -fdata-sections \
 	-flto -fno-fat-lto-objects -g
-AVR_LDFLAGS := -Os -Wl,--gc-sections -flto -fuse-linker-plugin -Wl,--undefined=qs_debug_probe
+AVR_LDFLAGS := -Os -Wl,--gc-sections -Wl,--relax -flto -fuse-linker-plugin -Wl,--undefined=qs_debug_probe
 
 .PHONY: firmware print-avr-vars avr-disasm avr-flags-changed
 

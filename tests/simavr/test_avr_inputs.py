@@ -146,8 +146,8 @@ def test_a_trigger_loses_no_tick(avr_build: None, tmp_path: Path, axes: int) -> 
     assert stats["motion"]["ticks_missed"] == 0
     assert stats["motion"]["tick_late_max"] < stats["tick_cycles"]
     # The longest tick interrupt, the trigger's (it was 1,483 and 1,712 cycles with the hold planned and begun
-    # in it, and one or two timer periods lost).
-    assert stats["isr"]["timer"]["max"] == {1: 831, 3: 917}[axes]
+    # in it, and one or two timer periods lost; 831 and 917 before the link relaxed its calls).
+    assert stats["isr"]["timer"]["max"] == {1: 826, 3: 912}[axes]
 
 
 def test_sampling_the_inputs_costs_the_tick_three_cycles(avr_build: None, tmp_path: Path) -> None:
