@@ -426,11 +426,22 @@ static QS_ALWAYS_INLINE uint8_t open_hold_window(qs_engine *e);
 /* A hold begins through the window a trigger's hold takes (qs_engine.h):
  * the motion runs on for QS_TRIGGER_TICKS decisions while the tick plans
  * it, then the tick begins it, so that no tick runs twice its length.
- * The lock here only copies the decelerations and opens the window. A
- * window opened with QS_PATH_LEFT_MIN decisions or more left in the running
- * slot begins the hold inside that slot (QS_TRIGGER_TICKS on, and each cut
- * before it leaves more than a decision). */
-#define QS_PATH_LEFT_MIN (QS_TRIGGER_TICKS + 2)
+ * The lock here only copies the decelerations and opens the window. */
+
+/* Whether a HOLD_ALONG's decelerations are for the slot its hold will begin
+ * in (QS_PATH_LEFT_MIN, qs_engine.h): one whose done count lies in first ...
+ * last. With the tick locked out, while RUNNING. */
+static uint8_t path_holds(qs_engine *e, const qs_path_hold *path)
+{
+    qs_queue *q = &e->queue;
+    const uint8_t next = qs_queue_next(q, q->tail); /* the running slot keeps tail until it ends */
+    const uint16_t span = (uint16_t)(path->last - path->first);
+    const uint16_t done = (uint16_t)((uint16_t)e->segments_done - path->first);
+
+    if (e->left >= QS_PATH_LEFT_MIN || (e->left && next == q->head))
+        return done <= span;
+    return e->left && done < span && qs_queue_at(q, next)->n >= QS_PATH_NEXT_MIN;
+}
 
 QS_NOINLINE uint8_t qs_engine_hold(qs_engine *e, const uint16_t *decel, const qs_path_hold *path)
 {
@@ -442,9 +453,8 @@ QS_NOINLINE uint8_t qs_engine_hold(qs_engine *e, const uint16_t *decel, const qs
         outcome = QS_HOLD_UNDER_WAY; /* a hold's window is open: that hold answers for this one */
     } else if (e->state == QS_STATE_RUNNING) {
         /* The path's decelerations where the hold begins in a segment they
-         * were given for: in the running one, with the window inside it. */
-        e->hold_along = path && e->left >= QS_PATH_LEFT_MIN
-                        && (uint16_t)((uint16_t)e->segments_done - path->first) <= (uint16_t)(path->last - path->first);
+         * were given for. */
+        e->hold_along = path && path_holds(e, path);
         if (e->hold_along)
             decel = path->hold.decel;
         for (axis = 0; axis < QS_AXIS_COUNT; axis++)

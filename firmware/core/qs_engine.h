@@ -142,6 +142,16 @@ uint8_t qs_engine_set_positions(qs_engine *e, uint8_t mask, const int32_t *posit
 
 void qs_engine_read(qs_engine *e, qs_engine_view *v);
 
+/* A hold's window opened with QS_PATH_LEFT_MIN decisions or more left in
+ * the running slot begins the hold inside that slot (QS_TRIGGER_TICKS on,
+ * and each cut before it leaves more than a decision); with fewer, in the
+ * next slot, within its first 20 decisions (its work waits for the third,
+ * and a plan for its length, then the increments, take 3 more each), so
+ * inside it where it lasts QS_PATH_NEXT_MIN ticks; or at the running slot's
+ * end where none follows. */
+#define QS_PATH_LEFT_MIN (QS_TRIGGER_TICKS + 2)
+#define QS_PATH_NEXT_MIN 32
+
 /* Decelerate every moving axis to rest, decel[axis] in 2^-24 step per
  * tick^2 (checked by qs_msg_check_hold), starting at the current tick
  * boundary, and discard the queued segments; with HOLD_ALONG's decelerations

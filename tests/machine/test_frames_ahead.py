@@ -9,12 +9,12 @@ import threading
 from pathlib import Path
 
 import pytest
-from host_helpers import assert_trace_is_prediction
+from host_helpers import assert_trace_is_prediction, read_trace
 
 from quadstep.config import load_config
 from quadstep.gcode.interpreter import parse_gcode
 from quadstep.link import Link
-from quadstep.machine import Machine
+from quadstep.machine import JobState, Machine
 from quadstep.machine.motion import AHEAD_S, AHEAD_SLOTS, fits_queue
 from quadstep.planner.plan import plan_program
 from quadstep.protocol import IdentifyReply
@@ -49,7 +49,9 @@ def test_a_job_of_short_chords_keeps_frames_waiting_beyond_an_unos_queue(
     start_emulator, tmp_path: Path
 ) -> None:
     """0.05 mm chords at 40 mm/s (1.3 ms each) on an Uno's 14 slots in real time: the link's window
-    holds more unacknowledged frames than the board has slots, and the steps are the plan's."""
+    holds more unacknowledged frames than the board has slots, and the steps are the plan's (where a
+    computer busy enough let the board run dry on the way, it braked past what it was sent and the job
+    came back from there: then the steps add up to the plan's end)."""
     emu = start_emulator(axes=3, tick_hz=CONFIG.tick_hz, queue=14, trace=tmp_path / "trace.csv")
     with Link.open(emu.url) as link:
         machine = Machine(link, CONFIG)
@@ -64,7 +66,8 @@ def test_a_job_of_short_chords_keeps_frames_waiting_beyond_an_unos_queue(
         watcher = threading.Thread(target=watch)
         watcher.start()
         try:
-            end = machine.run_job(plan, program).wait(60)
+            run = machine.run_job(plan, program)
+            end = run.wait(60)
         finally:
             done.set()
             watcher.join()
@@ -72,5 +75,9 @@ def test_a_job_of_short_chords_keeps_frames_waiting_beyond_an_unos_queue(
         assert tuple(link.status().position[:3]) == plan.end
     assert most[0] > 14
     emu.stop()
+    if JobState.STARVED in run.states.history:
+        got = read_trace(emu.trace)
+        assert [int(got[got[:, 1] == axis, 2].sum()) for axis in range(3)] == list(plan.end)
+        return
     steps = plan.segments.segments()
     assert_trace_is_prediction(emu.trace, steps, axis_count=3)  # type: ignore[arg-type]

@@ -739,43 +739,61 @@ static void test_an_alarm_during_a_hold_keeps_exact_positions(void)
         TEST_ASSERT_EQUAL_INT32(counted[axis], v.position[axis]);
 }
 
-/* HOLD_ALONG's decelerations are taken only where the hold's window opens
- * in a segment they name, with at least QS_TRIGGER_TICKS + 2 ticks of it left
- * (so that the hold begins inside it); the done counts compare mod 2^16. */
-static void test_hold_along_takes_its_decelerations_only_inside_the_segments_it_names(void)
+/* HOLD_ALONG's decelerations are taken only where the hold begins in a
+ * segment they name: in the running one when its window opens with
+ * QS_TRIGGER_TICKS + 2 ticks of it left or more; with fewer, in the next one
+ * if that is named too and lasts QS_PATH_NEXT_MIN (32) ticks, or at the
+ * running one's end with nothing after it. Done counts compare mod 2^16. */
+static void hold_along_from(uint16_t left, const qs_segment_msg *next, const qs_path_hold *path,
+                            uint8_t along, uint8_t held_slot)
 {
     static const uint16_t decel[QS_PROTOCOL_AXES] = {3000, 3000, 3000, 3000};
-    qs_path_hold path = {{{1000, 333, 1, 2000}}, 65535, 1};
     qs_segment_msg a = {0};
-    uint16_t left;
+    uint16_t ran;
     uint8_t axis;
 
     a.n = 100;
     a.active = 1;
     a.v0[0] = a.vn[0] = 2000;
-    for (left = 12; left <= 16; left++) {
-        uint16_t ran;
-        qs_engine_init(&engine, QS_QUEUE_CAPACITY);
-        engine.segments_done = 65536; /* 0 mod 2^16, between first and last */
-        enqueue(&a);
-        enqueue(&a);
-        for (ran = 0; ran < a.n - left; ran++)
-            qs_engine_tick(&engine);
-        TEST_ASSERT_EQUAL_UINT16(left, engine.left);
-        TEST_ASSERT_EQUAL_INT(QS_HOLD_STARTED, qs_engine_hold(&engine, decel, &path));
-        TEST_ASSERT_EQUAL_INT(left >= QS_TRIGGER_TICKS + 2, engine.hold_along);
-        for (axis = 0; axis < QS_AXIS_COUNT; axis++)
-            TEST_ASSERT_EQUAL_UINT16(engine.hold_along ? path.hold.decel[axis] : decel[axis],
-                                     engine.trigger_decel[axis]);
-    }
-    /* A running segment the path does not name: the HOLD's own. */
     qs_engine_init(&engine, QS_QUEUE_CAPACITY);
-    engine.segments_done = 2;
+    engine.segments_done = 65536; /* 0 mod 2^16 */
     enqueue(&a);
-    qs_engine_tick(&engine);
-    TEST_ASSERT_EQUAL_INT(QS_HOLD_STARTED, qs_engine_hold(&engine, decel, &path));
-    TEST_ASSERT_EQUAL_INT(0, engine.hold_along);
-    TEST_ASSERT_EQUAL_UINT16(decel[0], engine.trigger_decel[0]);
+    if (next)
+        enqueue(next);
+    for (ran = 0; ran < a.n - left; ran++)
+        qs_engine_tick(&engine);
+    TEST_ASSERT_EQUAL_UINT16(left, engine.left);
+    TEST_ASSERT_EQUAL_INT(QS_HOLD_STARTED, qs_engine_hold(&engine, decel, path));
+    TEST_ASSERT_EQUAL_INT(along, engine.hold_along);
+    for (axis = 0; axis < QS_AXIS_COUNT; axis++)
+        TEST_ASSERT_EQUAL_UINT16(along ? path->hold.decel[axis] : decel[axis], engine.trigger_decel[axis]);
+    while (engine.trigger_window)
+        qs_engine_tick(&engine);
+    /* where the hold began: the slot it holds */
+    TEST_ASSERT_TRUE(engine.held == &engine.queue.slot[held_slot]);
+}
+
+static void test_hold_along_takes_its_decelerations_only_in_the_segments_it_names(void)
+{
+    const qs_path_hold both = {{{1000, 333, 1, 2000}}, 65535, 1}, first_only = {{{1000, 333, 1, 2000}}, 0, 0};
+    qs_segment_msg b = {0}, short_b;
+    uint16_t left;
+
+    b.n = QS_PATH_NEXT_MIN;
+    b.active = 1;
+    b.v0[0] = b.vn[0] = 2000;
+    short_b = b;
+    short_b.n = QS_PATH_NEXT_MIN - 1;
+    for (left = 1; left <= 16; left++) {
+        const uint8_t inside = left >= QS_TRIGGER_TICKS + 2;
+        hold_along_from(left, &b, &both, 1, inside ? 0 : 1);
+        hold_along_from(left, &b, &first_only, inside, inside ? 0 : 1);
+        hold_along_from(left, &short_b, &both, inside, inside ? 0 : 1);
+    }
+    /* Nothing after the running segment: its hold begins in it (at its end). */
+    hold_along_from(5, 0, &first_only, 1, 0);
+    /* A running segment the path does not name: the HOLD's own. */
+    hold_along_from(50, &b, &(qs_path_hold){{{1000, 333, 1, 2000}}, 1, 9}, 0, 0);
     /* Segments queued after a hold: the next stop is the board's own until a HOLD_ALONG says otherwise. */
     engine.hold_along = 1;
     qs_engine_note_prepared(&engine, qs_queue_back(&engine.queue));
@@ -797,6 +815,6 @@ int main(void)
     RUN_TEST(test_hold_at_boundaries_and_in_every_state);
     RUN_TEST(test_an_underrun_holds_from_the_end_of_the_last_segment);
     RUN_TEST(test_halt_during_a_hold_keeps_exact_positions);
-    RUN_TEST(test_hold_along_takes_its_decelerations_only_inside_the_segments_it_names);
+    RUN_TEST(test_hold_along_takes_its_decelerations_only_in_the_segments_it_names);
     return UNITY_END();
 }
