@@ -1,6 +1,7 @@
 #!/usr/bin/env python3
 """HOLD figures: how soon a HOLD acts (the jog-release latency) on the real-time emulator, how far a job's
-feed hold leaves the line it was on (HOLD_ALONG against each axis braking on its own), and what a hold
+feed hold leaves the line it was on (HOLD_ALONG against each axis braking on its own; quadratic and S-curve
+plans), and what a hold
 costs the AVR firmware in simavr (cycles with the tick locked out, cycles per hold tick).
 
     python3 tests/bench/bench_hold.py [--holds N] [--no-avr]
@@ -17,14 +18,17 @@ import subprocess
 import sys
 import tempfile
 import time
+from collections.abc import Iterator
 from pathlib import Path
 
-from quadstep.config import load_config
+import quadstep.machine.motion as motion_module
+from quadstep.config import MachineConfig, load_config
 from quadstep.emulator import Emulator
-from quadstep.job import load_job
+from quadstep.job import Job, load_job
 from quadstep.kernel.engine_model import predict_hold
 from quadstep.link import Link, hold_async
 from quadstep.machine import Machine
+from quadstep.machine.along_path import along_path
 from quadstep.machine.units import hold_decels
 from quadstep.protocol import Hold, HoldDone, HoldDoneAlong, Segment, encode
 from quadstep.kernel.fixed import D, N_MAX
@@ -89,6 +93,42 @@ def bench_feed_hold_path(holds: int) -> None:
     along: list[float] = []
     apart: list[float] = []
     fallbacks = 0
+    for k, job, done in diagonal_holds(config, holds):
+        fallbacks += not isinstance(done, HoldDoneAlong)
+        own = predict_hold(list(job.plan.segments.segments()), done.hold_tick, hold_decels(config), axis_count=3)
+        along.append(off_the_line(tuple(done.position), corner))
+        apart.append(off_the_line(tuple(own.positions), corner))
+    print(f"== a feed hold on a 3:1 diagonal at 40 mm/s (router-uno), {holds} holds from 0.1 to 0.7 s in")
+    print(f"steps off the line at rest: HOLD_ALONG median {statistics.median(along):.2f}, max {max(along):.2f}"
+          f" ({holds - fallbacks} of {holds} took the path's decelerations); each axis on its own (same hold"
+          f" tick) median {statistics.median(apart):.1f}, max {max(apart):.1f}")
+
+
+def bench_feed_hold_scurve(holds: int) -> None:
+    """The same diagonal planned as S-curves (max_jerk 20,000 mm/s³): where each hold came to rest, in steps
+    from the line, with HOLD_ALONG and with each axis braking on its own (no host model predicts a hold
+    from a cubic segment: those holds are run too, at the same moments, every HOLD a plain one)."""
+    config = load_config(REPO / "examples" / "router-uno.toml")
+    config = config.model_copy(update={"axes": tuple(a.model_copy(update={"max_jerk": 20000.0})
+                                                     for a in config.axes)})
+    corner = config.to_steps((30.0, 10.0, 0.0))
+    off: dict[str, list[float]] = {"along": [], "own": []}
+    fallbacks = 0
+    for label, rest in off.items():
+        motion_module.along_path = along_path if label == "along" else lambda *args: None
+        for _, _, done in diagonal_holds(config, holds):
+            fallbacks += label == "along" and not isinstance(done, HoldDoneAlong)
+            rest.append(off_the_line(tuple(done.position), corner))
+    motion_module.along_path = along_path
+    print(f"== the same diagonal as S-curves (max_jerk 20,000 mm/s³), {holds} holds from 0.1 to 0.7 s in")
+    print(f"steps off the line at rest: HOLD_ALONG median {statistics.median(off['along']):.2f},"
+          f" max {max(off['along']):.2f} ({holds - fallbacks} of {holds} took the path's decelerations);"
+          f" each axis on its own median {statistics.median(off['own']):.1f}, max {max(off['own']):.1f}")
+
+
+def diagonal_holds(config: MachineConfig, holds: int) -> Iterator[tuple[int, Job, HoldDone]]:
+    """A feed hold at each of `holds` spread moments of the diagonal, each on a fresh emulator: the job and
+    the hold's HOLD_DONE."""
     with tempfile.TemporaryDirectory() as work:
         path = Path(work) / "diagonal.gcode"
         path.write_text("G21 G90 F2400\nG1 X30 Y10\n")
@@ -105,18 +145,10 @@ def bench_feed_hold_path(holds: int) -> None:
                         time.sleep(0.005)
                     done = link.last_report(HoldDone)
                     assert done is not None
-                    fallbacks += not isinstance(done, HoldDoneAlong)
-                    own = predict_hold(list(job.plan.segments.segments()), done.hold_tick, hold_decels(config),
-                                       axis_count=3)
-                    along.append(off_the_line(tuple(done.position), corner))
-                    apart.append(off_the_line(tuple(own.positions), corner))
+                    yield k, job, done
                     run.halt()
             finally:
                 emu.stop()
-    print(f"== a feed hold on a 3:1 diagonal at 40 mm/s (router-uno), {holds} holds from 0.1 to 0.7 s in")
-    print(f"steps off the line at rest: HOLD_ALONG median {statistics.median(along):.2f}, max {max(along):.2f}"
-          f" ({holds - fallbacks} of {holds} took the path's decelerations); each axis on its own (same hold"
-          f" tick) median {statistics.median(apart):.1f}, max {max(apart):.1f}")
 
 
 def bench_avr() -> None:
@@ -154,6 +186,7 @@ def main() -> None:
     args = parser.parse_args()
     bench_jog_latency(args.holds)
     bench_feed_hold_path(args.holds)
+    bench_feed_hold_scurve(args.holds)
     if not args.no_avr:
         bench_avr()
 

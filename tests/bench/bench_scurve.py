@@ -1,5 +1,6 @@
 """S-curve planner benchmark: planning speed, job duration against constant acceleration, and every move's
-duration against Ruckig's time-optimal jerk-limited profile for the same entry and exit speeds.
+duration against Ruckig's time-optimal jerk-limited profile for the same entry and exit speeds, and how far
+straight lines stray from their line.
 
 Prints figures only (docs/PLANNER.md records them); nothing is asserted.
 
@@ -15,8 +16,10 @@ from pathlib import Path
 
 REPO = Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(REPO / "host"))
+sys.path.insert(0, str(REPO / "tests" / "helpers"))
 
 from ruckig import InputParameter, Result, Ruckig, Trajectory  # noqa: E402
+from straight_lines import lines, steps_off_the_line  # noqa: E402
 
 from quadstep.config import MachineConfig, load_config, parse_config  # noqa: E402
 from quadstep.gcode import parse_gcode  # noqa: E402
@@ -93,10 +96,23 @@ def engraving(lines: int) -> str:
     return "\n".join(out) + "\n"
 
 
+def straightness(config: MachineConfig, count: int = 120) -> None:
+    """How far straight lines in any direction stray from their line, as S-curves and at constant
+    acceleration."""
+    plain = load_config(ROUTER)
+    jobs = lines(3, count)
+    scurve = [steps_off_the_line(gcode, config) for gcode in jobs]
+    quadratic = [steps_off_the_line(gcode, plain) for gcode in jobs]
+    print(f"{count} straight lines (tests/helpers/straight_lines.py, seed 3), steps off the line:"
+          f" S-curves median {statistics.median(scurve):.2f}, max {max(scurve):.2f};"
+          f" constant acceleration median {statistics.median(quadratic):.2f}, max {max(quadratic):.2f}")
+
+
 def main() -> None:
     config = with_jerk(load_config(ROUTER), 20000)
     measure("examples/demo.gcode", (REPO / "examples" / "demo.gcode").read_text(), config)
     measure("engraving, 5,000 chords", engraving(5000), config)
+    straightness(config)
 
 
 if __name__ == "__main__":

@@ -39,7 +39,7 @@ from ..protocol.frames import next_frame, run_limit
 from ..protocol.messages import queue_slots
 from ..protocol.raster import ring_fits
 from ..protocol.segment_run import RunChain
-from .along_path import along_path
+from .along_path import PathSpeeds, along_path, sent_items
 
 # Keep at least this many segments queued, whatever the lookahead, so the board
 # always has the next one when a segment ends.
@@ -226,6 +226,8 @@ class Motion:
         # an open stream's tail (hold_back()): sent only to keep the board from running dry
         self._hold_from: int | None = None
         self._hold_floor = 0
+        # the speeds of what was sent, for a stop along the path (streaming thread, under the lock)
+        self._path_speeds = PathSpeeds(segments.axis_count)
         self._thread = threading.Thread(target=self._run, name="quadstep-motion", daemon=True)
 
     # --- progress ------------------------------------------------------------------
@@ -358,7 +360,8 @@ class Motion:
         with self._lock:
             segments, first, sent = self.segments, self.first, self._sent
         decels = firmware_decels(self.link, self.decels)
-        return along_path(segments, first + done, first + sent, self._base_done + done, decels)
+        speeds = self._path_speeds.reader(segments, first)
+        return along_path(speeds, first + done, first + sent, self._base_done + done, decels)
 
     # --- the streaming thread --------------------------------------------------------
 
@@ -433,6 +436,7 @@ class Motion:
                 # a restart ends this motion
                 self.link.send(message, generation=self._generation, ahead=AHEAD_SLOTS)
                 self._sent = k + count
+                self._path_speeds.sent(k, sent_items(segments, index, count, message), self.done)
             index += count
         with self._lock:
             if not self._halting:

@@ -6,10 +6,10 @@ ticks (planner/jerk.py rounds them up), vc is then solved so the path's length i
 Per axis the jerk of each ramp is rounded once, R = round(Σ·j); every state after that is the
 firmware's own exact integer chain (kernel/cubic_chain.py): the ramp's symmetric phases bring the
 acceleration back to exactly 0, a state set at the start of a ramp that ends at rest makes the speed
-end at exactly 0, and a move lands exactly when its ideal ends within a quarter step of its target —
-otherwise a speed set on the cruise (at most 2^-12 step per tick of change, spread over the cruise)
-puts it there. Corners set each axis's speed as the junction-deviation rule allows (its acceleration
-is 0 on both sides).
+end at exactly 0, and the cruise's speed, set where it begins, lands each axis on its target after
+its ramps' rounded jerks, so the axes keep the path's proportion; a move without a cruise lands by
+its ramps' jerks and speed sets spread over the move. Corners set each axis's speed as the
+junction-deviation rule allows (its acceleration is 0 on both sides).
 """
 
 from __future__ import annotations
@@ -247,7 +247,36 @@ class ScurvePlanner:
                 phases[4].sets[axis] = CubicAxis(
                     axis=axis, speed=exits[axis] + rd * kd, direction=direction
                 )
+                cruise = self._cruise_speed(p, axis, (start, exits[axis]), (ra, rd), remaining)
+                if cruise is not None:
+                    phases[3].sets[axis] = CubicAxis(axis=axis, speed=cruise, direction=direction)
         return phases, exits
+
+    def _cruise_speed(
+        self,
+        p: Profile,
+        axis: int,
+        speeds: tuple[int, int],
+        jerks: tuple[int, int],
+        remaining: int,
+    ) -> int | None:
+        """The cruise speed, set where the cruise begins, that lands the axis after ramps of whole
+        jerks `jerks`: the axes of a straight move then keep their proportion to the rounding of
+        their ramps' travel, spread over the cruise, where landing by a ramp's jerk alone left the
+        line by up to 109 steps mid-move (a few jerk units on the slower axis). None without a
+        cruise, or where that speed is out of range or further from the first ramp's end than
+        the landing's corrections may be."""
+        if not p.nc:
+            return None
+        (start, exit_), (ra, rd) = speeds, jerks
+        ka, kd = p.n1a * (p.n1a + p.n2a), p.n1d * (p.n1d + p.n2d)
+        up = _ramp_travel([(p.n1a, ra), (p.n2a, 0), (p.n1a, -ra)], start)
+        down = _ramp_travel([(p.n1d, -rd), (p.n2d, 0), (p.n1d, rd)], exit_ + rd * kd)
+        cruise = round((remaining - up - down) / p.nc)
+        limit = max(START_JUMP, ka + kd)
+        if not 0 <= cruise <= min(self.speed_limit[axis], SIGMA):
+            return None
+        return cruise if abs(cruise - (start + ra * ka)) <= limit else None
 
     def _aimed_jerks(
         self, p: Profile, axis: int, share: float, speeds: tuple[int, int], remaining: int
@@ -374,7 +403,8 @@ class ScurvePlanner:
         states = {at: run.states[at] for at in range(1, 7) if phases[at].n}
         corrected = False
         for axis, miss in misses.items():
-            if abs(miss) <= (0 if axis in phases[0].sets else LAND_SLACK) or not delta[axis]:
+            exact = axis in phases[0].sets and axis not in phases[3].sets  # a set costs nothing
+            if abs(miss) <= (0 if exact else LAND_SLACK) or not delta[axis]:
                 continue
             # its last ramp is set to end at its exit: the window ends before it
             pinned = axis in phases[4].sets
