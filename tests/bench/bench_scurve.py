@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import statistics
 import sys
+import tempfile
 import time
 from pathlib import Path
 
@@ -19,16 +20,19 @@ sys.path.insert(0, str(REPO / "host"))
 sys.path.insert(0, str(REPO / "tests" / "helpers"))
 
 from ruckig import InputParameter, Result, Ruckig, Trajectory  # noqa: E402
-from straight_lines import lines, steps_off_the_line  # noqa: E402
+from path_fidelity import lines, steps_off_the_path  # noqa: E402
 
 from quadstep.config import MachineConfig, load_config, parse_config  # noqa: E402
+from quadstep.coordinates import WorkCoordinates  # noqa: E402
 from quadstep.gcode import parse_gcode  # noqa: E402
+from quadstep.job import load_job  # noqa: E402
 from quadstep.planner.lookahead import junction_speeds  # noqa: E402
 from quadstep.planner.moves import build_moves  # noqa: E402
 from quadstep.planner.plan import plan_program  # noqa: E402
 from quadstep.planner.scurve import ScurvePlanner  # noqa: E402
 
 ROUTER = REPO / "examples" / "router-uno.toml"
+CORPUS = REPO / "tests" / "gcode" / "corpus" / "grbl"
 
 
 def with_jerk(config: MachineConfig, jerk: float) -> MachineConfig:
@@ -97,15 +101,26 @@ def engraving(lines: int) -> str:
 
 
 def straightness(config: MachineConfig, count: int = 120) -> None:
-    """How far straight lines in any direction stray from their line, as S-curves and at constant
-    acceleration."""
+    """How far straight lines in any direction, and the corpus's CAM files, stray from the G-code's
+    polyline, as S-curves and at constant acceleration."""
     plain = load_config(ROUTER)
-    jobs = lines(3, count)
-    scurve = [steps_off_the_line(gcode, config) for gcode in jobs]
-    quadratic = [steps_off_the_line(gcode, plain) for gcode in jobs]
-    print(f"{count} straight lines (tests/helpers/straight_lines.py, seed 3), steps off the line:"
-          f" S-curves median {statistics.median(scurve):.2f}, max {max(scurve):.2f};"
-          f" constant acceleration median {statistics.median(quadratic):.2f}, max {max(quadratic):.2f}")
+    with tempfile.TemporaryDirectory() as work:
+        path = Path(work) / "line.gcode"
+        off: dict[str, list[float]] = {"S-curves": [], "constant acceleration": []}
+        for gcode in lines(3, count):
+            path.write_text(gcode)
+            off["S-curves"].append(steps_off_the_path(load_job(path, config).plan))
+            off["constant acceleration"].append(steps_off_the_path(load_job(path, plain).plan))
+    print(f"{count} straight lines (tests/helpers/path_fidelity.py, seed 3), steps off the line: "
+          + "; ".join(f"{k} median {statistics.median(v):.2f}, max {max(v):.2f}" for k, v in off.items()))
+    coordinates = WorkCoordinates()
+    for axis, mm in zip("XYZ", (50.0, 50.0, -20.0)):
+        coordinates.set_offset(1, axis, mm)
+    files = [p for p in sorted(CORPUS.iterdir()) if not p.name.startswith(("laser-", "probe-"))]
+    worst = {name: max(steps_off_the_path(load_job(p, c, coordinates=coordinates).plan) for p in files)
+             for name, c in (("S-curves", config), ("constant acceleration", plain))}
+    print(f"the corpus's {len(files)} GRBL-style router files, steps off the polyline at most: "
+          + "; ".join(f"{k} {v:.2f}" for k, v in worst.items()))
 
 
 def main() -> None:
