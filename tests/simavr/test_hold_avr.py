@@ -4,6 +4,7 @@ around the hold tick, where it comes to rest and when, are exactly engine_model.
 from __future__ import annotations
 
 import json
+import math
 import random
 import subprocess
 from pathlib import Path
@@ -12,22 +13,30 @@ import pytest
 from hold_helpers import check_hold, planned_job
 from host_helpers import read_trace
 
+from quadstep.config import load_config
+from quadstep.job import load_job
 from quadstep.kernel.engine_model import predict_hold
-from quadstep.protocol import Decoder, Event, Hold, HoldAlong, HoldDone, HoldDoneAlong, State, StatusReport, encode
+from quadstep.machine.along_path import PathSpeeds, along_path
+from quadstep.machine.units import hold_decels
+from quadstep.protocol import (CubicSegment, Decoder, Event, Hold, HoldAlong, HoldDone, HoldDoneAlong, State,
+                               StatusReport, encode)
 from quadstep.kernel.fixed import DECEL_MAX
 
 import avr_scenarios
 import avr_sim
 
 F_CPU = avr_sim.F_CPU
+REPO = Path(__file__).resolve().parents[2]
+ROUTER = load_config(REPO / "examples" / "router-uno.toml")
+SCURVE = ROUTER.model_copy(update={"axes": tuple(a.model_copy(update={"max_jerk": 20000.0}) for a in ROUTER.axes)})
 
 
 def held_on_board(tmp_path: Path, board: str, axes: int, segments: list, hold: Hold | HoldAlong,
-                  rng: random.Random) -> tuple[Event, avr_sim.Outputs]:
+                  rng: random.Random, pause_bytes: tuple[int, int] = (2000, 4000)) -> tuple[Event, avr_sim.Outputs]:
     """`segments` queued, then `hold` mid-job, on the real firmware: its HOLD_DONE (checked to be the only
     event, after the one HOLDING answer) and the run's outputs."""
     # Empty frames (lone delimiters, ignored) keep the line busy ~20 µs each: the HOLD arrives mid-job.
-    pause = b"\x00" * rng.randint(2000, 4000)
+    pause = b"\x00" * rng.randint(*pause_bytes)
     job = b"".join(encode(seg, seq) for seq, seg in enumerate(segments))
     (tmp_path / "input.bin").write_bytes(b"\x00" + job + pause + encode(hold, len(segments)))
     outputs = avr_sim.Outputs.in_dir(tmp_path, board)
@@ -83,6 +92,42 @@ def test_hold_along_takes_the_path_decelerations_only_in_the_segments_it_names(
     assert isinstance(done, HoldDone) and isinstance(done, HoldDoneAlong) == named
     taken = path if named else decels
     check_hold(outputs.trace, segments, done, taken + [1] * (4 - axes), axis_count=axes)
+
+
+@pytest.mark.parametrize("along", [True, False])
+def test_hold_along_in_s_curve_segments_stops_on_the_line(avr_build: None, tmp_path: Path, along: bool) -> None:
+    """A 3:1 diagonal planned as S-curves, held at full speed on the Uno: with the decelerations the host
+    works out from the firmware's chain (machine/along_path.py), the board takes them in its cubic segments
+    and rests on the line; with each axis's own, about 120 steps off it."""
+    config = SCURVE
+    path = tmp_path / "diagonal.gcode"
+    path.write_text("G21 G90 F2400\nG1 X30 Y10\n")
+    segments = list(load_job(path, config).plan.segments.segments())
+    assert len(segments) <= 14 and any(isinstance(s, CubicSegment) for s in segments)  # all queued
+    speeds = PathSpeeds(3)
+    speeds.sent(0, segments, 0)
+    own = hold_decels(config)
+    run = along_path(speeds.reader(Listed(segments), 0), 4, len(segments), 4, own)  # held in the cruise
+    assert run is not None and run.last == len(segments) - 1
+    hold = HoldAlong(decel=(*own, 0), path_decel=(*run.decels, 0), first=0 if along else len(segments),
+                     last=run.last if along else 1000)
+    # 0.3 to 0.4 s of the line's time: the cruise (the ramp up takes 0.1 s)
+    done, outputs = held_on_board(tmp_path, "uno", 3, segments, hold, random.Random(f"{along}"), (15000, 20000))
+    assert isinstance(done, HoldDoneAlong) == along
+    corner = config.to_steps((30.0, 10.0, 0.0))
+    assert 1000 < done.position[0] < corner[0] - 1000  # held on the way, well before the end
+    off = abs(done.position[0] * corner[1] - done.position[1] * corner[0]) / math.hypot(corner[0], corner[1])
+    assert off <= 1.0 if along else off > 50
+    rows = read_trace(outputs.trace)
+    assert tuple(int(rows[rows[:, 1] == axis, 2].sum()) for axis in range(3)) == tuple(done.position)
+
+
+class Listed:
+    def __init__(self, items: list) -> None:
+        self.items = items
+
+    def segment(self, i: int):  # noqa: ANN201
+        return self.items[i]
 
 
 @pytest.mark.parametrize("tick_hz", [32_000, 40_000])
