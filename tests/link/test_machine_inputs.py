@@ -6,13 +6,16 @@ from __future__ import annotations
 
 import math
 import random
+import time
 from pathlib import Path
 
 import pytest
 
-from machine_helpers import along, events, read_trace_with_carriage, write_machine
+from machine_helpers import STEPS_PER_MM, along, events, read_trace_with_carriage, write_machine
 from quadstep.link import AlarmError, FirmwareError, Link, Stopped, input_status, until_input, wait_rest
-from quadstep.protocol import AlarmCode, Config, ErrorCode, HoldDone, Input, InputCause, InputChange, Probe, ProbeMissed
+from quadstep.kernel.motion import AxisMove
+from quadstep.protocol import (AlarmCode, Config, ErrorCode, HoldDone, Input, InputCause, InputChange, Probe, ProbeMissed,
+                               Segment)
 
 DECEL = (2000, 2000, 2000, 0)
 NO_DEBOUNCE = (0,) * 12
@@ -109,6 +112,49 @@ z = -4000
         released = seek(link, 2, 0.25, Input.PROBE, level=0, feed=1)
         assert isinstance(released, InputChange) and released.position[2] == -3999
     assert len(events(emu.stop(), "probe")) == 2
+
+
+class PausingLink:
+    """A real Link, on a host that is busy elsewhere for `pause` seconds right after it sends `after` (a
+    garbage collection, another program's turn)."""
+
+    def __init__(self, link: Link, after: Segment, pause: float) -> None:
+        self.link, self.after, self.pause = link, after, pause
+
+    def send(self, message, *args, **kwargs) -> None:  # noqa: ANN001
+        self.link.send(message, *args, **kwargs)
+        if message is self.after:
+            time.sleep(self.pause)
+
+    def __getattr__(self, name: str):  # noqa: ANN204
+        return getattr(self.link, name)
+
+
+def test_a_take_up_before_the_seek_runs_unarmed_so_a_pause_after_it_spends_no_probe(start_emulator,
+                                                                                      tmp_path: Path) -> None:
+    """A seek whose stream begins with a backlash take-up (here: a rest tick and a short move of the motor
+    alone, rest to rest, as takeup_stream makes them) on a host that pauses right after the take-up: the
+    board comes to rest there with its queue empty, which a PROBE armed before the take-up would have
+    taken for its motion's end (PROBE_MISSED), and the seek would then have run unarmed into the switch
+    (here a hard limit too). The PROBE is armed after the take-up, at rest, and the seek ends at the edge."""
+    emu = emulator(start_emulator, tmp_path, """
+[[axis]]
+start = 8000
+[axis.limit_min]
+at = 0.0
+hysteresis = 5
+""")
+    with Link.open(emu.url) as link:
+        rest_tick = Segment(n=1, axes=tuple(AxisMove(axis=a, direction=1, v0=0, vn=0, r=0) for a in range(3)))
+        take_up = along(0, (0, 0, 0), 0.05, 5.0)
+        seek_move = along(0, (STEPS_PER_MM // 20, 0, 0), -60, 10.0)
+        slow = PausingLink(link, take_up[-1], 0.5)  # the take-up lasts 10 ms
+        hit = until_input(slow, Probe(input=Input.LIMIT_0, level=1, decel=DECEL),  # type: ignore[arg-type]
+                          [rest_tick, *take_up, *seek_move], timeout=60)
+        assert isinstance(hit, InputChange) and hit.cause == InputCause.TRIGGER, hit
+        assert link.report_count(ProbeMissed) == 0
+        assert hit.position[0] == 0 - 8000  # the first motor step that puts the carriage at the switch
+    emu.stop()
 
 
 def test_a_switch_closed_already_refuses_the_seek_and_pulls_off_first(start_emulator, tmp_path: Path) -> None:

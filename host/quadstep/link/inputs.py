@@ -11,7 +11,7 @@ says where. Homing and probing are both this one procedure.
 from __future__ import annotations
 
 import time
-from collections.abc import Iterable
+from collections.abc import Iterable, Sequence
 
 from ..protocol import (
     CubicSegment,
@@ -41,14 +41,21 @@ def until_input(
     segments: Iterable[Segment | CubicSegment],
     timeout: float | None = None,
 ) -> InputChange | ProbeMissed:
-    """Arm `probe`, stream `segments` (a motion from rest to rest) and wait for its end: at the
-    armed edge (returns that EVENT INPUT, once the hold after it has come to rest) or at rest
-    without it (returns PROBE_MISSED).
+    """Stream `segments` (a motion from rest to rest, after any that lead up to it: a backlash
+    take-up, which moves the motors only) with `probe` armed for the last motion, and wait for its
+    end: at the armed edge (returns that EVENT INPUT, once the hold after it has come to rest) or at
+    rest without it (returns PROBE_MISSED).
+
+    The board reports PROBE_MISSED wherever it comes to rest with its queue empty, so what leads up
+    to the armed motion runs first, unarmed, and the PROBE follows once it is at rest: armed
+    before, a host that paused between the two (a busy computer) would leave the board at rest
+    there, its PROBE spent, and the motion after it would run unarmed into the input.
 
     Raises FirmwareError if the PROBE is refused (INPUT_AT_LEVEL: the input is there already; BUSY:
     not at rest), AlarmError if an alarm (a hard limit on another input, the abort button) ends the
     motion, LinkTimeout after `timeout` seconds."""
     deadline = None if timeout is None else time.monotonic() + timeout
+    armed = lead_up(link, list(segments), timeout)
     holds, missed, triggers = (
         link.report_count(HoldDone),
         link.report_count(ProbeMissed),
@@ -57,7 +64,7 @@ def until_input(
     stream = link.generation  # the edge ends it: a segment sent after that would open another
     link.send(probe, timeout, stream)
     try:
-        for segment in segments:
+        for segment in armed:
             link.send(segment, timeout, stream)
     except Stopped:
         if link.holds_by_input == triggers:
@@ -88,6 +95,30 @@ def until_input(
             )
     wait_rest(link, timeout)
     return end
+
+
+def lead_up(
+    link: Link, segments: Sequence[Segment | CubicSegment], timeout: float | None
+) -> Sequence[Segment | CubicSegment]:
+    """Run what leads up to the last motion of `segments` (unarmed, to rest); that motion."""
+    first = last_motion(segments)
+    if first:
+        stream = link.generation  # a hold from elsewhere (the feed hold button) ends it
+        for segment in segments[:first]:
+            link.send(segment, timeout, stream)
+        link.wait_idle(timeout, stream)
+    return segments[first:]
+
+
+def last_motion(segments: Sequence[Segment | CubicSegment]) -> int:
+    """Where the last motion from rest begins: after the last segment before the end whose every
+    axis ends at rest (0 when there is none). Quadratic segments only mark a rest: a cubic one's end
+    speeds are the chain's."""
+    for i in range(len(segments) - 1, 0, -1):
+        before = segments[i - 1]
+        if isinstance(before, Segment) and not any(move.vn for move in before.axes):
+            return i
+    return 0
 
 
 def wait_rest(link: Link, timeout: float | None = None) -> StatusReport:
