@@ -220,4 +220,6 @@ def test_stop_during_a_long_hold_stops_at_once(start_emulator, tmp_path: Path) -
     assert stopped.state == State.IDLE and stopped.queue_fill == 0
     assert stopped.position[3] == -len(trace)
     assert stopped.motion_ticks >= trace[:, 0].max()
-    assert stopped.motion_ticks > 10_000  # it had held for a while, still moving
+    # Still a step a tick when STOP came (the hold from there takes minutes): it ended the hold at once.
+    # (Not a count of ticks since the HOLD: a paced board on a busy computer runs behind the wall clock.)
+    assert int(np.count_nonzero(trace[:, 0] > stopped.motion_ticks - 100)) >= 99
