@@ -29,9 +29,9 @@ QUADRATIC_UNIT = 19
 # once scaled to the same speed on the fastest axis, and still count as one direction: each speed
 # is rounded on its own.
 ROUNDING = 2
-# The S-curve planner lands each axis on its own, so the axes of a straight move keep their
-# proportion only to within about half a percent (more in the last phases before a stop): a cubic
-# segment's speeds count as one direction with another's within 1/128 of the fastest, each.
+# The S-curve planner rounds each axis's jerks on its own, so the axes of a straight move keep their
+# proportion only to that rounding (half a percent on a slow axis): a cubic segment's speeds count
+# as one direction with another's within 1/128 of the fastest, each.
 CUBIC_SPREAD = 7
 
 

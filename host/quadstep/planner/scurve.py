@@ -403,7 +403,9 @@ class ScurvePlanner:
         states = {at: run.states[at] for at in range(1, 7) if phases[at].n}
         corrected = False
         for axis, miss in misses.items():
-            exact = axis in phases[0].sets and axis not in phases[3].sets  # a set costs nothing
+            # an axis set at the move's start anyway lands exactly by that set, unless its cruise's
+            # set lands it already
+            exact = axis in phases[0].sets and axis not in phases[3].sets
             if abs(miss) <= (0 if exact else LAND_SLACK) or not delta[axis]:
                 continue
             # its last ramp is set to end at its exit: the window ends before it
