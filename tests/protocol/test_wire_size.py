@@ -40,7 +40,7 @@ def test_a_cam_job_takes_fewer_bytes_on_the_wire_than_its_gcode(name: str, lines
 
 def test_an_scurve_job_in_cubic_segments_frames_takes_about_half_the_bytes() -> None:
     """S-curve plans go out in CUBIC_SEGMENTS frames: the engraving's first 1,000 lines in about half the bytes
-    of one CUBIC_SEGMENT a frame (the whole: 1.74 times the G-code against 3.37; docs/BENCHMARKS.md)."""
+    of one CUBIC_SEGMENT a frame (the whole: 1.74 times the G-code against 3.39; docs/BENCHMARKS.md)."""
     text = cam_jobs.JOBS["engraving"](1000)
     config = bench_wire.machine("XYZ", 20000.0)
     program = parse_gcode(text, config.axis_names, (0.0,) * 3, config.arc_tolerance, True)
