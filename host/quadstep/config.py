@@ -84,7 +84,8 @@ class HomingConfig(BaseModel):
     )
     switch_at: float | None = Field(
         default=None,
-        description="mm, machine coordinate of the switch's point (default: the travel end)",
+        description="mm, machine coordinate of the switch's point (default: pull_off beyond the "
+        "travel's end)",
     )
 
 
@@ -232,6 +233,19 @@ class AxisConfig(BaseModel):
         if self.backlash is None or not self.backlash.compensate:
             return 0
         return math.floor(self.backlash.mm * self.steps_per_mm + 0.5)
+
+    @property
+    def switch_at(self) -> float | None:
+        """The machine coordinate of the homing switch's point (None: no switch). By default the
+        pull-off beyond the travel's end: homing leaves the axis at that end, and no move inside the
+        travel (G53 Z0, G28, a park at the end) reaches the switch and stops on a hard limit."""
+        if self.homing is None:
+            return None
+        if self.homing.switch_at is not None:
+            return self.homing.switch_at
+        if self.homing.end == "min":
+            return self.travel_min - self.homing.pull_off
+        return self.travel_max + self.homing.pull_off
 
     @model_validator(mode="after")
     def _consistent(self) -> AxisConfig:

@@ -55,11 +55,12 @@ end = "{end}"
 seek = {seek}
 locate = 1
 pull_off = 1
+switch_at = 0
 """ for name, speed, accel, low, high, end, seek, steps in (
     ("X", 40, 500, 0, 300, "min", 20, BACKLASH[0]), ("Y", 40, 500, 0, 200, "min", 20, BACKLASH[1]),
     ("Z", 15, 200, -60, 0, "max", 10, BACKLASH[2])))
 
-# Switches at machine zero; a touch plate 10 mm below the top of Z everywhere; a block whose -X, -Y
+# Switches at machine zero (switch_at = 0: this board's steps are machine steps); a touch plate 10 mm below the top of Z everywhere; a block whose -X, -Y
 # corner is at (10, 10) mm, its top 2.5 mm below the top of Z, to measure X's backlash at.
 SIM = f"""\
 seed = 1

@@ -221,8 +221,10 @@ def test_cncjs_homes_sets_a_work_zero_and_runs_a_job_on_a_machine_with_backlash(
     assert mm(said["status"]["mpos"]) == [23.0, 34.0, -8.0]
     # the carriages where CNCjs reads the machine, the backlash taken up at every reversal (the
     # motors are off by the take-ups): within a step of machine zero's switch point, and half a
-    # step more where the simulated backlash is a fraction of a step the take-up rounds
-    target = CONFIG.to_steps((23.0, 34.0, -8.0))
+    # step more where the simulated backlash is a fraction of a step the take-up rounds (the
+    # simulated machine counts from the switches, machine zero counts from the pull-off off them)
+    switches = [axis.to_steps(axis.switch_at or 0.0) for axis in CONFIG.axes]
+    target = tuple(s - z for s, z in zip(CONFIG.to_steps((23.0, 34.0, -8.0)), switches))
     assert tuple(motors) != target
     assert all(abs(c - t) <= 1.5 for c, t in zip(carriages, target)), carriages
 

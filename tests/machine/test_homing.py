@@ -1,6 +1,8 @@
 """Homing through the machine layer, on the emulator with the example router's simulated machine: machine zero
 lands on the same motor step whatever the power-up position, a switch closed at power-up is pulled off first, a
-missing switch is a clear error, homing_required refuses jobs until homed, and a hard limit loses the position."""
+missing switch is a clear error, homing_required refuses jobs until homed, and a hard limit loses the position.
+Every move inside the travel stays clear of the switches: a park at machine zero (G53 Z0, G28) after a job to the
+far corner does not stop on a hard limit, as it does on GRBL, whose machine zero is at its switches."""
 
 from __future__ import annotations
 
@@ -47,11 +49,12 @@ def test_homing_sets_zero_on_the_same_motor_step_from_anywhere(start_emulator, t
     position = machine.position
     machine.close()
     axes = emu.stop()["machine"]["axes"]
-    # The switches close at motor 0 (X, Y: carriage <= 0 after half the dead band; Z: >= 0): machine zero is
-    # the first step past that point, whatever the start.
+    # The switches close at motor 0 (X, Y: carriage <= 0 after half the dead band; Z: >= 0): the switch's
+    # point is the first step past that, whatever the start, and machine zero is the pull-off (1 mm, 400 steps)
+    # off it, inside the travel.
     zero = [axes[i]["motor"] - position[i] for i in range(3)]
-    assert zero == [-6, -4, 2]  # floor(0 - backlash/2) for X and Y, ceil(0 + backlash/2) for Z
-    assert position == (400, 400, -399)  # pulled off 1 mm (Z: the locate's stop one step beyond)
+    assert zero == [-6 + 400, -4 + 400, 2 - 400]  # floor(0 - backlash/2) for X and Y, ceil(0 + backlash/2) for Z
+    assert position == (0, 0, 0)  # pulled off to the travel's end, clear of every switch
     assert any("seeking" in line for line in progress)
 
 
@@ -60,7 +63,7 @@ def test_a_switch_closed_at_power_up_is_pulled_off_first(start_emulator, tmp_pat
     messages: list[str] = []
     home(machine, ["X"], messages.append)
     assert "X: switch closed already, pulling off" in messages
-    assert machine.position[0] == 400
+    assert machine.position[0] == 0
     assert not machine.homed  # only X of three
     machine.close()
 
@@ -90,11 +93,23 @@ def test_homing_required_refuses_jobs_until_homed_and_a_hard_limit_loses_the_pos
     home(machine)
     machine.run_job(job(5)).wait(30)
     assert machine.position[0] == 2000
-    # Past the travel on purpose, as a job would not: the switch at X = 0 is a hard limit now.
+    # Past the travel on purpose, as a job would not: the switch at X = -1 mm is a hard limit now.
     unbounded = config.model_copy(update={"axes": tuple(a.model_copy(update={"travel_min": -50}) for a in config.axes)})
     program = Program(items=[LinearMove(line=1, target=(-5, 1, -1), feed=20)], lines=1)
     machine.run_job(plan_program(program, unbounded, machine.position)).wait(30)
     assert machine.position_lost and not machine.homed
     with pytest.raises(MachineError, match="home the machine first"):
         machine.run_job(job(5))
+    machine.close()
+
+
+def test_the_whole_travel_is_clear_of_the_switches(start_emulator, tmp_path: Path) -> None:
+    machine = open_sim(start_emulator, machine_file(tmp_path))
+    home(machine)
+    corners = [(300.0, 200.0, -60.0), (0.0, 0.0, 0.0), (300.0, 0.0, 0.0), (0.0, 200.0, -60.0), (0.0, 0.0, 0.0)]
+    items = [LinearMove(line=n, target=corner, feed=50) for n, corner in enumerate(corners, 1)]
+    plan = plan_program(Program(items=items, lines=len(items)), CONFIG, machine.position)
+    end = machine.run_job(plan).wait(60)
+    assert end is not None and end.ended_by == "done", end
+    assert machine.position == (0, 0, 0) and machine.homed and not machine.position_lost
     machine.close()

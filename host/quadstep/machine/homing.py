@@ -4,9 +4,11 @@ Per axis in the configured order (Z first by default): if its switch is closed a
 until it opens; seek toward it fast until it closes (a PROBE on the switch's input: the firmware
 latches the edge and holds); back off beyond the hold's overshoot; locate it slowly; pull off. The
 slow approach's latched step position is where the switch's point is: the axis's step count is
-redefined so that it reads `switch_at` there (by default the travel's end). The switch is always
-approached from the same side at the same speed, so the backlash is taken up the same way each time
-and machine zero repeats to the step.
+redefined so that it reads `switch_at` there (by default `pull_off` beyond the travel's end), and
+the pull-off ends `pull_off` from that point: by default at the travel's end, so that every move
+inside the travel stays clear of the switch (GRBL's machine zero is on its switch, and a park there
+stops on a hard limit). The switch is always approached from the same side at the same speed, so
+the backlash is taken up the same way each time and machine zero repeats to the step.
 """
 
 from __future__ import annotations
@@ -150,13 +152,13 @@ def _home_axis(machine: Machine, procedure: Procedure, i: int, say: Progress) ->
         approach(0, -toward * homing.pull_off * 4, homing.locate, "the switch did not open")
     say(f"{axis.name}: locating the switch at {homing.locate:g} mm/s")
     hit = approach(1, toward * back * 2, homing.locate, "no switch on the slow approach")
-    move(-toward * homing.pull_off, homing.locate)
-    switch_mm = (
-        homing.switch_at
-        if homing.switch_at is not None
-        else (axis.travel_min if homing.end == "min" else axis.travel_max)
-    )
+    switch_mm = axis.switch_at
+    assert switch_mm is not None  # home() takes only axes with [axes.homing]
     zero_shift = axis.to_steps(switch_mm) - hit[i]
-    position = machine.set_position({i: machine.position[i] + zero_shift}, within=procedure)[i]
+    machine.set_position({i: machine.position[i] + zero_shift}, within=procedure)
+    # to pull_off from the switch's point, not from where the hold stopped past it: by default the
+    # travel's end, whatever the overshoot
+    move(switch_mm - toward * homing.pull_off - axis.to_mm(machine.position[i]), homing.locate)
+    position = machine.position[i]
     say(f"{axis.name}: homed, switch at {switch_mm:g} mm, now at {axis.to_mm(position):.3f} mm")
     return AxisHomed(axis.name, hit[i] + zero_shift, position, axis.to_mm(position))
