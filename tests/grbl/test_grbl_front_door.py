@@ -16,6 +16,7 @@ import serial
 from grbl_client import GrblClient, mpos, report_fields
 from grbl_door import serving
 from laser_raster import record_jobs
+from waiting import wait_until
 
 from quadstep.config import load_config
 from quadstep.coordinates import WorkCoordinates
@@ -93,13 +94,6 @@ def file_end(tmp_path: Path) -> tuple[int, ...]:
     path = tmp_path / "cam.nc"
     path.write_text(CAM_JOB)
     return load_job(path, CONFIG, (0, 0, 0), coordinates=WorkCoordinates()).plan.end
-
-
-def wait_until(condition: Callable[[], bool], timeout: float = 10.0) -> None:
-    deadline = time.monotonic() + timeout
-    while not condition():
-        assert time.monotonic() < deadline, "timed out"
-        time.sleep(0.01)
 
 
 def at_rest(report: str) -> bool:

@@ -3,11 +3,10 @@ its lines: shared by the rolling-leg tests of quadratic and jerk-limited jobs.""
 
 from __future__ import annotations
 
-import time
-from collections.abc import Callable
 from dataclasses import replace
 
 import pytest
+from waiting import wait_until
 
 from quadstep.config import MachineConfig
 from quadstep.link import Link
@@ -66,12 +65,6 @@ class WhatRan:
     def sent(self) -> list:
         return [segment for stream, first, end in self.parts for segment in stream.segments(first, end)]
 
-
-def wait_until(condition: Callable[[], bool], timeout: float = 60.0) -> None:
-    deadline = time.monotonic() + timeout
-    while not condition():
-        assert time.monotonic() < deadline, "timed out"
-        time.sleep(0.005)
 
 
 def give_in_parts(run: JobRun, whole: Program, head: int, part: int, ahead: int) -> int:

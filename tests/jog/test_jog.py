@@ -7,6 +7,7 @@ import threading
 import time
 
 import pytest
+from waiting import wait_until
 
 from quadstep.config import MachineConfig
 from quadstep.jog import JogMode, Jogger, JogResult, JogSettings
@@ -149,7 +150,7 @@ def test_stop_key_ends_a_continuous_jog_with_hold(paced_link: Link, machine: Mac
     jogger = jogger_on(paced_link, machine, HELD_UNTIL_STOPPED)
     jogger.mode = JogMode.CONTINUOUS
     jogger.jog(X, 1)
-    time.sleep(0.25)
+    wait_until(lambda: paced_link.status().position[X] > 0, what="the jog under way")
     result = jogger.stop()
     assert result is not None and result.end is not None
     assert result.end.ended_by == "stop" and result.end.held

@@ -12,6 +12,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 from host_helpers import RawPort, assert_trace_is_prediction, random_segments, read_trace
+from waiting import wait_until
 
 from quadstep.emulator import Emulator
 from quadstep.kernel.engine_model import predict, predict_underrun
@@ -86,10 +87,16 @@ def test_malformed_frames_are_counted_and_the_next_good_frame_works(free_emulato
         raw.write(encode(good_segment, next_seq))
         ack = raw.collect(1)[0].message
         assert isinstance(ack, Ack) and ack.reason == AckReason.ACCEPTED and ack.next_seq == (next_seq + 1) & 0xFF
-        time.sleep(0.1)
-        raw.decoder.feed(raw.port.read(raw.port.in_waiting))  # SPACE ack
-        raw.write(encode(Status(), 2))
-        status = [f.message for f in raw.collect(1) if isinstance(f.message, StatusReport)][0]
+
+        def status_now() -> StatusReport:
+            raw.write(encode(Status(), 2))
+            while True:  # past any SPACE ack
+                for frame in raw.collect(1):
+                    if isinstance(frame.message, StatusReport):
+                        return frame.message
+
+        wait_until(lambda: status_now().segments_done == 1, what="the segment run")
+        status = status_now()
     assert (status.bad_frame, status.bad_crc, status.rejected) == (3, 1, 2)
     assert status.position[0] == 5 and status.segments_done == 1
 
@@ -263,7 +270,7 @@ def test_stop_during_motion_keeps_positions_exact(start_emulator, tmp_path: Path
     with Link.open(emu.url) as link:
         thread = threading.Thread(target=sender, args=(link,))
         thread.start()
-        time.sleep(0.3)
+        wait_until(lambda: link.segments_done >= 1, what="the first segment run")  # the sender waits on the window
         status = link.stop()
         thread.join(5)
         assert len(outcome) == 1 and isinstance(outcome[0], Stopped)

@@ -10,6 +10,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 from host_helpers import read_trace
+from waiting import wait_until
 
 from quadstep.config import MachineConfig, load_config
 from quadstep.kernel.engine_model import predict, predict_hold
@@ -23,13 +24,6 @@ from quadstep.protocol import HoldDone, HoldDoneAlong, Input, InputCause, InputC
 REPO = Path(__file__).resolve().parents[2]
 CONFIG = load_config(REPO / "examples" / "router-uno.toml")
 JOB = "G21 G90 F3000\nG1 X20 Y10\nG2 X30 Y20 I5 J5\nG1 X5 Y25\nG1 Z-1 F600\nG0 Z0\nG0 X0 Y0\n"
-
-
-def wait_until(condition, timeout: float = 10.0) -> None:
-    deadline = time.monotonic() + timeout
-    while not condition():
-        assert time.monotonic() < deadline, "timed out"
-        time.sleep(0.01)
 
 
 def check_trace(trace: Path, plan, hold: HoldDone, program, run) -> None:  # noqa: ANN001
@@ -63,7 +57,7 @@ def test_a_feed_hold_keeps_the_job_and_resume_finishes_it_exactly(start_emulator
         machine = Machine(link, CONFIG)
         job = load_job(path, CONFIG, machine.position)
         run = machine.run_job(job.plan, job.program)
-        time.sleep(0.4)
+        wait_until(lambda: run.progress.line >= 3, what="the arc under way")  # mid-job
         seen = machine.report_count(HoldDone)
         assert run.feed_hold()
         wait_until(lambda: run.held)
@@ -157,7 +151,8 @@ def test_a_feed_hold_on_a_diagonal_stops_on_its_line(config: MachineConfig, star
         job = load_job(path, config, machine.position)
         corner = config.to_steps((30.0, 10.0, 0.0))
         run = machine.run_job(job.plan, job.program)
-        time.sleep(0.4)  # mid-way along the diagonal, at full speed (an S-curve's ramp up takes 0.1 s)
+        # a third of the way along the diagonal, at full speed (an S-curve's ramp up takes 0.1 s)
+        wait_until(lambda: link.status().position[0] >= corner[0] // 3, what="the diagonal under way")
         assert run.feed_hold()
         wait_until(lambda: run.held)
         hold = link.last_report(HoldDone)

@@ -10,6 +10,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 from host_helpers import assert_trace_is_prediction, read_trace
+from waiting import wait_until
 
 from quadstep.config import AxisConfig, BacklashConfig, MachineConfig, load_config
 from quadstep.kernel.engine_model import predict
@@ -29,13 +30,6 @@ def zigzag(feed: float) -> str:
 
 
 ZIGZAG = zigzag(FEED)
-
-
-def wait_until(condition, timeout: float = 30.0) -> None:
-    deadline = time.monotonic() + timeout
-    while not condition():
-        assert time.monotonic() < deadline, "timed out"
-        time.sleep(0.005)
 
 
 def cruise_mm_s(steps: np.ndarray, axis: int, start: int, stop: int, config: MachineConfig) -> float:

@@ -6,13 +6,13 @@ given after the board was sent the end, they go on from rest."""
 from __future__ import annotations
 
 import gc
-import time
 import weakref
 from pathlib import Path
 
 import numpy as np
 import pytest
 from host_helpers import assert_trace_is_prediction
+from waiting import wait_until
 
 from quadstep.config import load_config
 from quadstep.gcode.interpreter import parse_gcode
@@ -30,13 +30,6 @@ SCURVE = CONFIG.model_copy(
 
 def zigzag(first: int, count: int) -> str:
     return "".join(f"G1 X{2 * k} Y{10 + k % 2}\n" for k in range(first, first + count))
-
-
-def wait_until(condition, timeout: float = 30.0) -> None:
-    deadline = time.monotonic() + timeout
-    while not condition():
-        assert time.monotonic() < deadline, "timed out"
-        time.sleep(0.005)
 
 
 @pytest.mark.realtime

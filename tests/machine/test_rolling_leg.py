@@ -12,7 +12,8 @@ import pytest
 from backlash_helpers import backlash_config, pushed_plus, write_sim
 from host_helpers import assert_trace_is_prediction
 from machine_helpers import read_trace_with_carriage
-from rolling_legs import ROW_MOVES, WhatRan, rows, run_in_parts, wait_until
+from rolling_legs import ROW_MOVES, WhatRan, rows, run_in_parts
+from waiting import wait_until
 
 from quadstep.gcode.interpreter import parse_gcode
 from quadstep.kernel.cubic_chain import CubicChain

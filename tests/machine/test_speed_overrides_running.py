@@ -6,13 +6,13 @@ at the boundary the re-plan chose."""
 
 from __future__ import annotations
 
-import time
 from collections.abc import Callable
 from pathlib import Path
 
 import numpy as np
 import pytest
 from host_helpers import read_trace
+from waiting import wait_until
 
 from quadstep.config import MachineConfig, load_config
 from quadstep.kernel.engine_model import predict
@@ -31,13 +31,6 @@ CONFIG_S = CONFIG.model_copy(update={"spindle": CONFIG.spindle.model_copy(update
 # feed moves to change the override on, then long rapids (and feed moves for the spindle job)
 RAPIDS = "G21 G90 F1200\nG1 X6\nG1 X12 Y1\nG1 X18 Y0\nG1 X24 Y1\nG0 X40 Y0\nG0 X0 Y0\n"
 SPINDLE = "G21 G90 F1200\nS500 M3\n" + "".join(f"G1 X{6 * k} Y{k % 2}\n" for k in range(1, 9)) + "M5\n"
-
-
-def wait_until(condition: Callable[[], bool], timeout: float = 30.0) -> None:
-    deadline = time.monotonic() + timeout
-    while not condition():
-        assert time.monotonic() < deadline, "timed out"
-        time.sleep(0.002)
 
 
 def read_outputs(path: Path) -> list[tuple[int, int, int]]:
