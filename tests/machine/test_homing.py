@@ -113,3 +113,29 @@ def test_the_whole_travel_is_clear_of_the_switches(start_emulator, tmp_path: Pat
     assert end is not None and end.ended_by == "done", end
     assert machine.position == (0, 0, 0) and machine.homed and not machine.position_lost
     machine.close()
+
+
+def test_an_inverted_axis_homes_to_its_travel_end_clear_of_its_switch(start_emulator, tmp_path: Path) -> None:
+    """X inverted: its machine minimum is the motor's maximum, where its switch is (closed at motor 0 and above), on
+    the axis's one limit pin as on the Uno."""
+    data = CONFIG.model_dump()
+    data["axes"][0]["invert"] = True
+    config = parse_config(data)
+    text = MACHINE.replace("start = 40000", "start = -40000", 1).replace(
+        "hard_min = -400\nhard_max = 120800\n[axis.limit_min]", "hard_min = -120800\nhard_max = 400\n[axis.limit_max]", 1)
+    path = tmp_path / "inverted.toml"
+    path.write_text(text)
+    emu = start_emulator(free=True, tick_hz=config.tick_hz, axes=3, queue=16,
+                         extra_args=["--machine", str(path), "--limit-pins", "1"])
+    machine = open_machine(Target(emulator=True), config, emulator=emu)
+    home(machine, ["X"])
+    assert machine.position[0] == 0  # machine X 0, the travel's end
+    items = [LinearMove(line=1, target=(300.0, 1.0, -1.0), feed=50), LinearMove(line=2, target=(0.0, 1.0, -1.0), feed=50)]
+    start = machine.position
+    plan = plan_program(Program(items=items, lines=2), config, start)
+    end = machine.run_job(plan).wait(60)
+    assert end is not None and end.ended_by == "done", end
+    assert machine.position[0] == 0 and not machine.position_lost
+    machine.close()
+    motor = emu.stop()["machine"]["axes"][0]["motor"]
+    assert -400 - 6 <= motor <= -400 + 6  # the pull-off (400 steps) off the switch's point, within the dead band
