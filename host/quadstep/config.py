@@ -356,6 +356,7 @@ class MachineConfig(BaseModel):
         if self.homing_required and not any(a.homing for a in self.axes):
             problems.append("homing_required = true: no axis has [axes.homing]")
         problems += self._safe_z_problems(names)
+        problems += self._switch_problems()
         if problems:
             raise ValueError("\n".join(problems))  # every problem at once, a line each
         return self
@@ -372,6 +373,23 @@ class MachineConfig(BaseModel):
                 f"{z.travel_min:g} … {z.travel_max:g} mm"
             ]
         return []
+
+    def _switch_problems(self) -> list[str]:
+        """A homing switch placed inside its axis's travel: a move there (a park at the travel's
+        end, the top of Z for --from-line and touch-off) would close it and, with hard limits,
+        stop."""
+        if not self.inputs.hard_limits:
+            return []
+        return [
+            f"axes[{i}].homing.switch_at = {axis.homing.switch_at:g}: inside {axis.name}'s travel "
+            f"{axis.travel_min:g} … {axis.travel_max:g} mm, where a move to it closes the switch "
+            "and stops on ALARM HARD_LIMIT (hard_limits = true); leave switch_at out (it is then "
+            "pull_off beyond the travel's end) or end the travel short of it"
+            for i, axis in enumerate(self.axes)
+            if axis.homing is not None
+            and axis.homing.switch_at is not None
+            and axis.travel_min <= axis.homing.switch_at <= axis.travel_max
+        ]
 
     @property
     def clearance_z(self) -> float | None:

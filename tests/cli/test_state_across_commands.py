@@ -55,32 +55,33 @@ end = "{end}"
 seek = {seek}
 locate = 1
 pull_off = 1
-switch_at = 0
 """ for name, speed, accel, low, high, end, seek, steps in (
     ("X", 40, 500, 0, 300, "min", 20, BACKLASH[0]), ("Y", 40, 500, 0, 200, "min", 20, BACKLASH[1]),
     ("Z", 15, 200, -60, 0, "max", 10, BACKLASH[2])))
 
-# Switches at machine zero (switch_at = 0: this board's steps are machine steps); a touch plate 10 mm below the top of Z everywhere; a block whose -X, -Y
-# corner is at (10, 10) mm, its top 2.5 mm below the top of Z, to measure X's backlash at.
+# Switches 1 mm beyond the travel's ends, where homing puts them (switch_at's default: pull_off
+# beyond), so that this board's steps are machine steps; a touch plate 10 mm below the top of Z
+# everywhere; a block whose -X, -Y corner is at (10, 10) mm, its top 2.5 mm below the top of Z, to
+# measure X's backlash at.
 SIM = f"""\
 seed = 1
 [[axis]]
 start = 2000
 backlash = {BACKLASH[0]}
-hard_min = -400
+hard_min = -800
 hard_max = 120400
 [axis.limit_min]
-at = 0.0
+at = -400.0
 hysteresis = 8
 bounce = 2
 bounce_ticks = 40
 [[axis]]
 start = 2400
 backlash = {BACKLASH[1]}
-hard_min = -400
+hard_min = -800
 hard_max = 80400
 [axis.limit_min]
-at = 0.0
+at = -400.0
 hysteresis = 8
 bounce = 2
 bounce_ticks = 40
@@ -88,9 +89,9 @@ bounce_ticks = 40
 start = -2000
 backlash = {BACKLASH[2]}
 hard_min = -24400
-hard_max = 400
+hard_max = 800
 [axis.limit_max]
-at = 0.0
+at = 400.0
 hysteresis = 8
 [probe]
 hysteresis = 1.5
@@ -220,8 +221,8 @@ def test_separate_commands_move_the_carriages_as_one_machine_does(
     many = read_trace_with_carriage(tmp_path / "apart.csv")
     # every step: tick, axis, direction, motor, carriage
     assert len(many) > 10_000 and np.array_equal(many, one)
-    # the cut ends at its last target in the work zero it set, and the carriage is there (machine
-    # zero is the switches' point: the simulated carriage within a step of the position shown)
+    # the cut ends at its last target in the work zero it set, and the carriage is there (the board
+    # counts machine steps: the simulated carriage within a step of the position shown)
     assert printed[4]["positions_work_mm"] == pytest.approx([-1.0, -1.0, 1.5])
     assert np.abs(np.array(final) - np.array(printed[4]["positions_steps"])).max() <= 1.0, final
 

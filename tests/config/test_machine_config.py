@@ -187,3 +187,22 @@ def test_every_commented_setting_of_the_example_can_be_uncommented() -> None:
     assert uncommented.count("\n") == text.count("\n") and uncommented != text
     config = parse_config(tomllib.loads(uncommented))
     assert config.homing_required and config.safe_z == -5
+
+
+def test_a_homing_switch_inside_the_travel_is_refused_with_hard_limits() -> None:
+    """A move to the travel's end would close the switch there and stop on a hard limit; by default the switch is
+    pull_off beyond the end, where homing puts it."""
+    inside = {"homing": {"end": "min", "switch_at": 0}}
+    assert bad(inside, axis=0) == (
+        "m.toml: axes[0].homing.switch_at = 0: inside X's travel 0 … 300 mm, where a move to it closes the switch "
+        "and stops on ALARM HARD_LIMIT (hard_limits = true); leave switch_at out (it is then pull_off beyond the "
+        "travel's end) or end the travel short of it"
+    )
+    data = copy.deepcopy(GOOD)
+    data["axes"][0]["homing"] = {"end": "min", "pull_off": 2}
+    assert parse_config(data).axes[0].switch_at == -2  # the default: pull_off beyond travel_min
+    data["axes"][1]["homing"] = {"end": "max", "switch_at": 300.5}
+    assert parse_config(data).axes[1].switch_at == 300.5  # beyond the travel: as given
+    data["inputs"] = {"hard_limits": False}
+    data["axes"][0]["homing"] = inside["homing"]
+    assert parse_config(data).axes[0].switch_at == 0  # no hard limit to stop on
