@@ -10,6 +10,7 @@ import pytest
 from PIL import Image
 
 from quadstep.cli import main
+from quadstep.cli._jobs import format_duration
 from quadstep.config import load_config
 from quadstep.job import load_job
 from quadstep.planner.raster_gcode import find_runs, plan_with_rasters
@@ -96,3 +97,27 @@ def test_run_reports_the_plan_the_machine_runs_its_rasters_in(
     assert summary["segments"] == len(rows)
     assert summary["planned_duration_s"] == pytest.approx(rows.duration_s)
     assert summary["motion_ticks"] == rows.duration_ticks
+
+
+def test_check_and_run_say_the_time_of_the_rows_before_the_job_runs(start_emulator, tmp_path: Path, capsys) -> None:
+    """Rows at one speed each, ramped outside the image, take longer than one move a pixel would: `check` says
+    what a board with RASTER runs, and `run`'s first line the plan it runs, not the moves'."""
+    gradient(tmp_path / "in.png", 60, 4)
+    job_file = tmp_path / "out.nc"
+    assert main(["raster", str(tmp_path / "in.png"), "-o", str(job_file), "--origin", "10", "20"]) == 0
+    job = load_job(job_file, CONFIG, (0, 0, 0))
+    rows = plan_with_rasters(job.program, CONFIG, (0, 0, 0))
+    assert rows is not None and rows.duration_s > 1.5 * job.plan.duration_s
+    config = str(REPO / "examples" / "laser-uno.toml")
+    capsys.readouterr()
+    assert main(["check", str(job_file), "--config", config]) == 0
+    said = capsys.readouterr().out.splitlines()
+    assert f"distance {job.summary().distance_mm:.1f} mm, planned duration {format_duration(job.plan.duration_s)}" in said
+    assert (f"on a board with RASTER (the Mega, the emulator, the Uno's laser build), its laser rasters as rows at "
+            f"one speed each: {len(rows)} segments, planned duration {format_duration(rows.duration_s)}") in said
+    emu = start_emulator(free=True, axes=3, tick_hz=CONFIG.tick_hz)
+    assert main(["run", str(job_file), "--config", config, "--port", emu.url]) == 0
+    first, done = capsys.readouterr().out.splitlines()[:2]
+    assert first == (f"{job_file}: {job.source_size}, {job.plan.moves} moves, {len(rows)} segments, "
+                     f"{format_duration(rows.duration_s)} planned; every target inside the travel")
+    assert done.endswith(f"{len(rows)} segments, {format_duration(rows.duration_s)} of motion"), done

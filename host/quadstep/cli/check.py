@@ -5,6 +5,10 @@ from __future__ import annotations
 import argparse
 import json
 
+from ..config import MachineConfig
+from ..job import Job
+from ..planner.plan import Plan
+from ..planner.raster_gcode import plan_with_rasters
 from ..toolpath import Box, toolpath
 from ._jobs import (
     add_job_options,
@@ -35,8 +39,12 @@ def run(args: argparse.Namespace) -> int:
     summary = job.summary()
     path = toolpath(job.program, config.to_mm(job.plan.start))
     names = config.axis_names
+    rows = _as_rows(job, config)
     if args.json:
         data = summary.model_dump()
+        data["rasters"] = (
+            None if rows is None else {"segments": len(rows), "duration_s": rows.duration_s}
+        )
         data["bounds"] = {
             kind: _box_json(names, box)
             for kind, box in (("work", path.work_box), ("machine", path.machine_box))
@@ -53,6 +61,12 @@ def run(args: argparse.Namespace) -> int:
         f"distance {summary.distance_mm:.1f} mm, planned duration "
         f"{format_duration(summary.duration_s)}"
     )
+    if rows is not None:
+        print(
+            f"on a board with RASTER (the Mega, the emulator, the Uno's laser build), its laser "
+            f"rasters as rows at one speed each: {len(rows)} segments, planned duration "
+            f"{format_duration(rows.duration_s)}"
+        )
     print(f"axis   peak speed     work ({job.coordinates.name} → {summary.work_system})    machine")
     for axis in summary.axes:
         print(
@@ -75,6 +89,14 @@ def run(args: argparse.Namespace) -> int:
     if job.approach is not None:
         print(approach_text(job))
     return 0
+
+
+def _as_rows(job: Job, config: MachineConfig) -> Plan | None:
+    """The plan a board with RASTER runs, the job's laser rasters as rows of RASTER lines (as
+    `quadstep run` sends them); None where it has none or runs at a feed override."""
+    if job.feed_override != 100:
+        return None
+    return plan_with_rasters(job.program, config, job.plan.start)
 
 
 def _box_text(names: tuple[str, ...], box: Box) -> str:

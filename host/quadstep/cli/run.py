@@ -30,9 +30,11 @@ from ..job import Job, read_program
 from ..job_scan import GcodeParts, Scan
 from ..machine import JobProgress, JobRun, Machine, MachineError, MotionEnd, state_path
 from ..machine.file_feed import FileFeed, feed_file
+from ..machine.job_legs import base_plan
 from ..machine.journal import Journal
 from ..machine.resume import job_journal, resume_job
 from ..planner.feed_override import MAX_PERCENT, MIN_PERCENT, check_percent
+from ..planner.plan import Plan
 from ..planner.program import JobError, Pause
 from ..protocol import State, StatusReport
 from ._jobs import (
@@ -189,18 +191,18 @@ def run(args: argparse.Namespace) -> int:
             for note in (skipped_text(job), after_end_text(job)):
                 if note:
                     print(note)
-            override = (
-                f" at feed override {job.feed_override} %" if job.feed_override != 100 else ""
-            )
-            print(
-                f"{job.path}: {job.source_size}, {job.plan.moves} moves, {len(job.plan)} segments, "
-                f"{format_duration(job.plan.duration_s)} planned{override}; every target inside "
-                "the travel",
-                flush=True,
-            )
-            if job.approach is not None:
-                print(approach_text(job), flush=True)
         return stream(args, machine, job, status, journal)
+
+
+def started_text(job: Job, runs: Plan) -> str:
+    """Said as the job starts: the plan the machine runs (`runs`: its laser rasters as RASTER
+    rows where the board has them, which take longer than the G-code's moves at one speed a row
+    would), checked whole before it."""
+    override = f" at feed override {job.feed_override} %" if job.feed_override != 100 else ""
+    return (
+        f"{job.path}: {job.source_size}, {job.plan.moves} moves, {len(runs)} segments, "
+        f"{format_duration(runs.duration_s)} planned{override}; every target inside the travel"
+    )
 
 
 def follow(
@@ -293,6 +295,10 @@ def stream(
     run_ = machine.run_job(
         plan, job.program, job.label, job.feed_override, journal, leaves=job.end_coordinates
     )
+    if not args.json:
+        print(started_text(job, base_plan(run_.plan)), flush=True)
+        if job.approach is not None:
+            print(approach_text(job), flush=True)
     console = Console(stderr=True)
     progress = Progress(
         TextColumn("{task.description}"),
