@@ -9,7 +9,6 @@ import shutil
 import subprocess
 import threading
 import tty
-from collections.abc import Iterator
 from pathlib import Path
 
 import pytest

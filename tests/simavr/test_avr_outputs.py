@@ -145,8 +145,6 @@ def test_laser_power_follows_the_ramp(run: tuple) -> None:
 def _ramp_start(steps: list) -> int:
     """The cycle of the ramp's tick 0, from its first step: the first step of a ramp from rest at v(t) =
     a·t comes at the tick where a·t²/2 reaches half a step."""
-    import math
-
     first_step = min(c for c, pin, axis, level in steps if pin == "step" and level)
     a = RAMP_V / RAMP_N / 4096  # steps per tick²
     t_first = math.ceil(math.sqrt(1.0 / a))  # x(t) = a t²/2 ≥ ½

@@ -6,7 +6,6 @@ simavr are exact, so this holds or fails the same way on every machine."""
 
 from __future__ import annotations
 
-from pathlib import Path
 
 import numpy as np
 import pytest

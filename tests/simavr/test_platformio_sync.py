@@ -9,7 +9,6 @@ import configparser
 import re
 import shlex
 import subprocess
-from pathlib import Path
 
 import pytest
 
